@@ -1,0 +1,48 @@
+# Two commands matter: `make run` (the demo) and `make test` (the test suite).
+# Each sets everything up itself: Debian packages (when run as root), a
+# virtualenv in .venv, and the Python packages of pyproject.toml.
+
+VENV    ?= .venv
+PY      := $(VENV)/bin/python
+STAMP   := $(VENV)/.installed
+APT_PKGS := xvfb xauth xdotool libegl1 libgles2 libgl1 glslang-tools
+
+.PHONY: run test bench bench-sim bench-render lint system clean
+
+run: $(STAMP)
+	$(PY) -m app $(ARGS)
+
+test: $(STAMP)
+	$(PY) -m pytest $(PYTEST_ARGS)
+
+bench: bench-sim bench-render
+
+bench-sim: $(STAMP)
+	$(PY) -m sim.bench $(ARGS)
+
+bench-render: $(STAMP)
+	$(PY) -m app.bench $(ARGS)
+
+lint: $(STAMP)
+	$(VENV)/bin/ruff check app sim tests assets
+
+system:
+	@missing=""; for p in $(APT_PKGS); do \
+	  dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	python3 -c 'import ensurepip' >/dev/null 2>&1 || missing="$$missing python3-venv"; \
+	if [ -z "$$missing" ]; then exit 0; fi; \
+	if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	  echo "frost: installing Debian packages:$$missing"; \
+	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing >/dev/null; \
+	else \
+	  echo "frost: please install these Debian packages (as root): apt-get install$$missing"; \
+	fi
+
+$(STAMP): pyproject.toml | system
+	python3 -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -e '.[dev]'
+	touch $(STAMP)
+
+clean:
+	rm -rf $(VENV) build *.egg-info
