@@ -1,0 +1,107 @@
+"""Growable numpy arrays and the per-cell index lists of the hash grid."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+class Growable:
+    """An append-only array of rows with amortised O(1) appends.
+
+    `view()` is a read-only window on the filled rows, so callers may keep it
+    without copying; it stays valid until the next append reallocates.
+    """
+
+    def __init__(self, dtype: np.dtype | type, row_shape: tuple[int, ...] = (), capacity: int = 64):
+        self._data = np.zeros((max(capacity, 1), *row_shape), dtype=dtype)
+        self.n = 0
+
+    def append(self, rows: np.ndarray) -> slice:
+        """Append `rows`; returns the slice of indices they received."""
+        k = len(rows)
+        self._reserve(self.n + k)
+        self._data[self.n:self.n + k] = rows
+        self.n += k
+        return slice(self.n - k, self.n)
+
+    def keep(self, mask: np.ndarray) -> None:
+        """Drop the rows where `mask` is False, preserving order."""
+        kept = self._data[:self.n][mask]
+        self._data[:len(kept)] = kept
+        self.n = len(kept)
+
+    def view(self) -> np.ndarray:
+        v = self._data[:self.n]
+        v.flags.writeable = False
+        return v
+
+    def raw(self) -> np.ndarray:
+        """The filled rows, writable (for the owner only)."""
+        return self._data[:self.n]
+
+    def nbytes(self) -> int:
+        return self._data.nbytes
+
+    def _reserve(self, need: int) -> None:
+        if need > len(self._data):
+            cap = max(need, 2 * len(self._data))
+            grown = np.zeros((cap, *self._data.shape[1:]), dtype=self._data.dtype)
+            grown[:self.n] = self._data[:self.n]
+            self._data = grown
+
+
+class CellLists:
+    """For every hash-grid cell, the ascending indices of the particles listed in it.
+
+    Dense arrays: `count[cell]` and `items[cell, :count[cell]]`; the width of
+    `items` doubles when a cell overflows. Insertion keeps each cell's list in
+    ascending index order, so the first of equal distances is the lowest index.
+    """
+
+    def __init__(self, n_cells: int, width: int = 8):
+        self.count = np.zeros(n_cells, dtype=np.int32)
+        self.items = np.full((n_cells, width), -1, dtype=np.int32)
+
+    def insert(self, cells: np.ndarray, ids: np.ndarray) -> None:
+        """Add `ids[j]` to cell `cells[j]`; ids of one cell must come in ascending order."""
+        if len(cells) == 0:
+            return
+        order = np.argsort(cells, kind="stable")
+        c, i = cells[order], ids[order]
+        first = np.r_[0, np.flatnonzero(c[1:] != c[:-1]) + 1]
+        sizes = np.diff(np.r_[first, len(c)])
+        rank = np.arange(len(c)) - np.repeat(first, sizes)
+        slot = self.count[c] + rank
+        self._widen(int(slot.max()) + 1)
+        self.items[c, slot] = i
+        self.count += np.bincount(c, minlength=len(self.count)).astype(np.int32)
+
+    def remove(self, cells: np.ndarray, ids_to_drop: np.ndarray) -> None:
+        """Remove every listed id in `ids_to_drop` from `cells` (order kept)."""
+        drop = np.zeros(int(self.items.max(initial=0)) + 2, dtype=bool)
+        drop[ids_to_drop] = True
+        for cell in np.unique(cells):
+            row = self.items[cell, :self.count[cell]]
+            kept = row[~drop[row]]
+            self.items[cell, :len(kept)] = kept
+            self.items[cell, len(kept):self.count[cell]] = -1
+            self.count[cell] = len(kept)
+
+    def gather(self, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(ids, valid): the lists of `cells` as a padded matrix and its mask."""
+        width = int(self.count[cells].max(initial=0))
+        ids = self.items[cells, :width]
+        valid = np.arange(width) < self.count[cells][:, None]
+        return ids, valid
+
+    def nbytes(self) -> int:
+        return self.count.nbytes + self.items.nbytes
+
+    def _widen(self, need: int) -> None:
+        width = self.items.shape[1]
+        if need > width:
+            while width < need:
+                width *= 2
+            wide = np.full((len(self.count), width), -1, dtype=np.int32)
+            wide[:, :self.items.shape[1]] = self.items
+            self.items = wide

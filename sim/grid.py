@@ -1,0 +1,50 @@
+"""The hash grid of Sec. 3.3: cell keys (Eq. 1) and the cells a freezing area covers."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+# A crystal is listed in every cell its freezing disc reaches, widened by this many
+# px so float32 rounding of a walker's cell or distance can never hide a crystal that
+# is within hc (the exact test `d^2 < hc^2` decides freezing; this only lists).
+CELL_MARGIN = 1e-2
+_OFF_X = np.array([0, 1, 2, 0, 1, 2, 0, 1, 2])
+_OFF_Y = np.array([0, 0, 0, 1, 1, 1, 2, 2, 2])
+
+
+class HashGrid:
+    """Cells of side 2*hc covering a w x h screen (Eq. 1, rounded up)."""
+
+    def __init__(self, width: int, height: int, hc: float):
+        self.cell = 2.0 * hc
+        self.cols = math.ceil(width / self.cell)   # N, Eq. 1a
+        self.rows = math.ceil(height / self.cell)  # M, Eq. 1b
+        self.size = self.cols * self.rows
+        self._inv = np.float32(1.0 / self.cell)
+
+    def keys(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """Cell index (row-major) of on-screen points."""
+        kx = np.minimum((x * self._inv).astype(np.int32), self.cols - 1)
+        ky = np.minimum((y * self._inv).astype(np.int32), self.rows - 1)
+        return ky * self.cols + kx
+
+    def disc_cells(self, pts: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
+        """(cells, owner): every cell whose rectangle meets the open disc of `radius`
+        around each point (at most 3x3 with the margin), owner indexing `pts`.
+        Pairs come point-major, so each cell sees its owners in ascending order."""
+        p = pts.astype(np.float64)
+        r = radius + CELL_MARGIN
+        s = self.cell
+        lo = np.floor((p - r) / s).astype(np.int64)
+        cand_x = lo[:, 0, None] + _OFF_X
+        cand_y = lo[:, 1, None] + _OFF_Y
+        # Closest point of each candidate rectangle to the disc's centre.
+        gap_x = np.maximum(np.maximum(cand_x * s - p[:, 0, None], 0), p[:, 0, None] - (cand_x + 1) * s)
+        gap_y = np.maximum(np.maximum(cand_y * s - p[:, 1, None], 0), p[:, 1, None] - (cand_y + 1) * s)
+        ok = (gap_x * gap_x + gap_y * gap_y < r * r)
+        ok &= (cand_x >= 0) & (cand_x < self.cols) & (cand_y >= 0) & (cand_y < self.rows)
+        owner = np.repeat(np.arange(len(p)), 9).reshape(-1, 9)
+        cells = (cand_y * self.cols + cand_x)[ok].astype(np.int32)
+        return cells, owner[ok]

@@ -1,0 +1,126 @@
+"""Every tunable of the simulation and its geometry, validated in one place.
+
+Lengths are in phone-screen pixels (760x1280, origin top-left, y down); time is
+in ticks (the app runs 25 per second). See SPEC.md for where each comes from.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+NEIGHBOR_SEARCHES = ("candidate", "grid9")
+
+
+def _p(default: Any, doc: str, lo: float | None = None, hi: float | None = None,
+       lo_open: bool = False, choices: tuple | None = None) -> Any:
+    """A dataclass field carrying its one-line description and allowed range."""
+    meta = {"doc": doc, "lo": lo, "hi": hi, "lo_open": lo_open, "choices": choices}
+    return field(default=default, metadata=meta)
+
+
+@dataclass(frozen=True)
+class Params:
+    """Simulation and geometry parameters. Construct with keywords; invalid values raise."""
+
+    hc: float = _p(7.0, "hc: radius of a crystal's freezing area, px (Table 1: 3-10)",
+                   0.0, 64.0, lo_open=True)
+    D: float = _p(7.0, "D: spacing of upsample particles along a skeleton link, px (Table 1: 1-10)",
+                  0.0, 64.0, lo_open=True)
+    humidity: int = _p(3000, "humidity: water particles per active area (Table 1: 500-5000)",
+                       1, 2_000_000)
+    # Not in the paper. 3 px keeps a walker's step under hc at every Table 1 hc but
+    # b-1's (hc=3), so walkers never tunnel through a freezing area, and gives
+    # visible growth within a second at c-2.
+    step: float = _p(3.0, "step: longest random-walk step r of Eq. 2, px (at most hc)",
+                     0.0, 64.0, lo_open=True)
+    # Not in the paper. 200 px: at c-2 the walker density per freezing area
+    # (lambda = humidity*hc^2/active_radius^2 ~ 3.7) freezes a visible patch within a
+    # second and spreads outward over seconds, while a touch still frosts a palm-sized
+    # region of the phone.
+    active_radius: float = _p(200.0, "active_radius: radius of the active area around a seed, px",
+                              0.0, 4000.0, lo_open=True)
+    bump: float = _p(1.0, "bump: height a geometry-grid vertex gains per nearby particle, px",
+                     0.0, 100.0)
+    max_height: float = _p(6.0, "max_height: cap on the bumpy surface's height, px",
+                           0.0, 1000.0, lo_open=True)
+    grid_spacing: int = _p(4, "grid_spacing: geometry-grid vertex spacing, px", 1, 64)
+    feature_width: float = _p(1.5, "feature_width: side-point offset of a sharp feature, "
+                                   "x segment length (Sec. 3.5.1)", 0.0, 10.0)
+    feature_height: float = _p(0.5, "feature_height: midpoint elevation of a sharp feature, "
+                                    "x segment length (Sec. 3.5.1)", 0.0, 10.0)
+    neighbor_search: str = _p("candidate", "neighbor_search: 'candidate' (the paper's freezing "
+                                           "candidate areas) or 'grid9' (Fig. 9's baseline)",
+                              choices=NEIGHBOR_SEARCHES)
+    replenish: bool = _p(False, "replenish: keep each area's water at humidity (frozen water "
+                                "is replaced) instead of spending it", choices=(False, True))
+
+    def __post_init__(self) -> None:
+        for f in dataclasses.fields(self):
+            _validate(f, getattr(self, f.name))
+        if self.step > self.hc:
+            raise ValueError(f"step={self.step!r} must not exceed hc={self.hc!r}: "
+                             "walkers would tunnel through freezing areas")
+
+    def replace(self, **changes: Any) -> Params:
+        """A copy with `changes` applied (validated); unknown names raise ValueError."""
+        unknown = set(changes) - {f.name for f in dataclasses.fields(self)}
+        if unknown:
+            raise ValueError(f"unknown parameter(s): {', '.join(sorted(unknown))}")
+        return dataclasses.replace(self, **changes)
+
+    @classmethod
+    def preset(cls, name: str, **overrides: Any) -> Params:
+        """Table 1's setting `name` ('a-1' ... 'c-3'), with optional overrides."""
+        if name not in PRESETS:
+            raise ValueError(f"unknown preset {name!r}; choose one of {', '.join(PRESETS)}")
+        values = dict(PRESETS[name])
+        # Table 1 leaves step open; keep the default where it fits, else clamp to hc.
+        values.setdefault("step", min(cls.step, values["hc"]))
+        values.update(overrides)
+        return cls(**values)
+
+    @staticmethod
+    def describe() -> list[tuple[str, Any, str]]:
+        """(name, default, one-line description) of every parameter, for help texts."""
+        return [(f.name, f.default, f.metadata["doc"]) for f in dataclasses.fields(Params)]
+
+    def as_dict(self) -> dict[str, Any]:
+        return dataclasses.asdict(self)
+
+
+def _validate(f: dataclasses.Field, value: Any) -> None:
+    meta = f.metadata
+    name = f.name
+    if meta["choices"] is not None:
+        if value not in meta["choices"] or type(value) is not type(meta["choices"][0]):
+            raise ValueError(f"{name}={value!r} is not one of {meta['choices']}")
+        return
+    want_int = isinstance(f.default, int)
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError(f"{name}={value!r} must be a number")
+    if want_int and not float(value).is_integer():
+        raise ValueError(f"{name}={value!r} must be a whole number")
+    if not math.isfinite(value):
+        raise ValueError(f"{name}={value!r} must be finite")
+    lo, hi = meta["lo"], meta["hi"]
+    below = value <= lo if meta["lo_open"] else value < lo
+    if below or value > hi:
+        left = "(" if meta["lo_open"] else "["
+        raise ValueError(f"{name}={value!r} is out of range {left}{lo}, {hi}]")
+
+
+# Table 1 of the paper: D and hc in px, humidity in water particles per active area.
+PRESETS: dict[str, dict[str, Any]] = {
+    "a-1": {"D": 1.0, "hc": 10.0, "humidity": 3000},
+    "a-2": {"D": 2.5, "hc": 10.0, "humidity": 3000},
+    "a-3": {"D": 5.0, "hc": 10.0, "humidity": 3000},
+    "b-1": {"D": 3.0, "hc": 3.0, "humidity": 3000},
+    "b-2": {"D": 7.0, "hc": 7.0, "humidity": 3000},
+    "b-3": {"D": 10.0, "hc": 10.0, "humidity": 3000},
+    "c-1": {"D": 7.0, "hc": 7.0, "humidity": 500},
+    "c-2": {"D": 7.0, "hc": 7.0, "humidity": 3000},
+    "c-3": {"D": 7.0, "hc": 7.0, "humidity": 5000},
+}
