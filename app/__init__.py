@@ -1,0 +1,1 @@
+"""The frost demo: window, input, simulation thread, rendering, screenshots (GL lives here only)."""

@@ -1,0 +1,27 @@
+"""Entry point: `python -m app --help`."""
+
+from __future__ import annotations
+
+import logging
+import sys
+
+from .cli import build_parser, has_display, params_from
+
+
+def main(argv: list[str] | None = None) -> int:
+    logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        params = params_from(args)
+    except ValueError as err:
+        parser.error(str(err))
+    if args.headless or not has_display():
+        from .headless import run as run_headless
+        return run_headless(args, params)
+    from .window import run as run_window
+    return run_window(args, params)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

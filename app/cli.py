@@ -1,0 +1,60 @@
+"""Command line of `python -m app`: one parser, shared by the window and headless modes."""
+
+from __future__ import annotations
+
+import argparse
+import os
+
+from sim import PRESETS, Params
+
+
+def _touch(text: str) -> tuple[float, float]:
+    try:
+        x, y = (float(v) for v in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"touch {text!r} must be X,Y in px, e.g. 380,640") from None
+    return x, y
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="python -m app",
+        description="Real-time window frost on a 760x1280 phone screen. Click to plant seed "
+                    "crystals. With no display (or --headless) it grows the frost offscreen "
+                    "and writes PNG files instead.")
+    p.add_argument("--preset", choices=list(PRESETS), help="Table 1 setting (a-1 ... c-3)")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--headless", action="store_true", help="render offscreen (EGL), no window")
+    p.add_argument("--touch", type=_touch, action="append", default=[], metavar="X,Y",
+                   help="plant a seed at X,Y px at tick 0 (repeatable)")
+    p.add_argument("--ticks", type=int, default=250, help="ticks to grow in headless mode")
+    p.add_argument("--screenshot", metavar="FILE.png", help="headless: write the final frame here")
+    p.add_argument("--screenshot-dir", default="screenshots", help="folder for screenshots")
+    g = p.add_argument_group("parameter overrides (see SPEC.md)")
+    for name, default, doc in Params.describe():
+        kind = type(default)
+        if kind is bool:
+            g.add_argument(f"--{name}", type=_bool, metavar="on|off", help=doc)
+        else:
+            g.add_argument(f"--{name}", type=kind, help=f"{doc} (default {default})")
+    return p
+
+
+def _bool(text: str) -> bool:
+    if text.lower() in ("1", "on", "true", "yes"):
+        return True
+    if text.lower() in ("0", "off", "false", "no"):
+        return False
+    raise argparse.ArgumentTypeError(f"{text!r} must be on or off")
+
+
+def params_from(args: argparse.Namespace) -> Params:
+    """The Params the command line asks for; a bad value raises ValueError naming it."""
+    overrides = {n: getattr(args, n) for n, _, _ in Params.describe() if getattr(args, n) is not None}
+    if args.preset:
+        return Params.preset(args.preset, **overrides)
+    return Params(**overrides)
+
+
+def has_display() -> bool:
+    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
