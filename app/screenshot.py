@@ -1,0 +1,42 @@
+"""Screenshots: read a framebuffer, write a PNG that carries how the frost was made."""
+
+from __future__ import annotations
+
+import json
+import logging
+import time
+from pathlib import Path
+
+import numpy as np
+from PIL import Image, PngImagePlugin
+
+log = logging.getLogger(__name__)
+
+
+def read_image(fbo) -> np.ndarray:
+    """The framebuffer's colour as H x W x 3 uint8, top row first (GL reads bottom-up)."""
+    w, h = fbo.size
+    data = np.frombuffer(fbo.read(components=3, alignment=1), np.uint8)
+    return data.reshape(h, w, 3)[::-1].copy()
+
+
+def save_png(image: np.ndarray, path, meta: dict) -> Path:
+    """Write `image` to `path`; each meta entry becomes a PNG text chunk (JSON unless a str)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    info = PngImagePlugin.PngInfo()
+    for key, value in meta.items():
+        info.add_text(key, value if isinstance(value, str) else json.dumps(value))
+    Image.fromarray(image).save(path, pnginfo=info)
+    log.info("screenshot written to %s", path)
+    return path
+
+
+def timestamped_path(folder) -> Path:
+    """A new file name in `folder` named by the time, never one that already exists."""
+    folder = Path(folder)
+    stamp = time.strftime("%Y%m%d-%H%M%S")
+    path, n = folder / f"frost-{stamp}.png", 1
+    while path.exists():
+        path, n = folder / f"frost-{stamp}-{n}.png", n + 1
+    return path

@@ -1,0 +1,23 @@
+"""The one place shaders are loaded: GLSL ES 3.00 files in shaders/, given their header here."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+SHADER_DIR = Path(__file__).resolve().parent.parent / "shaders"
+# The files carry no #version line so that the same source serves OpenGL ES 3.0 phones,
+# desktop GL (4.3+ accepts "300 es") and the headless EGL context alike.
+HEADER = "#version 300 es\nprecision highp float;\n"
+
+
+def shader_source(name: str) -> str:
+    """The full source of shaders/`name` with the version and precision header."""
+    path = SHADER_DIR / name
+    if not path.is_file():
+        raise FileNotFoundError(f"shader {name!r} not found in {SHADER_DIR}")
+    return HEADER + path.read_text()
+
+
+def load_program(ctx, vert: str, frag: str):
+    """A moderngl Program from two shader files of shaders/."""
+    return ctx.program(vertex_shader=shader_source(vert), fragment_shader=shader_source(frag))

@@ -1,0 +1,152 @@
+"""Frost geometry of Sec. 3.5: sharp features (Fig. 6) and the bumpy surface (Fig. 7).
+
+Numpy only, no GL: `FrostGeometry.update` turns one tick's new particles into a
+`GeometryDelta` (the dirty rows of the height grid and the new feature triangles)
+that the renderer uploads. Nothing here ever walks the whole ice.
+
+Convention: x right and y down in screen px (as the simulation), z is the height
+above the glass toward the viewer, in px. Normals point to the viewer (nz > 0).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .params import Params
+
+# Each segment gives 4 triangles of 3 vertices, each vertex x, y, z, nx, ny, nz.
+VERTS_PER_SEGMENT = 12
+VERTEX_FLOATS = 6
+
+
+@dataclass(frozen=True)
+class GeometryDelta:
+    """What changed in one tick: dirty height rows and new feature triangles."""
+
+    tick: int
+    rows: slice  # dirty row range of the height grid
+    heights: np.ndarray  # float32 copy of heights[rows]
+    features: np.ndarray  # float32 (12 k) x 6: x, y, z, nx, ny, nz, flat per face
+    reset: bool = False
+
+
+def feature_vertices(p, q, width: float = 1.5,
+                     height: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
+    """Fig. 6 for one segment p -> q: the 5 points (p, q, m, s1, s2) as 5 x 3 and the
+    4 faces as index triples into them. m is the midpoint raised to height*L; s1, s2 =
+    m -/+ width*L*n on the glass, with n the unit perpendicular (-dy, dx)/L."""
+    seg = np.array([[*p, *q]], np.float32)
+    xyz = _feature_points(seg, width, height)[0]
+    faces = np.array([[0, 3, 2], [3, 1, 2], [1, 4, 2], [4, 0, 2]])
+    return xyz, faces
+
+
+def _feature_points(seg: np.ndarray, width: float, height: float) -> np.ndarray:
+    """s x 5 x 3 points (p, q, m, s1, s2) of the sharp features of segments s x 4."""
+    p, q = seg[:, 0:2].astype(np.float64), seg[:, 2:4].astype(np.float64)
+    d = q - p
+    length = np.hypot(d[:, 0], d[:, 1])
+    # (-dy, dx) is d turned by 90 degrees; its length is L, so m +/- width*that is
+    # exactly m +/- width*L*n with no division (and no trouble at L = 0).
+    perp = np.column_stack((-d[:, 1], d[:, 0]))
+    m = 0.5 * (p + q)
+    s1, s2 = m - width * perp, m + width * perp
+    zeros = np.zeros((len(seg), 1))
+    pts = np.stack([np.hstack((a, zeros)) for a in (p, q, m, s1, s2)], axis=1)
+    pts[:, 2, 2] = height * length
+    return pts
+
+
+def feature_triangles(segments: np.ndarray, width: float, height: float) -> np.ndarray:
+    """Non-indexed triangles (p,s1,m), (s1,q,m), (q,s2,m), (s2,p,m) of every segment,
+    (12 s) x 6 float32 with each face's own normal, so ridges stay sharp."""
+    if len(segments) == 0:
+        return np.empty((0, VERTEX_FLOATS), np.float32)
+    pts = _feature_points(segments, width, height)
+    tri = pts[:, [0, 3, 2, 3, 1, 2, 1, 4, 2, 4, 0, 2]].reshape(-1, 3, 3)
+    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    # Winding differs from face to face (and the frame is y-down), so orient each
+    # normal toward the viewer instead of trusting the cross product's sign.
+    normal *= np.where(normal[:, 2:3] < 0, -1.0, 1.0)
+    size = np.linalg.norm(normal, axis=1, keepdims=True)
+    flat = size == 0  # a zero-length segment: lay it flat on the glass
+    normal = np.where(flat, [0.0, 0.0, 1.0], normal / np.where(flat, 1.0, size))
+    verts = np.concatenate((tri, np.repeat(normal[:, None, :], 3, axis=1)), axis=2)
+    return verts.reshape(-1, VERTEX_FLOATS).astype(np.float32)
+
+
+def falloff(d: np.ndarray, radius: float) -> np.ndarray:
+    """Bump weight at distance d from a particle: (1 - (d/hc)^2)^2 inside hc, else 0.
+
+    Chosen because it is 1 at the particle and reaches 0 at hc with zero slope, so
+    the summed surface has no creases at the rim of a freezing area (a constant
+    `bump` as printed in Fig. 7 would give a terraced look), and it needs no sqrt."""
+    u = np.clip(1.0 - d * d / (radius * radius), 0.0, None)
+    return u * u
+
+
+def bump_heights(points: np.ndarray, rows: int, cols: int, spacing: int,
+                 radius: float, bump: float, cap: float) -> np.ndarray:
+    """Slow, obvious oracle: the capped height grid from all particles at once."""
+    vy, vx = np.mgrid[0:rows, 0:cols].astype(np.float64) * spacing
+    h = np.zeros((rows, cols))
+    for x, y in points:
+        h += bump * falloff(np.hypot(vx - x, vy - y), radius)
+    return np.minimum(h, cap).astype(np.float32)
+
+
+class FrostGeometry:
+    """The height grid (Fig. 7) and sharp features (Fig. 6) of a growing frost."""
+
+    def __init__(self, params: Params, width: int = 760, height: int = 1280):
+        self.params = params
+        self.spacing = int(params.grid_spacing)
+        self.rows = height // self.spacing + 1
+        self.cols = width // self.spacing + 1
+        self.heights = np.zeros((self.rows, self.cols), np.float32)
+        # Offsets of the grid vertices that can lie within hc of a particle, relative
+        # to the vertex nearest it: a fixed (2R+1)^2 stencil, so a tick costs
+        # O(new particles) whatever the size of the ice.
+        reach = math.ceil(params.hc / self.spacing) + 1
+        oy, ox = np.mgrid[-reach:reach + 1, -reach:reach + 1]
+        self._stencil = (oy.ravel(), ox.ravel())
+        self._seen = (0, 0, 0)
+
+    def reset(self) -> GeometryDelta:
+        """Flat glass again; the delta tells the renderer to drop everything."""
+        self.heights[:] = 0
+        self._seen = (0, 0, 0)
+        empty = np.empty((0, VERTEX_FLOATS), np.float32)
+        return GeometryDelta(0, slice(0, self.rows), self.heights.copy(), empty, reset=True)
+
+    def update(self, sim) -> GeometryDelta:
+        """Raise the grid around the tick's new particles and build their features."""
+        added = sim.added
+        pts = np.concatenate((sim.crystals[added.crystals], sim.upsampled[added.upsampled]))
+        rows = self._raise(pts)
+        segs = sim.segments[added.segments]
+        feats = feature_triangles(segs, self.params.feature_width, self.params.feature_height)
+        return GeometryDelta(added.tick, rows, self.heights[rows].copy(), feats)
+
+    def _raise(self, pts: np.ndarray) -> slice:
+        """Add bump * falloff to every vertex within hc of each point, capped at
+        max_height; returns the dirty row range (empty when nothing moved)."""
+        if len(pts) == 0:
+            return slice(0, 0)
+        gs = self.spacing
+        r = np.rint(pts[:, 1:2] / gs).astype(np.int64) + self._stencil[0]
+        c = np.rint(pts[:, 0:1] / gs).astype(np.int64) + self._stencil[1]
+        d = np.hypot(c * gs - pts[:, 0:1], r * gs - pts[:, 1:2])
+        hit = (d < self.params.hc) & (r >= 0) & (r < self.rows) & (c >= 0) & (c < self.cols)
+        flat = r[hit] * self.cols + c[hit]
+        idx, inv = np.unique(flat, return_inverse=True)
+        add = np.bincount(inv, self.params.bump * falloff(d[hit], self.params.hc))
+        h = self.heights.reshape(-1)
+        # Increments are non-negative, so capping each tick equals capping the total.
+        h[idx] = np.minimum(h[idx] + add, self.params.max_height)
+        if len(flat) == 0:
+            return slice(0, 0)
+        return slice(int(r[hit].min()), int(r[hit].max()) + 1)
