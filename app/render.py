@@ -1,11 +1,15 @@
 """The frost renderer: background, bumpy ice and sharp features, alpha-blended and Phong-shaded.
 
 Design (frame cost independent of the amount of ice):
-- the height grid lives in a one-channel float texture (one texel per vertex, sampled
-  bilinearly); `apply` rewrites only a delta's dirty rows;
+- the height grid lives in a half-float RGB texture, one texel per vertex holding the
+  height and its slope (central differences, done here on the CPU for the dirty rows
+  only), sampled bilinearly: one fetch per pixel instead of five; `apply` rewrites only
+  a delta's dirty rows (plus one on each side, whose slope they change);
 - feature triangles are rasterized ONCE, when they arrive, into a persistent screen-sized
   "ice" texture (normal xy, height, coverage) with a depth test so the higher surface wins;
-- each frame is then one full-screen composite pass (shaders/composite.frag).
+- each frame is then a background pass (one texel per pixel) and, blended over it, an
+  ice pass drawn only on the screen tiles that hold ice (instanced quads), so clear
+  glass costs no more than the background.
 Only the main thread may call this (GL).
 """
 
@@ -33,17 +37,20 @@ BACKGROUND = Path(__file__).resolve().parent.parent / "assets" / "background.png
 FEATURE_HEIGHT_SCALE = 16.0
 MAX_DEPTH = 64.0  # px; features higher than this share the nearest depth
 VERTEX_BYTES = VERTEX_FLOATS * 4
+# Side of a screen tile of the ice pass, px. Smaller tiles hug the ice closer but cost
+# more instances (3.8k at most at 16 px, a few kB).
+TILE = 16
 
 
 @dataclass(frozen=True)
 class Material:
     """How the ice looks: Phong terms and the thickness-to-opacity law."""
 
-    ice_color: tuple[float, float, float] = (0.90, 0.95, 1.0)
-    ambient: float = 0.62  # frost scatters light: bright even away from the lamp
-    diffuse: float = 0.40
-    specular: float = 0.85
-    shininess: float = 24.0
+    ice_color: tuple[float, float, float] = (0.93, 0.96, 1.0)
+    ambient: float = 0.72  # frost scatters light: bright even away from the lamp
+    diffuse: float = 0.38
+    specular: float = 1.0
+    shininess: float = 18.0
     opacity: float = 0.88  # very thick ice still lets a little of the view through
     density: float = 0.45  # alpha = opacity * (1 - exp(-density * thickness_px))
     relief: float = 1.6  # exaggerate slopes so px-high ice still catches the light
@@ -52,7 +59,7 @@ class Material:
 
 def default_light() -> np.ndarray:
     """Toward the light: up-left of the screen and in front (x right, y down, z viewer)."""
-    v = np.array([-0.45, -0.55, 0.70])
+    v = np.array([-0.35, -0.45, 0.82])
     return v / np.linalg.norm(v)
 
 
@@ -78,12 +85,15 @@ class Renderer:
         spacing = params.grid_spacing
         self.grid_size = (width // spacing + 1, height // spacing + 1)
         self._background = self._background_texture(background)
-        self._heights = ctx.texture(self.grid_size, 1, dtype="f2")
+        self._grid = np.zeros(self.grid_size[::-1], np.float32)  # mirror of the heights
+        self._heights = ctx.texture(self.grid_size, 3, dtype="f2")
         self._ice = ctx.texture(self.size, 4)
         self._ice_fbo = ctx.framebuffer([self._ice], ctx.depth_renderbuffer(self.size))
         self._feature_prog = load_program(ctx, "feature.vert", "feature.frag")
-        self._composite_prog = load_program(ctx, "fullscreen.vert", "composite.frag")
-        self._composite = ctx.vertex_array(self._composite_prog, [])
+        self._background_prog = load_program(ctx, "fullscreen.vert", "background.frag")
+        self._background_pass = ctx.vertex_array(self._background_prog, [])
+        self._ice_prog = load_program(ctx, "tile.vert", "ice.frag")
+        self._tiles = TileSet(ctx, self._ice_prog, self.size, spacing)
         self._vbo, self._features, self._pending = None, None, 0
         self._grow(1 << 16)
         self.reset()
@@ -95,15 +105,29 @@ class Renderer:
         if delta.reset:
             self.reset()
         if delta.rows.stop > delta.rows.start:
-            rows = delta.heights.astype(np.float16)
-            viewport = (0, delta.rows.start, self.grid_size[0], len(rows))
-            self._heights.write(rows.tobytes(), viewport=viewport)
+            self._grid[delta.rows] = delta.heights
+            self._upload_rows(delta.rows.start - 1, delta.rows.stop + 1)
+            self._tiles.mark_heights(self._grid[delta.rows], delta.rows.start)
+        self._tiles.mark_triangles(delta.features[:, :2])
         self._append(delta.features)
+
+    def _upload_rows(self, lo: int, hi: int) -> None:
+        """Write height and slope (per px) of grid rows lo..hi-1 to the texture."""
+        rows = len(self._grid)
+        lo, hi = max(lo, 0), min(hi, rows)
+        a, b = max(lo - 1, 0), min(hi + 1, rows)  # neighbours for central differences
+        slab = self._grid[a:b]
+        gy, gx = np.gradient(slab, float(self.params.grid_spacing)) if len(slab) > 1 else (
+            np.zeros_like(slab), np.gradient(slab[0], float(self.params.grid_spacing))[None])
+        texels = np.stack((slab, gx, gy), axis=-1)[lo - a:hi - a].astype(np.float16)
+        self._heights.write(texels.tobytes(), viewport=(0, lo, self.grid_size[0], hi - lo))
 
     def reset(self) -> None:
         """Clear glass: no heights, no features."""
-        self._heights.write(np.zeros(self.grid_size[::-1], np.float16).tobytes())
+        self._grid[:] = 0
+        self._upload_rows(0, len(self._grid))
         self._ice_fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+        self._tiles.clear()
         self._pending = 0
 
     def _append(self, verts: np.ndarray) -> None:
@@ -145,10 +169,18 @@ class Renderer:
         self.ctx.viewport = (0, 0, *self.size)
         self.ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
         self._background.use(0)
+        self._set(self._background_prog, {"u_background": 0, "u_screen": self.size})
+        self._background_pass.render(moderngl.TRIANGLES, vertices=3)
+        if not (self.show_bumps or self.show_features):
+            return
         self._heights.use(1)
         self._ice.use(2)
-        self._set_composite_uniforms()
-        self._composite.render(moderngl.TRIANGLES, vertices=3)
+        self._set(self._ice_prog, self._ice_uniforms())
+        # Premultiplied "over": frame = ice + (1 - alpha) * background.
+        self.ctx.enable(moderngl.BLEND)
+        self.ctx.blend_func = moderngl.ONE, moderngl.ONE_MINUS_SRC_ALPHA
+        self._tiles.render()
+        self.ctx.disable(moderngl.BLEND)
 
     def _draw_new_features(self) -> None:
         """Rasterize the queued feature triangles into the persistent ice texture."""
@@ -167,11 +199,11 @@ class Renderer:
         self.ctx.disable(moderngl.DEPTH_TEST)
         self._pending = 0
 
-    def _set_composite_uniforms(self) -> None:
-        prog, m = self._composite_prog, self.material
+    def _ice_uniforms(self) -> dict:
+        m = self.material
         light = np.asarray(self.light, np.float64)
-        values = {
-            "u_background": 0, "u_heights": 1, "u_ice": 2,
+        return {
+            "u_heights": 1, "u_ice": 2, "u_tile": float(TILE),
             "u_screen": self.size, "u_grid_size": self.grid_size,
             "u_spacing": float(self.params.grid_spacing),
             "u_height_scale": FEATURE_HEIGHT_SCALE,
@@ -179,8 +211,77 @@ class Renderer:
             "u_light": tuple(light / np.linalg.norm(light)),
             "u_ice_color": m.ice_color, "u_ambient": m.ambient, "u_diffuse": m.diffuse,
             "u_specular": m.specular, "u_shininess": m.shininess, "u_opacity": m.opacity,
-            "u_density": m.density, "u_relief": m.relief, "u_refraction": m.refraction,
+            "u_density": m.density, "u_relief": m.relief,
         }
+
+    @staticmethod
+    def _set(prog, values: dict) -> None:
         for name, value in values.items():
             if name in prog:
                 prog[name].value = value
+
+
+class TileSet:
+    """The screen tiles that hold ice, drawn as instanced quads. Ice only ever grows
+    (until a reset), so tiles are only ever added; the instance list is re-sent
+    (at most a few kB) on the frames after one was added."""
+
+    def __init__(self, ctx: moderngl.Context, prog, size: tuple[int, int], spacing: int):
+        self.ctx, self.spacing = ctx, spacing
+        self.mask = np.zeros((-(-size[1] // TILE), -(-size[0] // TILE)), bool)
+        corners = np.array([0, 0, 1, 0, 0, 1, 1, 1], np.float32)
+        self._corners = ctx.buffer(corners.tobytes())
+        self._instances = ctx.buffer(reserve=self.mask.size * 8)
+        self._vao = ctx.vertex_array(prog, [(self._corners, "2f", "in_corner"),
+                                            (self._instances, "2f/i", "in_tile")])
+        self._count, self._dirty = 0, False
+
+    def clear(self) -> None:
+        self.mask[:] = False
+        self._count, self._dirty = 0, False
+
+    def mark_heights(self, rows: np.ndarray, first_row: int) -> None:
+        """Mark the tiles that see ice of grid `rows` (grid rows from first_row): bilinear
+        filtering spreads a vertex's height one grid cell to each side."""
+        r, c = np.nonzero(rows > 0)
+        y, x = (r + first_row) * self.spacing, c * self.spacing
+        self._mark_boxes(x - self.spacing, y - self.spacing, x + self.spacing, y + self.spacing)
+
+    def mark_triangles(self, xy: np.ndarray) -> None:
+        """Mark the tiles under each triangle's bounding box (xy: 3 rows per triangle)."""
+        if len(xy) == 0:
+            return
+        tri = xy.reshape(-1, 3, 2)
+        lo, hi = tri.min(axis=1), tri.max(axis=1)
+        self._mark_boxes(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])
+
+    def _mark_boxes(self, x0, y0, x1, y1) -> None:
+        """Mark every tile that the px boxes [x0, x1] x [y0, y1] overlap."""
+        if len(x0) == 0:
+            return
+        rows, cols = self.mask.shape
+        tx0, ty0 = (np.clip(np.floor_divide(v, TILE), 0, n - 1).astype(np.int64)
+                    for v, n in ((x0, cols), (y0, rows)))
+        tx1, ty1 = (np.clip(np.floor_divide(v, TILE), 0, n - 1).astype(np.int64)
+                    for v, n in ((x1, cols), (y1, rows)))
+        span = int(max((tx1 - tx0).max(), (ty1 - ty0).max())) + 1
+        oy, ox = (a.ravel() for a in np.mgrid[0:span, 0:span])
+        ty, tx = ty0[:, None] + oy, tx0[:, None] + ox
+        keep = (ty <= ty1[:, None]) & (tx <= tx1[:, None])
+        ty, tx = ty[keep], tx[keep]
+        new = ~self.mask[ty, tx]
+        if new.any():
+            self.mask[ty[new], tx[new]] = True
+            self._dirty = True
+
+    def render(self) -> None:
+        if self._dirty:
+            self._upload()
+        if self._count:
+            self._vao.render(moderngl.TRIANGLE_STRIP, vertices=4, instances=self._count)
+
+    def _upload(self) -> None:
+        rows, cols = np.nonzero(self.mask)
+        tiles = np.column_stack((cols, rows)).astype(np.float32)
+        self._instances.write(tiles.tobytes())
+        self._count, self._dirty = len(tiles), False

@@ -1,0 +1,101 @@
+"""Rendering benchmark: `python -m app.bench` (headless, 760x1280, about half the screen frosted).
+
+Prints the median frame time (ctx.finish() inside the timing), the median geometry
+update per tick, the median upload per tick, and one JSON line at the end.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import time
+
+import numpy as np
+
+from sim import FrostSim, Params
+from sim.geometry import FrostGeometry
+
+from .headless import HEIGHT, WIDTH, make_context
+from .render import Renderer
+
+# Seven seeds spread over the screen; at c-2 each frosts a disc of about active_radius.
+TOUCHES = [(190, 200), (570, 330), (380, 640), (160, 760), (600, 930), (250, 1120), (560, 150)]
+
+
+def ms(seconds: list[float]) -> float:
+    return 1000.0 * statistics.median(seconds) if seconds else 0.0
+
+
+def grow(ctx, params: Params, seed: int, target: float, max_ticks: int):
+    """Grow until `target` of the screen is frosted; time geometry and uploads per tick."""
+    sim = FrostSim(params, WIDTH, HEIGHT, seed)
+    geometry = FrostGeometry(params, WIDTH, HEIGHT)
+    renderer = Renderer(ctx, params, WIDTH, HEIGHT)
+    fbo = ctx.simple_framebuffer((WIDTH, HEIGHT), components=4)
+    for x, y in TOUCHES:
+        sim.touch(x, y)
+    geo_t, up_t = [], []
+    while sim.tick < max_ticks and covered(geometry) < target:
+        sim.step()
+        t0 = time.perf_counter()
+        delta = geometry.update(sim)
+        t1 = time.perf_counter()
+        renderer.apply(delta)
+        renderer.render(fbo)  # rasterizes the new features once, as the app does
+        ctx.finish()
+        geo_t.append(t1 - t0)
+        up_t.append(time.perf_counter() - t1)
+        if sim.tick % 50 == 0:
+            print(f"tick {sim.tick}: {covered(geometry):.0%} frosted, "
+                  f"{len(sim.crystals)} crystals", flush=True)
+    return sim, geometry, renderer, fbo, geo_t, up_t
+
+
+def covered(geometry: FrostGeometry) -> float:
+    """Fraction of the screen's grid vertices that carry ice."""
+    return float(np.count_nonzero(geometry.heights)) / geometry.heights.size
+
+
+def time_frames(ctx, renderer: Renderer, fbo, frames: int) -> list[float]:
+    renderer.render(fbo)
+    ctx.finish()
+    times = []
+    for _ in range(frames):
+        t0 = time.perf_counter()
+        renderer.render(fbo)
+        ctx.finish()
+        times.append(time.perf_counter() - t0)
+    return times
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m app.bench", description=__doc__)
+    ap.add_argument("--preset", default="c-2")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--frames", type=int, default=60)
+    ap.add_argument("--cover", type=float, default=0.5, help="fraction of the screen to frost")
+    ap.add_argument("--max-ticks", type=int, default=600)
+    args = ap.parse_args(argv)
+    ctx = make_context()
+    params = Params.preset(args.preset)
+    sim, geometry, renderer, fbo, geo_t, up_t = grow(ctx, params, args.seed, args.cover,
+                                                     args.max_ticks)
+    frames = time_frames(ctx, renderer, fbo, args.frames)
+    result = {"preset": args.preset, "ticks": sim.tick, "frosted": round(covered(geometry), 3),
+              "crystals": len(sim.crystals), "segments": len(sim.segments),
+              "frame_ms": round(ms(frames), 2), "geometry_ms_per_tick": round(ms(geo_t), 3),
+              "geometry_ms_max": round(1000 * max(geo_t, default=0), 3),
+              "upload_ms_per_tick": round(ms(up_t), 3), "renderer": ctx.info["GL_RENDERER"]}
+    print(f"{sim.tick} ticks, {result['frosted']:.0%} of the screen frosted, "
+          f"{result['crystals']} crystals")
+    print(f"frame: median {result['frame_ms']} ms over {args.frames} frames (760x1280)")
+    print(f"geometry update: median {result['geometry_ms_per_tick']} ms/tick "
+          f"(max {result['geometry_ms_max']})")
+    print(f"upload + feature rasterization: median {result['upload_ms_per_tick']} ms/tick")
+    print(json.dumps(result))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
