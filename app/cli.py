@@ -4,8 +4,11 @@ from __future__ import annotations
 
 import argparse
 import os
+import textwrap
 
 from sim import PRESETS, Params
+
+from .keys import help_lines
 
 
 def _touch(text: str) -> tuple[float, float]:
@@ -19,9 +22,12 @@ def _touch(text: str) -> tuple[float, float]:
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="python -m app",
-        description="Real-time window frost on a 760x1280 phone screen. Click to plant seed "
-                    "crystals. With no display (or --headless) it grows the frost offscreen "
-                    "and writes PNG files instead.")
+        description=textwrap.fill(
+            "Real-time window frost on a 760x1280 phone screen. Click (or drag) to plant seed "
+            "crystals. With no display (or --headless) it grows the frost offscreen "
+            "and writes PNG files instead."),
+        epilog="keys in the window:\n  " + "\n  ".join(help_lines()),
+        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--preset", choices=list(PRESETS), help="Table 1 setting (a-1 ... c-3)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--headless", action="store_true", help="render offscreen (EGL), no window")
@@ -29,7 +35,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="plant a seed at X,Y px at tick 0 (repeatable)")
     p.add_argument("--ticks", type=int, default=250, help="ticks to grow in headless mode")
     p.add_argument("--screenshot", metavar="FILE.png", help="headless: write the final frame here")
-    p.add_argument("--screenshot-dir", default="screenshots", help="folder for screenshots")
+    p.add_argument("--screenshot-dir", default="screenshots",
+                   help="folder for screenshots (S, F12) and recordings (R)")
+    p.add_argument("--scale", type=float, metavar="F",
+                   help="window: size as a fraction of 760x1280 (default: fit the monitor)")
+    p.add_argument("--max-seconds", type=float, metavar="S",
+                   help="window: close by itself after S seconds (exit status 0)")
     g = p.add_argument_group("parameter overrides (see SPEC.md)")
     for name, default, doc in Params.describe():
         kind = type(default)

@@ -1,0 +1,92 @@
+"""Heads-up display: text drawn with Pillow's bundled font into RGBA textures.
+
+A panel re-renders its texture only when its text changes; drawing is one blended quad.
+"""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+from PIL import Image, ImageDraw, ImageFont
+
+from .shaders import load_program
+
+FONT_SIZE = 14
+LINE_GAP = 3
+PADDING = 6
+TEXT_RGBA = (235, 245, 255, 255)
+BOX_RGBA = (0, 0, 0, 150)
+
+
+def text_image(lines: list[str], font) -> Image.Image:
+    """The lines in white on a translucent box, as a top-down RGBA image."""
+    ascent, descent = font.getmetrics()
+    line_h = ascent + descent + LINE_GAP
+    width = max((int(font.getlength(line)) for line in lines), default=0)
+    size = (width + 2 * PADDING, line_h * len(lines) + 2 * PADDING)
+    image = Image.new("RGBA", size, BOX_RGBA)
+    draw = ImageDraw.Draw(image)
+    for i, line in enumerate(lines):
+        draw.text((PADDING, PADDING + i * line_h), line, font=font, fill=TEXT_RGBA)
+    return image
+
+
+class Panel:
+    """One block of text at a fixed spot of the window, kept in its own texture."""
+
+    def __init__(self, ctx: moderngl.Context, program: moderngl.Program, font):
+        self.ctx, self.program, self.font = ctx, program, font
+        self.vao = ctx.vertex_array(program, [])
+        self.texture: moderngl.Texture | None = None
+        self.lines: list[str] | None = None
+        self.renders = 0  # texture re-renders, for tests and the log
+
+    def set(self, lines: list[str]) -> None:
+        if lines == self.lines:
+            return
+        self.lines = list(lines)
+        image = text_image(self.lines, self.font).transpose(Image.Transpose.FLIP_TOP_BOTTOM)
+        if self.texture is None or self.texture.size != image.size:
+            if self.texture is not None:
+                self.texture.release()
+            self.texture = self.ctx.texture(image.size, 4)
+        self.texture.write(np.asarray(image).tobytes())
+        self.renders += 1
+
+    def draw(self, x: int, y: int, fb_size: tuple[int, int]) -> None:
+        """Draw with its top-left corner at framebuffer pixel (x, y), y from the top."""
+        if self.texture is None:
+            return
+        fw, fh = fb_size
+        tw, th = self.texture.size
+        x0, x1 = 2 * x / fw - 1, 2 * (x + tw) / fw - 1
+        y0, y1 = 1 - 2 * (y + th) / fh, 1 - 2 * y / fh
+        self.program["u_rect"].value = (x0, y0, x1, y1)
+        self.texture.use(0)
+        self.vao.render(moderngl.TRIANGLE_STRIP, vertices=4)
+
+
+class Hud:
+    """The stats panel (top left) and the help overlay (below it)."""
+
+    def __init__(self, ctx: moderngl.Context):
+        self.ctx = ctx
+        program = load_program(ctx, "blit.vert", "blit.frag")
+        program["u_texture"].value = 0
+        font = ImageFont.load_default(size=FONT_SIZE)
+        self.stats = Panel(ctx, program, font)
+        self.help = Panel(ctx, program, font)
+        self.visible, self.show_help = True, False
+
+    def draw(self, fb_size: tuple[int, int], stats: list[str], help_lines: list[str]) -> None:
+        if not self.visible:
+            return
+        self.stats.set(stats)
+        self.ctx.enable(moderngl.BLEND)
+        self.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
+        self.stats.draw(PADDING, PADDING, fb_size)
+        if self.show_help:
+            self.help.set(help_lines)
+            top = PADDING * 2 + self.stats.texture.size[1]
+            self.help.draw(PADDING, top, fb_size)
+        self.ctx.disable(moderngl.BLEND)

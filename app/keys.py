@@ -1,0 +1,84 @@
+"""Key bindings: one table drives both the key handler and the help overlay (H).
+
+Keys are GLFW key names without the `KEY_` prefix, so this module needs no GLFW;
+`app.window` resolves them to key codes. An action is a method name of the window's
+action dispatch table; `arg` is passed to it unchanged.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from sim import PRESETS
+
+
+@dataclass(frozen=True)
+class Binding:
+    keys: tuple[str, ...]  # GLFW key names, e.g. ("SPACE",) or ("N", "PERIOD")
+    label: str  # how the help overlay names the keys
+    description: str
+    action: str
+    arg: Any = None
+
+
+# Parameter steps: humidity scales (it spans 500 to 30000), lengths move in px.
+HUMIDITY_FACTOR = 1.5
+LENGTH_STEP = 0.5
+BUMP_STEP = 0.25
+# The light's direction moves this far on the screen plane per key press.
+LIGHT_STEP = 0.1
+
+
+def _preset_bindings() -> tuple[Binding, ...]:
+    return tuple(Binding((str(i),), str(i), f"preset {name} (Table 1)", "preset", name)
+                 for i, name in enumerate(PRESETS, start=1))
+
+
+BINDINGS: tuple[Binding, ...] = (
+    Binding(("SPACE",), "Space", "pause / resume the simulation", "pause"),
+    Binding(("N", "PERIOD"), "N .", "one tick while paused", "single_step"),
+    Binding(("C",), "C", "clear the frost (and the touches)", "clear"),
+    Binding(("S", "F12"), "S F12", "screenshot (760x1280 PNG)", "screenshot"),
+    Binding(("R",), "R", "record on / off (animated WebP)", "record"),
+    Binding(("EQUAL", "KP_ADD"), "=", f"humidity up (x{HUMIDITY_FACTOR})", "scale",
+            ("humidity", HUMIDITY_FACTOR)),
+    Binding(("MINUS", "KP_SUBTRACT"), "-", f"humidity down (/{HUMIDITY_FACTOR})", "scale",
+            ("humidity", 1.0 / HUMIDITY_FACTOR)),
+    Binding(("RIGHT_BRACKET",), "]", f"hc up ({LENGTH_STEP} px)", "shift", ("hc", LENGTH_STEP)),
+    Binding(("LEFT_BRACKET",), "[", f"hc down ({LENGTH_STEP} px)", "shift", ("hc", -LENGTH_STEP)),
+    Binding(("APOSTROPHE",), "'", f"D up ({LENGTH_STEP} px)", "shift", ("D", LENGTH_STEP)),
+    Binding(("SEMICOLON",), ";", f"D down ({LENGTH_STEP} px)", "shift", ("D", -LENGTH_STEP)),
+    Binding(("P",), "P", f"step up ({LENGTH_STEP} px)", "shift", ("step", LENGTH_STEP)),
+    Binding(("O",), "O", f"step down ({LENGTH_STEP} px)", "shift", ("step", -LENGTH_STEP)),
+    Binding(("L",), "L", f"bump up ({BUMP_STEP} px)", "shift", ("bump", BUMP_STEP)),
+    Binding(("K",), "K", f"bump down ({BUMP_STEP} px)", "shift", ("bump", -BUMP_STEP)),
+    *_preset_bindings(),
+    Binding(("F",), "F", "sharp features on / off", "toggle_view", "show_features"),
+    Binding(("B",), "B", "bumpy surfaces on / off", "toggle_view", "show_bumps"),
+    Binding(("LEFT",), "Left", "light from further left", "light", (-LIGHT_STEP, 0.0)),
+    Binding(("RIGHT",), "Right", "light from further right", "light", (LIGHT_STEP, 0.0)),
+    Binding(("UP",), "Up", "light from further up", "light", (0.0, -LIGHT_STEP)),
+    Binding(("DOWN",), "Down", "light from further down", "light", (0.0, LIGHT_STEP)),
+    Binding(("TAB", "U"), "Tab U", "HUD on / off", "toggle_hud"),
+    Binding(("H",), "H", "this help on / off", "toggle_help"),
+    Binding(("ESCAPE",), "Esc", "quit", "quit"),
+)
+
+
+def key_table(resolve) -> dict[int, Binding]:
+    """{key code: binding}; `resolve` maps a key name to its code (e.g. GLFW's)."""
+    table: dict[int, Binding] = {}
+    for binding in BINDINGS:
+        for name in binding.keys:
+            code = resolve(name)
+            if code in table:
+                raise ValueError(f"key {name} is bound twice")
+            table[code] = binding
+    return table
+
+
+def help_lines() -> list[str]:
+    """The help overlay's text, one line per binding."""
+    width = max(len(b.label) for b in BINDINGS)
+    return [f"{b.label:<{width}}  {b.description}" for b in BINDINGS]

@@ -1,0 +1,52 @@
+"""Where the phone sits in the window: letterboxing and cursor mapping (no GL, no GLFW)."""
+
+from __future__ import annotations
+
+import math
+
+PHONE = (760, 1280)
+# Room left for window decorations and panels when fitting the monitor's work area.
+WORKAREA_MARGIN = 0.95
+
+
+def fit_scale(workarea: tuple[int, int], phone: tuple[int, int] = PHONE) -> float:
+    """The largest scale <= 1 at which the phone fits the work area, aspect kept."""
+    (ww, wh), (pw, ph) = workarea, phone
+    if ww <= 0 or wh <= 0:
+        return 1.0
+    return min(1.0, WORKAREA_MARGIN * ww / pw, WORKAREA_MARGIN * wh / ph)
+
+
+def letterbox(fb_size: tuple[int, int], phone: tuple[int, int] = PHONE) -> tuple[int, ...]:
+    """The viewport (x, y, w, h), y from the bottom, of the phone centred in the framebuffer."""
+    (fw, fh), (pw, ph) = fb_size, phone
+    scale = min(fw / pw, fh / ph)
+    w, h = max(1, round(pw * scale)), max(1, round(ph * scale))
+    return (fw - w) // 2, (fh - h) // 2, w, h
+
+
+def cursor_to_phone(cursor: tuple[float, float], window_size: tuple[int, int],
+                    fb_size: tuple[int, int], phone: tuple[int, int] = PHONE):
+    """Phone px (x, y from the top) under a cursor given in window coordinates (y from
+    the top, as GLFW reports it), or None outside the phone. Window and framebuffer
+    sizes differ on HiDPI screens."""
+    (cx, cy), (ww, wh), (fw, fh) = cursor, window_size, fb_size
+    if min(ww, wh, fw, fh) <= 0:
+        return None
+    fx, fy = cx * fw / ww, cy * fh / wh
+    vx, vy, vw, vh = letterbox(fb_size, phone)
+    top = fh - vy - vh
+    px, py = (fx - vx) * phone[0] / vw, (fy - top) * phone[1] / vh
+    if not (0 <= px < phone[0] and 0 <= py < phone[1]):
+        return None
+    return px, py
+
+
+def path_points(start: tuple[float, float], end: tuple[float, float], spacing: float):
+    """Points every `spacing` px from `start` (excluded) towards `end`; the last one
+    reached becomes the new start of a drag."""
+    dx, dy = end[0] - start[0], end[1] - start[1]
+    n = int(math.hypot(dx, dy) // spacing)
+    length = math.hypot(dx, dy)
+    return [(start[0] + dx * k * spacing / length, start[1] + dy * k * spacing / length)
+            for k in range(1, n + 1)]

@@ -1,0 +1,430 @@
+"""The interactive phone window: GLFW, click-to-seed, keyboard tuning, HUD, screenshots.
+
+Each frame the main thread drains every snapshot of the simulation thread, applies the
+geometry deltas in order, renders the phone into an offscreen 760x1280 framebuffer when
+it changed, and draws that letterboxed into the window with the HUD on top. Only this
+thread calls GL.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+import time
+from pathlib import Path
+
+import glfw
+import moderngl
+
+from sim import PRESETS, Params
+
+from .hud import Hud
+from .keys import help_lines, key_table
+from .record import Recorder
+from .render import Renderer
+from .screenshot import read_image, save_png, timestamped_path
+from .shaders import load_program
+from .simthread import SimThread, Snapshot, Stats
+from .view import PHONE, cursor_to_phone, fit_scale, letterbox, path_points
+
+log = logging.getLogger(__name__)
+
+TITLE = "frost"
+HUD_PERIOD = 0.25  # s between HUD stats refreshes
+LOG_PERIOD = 2.0  # s between stats lines in the log
+IDLE_WAIT = 0.1  # s to wait for events while minimized or idle
+MESSAGE_SECONDS = 4.0
+BACKDROP = (0.08, 0.08, 0.09)  # the letterbox bars
+# A drag plants a touch every DRAG_SPACING_HC * hc px along the cursor's path.
+DRAG_SPACING_HC = 4.0
+# Actions that repeat while their key is held.
+REPEATING = {"single_step", "scale", "shift", "light"}
+# What the two click latencies of the log measure: the first frame showing the seed's
+# frost, and the first frame showing a crystal that froze onto that seed.
+LATENCY_NOTES = {"frost": "seed shown", "growth": "first crystal frozen onto the seed"}
+MAX_LIGHT_TILT = 0.95  # |xy| of the unit light vector: it never grazes the glass
+
+
+class WindowError(RuntimeError):
+    pass
+
+
+def open_window(scale: float | None) -> tuple:
+    """A GLFW window for the phone at `scale` (default: fit the monitor); (window, scale)."""
+    errors: list[str] = []
+    glfw.set_error_callback(lambda code, text: errors.append(f"{text} ({code:#x})"))
+    if not glfw.init():
+        raise WindowError(f"GLFW could not start: {'; '.join(errors) or 'no reason given'}")
+    scale = scale or fit_scale(_workarea())
+    size = (max(1, round(PHONE[0] * scale)), max(1, round(PHONE[1] * scale)))
+    glfw.window_hint(glfw.CONTEXT_VERSION_MAJOR, 3)
+    glfw.window_hint(glfw.CONTEXT_VERSION_MINOR, 3)
+    glfw.window_hint(glfw.OPENGL_PROFILE, glfw.OPENGL_CORE_PROFILE)
+    glfw.window_hint(glfw.OPENGL_FORWARD_COMPAT, True)
+    glfw.window_hint(glfw.RESIZABLE, True)
+    glfw.window_hint(glfw.DOUBLEBUFFER, True)
+    glfw.window_hint(glfw.SCALE_TO_MONITOR, False)
+    window = glfw.create_window(*size, TITLE, None, None)
+    if not window:
+        glfw.terminate()
+        raise WindowError(f"cannot open a {size[0]}x{size[1]} OpenGL 3.3 core window: "
+                          f"{'; '.join(errors) or 'no reason given'}")
+    glfw.make_context_current(window)
+    glfw.swap_interval(1)
+    glfw.set_window_aspect_ratio(window, *PHONE)
+    return window, scale
+
+
+def _workarea() -> tuple[int, int]:
+    monitor = glfw.get_primary_monitor()
+    if not monitor:
+        return 0, 0
+    _, _, w, h = glfw.get_monitor_workarea(monitor)
+    return w, h
+
+
+def moved_light(light, dx: float, dy: float) -> tuple[float, float, float]:
+    """The light direction moved on the screen (x right, y down), kept toward the viewer."""
+    x, y = float(light[0]) + dx, float(light[1]) + dy
+    r = math.hypot(x, y)
+    if r > MAX_LIGHT_TILT:
+        x, y = x * MAX_LIGHT_TILT / r, y * MAX_LIGHT_TILT / r
+    return x, y, math.sqrt(max(0.0, 1.0 - x * x - y * y))
+
+
+class FrostWindow:
+    """One window, its GL objects and the simulation thread feeding it."""
+
+    def __init__(self, window, args, params: Params):
+        self.window, self.args = window, args
+        self.ctx = moderngl.create_context()
+        self.renderer = Renderer(self.ctx, params, *PHONE)
+        self.phone = self.ctx.framebuffer(
+            color_attachments=[self.ctx.texture(PHONE, 4)],
+            depth_attachment=self.ctx.depth_renderbuffer(PHONE))
+        self.phone.color_attachments[0].filter = (moderngl.LINEAR, moderngl.LINEAR)
+        self.blit = load_program(self.ctx, "blit.vert", "blit.frag")
+        self.blit["u_texture"].value = 0
+        self.quad = self.ctx.vertex_array(self.blit, [])
+        self.hud = Hud(self.ctx)
+        self.recorder = Recorder(args.screenshot_dir)
+        self.keys = key_table(lambda name: getattr(glfw, f"KEY_{name}"))
+        self.actions = self._action_table()
+        self.params = params
+        self.sim = SimThread(params, args.seed, args.touch or (), *PHONE,
+                             wake=glfw.post_empty_event)
+        self._init_state()
+        self._connect()
+
+    def _init_state(self) -> None:
+        self.latest: Snapshot | None = None
+        self.dirty, self.running, self.status = True, True, 0
+        self.frames, self.renders, self.render_ms, self.snapshots = 0, 0, 0.0, 0
+        self.fps, self.drag_from, self.clicks_pending = 0.0, None, []
+        self.message, self.message_until = "", 0.0
+        self.screenshots: list[Path] = []
+        self.latencies: list[tuple[int, float]] = []
+        self.started = time.monotonic()
+        self._hud_next, self._log_next = 0.0, self.started + LOG_PERIOD
+        self._fps_mark = (0, self.started)
+        self._hud_stats: list[str] = []
+
+    def _connect(self) -> None:
+        glfw.set_key_callback(self.window, self._on_key)
+        glfw.set_mouse_button_callback(self.window, self._on_button)
+        glfw.set_cursor_pos_callback(self.window, self._on_cursor)
+        glfw.set_framebuffer_size_callback(self.window, lambda *_: self._damage())
+        glfw.set_window_refresh_callback(self.window, lambda *_: self._damage())
+
+    # ---- the frame loop -------------------------------------------------------------
+
+    def loop(self) -> int:
+        self.sim.start()
+        deadline = self.started + (self.args.max_seconds or math.inf)
+        while self.running and not glfw.window_should_close(self.window):
+            self._drain()
+            if time.monotonic() >= deadline:
+                log.info("window: --max-seconds %.1f reached", self.args.max_seconds)
+                break
+            if self._minimized():
+                glfw.wait_events_timeout(IDLE_WAIT)
+                continue
+            self._frame()
+            glfw.wait_events_timeout(IDLE_WAIT)
+        return self.status
+
+    def close(self) -> None:
+        self.sim.stop()
+        self.recorder.close()
+        self._summary()
+
+    def _drain(self) -> None:
+        for snap in self.sim.drain():
+            self._apply(snap)
+
+    def _apply(self, snap: Snapshot) -> None:
+        if snap.error:
+            log.error("simulation thread died: %s", snap.error)
+            self.running, self.status = False, 1
+            return
+        if snap.reset:
+            self.renderer.reset()
+            self.dirty = True
+        if snap.delta is not None:
+            self.renderer.apply(snap.delta)
+            self.dirty = self.dirty or _changes(snap.delta)
+        self.snapshots += 1
+        if snap.message:
+            self._say(snap.message)
+        self.clicks_pending.extend(("frost", c, snap.stats.tick) for c in snap.clicks)
+        self.clicks_pending.extend(("growth", c, snap.stats.tick) for c in snap.grown)
+        self.latest = snap
+
+    def _minimized(self) -> bool:
+        w, h = glfw.get_framebuffer_size(self.window)
+        return w == 0 or h == 0 or bool(glfw.get_window_attrib(self.window, glfw.ICONIFIED))
+
+    def _frame(self) -> None:
+        now = time.monotonic()
+        if self.dirty:
+            self._render_phone()
+        if self.dirty or now >= self._hud_next or self._damaged:
+            self._present(now)
+
+    _damaged = True
+
+    def _damage(self) -> None:
+        self._damaged = True
+
+    def _render_phone(self) -> None:
+        t0 = time.perf_counter()
+        self.phone.use()
+        self.renderer.render(self.phone)
+        self.render_ms = 0.9 * self.render_ms + 100.0 * (time.perf_counter() - t0)
+        self.renders += 1
+        self.recorder.offer(lambda: read_image(self.phone))
+
+    def _present(self, now: float) -> None:
+        fb = glfw.get_framebuffer_size(self.window)
+        screen = self.ctx.screen
+        screen.use()
+        self.ctx.viewport = (0, 0, *fb)
+        screen.clear(*BACKDROP)
+        self.ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND | moderngl.CULL_FACE)
+        self.ctx.viewport = letterbox(fb)
+        self.blit["u_rect"].value = (-1.0, -1.0, 1.0, 1.0)
+        self.phone.color_attachments[0].use(0)
+        self.quad.render(moderngl.TRIANGLE_STRIP, vertices=4)
+        self.ctx.viewport = (0, 0, *fb)
+        self._draw_hud(fb, now)
+        glfw.swap_buffers(self.window)
+        self.frames += 1
+        self.dirty = self._damaged = False
+        self._after_present(now)
+
+    def _draw_hud(self, fb, now: float) -> None:
+        if now >= self._hud_next:
+            self._update_fps(now)
+            self._hud_stats = self._stats_lines(now)
+            self._hud_next = now + HUD_PERIOD
+        self.hud.draw(fb, self._hud_stats, help_lines())
+
+    def _after_present(self, now: float) -> None:
+        for kind, (click_tick, t_click), tick in self.clicks_pending:
+            ms = (time.monotonic() - t_click) * 1000.0
+            self.latencies.append((kind, tick - click_tick, ms))
+            log.info("click-to-first-%s: %d ticks, %.1f ms (%s)", kind, tick - click_tick, ms,
+                     LATENCY_NOTES[kind])
+        self.clicks_pending = []
+        if now >= self._log_next:
+            self._log_next = now + LOG_PERIOD
+            log.info("stats: %s", "  ".join(self._stats_lines(now)[:3]))
+
+    def _update_fps(self, now: float) -> None:
+        frames, since = self._fps_mark
+        if now - since >= 0.5:
+            self.fps = (self.frames - frames) / (now - since)
+            self._fps_mark = (self.frames, now)
+
+    # ---- HUD text ----------------------------------------------------------------------
+
+    def _stats_lines(self, now: float) -> list[str]:
+        s = self.latest.stats if self.latest else Stats(0, 0.0, 0, 0, 0.0, 0, False)
+        p = self.params
+        r = self.renderer
+        state = [w for w, on in (("PAUSED", s.paused),
+                                 (f"REC {self.recorder.count} frames", self.recorder.active)) if on]
+        lines = [
+            f"fps {self.fps:5.1f}  render {self.render_ms:5.1f} ms",
+            f"tick {s.tick}  {s.tick_ms:5.1f} ms  rate {s.rate:4.1f}/s  overruns {s.overruns}",
+            f"crystals {s.crystals}  water {s.water}",
+            f"hc {p.hc:g}  D {p.D:g}  humidity {p.humidity}  step {p.step:g}  bump {p.bump:g}",
+            f"features {_onoff(r.show_features)}  bumps {_onoff(r.show_bumps)}  "
+            "light ({:.2f}, {:.2f}, {:.2f})".format(*r.light),
+            "  ".join(state) or "running",
+        ]
+        if now < self.message_until:
+            lines.append(self.message)
+        return lines + ["H help"]
+
+    def _say(self, text: str, level: int = logging.INFO) -> None:
+        log.log(level, "%s", text)
+        self.message, self.message_until = text, time.monotonic() + MESSAGE_SECONDS
+        self._hud_next = 0.0
+
+    # ---- input ---------------------------------------------------------------------------
+
+    def _on_key(self, _window, key, _scancode, action, _mods) -> None:
+        binding = self.keys.get(key)
+        if binding is None or action == glfw.RELEASE:
+            return
+        if action == glfw.REPEAT and binding.action not in REPEATING:
+            return
+        self.actions[binding.action](binding.arg)
+        self._hud_next = 0.0  # show the change at once
+
+    def _on_button(self, _window, button, action, _mods) -> None:
+        if button != glfw.MOUSE_BUTTON_LEFT:
+            return
+        if action == glfw.RELEASE:
+            self.drag_from = None
+            return
+        spot = self._cursor_phone()
+        if spot is None:
+            return
+        tick = self.latest.stats.tick if self.latest else 0
+        self.sim.send("touch", (spot, (tick, time.monotonic())))
+        self.drag_from = spot
+
+    def _on_cursor(self, _window, _x, _y) -> None:
+        spot = self.drag_from and self._cursor_phone()
+        if not spot:
+            return
+        points = path_points(self.drag_from, spot, DRAG_SPACING_HC * self.params.hc)
+        for point in points:
+            self.sim.send("touch", (point, None))
+        if points:
+            self.drag_from = points[-1]
+
+    def _cursor_phone(self):
+        return cursor_to_phone(glfw.get_cursor_pos(self.window),
+                               glfw.get_window_size(self.window),
+                               glfw.get_framebuffer_size(self.window))
+
+    # ---- actions (the key table's action names) --------------------------------------------
+
+    def _action_table(self) -> dict:
+        return {"pause": lambda _: self.sim.send("pause"),
+                "single_step": lambda _: self.sim.send("step"),
+                "clear": self._clear, "screenshot": self._screenshot,
+                "record": lambda _: self.recorder.toggle(),
+                "scale": self._scale, "shift": self._shift, "preset": self._preset,
+                "toggle_view": self._toggle_view, "light": self._move_light,
+                "toggle_hud": self._toggle_hud, "toggle_help": self._toggle_help,
+                "quit": self._quit}
+
+    def _clear(self, _arg) -> None:
+        self.sim.send("clear")
+        self._say("cleared")
+
+    def _quit(self, _arg) -> None:
+        self.running = False
+
+    def _toggle_hud(self, _arg) -> None:
+        self.hud.visible = not self.hud.visible
+        self._damage()
+
+    def _toggle_help(self, _arg) -> None:
+        self.hud.show_help = not self.hud.show_help
+        self._damage()
+
+    def _toggle_view(self, name: str) -> None:
+        setattr(self.renderer, name, not getattr(self.renderer, name))
+        self.dirty = True
+        self._say(f"{name} {_onoff(getattr(self.renderer, name))}")
+
+    def _move_light(self, arg) -> None:
+        self.renderer.light = moved_light(self.renderer.light, *arg)
+        self.dirty = True
+
+    def _scale(self, arg) -> None:
+        name, factor = arg
+        self._change(name, max(1, round(getattr(self.params, name) * factor)))
+
+    def _shift(self, arg) -> None:
+        name, delta = arg
+        self._change(name, round(getattr(self.params, name) + delta, 6))
+
+    def _change(self, name: str, value) -> None:
+        changes = {name: value}
+        if name == "hc" and self.params.step > value > 0:
+            changes["step"] = value  # keep walkers from tunnelling: step <= hc
+        try:
+            self._set_params(self.params.replace(**changes))
+        except ValueError as err:
+            self._say(f"refused: {err}", logging.WARNING)
+
+    def _preset(self, name: str) -> None:
+        keep = {k: v for k, v in self.params.as_dict().items()
+                if k not in PRESETS[name] and k != "step"}
+        self._set_params(Params.preset(name, **keep))
+        self._say(f"preset {name}")
+
+    def _set_params(self, params: Params) -> None:
+        changed = {k: v for k, v in params.as_dict().items() if getattr(self.params, k) != v}
+        self.params = params
+        self.sim.send("params", params)
+        self._say("params: " + " ".join(f"{k}={v:g}" for k, v in changed.items()))
+
+    def _screenshot(self, _arg) -> None:
+        self._render_phone()
+        folder = Path(self.args.screenshot_dir)
+        folder.mkdir(parents=True, exist_ok=True)
+        meta = {"params": json.dumps(self.params.as_dict()), "seed": str(self.args.seed),
+                "touches": json.dumps(self.latest.touches if self.latest else []),
+                "tick": str(self.latest.stats.tick if self.latest else 0)}
+        path = save_png(read_image(self.phone), timestamped_path(folder), meta)
+        self.screenshots.append(path)
+        self._say(f"screenshot: {path}")
+
+    # ---- the end --------------------------------------------------------------------------
+
+    def _summary(self) -> None:
+        elapsed = max(time.monotonic() - self.started, 1e-9)
+        s = self.latest.stats if self.latest else Stats(0, 0.0, 0, 0, 0.0, 0, False)
+        lat = ", ".join(f"{k} {t} ticks {ms:.0f} ms" for k, t, ms in self.latencies) or "none"
+        log.info("summary: %.1f s, %d frames (%.1f fps), %d phone renders, %d ticks "
+                 "(%.1f ticks/s), %d overruns, %d screenshots, latency %s, exit status %d",
+                 elapsed, self.frames, self.frames / elapsed, self.renders, self.snapshots,
+                 self.snapshots / elapsed, s.overruns, len(self.screenshots), lat, self.status)
+
+
+def _changes(delta) -> bool:
+    return delta.reset or delta.rows.stop > delta.rows.start or len(delta.features) > 0
+
+
+def _onoff(flag: bool) -> str:
+    return "on" if flag else "off"
+
+
+def run(args, params: Params) -> int:
+    """Open the phone window and run until it closes; the exit status."""
+    try:
+        window, scale = open_window(args.scale)
+    except WindowError as err:
+        log.error("%s", err)
+        return 1
+    log.info("window: %dx%d at scale %.2f, framebuffer %dx%d",
+             *glfw.get_window_size(window), scale, *glfw.get_framebuffer_size(window))
+    app = None
+    try:
+        app = FrostWindow(window, args, params)
+        return app.loop()
+    except Exception:
+        log.exception("window failed")
+        return 1
+    finally:
+        if app is not None:
+            app.close()
+        glfw.terminate()

@@ -1,0 +1,151 @@
+"""End to end: the phone window under Xvfb, driven with xdotool like a user would.
+
+One session (about 15 s) runs this file as a script inside `xvfb-run`: it starts
+`python -m app` (a subprocess: GL contexts stay out of the pytest process), takes a
+screenshot, clicks, takes another, changes hc, lets it run, and presses Esc. The tests
+then read its log, its screenshots and the driver's timings.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+ROOT = Path(__file__).resolve().parent.parent
+SCREEN = "-screen 0 1280x1400x24"  # taller than the 1280 px phone
+CLICK = (380, 420)  # phone px
+FAR = (120, 1150)  # more than active_radius (200 px) from CLICK
+BOX = 24  # half size of the compared squares, px
+GROW_SECONDS = 2.0
+RATE_SECONDS = 4.5
+
+pytestmark = [
+    pytest.mark.window,
+    pytest.mark.skipif(not (shutil.which("xvfb-run") and shutil.which("xdotool")),
+                       reason="needs xvfb-run and xdotool"),
+]
+
+
+# ---- the driver: runs under Xvfb -------------------------------------------------------
+
+
+def xdo(*args: str) -> str:
+    return subprocess.run(["xdotool", *args], check=True, capture_output=True, text=True,
+                          timeout=30).stdout
+
+
+def wait_for(log: Path, pattern: str, count: int = 1, timeout: float = 20.0) -> list[str]:
+    """The first `count` matches of `pattern` in the log, waiting up to `timeout` s."""
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        found = re.findall(pattern, log.read_text())
+        if len(found) >= count:
+            return found
+        time.sleep(0.05)
+    raise TimeoutError(f"{pattern!r} x{count} not in {log}")
+
+
+def drive(out: Path) -> None:
+    log = out / "app.log"
+    # c-3 (humidity 5000) with seed 1 freezes onto the seed within half a second.
+    cmd = [sys.executable, "-m", "app", "--preset", "c-3", "--seed", "1",
+           "--screenshot-dir", str(out / "shots"), "--max-seconds", "60"]
+    with open(log, "w") as sink:
+        app = subprocess.Popen(cmd, cwd=ROOT, stdout=sink, stderr=subprocess.STDOUT)
+    result = {}
+    try:
+        result = session(app, log)
+    finally:
+        if app.poll() is None:
+            app.kill()
+        (out / "result.json").write_text(json.dumps(result))
+
+
+def session(app: subprocess.Popen, log: Path) -> dict:
+    wid = xdo("search", "--sync", "--onlyvisible", "--name", "^frost$").split()[0]
+    scale = float(wait_for(log, r"at scale ([\d.]+)")[0])
+    wait_for(log, r"stats: ")  # frames are flowing
+    xdo("mousemove", "--window", wid, "5", "5")
+    xdo("key", "--clearmodifiers", "s")
+    wait_for(log, r"screenshot: ", 1)
+    xdo("mousemove", "--window", wid, *(str(round(c * scale)) for c in CLICK))
+    xdo("click", "1")
+    time.sleep(GROW_SECONDS)
+    xdo("key", "s")
+    wait_for(log, r"screenshot: ", 2)
+    xdo("key", "bracketright")  # hc up
+    time.sleep(RATE_SECONDS)
+    xdo("key", "Escape")
+    pressed = time.monotonic()
+    status = app.wait(timeout=10)
+    return {"status": status, "exit_seconds": time.monotonic() - pressed, "scale": scale}
+
+
+# ---- the tests --------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("window")
+    subprocess.run(["xvfb-run", "-a", "-s", SCREEN, sys.executable, __file__, str(out)],
+                   cwd=ROOT, timeout=120, check=False)
+    log = (out / "app.log").read_text()
+    result = json.loads((out / "result.json").read_text())
+    shots = re.findall(r"screenshot: (\S+\.png)", log)
+    return {"log": log, "result": result, "shots": [Path(s) for s in shots]}
+
+
+def box(image: np.ndarray, centre: tuple[int, int]) -> np.ndarray:
+    x, y = centre
+    return image[y - BOX:y + BOX, x - BOX:x + BOX].astype(np.int16)
+
+
+def test_esc_exits_with_status_zero_within_a_second(run):
+    assert run["result"]["status"] == 0, run["log"][-2000:]
+    assert run["result"]["exit_seconds"] < 1.0
+    assert "summary:" in run["log"]
+
+
+def test_screenshots_are_phone_sized_pngs_with_their_recipe(run):
+    assert len(run["shots"]) == 2
+    for path in run["shots"]:
+        image = Image.open(path)
+        assert image.size == (760, 1280)
+        assert json.loads(image.text["params"])["hc"] == 7.0
+        assert image.text["seed"] == "1"
+    assert json.loads(Image.open(run["shots"][1]).text["touches"]) == [list(CLICK)]
+
+
+def test_click_grows_frost_there_and_nowhere_far(run):
+    before, after = (np.asarray(Image.open(p).convert("RGB")) for p in run["shots"])
+    assert np.abs(box(after, CLICK) - box(before, CLICK)).mean() > 5.0
+    assert np.abs(box(after, FAR) - box(before, FAR)).max() == 0
+
+
+def test_parameter_key_changes_the_parameter(run):
+    assert "params: hc=7.5" in run["log"]
+
+
+def test_click_to_first_frost_within_two_ticks(run):
+    ticks = [int(t) for t in re.findall(r"click-to-first-frost: (\d+) ticks", run["log"])]
+    assert ticks and max(ticks) <= 2
+
+
+def test_tick_rate_is_25_while_rendering(run):
+    rates = [float(r) for r in re.findall(r"rate +([\d.]+)/s", run["log"])]
+    assert len(rates) >= 4, run["log"]
+    for rate in rates[-2:]:  # each over the last 2 s, after the hc change
+        assert 24.0 <= rate <= 26.0
+
+
+if __name__ == "__main__":
+    drive(Path(sys.argv[1]))
