@@ -1,0 +1,169 @@
+"""The window's parts that need no display: the key table, letterboxing and cursor
+mapping, the simulation thread's schedule, snapshots, rebuilds and failures."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+
+from app import simthread
+from app.keys import BINDINGS, help_lines, key_table
+from app.record import Recorder
+from app.simthread import SimThread
+from app.view import cursor_to_phone, fit_scale, letterbox, path_points
+from sim import Params
+
+# ---- keys ------------------------------------------------------------------------------
+
+
+def test_every_key_is_bound_once_and_listed_in_the_help():
+    codes = key_table(lambda name: name)
+    assert len(codes) == sum(len(b.keys) for b in BINDINGS)
+    assert len(help_lines()) == len(BINDINGS)
+    assert {b.arg for b in BINDINGS if b.action == "preset"} == {
+        "a-1", "a-2", "a-3", "b-1", "b-2", "b-3", "c-1", "c-2", "c-3"}
+
+
+def test_key_names_are_glfw_keys():
+    glfw = pytest.importorskip("glfw")
+    key_table(lambda name: getattr(glfw, f"KEY_{name}"))
+
+
+# ---- view --------------------------------------------------------------------------------
+
+
+def test_fit_scale_shrinks_to_a_small_work_area_and_never_grows():
+    assert fit_scale((1920, 2000)) == 1.0
+    assert fit_scale((1920, 1080)) == pytest.approx(0.95 * 1080 / 1280)
+
+
+def test_letterbox_keeps_the_aspect_and_centres():
+    assert letterbox((760, 1280)) == (0, 0, 760, 1280)
+    x, y, w, h = letterbox((1000, 1280))
+    assert (x, y, w, h) == (120, 0, 760, 1280)
+    x, y, w, h = letterbox((760, 2000))
+    assert (x, w) == (0, 760) and y == (2000 - 1280) // 2
+
+
+def test_cursor_maps_through_hidpi_and_letterbox():
+    # A 380x640 window on a 2x screen: the framebuffer is 760x1280.
+    assert cursor_to_phone((190, 320), (380, 640), (760, 1280)) == (380, 640)
+    # A wide window: bars of 120 px on each side.
+    assert cursor_to_phone((120, 0), (1000, 1280), (1000, 1280)) == (0, 0)
+    assert cursor_to_phone((100, 10), (1000, 1280), (1000, 1280)) is None
+    assert cursor_to_phone((10, 10), (0, 0), (0, 0)) is None  # minimized
+
+
+def test_drag_path_points_are_evenly_spaced():
+    pts = path_points((0, 0), (100, 0), 28)
+    assert pts == pytest.approx([(28, 0), (56, 0), (84, 0)])
+    assert path_points((0, 0), (10, 0), 28) == []
+
+
+# ---- simulation thread -----------------------------------------------------------------
+
+
+def run_for(thread: SimThread, seconds: float) -> list:
+    thread.start()
+    time.sleep(seconds)
+    thread.stop()
+    assert not thread.is_alive()
+    return thread.drain()
+
+
+def test_ticks_at_25_per_second_with_immutable_snapshots():
+    snaps = run_for(SimThread(Params(), 0, [(380, 640)]), 1.0)
+    assert 23 <= len(snaps) <= 26
+    assert [s.stats.tick for s in snaps] == list(range(1, len(snaps) + 1))
+    assert snaps[-1].stats.crystals >= 1 and snaps[-1].touches == ((380, 640),)
+    with pytest.raises(AttributeError):
+        snaps[0].stats.tick = 5
+
+
+def test_overrun_is_counted_and_skipped(monkeypatch):
+    thread = SimThread(Params(), 0, dt=0.01)
+    step = thread.sim.step
+    monkeypatch.setattr(thread.sim, "step", lambda: (time.sleep(0.035), step())[1])
+    snaps = run_for(thread, 0.5)
+    assert snaps[-1].stats.overruns >= 2 * len(snaps)
+    assert len(snaps) <= 0.5 / 0.035 + 1  # no catching up
+
+
+def test_touch_applies_at_the_next_tick():
+    thread = SimThread(Params(), 0)
+    thread.send("touch", ((100.0, 200.0), (0, time.monotonic())))
+    thread._tick()
+    snap = thread.drain()[-1]
+    assert snap.touches == ((100.0, 200.0),) and snap.stats.crystals >= 1
+    assert len(snap.clicks) == 1
+
+
+def test_param_change_rebuilds_and_replays_the_touches_deterministically():
+    a = SimThread(Params(), 3, [(380, 640)])
+    for _ in range(5):
+        a._tick()
+    a.send("params", Params(hc=8.0))
+    for _ in range(20):
+        a._tick()
+    snaps = a.drain()
+    assert snaps[5].reset and snaps[5].params.hc == 8.0 and snaps[5].stats.tick == 1
+    b = SimThread(Params(hc=8.0), 3, [(380, 640)])
+    for _ in range(20):
+        b._tick()
+    assert np.array_equal(a.sim.crystals, b.sim.crystals)
+
+
+def test_pause_and_single_step():
+    thread = SimThread(Params(), 0, [(380, 640)])
+    thread.send("pause")
+    thread._tick()
+    thread._tick()
+    thread.send("step")
+    thread._tick()
+    snaps = thread.drain()
+    assert [s.stats.tick for s in snaps] == [0, 0, 1]
+    assert snaps[0].delta is None and snaps[2].delta is not None
+
+
+def test_clear_drops_touches_and_resets():
+    thread = SimThread(Params(), 0, [(380, 640)])
+    thread._tick()
+    thread.send("clear")
+    thread._tick()
+    snap = thread.drain()[-1]
+    assert snap.reset and snap.touches == () and snap.stats.crystals == 0
+
+
+def test_a_failing_tick_is_reported_not_hung(monkeypatch, caplog):
+    thread = SimThread(Params(), 0, [(380, 640)])
+    monkeypatch.setattr(thread.geometry, "update", lambda sim: 1 / 0)
+    thread.start()
+    thread.join(2.0)
+    assert not thread.is_alive()
+    snap = thread.drain()[-1]
+    assert snap.error and "ZeroDivisionError" in snap.error
+    assert "simulation thread failed" in caplog.text and "Traceback" in caplog.text
+
+
+def test_rate_window_is_two_seconds():
+    assert simthread.RATE_WINDOW / simthread.TICKS_PER_SECOND == 2.0
+
+
+# ---- recording ----------------------------------------------------------------------------
+
+
+def test_recording_keeps_every_second_frame_and_writes_webp(tmp_path):
+    rec = Recorder(tmp_path)
+    rec.toggle()
+    frame = np.zeros((1280, 760, 3), np.uint8)
+    for i in range(6):
+        frame[:, :, 0] = 40 * i
+        rec.offer(lambda: frame.copy())
+    assert rec.count == 3
+    rec.close()
+    (path,) = tmp_path.glob("*.webp")
+    from PIL import Image
+    with Image.open(path) as image:
+        assert image.size == (380, 640) and image.n_frames == 3
