@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import sys
 import time
 from pathlib import Path
 
@@ -64,12 +65,12 @@ class Session:
 def run(args, params: Params) -> int:
     """`python -m app --headless ...`; returns the exit status."""
     if args.ticks < 0:
-        print(f"error: --ticks {args.ticks} must be 0 or more")
+        _error(f"--ticks {args.ticks} must be 0 or more")
         return 2
     try:
         ctx = make_context()
     except RuntimeError as err:
-        print(f"error: {err}")
+        _error(err)
         return 1
     session = Session(ctx, params, args.seed)
     if args.touch:
@@ -82,7 +83,7 @@ def _run_touches(session: Session, args) -> int:
         for x, y in args.touch:
             session.touch(x, y)
     except ValueError as err:
-        print(f"error: {err}")
+        _error(err)
         return 2
     _grow(session, args.ticks)
     path = Path(args.screenshot) if args.screenshot else timestamped_path(DEFAULT_FOLDER)
@@ -104,6 +105,11 @@ def _run_scripted(session: Session, args) -> int:
         written.append(session.snapshot(Path(args.screenshot)))
     print("wrote " + ", ".join(str(p) for p in written))
     return 0
+
+
+def _error(message) -> None:
+    """A one-line error for the user, no traceback."""
+    print(f"frost: error: {message}", file=sys.stderr)
 
 
 def _grow(session: Session, ticks: int) -> None:

@@ -1,0 +1,90 @@
+"""Sharp features (Fig. 6) by hand, and the incremental height grid against an oracle."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from sim import FrostSim, Params
+from sim.geometry import (
+    FrostGeometry,
+    bump_heights,
+    falloff,
+    feature_triangles,
+    feature_vertices,
+)
+
+
+def test_single_segment_points_by_hand():
+    # p=(0,0), q=(4,0): L=4, n=(0,1); m=(2,0) at 0.5*4=2; s1,2 = m -/+ 1.5*4*n.
+    xyz, faces = feature_vertices((0.0, 0.0), (4.0, 0.0), width=1.5, height=0.5)
+    want = [[0, 0, 0], [4, 0, 0], [2, 0, 2], [2, -6, 0], [2, 6, 0]]
+    np.testing.assert_allclose(xyz, want, atol=1e-6)
+    # (p, s1, m), (s1, q, m), (q, s2, m), (s2, p, m)
+    assert faces.tolist() == [[0, 3, 2], [3, 1, 2], [1, 4, 2], [4, 0, 2]]
+
+
+def test_single_segment_triangles_and_normals():
+    verts = feature_triangles(np.array([[0, 0, 4, 0]], np.float32), 1.5, 0.5)
+    assert verts.shape == (12, 6)
+    xyz, faces = feature_vertices((0.0, 0.0), (4.0, 0.0))
+    np.testing.assert_allclose(verts[:, :3], xyz[faces.ravel()], atol=1e-6)
+    # (s1 - p) x (m - p) = (2,-6,0) x (2,0,2) = (-12,-4,12): each face leans away
+    # from the ridge, toward its own corner, and faces the viewer (+z).
+    s = np.sqrt(304.0)
+    want = np.array([[-12, -4, 12], [12, -4, 12], [12, 4, 12], [-12, 4, 12]]) / s
+    np.testing.assert_allclose(verts[:, 3:].reshape(4, 3, 3), np.repeat(want[:, None], 3, 1),
+                               atol=1e-6)
+
+
+def test_normals_face_viewer_for_any_direction():
+    rng = np.random.default_rng(1)
+    segs = rng.uniform(0, 100, (50, 4)).astype(np.float32)
+    verts = feature_triangles(segs, 1.5, 0.5)
+    assert (verts[:, 5] > 0).all()
+    np.testing.assert_allclose(np.linalg.norm(verts[:, 3:], axis=1), 1.0, atol=1e-5)
+
+
+def test_zero_length_segment_lies_flat():
+    verts = feature_triangles(np.array([[5, 5, 5, 5]], np.float32), 1.5, 0.5)
+    assert np.isfinite(verts).all()
+    np.testing.assert_allclose(verts[:, 3:], [[0, 0, 1]] * 12)
+
+
+def test_falloff_is_smooth_and_bounded():
+    d = np.array([0.0, 3.5, 7.0, 9.0])
+    np.testing.assert_allclose(falloff(d, 7.0), [1.0, 0.5625, 0.0, 0.0])
+
+
+@pytest.mark.parametrize("preset", ["c-2", "a-1"])
+def test_height_grid_matches_oracle_after_growth(preset):
+    params = Params.preset(preset, active_radius=50.0, humidity=800, max_height=3.0)
+    sim = FrostSim(params, 160, 120, seed=3)
+    geo = FrostGeometry(params, 160, 120)
+    sim.touch(80, 60)
+    before = geo.heights.copy()
+    features = [geo.update(sim).features]  # the touch alone
+    for _ in range(40):
+        sim.step()
+        delta = geo.update(sim)
+        changed = np.flatnonzero((geo.heights != before).any(axis=1))
+        assert changed.size == 0 or (delta.rows.start <= changed.min()
+                                     and changed.max() < delta.rows.stop)
+        np.testing.assert_array_equal(delta.heights, geo.heights[delta.rows])
+        before = geo.heights.copy()
+        features.append(delta.features)
+    pts = np.concatenate((sim.crystals, sim.upsampled))
+    assert len(pts) > 20
+    oracle = bump_heights(pts, geo.rows, geo.cols, params.grid_spacing, params.hc,
+                          params.bump, params.max_height)
+    np.testing.assert_allclose(geo.heights, oracle, atol=1e-4)
+    all_feats = feature_triangles(sim.segments, params.feature_width, params.feature_height)
+    np.testing.assert_allclose(np.concatenate(features), all_feats, atol=1e-5)
+
+
+def test_grid_shape_and_reset():
+    geo = FrostGeometry(Params(), 760, 1280)
+    assert geo.heights.shape == (1280 // 4 + 1, 760 // 4 + 1)
+    geo.heights[3, 3] = 1.0
+    delta = geo.reset()
+    assert delta.reset and not geo.heights.any()

@@ -1,0 +1,175 @@
+"""Shaders (GLSL ES 3.00), the renderer's pixels against Python arithmetic, and headless PNGs."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from app.render import Renderer
+from app.screenshot import read_image, save_png, timestamped_path
+from app.shaders import SHADER_DIR, load_program, shader_source
+from sim import Params
+from sim.geometry import GeometryDelta, feature_triangles
+
+ROOT = Path(__file__).resolve().parent.parent
+W, H = 160, 128
+PROGRAMS = [("fullscreen.vert", "background.frag"), ("tile.vert", "ice.frag"),
+            ("feature.vert", "feature.frag")]
+SHADERS = sorted(p.name for p in SHADER_DIR.iterdir() if p.suffix in (".vert", ".frag"))
+NO_FEATURES = np.empty((0, 6), np.float32)
+
+
+@pytest.mark.parametrize("name", SHADERS)
+def test_shader_is_glsl_es_300(name, tmp_path):
+    exe = shutil.which("glslangValidator")
+    if exe is None:
+        pytest.skip("glslangValidator (Debian glslang-tools) is not installed")
+    path = tmp_path / f"shader{Path(name).suffix}"
+    path.write_text(shader_source(name))
+    run = subprocess.run([exe, str(path)], capture_output=True, text=True)
+    assert run.returncode == 0, run.stdout + run.stderr
+
+
+@pytest.mark.parametrize("vert, frag", PROGRAMS)
+def test_programs_compile_in_context(gl_ctx, vert, frag):
+    load_program(gl_ctx, vert, frag).release()
+
+
+def background() -> np.ndarray:
+    """A dark, top-to-bottom graded view, so flips and offsets show."""
+    y = np.linspace(20, 70, H)[:, None, None]
+    x = np.linspace(0, 30, W)[None, :, None]
+    return np.broadcast_to(y + x + [0, 5, 10], (H, W, 3)).astype(np.uint8)
+
+
+def plateau(rows: slice, cols: slice, h: float, cols_total: int) -> GeometryDelta:
+    """Heights set to h over a block of grid vertices (flat inside: slope 0)."""
+    heights = np.zeros((rows.stop - rows.start, cols_total), np.float32)
+    heights[:, cols] = h
+    return GeometryDelta(1, rows, heights, NO_FEATURES)
+
+
+def frame(ctx, renderer: Renderer) -> np.ndarray:
+    fbo = ctx.simple_framebuffer((W, H), components=4)
+    renderer.render(fbo)
+    image = read_image(fbo)
+    fbo.release()
+    return image.astype(np.float64)
+
+
+@pytest.fixture
+def renderer(gl_ctx):
+    return Renderer(gl_ctx, Params(), W, H, background=background())
+
+
+def test_clear_glass_is_the_background(gl_ctx, renderer):
+    np.testing.assert_array_equal(frame(gl_ctx, renderer), background())
+
+
+def test_ice_brightens_and_leaves_far_pixels_alone(gl_ctx, renderer):
+    cols = renderer.grid_size[0]
+    renderer.apply(plateau(slice(10, 20), slice(10, 20), 3.0, cols))  # px 40..76
+    img, bg = frame(gl_ctx, renderer), background().astype(np.float64)
+    np.testing.assert_array_equal(img[:30], bg[:30])  # rows far above the ice
+    np.testing.assert_array_equal(img[:, 90:], bg[:, 90:])  # columns far right of it
+    assert (img[50:66, 50:66] > bg[50:66, 50:66] + 20).all()
+
+
+def test_blend_matches_python_arithmetic(gl_ctx, renderer):
+    """On a flat plateau n = (0, 0, 1): Phong and premultiplied 'over' by hand."""
+    h, cols = 2.0, renderer.grid_size[0]
+    renderer.show_features = False
+    renderer.apply(plateau(slice(8, 24), slice(8, 24), h, cols))
+    m, light = renderer.material, np.array([0.3, -0.2, 0.9])
+    renderer.light = light
+    light = light / np.linalg.norm(light)
+    alpha = m.opacity * (1 - np.exp(-m.density * h))
+    specular = light[2] ** m.shininess  # reflect(-l, n).z = l.z for n = z
+    lit = np.array(m.ice_color) * (m.ambient + m.diffuse * light[2])
+    ice = alpha * lit + m.specular * specular * alpha / m.opacity
+    x, y = 64, 64
+    want = np.clip(ice + (1 - alpha) * background()[y, x] / 255.0, 0, 1) * 255
+    np.testing.assert_allclose(frame(gl_ctx, renderer)[y, x], want, atol=1.5)
+
+
+def brightest_x(gl_ctx, renderer, light) -> int:
+    renderer.light = light
+    img = frame(gl_ctx, renderer).sum(axis=2)
+    return int(np.unravel_index(np.argmax(img), img.shape)[1])
+
+
+def test_moving_the_light_moves_the_highlight(gl_ctx, renderer):
+    # One vertical feature at x = 80: its left faces lean left, its right faces right.
+    verts = feature_triangles(np.array([[80, 40, 80, 80]], np.float32), 1.5, 0.5)
+    renderer.show_bumps = False
+    renderer.apply(GeometryDelta(1, slice(0, 0), np.zeros((0, 41), np.float32), verts))
+    left = brightest_x(gl_ctx, renderer, (-0.6, 0.0, 0.8))
+    right = brightest_x(gl_ctx, renderer, (0.6, 0.0, 0.8))
+    assert left < 80 < right
+
+
+def test_reset_clears_the_ice(gl_ctx, renderer):
+    renderer.apply(plateau(slice(5, 9), slice(5, 9), 3.0, renderer.grid_size[0]))
+    renderer.reset()
+    np.testing.assert_array_equal(frame(gl_ctx, renderer), background())
+
+
+def test_missing_background_is_a_clear_error(tmp_path):
+    from app.render import load_background
+
+    with pytest.raises(FileNotFoundError, match="make_background"):
+        load_background(tmp_path / "none.png")
+
+
+def test_png_metadata_and_fresh_names(tmp_path):
+    image = np.zeros((4, 5, 3), np.uint8)
+    path = save_png(image, timestamped_path(tmp_path), {"seed": 7, "touches": [[1, 2]]})
+    assert path.exists() and timestamped_path(tmp_path) != path
+    text = Image.open(path).text
+    assert json.loads(text["seed"]) == 7 and json.loads(text["touches"]) == [[1, 2]]
+
+
+def run_cli(*args, cwd=ROOT):
+    return subprocess.run([sys.executable, "-m", "app", "--headless", *args], cwd=cwd,
+                          capture_output=True, text=True, timeout=120)
+
+
+def test_headless_cli_writes_png_with_metadata(gl_ctx, tmp_path):
+    out = tmp_path / "shot.png"
+    run = run_cli("--preset", "c-2", "--seed", "5", "--touch", "380,640", "--touch", "100,200",
+                  "--ticks", "20", "--hc", "6", "--screenshot", str(out))
+    assert run.returncode == 0, run.stderr
+    image = Image.open(out)
+    assert image.size == (760, 1280)
+    assert json.loads(image.text["seed"]) == 5
+    assert json.loads(image.text["parameters"])["hc"] == 6.0
+    assert [t[1:] for t in json.loads(image.text["touches"])] == [[380, 640], [100, 200]]
+    assert (np.asarray(image.convert("RGB")) != np.asarray(Image.open(ROOT / "assets" /
+                                                                       "background.png"))).any()
+
+
+def test_headless_cli_bad_touch_is_a_clear_error(gl_ctx, tmp_path):
+    run = run_cli("--touch", "9999,5", "--ticks", "1", "--screenshot", str(tmp_path / "x.png"))
+    assert run.returncode == 2
+    assert "off the 760x1280 screen" in run.stdout + run.stderr
+    assert "Traceback" not in run.stderr
+
+
+def test_no_opengl_is_a_clear_message(monkeypatch, capsys):
+    from app import headless
+    from app.cli import build_parser
+
+    def broken():
+        raise RuntimeError("no OpenGL available: test")
+
+    monkeypatch.setattr(headless, "make_context", broken)
+    args = build_parser().parse_args(["--headless", "--touch", "10,10"])
+    assert headless.run(args, Params()) == 1
+    assert "no OpenGL available" in capsys.readouterr().err
