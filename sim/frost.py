@@ -328,7 +328,7 @@ class FrostSim:
 
     def _close_tick(self, frozen: int) -> Added:
         now = (self._crystals.n, self._ups.n, self._segs.n)
-        c, u, s = (slice(a, b) for a, b in zip(self._mark, now))
+        c, u, s = (slice(a, b) for a, b in zip(self._mark, now, strict=True))
         self._mark = now
         self.added = Added(self.tick, c, u, s, frozen)
         return self.added

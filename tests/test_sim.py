@@ -1,0 +1,321 @@
+"""The simulation core against brute-force oracles (SPEC.md, Sec. 3.3-3.4)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from sim import FrostSim, Params, upsample, walk_displacements
+from sim.grid import CELL_MARGIN, HashGrid
+
+W, H = 760, 1280
+
+
+def grown(params=None, touches=((380.0, 640.0),), ticks=150, seed=3):
+    sim = FrostSim(params or Params.preset("c-2"), seed=seed)
+    for x, y in touches:
+        sim.touch(x, y)
+    for _ in range(ticks):
+        sim.step()
+    return sim
+
+
+def record_ticks(sim, ticks):
+    """Run `ticks` ticks, capturing for each the walkers after the walk, the crystals at
+    the tick's start, and which walkers froze to which parents."""
+    log = []
+    real = sim._crystallize
+
+    def spy():
+        frozen, parents = real()
+        log.append((sim.water.astype(np.float64), sim.crystals.astype(np.float64).copy(),
+                    frozen.copy(), parents.copy()))
+        return frozen, parents
+
+    sim._crystallize = spy
+    for _ in range(ticks):
+        sim.step()
+    return log
+
+
+# ---- Eq. 1 -------------------------------------------------------------------------
+
+@pytest.mark.parametrize("hc,cols,rows", [(7.0, 55, 92), (10.0, 38, 64), (3.0, 127, 214),
+                                          (6.5, 59, 99)])
+def test_grid_size_is_eq1_rounded_up(hc, cols, rows):
+    g = HashGrid(W, H, hc)
+    assert (g.cols, g.rows) == (math.ceil(W / (2 * hc)), math.ceil(H / (2 * hc))) == (cols, rows)
+    assert g.cols * g.cell >= W and g.rows * g.cell >= H
+
+
+# ---- candidate cells (Sec. 3.4.1) -----------------------------------------------------
+
+def cell_disc_distances(g, cells, pts):
+    """Distance from each point to each cell's rectangle (cells x points), the slow way."""
+    cy, cx = np.divmod(cells, g.cols)
+    x0, y0 = (cx * g.cell)[:, None], (cy * g.cell)[:, None]
+    gx = np.maximum(np.maximum(x0 - pts[:, 0], 0.0), pts[:, 0] - (x0 + g.cell))
+    gy = np.maximum(np.maximum(y0 - pts[:, 1], 0.0), pts[:, 1] - (y0 + g.cell))
+    return np.hypot(gx, gy)
+
+
+@pytest.mark.parametrize("preset", ["c-2", "b-1", "a-1"])
+def test_candidate_cells_match_brute_force(preset):
+    sim = grown(Params.preset(preset), touches=((380, 640), (5, 5), (755, 1275)), ticks=200)
+    g, hc = sim.grid, sim.params.hc
+    crystals = sim.crystals.astype(np.float64)
+    assert len(crystals) > 50
+    for lo in range(0, g.size, 512):
+        cells = np.arange(lo, min(lo + 512, g.size))
+        dist = cell_disc_distances(g, cells, crystals)
+        for cell, row in zip(cells, dist, strict=True):
+            listed = sim.candidates.items[cell, :sim.candidates.count[cell]]
+            assert np.all(np.diff(listed) > 0), "lists are ascending, without duplicates"
+            must = set(np.flatnonzero(row < hc).tolist())  # the disc truly meets the cell
+            may = set(np.flatnonzero(row < hc + CELL_MARGIN).tolist())
+            assert must <= set(listed.tolist()) <= may, f"cell {cell}"
+    state = sim.candidates.count > 0
+    assert state.sum() < g.size  # not everything marked: the update is local
+
+
+# ---- Eq. 2 ---------------------------------------------------------------------------
+
+def test_walk_steps_uniform_in_length_and_angle():
+    dx, dy = walk_displacements(np.random.default_rng(11), 200_000, 3.0)
+    a = np.hypot(dx.astype(np.float64), dy.astype(np.float64))
+    theta = np.mod(np.arctan2(dy, dx), 2 * np.pi)
+    assert a.max() <= 3.0 + 1e-6 and a.min() >= 0
+    # Uniform on [0, 3]: mean 1.5, variance 0.75; deciles each hold 10 %.
+    assert abs(a.mean() - 1.5) < 0.01 and abs(a.var() - 0.75) < 0.01
+    for values, top in ((a, 3.0), (theta, 2 * np.pi)):
+        counts = np.histogram(values, bins=10, range=(0, top))[0] / len(values)
+        assert np.all(np.abs(counts - 0.1) < 0.005)
+
+
+def test_walk_moves_each_walker_by_eq2():
+    sim = FrostSim(Params(humidity=500), seed=5)
+    sim.touch(380, 640)
+    before = sim.water.copy()
+    rng = np.random.default_rng()
+    rng.bit_generator.state = sim.rng.bit_generator.state  # replay the sim's own draws
+    ex, ey = walk_displacements(rng, len(before), sim.params.step)
+    sim._walk()
+    after = sim.water
+    stayed = np.hypot(*(after - before).T) <= sim.params.step + 1e-4  # not respawned
+    assert stayed.sum() > 0.9 * len(before)
+    np.testing.assert_allclose((after - before)[stayed, 0], ex[stayed], atol=1e-4)
+    np.testing.assert_allclose((after - before)[stayed, 1], ey[stayed], atol=1e-4)
+
+
+# ---- crystallization (Sec. 3.4.3) ------------------------------------------------------
+
+@pytest.mark.parametrize("preset", ["c-2", "a-1"])
+def test_crystallization_matches_brute_force_every_tick(preset):
+    sim = FrostSim(Params.preset(preset), seed=7)
+    sim.touch(380, 640)
+    sim.touch(200, 300)
+    hc = sim.params.hc
+    log = record_ticks(sim, 160)
+    froze_total = 0
+    for water, crystals, frozen, parents in log:
+        if len(water) == 0:
+            continue
+        d = np.hypot(water[:, None, 0] - crystals[None, :, 0], water[:, None, 1] - crystals[None, :, 1])
+        dmin = d.min(axis=1)
+        stays = np.ones(len(water), bool)
+        stays[frozen] = False
+        assert np.all(dmin[stays] >= hc - 1e-3), "a walker within hc stayed water"
+        assert np.all(dmin[frozen] < hc + 1e-3)
+        # linked to the nearest crystal that existed at the tick's start
+        assert np.all(parents < len(crystals))
+        np.testing.assert_allclose(d[frozen, parents], dmin[frozen], atol=1e-4)
+        froze_total += len(frozen)
+    assert froze_total > 100
+    assert froze_total == len(sim.crystals) - 2
+
+
+def assert_forest(sim, n_seeds):
+    parents = sim.parents
+    idx = np.arange(len(parents))
+    roots = np.flatnonzero(parents == -1)
+    assert len(roots) == n_seeds
+    # every link points to an older crystal, so following parents always ends at a root
+    assert np.all(parents[parents >= 0] < idx[parents >= 0])
+
+
+def test_skeleton_is_a_forest_with_one_root_per_seed():
+    touches = [(380, 640), (390, 650), (100, 100), (700, 1200)]
+    sim = grown(touches=touches, ticks=200)
+    assert_forest(sim, len(touches))
+    # each crystal's new position is within hc of its parent
+    p = sim.parents
+    child = np.flatnonzero(p >= 0)
+    gap = np.hypot(*(sim.crystals[child] - sim.crystals[p[child]]).T)
+    assert np.all(gap < sim.params.hc + 1e-3)
+
+
+# ---- upsampling (Eq. 3-4) -------------------------------------------------------------
+
+def test_upsample_hand_worked():
+    p = np.array([[0.0, 0.0], [10.0, 10.0], [0.0, 0.0]], np.float32)
+    q = np.array([[9.5, 0.0], [10.0, 13.0], [4.0, 3.0]], np.float32)
+    pts, link, segs, seg_link = upsample(p, q, 3.0)
+    # link 0: L = 9.5, Nu = 3 -> 2 points at 1/3 and 2/3; link 1: L = 3, Nu = 1 -> none;
+    # link 2: L = 5, Nu = 1 -> none.
+    np.testing.assert_allclose(pts, [[9.5 / 3, 0], [19.0 / 3, 0]], atol=1e-5)
+    assert link.tolist() == [0, 0]
+    assert seg_link.tolist() == [0, 0, 0, 1, 2]
+    np.testing.assert_allclose(segs[:3], [[0, 0, 9.5 / 3, 0], [9.5 / 3, 0, 19 / 3, 0],
+                                          [19 / 3, 0, 9.5, 0]], atol=1e-5)
+    np.testing.assert_array_equal(segs[3], [10, 10, 10, 13])
+
+
+@pytest.mark.parametrize("D", [0.7, 1.0, 2.5, 9.0, 20.0])
+def test_upsample_counts_and_even_spacing(D):
+    rng = np.random.default_rng(2)
+    p = rng.uniform(0, 100, (300, 2)).astype(np.float32)
+    q = (p + rng.uniform(-10, 10, (300, 2))).astype(np.float32)
+    pts, link, segs, seg_link = upsample(p, q, D)
+    for i in range(len(p)):
+        L = float(np.hypot(*(q[i].astype(np.float64) - p[i])))
+        nu = math.floor(L / D)
+        want = nu - 1 if nu >= 2 else 0
+        mine = pts[link == i]
+        assert len(mine) == want
+        chain = segs[seg_link == i]
+        assert len(chain) == max(want + 1, 1)
+        np.testing.assert_allclose(chain[0, :2], p[i], atol=1e-5)
+        np.testing.assert_allclose(chain[-1, 2:], q[i], atol=1e-5)
+        np.testing.assert_allclose(chain[1:, :2], chain[:-1, 2:], atol=1e-6)  # a chain
+        np.testing.assert_allclose(np.hypot(*(chain[:, 2:] - chain[:, :2]).T), L / max(nu, 1) if want else L,
+                                   rtol=1e-4, atol=1e-4)
+
+
+def test_sim_upsamples_links_and_upsampled_make_no_freezing_area():
+    sim = grown(Params.preset("a-1"), ticks=150)  # D = 1, hc = 10: many upsample points
+    assert len(sim.upsampled) > 3 * len(sim.crystals)
+    listed = set(sim.candidates.items[sim.candidates.count > 0].ravel().tolist()) - {-1}
+    assert listed <= set(range(len(sim.crystals)))
+    p = sim.parents
+    n_links = int((p >= 0).sum())
+    assert len(np.unique(sim.segments_link)) == n_links
+
+
+# ---- neighbour search: grid9 baseline ---------------------------------------------------
+
+@pytest.mark.parametrize("preset,touches", [
+    ("c-2", [(380, 640)]),
+    ("b-1", [(380, 640), (390, 600)]),
+    ("a-1", [(0, 0), (759.5, 1279.5), (380, 640)]),
+])
+def test_grid9_gives_bit_identical_frost(preset, touches):
+    runs = [grown(Params.preset(preset, neighbor_search=mode), touches=touches, ticks=220)
+            for mode in ("candidate", "grid9")]
+    a, b = runs
+    assert len(a.crystals) > 20
+    for name in ("crystals", "parents", "upsampled", "segments", "water"):
+        assert getattr(a, name).tobytes() == getattr(b, name).tobytes(), name
+
+
+# ---- water: respawn, spending, replenish --------------------------------------------------
+
+def test_respawned_water_is_inside_its_area_and_outside_candidate_cells():
+    sim = FrostSim(Params.preset("c-2", active_radius=60), seed=4)
+    sim.touch(30, 30)   # the area pokes off the screen
+    sim.touch(60, 40)
+    placed = []
+    real = sim._place
+
+    def spy(area):
+        x, y, ok = real(area)
+        px, py, c = x[ok], y[ok], sim.areas[area[ok]]
+        assert np.all(np.hypot(px - c[:, 0], py - c[:, 1]) <= c[:, 2] + 1e-3)
+        assert np.all((px >= 0) & (px < W) & (py >= 0) & (py < H))
+        assert np.all(sim.candidates.count[sim.grid.keys(px, py)] == 0)
+        placed.append(len(px))
+        return x, y, ok
+
+    sim._place = spy
+    for _ in range(100):
+        sim.step()
+    assert sum(placed) > 100
+    assert sim.water_created > 0
+
+
+def test_water_is_spent_and_replenish_keeps_the_pool():
+    spent = grown(Params.preset("c-2"), ticks=60)
+    assert len(spent.water) + spent.water_frozen + spent.water_dropped == spent.water_created
+    assert spent.water_frozen == len(spent.crystals) - 1
+    full = grown(Params.preset("c-2", replenish=True), ticks=60)
+    assert full.water_frozen > 0
+    assert len(full.water) == 3000 - full.water_dropped
+
+
+def test_filled_active_area_gives_up_placement_without_hanging():
+    sim = FrostSim(Params(hc=7.0, humidity=4000, active_radius=25.0), seed=1)
+    sim.touch(380, 640)
+    for _ in range(400):
+        sim.step()
+    # The disc of radius 25 is covered by candidate cells: water can no longer be placed.
+    assert len(sim.water) == 0
+    assert sim.water_dropped > 0
+    x, y, ok = sim._place(np.zeros(100, np.int32))
+    assert not ok.any()
+
+
+# ---- touches, edges, determinism --------------------------------------------------------
+
+@pytest.mark.parametrize("x,y", [(-1, 5), (760, 5), (5, 1280), (5, -0.01), (math.nan, 3),
+                                 (3, math.inf)])
+def test_touch_off_screen_is_a_value_error(x, y):
+    sim = FrostSim()
+    with pytest.raises(ValueError, match="off the 760x1280 screen"):
+        sim.touch(x, y)
+    assert len(sim.crystals) == 0
+
+
+def test_seeds_at_corners_edges_and_many_overlapping():
+    touches = [(0, 0), (759.99, 0), (0, 1279.99), (759.99, 1279.99), (380, 0), (0, 640)]
+    touches += [(380 + 5 * i, 640 + 3 * i) for i in range(20)]
+    sim = grown(Params.preset("c-1"), touches=touches, ticks=120)
+    c = sim.crystals
+    assert np.all((c[:, 0] >= 0) & (c[:, 0] < W) & (c[:, 1] >= 0) & (c[:, 1] < H))
+    assert_forest(sim, len(touches))
+    assert len(c) > len(touches)
+
+
+def test_same_seed_same_touches_same_frost_bit_for_bit():
+    def run(seed):
+        sim = FrostSim(Params.preset("c-3"), seed=seed)
+        sim.touch(380, 640)
+        for t in range(150):
+            if t == 40:
+                sim.touch(200, 500)
+            sim.step()
+        return sim
+    a, b, c = run(9), run(9), run(10)
+    for name in ("crystals", "parents", "upsampled", "segments", "water"):
+        assert getattr(a, name).tobytes() == getattr(b, name).tobytes()
+    assert a.crystals.tobytes() != c.crystals.tobytes()
+
+
+def test_added_slices_cover_exactly_the_new_particles():
+    sim = FrostSim(Params.preset("a-2"), seed=2)
+    sim.touch(380, 640)
+    seen_c = seen_u = seen_s = 0
+    for _ in range(120):
+        added = sim.step()
+        assert added.crystals.start == seen_c and added.upsampled.start == seen_u
+        assert added.segments.start == seen_s
+        seen_c, seen_u, seen_s = added.crystals.stop, added.upsampled.stop, added.segments.stop
+    assert (seen_c, seen_u, seen_s) == (len(sim.crystals), len(sim.upsampled), len(sim.segments))
+
+
+def test_output_arrays_are_contiguous_float32_and_read_only():
+    sim = grown(ticks=80)
+    for name in ("crystals", "upsampled", "segments", "water"):
+        arr = getattr(sim, name)
+        assert arr.dtype == np.float32 and arr.flags.c_contiguous
+    assert sim.parents.dtype == np.int32
+    with pytest.raises(ValueError):
+        sim.crystals[0, 0] = 1.0
