@@ -1,0 +1,115 @@
+"""Simulation benchmark: `python -m sim.bench` (or `make bench-sim`). Prints figures; asserts nothing.
+
+1. Fig. 9: time per tick of the paper's candidate areas vs the general 9-cell hash grid over
+   a full growth (one touch until 90 % of the water is frozen, or 5 000 ticks), at c-1..c-3.
+2. Tick time at humidity 500 ... 100 000 (c-2 otherwise), timed only on ticks that move at
+   least 90 % of the humidity's walkers, and walker steps per second.
+3. The simulation's memory after a full c-2 growth.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import time
+import tracemalloc
+
+import numpy as np
+
+from . import FrostSim, Params
+
+CENTRE = (380.0, 640.0)
+
+
+def full_growth(params: Params, seed: int, max_ticks: int = 5000) -> tuple[FrostSim, list[float]]:
+    """Grow one touch until 90 % of its water froze; returns the sim and each tick's seconds."""
+    sim = FrostSim(params, seed=seed)
+    sim.touch(*CENTRE)
+    times = []
+    clock = time.perf_counter
+    while len(times) < max_ticks and sim.water_frozen < 0.9 * sim.water_created and len(sim.water_area):
+        t0 = clock()
+        sim.step()
+        times.append(clock() - t0)
+    return sim, times
+
+
+def fig9(presets: list[str], repeats: int) -> list[dict]:
+    rows = []
+    for name in presets:
+        totals: dict[str, list[float]] = {"candidate": [], "grid9": []}
+        ticks = {}
+        for r in range(repeats):  # alternate the two so drift hits both alike
+            for mode in totals:
+                sim, times = full_growth(Params.preset(name, neighbor_search=mode), seed=r)
+                totals[mode].append(sum(times))
+                ticks[mode] = len(times)
+        cand, grid = (float(np.median(totals[m])) for m in ("candidate", "grid9"))
+        rows.append({"preset": name, "ticks": ticks["candidate"], "candidate_s": cand, "grid9_s": grid,
+                     "candidate_ms_per_tick": 1e3 * cand / ticks["candidate"],
+                     "grid9_ms_per_tick": 1e3 * grid / ticks["grid9"], "ratio": grid / cand})
+    return rows
+
+
+def busy_ticks(humidity: int, samples: int) -> list[float]:
+    """Seconds of ticks that start with at least 90 % of `humidity` walkers."""
+    params = Params.preset("c-2", humidity=humidity)
+    times: list[float] = []
+    seed = 0
+    while len(times) < samples:
+        sim = FrostSim(params, seed=seed)
+        sim.touch(*CENTRE)
+        seed += 1
+        while len(times) < samples and len(sim.water_area) >= 0.9 * humidity:
+            t0 = time.perf_counter()
+            sim.step()
+            times.append(time.perf_counter() - t0)
+    return times
+
+
+def memory() -> dict:
+    sim, _ = full_growth(Params.preset("c-2"), seed=0)
+    tracemalloc.start()
+    traced, _ = full_growth(Params.preset("c-2"), seed=0)
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    return {"array_bytes": sim.nbytes(), "tracemalloc_peak_bytes": peak,
+            "crystals": len(sim.crystals)}
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(prog="python -m sim.bench", description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=3, help="full growths per mode and preset")
+    ap.add_argument("--samples", type=int, default=200, help="busy ticks timed per humidity")
+    ap.add_argument("--quick", action="store_true", help="a fast smoke run")
+    args = ap.parse_args(argv)
+    if args.quick:
+        args.repeats, args.samples = 1, 20
+    print(f"# frost sim benchmark: {platform.processor() or platform.machine()}, "
+          f"numpy {np.__version__}, python {platform.python_version()}, one thread")
+    rows = fig9(["c-1", "c-2", "c-3"], args.repeats)
+    print("\n## Fig. 9: full growth from one touch (median of", args.repeats, "runs)")
+    print("preset  ticks  candidate ms/tick  grid9 ms/tick  total cand s  total grid9 s  grid9/cand")
+    for r in rows:
+        print(f"{r['preset']:6} {r['ticks']:6} {r['candidate_ms_per_tick']:18.3f} "
+              f"{r['grid9_ms_per_tick']:14.3f} {r['candidate_s']:13.3f} {r['grid9_s']:14.3f} "
+              f"{r['ratio']:11.1f}x")
+    print(f"\n## Busy ticks (>= 90 % of walkers moving), c-2, {args.samples} ticks each")
+    print("humidity  median ms  p95 ms  walker steps/s")
+    busy = []
+    for hum in (500, 3000, 5000, 30000, 100000):
+        t = np.array(busy_ticks(hum, args.samples))
+        med, p95 = float(np.median(t)), float(np.percentile(t, 95))
+        busy.append({"humidity": hum, "median_ms": 1e3 * med, "p95_ms": 1e3 * p95,
+                     "walker_steps_per_s": hum / med})
+        print(f"{hum:8} {1e3 * med:10.3f} {1e3 * p95:7.3f} {hum / med / 1e6:11.1f} M")
+    mem = memory()
+    print(f"\n## Memory after a full c-2 growth ({mem['crystals']} crystals)")
+    print(f"array bytes {mem['array_bytes'] / 1e6:.2f} MB, "
+          f"tracemalloc peak {mem['tracemalloc_peak_bytes'] / 1e6:.2f} MB")
+    print(json.dumps({"fig9": rows, "busy": busy, "memory": mem}))
+
+
+if __name__ == "__main__":
+    main()
