@@ -101,7 +101,7 @@ def main(argv: list[str] | None = None) -> int:
           f"{result['upload_ms_per_tick']} ms/tick")
     if result["load_average"] > 0.5 * (os.cpu_count() or 1):
         print(f"note: load average {result['load_average']}: other work shares the CPU "
-              "that llvmpipe renders on, so timings are inflated")
+              "that llvmpipe renders on, so timings may be inflated")
     print(json.dumps(result))
     return 0
 

@@ -93,7 +93,7 @@ class Renderer:
         self._background_prog = load_program(ctx, "fullscreen.vert", "background.frag")
         self._background_pass = ctx.vertex_array(self._background_prog, [])
         self._ice_prog = load_program(ctx, "tile.vert", "ice.frag")
-        self._tiles = TileSet(ctx, self._ice_prog, self.size, spacing)
+        self.tiles = TileSet(ctx, self._ice_prog, self.size, spacing)
         self._vbo, self._features, self._pending = None, None, 0
         self._grow(1 << 16)
         self.reset()
@@ -105,10 +105,11 @@ class Renderer:
         if delta.reset:
             self.reset()
         if delta.rows.stop > delta.rows.start:
+            fresh = (delta.heights > 0) & (self._grid[delta.rows] == 0)  # newly iced
             self._grid[delta.rows] = delta.heights
             self._upload_rows(delta.rows.start - 1, delta.rows.stop + 1)
-            self._tiles.mark_heights(self._grid[delta.rows], delta.rows.start)
-        self._tiles.mark_triangles(delta.features[:, :2])
+            self.tiles.mark_heights(fresh, delta.rows.start)
+        self.tiles.mark_triangles(delta.features[:, :2])
         self._append(delta.features)
 
     def _upload_rows(self, lo: int, hi: int) -> None:
@@ -127,7 +128,7 @@ class Renderer:
         self._grid[:] = 0
         self._upload_rows(0, len(self._grid))
         self._ice_fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
-        self._tiles.clear()
+        self.tiles.clear()
         self._pending = 0
 
     def _append(self, verts: np.ndarray) -> None:
@@ -179,7 +180,7 @@ class Renderer:
         # Premultiplied "over": frame = ice + (1 - alpha) * background.
         self.ctx.enable(moderngl.BLEND)
         self.ctx.blend_func = moderngl.ONE, moderngl.ONE_MINUS_SRC_ALPHA
-        self._tiles.render()
+        self.tiles.render()
         self.ctx.disable(moderngl.BLEND)
 
     def _draw_new_features(self) -> None:
@@ -240,10 +241,15 @@ class TileSet:
         self.mask[:] = False
         self._count, self._dirty = 0, False
 
-    def mark_heights(self, rows: np.ndarray, first_row: int) -> None:
-        """Mark the tiles that see ice of grid `rows` (grid rows from first_row): bilinear
-        filtering spreads a vertex's height one grid cell to each side."""
-        r, c = np.nonzero(rows > 0)
+    def fill(self) -> None:
+        """Every tile: the ice pass over the whole screen (for checks and debugging)."""
+        self.mask[:] = True
+        self._dirty = True
+
+    def mark_heights(self, iced: np.ndarray, first_row: int) -> None:
+        """Mark the tiles that see the `iced` grid vertices (a bool block of grid rows
+        from first_row): bilinear filtering spreads a vertex one grid cell each way."""
+        r, c = np.nonzero(iced)
         y, x = (r + first_row) * self.spacing, c * self.spacing
         self._mark_boxes(x - self.spacing, y - self.spacing, x + self.spacing, y + self.spacing)
 

@@ -173,3 +173,21 @@ def test_no_opengl_is_a_clear_message(monkeypatch, capsys):
     args = build_parser().parse_args(["--headless", "--touch", "10,10"])
     assert headless.run(args, Params()) == 1
     assert "no OpenGL available" in capsys.readouterr().err
+
+
+def test_tiles_cover_all_the_ice(gl_ctx):
+    """Drawing the ice pass on every tile changes nothing: no ice lies outside the tiles."""
+    from sim import FrostSim
+    from sim.geometry import FrostGeometry
+
+    params = Params.preset("a-2", active_radius=40.0, humidity=600)
+    sim, geo = FrostSim(params, W, H, seed=2), FrostGeometry(params, W, H)
+    renderer = Renderer(gl_ctx, params, W, H, background=background())
+    sim.touch(60, 50)
+    for _ in range(30):
+        sim.step()
+        renderer.apply(geo.update(sim))
+    tiled = frame(gl_ctx, renderer)
+    assert (tiled != background()).any()
+    renderer.tiles.fill()
+    np.testing.assert_array_equal(frame(gl_ctx, renderer), tiled)
