@@ -14,21 +14,36 @@ from .shaders import load_program
 FONT_SIZE = 14
 LINE_GAP = 3
 PADDING = 6
+COLUMN_GAP = 12
 TEXT_RGBA = (235, 245, 255, 255)
 BOX_RGBA = (0, 0, 0, 150)
 
 
 def text_image(lines: list[str], font) -> Image.Image:
-    """The lines in white on a translucent box, as a top-down RGBA image."""
+    """The lines in white on a translucent box, as a top-down RGBA image. Tabs split a
+    line into columns, aligned across lines (the font is proportional)."""
     ascent, descent = font.getmetrics()
     line_h = ascent + descent + LINE_GAP
-    width = max((int(font.getlength(line)) for line in lines), default=0)
+    rows = [line.split("\t") for line in lines]
+    starts = _column_starts(rows, font)
+    width = max((starts[len(r) - 1] + int(font.getlength(r[-1])) for r in rows), default=0)
     size = (width + 2 * PADDING, line_h * len(lines) + 2 * PADDING)
     image = Image.new("RGBA", size, BOX_RGBA)
     draw = ImageDraw.Draw(image)
-    for i, line in enumerate(lines):
-        draw.text((PADDING, PADDING + i * line_h), line, font=font, fill=TEXT_RGBA)
+    for i, row in enumerate(rows):
+        for start, cell in zip(starts, row, strict=False):
+            draw.text((PADDING + start, PADDING + i * line_h), cell, font=font, fill=TEXT_RGBA)
     return image
+
+
+def _column_starts(rows: list[list[str]], font) -> list[int]:
+    """x of each column: after the widest cell of the column before, plus a gap."""
+    columns = max((len(r) for r in rows), default=1)
+    starts = [0]
+    for c in range(columns - 1):
+        widest = max((int(font.getlength(r[c])) for r in rows if len(r) > c + 1), default=0)
+        starts.append(starts[-1] + widest + COLUMN_GAP)
+    return starts
 
 
 class Panel:

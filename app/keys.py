@@ -78,7 +78,9 @@ def key_table(resolve) -> dict[int, Binding]:
     return table
 
 
-def help_lines() -> list[str]:
-    """The help overlay's text, one line per binding."""
+def help_lines(sep: str | None = None) -> list[str]:
+    """The help text, one line per binding; `sep` (e.g. a tab) instead of padding."""
     width = max(len(b.label) for b in BINDINGS)
+    if sep is not None:
+        return [f"{b.label}{sep}{b.description}" for b in BINDINGS]
     return [f"{b.label:<{width}}  {b.description}" for b in BINDINGS]

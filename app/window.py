@@ -42,6 +42,7 @@ DRAG_SPACING_HC = 4.0
 REPEATING = {"single_step", "scale", "shift", "light"}
 # What the two click latencies of the log measure: the first frame showing the seed's
 # frost, and the first frame showing a crystal that froze onto that seed.
+HELP = help_lines("\t")  # the help overlay, key and description in two columns
 LATENCY_NOTES = {"frost": "seed shown", "growth": "first crystal frozen onto the seed"}
 MAX_LIGHT_TILT = 0.95  # |xy| of the unit light vector: it never grazes the glass
 
@@ -121,11 +122,17 @@ class FrostWindow:
         self.latest: Snapshot | None = None
         self.dirty, self.running, self.status = True, True, 0
         self.frames, self.renders, self.render_ms, self.snapshots = 0, 0, 0.0, 0
+        self.frame_ms = 0.0  # render + present, moving average
+        self.new_ticks = 0  # snapshots since the last recorded frame
         self.fps, self.drag_from, self.clicks_pending = 0.0, None, []
         self.message, self.message_until = "", 0.0
         self.screenshots: list[Path] = []
         self.latencies: list[tuple[int, float]] = []
         self.started = time.monotonic()
+        self.fb_size = glfw.get_framebuffer_size(self.window)
+        self.window_size = glfw.get_window_size(self.window)
+        self.iconified = False
+        self._log_mark = (0, self.started)
         self._hud_next, self._log_next = 0.0, self.started + LOG_PERIOD
         self._fps_mark = (0, self.started)
         self._hud_stats: list[str] = []
@@ -134,7 +141,9 @@ class FrostWindow:
         glfw.set_key_callback(self.window, self._on_key)
         glfw.set_mouse_button_callback(self.window, self._on_button)
         glfw.set_cursor_pos_callback(self.window, self._on_cursor)
-        glfw.set_framebuffer_size_callback(self.window, lambda *_: self._damage())
+        glfw.set_framebuffer_size_callback(self.window, self._on_framebuffer)
+        glfw.set_window_size_callback(self.window, self._on_window_size)
+        glfw.set_window_iconify_callback(self.window, self._on_iconify)
         glfw.set_window_refresh_callback(self.window, lambda *_: self._damage())
 
     # ---- the frame loop -------------------------------------------------------------
@@ -177,20 +186,28 @@ class FrostWindow:
         self.snapshots += 1
         if snap.message:
             self._say(snap.message)
+        self.new_ticks += 1
         self.clicks_pending.extend(("frost", c, snap.stats.tick) for c in snap.clicks)
         self.clicks_pending.extend(("growth", c, snap.stats.tick) for c in snap.grown)
         self.latest = snap
 
     def _minimized(self) -> bool:
-        w, h = glfw.get_framebuffer_size(self.window)
-        return w == 0 or h == 0 or bool(glfw.get_window_attrib(self.window, glfw.ICONIFIED))
+        return self.iconified or 0 in self.fb_size
 
     def _frame(self) -> None:
         now = time.monotonic()
+        t0 = time.perf_counter()
+        presented = self.frames
         if self.dirty:
             self._render_phone()
+        if self.new_ticks and self.recorder.active:
+            for _ in range(self.new_ticks):  # one recorded frame per tick, 25 per second
+                self.recorder.offer(lambda: read_image(self.phone))
+        self.new_ticks = 0
         if self.dirty or now >= self._hud_next or self._damaged:
             self._present(now)
+        if self.frames > presented:
+            self.frame_ms = 0.9 * self.frame_ms + 100.0 * (time.perf_counter() - t0)
 
     _damaged = True
 
@@ -203,10 +220,9 @@ class FrostWindow:
         self.renderer.render(self.phone)
         self.render_ms = 0.9 * self.render_ms + 100.0 * (time.perf_counter() - t0)
         self.renders += 1
-        self.recorder.offer(lambda: read_image(self.phone))
 
     def _present(self, now: float) -> None:
-        fb = glfw.get_framebuffer_size(self.window)
+        fb = self.fb_size
         screen = self.ctx.screen
         screen.use()
         self.ctx.viewport = (0, 0, *fb)
@@ -228,7 +244,7 @@ class FrostWindow:
             self._update_fps(now)
             self._hud_stats = self._stats_lines(now)
             self._hud_next = now + HUD_PERIOD
-        self.hud.draw(fb, self._hud_stats, help_lines())
+        self.hud.draw(fb, self._hud_stats, HELP)
 
     def _after_present(self, now: float) -> None:
         for kind, (click_tick, t_click), tick in self.clicks_pending:
@@ -239,7 +255,10 @@ class FrostWindow:
         self.clicks_pending = []
         if now >= self._log_next:
             self._log_next = now + LOG_PERIOD
-            log.info("stats: %s", "  ".join(self._stats_lines(now)[:3]))
+            frames, since = self._log_mark
+            self._log_mark = (self.frames, now)
+            log.info("stats: %.1f fps over %.1f s  %s", (self.frames - frames) / (now - since),
+                     now - since, "  ".join(self._stats_lines(now)[:3]))
 
     def _update_fps(self, now: float) -> None:
         frames, since = self._fps_mark
@@ -256,7 +275,7 @@ class FrostWindow:
         state = [w for w, on in (("PAUSED", s.paused),
                                  (f"REC {self.recorder.count} frames", self.recorder.active)) if on]
         lines = [
-            f"fps {self.fps:5.1f}  render {self.render_ms:5.1f} ms",
+            f"fps {self.fps:5.1f}  frame {self.frame_ms:5.1f} ms  render {self.render_ms:5.1f} ms",
             f"tick {s.tick}  {s.tick_ms:5.1f} ms  rate {s.rate:4.1f}/s  overruns {s.overruns}",
             f"crystals {s.crystals}  water {s.water}",
             f"hc {p.hc:g}  D {p.D:g}  humidity {p.humidity}  step {p.step:g}  bump {p.bump:g}",
@@ -308,9 +327,19 @@ class FrostWindow:
             self.drag_from = points[-1]
 
     def _cursor_phone(self):
-        return cursor_to_phone(glfw.get_cursor_pos(self.window),
-                               glfw.get_window_size(self.window),
-                               glfw.get_framebuffer_size(self.window))
+        return cursor_to_phone(glfw.get_cursor_pos(self.window), self.window_size, self.fb_size)
+
+    # Sizes come from callbacks: each GLFW call from Python waits for the GIL, which the
+    # simulation thread may hold for a few ms, so the frame loop makes as few as it can.
+    def _on_framebuffer(self, _window, w: int, h: int) -> None:
+        self.fb_size = (w, h)
+        self._damage()
+
+    def _on_window_size(self, _window, w: int, h: int) -> None:
+        self.window_size = (w, h)
+
+    def _on_iconify(self, _window, iconified: int) -> None:
+        self.iconified = bool(iconified)
 
     # ---- actions (the key table's action names) --------------------------------------------
 
