@@ -4,7 +4,8 @@
    a full growth (one touch until 90 % of the water is frozen, or 5 000 ticks), at c-1..c-3.
 2. Tick time at humidity 500 ... 100 000 (c-2 otherwise), timed only on ticks that move at
    least 90 % of the humidity's walkers, and walker steps per second.
-3. The simulation's memory after a full c-2 growth.
+3. Growth mode: tick time from one touch until the screen is covered.
+4. The simulation's memory after a full c-2 growth.
 """
 
 from __future__ import annotations
@@ -68,6 +69,28 @@ def busy_ticks(humidity: int, samples: int) -> list[float]:
     return times
 
 
+def growth_curve(window: int = 100, max_ticks: int = 3000) -> list[dict]:
+    """Growth mode at humidity 3 000: tick times per window of ticks, from the first crystal
+    until the screen is covered (99 % of hash cells are candidate cells), its water
+    has nowhere left to go, or `max_ticks`."""
+    sim = FrostSim(Params.preset("c-2", grow=True), seed=0)
+    sim.touch(*CENTRE)
+    rows, times = [], []
+    while sim.tick < max_ticks:
+        t0 = time.perf_counter()
+        sim.step()
+        times.append(time.perf_counter() - t0)
+        if len(times) == window:
+            t = np.array(times)
+            rows.append({"tick": sim.tick, "crystals": len(sim.crystals),
+                         "covered": float((sim.candidates.count > 0).mean()),
+                         "median_ms": 1e3 * float(np.median(t)), "max_ms": 1e3 * float(t.max())})
+            times = []
+            if rows[-1]["covered"] >= 0.99 or len(sim.water_area) == 0:
+                break
+    return rows
+
+
 def memory() -> dict:
     sim, _ = full_growth(Params.preset("c-2"), seed=0)
     tracemalloc.start()
@@ -104,11 +127,17 @@ def main(argv: list[str] | None = None) -> None:
         busy.append({"humidity": hum, "median_ms": 1e3 * med, "p95_ms": 1e3 * p95,
                      "walker_steps_per_s": hum / med})
         print(f"{hum:8} {1e3 * med:10.3f} {1e3 * p95:7.3f} {hum / med / 1e6:11.1f} M")
+    curve = growth_curve()
+    print("\n## Growth mode (grow=on), humidity 3000: one touch until the screen is covered")
+    print(" tick  crystals  covered  median ms  max ms")
+    for r in curve:
+        print(f"{r['tick']:5} {r['crystals']:9} {100 * r['covered']:7.1f}% {r['median_ms']:10.3f} "
+              f"{r['max_ms']:7.2f}")
     mem = memory()
     print(f"\n## Memory after a full c-2 growth ({mem['crystals']} crystals)")
     print(f"array bytes {mem['array_bytes'] / 1e6:.2f} MB, "
           f"tracemalloc peak {mem['tracemalloc_peak_bytes'] / 1e6:.2f} MB")
-    print(json.dumps({"fig9": rows, "busy": busy, "memory": mem}))
+    print(json.dumps({"fig9": rows, "busy": busy, "growth": curve, "memory": mem}))
 
 
 if __name__ == "__main__":

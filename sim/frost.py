@@ -89,7 +89,9 @@ class FrostSim:
         self._wx = Growable(np.float32, capacity=self.params.humidity)
         self._wy = Growable(np.float32, capacity=self.params.humidity)
         self._warea = Growable(np.int32, capacity=self.params.humidity)
-        self._areas = Growable(np.float32, (3,))  # centre x, centre y, radius
+        # centre x, centre y, outer and inner radius (water lives in the annulus), reach of its ice
+        self._areas = Growable(np.float32, (5,))
+        self._carea = Growable(np.int32)  # the area whose water became each crystal
         self.candidates = CellLists(self.grid.size)  # Fig. 3d: state = count > 0
         self._own = CellLists(self.grid.size + 1) if self.params.neighbor_search == "grid9" else None
         self.water_created = 0
@@ -104,9 +106,11 @@ class FrostSim:
         """Plant a seed crystal at (x, y) and its active area; returns the area's index."""
         if not (np.isfinite(x) and np.isfinite(y) and 0 <= x < self.width and 0 <= y < self.height):
             raise ValueError(f"touch ({x!r}, {y!r}) is off the {self.width}x{self.height} screen")
-        area = self._areas.append(np.array([[x, y, self.params.active_radius]], np.float32)).start
+        row = [[x, y, self.params.active_radius, 0.0, 0.0]]
+        area = self._areas.append(np.array(row, np.float32)).start
         seed = self._crystals.append(np.array([[x, y]], np.float32))
         self._parents.append(np.array([-1], np.int32))
+        self._carea.append(np.array([area], np.int32))
         self._register(seed)
         self._spawn(np.full(self.params.humidity, area, np.int32))
         return area
@@ -117,7 +121,9 @@ class FrostSim:
         frozen, parents = self._crystallize()
         new = self._link(frozen, parents)
         self._register(new)
-        if self.params.replenish:
+        if self.params.grow:
+            self._follow_ice(new)
+        if self.params.replenish or self.params.grow:
             self._spawn(self._warea.raw()[frozen])
         self._forget_water(frozen)
         self.tick += 1
@@ -164,13 +170,15 @@ class FrostSim:
 
     @property
     def areas(self) -> np.ndarray:
-        """a x 3 float32 active areas: centre x, centre y, radius."""
+        """a x 5 float32 active areas: centre x, centre y, outer radius, inner radius
+        (water is placed in the annulus between them), reach of the area's ice."""
         return self._areas.view()
 
     def nbytes(self) -> int:
         """Bytes held by the simulation's arrays (capacity, not just the filled rows)."""
         bufs = (self._crystals, self._parents, self._ups, self._ups_link, self._segs,
-                self._segs_link, self._wx, self._wy, self._warea, self._areas, self.candidates)
+                self._segs_link, self._wx, self._wy, self._warea, self._areas, self._carea,
+                self.candidates)
         own = self._own.nbytes() if self._own is not None else 0
         return sum(b.nbytes() for b in bufs) + own
 
@@ -214,6 +222,7 @@ class FrostSim:
         pts = np.column_stack((self._wx.raw()[frozen], self._wy.raw()[frozen]))
         new = self._crystals.append(pts)
         self._parents.append(parents)
+        self._carea.append(self._warea.raw()[frozen])
         if len(frozen):
             ups, ups_link, segs, segs_link = upsample(self.crystals[parents], pts, self.params.D)
             self._ups.append(ups)
@@ -273,7 +282,7 @@ class FrostSim:
         """Walkers off the screen or outside their own active area."""
         areas = self._areas.raw()
         if len(areas) == 1:
-            cx, cy, r = areas[0]
+            cx, cy, r = areas[0, :3]
         else:
             a = areas[self._warea.raw()]
             cx, cy, r = a[:, 0], a[:, 1], a[:, 2]
@@ -294,7 +303,7 @@ class FrostSim:
                 break
             a = areas[area[todo]]
             u = self.rng.random((2, len(todo)), dtype=np.float32)
-            r = a[:, 2] * np.sqrt(u[0])
+            r = np.sqrt(a[:, 3] ** 2 + u[0] * (a[:, 2] ** 2 - a[:, 3] ** 2))  # uniform on the annulus
             th = u[1] * TWO_PI
             px, py = a[:, 0] + r * np.cos(th), a[:, 1] + r * np.sin(th)
             good = (px >= 0) & (px < self.width) & (py >= 0) & (py < self.height)
@@ -325,6 +334,22 @@ class FrostSim:
     def _keep_water(self, keep: np.ndarray) -> None:
         for buf in (self._wx, self._wy, self._warea):
             buf.keep(keep)
+
+    def _follow_ice(self, new: slice) -> None:
+        """Growth mode: each area's annulus rides on its ice front, half an active radius
+        either side of the farthest crystal, so its water can still reach the ice.
+        Costs O(new crystals): only the areas of this tick's crystals change."""
+        area = self._carea.raw()[new]
+        if len(area) == 0:
+            return
+        areas = self._areas.raw()
+        d = np.hypot(*(self._crystals.raw()[new] - areas[area, :2]).T)
+        np.maximum.at(areas[:, 4], area, d)
+        band = np.float32(self.params.active_radius / 2)
+        touched = np.unique(area)
+        reach = areas[touched, 4]
+        areas[touched, 2] = np.maximum(self.params.active_radius, reach + band)
+        areas[touched, 3] = np.maximum(0, reach - band)
 
     def _close_tick(self, frozen: int) -> Added:
         now = (self._crystals.n, self._ups.n, self._segs.n)

@@ -56,6 +56,10 @@ class Params:
                               choices=NEIGHBOR_SEARCHES)
     replenish: bool = _p(False, "replenish: keep each area's water at humidity (frozen water "
                                 "is replaced) instead of spending it", choices=(False, True))
+    # Beyond the paper (its stated limit): an area that follows its ice can frost the screen.
+    grow: bool = _p(False, "grow: active areas widen with their ice and water is placed near the "
+                           "ice front, so frost keeps spreading (implies replenish)",
+                    choices=(False, True))
 
     def __post_init__(self) -> None:
         for f in dataclasses.fields(self):

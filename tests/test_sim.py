@@ -319,3 +319,36 @@ def test_output_arrays_are_contiguous_float32_and_read_only():
     assert sim.parents.dtype == np.int32
     with pytest.raises(ValueError):
         sim.crystals[0, 0] = 1.0
+
+
+# ---- growth mode (beyond the paper) -------------------------------------------------------
+
+def test_growth_mode_frosts_the_whole_screen_from_one_touch():
+    sim = FrostSim(Params.preset("c-2", grow=True), seed=2)
+    sim.touch(380, 640)
+    for _ in range(700):
+        sim.step()
+    marked = sim.candidates.count.reshape(sim.grid.rows, sim.grid.cols) > 0
+    assert marked.mean() > 0.97
+    assert marked[0, 0] and marked[-1, -1] and marked[0, -1] and marked[-1, 0]
+    assert_forest(sim, 1)
+    # the area's annulus rides on the farthest ice: reach is the true farthest distance
+    cx, cy, outer, inner, reach = sim.areas[0]
+    far = np.hypot(*(sim.crystals - [cx, cy]).T).max()
+    assert reach == pytest.approx(far, abs=1e-3)
+    assert outer == pytest.approx(max(200.0, far + 100.0), abs=1e-2)
+    assert inner == pytest.approx(max(0.0, far - 100.0), abs=1e-2)
+
+
+def test_growth_mode_places_water_on_the_annulus_near_the_ice():
+    sim = FrostSim(Params.preset("c-2", grow=True), seed=3)
+    sim.touch(380, 640)
+    for _ in range(120):
+        sim.step()
+    cx, cy, outer, inner, _ = sim.areas[0]
+    assert inner > 0
+    x, y, ok = sim._place(np.zeros(2000, np.int32))
+    r = np.hypot(x[ok] - cx, y[ok] - cy)
+    assert ok.sum() > 500
+    assert r.min() >= inner - 1e-3 and r.max() <= outer + 1e-3
+    assert len(sim.water) == 3000 - sim.water_dropped
