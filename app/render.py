@@ -117,9 +117,8 @@ class Renderer:
         rows = len(self._grid)
         lo, hi = max(lo, 0), min(hi, rows)
         a, b = max(lo - 1, 0), min(hi + 1, rows)  # neighbours for central differences
-        slab = self._grid[a:b]
-        gy, gx = np.gradient(slab, float(self.params.grid_spacing)) if len(slab) > 1 else (
-            np.zeros_like(slab), np.gradient(slab[0], float(self.params.grid_spacing))[None])
+        slab = self._grid[a:b]  # at least 2 rows: the grid spans the screen's height
+        gy, gx = np.gradient(slab, float(self.params.grid_spacing))
         texels = np.stack((slab, gx, gy), axis=-1)[lo - a:hi - a].astype(np.float16)
         self._heights.write(texels.tobytes(), viewport=(0, lo, self.grid_size[0], hi - lo))
 
