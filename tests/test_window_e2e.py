@@ -25,6 +25,8 @@ SCREEN = "-screen 0 1280x1400x24"  # taller than the 1280 px phone
 CLICK = (380, 420)  # phone px
 FAR = (120, 1150)  # more than active_radius (200 px) from CLICK
 BOX = 24  # half size of the compared squares, px
+DRAG = ((200, 1000), (380, 1000))  # phone px; touches every 4 hc = 30 px at hc 7.5
+WIDE_BAR = 120
 GROW_SECONDS = 2.0
 RATE_SECONDS = 4.5
 
@@ -84,10 +86,32 @@ def session(app: subprocess.Popen, log: Path) -> dict:
     wait_for(log, r"screenshot: ", 2)
     xdo("key", "bracketright")  # hc up
     time.sleep(RATE_SECONDS)
+    xdo("key", "r")
+    time.sleep(1.0)
+    xdo("key", "r")
+    wait_for(log, r"recording: \d+ frames written")
+    letterboxed(wid, log)
     xdo("key", "Escape")
     pressed = time.monotonic()
     status = app.wait(timeout=10)
     return {"status": status, "exit_seconds": time.monotonic() - pressed, "scale": scale}
+
+
+def letterboxed(wid: str, log: Path) -> None:
+    """Widen the window (bars of WIDE_BAR px), click in a bar, drag across the phone."""
+    xdo("windowsize", wid, str(760 + 2 * WIDE_BAR), "1280")
+    time.sleep(0.3)
+    xdo("mousemove", "--window", wid, str(WIDE_BAR // 2), "640")
+    xdo("click", "1")  # outside the phone: ignored
+    x0, x1, y = (DRAG[0][0] + WIDE_BAR, DRAG[1][0] + WIDE_BAR, DRAG[0][1])
+    xdo("mousemove", "--window", wid, str(x0), str(y))
+    xdo("mousedown", "1")
+    for x in range(x0, x1 + 1, 15):
+        xdo("mousemove", "--window", wid, str(x), str(y))
+    xdo("mouseup", "1")
+    time.sleep(0.3)
+    xdo("key", "s")
+    wait_for(log, r"screenshot: ", 3)
 
 
 # ---- the tests --------------------------------------------------------------------------
@@ -116,17 +140,17 @@ def test_esc_exits_with_status_zero_within_a_second(run):
 
 
 def test_screenshots_are_phone_sized_pngs_with_their_recipe(run):
-    assert len(run["shots"]) == 2
-    for path in run["shots"]:
+    assert len(run["shots"]) == 3
+    for path, hc in zip(run["shots"], (7.0, 7.0, 7.5), strict=True):
         image = Image.open(path)
         assert image.size == (760, 1280)
-        assert json.loads(image.text["params"])["hc"] == 7.0
+        assert json.loads(image.text["params"])["hc"] == hc
         assert image.text["seed"] == "1"
     assert json.loads(Image.open(run["shots"][1]).text["touches"]) == [list(CLICK)]
 
 
 def test_click_grows_frost_there_and_nowhere_far(run):
-    before, after = (np.asarray(Image.open(p).convert("RGB")) for p in run["shots"])
+    before, after = (np.asarray(Image.open(p).convert("RGB")) for p in run["shots"][:2])
     assert np.abs(box(after, CLICK) - box(before, CLICK)).mean() > 5.0
     assert np.abs(box(after, FAR) - box(before, FAR)).max() == 0
 
@@ -145,6 +169,21 @@ def test_tick_rate_is_25_while_rendering(run):
     assert len(rates) >= 4, run["log"]
     for rate in rates[-2:]:  # each over the last 2 s, after the hc change
         assert 24.0 <= rate <= 26.0
+
+
+def test_recording_is_written_when_stopped(run):
+    ((count, path),) = re.findall(r"recording: (\d+) frames written to (\S+\.webp)", run["log"])
+    assert int(count) >= 8  # 1 s at 12.5 frames per second
+    with Image.open(path) as image:  # identical frames merge, so n_frames may be less
+        assert image.format == "WEBP" and image.size == (380, 640)
+
+
+def test_letterboxed_window_maps_clicks_and_drags_and_ignores_the_bars(run):
+    touches = json.loads(Image.open(run["shots"][2]).text["touches"])
+    drag = [(x, DRAG[0][1]) for x in range(DRAG[0][0], DRAG[1][0] + 1, 30)]
+    assert touches[0] == list(CLICK)
+    assert np.allclose(touches[1:], drag, atol=0.01)
+    assert Image.open(run["shots"][2]).size == (760, 1280)
 
 
 if __name__ == "__main__":
