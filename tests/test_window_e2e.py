@@ -9,6 +9,7 @@ then read its log, its screenshots and the driver's timings.
 from __future__ import annotations
 
 import json
+import os
 import re
 import shutil
 import subprocess
@@ -184,6 +185,40 @@ def test_letterboxed_window_maps_clicks_and_drags_and_ignores_the_bars(run):
     assert touches[0] == list(CLICK)
     assert np.allclose(touches[1:], drag, atol=0.01)
     assert Image.open(run["shots"][2]).size == (760, 1280)
+
+
+# The geometry fails on its 10th tick; the app must log it and exit non-zero, not hang.
+FAIL_AT_TICK_10 = """
+import sys
+import sim.geometry as g
+from app.__main__ import main
+update = g.FrostGeometry.update
+def failing(self, sim):
+    if sim.tick >= 10:
+        raise RuntimeError("injected failure")
+    return update(self, sim)
+g.FrostGeometry.update = failing
+sys.exit(main(["--touch", "380,640", "--max-seconds", "20"]))
+"""
+
+
+def test_a_failing_simulation_thread_ends_the_app_with_status_1():
+    started = time.monotonic()
+    proc = subprocess.run(["xvfb-run", "-a", "-s", SCREEN, sys.executable, "-c", FAIL_AT_TICK_10],
+                          cwd=ROOT, timeout=60, capture_output=True, text=True)
+    assert proc.returncode == 1, proc.stderr
+    assert "simulation thread failed" in proc.stderr and "injected failure" in proc.stderr
+    assert "Traceback" in proc.stderr
+    assert time.monotonic() - started < 15
+
+
+def test_no_window_is_a_clear_error_with_status_1():
+    env = {**os.environ, "DISPLAY": ":97531"}
+    env.pop("WAYLAND_DISPLAY", None)
+    proc = subprocess.run([sys.executable, "-m", "app", "--max-seconds", "1"], cwd=ROOT, env=env,
+                          timeout=60, capture_output=True, text=True)
+    assert proc.returncode == 1
+    assert "GLFW could not start" in proc.stderr or "cannot open" in proc.stderr
 
 
 if __name__ == "__main__":
