@@ -17,8 +17,9 @@ from pathlib import Path
 import glfw
 import moderngl
 
-from sim import PRESETS, Params
+from sim import Params
 
+from . import tuning
 from .hud import Hud
 from .keys import help_lines, key_table
 from .record import Recorder
@@ -54,7 +55,7 @@ class WindowError(RuntimeError):
 def open_window(scale: float | None) -> tuple:
     """A GLFW window for the phone at `scale` (default: fit the monitor); (window, scale)."""
     errors: list[str] = []
-    glfw.set_error_callback(lambda code, text: errors.append(f"{text} ({code:#x})"))
+    glfw.set_error_callback(lambda code, text: errors.append(f"{_text(text)} ({code:#x})"))
     if not glfw.init():
         raise WindowError(f"GLFW could not start: {'; '.join(errors) or 'no reason given'}")
     scale = scale or fit_scale(_workarea())
@@ -378,33 +379,27 @@ class FrostWindow:
         self.dirty = True
 
     def _scale(self, arg) -> None:
-        name, factor = arg
-        self._change(name, max(1, round(getattr(self.params, name) * factor)))
+        self._tune(tuning.scaled, *arg)
 
     def _shift(self, arg) -> None:
-        name, delta = arg
-        self._change(name, round(getattr(self.params, name) + delta, 6))
-
-    def _change(self, name: str, value) -> None:
-        changes = {name: value}
-        if name == "hc" and self.params.step > value > 0:
-            changes["step"] = value  # keep walkers from tunnelling: step <= hc
-        try:
-            self._set_params(self.params.replace(**changes))
-        except ValueError as err:
-            self._say(f"refused: {err}", logging.WARNING)
+        self._tune(tuning.shifted, *arg)
 
     def _preset(self, name: str) -> None:
-        keep = {k: v for k, v in self.params.as_dict().items()
-                if k not in PRESETS[name] and k != "step"}
-        self._set_params(Params.preset(name, **keep))
-        self._say(f"preset {name}")
+        self._tune(tuning.preset, name)
 
-    def _set_params(self, params: Params) -> None:
-        changed = {k: v for k, v in params.as_dict().items() if getattr(self.params, k) != v}
+    def _tune(self, change, *arg) -> None:
+        try:
+            params = change(self.params, *arg)
+        except ValueError as err:
+            self._say(f"refused: {err}", logging.WARNING)
+            return
+        changed = tuning.differences(self.params, params)
+        if not changed:
+            self._say("params: unchanged")
+            return
         self.params = params
         self.sim.send("params", params)
-        self._say("params: " + " ".join(f"{k}={v:g}" for k, v in changed.items()))
+        self._say("params: " + " ".join(f"{k}={_number(v)}" for k, v in changed.items()))
 
     def _screenshot(self, _arg) -> None:
         self._render_phone()
@@ -431,6 +426,14 @@ class FrostWindow:
 
 def _changes(delta) -> bool:
     return delta.reset or delta.rows.stop > delta.rows.start or len(delta.features) > 0
+
+
+def _number(v) -> str:
+    return f"{v:g}" if isinstance(v, float) else str(v)
+
+
+def _text(text) -> str:
+    return text.decode(errors="replace") if isinstance(text, bytes) else str(text)
 
 
 def _onoff(flag: bool) -> str:

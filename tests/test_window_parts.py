@@ -8,7 +8,7 @@ import time
 import numpy as np
 import pytest
 
-from app import simthread
+from app import simthread, tuning
 from app.keys import BINDINGS, help_lines, key_table
 from app.record import Recorder
 from app.simthread import SimThread
@@ -167,3 +167,26 @@ def test_recording_keeps_every_second_frame_and_writes_webp(tmp_path):
     from PIL import Image
     with Image.open(path) as image:
         assert image.size == (380, 640) and image.n_frames == 3
+
+
+# ---- tuning -------------------------------------------------------------------------------
+
+
+def test_lowering_hc_below_step_takes_step_with_it():
+    p = tuning.shifted(Params(hc=3.0, step=3.0), "hc", -0.5)
+    assert (p.hc, p.step) == (2.5, 2.5)
+
+
+def test_invalid_values_are_refused_not_clamped_silently():
+    with pytest.raises(ValueError, match="step"):
+        tuning.shifted(Params(hc=3.0, step=3.0), "step", 0.5)
+    with pytest.raises(ValueError, match="D"):
+        tuning.shifted(Params(D=0.5), "D", -0.5)
+
+
+def test_humidity_scales_and_presets_keep_the_rest():
+    assert tuning.scaled(Params(humidity=3000), "humidity", 1.5).humidity == 4500
+    assert tuning.scaled(Params(humidity=1), "humidity", 1 / 1.5).humidity == 1
+    p = tuning.preset(Params(bump=2.0, step=1.0), "b-1")
+    assert (p.hc, p.D, p.humidity, p.bump, p.step) == (3.0, 3.0, 3000, 2.0, 3.0)
+    assert tuning.differences(Params(), Params(hc=8.0)) == {"hc": 8.0}

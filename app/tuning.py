@@ -1,0 +1,36 @@
+"""What the tuning keys do to the parameters: pure functions, no window needed.
+
+Each returns a new, validated Params or raises ValueError saying why not.
+"""
+
+from __future__ import annotations
+
+from sim import PRESETS, Params
+
+
+def changed(params: Params, name: str, value) -> Params:
+    """`params` with `name` set to `value`; lowering hc below step takes step down with it
+    (walkers must not step over a freezing area), anything else invalid raises."""
+    changes = {name: value}
+    if name == "hc" and params.step > value > 0:
+        changes["step"] = value
+    return params.replace(**changes)
+
+
+def scaled(params: Params, name: str, factor: float) -> Params:
+    """A whole-number parameter (humidity) times `factor`, at least 1."""
+    return changed(params, name, max(1, round(getattr(params, name) * factor)))
+
+
+def shifted(params: Params, name: str, delta: float) -> Params:
+    return changed(params, name, round(getattr(params, name) + delta, 6))
+
+
+def preset(params: Params, name: str) -> Params:
+    """Table 1's setting `name`; the parameters it does not set keep their values."""
+    keep = {k: v for k, v in params.as_dict().items() if k not in PRESETS[name] and k != "step"}
+    return Params.preset(name, **keep)
+
+
+def differences(old: Params, new: Params) -> dict:
+    return {k: v for k, v in new.as_dict().items() if getattr(old, k) != v}
