@@ -77,12 +77,10 @@ class CellLists:
         self.count += np.bincount(c, minlength=len(self.count)).astype(np.int32)
 
     def remove(self, cells: np.ndarray, ids_to_drop: np.ndarray) -> None:
-        """Remove every listed id in `ids_to_drop` from `cells` (order kept)."""
-        drop = np.zeros(int(self.items.max(initial=0)) + 2, dtype=bool)
-        drop[ids_to_drop] = True
+        """Remove every id in `ids_to_drop` from the lists of `cells` (order kept)."""
         for cell in np.unique(cells):
             row = self.items[cell, :self.count[cell]]
-            kept = row[~drop[row]]
+            kept = row[~np.isin(row, ids_to_drop)]
             self.items[cell, :len(kept)] = kept
             self.items[cell, len(kept):self.count[cell]] = -1
             self.count[cell] = len(kept)

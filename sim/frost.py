@@ -34,6 +34,17 @@ class Added:
     frozen: int  # water particles that froze in this tick
 
 
+@dataclass(frozen=True)
+class Melted:
+    """What one `melt` removed (indices into crystals, upsampled, segments) and the
+    crystals that lost their parent and became roots of their own trees."""
+
+    crystals: np.ndarray
+    upsampled: np.ndarray
+    segments: np.ndarray
+    orphans: np.ndarray
+
+
 def walk_displacements(rng: np.random.Generator, m: int, step: float) -> tuple[np.ndarray, np.ndarray]:
     """Eq. 2: each walker moves a*(cos t, sin t), a ~ U[0, step], t ~ U[0, 2 pi)."""
     u = rng.random((2, m), dtype=np.float32)
@@ -81,6 +92,9 @@ class FrostSim:
         # particles and the chain segments between consecutive skeleton nodes.
         self._crystals = Growable(np.float32, (2,))
         self._parents = Growable(np.int32)
+        self._calive = Growable(bool)  # False once melted (indices stay stable)
+        self._ualive = Growable(bool)
+        self._salive = Growable(bool)
         self._ups = Growable(np.float32, (2,))
         self._ups_link = Growable(np.int32)
         self._segs = Growable(np.float32, (4,))
@@ -97,6 +111,7 @@ class FrostSim:
         self.water_created = 0
         self.water_frozen = 0
         self.water_dropped = 0
+        self.water_melted = 0
         self._mark = (0, 0, 0)
         self.added = Added(0, slice(0, 0), slice(0, 0), slice(0, 0), 0)
 
@@ -111,6 +126,7 @@ class FrostSim:
         seed = self._crystals.append(np.array([[x, y]], np.float32))
         self._parents.append(np.array([-1], np.int32))
         self._carea.append(np.array([area], np.int32))
+        self._calive.append(np.ones(1, bool))
         self._register(seed)
         self._spawn(np.full(self.params.humidity, area, np.int32))
         return area
@@ -128,6 +144,46 @@ class FrostSim:
         self._forget_water(frozen)
         self.tick += 1
         return self._close_tick(len(frozen))
+
+    def melt(self, x: float, y: float, radius: float) -> Melted:
+        """A warm finger at (x, y): crystals within `radius` px melt and their water returns
+        to its area's pool; their links (and those of their children, which become roots)
+        leave the skeleton; the cleared cells stop being candidate cells. Costs O(local ice)
+        but for one scan of the parent and link arrays."""
+        if not (np.isfinite(x) and np.isfinite(y) and np.isfinite(radius) and radius > 0):
+            raise ValueError(f"melt at ({x!r}, {y!r}) with radius {radius!r}: need finite values, "
+                             "radius > 0")
+        dead = self._crystals_near(x, y, radius)
+        self._calive.raw()[dead] = False
+        pts = self._crystals.raw()[dead]
+        cells, _ = self.grid.disc_cells(pts, self.params.hc)
+        self.candidates.remove(cells, dead)
+        if self._own is not None:
+            self._own.remove(self.grid.keys(pts[:, 0], pts[:, 1]), dead)
+        parents = self._parents.raw()
+        orphans = np.flatnonzero(np.isin(parents, dead) & self._calive.raw())
+        parents[orphans] = -1
+        cut = np.concatenate([dead, orphans])
+        segs = np.flatnonzero(np.isin(self._segs_link.raw(), cut) & self._salive.raw())
+        ups = np.flatnonzero(np.isin(self._ups_link.raw(), cut) & self._ualive.raw())
+        self._salive.raw()[segs] = False
+        self._ualive.raw()[ups] = False
+        self.water_melted += len(dead)
+        self._spawn(self._carea.raw()[dead])
+        return Melted(dead, ups, segs, orphans)
+
+    @property
+    def crystal_alive(self) -> np.ndarray:
+        """n bool: False for melted crystals (their rows stay so indices are stable)."""
+        return self._calive.view()
+
+    @property
+    def upsampled_alive(self) -> np.ndarray:
+        return self._ualive.view()
+
+    @property
+    def segments_alive(self) -> np.ndarray:
+        return self._salive.view()
 
     @property
     def crystals(self) -> np.ndarray:
@@ -178,7 +234,7 @@ class FrostSim:
         """Bytes held by the simulation's arrays (capacity, not just the filled rows)."""
         bufs = (self._crystals, self._parents, self._ups, self._ups_link, self._segs,
                 self._segs_link, self._wx, self._wy, self._warea, self._areas, self._carea,
-                self.candidates)
+                self._calive, self._ualive, self._salive, self.candidates)
         own = self._own.nbytes() if self._own is not None else 0
         return sum(b.nbytes() for b in bufs) + own
 
@@ -223,9 +279,12 @@ class FrostSim:
         new = self._crystals.append(pts)
         self._parents.append(parents)
         self._carea.append(self._warea.raw()[frozen])
+        self._calive.append(np.ones(len(frozen), bool))
         if len(frozen):
             ups, ups_link, segs, segs_link = upsample(self.crystals[parents], pts, self.params.D)
             self._ups.append(ups)
+            self._ualive.append(np.ones(len(ups), bool))
+            self._salive.append(np.ones(len(segs), bool))
             self._ups_link.append(ups_link.astype(np.int32) + new.start)
             self._segs.append(segs)
             self._segs_link.append(segs_link.astype(np.int32) + new.start)
@@ -243,6 +302,18 @@ class FrostSim:
             self._own.insert(self.grid.keys(pts[:, 0], pts[:, 1]), ids)
 
     # ---- helpers --------------------------------------------------------------------
+
+    def _crystals_near(self, x: float, y: float, radius: float) -> np.ndarray:
+        """Ascending indices of live crystals within `radius` of (x, y). Every crystal is
+        listed in its own cell, so the cells under the disc's bounding box hold them all."""
+        g = self.grid
+        cx = np.arange(max(int((x - radius) // g.cell), 0), min(int((x + radius) // g.cell), g.cols - 1) + 1)
+        cy = np.arange(max(int((y - radius) // g.cell), 0), min(int((y + radius) // g.cell), g.rows - 1) + 1)
+        cells = (cy[:, None] * g.cols + cx[None, :]).ravel()
+        ids, valid = self.candidates.gather(cells)
+        ids = np.unique(ids[valid])
+        c = self._crystals.raw()[ids].astype(np.float64)
+        return ids[np.hypot(c[:, 0] - x, c[:, 1] - y) < radius]
 
     def _nearest(self, w: np.ndarray, ids: np.ndarray, valid: np.ndarray,
                  x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -352,3 +352,65 @@ def test_growth_mode_places_water_on_the_annulus_near_the_ice():
     assert ok.sum() > 500
     assert r.min() >= inner - 1e-3 and r.max() <= outer + 1e-3
     assert len(sim.water) == 3000 - sim.water_dropped
+
+
+# ---- melting (beyond the paper) -------------------------------------------------------
+
+def check_candidate_cells(sim):
+    """The candidate-cell oracle over live crystals only."""
+    g, hc = sim.grid, sim.params.hc
+    live = np.flatnonzero(sim.crystal_alive)
+    pts = sim.crystals[live].astype(np.float64)
+    dist = cell_disc_distances(g, np.arange(g.size), pts)
+    for cell in range(g.size):
+        listed = set(sim.candidates.items[cell, :sim.candidates.count[cell]].tolist())
+        must = set(live[dist[cell] < hc].tolist())
+        may = set(live[dist[cell] < hc + CELL_MARGIN].tolist())
+        assert must <= listed <= may, f"cell {cell}"
+
+
+@pytest.mark.parametrize("mode", ["candidate", "grid9"])
+def test_melting_clears_the_patch_keeps_a_forest_and_regrows(mode):
+    sim = grown(Params.preset("a-2", neighbor_search=mode), ticks=250, seed=5)
+    before = int(sim.crystal_alive.sum())
+    m = sim.melt(380, 640, 40.0)
+    live = sim.crystal_alive
+    c = sim.crystals.astype(np.float64)
+    # exactly the crystals within the radius melted (brute force over all of them)
+    near = np.flatnonzero(np.hypot(c[:, 0] - 380, c[:, 1] - 640) < 40.0)
+    assert set(m.crystals.tolist()) == set(near.tolist()) and len(near) > 5
+    assert not live[near].any() and live.sum() == before - len(near)
+    check_candidate_cells(sim)
+    # the skeleton stays a forest: live links point at live, older crystals
+    p = sim.parents
+    linked = np.flatnonzero(live & (p >= 0))
+    assert np.all(live[p[linked]]) and np.all(p[linked] < linked)
+    assert np.all(p[m.orphans] == -1) and len(m.orphans) > 0
+    # no live segment or upsample particle belongs to a cut link
+    cut = set(m.crystals.tolist()) | set(m.orphans.tolist())
+    assert not set(sim.segments_link[sim.segments_alive].tolist()) & cut
+    assert not set(sim.upsampled_link[sim.upsampled_alive].tolist()) & cut
+    assert sim.water_melted == len(near)
+    # frost regrows into the cleared patch from its edges
+    for _ in range(150):
+        sim.step()
+    c = sim.crystals
+    back = sim.crystal_alive & (np.hypot(c[:, 0] - 380, c[:, 1] - 640) < 40.0)
+    assert back.sum() > 0
+    check_candidate_cells(sim)
+
+
+def test_melt_is_identical_in_both_neighbour_searches_and_rejects_bad_input():
+    runs = []
+    for mode in ("candidate", "grid9"):
+        sim = grown(Params.preset("c-3", neighbor_search=mode), ticks=60, seed=8)
+        sim.melt(380, 640, 30.0)
+        for _ in range(60):
+            sim.step()
+        runs.append(sim)
+    assert runs[0].crystals.tobytes() == runs[1].crystals.tobytes()
+    assert runs[0].crystal_alive.tobytes() == runs[1].crystal_alive.tobytes()
+    with pytest.raises(ValueError, match="radius"):
+        runs[0].melt(10, 10, -1.0)
+    with pytest.raises(ValueError, match="radius"):
+        runs[0].melt(math.nan, 10, 5.0)
