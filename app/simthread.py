@@ -72,6 +72,7 @@ class SimThread(threading.Thread):
         self.paused, self.overruns, self.tick_ms = False, 0, 0.0
         self._stop_event = threading.Event()
         self._stamps: deque[float] = deque(maxlen=RATE_WINDOW)
+        self._clicks: list[tuple[int, float]] = []  # planted, not yet shown by a step
         self._handlers = {"touch": self._touch, "params": self._set_params,
                           "clear": self._clear, "pause": self._pause, "step": self._single}
         self._build(params)
@@ -120,18 +121,20 @@ class SimThread(threading.Thread):
     def _tick(self) -> None:
         t0 = time.perf_counter()
         self._stamps.append(time.monotonic())
-        notes = {"reset": False, "clicks": [], "message": None}
+        notes = {"reset": False, "message": None}
         for cmd in self._pending():
             self._handlers[cmd.kind](cmd.arg, notes)
-        delta, grown = None, ()
+        delta, grown, clicks = None, (), ()
         if not self.paused or notes.pop("single", False):
             self.sim.step()
-            # sim.added (what the geometry reads) covers touches only once a step closes it.
+            # sim.added (what the geometry reads) covers touches only once a step closes it,
+            # so a click made while paused shows (and is timed) at the next step.
             delta = self.geometry.update(self.sim)
             grown = self._first_growth()
+            clicks, self._clicks = tuple(self._clicks), []
         self.tick_ms = (time.perf_counter() - t0) * 1000.0
-        self.outbox.put(self._snapshot(delta, reset=notes["reset"], clicks=tuple(notes["clicks"]),
-                                       grown=grown, message=notes["message"]))
+        self.outbox.put(self._snapshot(delta, reset=notes["reset"], clicks=clicks, grown=grown,
+                                       message=notes["message"]))
         self.wake()
 
     def _pending(self) -> list[Command]:
@@ -161,7 +164,7 @@ class SimThread(threading.Thread):
 
     # ---- commands: each takes (arg, notes) and applies at this tick ---------------
 
-    def _touch(self, arg, notes: dict) -> None:
+    def _touch(self, arg, _notes: dict) -> None:
         (x, y), click = arg
         w, h = self.size
         if not (0 <= x < w and 0 <= y < h):
@@ -169,7 +172,7 @@ class SimThread(threading.Thread):
         self.sim.touch(x, y)
         self.touches = (*self.touches, (x, y))
         if click is not None:
-            notes["clicks"].append(click)
+            self._clicks.append(click)
             self._watch[len(self.sim.crystals) - 1] = click
 
     def _set_params(self, params: Params, notes: dict) -> None:

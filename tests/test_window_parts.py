@@ -127,6 +127,17 @@ def test_pause_and_single_step():
     assert snaps[0].delta is None and snaps[2].delta is not None
 
 
+def test_a_click_while_paused_is_timed_when_it_shows():
+    thread = SimThread(Params(), 0)
+    thread.send("pause")
+    thread.send("touch", ((100.0, 200.0), (0, 0.0)))
+    thread._tick()
+    thread.send("step")
+    thread._tick()
+    first, second = thread.drain()
+    assert first.clicks == () and second.clicks == ((0, 0.0),)
+
+
 def test_clear_drops_touches_and_resets():
     thread = SimThread(Params(), 0, [(380, 640)])
     thread._tick()
