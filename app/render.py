@@ -104,6 +104,8 @@ class Renderer:
         """Upload a tick's changes: its dirty height rows and its new feature vertices."""
         if delta.reset:
             self.reset()
+        if delta.clear_box is not None:
+            self._wipe(delta.clear_box)
         if delta.rows.stop > delta.rows.start:
             fresh = (delta.heights > 0) & (self._grid[delta.rows] == 0)  # newly iced
             self._grid[delta.rows] = delta.heights
@@ -111,6 +113,17 @@ class Renderer:
             self.tiles.mark_heights(fresh, delta.rows.start)
         self.tiles.mark_triangles(delta.features[:, :2])
         self._append(delta.features)
+
+    def _wipe(self, box: tuple[float, float, float, float]) -> None:
+        """Clear the features inside a px box (y down) of the ice texture, after drawing
+        what is queued (older than the wipe); the delta then re-sends the survivors."""
+        self._draw_new_features()
+        x0, y0 = max(int(np.floor(box[0])) - 1, 0), max(int(np.floor(box[1])) - 1, 0)
+        x1 = min(int(np.ceil(box[2])) + 1, self.size[0])
+        y1 = min(int(np.ceil(box[3])) + 1, self.size[1])
+        if x1 > x0 and y1 > y0:
+            viewport = (x0, self.size[1] - y1, x1 - x0, y1 - y0)  # GL rows count up
+            self._ice_fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0, viewport=viewport)
 
     def _upload_rows(self, lo: int, hi: int) -> None:
         """Write height and slope (per px) of grid rows lo..hi-1 to the texture."""

@@ -31,6 +31,9 @@ class GeometryDelta:
     heights: np.ndarray  # float32 copy of heights[rows]
     features: np.ndarray  # float32 (12 k) x 6: x, y, z, nx, ny, nz, flat per face
     reset: bool = False
+    # After a melt: the px box (x0, y0, x1, y1) whose features the renderer must wipe
+    # before drawing `features`, which then hold the survivors in that box.
+    clear_box: tuple[float, float, float, float] | None = None
 
 
 def feature_vertices(p, q, width: float = 1.5,
@@ -107,18 +110,20 @@ class FrostGeometry:
         self.rows = height // self.spacing + 1
         self.cols = width // self.spacing + 1
         self.heights = np.zeros((self.rows, self.cols), np.float32)
+        # Uncapped sum of the bumps, so that a melt can take a particle's share back
+        # out exactly; heights = min(sum, max_height).
+        self._sum = np.zeros((self.rows, self.cols), np.float64)
         # Offsets of the grid vertices that can lie within hc of a particle, relative
         # to the vertex nearest it: a fixed (2R+1)^2 stencil, so a tick costs
         # O(new particles) whatever the size of the ice.
         reach = math.ceil(params.hc / self.spacing) + 1
         oy, ox = np.mgrid[-reach:reach + 1, -reach:reach + 1]
         self._stencil = (oy.ravel(), ox.ravel())
-        self._seen = (0, 0, 0)
 
     def reset(self) -> GeometryDelta:
         """Flat glass again; the delta tells the renderer to drop everything."""
         self.heights[:] = 0
-        self._seen = (0, 0, 0)
+        self._sum[:] = 0
         empty = np.empty((0, VERTEX_FLOATS), np.float32)
         return GeometryDelta(0, slice(0, self.rows), self.heights.copy(), empty, reset=True)
 
@@ -127,13 +132,30 @@ class FrostGeometry:
         added = sim.added
         pts = np.concatenate((sim.crystals[added.crystals], sim.upsampled[added.upsampled]))
         rows = self._raise(pts)
-        segs = sim.segments[added.segments]
+        # A segment melted before this update never shows (its bumps are still added:
+        # the melt took them back out already, and sums commute).
+        segs = sim.segments[added.segments][sim.segments_alive[added.segments]]
         feats = feature_triangles(segs, self.params.feature_width, self.params.feature_height)
         return GeometryDelta(added.tick, rows, self.heights[rows].copy(), feats)
 
-    def _raise(self, pts: np.ndarray) -> slice:
-        """Add bump * falloff to every vertex within hc of each point, capped at
-        max_height; returns the dirty row range (empty when nothing moved)."""
+    def melt(self, sim, melted) -> GeometryDelta:
+        """Take a `sim.melt` result (`Melted`) out of the ice: its particles' bumps are
+        subtracted and its segments' features wiped, the surviving features in the
+        wiped box are sent again. Costs O(melted) but for one vectorized scan of the
+        segments to find the survivors."""
+        pts = np.concatenate((sim.crystals[melted.crystals], sim.upsampled[melted.upsampled]))
+        rows = self._raise(pts, -1.0)
+        width, height = self.params.feature_width, self.params.feature_height
+        dead = feature_triangles(sim.segments[melted.segments], width, height)
+        box = _bounds(dead[:, :2], pts, self.params.hc)
+        feats = np.empty((0, VERTEX_FLOATS), np.float32)
+        if box is not None:
+            feats = feature_triangles(_segments_in(sim, box, width), width, height)
+        return GeometryDelta(sim.tick, rows, self.heights[rows].copy(), feats, clear_box=box)
+
+    def _raise(self, pts: np.ndarray, sign: float = 1.0) -> slice:
+        """Add (sign -1: take back) bump * falloff at every vertex within hc of each
+        point, capped at max_height; returns the dirty row range (empty if none)."""
         if len(pts) == 0:
             return slice(0, 0)
         gs = self.spacing
@@ -144,9 +166,33 @@ class FrostGeometry:
         flat = r[hit] * self.cols + c[hit]
         idx, inv = np.unique(flat, return_inverse=True)
         add = np.bincount(inv, self.params.bump * falloff(d[hit], self.params.hc))
-        h = self.heights.reshape(-1)
-        # Increments are non-negative, so capping each tick equals capping the total.
-        h[idx] = np.minimum(h[idx] + add, self.params.max_height)
+        total = self._sum.reshape(-1)
+        total[idx] += sign * add
+        # The sum is kept as is (adds and melts commute, in any order); only the shown
+        # height drops the round-off a melt leaves, so clear glass stays clear.
+        h = np.minimum(total[idx], self.params.max_height)
+        self.heights.reshape(-1)[idx] = np.where(h < 1e-6, 0.0, h)
         if len(flat) == 0:
             return slice(0, 0)
         return slice(int(r[hit].min()), int(r[hit].max()) + 1)
+
+
+def _bounds(xy: np.ndarray, pts: np.ndarray, reach: float):
+    """The px box around points xy and discs of radius `reach` at pts (None if empty)."""
+    if len(xy) == 0 and len(pts) == 0:
+        return None
+    lo = np.vstack((xy.reshape(-1, 2), pts - reach)).min(axis=0)
+    hi = np.vstack((xy.reshape(-1, 2), pts + reach)).max(axis=0)
+    return (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
+
+
+def _segments_in(sim, box, width: float) -> np.ndarray:
+    """Live segments whose feature (reaching width * L beside them) meets the box."""
+    seg = sim.segments
+    reach = width * np.hypot(seg[:, 2] - seg[:, 0], seg[:, 3] - seg[:, 1])
+    x0 = np.minimum(seg[:, 0], seg[:, 2]) - reach
+    x1 = np.maximum(seg[:, 0], seg[:, 2]) + reach
+    y0 = np.minimum(seg[:, 1], seg[:, 3]) - reach
+    y1 = np.maximum(seg[:, 1], seg[:, 3]) + reach
+    meets = (x1 >= box[0]) & (x0 <= box[2]) & (y1 >= box[1]) & (y0 <= box[3])
+    return seg[meets & sim.segments_alive]

@@ -88,3 +88,26 @@ def test_grid_shape_and_reset():
     geo.heights[3, 3] = 1.0
     delta = geo.reset()
     assert delta.reset and not geo.heights.any()
+
+
+def test_melt_takes_the_ice_back_exactly():
+    params = Params.preset("a-2", active_radius=50.0, humidity=800, max_height=3.0)
+    sim = FrostSim(params, 160, 120, seed=4)
+    geo = FrostGeometry(params, 160, 120)
+    sim.touch(80, 60)
+    for _ in range(40):
+        sim.step()
+        geo.update(sim)
+    x, y = sim.crystals[len(sim.crystals) // 2]
+    melted = sim.melt(float(x), float(y), 8.0)
+    assert len(melted.crystals) > 0
+    delta = geo.melt(sim, melted)
+    assert delta.clear_box is not None
+    pts = np.concatenate((sim.crystals[sim.crystal_alive], sim.upsampled[sim.upsampled_alive]))
+    oracle = bump_heights(pts, geo.rows, geo.cols, params.grid_spacing, params.hc,
+                          params.bump, params.max_height)
+    np.testing.assert_allclose(geo.heights, oracle, atol=1e-4)
+    assert not geo.heights[oracle == 0].any()  # clear glass again, no film of round-off
+    # The survivors re-sent are exactly the live segments near the melt.
+    live = sim.segments[sim.segments_alive]
+    assert len(delta.features) % 12 == 0 and 0 < len(delta.features) <= 12 * len(live)

@@ -191,3 +191,25 @@ def test_tiles_cover_all_the_ice(gl_ctx):
     assert (tiled != background()).any()
     renderer.tiles.fill()
     np.testing.assert_array_equal(frame(gl_ctx, renderer), tiled)
+
+
+def test_melt_renders_as_if_the_ice_never_grew_there(gl_ctx):
+    from sim import FrostSim
+    from sim.geometry import FrostGeometry
+
+    params = Params.preset("a-2", active_radius=50.0, humidity=800)
+    sim, geo = FrostSim(params, W, H, seed=4), FrostGeometry(params, W, H)
+    melted_view = Renderer(gl_ctx, params, W, H, background=background())
+    sim.touch(80, 60)
+    for _ in range(40):
+        sim.step()
+        melted_view.apply(geo.update(sim))
+    frame(gl_ctx, melted_view)  # the ice is drawn before the melt
+    x, y = sim.crystals[len(sim.crystals) // 2]
+    melted_view.apply(geo.melt(sim, sim.melt(float(x), float(y), 10.0)))
+    fresh = Renderer(gl_ctx, params, W, H, background=background())
+    live = feature_triangles(sim.segments[sim.segments_alive], 1.5, 0.5)
+    fresh.apply(GeometryDelta(0, slice(0, geo.rows), geo.heights.copy(), live))
+    a, b = frame(gl_ctx, melted_view), frame(gl_ctx, fresh)
+    # Equal up to the order in which equally high overlapping faces were drawn.
+    assert (np.abs(a - b).max(axis=2) > 2).sum() < 0.002 * W * H
