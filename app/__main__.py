@@ -16,6 +16,12 @@ def main(argv: list[str] | None = None) -> int:
         params = params_from(args)
     except ValueError as err:
         parser.error(str(err))
+    if args.figure8:
+        from .figure8 import run as run_figure8
+        return run_figure8(args)
+    if args.export_maps:
+        from .maps import run as run_maps
+        return run_maps(args, params)
     if args.headless or not has_display():
         from .headless import run as run_headless
         return run_headless(args, params)

@@ -35,6 +35,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="plant a seed at X,Y px at tick 0 (repeatable)")
     p.add_argument("--ticks", type=int, default=250, help="ticks to grow in headless mode")
     p.add_argument("--screenshot", metavar="FILE.png", help="headless: write the final frame here")
+    p.add_argument("--figure8", metavar="FILE.png",
+                   help="render the nine Table 1 presets from one touch into a 3x3 sheet (Fig. 8), "
+                        "print each preset's numbers, and exit")
+    p.add_argument("--export-maps", metavar="DIR",
+                   help="headless: write height.png, normal.png and alpha.png of the final frost to DIR")
     p.add_argument("--screenshot-dir", default="screenshots",
                    help="folder for screenshots (S, F12) and recordings (R)")
     p.add_argument("--scale", type=float, metavar="F",

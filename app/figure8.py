@@ -1,0 +1,161 @@
+"""The paper's Fig. 8 again: the nine Table 1 presets grown from one touch, on one sheet.
+
+Rows a, b, c vary D, hc and humidity (Table 1); each cell is the 760x1280 frame
+scaled down with its label above it. Beside the picture, `preset_stats` measures what
+Sec. 4 claims (smaller hc grows slower and denser; more humidity grows faster and
+denser at the centre) so the claims can be checked in numbers.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from PIL import Image, ImageDraw, ImageFont
+
+from sim import PRESETS, FrostSim, Params
+
+from .headless import Session, make_context
+from .screenshot import read_image, save_png
+
+WIDTH, HEIGHT = 760, 1280
+CELL = (253, 427)  # a frame scaled by 1/3, px (width, height)
+LABEL_H = 16  # band above each cell holding its label, px
+GAP = 6  # px between cells and around the sheet
+TITLE_H = 22  # band at the top of the sheet, px
+ROWS, COLS = "abc", "123"
+CORE_RADIUS = 25.0  # px around the touch in which the centre density is counted
+GROWTH_MARK = 100.0  # px of extent whose first tick measures the growth speed
+
+
+@dataclass(frozen=True)
+class PresetStats:
+    """What one preset grew, measured from its skeleton (touch at `centre`)."""
+
+    name: str
+    crystals: int
+    upsampled: int
+    extent: float  # px: farthest skeleton node from the touch
+    density: float  # crystals per px^2 of the disc of radius `extent`
+    core_density: float  # crystals per px^2 within CORE_RADIUS of the touch
+    reach_tick: int | None  # first tick with extent >= GROWTH_MARK, None if never
+
+
+def label(name: str) -> str:
+    p = PRESETS[name]
+    return f"{name}  D={p['D']:g} hc={p['hc']:g} H={p['humidity']}"
+
+
+def cell_box(row: int, col: int) -> tuple[int, int, int, int]:
+    """(left, top, right, bottom) of the image of cell (row, col) on the sheet."""
+    x = GAP + col * (CELL[0] + GAP)
+    y = TITLE_H + row * (LABEL_H + CELL[1] + GAP) + LABEL_H
+    return x, y, x + CELL[0], y + CELL[1]
+
+
+def label_box(row: int, col: int) -> tuple[int, int, int, int]:
+    """(left, top, right, bottom) of the label band above cell (row, col)."""
+    x0, y0, x1, _ = cell_box(row, col)
+    return x0, y0 - LABEL_H, x1, y0
+
+
+def sheet_size() -> tuple[int, int]:
+    return GAP + len(COLS) * (CELL[0] + GAP), TITLE_H + len(ROWS) * (LABEL_H + CELL[1] + GAP)
+
+
+def preset_stats(name: str, sim: FrostSim, centre, reach_tick: int | None) -> PresetStats:
+    nodes = np.concatenate((sim.crystals, sim.upsampled))
+    d = np.hypot(*(nodes - np.asarray(centre, np.float32)).T)
+    extent = float(d.max(initial=0.0))
+    dc = np.hypot(*(sim.crystals - np.asarray(centre, np.float32)).T)
+    n = len(sim.crystals)
+    density = n / (np.pi * extent ** 2) if extent > 0 else 0.0
+    core = int((dc <= CORE_RADIUS).sum()) / (np.pi * CORE_RADIUS ** 2)
+    return PresetStats(name, n, len(sim.upsampled), extent, density, core, reach_tick)
+
+
+def grow_preset(ctx, name: str, seed: int, ticks: int, touch,
+                overrides: dict | None = None) -> tuple[np.ndarray, PresetStats]:
+    """Grow preset `name` from `touch` for `ticks` ticks: its frame and its numbers."""
+    session = Session(ctx, Params.preset(name, **(overrides or {})), seed)
+    session.touch(*touch)
+    reach_tick = None
+    for _ in range(ticks):
+        session.step()
+        new = session.sim.crystals[session.sim.added.crystals]
+        if reach_tick is None and len(new) and \
+                np.hypot(*(new - np.asarray(touch, np.float32)).T).max() >= GROWTH_MARK:
+            reach_tick = session.sim.tick
+    session.renderer.render(session.fbo)
+    frame = read_image(session.fbo)
+    session.fbo.release()
+    return frame, preset_stats(name, session.sim, touch, reach_tick)
+
+
+def compose(frames: dict[str, np.ndarray], title: str) -> np.ndarray:
+    """The 3 x 3 sheet: frames keyed by preset name, each scaled into its cell."""
+    sheet = Image.new("RGB", sheet_size(), (24, 26, 30))
+    draw = ImageDraw.Draw(sheet)
+    font = ImageFont.load_default()
+    draw.text((GAP, 5), title, fill=(235, 235, 235), font=font)
+    for r, row in enumerate(ROWS):
+        for c, col in enumerate(COLS):
+            name = f"{row}-{col}"
+            x0, y0, _, _ = cell_box(r, c)
+            cell = Image.fromarray(frames[name]).resize(CELL, Image.Resampling.BOX)
+            sheet.paste(cell, (x0, y0))
+            lx, ly, _, _ = label_box(r, c)
+            draw.text((lx + 2, ly + 2), label(name), fill=(235, 235, 235), font=font)
+    return np.asarray(sheet)
+
+
+def format_table(stats: list[PresetStats]) -> str:
+    head = (f"{'preset':<26}{'crystals':>9}{'upsample':>9}{'extent px':>10}"
+            f"{'density/1e3px2':>15}{'core/1e3px2':>12}{'t(100px)':>9}")
+    lines = [head]
+    for s in stats:
+        reach = "-" if s.reach_tick is None else str(s.reach_tick)
+        lines.append(f"{label(s.name):<26}{s.crystals:>9}{s.upsampled:>9}{s.extent:>10.1f}"
+                     f"{1e3 * s.density:>15.3f}{1e3 * s.core_density:>12.3f}{reach:>9}")
+    return "\n".join(lines)
+
+
+def make_figure8(ctx, seed: int = 0, ticks: int = 250, touch=(380.0, 640.0),
+                 overrides: dict | None = None) -> tuple[np.ndarray, list[PresetStats]]:
+    """The sheet (H x W x 3 uint8) and every preset's numbers, a-1 ... c-3."""
+    frames, stats = {}, []
+    for name in PRESETS:
+        frames[name], s = grow_preset(ctx, name, seed, ticks, touch, overrides)
+        stats.append(s)
+    title = f"Table 1 presets, seed {seed}, {ticks} ticks, touch {touch[0]:g},{touch[1]:g}"
+    return compose(frames, title), stats
+
+
+def run(args) -> int:
+    """`python -m app --figure8 FILE.png [--seed N] [--ticks N] [--touch X,Y]`."""
+    if args.ticks < 0 or len(args.touch) > 1:
+        print("frost: error: --figure8 takes --ticks >= 0 and at most one --touch", file=sys.stderr)
+        return 2
+    touch = args.touch[0] if args.touch else (WIDTH / 2, HEIGHT / 2)
+    if not (0 <= touch[0] < WIDTH and 0 <= touch[1] < HEIGHT):
+        print(f"frost: error: touch {touch} is off the {WIDTH}x{HEIGHT} screen", file=sys.stderr)
+        return 2
+    overrides = {n: getattr(args, n) for n, _, _ in Params.describe()
+                 if getattr(args, n, None) is not None}
+    try:
+        ctx = make_context()
+        sheet, stats = make_figure8(ctx, args.seed, args.ticks, touch, overrides)
+    except (RuntimeError, ValueError) as err:
+        print(f"frost: error: {err}", file=sys.stderr)
+        return 1
+    meta = {"presets": {s.name: PRESETS[s.name] for s in stats}, "overrides": overrides,
+            "seed": args.seed, "ticks": args.ticks, "touch": list(touch),
+            "stats": [s.__dict__ for s in stats], "Software": "frost (python -m app --figure8)",
+            "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
+    path = save_png(sheet, Path(args.figure8), meta)
+    print(format_table(stats))
+    print(f"wrote {path}")
+    return 0

@@ -1,0 +1,189 @@
+"""Frost maps for game engines: height (16-bit), normal (tangent space) and alpha PNGs.
+
+Everything is computed in numpy from the simulation's own geometry, not read back from
+GL, so the maps are exact (no 8-bit feature heights, no half floats), need no context,
+and can be written from any thread that holds a copy of the arrays:
+- the bumpy surface (Fig. 7): the geometry grid, bilinear at each pixel's centre, as
+  the renderer samples its height texture;
+- the sharp features (Fig. 6): each segment's four triangles form a pyramid over the
+  rhombus (p, s1, q, s2) with apex m, so its height has the closed form
+  feature_height*L * max(0, 1 - |u| - |v|), u along the segment (1 at p and q), v across
+  it (1 at s1 and s2); where features overlap the highest wins (the renderer's depth test);
+- as in the renderer's ice pass, the two surfaces add: z = bumps + features;
+- alpha is the renderer's thickness law, opacity * (1 - exp(-density * z));
+- normals come from the height gradient (central differences, px per px).
+"""
+
+from __future__ import annotations
+
+import logging
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from sim import FrostSim, Params
+from sim.geometry import FrostGeometry
+
+from .render import Material
+from .screenshot import save_png
+
+log = logging.getLogger(__name__)
+
+WIDTH, HEIGHT = 760, 1280
+MAP_NAMES = ("height", "normal", "alpha")
+# Feature pyramids are rasterized in batches of about this many pixel samples.
+_BATCH_SAMPLES = 1 << 22
+
+
+@dataclass(frozen=True)
+class FrostMaps:
+    """The three maps as float arrays, H x W (normal H x W x 3), before encoding."""
+
+    height: np.ndarray  # px above the glass
+    normal: np.ndarray  # unit vectors, x right, y up (OpenGL convention), z out of the glass
+    alpha: np.ndarray  # 0..1
+
+
+def bump_field(grid: np.ndarray, spacing: float, width: int, height: int) -> np.ndarray:
+    """The height grid (vertex (r, c) at px (c*spacing, r*spacing)) bilinear at every
+    pixel centre, clamped at the edges: H x W float32."""
+    def axis(n: int, size: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        t = np.clip((np.arange(n) + 0.5) / spacing, 0, size - 1)
+        i0 = np.minimum(np.floor(t).astype(np.int64), size - 1)
+        return i0, np.minimum(i0 + 1, size - 1), (t - i0).astype(np.float32)
+
+    x0, x1, wx = axis(width, grid.shape[1])
+    y0, y1, wy = axis(height, grid.shape[0])
+    rows = grid[:, x0] * (1 - wx) + grid[:, x1] * wx
+    return (rows[y0] * (1 - wy)[:, None] + rows[y1] * wy[:, None]).astype(np.float32)
+
+
+def feature_field(segments: np.ndarray, width_factor: float, height_factor: float,
+                  width: int, height: int) -> np.ndarray:
+    """Highest sharp-feature surface at every pixel centre: H x W float32 (0 off the ice)."""
+    out = np.zeros(width * height, np.float32)
+    seg = np.asarray(segments, np.float64).reshape(-1, 4)
+    length = np.hypot(seg[:, 2] - seg[:, 0], seg[:, 3] - seg[:, 1])
+    seg, length = seg[length > 0], length[length > 0]
+    if width_factor <= 0 or height_factor <= 0 or len(seg) == 0:
+        return out.reshape(height, width)
+    reach = np.ceil(np.maximum(0.5, width_factor) * length).astype(np.int64) + 1
+    for r in np.unique(reach):  # one stencil size per batch
+        pick = np.flatnonzero(reach == r)
+        per = max(1, _BATCH_SAMPLES // (2 * r + 1) ** 2)
+        for lo in range(0, len(pick), per):
+            rows = pick[lo:lo + per]
+            _raise_pyramids(out, seg[rows], length[rows], int(r), width_factor,
+                            height_factor, width, height)
+    return out.reshape(height, width)
+
+
+def _raise_pyramids(out: np.ndarray, seg: np.ndarray, length: np.ndarray, reach: int,
+                    wf: float, hf: float, width: int, height: int) -> None:
+    """Max the pyramids of `seg` into the flat image `out` over a (2 reach + 1)^2 stencil."""
+    m = 0.5 * (seg[:, :2] + seg[:, 2:])
+    t = (seg[:, 2:] - seg[:, :2]) / length[:, None]  # unit along the segment
+    oy, ox = (a.ravel() for a in np.mgrid[-reach:reach + 1, -reach:reach + 1])
+    px = np.floor(m[:, 0:1]).astype(np.int64) + ox
+    py = np.floor(m[:, 1:2]).astype(np.int64) + oy
+    dx, dy = px + 0.5 - m[:, 0:1], py + 0.5 - m[:, 1:2]
+    u = (dx * t[:, 0:1] + dy * t[:, 1:2]) / (0.5 * length[:, None])
+    v = (dy * t[:, 0:1] - dx * t[:, 1:2]) / (wf * length[:, None])
+    z = hf * length[:, None] * (1.0 - np.abs(u) - np.abs(v))
+    hit = (z > 0) & (px >= 0) & (px < width) & (py >= 0) & (py < height)
+    np.maximum.at(out, py[hit] * width + px[hit], z[hit].astype(np.float32))
+
+
+def normal_map(height: np.ndarray, strength: float = 1.0) -> np.ndarray:
+    """Unit tangent-space normals of a height field (px, row 0 at the top): H x W x 3,
+    x right, y UP the image (OpenGL / Unity / Blender convention), z out of the glass.
+    n = normalize(-s dh/dx, +s dh/drow, 1): rows grow downward, so dh/dy_up = -dh/drow."""
+    h = np.asarray(height, np.float64)
+    d_row, d_col = np.gradient(h) if min(h.shape) > 1 else (np.zeros_like(h), np.zeros_like(h))
+    n = np.stack((-strength * d_col, strength * d_row, np.ones_like(h)), axis=-1)
+    return (n / np.linalg.norm(n, axis=-1, keepdims=True)).astype(np.float32)
+
+
+def alpha_map(height: np.ndarray, material: Material | None = None) -> np.ndarray:
+    """The renderer's opacity law: opacity * (1 - exp(-density * thickness))."""
+    m = material or Material()
+    return (m.opacity * (1.0 - np.exp(-m.density * np.maximum(height, 0.0)))).astype(np.float32)
+
+
+def compute_maps(grid: np.ndarray, segments: np.ndarray, params: Params,
+                 width: int = WIDTH, height: int = HEIGHT) -> FrostMaps:
+    """The three maps of a frost from its height grid and skeleton segments."""
+    z = bump_field(grid, params.grid_spacing, width, height)
+    z += feature_field(segments, params.feature_width, params.feature_height, width, height)
+    return FrostMaps(z, normal_map(z), alpha_map(z))
+
+
+def encode(maps: FrostMaps) -> tuple[dict[str, np.ndarray], float]:
+    """uint16 height (0..65535 = 0..height_max px), RGB8 normal (n*0.5+0.5), 8-bit alpha;
+    and height_max, the px that 65535 stands for (at least 1 px)."""
+    top = max(1.0, float(np.ceil(maps.height.max(initial=0.0))))
+    images = {
+        "height": np.round(np.clip(maps.height / top, 0, 1) * 65535).astype(np.uint16),
+        "normal": np.round((maps.normal * 0.5 + 0.5) * 255).astype(np.uint8),
+        "alpha": np.round(np.clip(maps.alpha, 0, 1) * 255).astype(np.uint8),
+    }
+    return images, top
+
+
+_MEANING = {
+    "height": "16-bit grey: height above the glass = value / 65535 * height_max_px px",
+    "normal": "RGB: tangent-space unit normal * 0.5 + 0.5; x right, y up (OpenGL), z out of the glass",
+    "alpha": "8-bit grey: ice opacity, opacity * (1 - exp(-density * height_px))",
+}
+
+
+def export_maps(folder, grid: np.ndarray, segments: np.ndarray, params: Params,
+                meta: dict | None = None, width: int = WIDTH, height: int = HEIGHT) -> dict[str, Path]:
+    """Write height.png, normal.png and alpha.png into `folder`; returns name -> path.
+
+    `grid` is the geometry's height grid (FrostGeometry.heights, or the renderer's
+    mirror of it) and `segments` the skeleton (FrostSim.segments), both copied by the
+    caller if another thread may change them. Each PNG carries `meta`, the parameters
+    and what its values mean as text chunks."""
+    images, top = encode(compute_maps(grid, segments, params, width, height))
+    common = {"parameters": params.as_dict(), **(meta or {}), "height_max_px": top,
+              "Software": "frost (app.maps)", "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
+    folder = Path(folder)
+    return {name: save_png(images[name], folder / f"{name}.png",
+                           {**common, "map": name, "encoding": _MEANING[name]})
+            for name in MAP_NAMES}
+
+
+def grow(params: Params, seed: int, touches, ticks: int) -> tuple[FrostSim, FrostGeometry]:
+    """Run the simulation and its geometry (no GL): touches are (tick, x, y)."""
+    sim = FrostSim(params, WIDTH, HEIGHT, seed)
+    geometry = FrostGeometry(params, WIDTH, HEIGHT)
+    plan = sorted(touches)
+    for tick in range(ticks):
+        for x, y in (p[1:] for p in plan if p[0] == tick):
+            sim.touch(x, y)
+        sim.step()
+        geometry.update(sim)
+    return sim, geometry
+
+
+def run(args, params: Params) -> int:
+    """`python -m app --headless --touch X,Y --ticks N --export-maps DIR`."""
+    from .headless import scripted_session
+
+    if args.ticks < 0:
+        print(f"frost: error: --ticks {args.ticks} must be 0 or more", file=sys.stderr)
+        return 2
+    touches = [(0, x, y) for x, y in args.touch] or scripted_session(args.ticks)
+    try:
+        sim, geometry = grow(params, args.seed, touches, args.ticks)
+    except ValueError as err:
+        print(f"frost: error: {err}", file=sys.stderr)
+        return 2
+    meta = {"seed": args.seed, "touches": [list(t) for t in touches], "tick": sim.tick}
+    paths = export_maps(args.export_maps, geometry.heights, sim.segments, params, meta)
+    print("wrote " + ", ".join(str(p) for p in paths.values()))
+    return 0
