@@ -65,20 +65,27 @@ class Panel:
             if self.texture is not None:
                 self.texture.release()
             self.texture = self.ctx.texture(image.size, 4)
+            self.texture.filter = (moderngl.LINEAR, moderngl.LINEAR)  # when shrunk
         self.texture.write(np.asarray(image).tobytes())
         self.renders += 1
 
-    def draw(self, x: int, y: int, fb_size: tuple[int, int]) -> None:
-        """Draw with its top-left corner at framebuffer pixel (x, y), y from the top."""
+    def draw(self, x: int, y: int, fb_size: tuple[int, int]) -> int:
+        """Draw with its top-left corner at framebuffer pixel (x, y), y from the top,
+        shrunk where the window is too small for it; returns the drawn height."""
         if self.texture is None:
-            return
+            return 0
         fw, fh = fb_size
         tw, th = self.texture.size
+        shrink = min(1.0, (fw - x - PADDING) / tw, (fh - y - PADDING) / th)
+        if shrink <= 0:
+            return 0
+        tw, th = tw * shrink, th * shrink
         x0, x1 = 2 * x / fw - 1, 2 * (x + tw) / fw - 1
         y0, y1 = 1 - 2 * (y + th) / fh, 1 - 2 * y / fh
         self.program["u_rect"].value = (x0, y0, x1, y1)
         self.texture.use(0)
         self.vao.render(moderngl.TRIANGLE_STRIP, vertices=4)
+        return round(th)
 
 
 class Hud:
@@ -99,9 +106,8 @@ class Hud:
         self.stats.set(stats)
         self.ctx.enable(moderngl.BLEND)
         self.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
-        self.stats.draw(PADDING, PADDING, fb_size)
+        height = self.stats.draw(PADDING, PADDING, fb_size)
         if self.show_help:
             self.help.set(help_lines)
-            top = PADDING * 2 + self.stats.texture.size[1]
-            self.help.draw(PADDING, top, fb_size)
+            self.help.draw(PADDING, PADDING * 2 + height, fb_size)
         self.ctx.disable(moderngl.BLEND)
