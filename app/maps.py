@@ -145,7 +145,7 @@ def export_maps(folder, grid: np.ndarray, segments: np.ndarray, params: Params,
     """Write height.png, normal.png and alpha.png into `folder`; returns name -> path.
 
     `grid` is the geometry's height grid (FrostGeometry.heights, or the renderer's
-    mirror of it) and `segments` the skeleton (FrostSim.segments), both copied by the
+    mirror of it) and `segments` the live skeleton (`live_segments(sim)`), both copied by the
     caller if another thread may change them. Each PNG carries `meta`, the parameters
     and what its values mean as text chunks."""
     images, top = encode(compute_maps(grid, segments, params, width, height))
@@ -155,6 +155,12 @@ def export_maps(folder, grid: np.ndarray, segments: np.ndarray, params: Params,
     return {name: save_png(images[name], folder / f"{name}.png",
                            {**common, "map": name, "encoding": _MEANING[name]})
             for name in MAP_NAMES}
+
+
+def live_segments(sim: FrostSim) -> np.ndarray:
+    """The skeleton segments that have not melted (all of them in a sim without melting)."""
+    alive = getattr(sim, "segments_alive", None)
+    return sim.segments if alive is None else sim.segments[alive]
 
 
 def grow(params: Params, seed: int, touches, ticks: int) -> tuple[FrostSim, FrostGeometry]:
@@ -184,6 +190,6 @@ def run(args, params: Params) -> int:
         print(f"frost: error: {err}", file=sys.stderr)
         return 2
     meta = {"seed": args.seed, "touches": [list(t) for t in touches], "tick": sim.tick}
-    paths = export_maps(args.export_maps, geometry.heights, sim.segments, params, meta)
+    paths = export_maps(args.export_maps, geometry.heights, live_segments(sim), params, meta)
     print("wrote " + ", ".join(str(p) for p in paths.values()))
     return 0

@@ -25,7 +25,17 @@ from app.figure8 import (
     make_figure8,
     sheet_size,
 )
-from app.maps import alpha_map, bump_field, compute_maps, encode, export_maps, feature_field, grow, normal_map
+from app.maps import (
+    alpha_map,
+    bump_field,
+    compute_maps,
+    encode,
+    export_maps,
+    feature_field,
+    grow,
+    live_segments,
+    normal_map,
+)
 from sim import PRESETS, Params
 from sim.geometry import feature_vertices
 
@@ -126,6 +136,18 @@ def test_export_maps_sizes_modes_and_values(grown, tmp_path):
     top = float(images["height"].text["height_max_px"])
     maps = compute_maps(geometry.heights, sim.segments, params)
     assert height.max() / 65535 * top == pytest.approx(maps.height.max(), abs=1e-3)
+
+
+def test_melted_ice_leaves_the_maps():
+    params = Params.preset("c-2")
+    sim, geometry = grow(params, 0, [(0, *TOUCH)], 100)
+    if not hasattr(sim, "melt"):
+        pytest.skip("this simulation has no melting")
+    inside = (slice(640 - 30, 640 + 30), slice(380 - 30, 380 + 30))  # > hc + feature reach inside
+    assert compute_maps(geometry.heights, live_segments(sim), params).height[inside].max() > 0
+    geometry.melt(sim, sim.melt(*TOUCH, 60.0))
+    maps = compute_maps(geometry.heights, live_segments(sim), params)
+    assert (maps.height[inside] == 0).all() and maps.height.max() > 0
 
 
 def test_cli_export_maps(tmp_path, capsys):
