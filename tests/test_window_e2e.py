@@ -221,5 +221,29 @@ def test_no_window_is_a_clear_error_with_status_1():
     assert "GLFW could not start" in proc.stderr or "cannot open" in proc.stderr
 
 
+# A window that reports itself minimized the whole run; prints the CPU time it used.
+MINIMIZED = """
+import sys, time
+import app.window as w
+from app.__main__ import main
+w.FrostWindow._minimized = lambda self: True
+status = main(["--touch", "380,640", "--max-seconds", sys.argv[1]])
+print("cpu", time.process_time())
+sys.exit(status)
+"""
+
+
+def cpu_seconds_minimized(seconds: float) -> float:
+    proc = subprocess.run(["xvfb-run", "-a", "-s", SCREEN, sys.executable, "-c", MINIMIZED,
+                           str(seconds)], cwd=ROOT, timeout=60, capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    return float(re.search(r"cpu ([\d.]+)", proc.stdout).group(1))
+
+
+def test_minimized_window_neither_crashes_nor_spins():
+    extra = cpu_seconds_minimized(4.0) - cpu_seconds_minimized(1.0)
+    assert extra < 0.3 * 3.0  # CPU seconds in 3 s of growing frost, minimized
+
+
 if __name__ == "__main__":
     drive(Path(sys.argv[1]))
