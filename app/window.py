@@ -46,6 +46,7 @@ REPEATING = {"single_step", "scale", "shift", "light"}
 HELP = help_lines("\t")  # the help overlay, key and description in two columns
 LATENCY_NOTES = {"frost": "seed shown", "growth": "first crystal frozen onto the seed"}
 MAX_LIGHT_TILT = 0.95  # |xy| of the unit light vector: it never grazes the glass
+RECORD_CATCHUP = 4  # ticks a slow frame may still add to a recording
 
 
 class WindowError(RuntimeError):
@@ -54,19 +55,15 @@ class WindowError(RuntimeError):
 
 def open_window(scale: float | None) -> tuple:
     """A GLFW window for the phone at `scale` (default: fit the monitor); (window, scale)."""
+    if scale is not None and not 0.05 <= scale <= 4.0:
+        raise WindowError(f"--scale {scale} must be in [0.05, 4]")
     errors: list[str] = []
     glfw.set_error_callback(lambda code, text: errors.append(f"{_text(text)} ({code:#x})"))
     if not glfw.init():
         raise WindowError(f"GLFW could not start: {'; '.join(errors) or 'no reason given'}")
     scale = scale or fit_scale(_workarea())
     size = (max(1, round(PHONE[0] * scale)), max(1, round(PHONE[1] * scale)))
-    glfw.window_hint(glfw.CONTEXT_VERSION_MAJOR, 3)
-    glfw.window_hint(glfw.CONTEXT_VERSION_MINOR, 3)
-    glfw.window_hint(glfw.OPENGL_PROFILE, glfw.OPENGL_CORE_PROFILE)
-    glfw.window_hint(glfw.OPENGL_FORWARD_COMPAT, True)
-    glfw.window_hint(glfw.RESIZABLE, True)
-    glfw.window_hint(glfw.DOUBLEBUFFER, True)
-    glfw.window_hint(glfw.SCALE_TO_MONITOR, False)
+    _window_hints()
     window = glfw.create_window(*size, TITLE, None, None)
     if not window:
         glfw.terminate()
@@ -76,6 +73,18 @@ def open_window(scale: float | None) -> tuple:
     glfw.swap_interval(1)
     glfw.set_window_aspect_ratio(window, *PHONE)
     return window, scale
+
+
+def _window_hints() -> None:
+    """Every GLFW hint in one place: OpenGL 3.3 core (runs the GLSL ES 3.00 shaders)."""
+    glfw.default_window_hints()
+    glfw.window_hint(glfw.CONTEXT_VERSION_MAJOR, 3)
+    glfw.window_hint(glfw.CONTEXT_VERSION_MINOR, 3)
+    glfw.window_hint(glfw.OPENGL_PROFILE, glfw.OPENGL_CORE_PROFILE)
+    glfw.window_hint(glfw.OPENGL_FORWARD_COMPAT, True)
+    glfw.window_hint(glfw.RESIZABLE, True)
+    glfw.window_hint(glfw.DOUBLEBUFFER, True)
+    glfw.window_hint(glfw.SCALE_TO_MONITOR, False)
 
 
 def _workarea() -> tuple[int, int]:
@@ -128,11 +137,11 @@ class FrostWindow:
         self.fps, self.drag_from, self.clicks_pending = 0.0, None, []
         self.message, self.message_until = "", 0.0
         self.screenshots: list[Path] = []
-        self.latencies: list[tuple[int, float]] = []
+        self.latencies: list[tuple[str, int, float]] = []  # (kind, ticks, ms)
         self.started = time.monotonic()
         self.fb_size = glfw.get_framebuffer_size(self.window)
         self.window_size = glfw.get_window_size(self.window)
-        self.iconified = False
+        self.iconified, self._damaged = False, True
         self._log_mark = (0, self.started)
         self._hud_next, self._log_next = 0.0, self.started + LOG_PERIOD
         self._fps_mark = (0, self.started)
@@ -158,6 +167,7 @@ class FrostWindow:
                 log.info("window: --max-seconds %.1f reached", self.args.max_seconds)
                 break
             if self._minimized():
+                self.new_ticks = 0  # nothing to record while nothing is shown
                 glfw.wait_events_timeout(IDLE_WAIT)
                 continue
             self._frame()
@@ -202,15 +212,14 @@ class FrostWindow:
         if self.dirty:
             self._render_phone()
         if self.new_ticks and self.recorder.active:
-            for _ in range(self.new_ticks):  # one recorded frame per tick, 25 per second
+            # One recorded frame per tick (25 per second), whatever the frame rate.
+            for _ in range(min(self.new_ticks, RECORD_CATCHUP)):
                 self.recorder.offer(lambda: read_image(self.phone))
         self.new_ticks = 0
         if self.dirty or now >= self._hud_next or self._damaged:
             self._present(now)
         if self.frames > presented:
             self.frame_ms = 0.9 * self.frame_ms + 100.0 * (time.perf_counter() - t0)
-
-    _damaged = True
 
     def _damage(self) -> None:
         self._damaged = True
@@ -455,6 +464,8 @@ def run(args, params: Params) -> int:
         return app.loop()
     except Exception:
         log.exception("window failed")
+        if app is not None:
+            app.status = 1
         return 1
     finally:
         if app is not None:
