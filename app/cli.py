@@ -67,6 +67,8 @@ def _bool(text: str) -> bool:
 def params_from(args: argparse.Namespace) -> Params:
     """The Params the command line asks for; a bad value raises ValueError naming it."""
     overrides = {n: getattr(args, n) for n, _, _ in Params.describe() if getattr(args, n) is not None}
+    if "step" not in overrides and "hc" in overrides and overrides["hc"] > 0:
+        overrides["step"] = min(Params.step, overrides["hc"])  # a smaller hc takes step with it
     if args.preset:
         return Params.preset(args.preset, **overrides)
     return Params(**overrides)

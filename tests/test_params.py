@@ -34,7 +34,7 @@ def test_step_larger_than_hc_is_refused():
 
 def test_defaults_match_spec():
     p = Params()
-    assert (p.hc, p.D, p.humidity, p.step, p.active_radius) == (7.0, 7.0, 3000, 3.0, 200.0)
+    assert (p.hc, p.D, p.humidity, p.step, p.active_radius) == (7.0, 7.0, 3000, 5.0, 200.0)
     assert (p.bump, p.grid_spacing, p.feature_width, p.feature_height) == (1.0, 4, 1.5, 0.5)
     assert p.neighbor_search == "candidate" and p.replenish is False
 
