@@ -53,6 +53,34 @@ def fig9(presets: list[str], repeats: int) -> list[dict]:
     return rows
 
 
+PHASES = ("_walk", "_crystallize", "_link", "_register", "_forget_water")
+
+
+def phase_profile(preset: str, mode: str, repeats: int) -> dict[str, float]:
+    """Seconds per full growth spent in each phase of a tick (median over `repeats`)."""
+    runs: dict[str, list[float]] = {p.strip("_"): [] for p in PHASES}
+    for r in range(repeats):
+        sim = FrostSim(Params.preset(preset, neighbor_search=mode), seed=r)
+        spent = dict.fromkeys(runs, 0.0)
+        for phase in PHASES:
+            setattr(sim, phase, _timed(getattr(sim, phase), spent, phase.strip("_")))
+        sim.touch(*CENTRE)
+        while sim.tick < 5000 and sim.water_frozen < 0.9 * sim.water_created and len(sim.water_area):
+            sim.step()
+        for k, v in spent.items():
+            runs[k].append(v)
+    return {k: float(np.median(v)) for k, v in runs.items()}
+
+
+def _timed(fn, spent: dict[str, float], name: str):
+    def wrapper(*a):
+        t0 = time.perf_counter()
+        out = fn(*a)
+        spent[name] += time.perf_counter() - t0
+        return out
+    return wrapper
+
+
 def busy_ticks(humidity: int, samples: int) -> list[float]:
     """Seconds of ticks that start with at least 90 % of `humidity` walkers."""
     params = Params.preset("c-2", humidity=humidity)
@@ -118,6 +146,11 @@ def main(argv: list[str] | None = None) -> None:
         print(f"{r['preset']:6} {r['ticks']:6} {r['candidate_ms_per_tick']:18.3f} "
               f"{r['grid9_ms_per_tick']:14.3f} {r['candidate_s']:13.3f} {r['grid9_s']:14.3f} "
               f"{r['ratio']:11.1f}x")
+    print("\n## Where a full c-2 growth spends its time, per phase (ms, median of", args.repeats, "runs)")
+    prof = {m: phase_profile("c-2", m, args.repeats) for m in ("candidate", "grid9")}
+    print("phase         candidate    grid9")
+    for phase in prof["candidate"]:
+        print(f"{phase:12} {1e3 * prof['candidate'][phase]:10.2f} {1e3 * prof['grid9'][phase]:8.2f}")
     print(f"\n## Busy ticks (>= 90 % of walkers moving), c-2, {args.samples} ticks each")
     print("humidity  median ms  p95 ms  walker steps/s")
     busy = []
@@ -137,7 +170,7 @@ def main(argv: list[str] | None = None) -> None:
     print(f"\n## Memory after a full c-2 growth ({mem['crystals']} crystals)")
     print(f"array bytes {mem['array_bytes'] / 1e6:.2f} MB, "
           f"tracemalloc peak {mem['tracemalloc_peak_bytes'] / 1e6:.2f} MB")
-    print(json.dumps({"fig9": rows, "busy": busy, "growth": curve, "memory": mem}))
+    print(json.dumps({"fig9": rows, "phases": prof, "busy": busy, "growth": curve, "memory": mem}))
 
 
 if __name__ == "__main__":

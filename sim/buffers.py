@@ -92,6 +92,13 @@ class CellLists:
         valid = np.arange(width) < self.count[cells][:, None]
         return ids, valid
 
+    def gather_flat(self, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(counts, ids): the lists of `cells` back to back, without padding."""
+        counts = self.count[cells]
+        rows = np.repeat(np.arange(len(cells)), counts)
+        slot = np.arange(len(rows)) - np.repeat(np.cumsum(counts) - counts, counts)
+        return counts, self.items[cells[rows], slot]
+
     def nbytes(self) -> int:
         return self.count.nbytes + self.items.nbytes
 

@@ -270,8 +270,8 @@ class FrostSim:
         if self._own is not None:
             return self._nearest_grid9(x, y, keys)
         w = np.flatnonzero(self.candidates.count[keys] > 0)
-        ids, valid = self.candidates.gather(keys[w])
-        return self._nearest(w, ids, valid, x, y)
+        counts, ids = self.candidates.gather_flat(keys[w])
+        return self._nearest(w, counts, ids, x, y)
 
     def _link(self, frozen: np.ndarray, parents: np.ndarray) -> slice:
         """Frozen walkers become crystals linked to their parents; links are upsampled."""
@@ -315,20 +315,24 @@ class FrostSim:
         c = self._crystals.raw()[ids].astype(np.float64)
         return ids[np.hypot(c[:, 0] - x, c[:, 1] - y) < radius]
 
-    def _nearest(self, w: np.ndarray, ids: np.ndarray, valid: np.ndarray,
+    def _nearest(self, w: np.ndarray, counts: np.ndarray, ids: np.ndarray,
                  x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Of walkers `w` with crystal lists `ids`, those within hc of one, and the
-        nearest (lowest index among equals). Both neighbour searches share this."""
+        """Of walkers `w`, each with `counts[i] > 0` crystal ids listed back to back in `ids`,
+        those within hc of one, and the nearest (lowest index among equals). Both neighbour
+        searches share this, so their distances are the same floats."""
+        if len(w) == 0:
+            return w, np.empty(0, np.int32)
+        starts = np.cumsum(counts) - counts
+        rows = np.repeat(np.arange(len(w)), counts)
         c = self._crystals.raw()
-        dx = c[ids, 0] - x[w, None]
-        dy = c[ids, 1] - y[w, None]
+        dx = c[ids, 0] - x[w][rows]
+        dy = c[ids, 1] - y[w][rows]
         d2 = dx * dx + dy * dy
-        d2[~valid] = np.inf
-        dmin = d2.min(axis=1, initial=np.inf)
-        rows = np.flatnonzero(dmin < self._hc2)
-        tie = d2[rows] == dmin[rows, None]
-        parent = np.where(tie, ids[rows], np.iinfo(np.int32).max).min(axis=1, initial=np.iinfo(np.int32).max)
-        return w[rows], parent.astype(np.int32)
+        dmin = np.minimum.reduceat(d2, starts)
+        tied = np.where(d2 == dmin[rows], ids, np.iinfo(np.int32).max)
+        parent = np.minimum.reduceat(tied, starts)
+        hit = dmin < self._hc2
+        return w[hit], parent[hit].astype(np.int32)
 
     def _nearest_grid9(self, x: np.ndarray, y: np.ndarray, keys: np.ndarray):
         """Fig. 9's baseline: every walker against the crystals of its 9 surrounding cells."""
@@ -344,7 +348,10 @@ class FrostSim:
             width = int(self._own.count[cells].max(initial=0))
             ids = self._own.items[cells, :width].reshape(len(cells), -1)
             valid = (np.arange(width) < self._own.count[cells][..., None]).reshape(len(cells), -1)
-            h, p = self._nearest(np.arange(sl.start, sl.start + len(cells)), ids, valid, x, y)
+            counts = valid.sum(axis=1)
+            some = counts > 0
+            w = np.arange(sl.start, sl.start + len(cells))[some]
+            h, p = self._nearest(w, counts[some], ids[some][valid[some]], x, y)
             hits.append(h)
             parents.append(p)
         return np.concatenate(hits), np.concatenate(parents)
