@@ -54,6 +54,7 @@ BINDINGS: tuple[Binding, ...] = (
     Binding(("L",), "L", f"bump up ({BUMP_STEP} px)", "shift", ("bump", BUMP_STEP)),
     Binding(("K",), "K", f"bump down ({BUMP_STEP} px)", "shift", ("bump", -BUMP_STEP)),
     *_preset_bindings(),
+    Binding(("G",), "G", "growth mode on / off (frost keeps spreading)", "toggle_param", "grow"),
     Binding(("F",), "F", "sharp features on / off", "toggle_view", "show_features"),
     Binding(("B",), "B", "bumpy surfaces on / off", "toggle_view", "show_bumps"),
     Binding(("LEFT",), "Left", "light from further left", "light", (-LIGHT_STEP, 0.0)),

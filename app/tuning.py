@@ -26,6 +26,11 @@ def shifted(params: Params, name: str, delta: float) -> Params:
     return changed(params, name, round(getattr(params, name) + delta, 6))
 
 
+def toggled(params: Params, name: str) -> Params:
+    """A boolean parameter (grow) switched."""
+    return changed(params, name, not getattr(params, name))
+
+
 def preset(params: Params, name: str) -> Params:
     """Table 1's setting `name`; the parameters it does not set keep their values."""
     keep = {k: v for k, v in params.as_dict().items() if k not in PRESETS[name] and k != "step"}

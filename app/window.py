@@ -288,7 +288,8 @@ class FrostWindow:
             f"fps {self.fps:5.1f}  frame {self.frame_ms:5.1f} ms  render {self.render_ms:5.1f} ms",
             f"tick {s.tick}  {s.tick_ms:5.1f} ms  rate {s.rate:4.1f}/s  overruns {s.overruns}",
             f"crystals {s.crystals}  water {s.water}",
-            f"hc {p.hc:g}  D {p.D:g}  humidity {p.humidity}  step {p.step:g}  bump {p.bump:g}",
+            f"hc {p.hc:g}  D {p.D:g}  humidity {p.humidity}  step {p.step:g}  bump {p.bump:g}  "
+            f"grow {_onoff(p.grow)}",
             f"features {_onoff(r.show_features)}  bumps {_onoff(r.show_bumps)}  "
             "light ({:.2f}, {:.2f}, {:.2f})".format(*r.light),
             "  ".join(state) or "running",
@@ -359,6 +360,7 @@ class FrostWindow:
                 "clear": self._clear, "screenshot": self._screenshot,
                 "record": lambda _: self.recorder.toggle(),
                 "scale": self._scale, "shift": self._shift, "preset": self._preset,
+                "toggle_param": self._toggle_param,
                 "toggle_view": self._toggle_view, "light": self._move_light,
                 "toggle_hud": self._toggle_hud, "toggle_help": self._toggle_help,
                 "quit": self._quit}
@@ -392,6 +394,9 @@ class FrostWindow:
 
     def _shift(self, arg) -> None:
         self._tune(tuning.shifted, *arg)
+
+    def _toggle_param(self, name: str) -> None:
+        self._tune(tuning.toggled, name)
 
     def _preset(self, name: str) -> None:
         self._tune(tuning.preset, name)
@@ -438,6 +443,8 @@ def _changes(delta) -> bool:
 
 
 def _number(v) -> str:
+    if isinstance(v, bool):
+        return _onoff(v)
     return f"{v:g}" if isinstance(v, float) else str(v)
 
 

@@ -201,3 +201,11 @@ def test_humidity_scales_and_presets_keep_the_rest():
     p = tuning.preset(Params(bump=2.0, step=1.0), "b-1")
     assert (p.hc, p.D, p.humidity, p.bump, p.step) == (3.0, 3.0, 3000, 2.0, 3.0)
     assert tuning.differences(Params(), Params(hc=8.0)) == {"hc": 8.0}
+
+
+def test_growth_mode_toggles_and_keeps_the_rest():
+    p = Params.preset("c-2")
+    on = tuning.toggled(p, "grow")
+    assert on.grow and tuning.differences(p, on) == {"grow": True}
+    assert not tuning.toggled(on, "grow").grow
+    assert any(b.keys == ("G",) and b.arg == "grow" for b in BINDINGS)
