@@ -5,6 +5,9 @@ from __future__ import annotations
 import logging
 import sys
 
+from sim import Params
+from sim.session import SessionError
+
 from .cli import build_parser, has_display, params_from
 
 
@@ -16,6 +19,14 @@ def main(argv: list[str] | None = None) -> int:
         params = params_from(args)
     except ValueError as err:
         parser.error(str(err))
+    if args.ticks is None and not args.replay:
+        args.ticks = 250
+    if args.replay and not args.headless and has_display():
+        try:
+            params = _windowed_replay(args)
+        except SessionError as err:
+            print(f"frost: error: {err}", file=sys.stderr)
+            return 2
     if args.figure8:
         from .figure8 import run as run_figure8
         return run_figure8(args)
@@ -27,6 +38,15 @@ def main(argv: list[str] | None = None) -> int:
         return run_headless(args, params)
     from .window import run as run_window
     return run_window(args, params)
+
+
+def _windowed_replay(args) -> Params:
+    """Load --replay's session into args (seed, events) for the window; its parameters."""
+    from .headless import load_session
+
+    log_ = load_session(args.replay)
+    args.seed, args.touch, args.script = log_.seed, [], log_.events
+    return Params(**log_.params)
 
 
 if __name__ == "__main__":

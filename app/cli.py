@@ -19,6 +19,33 @@ def _touch(text: str) -> tuple[float, float]:
     return x, y
 
 
+def _melt(text: str) -> dict:
+    """X,Y[,R]@TICK -> a melt event (R None: --melt-radius)."""
+    try:
+        spot, tick = text.split("@")
+        values = [float(v) for v in spot.split(",")]
+        if len(values) not in (2, 3) or int(tick) < 0:
+            raise ValueError
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"melt {text!r} must be X,Y[,R]@TICK (px, px, px, tick >= 0), e.g. 380,640,30@100") from None
+    return {"tick": int(tick), "kind": "melt", "x": values[0], "y": values[1],
+            "r": values[2] if len(values) == 3 else None}
+
+
+def _melt_path(text: str) -> dict:
+    """X1,Y1:X2,Y2[:...]@TICK -> the path's points and tick."""
+    try:
+        path, tick = text.split("@")
+        points = [tuple(float(v) for v in p.split(",")) for p in path.split(":")]
+        if len(points) < 2 or any(len(p) != 2 for p in points) or int(tick) < 0:
+            raise ValueError
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"melt path {text!r} must be X1,Y1:X2,Y2[:...]@TICK, e.g. 100,600:600,600@150") from None
+    return {"tick": int(tick), "points": points}
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="python -m app",
@@ -33,7 +60,25 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--headless", action="store_true", help="render offscreen (EGL), no window")
     p.add_argument("--touch", type=_touch, action="append", default=[], metavar="X,Y",
                    help="plant a seed at X,Y px at tick 0 (repeatable)")
-    p.add_argument("--ticks", type=int, default=250, help="ticks to grow in headless mode")
+    p.add_argument("--ticks", type=int,
+                   help="ticks to grow in headless mode (default 250; with --replay: as recorded)")
+    p.add_argument("--melt", type=_melt, action="append", default=[], metavar="X,Y[,R]@TICK",
+                   help="headless: a warm finger melts the ice within R px (default "
+                        "--melt-radius) of X,Y just before step TICK + 1 (repeatable)")
+    p.add_argument("--melt-path", type=_melt_path, action="append", default=[],
+                   metavar="X1,Y1:X2,Y2[:...]@TICK",
+                   help="headless: melt along a polyline at TICK, a melt every half radius "
+                        "(repeatable)")
+    p.add_argument("--melt-radius", type=float, default=24.0, metavar="PX",
+                   help="radius of the warm finger (right-button drag in the window; --melt, "
+                        "--melt-path), px (default 24)")
+    p.add_argument("--replay", metavar="FILE.json",
+                   help="replay a recorded session (sessions/*.json): its seed, parameters, "
+                        "touches, melts and changes at their ticks; windowed when a display "
+                        "exists, else (or with --headless) writes --screenshot after --ticks")
+    p.add_argument("--session-dir", default="sessions",
+                   help="window: folder for the session files written on exit and with "
+                        "each screenshot")
     p.add_argument("--screenshot", metavar="FILE.png", help="headless: write the final frame here")
     p.add_argument("--figure8", metavar="FILE.png",
                    help="render the nine Table 1 presets from one touch into a 3x3 sheet (Fig. 8), "

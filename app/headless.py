@@ -7,15 +7,17 @@ import sys
 import time
 from pathlib import Path
 
-from sim import FrostSim, Params
-from sim.geometry import FrostGeometry
+from sim import Params
+from sim.session import Applied, SessionError, SessionLog, Timeline, apply_due, replay
 
 from .render import Renderer
 from .screenshot import read_image, save_png, timestamped_path
+from .view import path_points
 
 log = logging.getLogger(__name__)
 
 WIDTH, HEIGHT = 760, 1280
+MELT_SPACING = 0.5  # melts along a --melt-path, in melt radii (as a right-button drag)
 PROGRESS_EVERY_S = 2.0  # a progress line at most this often on long runs
 DEFAULT_FOLDER = Path("frost-out")
 
@@ -37,34 +39,61 @@ def scripted_session(ticks: int) -> list[tuple[int, float, float]]:
 
 
 class Session:
-    """One headless run: simulation, geometry and renderer advanced tick by tick."""
+    """One headless run: a Timeline (simulation, geometry, events) and a renderer fed
+    every delta in order."""
 
     def __init__(self, ctx, params: Params, seed: int):
-        self.sim = FrostSim(params, WIDTH, HEIGHT, seed)
-        self.geometry = FrostGeometry(params, WIDTH, HEIGHT)
+        self.timeline = Timeline(params, seed, WIDTH, HEIGHT)
         self.renderer = Renderer(ctx, params, WIDTH, HEIGHT)
         self.fbo = ctx.simple_framebuffer((WIDTH, HEIGHT), components=4)
         self.touches: list[tuple[int, float, float]] = []
+        self.meta: dict = {}  # more PNG metadata, e.g. the session file replayed
+
+    @property
+    def sim(self):
+        return self.timeline.sim
 
     def touch(self, x: float, y: float) -> None:
-        self.sim.touch(x, y)
+        if not (0 <= x < WIDTH and 0 <= y < HEIGHT):
+            raise ValueError(f"touch ({x:g}, {y:g}) is off the {WIDTH}x{HEIGHT} screen")
+        self.show(self.timeline.apply([{"kind": "touch", "x": x, "y": y}]))
         self.touches.append((self.sim.tick, x, y))
 
+    def show(self, applied: Applied) -> None:
+        """Hand an event result to the renderer: a rebuild clears it, melts update it."""
+        if applied.reset:
+            self.renderer.reset()
+        for delta in applied.deltas:
+            self.renderer.apply(delta)
+
     def step(self) -> None:
-        self.sim.step()
-        self.renderer.apply(self.geometry.update(self.sim))
+        self.renderer.apply(self.timeline.step())
 
     def snapshot(self, path: Path) -> Path:
         self.renderer.render(self.fbo)
         meta = {"parameters": self.sim.params.as_dict(), "seed": self.sim.seed,
                 "touches": [list(t) for t in self.touches], "tick": self.sim.tick,
-                "Software": "frost (python -m app --headless)"}
+                "Software": "frost (python -m app --headless)", **self.meta}
         return save_png(read_image(self.fbo), path, meta)
+
+
+def melt_events(args) -> list[dict]:
+    """--melt and --melt-path as melt events in tick order (a path: a melt every half
+    radius along it)."""
+    r = args.melt_radius
+    events = [{**m, "r": m["r"] or r} for m in args.melt]
+    for path in args.melt_path:
+        spots = [path["points"][0]]
+        for a, b in zip(path["points"], path["points"][1:], strict=False):
+            spots.extend(path_points(a, b, MELT_SPACING * r))
+        events.extend({"tick": path["tick"], "kind": "melt", "x": x, "y": y, "r": r}
+                      for x, y in spots)
+    return sorted(events, key=lambda e: e["tick"])
 
 
 def run(args, params: Params) -> int:
     """`python -m app --headless ...`; returns the exit status."""
-    if args.ticks < 0:
+    if args.ticks is not None and args.ticks < 0:
         _error(f"--ticks {args.ticks} must be 0 or more")
         return 2
     try:
@@ -72,9 +101,14 @@ def run(args, params: Params) -> int:
     except RuntimeError as err:
         _error(err)
         return 1
+    if args.replay:
+        return _run_replay(ctx, args)
     session = Session(ctx, params, args.seed)
     if args.touch:
         return _run_touches(session, args)
+    if args.melt or args.melt_path:
+        _error("--melt and --melt-path need --touch (the scripted demo takes none)")
+        return 2
     return _run_scripted(session, args)
 
 
@@ -85,9 +119,43 @@ def _run_touches(session: Session, args) -> int:
     except ValueError as err:
         _error(err)
         return 2
-    _grow(session, args.ticks)
+    melts, at = melt_events(args), 0
+    for _ in range(args.ticks):
+        at = apply_due(session.timeline, melts, at, session.show)
+        session.step()
+    apply_due(session.timeline, melts, at, session.show)
     path = Path(args.screenshot) if args.screenshot else timestamped_path(DEFAULT_FOLDER)
     print(f"wrote {session.snapshot(path)}")
+    return 0
+
+
+def load_session(path) -> SessionLog:
+    """The session file `path` for this 760x1280 screen; SessionError saying why not."""
+    log_ = SessionLog.load(path)
+    if (log_.width, log_.height) != (WIDTH, HEIGHT):
+        raise SessionError(f"{path}: a {log_.width}x{log_.height} session; this app renders "
+                           f"{WIDTH}x{HEIGHT}")
+    return log_
+
+
+def replay_session(ctx, log_: SessionLog, steps: int | None = None) -> Session:
+    """A Session that went through `log_` (see sim.session.replay) with its renderer."""
+    session = Session(ctx, Params(**log_.params), log_.seed)
+    session.timeline = replay(log_, steps, session.show, session.renderer.apply)
+    return session
+
+
+def _run_replay(ctx, args) -> int:
+    try:
+        log_ = load_session(args.replay)
+    except SessionError as err:
+        _error(err)
+        return 2
+    session = replay_session(ctx, log_, args.ticks)
+    session.meta = {"session": str(args.replay), "replayed_steps": session.timeline.steps}
+    path = Path(args.screenshot) if args.screenshot else timestamped_path(DEFAULT_FOLDER)
+    print(f"replayed {args.replay}: {session.timeline.steps} steps, "
+          f"{len(session.timeline.events)} events; wrote {session.snapshot(path)}")
     return 0
 
 

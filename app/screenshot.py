@@ -32,11 +32,11 @@ def save_png(image: np.ndarray, path, meta: dict) -> Path:
     return path
 
 
-def timestamped_path(folder) -> Path:
+def timestamped_path(folder, prefix: str = "frost", suffix: str = ".png") -> Path:
     """A new file name in `folder` named by the time, never one that already exists."""
     folder = Path(folder)
     stamp = time.strftime("%Y%m%d-%H%M%S")
-    path, n = folder / f"frost-{stamp}.png", 1
+    path, n = folder / f"{prefix}-{stamp}{suffix}", 1
     while path.exists():
-        path, n = folder / f"frost-{stamp}-{n}.png", n + 1
+        path, n = folder / f"{prefix}-{stamp}-{n}{suffix}", n + 1
     return path

@@ -1,8 +1,10 @@
 """The simulation thread: FrostSim + FrostGeometry at a fixed 25 ticks per second.
 
-Input (touches, parameter changes, clear, pause, single step) arrives on `inbox` and
-applies at the next tick. After each tick an immutable `Snapshot` goes on `outbox`; the
-main thread applies every snapshot's geometry delta in order. No GL here.
+Input (touches, melts, parameter changes, clear, pause, single step) arrives on `inbox`
+and applies at the next tick; the simulation's events go through `sim.session.Timeline`
+(the same code headless runs and replays use), which records them with their ticks.
+After each tick an immutable `Snapshot` goes on `outbox`; the main thread applies every
+snapshot's geometry deltas in order. No GL here.
 """
 
 from __future__ import annotations
@@ -16,8 +18,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from sim import FrostSim, Params
-from sim.geometry import FrostGeometry, GeometryDelta
+from sim import Params
+from sim.geometry import GeometryDelta
+from sim.session import Applied, SessionLog, Timeline, apply_due
 
 log = logging.getLogger(__name__)
 
@@ -50,6 +53,9 @@ class Snapshot:
     grown: tuple[tuple[int, float], ...] = ()  # clicks whose seed got its first crystal
     message: str | None = None  # for the HUD / log, e.g. a refused parameter
     error: str | None = None  # the thread died; the app must exit non-zero
+    melts: tuple[GeometryDelta, ...] = ()  # melt deltas, applied before `delta`
+    steps: int = 0  # steps taken by the session so far
+    events: int = 0  # events recorded so far (a session file of this frame keeps these)
 
 
 @dataclass(frozen=True)
@@ -62,20 +68,48 @@ class SimThread(threading.Thread):
     """Runs the simulation on a monotonic schedule: tick k is due at start + k * dt."""
 
     def __init__(self, params: Params, seed: int, touches=(), width=760, height=1280,
-                 wake: Callable[[], None] | None = None, dt: float = 1.0 / TICKS_PER_SECOND):
+                 wake: Callable[[], None] | None = None, dt: float = 1.0 / TICKS_PER_SECOND,
+                 script=()):
         super().__init__(name="frost-sim", daemon=True)
         self.inbox: queue.Queue[Command] = queue.Queue()
         self.outbox: queue.Queue[Snapshot] = queue.Queue()
         self.size = (width, height)
         self.seed, self.dt, self.wake = seed, dt, wake or (lambda: None)
-        self.touches: tuple[tuple[float, float], ...] = tuple(touches)
+        self.first_params = params
+        self.script, self._script_at = list(script), 0  # a replayed session's events
         self.paused, self.overruns, self.tick_ms = False, 0, 0.0
         self._stop_event = threading.Event()
         self._stamps: deque[float] = deque(maxlen=RATE_WINDOW)
         self._clicks: list[tuple[int, float]] = []  # planted, not yet shown by a step
-        self._handlers = {"touch": self._touch, "params": self._set_params,
+        self._handlers = {"touch": self._touch, "melt": self._melt, "params": self._set_params,
                           "clear": self._clear, "pause": self._pause, "step": self._single}
-        self._build(params)
+        self._watch: dict[int, tuple[int, float]] = {}
+        self.timeline = Timeline(params, seed, width, height)
+        events = [{"kind": "touch", "x": float(x), "y": float(y)} for x, y in touches]
+        self.timeline.apply(events)
+
+    @property
+    def sim(self):
+        return self.timeline.sim
+
+    @property
+    def geometry(self):
+        return self.timeline.geometry
+
+    @property
+    def params(self) -> Params:
+        return self.timeline.params
+
+    @property
+    def touches(self) -> tuple[tuple[float, float], ...]:
+        return self.timeline.touches
+
+    def session(self, steps: int | None = None, events: int | None = None) -> SessionLog:
+        """The session so far (or its first `events` events and `steps` steps, as a
+        snapshot reports them): enough to replay it bit for bit."""
+        t = self.timeline
+        return SessionLog(self.seed, self.first_params.as_dict(), *self.size,
+                          list(t.events[:events]), t.steps if steps is None else steps)
 
     # ---- main-thread side -------------------------------------------------------
 
@@ -121,20 +155,24 @@ class SimThread(threading.Thread):
     def _tick(self) -> None:
         t0 = time.perf_counter()
         self._stamps.append(time.monotonic())
-        notes = {"reset": False, "message": None}
+        notes: dict[str, Any] = {"applied": []}
+        self._script_at = apply_due(self.timeline, self.script, self._script_at,
+                                    notes["applied"].append)
         for cmd in self._pending():
             self._handlers[cmd.kind](cmd.arg, notes)
+        reset, melts, message = _merged(notes["applied"])
+        if reset:
+            self._watch = {}
         delta, grown, clicks = None, (), ()
         if not self.paused or notes.pop("single", False):
-            self.sim.step()
             # sim.added (what the geometry reads) covers touches only once a step closes it,
             # so a click made while paused shows (and is timed) at the next step.
-            delta = self.geometry.update(self.sim)
+            delta = self.timeline.step()
             grown = self._first_growth()
             clicks, self._clicks = tuple(self._clicks), []
         self.tick_ms = (time.perf_counter() - t0) * 1000.0
-        self.outbox.put(self._snapshot(delta, reset=notes["reset"], clicks=clicks, grown=grown,
-                                       message=notes["message"]))
+        self.outbox.put(self._snapshot(delta, reset=reset, clicks=clicks, grown=grown,
+                                       message=message, melts=melts))
         self.wake()
 
     def _pending(self) -> list[Command]:
@@ -154,7 +192,8 @@ class SimThread(threading.Thread):
         return tuple(self._watch.pop(seed) for seed in sorted(done))
 
     def _snapshot(self, delta, **extra) -> Snapshot:
-        return Snapshot(delta, self._stats(), self.params, self.touches, **extra)
+        return Snapshot(delta, self._stats(), self.params, self.touches, steps=self.timeline.steps,
+                        events=len(self.timeline.events), **extra)
 
     def _stats(self) -> Stats:
         s = self._stamps
@@ -164,26 +203,23 @@ class SimThread(threading.Thread):
 
     # ---- commands: each takes (arg, notes) and applies at this tick ---------------
 
-    def _touch(self, arg, _notes: dict) -> None:
+    def _touch(self, arg, notes: dict) -> None:
         (x, y), click = arg
-        w, h = self.size
-        if not (0 <= x < w and 0 <= y < h):
-            return
-        self.sim.touch(x, y)
-        self.touches = (*self.touches, (x, y))
-        if click is not None:
+        before = len(self.touches)
+        notes["applied"].append(self.timeline.apply([{"kind": "touch", "x": x, "y": y}]))
+        if click is not None and len(self.touches) > before:
             self._clicks.append(click)
             self._watch[len(self.sim.crystals) - 1] = click
 
+    def _melt(self, arg, notes: dict) -> None:
+        x, y, r = arg
+        notes["applied"].append(self.timeline.apply([{"kind": "melt", "x": x, "y": y, "r": r}]))
+
     def _set_params(self, params: Params, notes: dict) -> None:
-        self._build(params)
-        notes["reset"] = True
-        notes["message"] = f"rebuilt with {len(self.touches)} touches replayed at tick 0"
+        notes["applied"].append(self.timeline.apply([{"kind": "params", "params": params}]))
 
     def _clear(self, _arg, notes: dict) -> None:
-        self.touches = ()
-        self._build(self.params)
-        notes["reset"] = True
+        notes["applied"].append(self.timeline.apply([{"kind": "clear"}]))
 
     def _pause(self, _arg, _notes: dict) -> None:
         self.paused = not self.paused
@@ -191,10 +227,13 @@ class SimThread(threading.Thread):
     def _single(self, _arg, notes: dict) -> None:
         notes["single"] = True
 
-    def _build(self, params: Params) -> None:
-        """A fresh simulation with `params`; the touches so far are replayed at tick 0."""
-        self.params, self._watch = params, {}
-        self.sim = FrostSim(params, *self.size, seed=self.seed)
-        self.geometry = FrostGeometry(params, *self.size)
-        for x, y in self.touches:
-            self.sim.touch(x, y)
+
+def _merged(applied: list[Applied]) -> tuple[bool, tuple[GeometryDelta, ...], str | None]:
+    """One tick's results: a rebuild drops the melt deltas made before it."""
+    reset, melts, message = False, [], None
+    for a in applied:
+        if a.reset:
+            reset, melts = True, []
+        melts.extend(a.deltas)
+        message = a.message or message
+    return reset, tuple(melts), message

@@ -39,6 +39,8 @@ MESSAGE_SECONDS = 4.0
 BACKDROP = (0.08, 0.08, 0.09)  # the letterbox bars
 # A drag plants a touch every DRAG_SPACING_HC * hc px along the cursor's path.
 DRAG_SPACING_HC = 4.0
+# A right-button drag melts every MELT_SPACING * melt_radius px along the cursor's path.
+MELT_SPACING = 0.5
 # Actions that repeat while their key is held.
 REPEATING = {"single_step", "scale", "shift", "light"}
 # What the two click latencies of the log measure: the first frame showing the seed's
@@ -124,7 +126,7 @@ class FrostWindow:
         self.actions = self._action_table()
         self.params = params
         self.sim = SimThread(params, args.seed, args.touch or (), *PHONE,
-                             wake=glfw.post_empty_event)
+                             wake=glfw.post_empty_event, script=getattr(args, "script", ()))
         self._init_state()
         self._connect()
 
@@ -135,8 +137,10 @@ class FrostWindow:
         self.frame_ms = 0.0  # render + present, moving average
         self.new_ticks = 0  # snapshots since the last recorded frame
         self.fps, self.drag_from, self.clicks_pending = 0.0, None, []
+        self.melt_from = None  # where a right-button drag (the warm finger) last melted
         self.message, self.message_until = "", 0.0
         self.screenshots: list[Path] = []
+        self.session_path: Path | None = None
         self.latencies: list[tuple[str, int, float]] = []  # (kind, ticks, ms)
         self.started = time.monotonic()
         self.fb_size = glfw.get_framebuffer_size(self.window)
@@ -177,7 +181,19 @@ class FrostWindow:
     def close(self) -> None:
         self.sim.stop()
         self.recorder.close()
+        self._save_session()
         self._summary()
+
+    def _save_session(self) -> Path:
+        """The session up to the frame shown (replay it with --replay FILE)."""
+        snap = self.latest
+        log_ = self.sim.session(snap.steps, snap.events) if snap else self.sim.session(0, 0)
+        if self.session_path is None:
+            self.session_path = timestamped_path(self.args.session_dir, "session", ".json")
+        log_.save(self.session_path)
+        log.info("session: %s (%d events, %d steps)", self.session_path, len(log_.events),
+                 log_.steps)
+        return self.session_path
 
     def _drain(self) -> None:
         for snap in self.sim.drain():
@@ -190,6 +206,9 @@ class FrostWindow:
             return
         if snap.reset:
             self.renderer.reset()
+            self.dirty = True
+        for melt in snap.melts:
+            self.renderer.apply(melt)
             self.dirty = True
         if snap.delta is not None:
             self.renderer.apply(snap.delta)
@@ -315,6 +334,9 @@ class FrostWindow:
         self._hud_next = 0.0  # show the change at once
 
     def _on_button(self, _window, button, action, _mods) -> None:
+        if button == glfw.MOUSE_BUTTON_RIGHT:
+            self._warm_finger(action)
+            return
         if button != glfw.MOUSE_BUTTON_LEFT:
             return
         if action == glfw.RELEASE:
@@ -327,7 +349,15 @@ class FrostWindow:
         self.sim.send("touch", (spot, (tick, time.monotonic())))
         self.drag_from = spot
 
+    def _warm_finger(self, action) -> None:
+        """Right button down: melt under the cursor, and along the path while it is held."""
+        self.melt_from = None if action == glfw.RELEASE else self._cursor_phone()
+        if self.melt_from is not None:
+            self.sim.send("melt", (*self.melt_from, self.args.melt_radius))
+
     def _on_cursor(self, _window, _x, _y) -> None:
+        if self.melt_from is not None:
+            self._melt_drag()
         spot = self.drag_from and self._cursor_phone()
         if not spot:
             return
@@ -336,6 +366,17 @@ class FrostWindow:
             self.sim.send("touch", (point, None))
         if points:
             self.drag_from = points[-1]
+
+    def _melt_drag(self) -> None:
+        spot = self._cursor_phone()
+        if spot is None:
+            return
+        r = self.args.melt_radius
+        points = path_points(self.melt_from, spot, MELT_SPACING * r)
+        for x, y in points:
+            self.sim.send("melt", (x, y, r))
+        if points:
+            self.melt_from = points[-1]
 
     def _cursor_phone(self):
         return cursor_to_phone(glfw.get_cursor_pos(self.window), self.window_size, self.fb_size)
@@ -421,7 +462,8 @@ class FrostWindow:
         folder.mkdir(parents=True, exist_ok=True)
         meta = {"params": json.dumps(self.params.as_dict()), "seed": str(self.args.seed),
                 "touches": json.dumps(self.latest.touches if self.latest else []),
-                "tick": str(self.latest.stats.tick if self.latest else 0)}
+                "tick": str(self.latest.stats.tick if self.latest else 0),
+                "session": str(self._save_session())}
         path = save_png(read_image(self.phone), timestamped_path(folder), meta)
         self.screenshots.append(path)
         self._say(f"screenshot: {path}")

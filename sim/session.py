@@ -1,0 +1,221 @@
+"""Sessions: the seed, parameters and input events of a frost run, and the one place
+that applies events (used by the live simulation thread, headless runs and replays).
+
+When an event applies: an event recorded at tick t applies when `sim.tick == t`, before
+the step that produces tick t + 1 (several events of one tick apply in their order).
+Kinds: "touch" (x, y), "melt" (x, y, r), "params" (params: a dict; rebuilds the
+simulation) and "clear" (drops the touches and melts, rebuilds).
+
+A rebuild (params, clear) starts a new timeline at tick 0: the touches so far are planted
+at tick 0 and the melts so far are scheduled again at their own ticks, so a melted spot
+melts again when the new frost reaches the same age. Later event ticks count from there.
+No GL here: deltas are plain arrays for app/ to upload.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .frost import FrostSim
+from .geometry import FrostGeometry, GeometryDelta
+from .params import Params
+
+log = logging.getLogger(__name__)
+
+FORMAT = "frost-session"
+VERSION = 1
+# The keys each event kind needs besides "tick" and "kind".
+EVENT_FIELDS = {"touch": ("x", "y"), "melt": ("x", "y", "r"), "params": ("params",),
+                "clear": ()}
+REBUILDS = ("params", "clear")  # kinds that start a new timeline at tick 0
+
+
+class SessionError(ValueError):
+    """A session file that cannot be read or does not describe a session."""
+
+
+@dataclass
+class SessionLog:
+    """What reproduces a run bit for bit: seed, screen, first parameters, events, steps."""
+
+    seed: int
+    params: dict[str, Any]
+    width: int = 760
+    height: int = 1280
+    events: list[dict[str, Any]] = field(default_factory=list)
+    steps: int = 0  # steps the run took in all (its timelines together)
+
+    def as_json(self) -> dict[str, Any]:
+        return {"format": FORMAT, "version": VERSION, "seed": self.seed, "width": self.width,
+                "height": self.height, "params": self.params, "steps": self.steps,
+                "events": self.events}
+
+    def save(self, path) -> Path:
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps(self.as_json(), indent=1))
+        return path
+
+    @classmethod
+    def load(cls, path) -> SessionLog:
+        """The session in `path`; SessionError naming the file and the problem."""
+        try:
+            data = json.loads(Path(path).read_text())
+            return cls.from_json(data)
+        except OSError as err:
+            raise SessionError(f"{path}: cannot read: {err.strerror or err}") from None
+        except (json.JSONDecodeError, UnicodeDecodeError) as err:
+            raise SessionError(f"{path}: not JSON: {err}") from None
+        except (KeyError, TypeError, ValueError) as err:
+            raise SessionError(f"{path}: not a frost session: {err}") from None
+
+    @classmethod
+    def from_json(cls, data: Any) -> SessionLog:
+        if not isinstance(data, dict) or data.get("format") != FORMAT:
+            raise ValueError(f"'format' must be {FORMAT!r}")
+        Params(**data["params"])  # invalid parameters fail here, not mid-replay
+        events = [check_event(e) for e in data["events"]]
+        return cls(int(data["seed"]), dict(data["params"]), int(data["width"]),
+                   int(data["height"]), events, int(data["steps"]))
+
+
+def check_event(event: Any) -> dict[str, Any]:
+    """`event` if it is a well-formed event, else ValueError saying what is wrong."""
+    if not isinstance(event, dict) or event.get("kind") not in EVENT_FIELDS:
+        raise ValueError(f"event {event!r}: 'kind' must be one of {', '.join(EVENT_FIELDS)}")
+    missing = [k for k in ("tick", *EVENT_FIELDS[event["kind"]]) if k not in event]
+    if missing:
+        raise ValueError(f"event {event!r} lacks {', '.join(missing)}")
+    if not isinstance(event["tick"], int) or event["tick"] < 0:
+        raise ValueError(f"event {event!r}: 'tick' must be a whole number >= 0")
+    return event
+
+
+@dataclass(frozen=True)
+class Applied:
+    """What applying events did: a rebuild (the renderer must clear) and melt deltas."""
+
+    reset: bool = False
+    deltas: tuple[GeometryDelta, ...] = ()
+    message: str | None = None
+
+
+class Timeline:
+    """A FrostSim and its FrostGeometry driven by events (see the module docstring)."""
+
+    def __init__(self, params: Params, seed: int, width: int = 760, height: int = 1280,
+                 touches=()):
+        self.seed, self.size = seed, (width, height)
+        self.steps = 0
+        self.touches: tuple[tuple[float, float], ...] = tuple(touches)
+        self.melts: list[dict[str, Any]] = []  # this timeline's melts, by tick
+        self.events: list[dict[str, Any]] = []  # every event applied, with its tick
+        self._pending: list[dict[str, Any]] = []  # melts scheduled by a rebuild
+        self._handlers = {"touch": self._touch, "melt": self._melt,
+                          "params": self._params, "clear": self._clear}
+        self._build(params)
+
+    @property
+    def tick(self) -> int:
+        return self.sim.tick
+
+    def apply(self, events) -> Applied:
+        """Apply the scheduled melts due now, then `events` (all at this tick)."""
+        notes: dict[str, Any] = {"reset": False, "deltas": [], "message": None}
+        self._due(notes)
+        for event in events:
+            self.events.append(self._record(event))
+            self._handlers[event["kind"]](event, notes)
+        return Applied(notes["reset"], tuple(notes["deltas"]), notes["message"])
+
+    def _record(self, event: dict) -> dict:
+        params = event.get("params")
+        if isinstance(params, Params):
+            event = {**event, "params": params.as_dict()}
+        return {**event, "tick": self.sim.tick}
+
+    def step(self) -> GeometryDelta:
+        self.sim.step()
+        self.steps += 1
+        return self.geometry.update(self.sim)
+
+    def _due(self, notes: dict) -> None:
+        while self._pending and self._pending[0]["tick"] <= self.sim.tick:
+            self._melt(self._pending.pop(0), notes)
+
+    # ---- event handlers: (event, notes) ------------------------------------------------
+
+    def _touch(self, event: dict, _notes: dict) -> None:
+        x, y = float(event["x"]), float(event["y"])
+        w, h = self.size
+        if 0 <= x < w and 0 <= y < h:  # a touch off the screen is ignored
+            self.sim.touch(x, y)
+            self.touches = (*self.touches, (x, y))
+
+    def _melt(self, event: dict, notes: dict) -> None:
+        melted = self.sim.melt(float(event["x"]), float(event["y"]), float(event["r"]))
+        self.melts.append({"tick": self.sim.tick, "kind": "melt", "x": event["x"],
+                           "y": event["y"], "r": event["r"]})
+        notes["deltas"].append(self.geometry.melt(self.sim, melted))
+
+    def _params(self, event: dict, notes: dict) -> None:
+        params = event["params"]
+        self._rebuild(params if isinstance(params, Params) else Params(**params), notes)
+        notes["message"] = (f"rebuilt with {len(self.touches)} touches replayed at tick 0 "
+                            f"and {len(self._pending)} melts at their ticks")
+
+    def _clear(self, _event: dict, notes: dict) -> None:
+        self.touches, self.melts = (), []
+        self._rebuild(self.params, notes)
+
+    def _rebuild(self, params: Params, notes: dict) -> None:
+        # Melts still waiting from an earlier rebuild keep their ticks too.
+        self._pending = sorted(self.melts + self._pending, key=lambda m: m["tick"])
+        self.melts = []
+        self._build(params)
+        notes["reset"] = True
+        notes["deltas"].clear()  # older melt deltas belong to the old frost
+        self._due(notes)
+
+    def _build(self, params: Params) -> None:
+        self.params = params
+        self.sim = FrostSim(params, *self.size, seed=self.seed)
+        self.geometry = FrostGeometry(params, *self.size)
+        for x, y in self.touches:
+            self.sim.touch(x, y)
+
+
+def replay(log_: SessionLog, steps: int | None = None, on_apply=None, on_step=None) -> Timeline:
+    """Run `log_` for `steps` steps (default: as many as it took), applying each event at
+    its tick; `on_apply(Applied)` and `on_step(GeometryDelta)` see every result in order.
+    Events due after the last step (made while paused) apply too."""
+    steps = log_.steps if steps is None else steps
+    timeline = Timeline(Params(**log_.params), log_.seed, log_.width, log_.height)
+    on_apply, on_step = on_apply or (lambda _a: None), on_step or (lambda _d: None)
+    i = 0
+    for n in range(steps + 1):
+        i = apply_due(timeline, log_.events, i, on_apply)
+        if n < steps:
+            on_step(timeline.step())
+    if i < len(log_.events):
+        log.warning("replay: %d events after step %d were not applied", len(log_.events) - i,
+                    steps)
+    return timeline
+
+
+def apply_due(timeline: Timeline, events: list, i: int, on_apply) -> int:
+    """Apply `events[i:]` that are due at the timeline's tick; the index of the first left.
+    A batch ends at a rebuild: the events after it count from the new tick 0."""
+    on_apply(timeline.apply(()))
+    while i < len(events) and events[i]["tick"] == timeline.tick:
+        j = i + 1
+        while (j < len(events) and events[j]["tick"] == timeline.tick
+               and events[j - 1]["kind"] not in REBUILDS):
+            j += 1
+        on_apply(timeline.apply(events[i:j]))
+        i = j
+    return i
