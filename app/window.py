@@ -138,6 +138,7 @@ class FrostWindow:
         self.new_ticks = 0  # snapshots since the last recorded frame
         self.fps, self.drag_from, self.clicks_pending = 0.0, None, []
         self.melt_from = None  # where a right-button drag (the warm finger) last melted
+        self.pointer = None  # the cursor position of the last motion event, window px
         self.message, self.message_until = "", 0.0
         self.screenshots: list[Path] = []
         self.session_path: Path | None = None
@@ -184,16 +185,18 @@ class FrostWindow:
         self._save_session()
         self._summary()
 
-    def _save_session(self) -> Path:
-        """The session up to the frame shown (replay it with --replay FILE)."""
+    def _save_session(self, path: Path | None = None) -> Path:
+        """The session up to the frame shown, to `path` (default: this run's file, made
+        on first use); replay it with --replay FILE."""
         snap = self.latest
         log_ = self.sim.session(snap.steps, snap.events) if snap else self.sim.session(0, 0)
-        if self.session_path is None:
-            self.session_path = timestamped_path(self.args.session_dir, "session", ".json")
-        log_.save(self.session_path)
-        log.info("session: %s (%d events, %d steps)", self.session_path, len(log_.events),
-                 log_.steps)
-        return self.session_path
+        if path is None:
+            self.session_path = self.session_path or timestamped_path(
+                self.args.session_dir, "session", ".json")
+            path = self.session_path
+        log_.save(path)
+        log.info("session: %s (%d events, %d steps)", path, len(log_.events), log_.steps)
+        return path
 
     def _drain(self) -> None:
         for snap in self.sim.drain():
@@ -207,6 +210,8 @@ class FrostWindow:
         if snap.reset:
             self.renderer.reset()
             self.dirty = True
+            if self.sim.script:  # a replayed parameter change
+                self.params = snap.params
         for melt in snap.melts:
             self.renderer.apply(melt)
             self.dirty = True
@@ -351,11 +356,12 @@ class FrostWindow:
 
     def _warm_finger(self, action) -> None:
         """Right button down: melt under the cursor, and along the path while it is held."""
-        self.melt_from = None if action == glfw.RELEASE else self._cursor_phone()
+        self.melt_from = None if action == glfw.RELEASE else self._pointer_phone()
         if self.melt_from is not None:
             self.sim.send("melt", (*self.melt_from, self.args.melt_radius))
 
-    def _on_cursor(self, _window, _x, _y) -> None:
+    def _on_cursor(self, _window, x, y) -> None:
+        self.pointer = (x, y)
         if self.melt_from is not None:
             self._melt_drag()
         spot = self.drag_from and self._cursor_phone()
@@ -368,7 +374,7 @@ class FrostWindow:
             self.drag_from = points[-1]
 
     def _melt_drag(self) -> None:
-        spot = self._cursor_phone()
+        spot = self._pointer_phone()
         if spot is None:
             return
         r = self.args.melt_radius
@@ -377,6 +383,13 @@ class FrostWindow:
             self.sim.send("melt", (x, y, r))
         if points:
             self.melt_from = points[-1]
+
+    def _pointer_phone(self):
+        """Where the events so far put the cursor (a drag follows its path even when the
+        frame loop runs behind the pointer), in phone px; None outside the phone."""
+        if self.pointer is None:
+            return self._cursor_phone()
+        return cursor_to_phone(self.pointer, self.window_size, self.fb_size)
 
     def _cursor_phone(self):
         return cursor_to_phone(glfw.get_cursor_pos(self.window), self.window_size, self.fb_size)
@@ -462,9 +475,11 @@ class FrostWindow:
         folder.mkdir(parents=True, exist_ok=True)
         meta = {"params": json.dumps(self.params.as_dict()), "seed": str(self.args.seed),
                 "touches": json.dumps(self.latest.touches if self.latest else []),
-                "tick": str(self.latest.stats.tick if self.latest else 0),
-                "session": str(self._save_session())}
-        path = save_png(read_image(self.phone), timestamped_path(folder), meta)
+                "tick": str(self.latest.stats.tick if self.latest else 0)}
+        path = timestamped_path(folder)
+        # This frame's own session file: replaying it ends on this frame.
+        meta["session"] = str(self._save_session(Path(self.args.session_dir) / f"{path.stem}.json"))
+        path = save_png(read_image(self.phone), path, meta)
         self.screenshots.append(path)
         self._say(f"screenshot: {path}")
 

@@ -27,6 +27,8 @@ CLICK = (380, 420)  # phone px
 FAR = (120, 1150)  # more than active_radius (200 px) from CLICK
 BOX = 24  # half size of the compared squares, px
 DRAG = ((200, 1000), (380, 1000))  # phone px; touches every 4 hc = 30 px at hc 7.5
+MELT = ((300, 420), (460, 420))  # phone px; a right-button drag across CLICK's frost
+MELT_RADIUS = 40
 WIDE_BAR = 120
 GROW_SECONDS = 2.0
 RATE_SECONDS = 4.5
@@ -61,7 +63,8 @@ def drive(out: Path) -> None:
     log = out / "app.log"
     # c-3 (humidity 5000) with seed 1 freezes onto the seed within half a second.
     cmd = [sys.executable, "-m", "app", "--preset", "c-3", "--seed", "1",
-           "--screenshot-dir", str(out / "shots"), "--max-seconds", "60"]
+           "--screenshot-dir", str(out / "shots"), "--max-seconds", "60",
+           "--session-dir", str(out / "sessions"), "--melt-radius", str(MELT_RADIUS)]
     with open(log, "w") as sink:
         app = subprocess.Popen(cmd, cwd=ROOT, stdout=sink, stderr=subprocess.STDOUT)
     result = {}
@@ -92,6 +95,7 @@ def session(app: subprocess.Popen, log: Path) -> dict:
     xdo("key", "r")
     wait_for(log, r"recording: \d+ frames written")
     letterboxed(wid, log)
+    warm_finger(wid, log)
     xdo("key", "Escape")
     pressed = time.monotonic()
     status = app.wait(timeout=10)
@@ -113,6 +117,19 @@ def letterboxed(wid: str, log: Path) -> None:
     time.sleep(0.3)
     xdo("key", "s")
     wait_for(log, r"screenshot: ", 3)
+
+
+def warm_finger(wid: str, log: Path) -> None:
+    """Right-drag across the frost around CLICK (window still letterboxed), screenshot."""
+    (x0, y), (x1, _) = MELT
+    xdo("mousemove", "--window", wid, str(x0 + WIDE_BAR), str(y))  # still letterboxed
+    xdo("mousedown", "3")
+    for x in range(x0, x1 + 1, 10):
+        xdo("mousemove", "--window", wid, str(x + WIDE_BAR), str(y))
+    xdo("mouseup", "3")
+    time.sleep(0.15)
+    xdo("key", "s")
+    wait_for(log, r"screenshot: ", 4)
 
 
 # ---- the tests --------------------------------------------------------------------------
@@ -141,8 +158,8 @@ def test_esc_exits_with_status_zero_within_a_second(run):
 
 
 def test_screenshots_are_phone_sized_pngs_with_their_recipe(run):
-    assert len(run["shots"]) == 3
-    for path, hc in zip(run["shots"], (7.0, 7.0, 7.5), strict=True):
+    assert len(run["shots"]) == 4
+    for path, hc in zip(run["shots"], (7.0, 7.0, 7.5, 7.5), strict=True):
         image = Image.open(path)
         assert image.size == (760, 1280)
         assert json.loads(image.text["params"])["hc"] == hc
@@ -154,6 +171,28 @@ def test_click_grows_frost_there_and_nowhere_far(run):
     before, after = (np.asarray(Image.open(p).convert("RGB")) for p in run["shots"][:2])
     assert np.abs(box(after, CLICK) - box(before, CLICK)).mean() > 5.0
     assert np.abs(box(after, FAR) - box(before, FAR)).max() == 0
+
+
+def test_right_drag_melts_the_frost_back_to_glass(run):
+    glass, frost, melted = (np.asarray(Image.open(run["shots"][i]).convert("RGB"))
+                            for i in (0, 2, 3))
+    inner = (slice(CLICK[1] - 8, CLICK[1] + 8), slice(CLICK[0] - 8, CLICK[0] + 8))
+    assert np.abs(frost[inner].astype(int) - glass[inner]).mean() > 5.0  # iced before
+    assert np.abs(melted[inner].astype(int) - glass[inner]).max() <= 2  # glass again
+    assert np.abs(box(melted, FAR) - box(frost, FAR)).max() == 0
+
+
+def test_a_screenshots_session_replays_headless_to_the_same_frame(run, tmp_path):
+    shot = run["shots"][3]
+    session = Path(Image.open(shot).text["session"])
+    events = json.loads(session.read_text())["events"]
+    assert {e["kind"] for e in events} >= {"touch", "melt", "params"}
+    out = tmp_path / "replay.png"
+    subprocess.run([sys.executable, "-m", "app", "--headless", "--replay", str(session),
+                    "--screenshot", str(out)], cwd=ROOT, check=True, timeout=120)
+    replayed = np.asarray(Image.open(out).convert("RGB")).astype(int)
+    live = np.asarray(Image.open(shot).convert("RGB"))
+    assert np.array_equal(replayed, live)  # bit for bit, window (GLX) and EGL alike
 
 
 def test_parameter_key_changes_the_parameter(run):
