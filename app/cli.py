@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import textwrap
 
@@ -24,13 +25,23 @@ def _melt(text: str) -> dict:
     try:
         spot, tick = text.split("@")
         values = [float(v) for v in spot.split(",")]
-        if len(values) not in (2, 3) or int(tick) < 0:
+        if len(values) not in (2, 3) or int(tick) < 0 or min(values[2:] or [1.0]) <= 0:
             raise ValueError
     except ValueError:
         raise argparse.ArgumentTypeError(
             f"melt {text!r} must be X,Y[,R]@TICK (px, px, px, tick >= 0), e.g. 380,640,30@100") from None
     return {"tick": int(tick), "kind": "melt", "x": values[0], "y": values[1],
             "r": values[2] if len(values) == 3 else None}
+
+
+def _radius(text: str) -> float:
+    try:
+        r = float(text)
+    except ValueError:
+        r = math.nan
+    if not 0 < r < 10_000:
+        raise argparse.ArgumentTypeError(f"{text!r} must be a radius in px, above 0")
+    return r
 
 
 def _melt_path(text: str) -> dict:
@@ -51,7 +62,9 @@ def build_parser() -> argparse.ArgumentParser:
         prog="python -m app",
         description=textwrap.fill(
             "Real-time window frost on a 760x1280 phone screen. Click (or drag) to plant seed "
-            "crystals. With no display (or --headless) it grows the frost offscreen "
+            "crystals; drag with the right button to melt the ice (a warm finger). Each "
+            "session is saved (--session-dir) and --replay plays it again bit for bit. "
+            "With no display (or --headless) it grows the frost offscreen "
             "and writes PNG files instead."),
         epilog="keys in the window:\n  " + "\n  ".join(help_lines()),
         formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -69,7 +82,7 @@ def build_parser() -> argparse.ArgumentParser:
                    metavar="X1,Y1:X2,Y2[:...]@TICK",
                    help="headless: melt along a polyline at TICK, a melt every half radius "
                         "(repeatable)")
-    p.add_argument("--melt-radius", type=float, default=24.0, metavar="PX",
+    p.add_argument("--melt-radius", type=_radius, default=24.0, metavar="PX",
                    help="radius of the warm finger (right-button drag in the window; --melt, "
                         "--melt-path), px (default 24)")
     p.add_argument("--replay", metavar="FILE.json",

@@ -151,7 +151,11 @@ def _run_replay(ctx, args) -> int:
     except SessionError as err:
         _error(err)
         return 2
-    session = replay_session(ctx, log_, args.ticks)
+    try:
+        session = replay_session(ctx, log_, args.ticks)
+    except ValueError as err:  # an event the simulation refuses, e.g. a touch off the screen
+        _error(f"{args.replay}: cannot replay: {err}")
+        return 2
     session.meta = {"session": str(args.replay), "replayed_steps": session.timeline.steps}
     path = Path(args.screenshot) if args.screenshot else timestamped_path(DEFAULT_FOLDER)
     print(f"replayed {args.replay}: {session.timeline.steps} steps, "

@@ -70,7 +70,9 @@ class SessionLog:
             raise SessionError(f"{path}: cannot read: {err.strerror or err}") from None
         except (json.JSONDecodeError, UnicodeDecodeError) as err:
             raise SessionError(f"{path}: not JSON: {err}") from None
-        except (KeyError, TypeError, ValueError) as err:
+        except KeyError as err:
+            raise SessionError(f"{path}: not a frost session: no {err} entry") from None
+        except (TypeError, ValueError) as err:
             raise SessionError(f"{path}: not a frost session: {err}") from None
 
     @classmethod
