@@ -67,7 +67,8 @@ class Session:
             self.renderer.apply(delta)
 
     def step(self) -> None:
-        self.renderer.apply(self.timeline.step())
+        for delta in self.timeline.step():
+            self.renderer.apply(delta)
 
     def snapshot(self, path: Path) -> Path:
         self.renderer.render(self.fbo)

@@ -167,7 +167,8 @@ class SimThread(threading.Thread):
         if not self.paused or notes.pop("single", False):
             # sim.added (what the geometry reads) covers touches only once a step closes it,
             # so a click made while paused shows (and is timed) at the next step.
-            delta = self.timeline.step()
+            *scheduled, delta = self.timeline.step()
+            melts = (*melts, *scheduled)
             grown = self._first_growth()
             clicks, self._clicks = tuple(self._clicks), []
         self.tick_ms = (time.perf_counter() - t0) * 1000.0

@@ -7,8 +7,9 @@ Kinds: "touch" (x, y), "melt" (x, y, r), "params" (params: a dict; rebuilds the
 simulation) and "clear" (drops the touches and melts, rebuilds).
 
 A rebuild (params, clear) starts a new timeline at tick 0: the touches so far are planted
-at tick 0 and the melts so far are scheduled again at their own ticks, so a melted spot
-melts again when the new frost reaches the same age. Later event ticks count from there.
+at tick 0 and the melts so far are scheduled again at their own ticks (one at tick t
+applies in the step that produces tick t + 1, before the walk), so a melted spot melts
+again when the new frost reaches the same age. Later event ticks count from there.
 No GL here: deltas are plain arrays for app/ to upload.
 """
 
@@ -126,9 +127,8 @@ class Timeline:
         return self.sim.tick
 
     def apply(self, events) -> Applied:
-        """Apply the scheduled melts due now, then `events` (all at this tick)."""
+        """Apply `events` (all at this tick), in order."""
         notes: dict[str, Any] = {"reset": False, "deltas": [], "message": None}
-        self._due(notes)
         for event in events:
             self.events.append(self._record(event))
             self._handlers[event["kind"]](event, notes)
@@ -140,10 +140,15 @@ class Timeline:
             event = {**event, "params": params.as_dict()}
         return {**event, "tick": self.sim.tick}
 
-    def step(self) -> GeometryDelta:
+    def step(self) -> list[GeometryDelta]:
+        """The melts a rebuild scheduled for this tick, then one step: their deltas and
+        the step's, in the order the renderer must apply them. (Scheduled melts apply
+        here, not in `apply`, so a pause or the end of a recording cannot move them.)"""
+        notes: dict[str, Any] = {"deltas": []}
+        self._due(notes)
         self.sim.step()
         self.steps += 1
-        return self.geometry.update(self.sim)
+        return [*notes["deltas"], self.geometry.update(self.sim)]
 
     def _due(self, notes: dict) -> None:
         while self._pending and self._pending[0]["tick"] <= self.sim.tick:
@@ -181,7 +186,6 @@ class Timeline:
         self._build(params)
         notes["reset"] = True
         notes["deltas"].clear()  # older melt deltas belong to the old frost
-        self._due(notes)
 
     def _build(self, params: Params) -> None:
         self.params = params
@@ -202,7 +206,8 @@ def replay(log_: SessionLog, steps: int | None = None, on_apply=None, on_step=No
     for n in range(steps + 1):
         i = apply_due(timeline, log_.events, i, on_apply)
         if n < steps:
-            on_step(timeline.step())
+            for delta in timeline.step():
+                on_step(delta)
     if i < len(log_.events):
         log.warning("replay: %d events after step %d were not applied", len(log_.events) - i,
                     steps)
@@ -212,7 +217,6 @@ def replay(log_: SessionLog, steps: int | None = None, on_apply=None, on_step=No
 def apply_due(timeline: Timeline, events: list, i: int, on_apply) -> int:
     """Apply `events[i:]` that are due at the timeline's tick; the index of the first left.
     A batch ends at a rebuild: the events after it count from the new tick 0."""
-    on_apply(timeline.apply(()))
     while i < len(events) and events[i]["tick"] == timeline.tick:
         j = i + 1
         while (j < len(events) and events[j]["tick"] == timeline.tick

@@ -134,3 +134,17 @@ def test_melt_options_become_melt_events_in_tick_order():
     assert [e["x"] for e in events if e["tick"] == 7] == [100, 110, 120, 130, 140]
     with pytest.raises(SystemExit):
         build_parser().parse_args(["--melt", "1,2,0@3"])
+
+
+@pytest.mark.parametrize("pause", [False, True])
+def test_a_recording_that_ends_where_a_rebuilt_melt_is_due_replays_the_same(pause):
+    thread = SimThread(PARAMS, 2, [(380.0, 640.0)])
+    plan = {20: ("melt", (380.0, 640.0, 30.0)), 25: ("params", PARAMS.replace(humidity=4500)),
+            45: ("pause", None)}
+    for k in range(47 if pause else 45):
+        if k in plan:
+            thread.send(*plan[k])
+        thread._tick()
+    snap = thread.drain()[-1]
+    assert thread.sim.tick == 20 and thread.timeline._pending  # the melt waits for a step
+    same_frost(replay(thread.session(snap.steps, snap.events)).sim, thread.sim)
