@@ -21,6 +21,8 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(str(err))
     if args.ticks is None and not args.replay:
         args.ticks = 250
+    if args.replay:
+        _warn_ignored(args)
     if args.replay and not args.headless and has_display():
         try:
             params = _windowed_replay(args)
@@ -38,6 +40,15 @@ def main(argv: list[str] | None = None) -> int:
         return run_headless(args, params)
     from .window import run as run_window
     return run_window(args, params)
+
+
+def _warn_ignored(args) -> None:
+    """A replay takes its seed, parameters, touches and melts from the session file."""
+    given = [name for name, _, _ in Params.describe() if getattr(args, name) is not None]
+    given += [f for f in ("preset", "touch", "melt", "melt_path") if getattr(args, f)]
+    if given:
+        logging.getLogger("app").warning("--replay: ignoring --%s (the session file sets them)",
+                                         ", --".join(given))
 
 
 def _windowed_replay(args) -> Params:

@@ -96,6 +96,10 @@ def session(app: subprocess.Popen, log: Path) -> dict:
     wait_for(log, r"recording: \d+ frames written")
     letterboxed(wid, log)
     warm_finger(wid, log)
+    xdo("key", "g")  # growth mode on, then off again
+    wait_for(log, r"params: grow=on")
+    xdo("key", "g")
+    wait_for(log, r"params: grow=off")
     xdo("key", "Escape")
     pressed = time.monotonic()
     status = app.wait(timeout=10)
@@ -197,6 +201,13 @@ def test_a_screenshots_session_replays_headless_to_the_same_frame(run, tmp_path)
 
 def test_parameter_key_changes_the_parameter(run):
     assert "params: hc=7.5" in run["log"]
+
+
+def test_g_toggles_growth_mode_with_a_rebuild(run):
+    log = run["log"]
+    assert log.index("params: grow=on") < log.index("params: grow=off")
+    after = log[log.index("params: grow=on"):]
+    assert len(re.findall(r"rebuilt with \d+ touches replayed at tick 0 and [1-9]\d* melts", after)) == 2
 
 
 def test_click_to_first_frost_within_two_ticks(run):
