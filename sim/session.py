@@ -95,6 +95,10 @@ def check_event(event: Any) -> dict[str, Any]:
         raise ValueError(f"event {event!r} lacks {', '.join(missing)}")
     if not isinstance(event["tick"], int) or event["tick"] < 0:
         raise ValueError(f"event {event!r}: 'tick' must be a whole number >= 0")
+    if not all(isinstance(event[k], (int, float)) for k in ("x", "y", "r") if k in event):
+        raise ValueError(f"event {event!r}: x, y and r must be numbers")
+    if event["kind"] == "params":
+        Params(**event["params"])
     return event
 
 

@@ -94,6 +94,9 @@ def test_replayed_frames_match_the_live_renderer(gl_ctx):
 @pytest.mark.parametrize("text, problem", [
     (None, "cannot read"), ("{", "not JSON"), ('{"format": "x"}', "not a frost session"),
     ('{"format": "frost-session", "seed": 0, "params": {"hc": -1}}', "hc"),
+    ('{"format": "frost-session", "seed": 0, "params": {}, "events": [{"kind": "melt", '
+     '"tick": 1, "x": 1, "y": "a", "r": 3}]}', "must be numbers"),
+    ('{"format": "frost-session", "seed": 0, "params": {}, "events": [{"kind": "zap"}]}', "kind"),
 ])
 def test_a_bad_session_file_is_a_clear_error(tmp_path, text, problem):
     path = tmp_path / "s.json"
