@@ -139,6 +139,7 @@ class FrostWindow:
         self.fps, self.drag_from, self.clicks_pending = 0.0, None, []
         self.melt_from = None  # where a right-button drag (the warm finger) last melted
         self.pointer = None  # the cursor position of the last motion event, window px
+        self.melts_sent = 0  # by the current right-button drag
         self.message, self.message_until = "", 0.0
         self.screenshots: list[Path] = []
         self.session_path: Path | None = None
@@ -356,9 +357,19 @@ class FrostWindow:
 
     def _warm_finger(self, action) -> None:
         """Right button down: melt under the cursor, and along the path while it is held."""
-        self.melt_from = None if action == glfw.RELEASE else self._pointer_phone()
+        if action == glfw.RELEASE:
+            if self.melt_from is not None:
+                log.info("warm finger: %d melts of radius %g px", self.melts_sent,
+                         self.args.melt_radius)
+            self.melt_from = None
+            return
+        self.melt_from, self.melts_sent = self._pointer_phone(), 0
         if self.melt_from is not None:
-            self.sim.send("melt", (*self.melt_from, self.args.melt_radius))
+            self._send_melt(self.melt_from)
+
+    def _send_melt(self, spot) -> None:
+        self.sim.send("melt", (*spot, self.args.melt_radius))
+        self.melts_sent += 1
 
     def _on_cursor(self, _window, x, y) -> None:
         self.pointer = (x, y)
@@ -377,10 +388,9 @@ class FrostWindow:
         spot = self._pointer_phone()
         if spot is None:
             return
-        r = self.args.melt_radius
-        points = path_points(self.melt_from, spot, MELT_SPACING * r)
-        for x, y in points:
-            self.sim.send("melt", (x, y, r))
+        points = path_points(self.melt_from, spot, MELT_SPACING * self.args.melt_radius)
+        for point in points:
+            self._send_melt(point)
         if points:
             self.melt_from = points[-1]
 

