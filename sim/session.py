@@ -119,7 +119,7 @@ class Timeline:
         self.seed, self.size = seed, (width, height)
         self.steps = 0
         self.touches: tuple[tuple[float, float], ...] = tuple(touches)
-        self.melts: list[dict[str, Any]] = []  # this timeline's melts, by tick
+        self.melts: list[dict[str, Any]] = []  # this timeline's melts, as applied
         self.events: list[dict[str, Any]] = []  # every event applied, with its tick
         self._pending: list[dict[str, Any]] = []  # melts scheduled by a rebuild
         self._handlers = {"touch": self._touch, "melt": self._melt,
@@ -180,7 +180,7 @@ class Timeline:
                             f"and {len(self._pending)} melts at their ticks")
 
     def _clear(self, _event: dict, notes: dict) -> None:
-        self.touches, self.melts = (), []
+        self.touches, self.melts, self._pending = (), [], []
         self._rebuild(self.params, notes)
 
     def _rebuild(self, params: Params, notes: dict) -> None:

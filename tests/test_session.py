@@ -13,7 +13,7 @@ import pytest
 
 from app.simthread import SimThread
 from sim import Params
-from sim.session import SessionError, SessionLog, replay
+from sim.session import SessionError, SessionLog, Timeline, replay
 
 ROOT = Path(__file__).resolve().parent.parent
 PARAMS = Params.preset("c-3")
@@ -151,3 +151,14 @@ def test_a_recording_that_ends_where_a_rebuilt_melt_is_due_replays_the_same(paus
     snap = thread.drain()[-1]
     assert thread.sim.tick == 20 and thread.timeline._pending  # the melt waits for a step
     same_frost(replay(thread.session(snap.steps, snap.events)).sim, thread.sim)
+
+
+def test_clear_forgets_the_melts_a_rebuild_scheduled():
+    timeline = Timeline(PARAMS, 0, touches=[(380.0, 640.0)])
+    for _ in range(20):
+        timeline.step()
+    timeline.apply([{"kind": "melt", "x": 380.0, "y": 640.0, "r": 30.0}])
+    timeline.apply([{"kind": "params", "params": PARAMS.replace(humidity=4000)}])
+    assert len(timeline._pending) == 1
+    timeline.apply([{"kind": "clear"}, {"kind": "touch", "x": 100.0, "y": 100.0}])
+    assert timeline._pending == [] and timeline.touches == ((100.0, 100.0),)
