@@ -16,7 +16,7 @@ from .grid import HashGrid
 from .params import Params
 
 TWO_PI = np.float32(2.0 * np.pi)
-# Rejection sampling of a water particle's spot gives up after this many rounds:
+# Rejection sampling of a water particle's spot gives up after about this many tries:
 # an active area filled with ice has no free spot left and its water is dropped.
 MAX_PLACE_TRIES = 32
 # grid9 queries walkers in chunks of this many to bound the gather matrix.
@@ -370,25 +370,30 @@ class FrostSim:
 
     def _place(self, area: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Uniform spots in each walker's area, on screen and outside candidate cells.
-        Bounded rejection sampling; `ok` is False where no free spot was found."""
+        Bounded rejection sampling: rounds of 1, 2, 4, 8, 16 tries per particle still
+        unplaced (31 in all), so a nearly full area costs five rounds, not 31. `ok` is
+        False where no free spot was found."""
         n = len(area)
         x, y = np.zeros(n, np.float32), np.zeros(n, np.float32)
         ok = np.zeros(n, bool)
         todo = np.arange(n)
         areas = self._areas.raw()
-        for _ in range(MAX_PLACE_TRIES):
-            if len(todo) == 0:
-                break
-            a = areas[area[todo]]
-            u = self.rng.random((2, len(todo)), dtype=np.float32)
+        tries = 1
+        while len(todo) and tries <= MAX_PLACE_TRIES // 2:
+            a = areas[np.tile(area[todo], tries)]
+            u = self.rng.random((2, len(a)), dtype=np.float32)
             r = np.sqrt(a[:, 3] ** 2 + u[0] * (a[:, 2] ** 2 - a[:, 3] ** 2))  # uniform on the annulus
             th = u[1] * TWO_PI
             px, py = a[:, 0] + r * np.cos(th), a[:, 1] + r * np.sin(th)
             good = (px >= 0) & (px < self.width) & (py >= 0) & (py < self.height)
             good[good] = self.candidates.count[self.grid.keys(px[good], py[good])] == 0
-            x[todo[good]], y[todo[good]] = px[good], py[good]
-            ok[todo[good]] = True
-            todo = todo[~good]
+            good = good.reshape(tries, len(todo))
+            placed = good.any(axis=0)
+            pick = good.argmax(axis=0)[placed] * len(todo) + np.flatnonzero(placed)  # first good try
+            x[todo[placed]], y[todo[placed]] = px[pick], py[pick]
+            ok[todo[placed]] = True
+            todo = todo[~placed]
+            tries *= 2
         return x, y, ok
 
     def _spawn(self, area: np.ndarray) -> None:
