@@ -68,8 +68,8 @@ class CellLists:
             return
         order = np.argsort(cells, kind="stable")
         c, i = cells[order], ids[order]
-        first = np.r_[0, np.flatnonzero(c[1:] != c[:-1]) + 1]
-        sizes = np.diff(np.r_[first, len(c)])
+        first = np.concatenate(([0], np.flatnonzero(c[1:] != c[:-1]) + 1))
+        sizes = np.diff(first, append=len(c))
         rank = np.arange(len(c)) - np.repeat(first, sizes)
         slot = self.count[c] + rank
         self._widen(int(slot.max()) + 1)

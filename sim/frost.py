@@ -61,6 +61,9 @@ def upsample(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, 
     s x 4 (x0, y0, x1, y1) in chain order, and the link index of each."""
     p64, d = p.astype(np.float64), q.astype(np.float64) - p.astype(np.float64)
     nu = np.floor(np.hypot(d[:, 0], d[:, 1]) / spacing).astype(np.int64)
+    if not (nu >= 2).any():  # no link long enough: each is one segment (the common case at c-2)
+        links = np.arange(len(p))
+        return np.empty((0, 2), np.float32), links[:0], np.hstack([p, q]).astype(np.float32), links
     nseg = np.where(nu >= 2, nu, 1)
     seg_link = np.repeat(np.arange(len(p)), nseg)
     j = np.arange(len(seg_link)) - np.repeat(np.cumsum(nseg) - nseg, nseg)
@@ -371,14 +374,14 @@ class FrostSim:
     def _place(self, area: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Uniform spots in each walker's area, on screen and outside candidate cells.
         Bounded rejection sampling: rounds of 1, 2, 4, 8, 16 tries per particle still
-        unplaced (31 in all), so a nearly full area costs five rounds, not 31. `ok` is
-        False where no free spot was found."""
+        unplaced (31 in all; 4, 8, 16 for a small batch), so a nearly full area costs a
+        few rounds, not 31. `ok` is False where no free spot was found."""
         n = len(area)
         x, y = np.zeros(n, np.float32), np.zeros(n, np.float32)
         ok = np.zeros(n, bool)
         todo = np.arange(n)
         areas = self._areas.raw()
-        tries = 1
+        tries = 1 if n > 1024 else 4  # a few respawns: spend tries, not rounds
         while len(todo) and tries <= MAX_PLACE_TRIES // 2:
             a = areas[np.tile(area[todo], tries)]
             u = self.rng.random((2, len(a)), dtype=np.float32)
