@@ -36,6 +36,9 @@ def main(argv: list[str] | None = None) -> int:
         from .maps import run as run_maps
         return run_maps(args, params)
     if args.headless or not has_display():
+        if not args.headless:
+            print("frost: no display (DISPLAY is unset): rendering headless to PNG files instead",
+                  file=sys.stderr)
         from .headless import run as run_headless
         return run_headless(args, params)
     from .window import run as run_window

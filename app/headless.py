@@ -176,7 +176,8 @@ def _run_scripted(session: Session, args) -> int:
         written.append(session.snapshot(folder / f"frost-demo-tick{stop:04d}.png"))
     if args.screenshot:
         written.append(session.snapshot(Path(args.screenshot)))
-    print("wrote " + ", ".join(str(p) for p in written))
+    print(f"wrote {len(written)} PNG files to {folder.resolve()}: "
+          + ", ".join(p.name for p in written))
     return 0
 
 
