@@ -41,6 +41,7 @@ BINDINGS: tuple[Binding, ...] = (
     Binding(("C",), "C", "clear the frost (and the touches)", "clear"),
     Binding(("S", "F12"), "S F12", "screenshot (760x1280 PNG)", "screenshot"),
     Binding(("R",), "R", "record on / off (animated WebP)", "record"),
+    Binding(("E",), "E", "export frost maps (height, normal, alpha PNGs)", "export_maps"),
     Binding(("EQUAL", "KP_ADD"), "=", f"humidity up (x{HUMIDITY_FACTOR})", "scale",
             ("humidity", HUMIDITY_FACTOR)),
     Binding(("MINUS", "KP_SUBTRACT"), "-", f"humidity down (/{HUMIDITY_FACTOR})", "scale",

@@ -22,6 +22,8 @@ from sim import Params
 from sim.geometry import GeometryDelta
 from sim.session import Applied, SessionLog, Timeline, apply_due
 
+from .maps import export_maps, live_segments
+
 log = logging.getLogger(__name__)
 
 TICKS_PER_SECOND = 25.0
@@ -82,7 +84,8 @@ class SimThread(threading.Thread):
         self._stamps: deque[float] = deque(maxlen=RATE_WINDOW)
         self._clicks: list[tuple[int, float]] = []  # planted, not yet shown by a step
         self._handlers = {"touch": self._touch, "melt": self._melt, "params": self._set_params,
-                          "clear": self._clear, "pause": self._pause, "step": self._single}
+                          "clear": self._clear, "pause": self._pause, "step": self._single,
+                          "export": self._export}
         self._watch: dict[int, tuple[int, float]] = {}
         self.timeline = Timeline(params, seed, width, height)
         events = [{"kind": "touch", "x": float(x), "y": float(y)} for x, y in touches]
@@ -222,11 +225,24 @@ class SimThread(threading.Thread):
     def _clear(self, _arg, notes: dict) -> None:
         notes["applied"].append(self.timeline.apply([{"kind": "clear"}]))
 
+    def _export(self, arg, _notes: dict) -> None:
+        """Frost maps of this tick: the arrays are copied here, the PNGs written by a worker
+        so the schedule does not slip."""
+        folder, meta = arg
+        grid, segments = self.geometry.heights.copy(), live_segments(self.sim).copy()
+        job = (folder, grid, segments, self.params, dict(meta, tick=str(self.sim.tick)))
+        threading.Thread(target=_write_maps, args=job, name="frost-maps").start()
+
     def _pause(self, _arg, _notes: dict) -> None:
         self.paused = not self.paused
 
     def _single(self, _arg, notes: dict) -> None:
         notes["single"] = True
+
+
+def _write_maps(folder, grid, segments, params, meta) -> None:
+    paths = export_maps(folder, grid, segments, params, meta)
+    log.info("frost maps: %s", ", ".join(str(p) for p in paths.values()))
 
 
 def _merged(applied: list[Applied]) -> tuple[bool, tuple[GeometryDelta, ...], str | None]:

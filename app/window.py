@@ -423,6 +423,7 @@ class FrostWindow:
                 "single_step": lambda _: self.sim.send("step"),
                 "clear": self._clear, "screenshot": self._screenshot,
                 "record": lambda _: self.recorder.toggle(),
+                "export_maps": self._export_maps,
                 "scale": self._scale, "shift": self._shift, "preset": self._preset,
                 "toggle_param": self._toggle_param,
                 "toggle_view": self._toggle_view, "light": self._move_light,
@@ -492,6 +493,13 @@ class FrostWindow:
         path = save_png(read_image(self.phone), path, meta)
         self.screenshots.append(path)
         self._say(f"screenshot: {path}")
+
+    def _export_maps(self, _arg) -> None:
+        folder = Path(self.args.screenshot_dir) / timestamped_path(Path(self.args.screenshot_dir)).stem
+        meta = {"seed": str(self.args.seed),
+                "touches": json.dumps(self.latest.touches if self.latest else [])}
+        self.sim.send("export", (folder, meta))
+        self._say(f"frost maps: {folder}/")
 
     # ---- the end --------------------------------------------------------------------------
 
