@@ -126,12 +126,7 @@ class SimThread(threading.Thread):
 
     def drain(self) -> list[Snapshot]:
         """Every snapshot produced since the last call, oldest first."""
-        out = []
-        while True:
-            try:
-                out.append(self.outbox.get_nowait())
-            except queue.Empty:
-                return out
+        return _take_all(self.outbox)
 
     # ---- thread side ------------------------------------------------------------
 
@@ -180,12 +175,7 @@ class SimThread(threading.Thread):
         self.wake()
 
     def _pending(self) -> list[Command]:
-        cmds = []
-        while True:
-            try:
-                cmds.append(self.inbox.get_nowait())
-            except queue.Empty:
-                return cmds
+        return _take_all(self.inbox)
 
     def _first_growth(self) -> tuple[tuple[int, float], ...]:
         """Clicks whose seed crystal became a parent in this tick (for the latency log)."""
@@ -238,6 +228,16 @@ class SimThread(threading.Thread):
 
     def _single(self, _arg, notes: dict) -> None:
         notes["single"] = True
+
+
+def _take_all(q: queue.Queue) -> list:
+    """Everything waiting in `q` now, oldest first, without blocking."""
+    items = []
+    while True:
+        try:
+            items.append(q.get_nowait())
+        except queue.Empty:
+            return items
 
 
 def _write_maps(folder, grid, segments, params, meta) -> None:

@@ -175,18 +175,24 @@ def test_no_opengl_is_a_clear_message(monkeypatch, capsys):
     assert "no OpenGL available" in capsys.readouterr().err
 
 
-def test_tiles_cover_all_the_ice(gl_ctx):
-    """Drawing the ice pass on every tile changes nothing: no ice lies outside the tiles."""
+def grown_on_renderer(gl_ctx, params, seed, touch, ticks):
+    """(sim, geometry, renderer) after `ticks` ticks from one touch, every delta applied."""
     from sim import FrostSim
     from sim.geometry import FrostGeometry
 
-    params = Params.preset("a-2", active_radius=40.0, humidity=600)
-    sim, geo = FrostSim(params, W, H, seed=2), FrostGeometry(params, W, H)
+    sim, geo = FrostSim(params, W, H, seed=seed), FrostGeometry(params, W, H)
     renderer = Renderer(gl_ctx, params, W, H, background=background())
-    sim.touch(60, 50)
-    for _ in range(30):
+    sim.touch(*touch)
+    for _ in range(ticks):
         sim.step()
         renderer.apply(geo.update(sim))
+    return sim, geo, renderer
+
+
+def test_tiles_cover_all_the_ice(gl_ctx):
+    """Drawing the ice pass on every tile changes nothing: no ice lies outside the tiles."""
+    params = Params.preset("a-2", active_radius=40.0, humidity=600)
+    _, _, renderer = grown_on_renderer(gl_ctx, params, 2, (60, 50), 30)
     tiled = frame(gl_ctx, renderer)
     assert (tiled != background()).any()
     renderer.tiles.fill()
@@ -194,16 +200,8 @@ def test_tiles_cover_all_the_ice(gl_ctx):
 
 
 def test_melt_renders_as_if_the_ice_never_grew_there(gl_ctx):
-    from sim import FrostSim
-    from sim.geometry import FrostGeometry
-
     params = Params.preset("a-2", active_radius=50.0, humidity=800)
-    sim, geo = FrostSim(params, W, H, seed=4), FrostGeometry(params, W, H)
-    melted_view = Renderer(gl_ctx, params, W, H, background=background())
-    sim.touch(80, 60)
-    for _ in range(40):
-        sim.step()
-        melted_view.apply(geo.update(sim))
+    sim, geo, melted_view = grown_on_renderer(gl_ctx, params, 4, (80, 60), 40)
     frame(gl_ctx, melted_view)  # the ice is drawn before the melt
     x, y = sim.crystals[len(sim.crystals) // 2]
     melted_view.apply(geo.melt(sim, sim.melt(float(x), float(y), 10.0)))
