@@ -12,6 +12,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 NEIGHBOR_SEARCHES = ("candidate", "grid9")
+# Parameters that only mean something with grains on.
+GRAIN_RULES = ("drift", "tip_hits", "side_hits", "side_gap")
 
 
 def _p(default: Any, doc: str, lo: float | None = None, hi: float | None = None,
@@ -63,12 +65,35 @@ class Params:
                            "ice front, so frost keeps spreading (implies replenish)",
                     choices=(False, True))
 
+    # Beyond the paper: "fern" growth (SPEC.md, second half). All off by default, so the
+    # simulation is the paper's unless a preset or the user turns them on.
+    grains: bool = _p(False, "grains: six-fold growth: each seed draws an orientation and a new "
+                             "crystal sits one hc along the nearest of its parent's axes (fern rule 1)",
+                      choices=(False, True))
+    drift: float = _p(0.0, "drift: spread of the turn of a child's axes from its link, degrees "
+                           "(with grains; fronds curve)", 0.0, 30.0)
+    tip_hits: int = _p(1, "tip_hits: walker hits a crystal's straight-on slot takes to grow, hits "
+                          "(1: every hit, the paper; with grains; fern rule 2)", 1, 10_000)
+    side_hits: int = _p(1, "side_hits: walker hits a side slot (+-60 deg) takes to grow, hits "
+                           "(with grains)", 1, 10_000)
+    side_gap: int = _p(1, "side_gap: least links between side branches on one side of a stem, "
+                          "links (1: any; with grains)", 1, 16)
+    long_jumps: bool = _p(False, "long_jumps: a walker far from ice jumps to a random point of its "
+                                 "clearance circle, exact for Brownian motion (fern rule 3)",
+                          choices=(False, True))
+    launch: float = _p(0.0, "launch: new and returning water starts on a circle this many px beyond "
+                            "its area's farthest ice (0: anywhere in the area; fern rule 4)",
+                       0.0, 4000.0)
+
     def __post_init__(self) -> None:
         for f in dataclasses.fields(self):
             _validate(f, getattr(self, f.name))
         if self.step > self.hc:
             raise ValueError(f"step={self.step!r} must not exceed hc={self.hc!r}: "
                              "walkers would tunnel through freezing areas")
+        for name in GRAIN_RULES:
+            if not self.grains and getattr(self, name) != getattr(Params, name):
+                raise ValueError(f"{name}={getattr(self, name)!r} needs grains=True")
 
     def replace(self, **changes: Any) -> Params:
         """A copy with `changes` applied (validated); unknown names raise ValueError."""
@@ -79,10 +104,12 @@ class Params:
 
     @classmethod
     def preset(cls, name: str, **overrides: Any) -> Params:
-        """Table 1's setting `name` ('a-1' ... 'c-3'), with optional overrides."""
-        if name not in PRESETS:
-            raise ValueError(f"unknown preset {name!r}; choose one of {', '.join(PRESETS)}")
-        values = dict(PRESETS[name])
+        """Table 1's setting `name` ('a-1' ... 'c-3') or an extra look ('fern'), with
+        optional overrides."""
+        table = {**PRESETS, **EXTRA_PRESETS}
+        if name not in table:
+            raise ValueError(f"unknown preset {name!r}; choose one of {', '.join(table)}")
+        values = dict(table[name])
         # Table 1 leaves step open; keep the default where it fits, else clamp to hc.
         values.setdefault("step", min(cls.step, values["hc"]))
         values.update(overrides)
@@ -129,4 +156,13 @@ PRESETS: dict[str, dict[str, Any]] = {
     "c-1": {"D": 7.0, "hc": 7.0, "humidity": 500},
     "c-2": {"D": 7.0, "hc": 7.0, "humidity": 3000},
     "c-3": {"D": 7.0, "hc": 7.0, "humidity": 5000},
+}
+
+# Looks beyond the paper, selectable by name like Table 1's (which PRESETS alone lists).
+# "fern": window frost's fronds (SPEC.md, second half); values tuned with `python -m
+# sim.bench --section fern` (see the README for the figures).
+EXTRA_PRESETS: dict[str, dict[str, Any]] = {
+    "fern": {"D": 7.0, "hc": 7.0, "humidity": 3000, "grains": True, "drift": 3.0,
+             "tip_hits": 7, "side_hits": 12, "side_gap": 2, "long_jumps": True,
+             "launch": 30.0},
 }
