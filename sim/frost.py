@@ -579,9 +579,8 @@ class FrostSim:
         if need <= 0:
             return 0
         others = counts.copy()
-        others[areas] = 0
+        others[areas] = 0  # (an area being topped up holds less than `share`: never cut)
         limit = np.minimum(counts, _level(others, need, share))
-        limit[areas] = counts[areas]
         wa = self._warea.raw()
         order = np.argsort(wa, kind="stable")
         rank = np.empty(len(wa), np.int64)

@@ -60,13 +60,14 @@ def _event(kind: str, point, radius: float) -> dict:
 
 
 def scribble(params: Params, seed: int = 0, seconds: float = 60.0, size=(760, 1280)) -> list[list[dict]]:
-    """Two thirds of the time left-button strokes between random points over the whole
-    screen, then right-button (warm finger) strokes, then every tuning change once."""
+    """Left-button strokes between random points over the whole screen, then half as long
+    of right-button (warm finger) strokes, then every tuning change once (5 ticks apart),
+    `seconds` in all."""
     rng = np.random.default_rng(seed)
-    total = int(seconds * TICKS_PER_SECOND)
     changes = tuning_changes(params)
-    phases = (("touch", DRAG_SPACING_HC * params.hc, 2 * total // 3),
-              ("melt", MELT_SPACING * MELT_RADIUS, total - 5 * len(changes)))
+    drawing = max(0, int(seconds * TICKS_PER_SECOND) - 5 * len(changes))
+    phases = (("touch", DRAG_SPACING_HC * params.hc, 2 * drawing // 3),
+              ("melt", MELT_SPACING * MELT_RADIUS, drawing))
     schedule: list[list[dict]] = []
     for kind, spacing, until in phases:
         while len(schedule) < until:
