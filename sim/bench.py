@@ -133,7 +133,7 @@ def memory() -> dict:
 
 
 FERN_TICKS = (25, 50, 125, 250, 500, 750)
-FERN_LOOKS = {"c-2": {}, "fern": {}, "fern+grow": {"grow": True}}
+FERN_LOOKS = {"c-2": {}, "fern": {}, "fern-grow": {"grow": False}}
 # Touch spots for the cost runs: the centre, then spread over the screen.
 TOUCHES = [CENTRE, (190.0, 320.0), (570.0, 960.0), (570.0, 320.0), (190.0, 960.0),
            (380.0, 200.0), (380.0, 1080.0), (120.0, 640.0), (640.0, 640.0), (380.0, 420.0)]

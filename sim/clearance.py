@@ -32,7 +32,7 @@ class NoJumps:
     def lower(self, cells: np.ndarray) -> None:
         pass
 
-    def radii(self, x, y, keys, rim) -> None:
+    def radii(self, x, y, rim) -> None:
         return None
 
     def nbytes(self) -> int:
@@ -61,14 +61,14 @@ class Clearance:
         ring = np.broadcast_to(self._ring, tx.shape)
         np.minimum.at(self.rings, (ty * self.grid.cols + tx)[ok], ring[ok])
 
-    def radii(self, x: np.ndarray, y: np.ndarray, keys: np.ndarray, rim: np.ndarray) -> np.ndarray:
+    def radii(self, x: np.ndarray, y: np.ndarray, rim: np.ndarray) -> np.ndarray:
         """Each walker's clearance rho in px (0 in and next to candidate cells), given its
-        cell and its distance `rim` to its area's rim."""
+        on-screen position and its distance `rim` to its area's rim."""
         s = self._cell
-        fx = x - (keys % self.grid.cols).astype(np.float32) * s
-        fy = y - (keys // self.grid.cols).astype(np.float32) * s
+        kx, ky = (x / s).astype(np.int32), (y / s).astype(np.int32)  # its cell (Eq. 1)
+        fx, fy = x - kx * s, y - ky * s
         border = np.minimum(np.minimum(fx, s - fx), np.minimum(fy, s - fy))
-        k = self.rings[keys]
+        k = self.rings[ky * self.grid.cols + kx]
         rho = np.where(k >= 1, (k - 1).astype(np.float32) * s + border, np.float32(0))
         w, h = self.size
         edge = np.minimum(np.minimum(x, w - x), np.minimum(y, h - y))

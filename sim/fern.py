@@ -78,16 +78,18 @@ class FernGrowth:
         if len(hits) == 0:
             return hits, parents, np.empty((0, 2), np.float32), hits
         k, need = self._slots(sim, hits, parents)
-        due = self._count(parents, k, need)
-        cand = np.flatnonzero(due)
+        cand = np.flatnonzero(self._count(parents, k, need))
+        if len(cand) == 0:  # most ticks: every hit only counts
+            return hits[:0], parents[:0], np.empty((0, 2), np.float32), hits
         angle = self.axis.raw()[parents[cand]] + k[cand] * SIXTH
         pts = self._spots(sim, parents[cand], angle)
         ok = self._free(sim, pts, parents[cand], k[cand])
         ok[ok] = _first_apart(pts[ok], self.L / 2)
         grow = cand[ok]
         self._adopt(sim._crystals.n, parents[grow], k[grow], angle[ok])
-        bounced = np.setdiff1d(hits, hits[grow], assume_unique=True)
-        return hits[grow], parents[grow], pts[ok], bounced
+        counted = np.ones(len(hits), bool)
+        counted[grow] = False
+        return hits[grow], parents[grow], pts[ok], hits[counted]
 
     def melted(self, dead: np.ndarray, parents: np.ndarray, orphans: np.ndarray) -> None:
         """A melted crystal frees its parent's slot (whose count starts over); its own
@@ -126,11 +128,12 @@ class FernGrowth:
         start = np.concatenate(([0], np.flatnonzero(skey[1:] != skey[:-1]) + 1))
         rank = np.empty(len(key), np.int64)
         rank[order] = np.arange(len(key)) - np.repeat(start, np.diff(start, append=len(key)))
-        counts = self.hits.raw()
-        before = counts[parents, k]
+        flat = self.hits.raw().reshape(-1)
+        before = flat[key.clip(0)]
         due = open_ & (rank == np.maximum(need - before - 1, 0))
-        np.add.at(counts, (parents[open_], k[open_]), 1)
-        np.minimum(counts, 1 << 20, out=counts)  # a blocked slot keeps counting: no overflow
+        slots, hits = np.unique(key[open_], return_counts=True)
+        # A blocked slot keeps counting: cap the count so it never overflows.
+        flat[slots] = np.minimum(flat[slots] + hits, 1 << 20)
         return due
 
     def _spots(self, sim, parents, angle) -> np.ndarray:
@@ -146,7 +149,8 @@ class FernGrowth:
         ok = (x >= 0) & (x < sim.width) & (y >= 0) & (y < sim.height)
         ok[ok] = _nearest_d2(sim, pts[ok]) >= np.float32(self.L / 2) ** 2
         side = ok & (SLOT_KIND[k] == SIDE) & ~self.seed.raw()[parents]
-        ok[side] = self._gap_clear(sim, parents[side], k[side])
+        if self.gap > 1 and side.any():
+            ok[side] = self._gap_clear(sim, parents[side], k[side])
         return ok
 
     def _gap_clear(self, sim, crystals, k) -> np.ndarray:

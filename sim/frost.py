@@ -315,7 +315,7 @@ class FrostSim:
             return None
         cx, cy, r = self._area_columns()
         rim = r - np.hypot(x - cx, y - cy)
-        return self.clearance.radii(x, y, self.grid.keys(x, y), rim)
+        return self.clearance.radii(x, y, rim)
 
     def _crystallize(self) -> tuple[np.ndarray, np.ndarray]:
         """Sec. 3.4.3: the walkers within hc of a crystal, and their nearest crystal."""
@@ -340,6 +340,8 @@ class FrostSim:
     def _admit(self, frozen: np.ndarray, parents: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The freezes whose cells all stay within CELL_CAP; the rest of the water is
         dropped (in walker order, so both neighbour searches drop the same)."""
+        if self.candidates.count.max(initial=0) + len(frozen) <= CELL_CAP:
+            return frozen, parents  # no cell can fill up this tick (cheap: one pass, no cells)
         pts = np.column_stack((self._wx.raw()[frozen], self._wy.raw()[frozen]))
         cells, owner = self.grid.disc_cells(pts, self.params.hc)
         if len(cells) == 0 or self.candidates.count[cells].max() + len(frozen) <= CELL_CAP:
@@ -460,8 +462,8 @@ class FrostSim:
         areas = self._areas.raw()
         if len(areas) == 1:
             return areas[0, :3]
-        a = areas[self._warea.raw()]
-        return a[:, 0], a[:, 1], a[:, 2]
+        w = self._warea.raw()  # one column at a time: much cheaper than gathering rows
+        return tuple(np.take(np.ascontiguousarray(areas[:, i]), w) for i in range(3))
 
     def _outside(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         """Walkers off the screen or outside their own active area."""
@@ -480,7 +482,10 @@ class FrostSim:
         x, y = np.zeros(n, np.float32), np.zeros(n, np.float32)
         ok = np.zeros(n, bool)
         todo = np.arange(n)
-        for tries in ((1, 2) if n > 1024 else (4,)):
+        # A launch circle may cross other areas' ice: give it more tries before the cells.
+        for tries in ((1, 2) if n > 1024 else (4,)) + ((16,) if self.params.launch else ()):
+            if len(todo) == 0:
+                break
             px, py = self._disc_spots(np.tile(area[todo], tries))
             placed, pick = _first_good(self._free(px, py).reshape(tries, len(todo)))
             x[todo[placed]], y[todo[placed]] = px[pick], py[pick]

@@ -169,6 +169,6 @@ PRESETS: dict[str, dict[str, Any]] = {
 # sim.bench --section fern` (see the README for the figures).
 EXTRA_PRESETS: dict[str, dict[str, Any]] = {
     "fern": {"D": 7.0, "hc": 7.0, "humidity": 3000, "grains": True, "drift": 3.0,
-             "tip_hits": 7, "side_hits": 12, "side_gap": 2, "long_jumps": True,
-             "launch": 30.0},
+             "tip_hits": 5, "side_hits": 10, "side_gap": 2, "long_jumps": True,
+             "launch": 30.0, "grow": True, "water_budget": 6000},
 }
