@@ -7,9 +7,9 @@ import math
 import os
 import textwrap
 
-from sim import PRESETS, Params
+from sim import Params, all_presets
 
-from .keys import help_lines
+from .keys import DEFAULT_PRESET, help_lines
 
 
 def _touch(text: str) -> tuple[float, float]:
@@ -68,7 +68,9 @@ def build_parser() -> argparse.ArgumentParser:
             "and writes PNG files instead."),
         epilog="keys in the window:\n  " + "\n  ".join(help_lines()),
         formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--preset", choices=list(PRESETS), help="Table 1 setting (a-1 ... c-3)")
+    p.add_argument("--preset", choices=list(all_presets()),
+                   help=f"Table 1 setting (a-1 ... c-3) or {DEFAULT_PRESET} (window frost's "
+                        f"fronds, the default)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--headless", action="store_true", help="render offscreen (EGL), no window")
     p.add_argument("--touch", type=_touch, action="append", default=[], metavar="X,Y",
@@ -127,9 +129,7 @@ def params_from(args: argparse.Namespace) -> Params:
     overrides = {n: getattr(args, n) for n, _, _ in Params.describe() if getattr(args, n) is not None}
     if "step" not in overrides and "hc" in overrides and overrides["hc"] > 0:
         overrides["step"] = min(Params.step, overrides["hc"])  # a smaller hc takes step with it
-    if args.preset:
-        return Params.preset(args.preset, **overrides)
-    return Params(**overrides)
+    return Params.preset(args.preset or DEFAULT_PRESET, **overrides)
 
 
 def has_display() -> bool:

@@ -14,6 +14,8 @@ from typing import Any
 NEIGHBOR_SEARCHES = ("candidate", "grid9")
 # Parameters that only mean something with grains on.
 GRAIN_RULES = ("drift", "tip_hits", "side_hits", "side_gap")
+# The fern rules: off (at their defaults) in the paper's look.
+FERN_RULES = ("grains", *GRAIN_RULES, "long_jumps", "launch")
 
 
 def _p(default: Any, doc: str, lo: float | None = None, hi: float | None = None,
@@ -112,7 +114,7 @@ class Params:
     def preset(cls, name: str, **overrides: Any) -> Params:
         """Table 1's setting `name` ('a-1' ... 'c-3') or an extra look ('fern'), with
         optional overrides."""
-        table = {**PRESETS, **EXTRA_PRESETS}
+        table = all_presets()
         if name not in table:
             raise ValueError(f"unknown preset {name!r}; choose one of {', '.join(table)}")
         values = dict(table[name])
@@ -172,3 +174,21 @@ EXTRA_PRESETS: dict[str, dict[str, Any]] = {
              "tip_hits": 5, "side_hits": 10, "side_gap": 2, "long_jumps": True,
              "launch": 30.0, "grow": True, "water_budget": 6000},
 }
+
+
+def all_presets() -> dict[str, dict[str, Any]]:
+    """Table 1's presets, then the extra looks: every name `Params.preset` accepts."""
+    return {**PRESETS, **EXTRA_PRESETS}
+
+
+def preset_name(params: Params) -> str:
+    """The preset(s) `params` follows ('b-2/c-2' for Table 1's twins), or 'custom': the
+    preset's D, hc and humidity and its fern rules (off for Table 1). Growth mode, the
+    budget and the look (bump, features) may differ: they have keys of their own."""
+    names = []
+    for name in all_presets():
+        want = Params.preset(name)
+        fields = ("D", "hc", "humidity", *FERN_RULES)
+        if all(getattr(params, f) == getattr(want, f) for f in fields):
+            names.append(name)
+    return "/".join(names) or "custom"

@@ -6,7 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from sim import PRESETS, FrostSim, Params
+from app import tuning
+from app.cli import build_parser, params_from
+from sim import PRESETS, FrostSim, Params, preset_name
 from sim.fern import SIXTH
 from sim.morphology import link_angles
 
@@ -46,6 +48,19 @@ def test_fern_is_an_extra_preset_and_table_1_is_untouched():
     paper = Params()
     assert not paper.grains and not paper.long_jumps and paper.launch == 0
     assert (paper.tip_hits, paper.side_hits, paper.drift) == (1, 1, 0.0)
+
+
+def test_the_demo_defaults_to_fern_and_one_key_brings_back_the_paper():
+    assert params_from(build_parser().parse_args([])) == FERN
+    assert params_from(build_parser().parse_args(["--preset", "c-2"])) == Params.preset("c-2")
+    assert params_from(build_parser().parse_args(["--hc", "6"])).hc == 6.0
+    paper = tuning.preset(FERN.replace(bump=2.0), "c-2")  # key 8 from the fern look
+    assert paper == Params.preset("c-2", bump=2.0) and preset_name(paper) == "b-2/c-2"
+    back = tuning.preset(Params.preset("c-1", grow=True), "fern")
+    assert back == FERN and preset_name(back) == "fern"
+    assert tuning.preset(Params.preset("c-1", grow=True), "a-1").grow  # Table 1 keeps G
+    assert preset_name(Params.preset("a-3")) == "a-3"
+    assert preset_name(FERN.replace(tip_hits=6)) == "custom"
 
 
 @pytest.mark.parametrize("name,value", [("drift", 3.0), ("tip_hits", 5), ("side_hits", 2),
