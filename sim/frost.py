@@ -531,30 +531,19 @@ class FrostSim:
         self.water_dropped += int((~ok).sum())
 
     def _areas_for(self, pts: np.ndarray) -> np.ndarray:
-        """The area of each touch in turn: the one whose disc holds it (nearest centre),
-        else a new area opened there. Buckets of side active_radius keep each look-up to
-        the areas nearby, so a rebuild replanting thousands of touches stays cheap."""
-        areas, radius = self._areas.raw(), self.params.active_radius
-        buckets: dict[tuple[int, int], list[int]] = {}
-        for i, (cx, cy, r) in enumerate(areas[:, :3].tolist()):
-            for key in _bucket_keys(cx, cy, r, radius):
-                buckets.setdefault(key, []).append(i)
-        centres = areas[:, :3].tolist()
+        """The area of each touch in turn: the one whose disc holds it (nearest centre,
+        lowest index among equals), else a new area opened there."""
         out = np.empty(len(pts), np.int32)
-        for k, (x, y) in enumerate(pts.tolist()):
-            near = [(dx * dx + dy * dy, i) for i in buckets.get(_bucket(x, y, radius), ())
-                    for dx, dy, r in [(x - centres[i][0], y - centres[i][1], centres[i][2])]
-                    if dx * dx + dy * dy <= r * r]
-            if near:
-                out[k] = min(near)[1]
+        for k, (x, y) in enumerate(pts):
+            a = self._areas.raw()
+            d2 = (a[:, 0] - x) ** 2 + (a[:, 1] - y) ** 2
+            inside = d2 <= a[:, 2] ** 2
+            if inside.any():
+                out[k] = np.argmin(np.where(inside, d2, np.inf))
                 continue
-            out[k] = len(centres)
-            centres.append([x, y, radius])
-            for key in _bucket_keys(x, y, radius, radius):
-                buckets.setdefault(key, []).append(out[k])
-        new = np.array(centres[len(areas):], np.float32).reshape(-1, 3)
-        self._areas.append(np.column_stack((new, np.zeros((len(new), 2), np.float32))))
-        self._area_ice.append(np.zeros(len(new), np.int32))
+            row = np.array([[x, y, self.params.active_radius, 0.0, 0.0]], np.float32)
+            out[k] = self._areas.append(row).start
+            self._area_ice.append(np.zeros(1, np.int32))
         return out
 
     def _fill(self, areas: np.ndarray) -> None:
@@ -655,17 +644,6 @@ def _rows(ranges: np.ndarray) -> np.ndarray:
         return np.empty(0, np.int64)
     starts = np.repeat(first - (np.cumsum(count) - count), count)
     return starts + np.arange(total)
-
-
-def _bucket(x: float, y: float, side: float) -> tuple[int, int]:
-    return int(x // side), int(y // side)
-
-
-def _bucket_keys(cx: float, cy: float, r: float, side: float):
-    """The buckets of side `side` that a disc of radius r at (cx, cy) reaches."""
-    for bx in range(int((cx - r) // side), int((cx + r) // side) + 1):
-        for by in range(int((cy - r) // side), int((cy + r) // side) + 1):
-            yield bx, by
 
 
 def _level(counts: np.ndarray, need: int, floor: int) -> int:
