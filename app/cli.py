@@ -98,6 +98,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--figure8", metavar="FILE.png",
                    help="render the nine Table 1 presets from one touch into a 3x3 sheet (Fig. 8), "
                         "print each preset's numbers, and exit")
+    p.add_argument("--figure", nargs=2, metavar=("fern", "FILE.png"),
+                   help="render a labelled sheet of fern growth (ticks 25 ... 750, one touch and "
+                        "three touches) with the chosen parameters, and exit")
     p.add_argument("--export-maps", metavar="DIR",
                    help="headless: write height.png, normal.png and alpha.png of the final frost to DIR")
     p.add_argument("--screenshot-dir", default="screenshots",

@@ -270,3 +270,30 @@ def test_a_melted_crystal_frees_its_parents_slot_and_takes_its_counters():
     d = np.hypot(live[:, None, 0] - live[None, :, 0], live[:, None, 1] - live[None, :, 1])
     np.fill_diagonal(d, np.inf)
     assert d.min() >= sim.params.hc / 2 - 1e-4
+
+
+# ---- what the user sees: the fern sheet -------------------------------------------------------
+
+@pytest.mark.gl
+def test_fern_row_shows_the_ice_growing_and_the_sheet_holds_every_cell(gl_ctx):
+    from app.figure8 import cell_box, sheet_size
+    from app.figure_fern import CELL, compose_grid, grow_row
+
+    row = grow_row(gl_ctx, FERN, 0, [CENTRE], ticks=(0, 40, 120))
+    assert [text.split(" (")[0] for text, _ in row] == ["tick 0", "tick 40", "tick 120"]
+    frames = [f.astype(int) for _, f in row]
+    # more frost each time: the frame drifts further from the bare glass of tick 0
+    change = [np.abs(f - frames[0]).mean() for f in frames[1:]]
+    assert 0 < change[0] < change[1]
+    sheet = compose_grid([row, row], "t", CELL)
+    assert sheet.shape == (sheet_size(3, 2, CELL)[1], sheet_size(3, 2, CELL)[0], 3)
+    x0, y0, x1, y1 = cell_box(1, 2, CELL)
+    assert y1 <= sheet.shape[0] and x1 <= sheet.shape[1] and sheet[y0:y1, x0:x1].std() > 10
+
+
+def test_figure_names_other_than_fern_are_refused(tmp_path, capsys):
+    from app.__main__ import main
+
+    assert main(["--figure", "snow", str(tmp_path / "x.png")]) == 2
+    assert "--figure 'snow': choose one of fern" in capsys.readouterr().err
+    assert not (tmp_path / "x.png").exists()
