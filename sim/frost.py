@@ -378,7 +378,7 @@ class FrostSim:
 
     def _link(self, frozen: np.ndarray, parents: np.ndarray, pts: np.ndarray) -> slice:
         """Frozen walkers become crystals at `pts` linked to their parents; links are upsampled."""
-        new = self._add_crystals(pts, parents, self._warea.raw()[frozen])
+        new = self._add_crystals(pts, parents, self._ice_area(frozen, parents))
         ups, ups_link, segs, segs_link = upsample(self._crystals.raw()[parents], pts, self.params.D)
         self._seg_range.append(_ranges(segs_link, len(frozen), self._segs.n))
         self._ups_range.append(_ranges(ups_link, len(frozen), self._ups.n))
@@ -392,6 +392,14 @@ class FrostSim:
             d = pts - self._crystals.raw()[parents]
             self._longest_link = max(self._longest_link, float(np.hypot(d[:, 0], d[:, 1]).max()))
         return new
+
+    def _ice_area(self, frozen: np.ndarray, parents: np.ndarray) -> np.ndarray:
+        """The area each new crystal belongs to: its water's (the paper's pools). With a
+        launch circle, the area of the ice it grew on, so each area's reach (and circle)
+        follows its own frost, not water that strayed onto a neighbour's."""
+        if self.params.launch:
+            return self._carea.raw()[parents]
+        return self._warea.raw()[frozen]
 
     def _add_crystals(self, pts: np.ndarray, parents: np.ndarray, area: np.ndarray) -> slice:
         """Append crystals (live) with their parents and areas; count them in their areas."""

@@ -109,6 +109,18 @@ def test_no_two_crystals_closer_than_half_a_link_and_one_child_per_slot():
     assert len(np.unique(pairs)) == len(pairs)
 
 
+def test_with_a_launch_circle_each_area_follows_its_own_ice():
+    sim = grown(touches=((200, 300), (560, 980)), ticks=500, seed=2)
+    area, p = sim._carea.view(), sim.parents
+    child = np.flatnonzero(p >= 0)
+    assert np.array_equal(area[child], area[p[child]])  # a tree's ice stays in its area
+    c = sim.crystals.astype(np.float64)
+    for a, (cx, cy, _, _, reach) in enumerate(sim.areas):
+        mine = c[area == a]
+        assert reach == pytest.approx(np.hypot(mine[:, 0] - cx, mine[:, 1] - cy).max(), abs=1e-3)
+        assert reach < 450  # the other grain's fronds, 480 px away, do not carry it off
+
+
 # ---- rule 2: hit counters ------------------------------------------------------------------
 
 def hand_hits(sim, crystal, angle, n):
