@@ -183,7 +183,10 @@ PRESETS: dict[str, dict[str, Any]] = {
 # "fern": window frost's fronds (SPEC.md, second half); values tuned with `python -m
 # sim.bench --section fern` (see the README for the figures).
 EXTRA_PRESETS: dict[str, dict[str, Any]] = {
-    "fern": {"D": 7.0, "hc": 7.0, "humidity": 3000, "grains": True, "drift": 3.0,
+    # Rendered with narrower, taller sharp features on links split in three (D 2.5): glossy
+    # stems with a fine texture; the paper's 1.5 made every link a hairy perpendicular rung.
+    "fern": {"D": 2.5, "hc": 7.0, "humidity": 3000, "feature_width": 1.0, "feature_height": 0.8,
+             "grains": True, "drift": 3.0,
              "tip_hits": 5, "side_hits": 10, "side_gap": 2, "long_jumps": True,
              "launch": 30.0, "grow": True, "water_budget": 6000},
 }
