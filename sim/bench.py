@@ -174,7 +174,7 @@ def print_abuse(rows: list[dict]) -> None:
 
 
 FERN_TICKS = (25, 50, 125, 250, 500, 750)
-FERN_LOOKS = {"c-2": {}, "fern": {}, "fern-grow": {"grow": False}}
+FERN_LOOKS = {"c-2": {}, "fern": {}, "fern-nogrow": {"grow": False}}
 # Touch spots for the cost runs: the centre, then spread over the screen.
 TOUCHES = [CENTRE, (190.0, 320.0), (570.0, 960.0), (570.0, 320.0), (190.0, 960.0),
            (380.0, 200.0), (380.0, 1080.0), (120.0, 640.0), (640.0, 640.0), (380.0, 420.0)]
@@ -219,6 +219,20 @@ def fern_costs(name: str, touches: int, ticks: int) -> tuple[float, float]:
     return 1e3 * float(np.median(t_sim)), 1e3 * float(np.median(t_geo))
 
 
+def fern_profile(ticks: int) -> dict[str, float]:
+    """Mean ms per tick spent in each phase of one fern touch's first `ticks` ticks."""
+    sim = FrostSim(Params.preset("fern"), seed=0)
+    phases = (*PHASES, "_admit", "_relocate", "_follow_ice")
+    spent = dict.fromkeys([p.strip("_") for p in phases] + ["settle"], 0.0)
+    for phase in phases:
+        setattr(sim, phase, _timed(getattr(sim, phase), spent, phase.strip("_")))
+    sim.growth.settle = _timed(sim.growth.settle, spent, "settle")
+    sim.touch(*CENTRE)
+    for _ in range(ticks):
+        sim.step()
+    return {k: 1e3 * v / ticks for k, v in spent.items()}
+
+
 def fern_section(seeds: int, ticks: int) -> dict:
     print(f"\n## Fern growth vs the paper: one touch, seeds 0..{seeds - 1} (median; dimension "
           "and turns at tick 500)")
@@ -241,6 +255,10 @@ def fern_section(seeds: int, ticks: int) -> dict:
         cells = [fern_costs(name, n, ticks) for n in (1, 3, 10)]
         out[name]["ms"] = cells
         print(f"{name:10} " + "  ".join(f"{a:5.2f} + {b:5.2f}" for a, b in cells))
+    prof = fern_profile(ticks)
+    print("\nwhere a fern tick goes (one touch, mean ms; walk includes its respawns, relocate "
+          "counts them again): " + ", ".join(f"{k} {v:.3f}" for k, v in prof.items()))
+    out["fern_profile"] = prof
     return out
 
 
