@@ -10,6 +10,8 @@ from pathlib import Path
 import numpy as np
 from PIL import Image, PngImagePlugin
 
+from sim.files import write_atomic
+
 log = logging.getLogger(__name__)
 
 
@@ -20,14 +22,18 @@ def read_image(fbo) -> np.ndarray:
     return data.reshape(h, w, 3)[::-1].copy()
 
 
-def save_png(image: np.ndarray, path, meta: dict) -> Path:
-    """Write `image` to `path`; each meta entry becomes a PNG text chunk (JSON unless a str)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
+def png_writer(image: np.ndarray, meta: dict):
+    """A writer (see sim.files) of `image` as PNG; each meta entry becomes a text chunk
+    (JSON unless a str)."""
     info = PngImagePlugin.PngInfo()
     for key, value in meta.items():
         info.add_text(key, value if isinstance(value, str) else json.dumps(value))
-    Image.fromarray(image).save(path, pnginfo=info)
+    return lambda f: Image.fromarray(image).save(f, format="PNG", pnginfo=info)
+
+
+def save_png(image: np.ndarray, path, meta: dict) -> Path:
+    """Write `image` to `path` atomically (never a half-written PNG) with `meta`."""
+    path = write_atomic(path, png_writer(image, meta))
     log.info("screenshot written to %s", path)
     return path
 

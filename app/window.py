@@ -55,6 +55,17 @@ class WindowError(RuntimeError):
     pass
 
 
+def display_problem() -> str | None:
+    """None when GLFW can reach the display; else why not (e.g. DISPLAY=:99 with no X
+    server there). GLFW is shut down again either way."""
+    errors: list[str] = []
+    glfw.set_error_callback(lambda code, text: errors.append(_text(text)))
+    ok = glfw.init()
+    glfw.terminate()
+    glfw.set_error_callback(None)
+    return None if ok else "; ".join(errors) or "GLFW could not start"
+
+
 def open_window(scale: float | None) -> tuple:
     """A GLFW window for the phone at `scale` (default: fit the monitor); (window, scale)."""
     if scale is not None and not 0.05 <= scale <= 4.0:
@@ -121,12 +132,14 @@ class FrostWindow:
         self.blit["u_texture"].value = 0
         self.quad = self.ctx.vertex_array(self.blit, [])
         self.hud = Hud(self.ctx)
-        self.recorder = Recorder(args.screenshot_dir)
         self.keys = key_table(lambda name: getattr(glfw, f"KEY_{name}"))
         self.actions = self._action_table()
         self.params = params
         self.sim = SimThread(params, args.seed, args.touch or (), *PHONE,
                              wake=glfw.post_empty_event, script=getattr(args, "script", ()))
+        self.recorder = Recorder(args.screenshot_dir,
+                                 lambda text: self.sim.notify(logging.WARNING, text))
+        self.renderer.set_view(getattr(args, "view", None))  # a replayed session's view
         self._init_state()
         self._connect()
 
@@ -183,14 +196,20 @@ class FrostWindow:
     def close(self) -> None:
         self.sim.stop()
         self.recorder.close()
-        self._save_session()
+        self._drain_notices()
+        try:
+            self._save_session()
+        except OSError as err:
+            log.warning("session NOT saved: %s", _why(err))
         self._summary()
 
     def _save_session(self, path: Path | None = None) -> Path:
-        """The session up to the frame shown, to `path` (default: this run's file, made
-        on first use); replay it with --replay FILE."""
+        """The session up to the frame shown and the view it was shown with, to `path`
+        (default: this run's file, made on first use); replay it with --replay FILE.
+        OSError if it cannot be written (nothing half-written is left)."""
         snap = self.latest
         log_ = self.sim.session(snap.steps, snap.events) if snap else self.sim.session(0, 0)
+        log_.view = self.renderer.view()
         if path is None:
             self.session_path = self.session_path or timestamped_path(
                 self.args.session_dir, "session", ".json")
@@ -202,6 +221,12 @@ class FrostWindow:
     def _drain(self) -> None:
         for snap in self.sim.drain():
             self._apply(snap)
+        self._drain_notices()
+
+    def _drain_notices(self) -> None:
+        """Messages of the workers (map exports, recordings) to the HUD and the log."""
+        while not self.sim.notices.empty():
+            self._say(*self.sim.notices.get()[::-1])
 
     def _apply(self, snap: Snapshot) -> None:
         if snap.error:
@@ -305,7 +330,7 @@ class FrostWindow:
 
     def _stats_lines(self, now: float) -> list[str]:
         s = self.latest.stats if self.latest else Stats(0, 0.0, 0, 0, 0.0, 0, False)
-        p = self.params
+        p = self.latest.params if self.latest else self.params  # what the frame shows
         r = self.renderer
         state = [w for w, on in (("PAUSED", s.paused),
                                  (f"REC {self.recorder.count} frames", self.recorder.active)) if on]
@@ -481,25 +506,33 @@ class FrostWindow:
         self._say("params: " + " ".join(f"{k}={_number(v)}" for k, v in changed.items()))
 
     def _screenshot(self, _arg) -> None:
+        """The frame shown, as a PNG stating what made it (all from the snapshot shown and
+        the renderer's view), and its own session file: replaying it ends on this frame."""
         self._render_phone()
-        folder = Path(self.args.screenshot_dir)
-        folder.mkdir(parents=True, exist_ok=True)
-        meta = {"params": json.dumps(self.params.as_dict()), "seed": str(self.args.seed),
-                "touches": json.dumps(self.latest.touches if self.latest else []),
-                "tick": str(self.latest.stats.tick if self.latest else 0)}
+        snap, folder = self.latest, Path(self.args.screenshot_dir)
+        meta = {"params": json.dumps((snap.params if snap else self.params).as_dict()),
+                "seed": str(self.sim.seed), "touches": json.dumps(snap.touches if snap else []),
+                "tick": str(snap.stats.tick if snap else 0),
+                "view": json.dumps(self.renderer.view())}
         path = timestamped_path(folder)
-        # This frame's own session file: replaying it ends on this frame.
-        meta["session"] = str(self._save_session(Path(self.args.session_dir) / f"{path.stem}.json"))
-        path = save_png(read_image(self.phone), path, meta)
+        try:
+            meta["session"] = str(self._save_session(
+                Path(self.args.session_dir) / f"{path.stem}.json"))
+        except OSError as err:
+            self._say(f"screenshot's session NOT saved: {_why(err)}", logging.WARNING)
+        try:
+            path = save_png(read_image(self.phone), path, meta)
+        except OSError as err:
+            self._say(f"screenshot NOT saved: {_why(err)}", logging.WARNING)
+            return
         self.screenshots.append(path)
         self._say(f"screenshot: {path}")
 
     def _export_maps(self, _arg) -> None:
+        """The maps of the next tick's frost, written by a worker that reports back."""
         folder = Path(self.args.screenshot_dir) / timestamped_path(Path(self.args.screenshot_dir)).stem
-        meta = {"seed": str(self.args.seed),
-                "touches": json.dumps(self.latest.touches if self.latest else [])}
-        self.sim.send("export", (folder, meta))
-        self._say(f"frost maps: {folder}/")
+        self.sim.send("export", folder)
+        self._say(f"frost maps: exporting to {folder}/")
 
     # ---- the end --------------------------------------------------------------------------
 
@@ -521,6 +554,12 @@ def _number(v) -> str:
     if isinstance(v, bool):
         return _onoff(v)
     return f"{v:g}" if isinstance(v, float) else str(v)
+
+
+def _why(err: OSError) -> str:
+    """An OSError in one line: the file and the reason."""
+    name = f"{err.filename}: " if err.filename else ""
+    return f"{name}{err.strerror or err}"
 
 
 def _text(text) -> str:
