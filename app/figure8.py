@@ -17,6 +17,7 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
 from sim import PRESETS, FrostSim, Params
+from sim.files import why
 
 from .headless import Session, make_context
 from .screenshot import read_image, save_png
@@ -155,7 +156,11 @@ def run(args) -> int:
             "seed": args.seed, "ticks": args.ticks, "touch": list(touch),
             "stats": [s.__dict__ for s in stats], "Software": "frost (python -m app --figure8)",
             "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
-    path = save_png(sheet, Path(args.figure8), meta)
+    try:
+        path = save_png(sheet, Path(args.figure8), meta)
+    except OSError as err:
+        print(f"frost: error: cannot write {args.figure8}: {why(err)}", file=sys.stderr)
+        return 2
     print(format_table(stats))
     print(f"wrote {path}")
     return 0

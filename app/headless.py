@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 from sim import Params
+from sim.files import why
 from sim.session import Applied, SessionError, SessionLog, Timeline, apply_due, replay
 
 from .render import Renderer
@@ -212,7 +213,7 @@ def _write(session: Session, path: Path, done: str) -> int:
     try:
         written = session.snapshot(path)
     except OSError as err:
-        _error(f"cannot write {err.filename or path}: {err.strerror or err}")
+        _error(f"cannot write {path}: {why(err)}")
         return 2
     print(done.format(written))
     return 0
@@ -234,7 +235,7 @@ def _run_scripted(session: Session, args) -> int:
         if args.screenshot:
             written.append(session.snapshot(Path(args.screenshot)))
     except OSError as err:
-        _error(f"cannot write {err.filename or folder}: {err.strerror or err}")
+        _error(f"cannot write to {folder}: {why(err)}")
         return 2
     print(f"wrote {len(written)} PNG files to {folder.resolve()}: "
           + ", ".join(p.name for p in written))

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from sim import FrostSim, Params
-from sim.files import write_all_atomic
+from sim.files import why, write_all_atomic
 from sim.geometry import FrostGeometry
 
 from .render import Material
@@ -201,8 +201,8 @@ def run(args, params: Params) -> int:
     try:
         paths = export_maps(args.export_maps, geometry.heights, live_segments(sim), params, meta)
     except OSError as err:  # nothing was written: the set appears whole or not at all
-        print(f"frost: error: cannot write the maps to {args.export_maps}: "
-              f"{err.strerror or err}", file=sys.stderr)
+        print(f"frost: error: cannot write the maps to {args.export_maps}: {why(err)}",
+              file=sys.stderr)
         return 2
     print("wrote " + ", ".join(str(p) for p in paths.values()))
     return 0

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
-from sim.files import write_atomic
+from sim.files import why, write_atomic
 
 log = logging.getLogger(__name__)
 
@@ -50,7 +50,7 @@ def _write_or_report(frames: list[Image.Image], path: Path, report) -> None:
     try:
         write_animation(frames, path)
     except OSError as err:
-        report(f"recording: cannot write {path}: {err.strerror or err}")
+        report(f"recording: cannot write {path}: {why(err)}")
 
 
 class Recorder:
@@ -99,7 +99,7 @@ class Recorder:
             path = recording_path(self.folder)
         except OSError as err:
             self.report(f"recording: {len(frames)} frames lost: cannot make a file in "
-                        f"{self.folder}: {err.strerror or err}")
+                        f"{self.folder}: {why(err)}")
             return
         writer = threading.Thread(target=_write_or_report, args=(frames, path, self.report),
                                   name="frost-rec")

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from sim import Params
+from sim.files import why
 from sim.geometry import GeometryDelta
 from sim.session import Applied, SessionLog, Timeline, apply_due
 
@@ -260,7 +261,7 @@ def _write_maps(folder, grid, segments, params, meta, notify) -> None:
     try:
         paths = export_maps(folder, grid, segments, params, meta)
     except OSError as err:
-        notify(logging.WARNING, f"frost maps NOT written to {folder}: {err.strerror or err}")
+        notify(logging.WARNING, f"frost maps NOT written to {folder}: {why(err)}")
         return
     notify(logging.INFO, "frost maps written: " + ", ".join(str(p) for p in paths.values()))
 

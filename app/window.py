@@ -18,6 +18,7 @@ import glfw
 import moderngl
 
 from sim import Params
+from sim.files import why
 
 from . import tuning
 from .hud import Hud
@@ -200,7 +201,7 @@ class FrostWindow:
         try:
             self._save_session()
         except OSError as err:
-            log.warning("session NOT saved: %s", _why(err))
+            log.warning("session NOT saved: %s", why(err))
         self._summary()
 
     def _save_session(self, path: Path | None = None) -> Path:
@@ -519,11 +520,11 @@ class FrostWindow:
             meta["session"] = str(self._save_session(
                 Path(self.args.session_dir) / f"{path.stem}.json"))
         except OSError as err:
-            self._say(f"screenshot's session NOT saved: {_why(err)}", logging.WARNING)
+            self._say(f"screenshot's session NOT saved: {why(err)}", logging.WARNING)
         try:
             path = save_png(read_image(self.phone), path, meta)
         except OSError as err:
-            self._say(f"screenshot NOT saved: {_why(err)}", logging.WARNING)
+            self._say(f"screenshot NOT saved: {why(err)}", logging.WARNING)
             return
         self.screenshots.append(path)
         self._say(f"screenshot: {path}")
@@ -554,12 +555,6 @@ def _number(v) -> str:
     if isinstance(v, bool):
         return _onoff(v)
     return f"{v:g}" if isinstance(v, float) else str(v)
-
-
-def _why(err: OSError) -> str:
-    """An OSError in one line: the file and the reason."""
-    name = f"{err.filename}: " if err.filename else ""
-    return f"{name}{err.strerror or err}"
 
 
 def _text(text) -> str:

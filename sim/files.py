@@ -8,6 +8,7 @@ disk, Ctrl-C) sees the old file or the whole new one, never half of it.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import tempfile
 from collections.abc import Callable
@@ -49,6 +50,14 @@ def write_all_atomic(writes: dict) -> list[Path]:
     return [path for _, path in done]
 
 
+def why(err: OSError) -> str:
+    """An OSError in one line for the user: the path and the reason."""
+    reason = err.strerror or str(err)
+    if isinstance(err, (FileExistsError, NotADirectoryError)):
+        reason = "a file is in the way where a folder must be"
+    return f"{err.filename}: {reason}" if err.filename else reason
+
+
 def _write_temp(path: Path, write: Writer) -> str:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, temp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
@@ -65,7 +74,5 @@ def _write_temp(path: Path, write: Writer) -> str:
 
 
 def _remove(temp: str) -> None:
-    try:
+    with contextlib.suppress(FileNotFoundError):
         os.unlink(temp)
-    except FileNotFoundError:
-        pass
