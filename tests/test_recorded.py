@@ -366,11 +366,15 @@ def interrupted(cmd: list[str], ready: str, cwd: Path, env=None) -> tuple[int, s
     return proc.returncode, err
 
 
-@pytest.mark.parametrize("mode", [["--touch", "380,640"], ["--export-maps", "MAPS"]])
+@pytest.mark.parametrize("mode", [["--touch", "380,640"], ["--export-maps", "OUT/maps"],
+                                  ["--figure8", "OUT/f.png"], ["--replay", "LONG"]])
 def test_ctrl_c_ends_a_long_headless_run_with_130_and_no_file(tmp_path, mode):
-    out = tmp_path / "out"
-    cmd = ["--headless", "--preset", "c-3", "--ticks", "100000000", "--screenshot",
-           str(out / "x.png"), *[str(out / "maps") if a == "MAPS" else a for a in mode]]
+    out, long = tmp_path / "out", tmp_path / "long.json"
+    SessionLog(0, PARAMS.as_dict(), events=[{"tick": 0, "kind": "touch", "x": 380, "y": 640}],
+               steps=100_000_000).save(long)
+    ticks = [] if "--replay" in mode else ["--preset", "c-3", "--ticks", "100000000"]
+    cmd = ["--headless", *ticks, "--screenshot", str(out / "x.png"),
+           *[a.replace("OUT", str(out)).replace("LONG", str(long)) for a in mode]]
     status, err = interrupted(cmd, "tick ", tmp_path, {**os.environ, "PYTHONPATH": str(ROOT)})
     assert status == 130, err
     assert "frost: interrupted" in err and "Traceback" not in err
