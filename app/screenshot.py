@@ -38,11 +38,15 @@ def save_png(image: np.ndarray, path, meta: dict) -> Path:
     return path
 
 
-def timestamped_path(folder, prefix: str = "frost", suffix: str = ".png") -> Path:
-    """A new file name in `folder` named by the time, never one that already exists."""
+def timestamped_path(folder, prefix: str = "frost", suffix: str = ".png", also=(),
+                     taken=()) -> Path:
+    """A new file name in `folder` named by the time, never one that already exists, nor
+    one whose stem exists with any (folder, suffix) of `also` or is in `taken` (names
+    handed out before whose files may not be written yet, or never were)."""
     folder = Path(folder)
     stamp = time.strftime("%Y%m%d-%H%M%S")
     path, n = folder / f"{prefix}-{stamp}{suffix}", 1
-    while path.exists():
+    while path.exists() or path.stem in taken or any(
+            (Path(other) / f"{path.stem}{ext}").exists() for other, ext in also):
         path, n = folder / f"{prefix}-{stamp}-{n}{suffix}", n + 1
     return path

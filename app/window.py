@@ -8,9 +8,11 @@ thread calls GL.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import logging
 import math
+import signal
 import time
 from pathlib import Path
 
@@ -147,6 +149,7 @@ class FrostWindow:
     def _init_state(self) -> None:
         self.latest: Snapshot | None = None
         self.dirty, self.running, self.status = True, True, 0
+        self.interrupted = False  # ended by Ctrl-C (SIGINT)
         self.frames, self.renders, self.render_ms, self.snapshots = 0, 0, 0.0, 0
         self.frame_ms = 0.0  # render + present, moving average
         self.new_ticks = 0  # snapshots since the last recorded frame
@@ -156,6 +159,7 @@ class FrostWindow:
         self.melts_sent = 0  # by the current right-button drag
         self.message, self.message_until = "", 0.0
         self.screenshots: list[Path] = []
+        self.names: set[str] = set()  # stems of screenshots and map folders asked for
         self.session_path: Path | None = None
         self.latencies: list[tuple[str, int, float]] = []  # (kind, ticks, ms)
         self.started = time.monotonic()
@@ -463,6 +467,10 @@ class FrostWindow:
     def _quit(self, _arg) -> None:
         self.running = False
 
+    def interrupt(self) -> None:
+        """Ctrl-C: end the loop at the next frame, as Esc does."""
+        self.running, self.interrupted = False, True
+
     def _toggle_hud(self, _arg) -> None:
         self.hud.visible = not self.hud.visible
         self._damage()
@@ -510,30 +518,40 @@ class FrostWindow:
         """The frame shown, as a PNG stating what made it (all from the snapshot shown and
         the renderer's view), and its own session file: replaying it ends on this frame."""
         self._render_phone()
-        snap, folder = self.latest, Path(self.args.screenshot_dir)
+        snap = self.latest
         meta = {"params": json.dumps((snap.params if snap else self.params).as_dict()),
                 "seed": str(self.sim.seed), "touches": json.dumps(snap.touches if snap else []),
                 "tick": str(snap.stats.tick if snap else 0),
                 "view": json.dumps(self.renderer.view())}
-        path = timestamped_path(folder)
+        path = self._fresh_name(".png")
         try:
             meta["session"] = str(self._save_session(
                 Path(self.args.session_dir) / f"{path.stem}.json"))
         except OSError as err:
-            self._say(f"screenshot's session NOT saved: {why(err)}", logging.WARNING)
+            self._say(f"screenshot's session {path.stem}.json NOT saved: {why(err)}",
+                      logging.WARNING)
         try:
             path = save_png(read_image(self.phone), path, meta)
         except OSError as err:
-            self._say(f"screenshot NOT saved: {why(err)}", logging.WARNING)
+            self._say(f"screenshot {path.name} NOT saved: {why(err)}", logging.WARNING)
             return
         self.screenshots.append(path)
         self._say(f"screenshot: {path}")
 
     def _export_maps(self, _arg) -> None:
         """The maps of the next tick's frost, written by a worker that reports back."""
-        folder = Path(self.args.screenshot_dir) / timestamped_path(Path(self.args.screenshot_dir)).stem
+        folder = self._fresh_name("")
         self.sim.send("export", folder)
         self._say(f"frost maps: exporting to {folder}/")
+
+    def _fresh_name(self, suffix: str) -> Path:
+        """A new name in the screenshot folder whose stem no screenshot, screenshot
+        session, map folder or earlier request (written or failed) of this run has."""
+        shots = Path(self.args.screenshot_dir)
+        path = timestamped_path(shots, suffix=suffix, taken=self.names, also=(
+            (shots, ".png"), (shots, ""), (Path(self.args.session_dir), ".json")))
+        self.names.add(path.stem)
+        return path
 
     # ---- the end --------------------------------------------------------------------------
 
@@ -577,7 +595,8 @@ def run(args, params: Params) -> int:
     app = None
     try:
         app = FrostWindow(window, args, params)
-        return app.loop()
+        with _ctrl_c_ends(app):
+            status = app.loop()
     except Exception:
         log.exception("window failed")
         if app is not None:
@@ -587,3 +606,21 @@ def run(args, params: Params) -> int:
         if app is not None:
             app.close()
         glfw.terminate()
+    if app.interrupted:  # closed and saved; the caller says so and exits 130
+        raise KeyboardInterrupt
+    return status
+
+
+@contextlib.contextmanager
+def _ctrl_c_ends(app: FrostWindow):
+    """While the window runs, SIGINT ends the frame loop like Esc (and marks it
+    interrupted) instead of raising KeyboardInterrupt wherever the main thread is, e.g.
+    inside a GLFW callback, where ctypes would swallow it. Left alone when ignored."""
+    if signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
+        yield
+        return
+    signal.signal(signal.SIGINT, lambda *_: app.interrupt())
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, signal.default_int_handler)

@@ -117,9 +117,11 @@ def window_standin(tmp_path: Path, shots: Path, sessions: Path):
     renderer = types.SimpleNamespace(view=lambda: dict(VIEW))
     win = types.SimpleNamespace(sim=thread, args=args, renderer=renderer, phone=FakeFbo(),
                                 params=PARAMS, latest=None, session_path=None, screenshots=[],
+                                names=set(),
                                 _render_phone=lambda: None,
                                 _say=lambda text, level=logging.INFO: said.append((level, text)))
     win._save_session = lambda path=None: FrostWindow._save_session(win, path)
+    win._fresh_name = lambda suffix: FrostWindow._fresh_name(win, suffix)
     return win, said
 
 
@@ -157,6 +159,18 @@ def test_a_screenshot_into_an_unwritable_folder_is_reported_not_raised(tmp_path,
                             for t in warnings)
     assert len(win.screenshots) == (bad == "sessions")  # what can be written still is
     assert len(list(tmp_path.rglob("*.tmp"))) == 0
+
+
+def test_failed_screenshots_in_one_second_never_share_a_session_file(tmp_path):
+    win, said = window_standin(tmp_path, unwritable(tmp_path), tmp_path / "sessions")
+    win.latest = ticked(win.sim, 2)[-1]
+    take_shot(win)
+    win.latest = ticked(win.sim, 2)[-1]
+    take_shot(win)
+    steps = sorted(SessionLog.load(p).steps for p in (tmp_path / "sessions").glob("*.json"))
+    assert steps == [2, 4]  # the first is not overwritten by the second
+    names = [win._fresh_name("") for _ in range(3)]  # e.g. map folders asked for at once
+    assert len(set(names)) == 3
 
 
 # ---- atomic writes -------------------------------------------------------------------
