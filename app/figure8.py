@@ -161,7 +161,7 @@ def run(args) -> int:
     try:
         path = save_png(sheet, Path(args.figure8), meta)
     except OSError as err:
-        print(f"frost: error: cannot write {args.figure8}: {why(err)}", file=sys.stderr)
+        print(f"frost: error: cannot write {why(err, args.figure8)}", file=sys.stderr)
         return 2
     print(format_table(stats))
     print(f"wrote {path}")

@@ -213,7 +213,7 @@ def _write(session: Session, path: Path, done: str) -> int:
     try:
         written = session.snapshot(path)
     except OSError as err:
-        _error(f"cannot write {path}: {why(err)}")
+        _error(f"cannot write {why(err, path)}")
         return 2
     print(done.format(written))
     return 0
@@ -235,7 +235,7 @@ def _run_scripted(session: Session, args) -> int:
         if args.screenshot:
             written.append(session.snapshot(Path(args.screenshot)))
     except OSError as err:
-        _error(f"cannot write to {folder}: {why(err)}")
+        _error(f"cannot write {why(err, folder)}")
         return 2
     print(f"wrote {len(written)} PNG files to {folder.resolve()}: "
           + ", ".join(p.name for p in written))

@@ -201,7 +201,7 @@ def run(args, params: Params) -> int:
     try:
         paths = export_maps(args.export_maps, geometry.heights, live_segments(sim), params, meta)
     except OSError as err:  # nothing was written: the set appears whole or not at all
-        print(f"frost: error: cannot write the maps to {args.export_maps}: {why(err)}",
+        print(f"frost: error: cannot write the maps: {why(err, args.export_maps)}",
               file=sys.stderr)
         return 2
     print("wrote " + ", ".join(str(p) for p in paths.values()))

@@ -50,7 +50,7 @@ def _write_or_report(frames: list[Image.Image], path: Path, report) -> None:
     try:
         write_animation(frames, path)
     except OSError as err:
-        report(f"recording: cannot write {path}: {why(err)}")
+        report(f"recording NOT written: {why(err, path)}")
 
 
 class Recorder:
@@ -98,8 +98,7 @@ class Recorder:
         try:
             path = recording_path(self.folder)
         except OSError as err:
-            self.report(f"recording: {len(frames)} frames lost: cannot make a file in "
-                        f"{self.folder}: {why(err)}")
+            self.report(f"recording: {len(frames)} frames lost: {why(err, self.folder)}")
             return
         writer = threading.Thread(target=_write_or_report, args=(frames, path, self.report),
                                   name="frost-rec")

@@ -261,7 +261,7 @@ def _write_maps(folder, grid, segments, params, meta, notify) -> None:
     try:
         paths = export_maps(folder, grid, segments, params, meta)
     except OSError as err:
-        notify(logging.WARNING, f"frost maps NOT written to {folder}: {why(err)}")
+        notify(logging.WARNING, f"frost maps NOT written: {why(err, folder)}")
         return
     notify(logging.INFO, "frost maps written: " + ", ".join(str(p) for p in paths.values()))
 

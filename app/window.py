@@ -205,7 +205,7 @@ class FrostWindow:
         try:
             self._save_session()
         except OSError as err:
-            log.warning("session NOT saved: %s", why(err))
+            log.warning("session NOT saved: %s", why(err, self.session_path))
         self._summary()
 
     def _save_session(self, path: Path | None = None) -> Path:
@@ -528,12 +528,12 @@ class FrostWindow:
             meta["session"] = str(self._save_session(
                 Path(self.args.session_dir) / f"{path.stem}.json"))
         except OSError as err:
-            self._say(f"screenshot's session {path.stem}.json NOT saved: {why(err)}",
+            self._say(f"screenshot's session NOT saved: {why(err, path.stem + '.json')}",
                       logging.WARNING)
         try:
             path = save_png(read_image(self.phone), path, meta)
         except OSError as err:
-            self._say(f"screenshot {path.name} NOT saved: {why(err)}", logging.WARNING)
+            self._say(f"screenshot NOT saved: {why(err, path)}", logging.WARNING)
             return
         self.screenshots.append(path)
         self._say(f"screenshot: {path}")

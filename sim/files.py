@@ -50,12 +50,14 @@ def write_all_atomic(writes: dict) -> list[Path]:
     return [path for _, path in done]
 
 
-def why(err: OSError) -> str:
-    """An OSError in one line for the user: the path and the reason."""
+def why(err: OSError, path=None) -> str:
+    """An OSError in one line for the user: the path (the error's own, else `path`, the
+    file being written) and the reason."""
     reason = err.strerror or str(err)
     if isinstance(err, (FileExistsError, NotADirectoryError)):
         reason = "a file is in the way where a folder must be"
-    return f"{err.filename}: {reason}" if err.filename else reason
+    name = err.filename or path
+    return f"{name}: {reason}" if name else reason
 
 
 def _write_temp(path: Path, write: Writer) -> str:

@@ -161,6 +161,21 @@ def test_a_screenshot_into_an_unwritable_folder_is_reported_not_raised(tmp_path,
     assert len(list(tmp_path.rglob("*.tmp"))) == 0
 
 
+def test_a_full_disk_at_a_screenshot_names_the_file_and_keeps_its_session(tmp_path,
+                                                                          monkeypatch):
+    def full(_image, path, _meta):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr("app.window.save_png", full)
+    win, said = window_standin(tmp_path, tmp_path / "shots", tmp_path / "sessions")
+    win.latest = ticked(win.sim, 2)[-1]
+    take_shot(win)
+    level, text = said[-1]
+    assert level == logging.WARNING and text.startswith("screenshot NOT saved: ")
+    assert str(tmp_path / "shots" / "frost-") in text and text.endswith(".png: No space left on device")
+    assert len(list((tmp_path / "sessions").glob("*.json"))) == 1 and not win.screenshots
+
+
 def test_failed_screenshots_in_one_second_never_share_a_session_file(tmp_path):
     win, said = window_standin(tmp_path, unwritable(tmp_path), tmp_path / "sessions")
     win.latest = ticked(win.sim, 2)[-1]
@@ -258,7 +273,7 @@ def test_a_recording_that_cannot_be_written_is_reported(tmp_path, monkeypatch):
     monkeypatch.setattr("app.record.write_atomic", lambda *a: (_ for _ in ()).throw(
         PermissionError(13, "Permission denied")))  # root ignores the mode: fail as it would
     rec.close()
-    assert "cannot write" in said[-1] and "Permission denied" in said[-1]
+    assert "recording NOT written: " in said[-1] and "Permission denied" in said[-1]
 
 
 # ---- a replay draws the screenshot again, view and touches included ------------------

@@ -275,9 +275,11 @@ def nowhere(tmp_path_factory):
 def test_nowhere_to_write_is_reported_and_the_app_keeps_running(nowhere):
     assert nowhere["result"] == {"status": 0, "running": True}, nowhere["log"][-3000:]
     log = nowhere["log"]
-    for said in ("WARNING app.window: screenshot NOT saved", "WARNING app.window: recording:",
-                 "WARNING app.window: frost maps NOT written", "WARNING app.window: session NOT saved"):
-        assert said in log
+    for said in (r"WARNING app.window: screenshot NOT saved: .*afile",
+                 r"WARNING app.window: screenshot's session NOT saved: .*afile",
+                 r"WARNING app.window: recording: 1?\d+ frames lost",
+                 r"WARNING app.window: frost maps NOT written", r"WARNING app.window: session NOT saved"):
+        assert re.search(said, log), said
     assert "Traceback" not in log and "summary:" in log
     assert not list(nowhere["out"].rglob("*.tmp"))
 
