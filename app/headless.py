@@ -43,15 +43,14 @@ class Progress:
     """A line on stdout every PROGRESS_EVERY_S seconds of a long run, counting against
     the whole run's ticks (all its stages together)."""
 
-    def __init__(self, total: int, every: float | None = None):
+    def __init__(self, total: int):
         self.total, self.done = total, 0
-        self.every = PROGRESS_EVERY_S if every is None else every
         self._last = time.perf_counter()
 
     def step(self, sim) -> None:
         self.done += 1
         now = time.perf_counter()
-        if now - self._last >= self.every:
+        if now - self._last >= PROGRESS_EVERY_S:
             print(f"tick {sim.tick} ({self.done}/{self.total}), {len(sim.crystals)} crystals "
                   "(Ctrl-C stops)", flush=True)
             self._last = now
