@@ -7,6 +7,7 @@ Everything is plain numpy data; rendering reads the arrays and the per-tick `add
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,6 +28,12 @@ _GRID9_CHUNK = 4096
 # water that would freeze into it is dropped instead. Table 1's single touches never
 # list more than 58 (measured over seeds 0-2), so the paper's frost is unchanged.
 CELL_CAP = 128
+# Geometry work one tick's freezes may make, in grid-vertex raises (each new crystal brings
+# its link's upsample particles, and each particle raises a stencil of grid vertices).
+# Freezes beyond it wait a tick as water (in walker order). Table 1's single touches peak at
+# 166 050 (a-1, seeds 0-2) and two a-1 touches at about 332 000, so the paper's frost is
+# unchanged; a fast chain reaction at a large hc no longer makes one tick do seconds of work.
+FREEZE_WORK = 400_000
 
 
 @dataclass(frozen=True)
@@ -113,6 +120,10 @@ class FrostSim:
         self._seg_range = Growable(np.int32, (2,))
         self._ups_range = Growable(np.int32, (2,))
         self._longest_link = 0.0  # a crystal's children lie within this of it
+        # Grid vertices one new crystal may raise: its link's particles times the stencil.
+        reach = math.ceil(self.params.hc / self.params.grid_spacing) + 1
+        per_link = 1 + max(0, math.floor(self.params.hc / self.params.D) - 1)
+        self._work_per_crystal = per_link * (2 * reach + 1) ** 2
         # Water, structure of arrays; each particle belongs to one active area.
         self._wx = Growable(np.float32, capacity=self.params.humidity)
         self._wy = Growable(np.float32, capacity=self.params.humidity)
@@ -324,8 +335,11 @@ class FrostSim:
             self._keep_water(~full)
 
     def _admit(self, frozen: np.ndarray, parents: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The freezes whose cells all stay within CELL_CAP; the rest of the water is
-        dropped (in walker order, so both neighbour searches drop the same)."""
+        """The freezes this tick takes: within FREEZE_WORK (the rest wait a tick), then
+        those whose cells all stay within CELL_CAP (the rest of the water is dropped). In
+        walker order, so both neighbour searches admit the same."""
+        most = max(1, FREEZE_WORK // self._work_per_crystal)
+        frozen, parents = frozen[:most], parents[:most]
         pts = np.column_stack((self._wx.raw()[frozen], self._wy.raw()[frozen]))
         cells, owner = self.grid.disc_cells(pts, self.params.hc)
         if len(cells) == 0 or self.candidates.count[cells].max() + len(frozen) <= CELL_CAP:
