@@ -16,6 +16,7 @@ from .buffers import CellLists, Growable
 from .clearance import make_clearance
 from .fern import make_growth
 from .grid import HashGrid
+from .pane import chill, make_pane
 from .params import Params
 
 TWO_PI = np.float32(2.0 * np.pi)
@@ -142,14 +143,17 @@ class FrostSim:
         self.candidates = CellLists(self.grid.size)  # Fig. 3d: state = count > 0
         self._own = CellLists(self.grid.size + 1) if self.params.neighbor_search == "grid9" else None
         # Beyond the paper (fern rules): where hits grow, and how far walkers may jump.
-        self.growth = make_growth(self.params, self.rng)
-        self.clearance = make_clearance(self.grid, self.width, self.height, self.params.long_jumps)
+        self.growth = make_growth(chill(self.params), self.rng)  # window mode: temperature
+        self.clearance = make_clearance(self.grid, self.width, self.height,
+                                        self.params.long_jumps or self.params.window_frost)
         self.water_created = 0
         self.water_frozen = 0
         self.water_dropped = 0
         self.water_melted = 0
         self._mark = (0, 0, 0)
         self.added = Added(0, slice(0, 0), slice(0, 0), slice(0, 0), 0)
+        self.pane = make_pane(self)  # window mode: the frame's seeds and the pane's pool
+        self.pane.start()
 
     # ---- public API -------------------------------------------------------------
 
@@ -193,6 +197,7 @@ class FrostSim:
         if self.params.replenish or self.params.grow:
             self._spawn(self._warea.raw()[frozen])
         self._forget_water(frozen, lost)
+        self.pane.refill()
         self.tick += 1
         return self._close_tick(len(frozen))
 
@@ -206,6 +211,7 @@ class FrostSim:
                              "radius > 0")
         dead = self._crystals_near(x, y, radius)
         self._calive.raw()[dead] = False
+        self.pane.melted(dead)
         pts = self._crystals.raw()[dead]
         cells, _ = self.grid.disc_cells(pts, self.params.hc)
         self.candidates.remove(cells, dead)
@@ -500,6 +506,8 @@ class FrostSim:
         places almost every walker in a round or two while an area is mostly glass; the
         few left (an area nearly full of ice) are placed from its free cells directly,
         so a full area costs one look at its cells, never a long rejection loop."""
+        if self.pane.on:
+            return self.pane.place(len(area))
         n = len(area)
         x, y = np.zeros(n, np.float32), np.zeros(n, np.float32)
         ok = np.zeros(n, bool)
@@ -677,7 +685,7 @@ class FrostSim:
         Costs O(new crystals): only the areas of this tick's crystals change. A launch
         circle needs the reach too; without growth mode the areas keep their size."""
         area = self._carea.raw()[new]
-        if len(area) == 0 or not (self.params.grow or self.params.launch):
+        if len(area) == 0 or self.pane.on or not (self.params.grow or self.params.launch):
             return
         areas = self._areas.raw()
         d = np.hypot(*(self._crystals.raw()[new] - areas[area, :2]).T)
