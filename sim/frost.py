@@ -16,7 +16,7 @@ from .buffers import CellLists, Growable
 from .clearance import make_clearance
 from .fern import make_growth
 from .grid import HashGrid
-from .pane import chill, make_pane
+from .pane import chill, glass_spots, make_pane
 from .params import Params
 
 TWO_PI = np.float32(2.0 * np.pi)
@@ -194,7 +194,7 @@ class FrostSim:
         self._register(new)
         self._follow_ice(new)
         lost = self._relocate(bounced)  # hits that only counted go back to the pool
-        if self.params.replenish or self.params.grow:
+        if (self.params.replenish or self.params.grow) and not self.pane.on:  # (pane: refill)
             self._spawn(self._warea.raw()[frozen])
         self._forget_water(frozen, lost)
         self.pane.refill()
@@ -566,6 +566,10 @@ class FrostSim:
         lies in the annulus and on the screen; CELL_TRIES such draws each at most."""
         cx, cy, r_out, r_in = (float(v) for v in self._areas.raw()[area, :4])
         cells = self._free_cells(cx, cy, r_out, r_in)
+        if len(cells) == 0 and self.params.grow:
+            # Growth mode: an area all ice may still hold glass (a melt's clearing, gaps
+            # between fronds); the water goes there, so a wiped path refreezes.
+            return glass_spots(self, self._free_cells(cx, cy, r_out, 0.0, free=False), k)
         if len(cells) == 0:
             return np.zeros(k, np.float32), np.zeros(k, np.float32), np.zeros(k, bool)
         u = self.rng.random((3, CELL_TRIES * k), dtype=np.float32)
@@ -580,8 +584,10 @@ class FrostSim:
         x[placed], y[placed] = px[pick], py[pick]
         return x, y, placed
 
-    def _free_cells(self, cx: float, cy: float, r_out: float, r_in: float) -> np.ndarray:
-        """Flat indices of the cells with no crystal listed that meet the annulus."""
+    def _free_cells(self, cx: float, cy: float, r_out: float, r_in: float,
+                    free: bool = True) -> np.ndarray:
+        """Flat indices of the cells with no crystal listed (any cell if not `free`) that
+        meet the annulus."""
         g = self.grid
         cols, rows = g.span(cx - r_out, cy - r_out, cx + r_out, cy + r_out)
         x0, y0 = cols[None, :] * g.cell, rows[:, None] * g.cell
@@ -591,7 +597,7 @@ class FrostSim:
         far_y = np.maximum(np.abs(y0 - cy), np.abs(y0 + g.cell - cy))
         meets = (near_x ** 2 + near_y ** 2 <= r_out ** 2) & (far_x ** 2 + far_y ** 2 >= r_in ** 2)
         flat = (rows[:, None] * g.cols + cols[None, :])
-        return flat[meets & (self.candidates.count[flat] == 0)]
+        return flat[meets & ((self.candidates.count[flat] == 0) | (not free))]
 
     def _spawn(self, area: np.ndarray) -> None:
         """Create water for `area[i]`; those with no free spot are dropped."""
@@ -622,7 +628,7 @@ class FrostSim:
         """Top the pools of `areas` up to `humidity` within `water_budget`; when the budget
         is spent, the areas holding more than a fair share give theirs up first."""
         counts = np.bincount(self._warea.raw(), minlength=self._areas.n)
-        want = np.maximum(0, self.params.humidity - counts[areas])
+        want = np.maximum(0, self.pane.pool(self.params.humidity) - counts[areas])
         room = self.params.water_budget - self._wx.n
         if want.sum() > room:
             holding = counts > 0
@@ -658,7 +664,7 @@ class FrostSim:
             self._keep_water(~empty[self._warea.raw()])
         counts = np.bincount(self._warea.raw(), minlength=self._areas.n)
         back = np.bincount(area[~empty[area]], minlength=self._areas.n)
-        back = np.minimum(back, np.maximum(0, self.params.humidity - counts))
+        back = np.minimum(back, np.maximum(0, self.pane.pool(self.params.humidity) - counts))
         room = max(0, self.params.water_budget - self._wx.n)
         spawn = np.repeat(np.arange(len(back), dtype=np.int32), back)[:room]
         self._spawn(spawn)

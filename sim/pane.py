@@ -27,6 +27,11 @@ REFERENCE_C = 10.0
 # Water is placed in free cells at most this many cell rings (of 2 hc) beyond the ice:
 # 3 rings (42 px at hc 7) is the fern preset's 30 px launch circle rounded up to cells.
 BAND = 3
+# Most walkers per band cell: the pool is min(humidity, DENSITY x band cells), so the water
+# over the glass keeps one density whether the front is the whole frame or a wiped path
+# (3 000 walkers poured into a wipe closed it in a few ticks, as a haze). At the start the
+# band holds about 1 300 cells: the full `humidity` of 3 000.
+DENSITY = 2.5
 # Draws per walker among the band's cells before it is dropped.
 TRIES = 8
 
@@ -51,6 +56,9 @@ class NoPane:
     def melted(self, dead: np.ndarray) -> None:
         pass
 
+    def pool(self, humidity: int) -> int:
+        return humidity
+
     def refill(self) -> None:
         pass
 
@@ -67,10 +75,6 @@ class Pane:
         # Crystals whose own cell each cell is (live ones among the first `_seen`).
         self._own = np.zeros(sim.grid.size, np.int32)
         self._seen = 0
-        # Water may start this close to ice: the fern rule's least crystal spacing, L / 2.
-        # Only free cells' glass (beyond hc) left the pane stalled with about 20 % of its
-        # cells holding no crystal, every point of them within hc of a neighbour's.
-        self._gap2 = np.float32(sim.params.hc / 2) ** 2
 
     def start(self) -> None:
         """Open the pane-wide area, then plant the frame's and the glass's seeds."""
@@ -90,40 +94,17 @@ class Pane:
         c = self.sim._crystals.raw()[seen]
         np.subtract.at(self._own, self.sim.grid.keys(c[:, 0], c[:, 1]), 1)
 
+    def pool(self, humidity: int) -> int:
+        """The pool's size: `humidity`, or less where little glass lies near the ice."""
+        return min(humidity, int(DENSITY * len(self.band())))
+
     def refill(self) -> None:
-        """Keep the pool at `humidity` (water dropped for want of free glass comes back)."""
+        """Keep the pool full: frozen water and water dropped for want of glass return."""
         self.sim._fill(np.zeros(1, np.int32))
 
     def place(self, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """n uniform spots of free glass (on screen, farther than hc from every crystal) in
-        the band's cells; `ok` False where TRIES draws found none."""
-        x, y, ok = np.zeros(n, np.float32), np.zeros(n, np.float32), np.zeros(n, bool)
-        cells = self.band()
-        todo = np.arange(n)
-        for _ in range(TRIES if len(cells) else 0):
-            if len(todo) == 0:
-                break
-            px, py = self._draw(cells, len(todo))
-            good = self._glass(px, py)
-            x[todo[good]], y[todo[good]], ok[todo[good]] = px[good], py[good], True
-            todo = todo[~good]
-        return x, y, ok
-
-    def _draw(self, cells: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
-        """k uniform points of uniformly drawn `cells`."""
-        sim = self.sim
-        u = sim.rng.random((3, k), dtype=np.float32)
-        cell = cells[np.minimum((u[0] * len(cells)).astype(np.int64), len(cells) - 1)]
-        s = np.float32(sim.grid.cell)
-        return (cell % sim.grid.cols + u[1]) * s, (cell // sim.grid.cols + u[2]) * s
-
-    def _glass(self, px: np.ndarray, py: np.ndarray) -> np.ndarray:
-        """On the screen and at least hc / 2 from every live crystal."""
-        sim = self.sim
-        good = (px < sim.width) & (py < sim.height)
-        d2 = _nearest_d2(sim, np.column_stack((px[good], py[good])))
-        good[good] = d2 >= self._gap2
-        return good
+        """n spots of glass in the band's cells (see `glass_spots`)."""
+        return glass_spots(self.sim, self.band(), n)
 
     def band(self) -> np.ndarray:
         """Cells within BAND rings of a candidate cell that hold no crystal of their own;
@@ -138,6 +119,40 @@ class Pane:
             near = (sim.clearance.rings <= BAND) & (self._own == 0)
             self._band, self._band_key = np.flatnonzero(near), key
         return self._band
+
+
+def glass_spots(sim, cells: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """n uniform spots of glass (on screen, at least hc / 2 from every live crystal) in
+    uniformly drawn `cells`; `ok` False where TRIES draws found none. hc / 2 is the fern
+    rule's least crystal spacing: water placed only beyond hc (outside candidate cells)
+    left a frosted pane with about 20 % of its cells holding no crystal, every point of
+    them within hc of a neighbour's, and a wiped path half refrozen."""
+    x, y, ok = np.zeros(n, np.float32), np.zeros(n, np.float32), np.zeros(n, bool)
+    todo = np.arange(n)
+    for _ in range(TRIES if len(cells) else 0):
+        if len(todo) == 0:
+            break
+        px, py = _draw(sim, cells, len(todo))
+        good = _glass(sim, px, py)
+        x[todo[good]], y[todo[good]], ok[todo[good]] = px[good], py[good], True
+        todo = todo[~good]
+    return x, y, ok
+
+
+def _draw(sim, cells: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """k uniform points of uniformly drawn `cells`."""
+    u = sim.rng.random((3, k), dtype=np.float32)
+    cell = cells[np.minimum((u[0] * len(cells)).astype(np.int64), len(cells) - 1)]
+    s = np.float32(sim.grid.cell)
+    return (cell % sim.grid.cols + u[1]) * s, (cell // sim.grid.cols + u[2]) * s
+
+
+def _glass(sim, px: np.ndarray, py: np.ndarray) -> np.ndarray:
+    """On the screen and at least hc / 2 from every live crystal."""
+    good = (px < sim.width) & (py < sim.height)
+    d2 = _nearest_d2(sim, np.column_stack((px[good], py[good])))
+    good[good] = d2 >= np.float32(sim.params.hc / 2) ** 2
+    return good
 
 
 def frame_sites(rng: np.random.Generator, width: int, height: int, per_100: float) -> np.ndarray:

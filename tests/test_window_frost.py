@@ -1,0 +1,192 @@
+"""Window mode (issue 10): seeds on the frame, one pane-wide pool, temperature, and a wiped
+path that refreezes from its edges, against brute-force oracles."""
+
+import numpy as np
+import pytest
+
+from sim import FrostSim, Params, preset_name
+from sim.grid import CELL_MARGIN
+from sim.pane import BAND
+
+WINDOW = Params.preset("window")
+W, H = 300, 400  # a small pane keeps full coverage within a few hundred ticks
+PATH = [(40.0 + 10 * i, 150.0 + 3 * i) for i in range(23)]  # a finger's drag
+R = 20.0  # its radius, px
+
+
+def seeds_of(sim):
+    return sim.crystals[sim.parents == -1].astype(np.float64)
+
+
+def arc_length(p, w, h):
+    """Clockwise distance along the border from the top-left corner to the border point p
+    (the nearest side), an independent parametrisation of the frame."""
+    x, y = p[:, 0], p[:, 1]
+    side = np.argmin(np.column_stack((y, w - x, h - y, x)), axis=1)
+    return np.choose(side, [x, w + y, 2 * w + h - x, 2 * (w + h) - y])
+
+
+def test_window_is_fern_plus_window_mode_and_the_others_are_untouched():
+    assert WINDOW.replace(window_frost=False, tip_hits=5, side_hits=10) == Params.preset("fern")
+    assert preset_name(WINDOW) == "window" and preset_name(Params.preset("fern")) == "fern"
+    assert not Params().window_frost and not Params.preset("fern").window_frost
+
+
+@pytest.mark.parametrize("changes, named", [
+    ({"window_frost": True, "temperature": 0.0}, "temperature"),
+    ({"window_frost": True, "frame_sites": -1.0}, "frame_sites"),
+    ({"window_frost": True, "pane_sites": 2.5}, "pane_sites"),
+    ({"frame_sites": 5.0}, "window_frost"),
+    ({"window_frost": True, "grains": False}, "grains"),
+])
+def test_bad_window_values_name_the_parameter(changes, named):
+    base = Params.preset("fern").replace(window_frost=False) if "grains" in changes else Params.preset("fern")
+    with pytest.raises(ValueError, match=named):
+        base.replace(**changes)
+
+
+def test_frame_seeds_lie_on_the_border_and_pane_sites_on_the_glass():
+    sim = FrostSim(WINDOW.replace(pane_sites=0), W, H, seed=3)
+    s = seeds_of(sim)
+    edge = np.min(np.column_stack((s[:, 0], W - s[:, 0], s[:, 1], H - s[:, 1])), axis=1)
+    assert len(s) == round(WINDOW.frame_sites * 2 * (W + H) / 100)
+    assert (edge <= 1.0).all() and (edge > 0).all()
+    more = seeds_of(FrostSim(WINDOW.replace(pane_sites=7), W, H, seed=3))
+    assert len(more) == len(s) + 7
+
+
+@pytest.mark.parametrize("per_100", [1.0, 3.0, 8.0])
+def test_frame_spacing_matches_the_parameter_and_is_irregular(per_100):
+    gaps = []
+    for seed in range(5):
+        sim = FrostSim(WINDOW.replace(frame_sites=per_100, pane_sites=0), 760, 1280, seed=seed)
+        t = np.sort(arc_length(seeds_of(sim), 760, 1280))
+        gaps.append(np.diff(t, append=t[0] + 2 * (760 + 1280)))
+    g = np.concatenate(gaps)
+    assert abs(g.mean() - 100 / per_100) < 0.01 * 100 / per_100
+    # One site uniform in each equal stretch: gaps spread like a triangle on [0, 2s]
+    # (coefficient of variation 1/sqrt(6) = 0.41); equal spacing gives 0, Poisson 1.
+    assert 0.3 < g.std() / g.mean() < 0.52
+    assert g.max() < 2 * 100 / per_100 * 1.02
+
+
+def test_one_pool_for_the_whole_pane_placed_on_glass_near_the_ice():
+    for frame in (1.0, 10.0):
+        sim = FrostSim(WINDOW.replace(frame_sites=frame), W, H, seed=2)
+        sim.touch(150, 200)
+        for _ in range(60):
+            sim.step()
+            assert len(sim.areas) == 1 and len(sim.water) <= WINDOW.humidity
+        assert (sim.water_area == 0).all()
+        x, y, ok = sim.pane.place(2000)
+        assert ok.mean() > 0.9
+        p = np.column_stack((x[ok], y[ok])).astype(np.float64)
+        c = sim.crystals[sim.crystal_alive].astype(np.float64)
+        d = np.hypot(p[:, None, 0] - c[None, :, 0], p[:, None, 1] - c[None, :, 1]).min(axis=1)
+        assert (d >= WINDOW.hc / 2).all()
+        # Within BAND cell rings of a cell some freezing area reaches: at most that far.
+        assert (d <= (BAND + 1) * sim.grid.cell * np.sqrt(2) + WINDOW.hc).all()
+        held = np.unique(sim.grid.keys(c[:, 0].astype(np.float32), c[:, 1].astype(np.float32)))
+        assert not np.isin(sim.grid.keys(x[ok], y[ok]), held).any()
+
+
+def test_colder_glass_grows_more_crystals():
+    counts = []
+    for temperature in (4.0, 10.0, 25.0):
+        n = 0
+        for seed in range(3):
+            sim = FrostSim(WINDOW.replace(temperature=temperature), W, H, seed=seed)
+            for _ in range(120):
+                sim.step()
+            n += int(sim.crystal_alive.sum())
+        counts.append(n)
+    assert counts[0] < counts[1] < counts[2]
+
+
+def test_window_mode_is_deterministic_and_both_searches_agree():
+    runs = []
+    for mode, seed in (("candidate", 4), ("candidate", 4), ("grid9", 4), ("candidate", 5)):
+        sim = FrostSim(WINDOW.replace(neighbor_search=mode), W, H, seed=seed)
+        for t in range(150):
+            if t == 100:
+                sim.melt(150, 200, 40)
+            sim.step()
+        runs.append(sim)
+    a = runs[0]
+    for other in runs[1:3]:
+        for name in ("crystals", "parents", "crystal_alive", "segments", "water"):
+            assert getattr(a, name).tobytes() == getattr(other, name).tobytes(), name
+    assert a.crystals.tobytes() != runs[3].crystals.tobytes()
+
+
+# ---- wipe and regrow ------------------------------------------------------------------------
+
+def in_path(px, py):
+    return np.min([(px - x) ** 2 + (py - y) ** 2 for x, y in PATH], axis=0) < R * R
+
+
+def path_cells(sim):
+    """Cells wholly inside the wiped path (all four corners)."""
+    g = sim.grid
+    cx, cy = (a.ravel() for a in np.meshgrid(np.arange(g.cols), np.arange(g.rows)))
+    x0, y0, x1, y1 = cx * g.cell, cy * g.cell, (cx + 1) * g.cell, (cy + 1) * g.cell
+    whole = in_path(x0, y0) & in_path(x1, y0) & in_path(x0, y1) & in_path(x1, y1)
+    return np.flatnonzero(whole)
+
+
+def coverage(sim, cells):
+    """Share of `cells` holding a live crystal."""
+    c = sim.crystals[sim.crystal_alive]
+    return np.isin(cells, sim.grid.keys(c[:, 0], c[:, 1])).mean()
+
+
+def candidate_oracle(sim):
+    """Each cell's sorted crystal ids, from every live crystal's disc against every cell."""
+    g, r = sim.grid, sim.params.hc + CELL_MARGIN
+    cx, cy = (a.ravel() for a in np.meshgrid(np.arange(g.cols), np.arange(g.rows)))
+    live = np.flatnonzero(sim.crystal_alive)
+    p = sim.crystals[live].astype(np.float64)
+    gx = np.clip(p[:, 0, None], cx * g.cell, (cx + 1) * g.cell) - p[:, 0, None]
+    gy = np.clip(p[:, 1, None], cy * g.cell, (cy + 1) * g.cell) - p[:, 1, None]
+    hit = gx * gx + gy * gy < r * r
+    return [sorted(live[hit[:, k]].tolist()) for k in range(g.size)]
+
+
+MODES = {
+    "window": (WINDOW, ()),
+    "fern-grow": (Params.preset("fern"), ((150.0, 200.0),)),
+    "c-2-grow": (Params.preset("c-2", grow=True), ((150.0, 200.0),)),
+}
+
+
+@pytest.mark.parametrize("mode", list(MODES))
+def test_a_wiped_path_is_clear_then_refreezes_from_its_edges(mode):
+    params, touches = MODES[mode]
+    sim = FrostSim(params, W, H, seed=1)
+    for x, y in touches:
+        sim.touch(x, y)
+    cells = path_cells(sim)
+    for _ in range(1500):
+        sim.step()
+        if coverage(sim, np.arange(sim.grid.size)) >= 0.95:
+            break
+    before = coverage(sim, cells)
+    assert before > 0.8
+    for x, y in PATH:
+        sim.melt(x, y, R)
+        assert len(sim.water) <= params.humidity
+    c = sim.crystals[sim.crystal_alive]
+    assert not in_path(c[:, 0], c[:, 1]).any()
+    lists = [sorted(sim.candidates.items[k, :sim.candidates.count[k]].tolist())
+             for k in range(sim.grid.size)]
+    assert lists == candidate_oracle(sim)
+    for tick in range(1500):
+        new = sim.step().crystals
+        p = sim.parents[new]
+        assert (p >= 0).all()
+        assert sim.crystal_alive[p].all()
+        d = np.hypot(*(sim.crystals[new] - sim.crystals[p]).T.astype(np.float64))
+        assert (d <= params.hc * (1 + 1e-5)).all()
+        if coverage(sim, cells) >= 0.9 * before:
+            break
+    assert coverage(sim, cells) >= 0.9 * before, f"path at {coverage(sim, cells):.2f} of {before:.2f}"
