@@ -11,6 +11,9 @@
    2 000 touches and melts arrive in 10 s; walkers, backlog and peak memory.
 6. Fern growth (SPEC.md, second half): shape measures and tick costs of paper c-2 vs fern
    (`--section fern` runs only this).
+7. Window mode (issue 10): from start to 95 % of the pane's hash cells holding a crystal at
+   the default temperature, tick time against coverage, then the full pane's ticks and
+   memory (`--section window` runs only this).
 """
 
 from __future__ import annotations
@@ -262,7 +265,63 @@ def fern_section(seeds: int, ticks: int) -> dict:
     return out
 
 
-SECTIONS = ("fig9", "busy", "growth", "memory", "abuse", "fern")
+WINDOW_BINS = (0.25, 0.5, 0.75, 0.9, 0.95)
+
+
+def window_run(seed: int, after: int, trace: bool = False) -> dict:
+    """The window preset from start until 95 % of the pane's cells hold a crystal, then
+    `after` ticks of full pane: each tick's seconds and coverage, the memory."""
+    if trace:
+        tracemalloc.start()
+    sim = FrostSim(Params.preset("window"), seed=seed)
+    held = np.zeros(sim.grid.size, bool)
+    times, cover, full = [], [], None
+    while len(times) < 6000 and (full is None or len(times) < full + after):
+        t0 = time.perf_counter()
+        new = sim.step().crystals
+        times.append(time.perf_counter() - t0)
+        c = sim.crystals[new]
+        held[sim.grid.keys(c[:, 0], c[:, 1])] = True
+        cover.append(held.mean())
+        if full is None and cover[-1] >= 0.95:
+            full = len(times)
+    peak = tracemalloc.get_traced_memory()[1] if trace else 0
+    if trace:
+        tracemalloc.stop()
+    return {"times": np.array(times), "cover": np.array(cover), "full": full,
+            "crystals": int(sim.crystal_alive.sum()), "nbytes": sim.nbytes(), "peak": peak}
+
+
+def window_section(seeds: int, after: int) -> dict:
+    print(f"\n## Window mode (preset window, default temperature): start to 95 % of the pane's "
+          f"cells holding a crystal, then {after} ticks of full pane; seeds 0..{seeds - 1}")
+    runs = [window_run(s, after) for s in range(seeds)]
+    print("seed  ticks to 95 %  crystals  median ms  p99 ms  max ms")
+    for s, r in enumerate(runs):
+        t = 1e3 * r["times"]
+        print(f"{s:4} {str(r['full']):>14} {r['crystals']:9} {np.median(t):10.2f} "
+              f"{np.percentile(t, 99):7.2f} {t.max():7.2f}")
+    print("\ntick ms against coverage (all seeds): coverage band  ticks  median  p99")
+    t = 1e3 * np.concatenate([r["times"] for r in runs])
+    cover = np.concatenate([np.where(np.arange(len(r["cover"])) < (r["full"] or 1e9),
+                                     r["cover"], 2.0) for r in runs])
+    curve, lo = [], 0.0
+    for hi in (*WINDOW_BINS, 3.0):
+        band = t[(cover >= lo) & (cover < hi)]
+        name = f"{100 * lo:3.0f}-{100 * hi:3.0f} %" if hi <= 1 else "full pane"
+        if len(band):
+            curve.append({"band": name, "ticks": len(band), "median_ms": float(np.median(band)),
+                          "p99_ms": float(np.percentile(band, 99))})
+            print(f"{name:>12} {len(band):6} {np.median(band):7.2f} {np.percentile(band, 99):6.2f}")
+        lo = hi
+    mem = window_run(0, after, trace=True)
+    print(f"\nmemory after full coverage (seed 0, {mem['crystals']} crystals): array bytes "
+          f"{mem['nbytes'] / 1e6:.2f} MB, tracemalloc peak {mem['peak'] / 1e6:.2f} MB")
+    return {"full": [r["full"] for r in runs], "curve": curve, "array_bytes": mem["nbytes"],
+            "tracemalloc_peak_bytes": mem["peak"]}
+
+
+SECTIONS = ("fig9", "busy", "growth", "memory", "abuse", "fern", "window")
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -314,8 +373,9 @@ def main(argv: list[str] | None = None) -> None:
     abused = abuse(["c-2", "c-3"], 10.0 if args.quick else 60.0)
     print_abuse(abused)
     fern = fern_section(*_fern_sizes(args))
+    window = window_section(*_window_sizes(args))
     print(json.dumps({"fig9": rows, "phases": prof, "busy": busy, "growth": curve, "memory": mem,
-                      "abuse": abused, "fern": fern}))
+                      "abuse": abused, "fern": fern, "window": window}))
 
 
 def run_sections(args) -> None:
@@ -326,7 +386,9 @@ def run_sections(args) -> None:
         print(json.dumps({"abuse": rows}))
     if "fern" in args.section:
         print(json.dumps({"fern": fern_section(*_fern_sizes(args))}))
-    others = set(args.section) - {"abuse", "fern"}
+    if "window" in args.section:
+        print(json.dumps({"window": window_section(*_window_sizes(args))}))
+    others = set(args.section) - {"abuse", "fern", "window"}
     if others:
         print(f"(sections {', '.join(sorted(others))} run only as part of the full benchmark)")
 
@@ -334,6 +396,11 @@ def run_sections(args) -> None:
 def _fern_sizes(args) -> tuple[int, int]:
     """Seeds and timed ticks of the fern section (fewer with --quick)."""
     return (2, 50) if args.quick else (5, 250)
+
+
+def _window_sizes(args) -> tuple[int, int]:
+    """Seeds and full-pane ticks of the window section (fewer with --quick)."""
+    return (1, 50) if args.quick else (3, 250)
 
 
 if __name__ == "__main__":
