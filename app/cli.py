@@ -71,6 +71,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--preset", choices=list(all_presets()),
                    help=f"Table 1 setting (a-1 ... c-3) or {DEFAULT_PRESET} (window frost's "
                         f"fronds, the default)")
+    p.add_argument("--window-frost", dest="window_mode", action="store_true",
+                   help="the frosted window: frost nucleates on the screen's frame and a few "
+                        "pane sites and grows over the whole pane, no touch needed (preset "
+                        "window, or window mode on top of --preset)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--headless", action="store_true", help="render offscreen (EGL), no window")
     p.add_argument("--touch", type=_touch, action="append", default=[], metavar="X,Y",
@@ -132,6 +136,9 @@ def params_from(args: argparse.Namespace) -> Params:
     overrides = {n: getattr(args, n) for n, _, _ in Params.describe() if getattr(args, n) is not None}
     if "step" not in overrides and "hc" in overrides and overrides["hc"] > 0:
         overrides["step"] = min(Params.step, overrides["hc"])  # a smaller hc takes step with it
+    if getattr(args, "window_mode", False):
+        overrides.setdefault("window_frost", True)
+        return Params.preset(args.preset or "window", **overrides)
     return Params.preset(args.preset or DEFAULT_PRESET, **overrides)
 
 

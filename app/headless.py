@@ -126,7 +126,7 @@ def run(args, params: Params) -> int:
     if args.replay:
         return _run_replay(ctx, args)
     session = Session(ctx, params, args.seed)
-    if args.touch:
+    if args.touch or params.window_frost:  # a window frosts from its frame untouched
         return _run_touches(session, args)
     if args.melt or args.melt_path:
         _error("--melt and --melt-path need --touch (the scripted demo takes none)")

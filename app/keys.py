@@ -22,12 +22,14 @@ class Binding:
     arg: Any = None
 
 
-# Parameter steps: humidity scales (it spans 500 to 30000), lengths move in px.
+# Parameter steps: humidity scales (it spans 500 to 30000), lengths move in px, the
+# window's temperature in degrees C.
 HUMIDITY_FACTOR = 1.5
 LENGTH_STEP = 0.5
 BUMP_STEP = 0.25
 # The light's direction moves this far on the screen plane per key press.
 LIGHT_STEP = 0.1
+TEMPERATURE_STEP = 2.0
 
 
 # The demo's default look (window frost's fronds, SPEC.md second half), one key from Table 1.
@@ -62,6 +64,12 @@ BINDINGS: tuple[Binding, ...] = (
     Binding(("K",), "K", f"bump down ({BUMP_STEP} px)", "shift", ("bump", -BUMP_STEP)),
     *_preset_bindings(),
     Binding(("G",), "G", "growth mode on / off (frost keeps spreading)", "toggle_param", "grow"),
+    Binding(("W",), "W", "preset window (frost grows in from the frame; 0 goes back)", "preset",
+            "window"),
+    Binding(("T",), "T", f"window: colder ({TEMPERATURE_STEP:g} C): faster, denser frost", "shift",
+            ("temperature", TEMPERATURE_STEP)),
+    Binding(("Y",), "Y", f"window: warmer ({TEMPERATURE_STEP:g} C)", "shift",
+            ("temperature", -TEMPERATURE_STEP)),
     Binding(("F",), "F", "sharp features on / off", "toggle_view", "show_features"),
     Binding(("B",), "B", "bumpy surfaces on / off", "toggle_view", "show_bumps"),
     Binding(("LEFT",), "Left", "light from further left", "light", (-LIGHT_STEP, 0.0)),

@@ -6,6 +6,7 @@ Each returns a new, validated Params or raises ValueError saying why not.
 from __future__ import annotations
 
 from sim import EXTRA_PRESETS, Params, all_presets
+from sim.params import WINDOW_RULES
 
 
 def changed(params: Params, name: str, value) -> Params:
@@ -39,6 +40,8 @@ def preset(params: Params, name: str) -> Params:
     reset = set(all_presets()[name]) | {"step"}
     if params.grains or name in EXTRA_PRESETS:
         reset = reset.union(*EXTRA_PRESETS.values())
+    if not all_presets()[name].get("window_frost"):
+        reset |= set(WINDOW_RULES)  # they need window mode, which this preset leaves
     keep = {k: v for k, v in params.as_dict().items() if k not in reset}
     return Params.preset(name, **keep)
 
