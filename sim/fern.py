@@ -44,7 +44,8 @@ class PaperGrowth:
         pts = np.column_stack((sim._wx.raw()[hits], sim._wy.raw()[hits]))
         return hits, parents, pts, hits[:0]
 
-    def melted(self, dead: np.ndarray, parents: np.ndarray, orphans: np.ndarray) -> None:
+    def melted(self, dead: np.ndarray, parents: np.ndarray, orphans: np.ndarray,
+               edge: np.ndarray) -> None:
         pass
 
     def nbytes(self) -> int:
@@ -91,9 +92,12 @@ class FernGrowth:
         counted[grow] = False
         return hits[grow], parents[grow], pts[ok], hits[counted]
 
-    def melted(self, dead: np.ndarray, parents: np.ndarray, orphans: np.ndarray) -> None:
+    def melted(self, dead: np.ndarray, parents: np.ndarray, orphans: np.ndarray,
+               edge: np.ndarray) -> None:
         """A melted crystal frees its parent's slot (whose count starts over); its own
-        slots and counters go with it; its children become roots of no slot."""
+        slots and counters go with it; its children become roots of no slot. The live
+        crystals at the melt's `edge` open all six slots, as a seed's: their closed
+        slots (+-120 degrees, back) often face the clearing, which then never refroze."""
         p = parents[dead]
         has = p >= 0
         slot = self.slot.raw()[dead[has]]
@@ -102,6 +106,7 @@ class FernGrowth:
         self.child.raw()[dead] = -1
         self.hits.raw()[dead] = 0
         self.slot.raw()[orphans] = -1
+        self.seed.raw()[edge] = True
 
     def nbytes(self) -> int:
         return sum(b.nbytes() for b in (self.axis, self.slot, self.seed, self.child, self.hits))

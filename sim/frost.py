@@ -221,7 +221,7 @@ class FrostSim:
         near = self._crystals_near(x, y, radius + self._longest_link + 1.0)
         parents = self._parents.raw()
         orphans = near[np.isin(parents[near], dead)]
-        self.growth.melted(dead, parents, orphans)
+        self.growth.melted(dead, parents, orphans, near if len(dead) else dead)
         parents[orphans] = -1
         cut = np.concatenate([dead, orphans])
         segs = _rows(self._seg_range.raw()[cut])
@@ -567,9 +567,12 @@ class FrostSim:
         cx, cy, r_out, r_in = (float(v) for v in self._areas.raw()[area, :4])
         cells = self._free_cells(cx, cy, r_out, r_in)
         if len(cells) == 0 and self.params.grow:
-            # Growth mode: an area all ice may still hold glass (a melt's clearing, gaps
-            # between fronds); the water goes there, so a wiped path refreezes.
-            return glass_spots(self, self._free_cells(cx, cy, r_out, 0.0, free=False), k)
+            # Growth mode: a front ring all ice may enclose a melt's clearing, and an area
+            # all ice may still hold glass between fronds; the water goes there, so a
+            # wiped path refreezes.
+            r_in, cells = 0.0, self._free_cells(cx, cy, r_out, 0.0)
+            if len(cells) == 0:
+                return glass_spots(self, self._free_cells(cx, cy, r_out, 0.0, free=False), k)
         if len(cells) == 0:
             return np.zeros(k, np.float32), np.zeros(k, np.float32), np.zeros(k, bool)
         u = self.rng.random((3, CELL_TRIES * k), dtype=np.float32)
@@ -658,10 +661,15 @@ class FrostSim:
 
     def _return_water(self, area: np.ndarray) -> None:
         """Melted crystals' water goes back to their areas, never above `humidity` nor
-        the budget; an area with no ice left has nothing to grow on and loses its pool."""
+        the budget; an area with no ice left has nothing to grow on and loses its pool.
+        A kept pool (replenish, growth, the pane) is topped up: in a frosted area it had
+        drained for want of glass, and the melt made glass."""
         empty = self._area_ice.raw() == 0
         if empty.any():
             self._keep_water(~empty[self._warea.raw()])
+        if self.params.replenish or self.params.grow or self.pane.on:
+            self._fill(np.unique(area[~empty[area]]))
+            return
         counts = np.bincount(self._warea.raw(), minlength=self._areas.n)
         back = np.bincount(area[~empty[area]], minlength=self._areas.n)
         back = np.minimum(back, np.maximum(0, self.pane.pool(self.params.humidity) - counts))
