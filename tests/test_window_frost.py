@@ -213,3 +213,23 @@ def test_a_wipe_opens_all_six_slots_of_the_ice_at_its_edge():
     opened = sim.growth.seed.view()
     assert opened[edge].all()
     assert (opened[~edge] == seeds_before[~edge]).all()
+
+
+def test_the_app_opens_window_mode_and_its_keys_rebuild_it():
+    from app import tuning
+    from app.cli import build_parser, params_from
+    from app.keys import BINDINGS
+
+    parse = build_parser().parse_args
+    assert params_from(parse(["--window-frost"])) == WINDOW
+    assert params_from(parse(["--window-frost", "--temperature", "20"])).temperature == 20.0
+    with pytest.raises(ValueError, match="grains"):
+        params_from(parse(["--window-frost", "--preset", "c-2"]))
+    keys = {b.keys[0]: b for b in BINDINGS}
+    assert (keys["W"].action, keys["W"].arg) == ("preset", "window")
+    colder = tuning.shifted(WINDOW, *keys["T"].arg)
+    assert colder.temperature > WINDOW.temperature
+    assert tuning.shifted(colder, *keys["Y"].arg) == WINDOW
+    # back to fern (key 0) from a tuned window: window mode and its tunables go
+    assert tuning.preset(colder, "fern") == Params.preset("fern")
+    assert tuning.preset(Params.preset("fern"), "window") == WINDOW
