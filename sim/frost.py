@@ -185,7 +185,7 @@ class FrostSim:
 
     def step(self) -> Added:
         """One tick: walk -> crystallize -> settle (the growth rule) -> link and upsample ->
-        update candidate cells -> follow the ice."""
+        update candidate cells -> follow the ice -> refill the pool (window mode)."""
         self._walk()
         self._drop_in_full_cells()
         hits, parents = self._admit(*self._crystallize())
@@ -697,7 +697,8 @@ class FrostSim:
         """Growth mode: each area's annulus rides on its ice front, half an active radius
         either side of the farthest crystal, so its water can still reach the ice.
         Costs O(new crystals): only the areas of this tick's crystals change. A launch
-        circle needs the reach too; without growth mode the areas keep their size."""
+        circle needs the reach too; without growth mode the areas keep their size, and the
+        pane's one area (window mode) always covers the screen."""
         area = self._carea.raw()[new]
         if len(area) == 0 or self.pane.on or not (self.params.grow or self.params.launch):
             return
