@@ -25,7 +25,8 @@ def test_every_key_is_bound_once_and_listed_in_the_help():
     assert len(help_lines()) == len(BINDINGS)
     presets = {b.keys: b.arg for b in BINDINGS if b.action == "preset"}
     assert presets == {**{(str(i),): name for i, name in enumerate(
-        ["a-1", "a-2", "a-3", "b-1", "b-2", "b-3", "c-1", "c-2", "c-3"], start=1)}, ("0",): "fern"}
+        ["a-1", "a-2", "a-3", "b-1", "b-2", "b-3", "c-1", "c-2", "c-3"], start=1)}, ("0",): "fern",
+        ("W",): "window"}
 
 
 def test_key_names_are_glfw_keys():
