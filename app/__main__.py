@@ -8,7 +8,7 @@ import sys
 from sim import Params
 from sim.session import SessionError
 
-from .cli import build_parser, has_display, params_from
+from .cli import build_parser, check_paths, has_display, params_from
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -17,6 +17,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         params = params_from(args)
+        check_paths(args, parser)
     except ValueError as err:
         parser.error(str(err))
     if args.ticks is None and not args.replay:

@@ -76,6 +76,12 @@ def upsample(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, 
     return a[inner].astype(np.float32), seg_link[inner], segments, seg_link
 
 
+def _on_screen_f32(v: float, size: int) -> np.float32:
+    """`v` (0 <= v < size) as float32, still below `size`: 759.99999999 would round up
+    to 760.0, off a 760 px screen, so it becomes the largest float32 below 760."""
+    return min(np.float32(v), np.nextafter(np.float32(size), np.float32(0)))
+
+
 class FrostSim:
     """Window frost on a `width` x `height` px screen (SPEC.md)."""
 
@@ -124,6 +130,7 @@ class FrostSim:
         """Plant a seed crystal at (x, y) and its active area; returns the area's index."""
         if not (np.isfinite(x) and np.isfinite(y) and 0 <= x < self.width and 0 <= y < self.height):
             raise ValueError(f"touch ({x!r}, {y!r}) is off the {self.width}x{self.height} screen")
+        x, y = _on_screen_f32(x, self.width), _on_screen_f32(y, self.height)
         row = [[x, y, self.params.active_radius, 0.0, 0.0]]
         area = self._areas.append(np.array(row, np.float32)).start
         seed = self._crystals.append(np.array([[x, y]], np.float32))

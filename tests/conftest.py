@@ -3,6 +3,12 @@
 from __future__ import annotations
 
 import pytest
+from hypothesis import settings
+
+# No example database: tests never write into the checkout (.hypothesis/). No deadline:
+# the machine is shared and loaded; speed is the benchmarks' business.
+settings.register_profile("frost", database=None, deadline=None)
+settings.load_profile("frost")
 
 
 @pytest.fixture(scope="session")
