@@ -8,16 +8,15 @@ import time
 from pathlib import Path
 
 from sim import Params
+from sim.gestures import MELT_SPACING, path_points
 from sim.session import Applied, SessionError, SessionLog, Timeline, apply_due, replay
 
 from .render import Renderer
 from .screenshot import read_image, save_png, timestamped_path
-from .view import path_points
 
 log = logging.getLogger(__name__)
 
 WIDTH, HEIGHT = 760, 1280
-MELT_SPACING = 0.5  # melts along a --melt-path, in melt radii (as a right-button drag)
 PROGRESS_EVERY_S = 2.0  # a progress line at most this often on long runs
 DEFAULT_FOLDER = Path("frost-out")
 

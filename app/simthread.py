@@ -20,7 +20,7 @@ from typing import Any
 
 from sim import Params
 from sim.geometry import GeometryDelta
-from sim.session import Applied, SessionLog, Timeline, apply_due
+from sim.session import Applied, Backlog, SessionLog, Timeline, apply_due
 
 from .maps import export_maps, live_segments
 
@@ -87,6 +87,7 @@ class SimThread(threading.Thread):
                           "clear": self._clear, "pause": self._pause, "step": self._single,
                           "export": self._export}
         self._watch: dict[int, tuple[int, float]] = {}
+        self.backlog = Backlog()  # commands wait here when more arrive than a tick takes
         self.timeline = Timeline(params, seed, width, height)
         events = [{"kind": "touch", "x": float(x), "y": float(y)} for x, y in touches]
         self.timeline.apply(events)
@@ -162,8 +163,8 @@ class SimThread(threading.Thread):
         notes: dict[str, Any] = {"applied": []}
         self._script_at = apply_due(self.timeline, self.script, self._script_at,
                                     notes["applied"].append)
-        for cmd in self._pending():
-            self._handlers[cmd.kind](cmd.arg, notes)
+        self.backlog.extend(_take_all(self.inbox))
+        self.backlog.run(lambda cmd: self._handlers[cmd.kind](cmd.arg, notes))
         reset, melts, message = _merged(notes["applied"])
         if reset:
             self._watch = {}
@@ -179,9 +180,6 @@ class SimThread(threading.Thread):
         self.outbox.put(self._snapshot(delta, reset=reset, clicks=clicks, grown=grown,
                                        message=message, melts=melts))
         self.wake()
-
-    def _pending(self) -> list[Command]:
-        return _take_all(self.inbox)
 
     def _first_growth(self) -> tuple[tuple[int, float], ...]:
         """Clicks whose seed crystal became a parent in this tick (for the latency log)."""

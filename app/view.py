@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
 PHONE = (760, 1280)
 # Room left for window decorations and panels when fitting the monitor's work area.
 WORKAREA_MARGIN = 0.95
@@ -40,13 +38,3 @@ def cursor_to_phone(cursor: tuple[float, float], window_size: tuple[int, int],
     if not (0 <= px < phone[0] and 0 <= py < phone[1]):
         return None
     return px, py
-
-
-def path_points(start: tuple[float, float], end: tuple[float, float], spacing: float):
-    """Points every `spacing` px from `start` (excluded) towards `end`; the last one
-    reached becomes the new start of a drag."""
-    dx, dy = end[0] - start[0], end[1] - start[1]
-    n = int(math.hypot(dx, dy) // spacing)
-    length = math.hypot(dx, dy)
-    return [(start[0] + dx * k * spacing / length, start[1] + dy * k * spacing / length)
-            for k in range(1, n + 1)]

@@ -18,6 +18,7 @@ import glfw
 import moderngl
 
 from sim import Params
+from sim.gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
 
 from . import tuning
 from .hud import Hud
@@ -27,7 +28,7 @@ from .render import Renderer
 from .screenshot import read_image, save_png, timestamped_path
 from .shaders import load_program
 from .simthread import SimThread, Snapshot, Stats
-from .view import PHONE, cursor_to_phone, fit_scale, letterbox, path_points
+from .view import PHONE, cursor_to_phone, fit_scale, letterbox
 
 log = logging.getLogger(__name__)
 
@@ -37,10 +38,6 @@ LOG_PERIOD = 2.0  # s between stats lines in the log
 IDLE_WAIT = 0.1  # s to wait for events while minimized or idle
 MESSAGE_SECONDS = 4.0
 BACKDROP = (0.08, 0.08, 0.09)  # the letterbox bars
-# A drag plants a touch every DRAG_SPACING_HC * hc px along the cursor's path.
-DRAG_SPACING_HC = 4.0
-# A right-button drag melts every MELT_SPACING * melt_radius px along the cursor's path.
-MELT_SPACING = 0.5
 # Actions that repeat while their key is held.
 REPEATING = {"single_step", "scale", "shift", "light"}
 # What the two click latencies of the log measure: the first frame showing the seed's

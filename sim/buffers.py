@@ -78,12 +78,16 @@ class CellLists:
 
     def remove(self, cells: np.ndarray, ids_to_drop: np.ndarray) -> None:
         """Remove every id in `ids_to_drop` from the lists of `cells` (order kept)."""
-        for cell in np.unique(cells):
-            row = self.items[cell, :self.count[cell]]
-            kept = row[~np.isin(row, ids_to_drop)]
-            self.items[cell, :len(kept)] = kept
-            self.items[cell, len(kept):self.count[cell]] = -1
-            self.count[cell] = len(kept)
+        cells = np.unique(cells)
+        ids, valid = self.gather(cells)
+        keep = valid & ~np.isin(ids, ids_to_drop)
+        # A stable sort on "dropped" moves the kept ids to the front in their order.
+        order = np.argsort(~keep, axis=1, kind="stable")
+        kept = np.take_along_axis(ids, order, axis=1)
+        count = keep.sum(axis=1)
+        kept[np.arange(ids.shape[1]) >= count[:, None]] = -1
+        self.items[cells, :ids.shape[1]] = kept
+        self.count[cells] = count
 
     def gather(self, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(ids, valid): the lists of `cells` as a padded matrix and its mask."""

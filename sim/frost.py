@@ -16,11 +16,17 @@ from .grid import HashGrid
 from .params import Params
 
 TWO_PI = np.float32(2.0 * np.pi)
-# Rejection sampling of a water particle's spot gives up after about this many tries:
-# an active area filled with ice has no free spot left and its water is dropped.
-MAX_PLACE_TRIES = 32
+# A water particle that found no spot in its area's free cells after this many draws is
+# dropped: an area filled with ice has no free spot left (its frost is complete).
+CELL_TRIES = 8
 # grid9 queries walkers in chunks of this many to bound the gather matrix.
 _GRID9_CHUNK = 4096
+# Most crystals one hash cell may list. The paper's rule lets ice pile up without end
+# where water keeps arriving (replenish, growth mode, touch after touch on one spot), and
+# a walker's search costs the length of its cell's list; a full cell is finished ice, and
+# water that would freeze into it is dropped instead. Table 1's single touches never
+# list more than 58 (measured over seeds 0-2), so the paper's frost is unchanged.
+CELL_CAP = 128
 
 
 @dataclass(frozen=True)
@@ -76,10 +82,11 @@ def upsample(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, 
     return a[inner].astype(np.float32), seg_link[inner], segments, seg_link
 
 
-def _on_screen_f32(v: float, size: int) -> np.float32:
-    """`v` (0 <= v < size) as float32, still below `size`: 759.99999999 would round up
-    to 760.0, off a 760 px screen, so it becomes the largest float32 below 760."""
-    return min(np.float32(v), np.nextafter(np.float32(size), np.float32(0)))
+def _on_screen_f32(pts: np.ndarray, width: int, height: int) -> np.ndarray:
+    """On-screen float64 points as float32, still on the screen: x = 759.99999999 would
+    round up to 760.0, off a 760 px screen, so it becomes the largest float32 below 760."""
+    edge = np.nextafter(np.array([width, height], np.float32), np.float32(0))
+    return np.minimum(pts.astype(np.float32), edge)
 
 
 class FrostSim:
@@ -108,12 +115,18 @@ class FrostSim:
         self._ups_link = Growable(np.int32)
         self._segs = Growable(np.float32, (4,))
         self._segs_link = Growable(np.int32)
+        # Each crystal's own link as row ranges (first, count) of the segments and upsample
+        # particles, so a melt finds what it cuts without scanning the whole skeleton.
+        self._seg_range = Growable(np.int32, (2,))
+        self._ups_range = Growable(np.int32, (2,))
+        self._longest_link = 0.0  # a crystal's children lie within this of it
         # Water, structure of arrays; each particle belongs to one active area.
         self._wx = Growable(np.float32, capacity=self.params.humidity)
         self._wy = Growable(np.float32, capacity=self.params.humidity)
         self._warea = Growable(np.int32, capacity=self.params.humidity)
         # centre x, centre y, outer and inner radius (water lives in the annulus), reach of its ice
         self._areas = Growable(np.float32, (5,))
+        self._area_ice = Growable(np.int32)  # live crystals of each area
         self._carea = Growable(np.int32)  # the area whose water became each crystal
         self.candidates = CellLists(self.grid.size)  # Fig. 3d: state = count > 0
         self._own = CellLists(self.grid.size + 1) if self.params.neighbor_search == "grid9" else None
@@ -127,24 +140,35 @@ class FrostSim:
     # ---- public API -------------------------------------------------------------
 
     def touch(self, x: float, y: float) -> int:
-        """Plant a seed crystal at (x, y) and its active area; returns the area's index."""
-        if not (np.isfinite(x) and np.isfinite(y) and 0 <= x < self.width and 0 <= y < self.height):
-            raise ValueError(f"touch ({x!r}, {y!r}) is off the {self.width}x{self.height} screen")
-        x, y = _on_screen_f32(x, self.width), _on_screen_f32(y, self.height)
-        row = [[x, y, self.params.active_radius, 0.0, 0.0]]
-        area = self._areas.append(np.array(row, np.float32)).start
-        seed = self._crystals.append(np.array([[x, y]], np.float32))
-        self._parents.append(np.array([-1], np.int32))
-        self._carea.append(np.array([area], np.int32))
-        self._calive.append(np.ones(1, bool))
-        self._register(seed)
-        self._spawn(np.full(self.params.humidity, area, np.int32))
+        """Plant a seed crystal at (x, y); returns the index of its active area.
+
+        A touch inside an existing active area joins that area (the nearest, by its
+        centre) and tops its pool up to `humidity`; elsewhere it opens a new area with
+        its own pool. Either way the screen's walkers stay within `water_budget`, so a
+        drag that plants a trail of touches costs what a few touches cost."""
+        return int(self.plant([(x, y)])[0])
+
+    def plant(self, points) -> np.ndarray:
+        """Touches at every (x, y) of `points` at once (as a rebuild replants them): the
+        seeds, then one top-up of each area they touched. Returns each seed's area."""
+        pts = np.array(points, np.float64).reshape(-1, 2)
+        for x, y in pts:
+            if not (np.isfinite(x) and np.isfinite(y) and 0 <= x < self.width and 0 <= y < self.height):
+                raise ValueError(f"touch ({x!r}, {y!r}) is off the {self.width}x{self.height} screen")
+        pts32 = _on_screen_f32(pts, self.width, self.height)
+        area = self._areas_for(pts32)
+        seeds = self._add_crystals(pts32, np.full(len(pts), -1, np.int32), area)
+        for ranges, buf in ((self._seg_range, self._segs), (self._ups_range, self._ups)):
+            ranges.append(np.column_stack((np.full(len(pts), buf.n), np.zeros(len(pts)))))
+        self._register(seeds)
+        self._fill(np.unique(area))
         return area
 
     def step(self) -> Added:
         """One tick: walk -> crystallize -> link and upsample -> update candidate cells."""
         self._walk()
-        frozen, parents = self._crystallize()
+        self._drop_in_full_cells()
+        frozen, parents = self._admit(*self._crystallize())
         new = self._link(frozen, parents)
         self._register(new)
         if self.params.grow:
@@ -157,9 +181,9 @@ class FrostSim:
 
     def melt(self, x: float, y: float, radius: float) -> Melted:
         """A warm finger at (x, y): crystals within `radius` px melt and their water returns
-        to its area's pool; their links (and those of their children, which become roots)
-        leave the skeleton; the cleared cells stop being candidate cells. Costs O(local ice)
-        but for one scan of the parent and link arrays."""
+        to its area's pool (never above `humidity`; an area left with no ice loses its
+        water); their links (and those of their children, which become roots) leave the
+        skeleton; the cleared cells stop being candidate cells. Costs O(local ice)."""
         if not (np.isfinite(x) and np.isfinite(y) and np.isfinite(radius) and radius > 0):
             raise ValueError(f"melt at ({x!r}, {y!r}) with radius {radius!r}: need finite values, "
                              "radius > 0")
@@ -170,17 +194,32 @@ class FrostSim:
         self.candidates.remove(cells, dead)
         if self._own is not None:
             self._own.remove(self.grid.keys(pts[:, 0], pts[:, 1]), dead)
+        # A child lies within one link of its parent: look no further than that.
+        near = self._crystals_near(x, y, radius + self._longest_link + 1.0)
         parents = self._parents.raw()
-        orphans = np.flatnonzero(np.isin(parents, dead) & self._calive.raw())
+        orphans = near[np.isin(parents[near], dead)]
         parents[orphans] = -1
         cut = np.concatenate([dead, orphans])
-        segs = np.flatnonzero(np.isin(self._segs_link.raw(), cut) & self._salive.raw())
-        ups = np.flatnonzero(np.isin(self._ups_link.raw(), cut) & self._ualive.raw())
+        segs = _rows(self._seg_range.raw()[cut])
+        ups = _rows(self._ups_range.raw()[cut])
+        segs, ups = segs[self._salive.raw()[segs]], ups[self._ualive.raw()[ups]]
         self._salive.raw()[segs] = False
         self._ualive.raw()[ups] = False
         self.water_melted += len(dead)
-        self._spawn(self._carea.raw()[dead])
+        dead_area = self._carea.raw()[dead]
+        self._area_ice.raw()[:] -= np.bincount(dead_area, minlength=self._area_ice.n).astype(np.int32)
+        self._return_water(dead_area)
         return Melted(dead, ups, segs, orphans)
+
+    def segments_near(self, box: tuple[float, float, float, float], reach: float) -> np.ndarray:
+        """Indices of live segments whose points may lie within `reach` x their length
+        beside them of the px box (x0, y0, x1, y1): those of the links of the crystals
+        near the box. A superset; callers test the exact extent."""
+        pad = self._longest_link * (1.0 + reach) + 1.0
+        x0, y0, x1, y1 = box
+        ids = self._crystals_in_box(x0 - pad, y0 - pad, x1 + pad, y1 + pad)
+        segs = _rows(self._seg_range.raw()[ids])
+        return segs[self._salive.raw()[segs]]
 
     @property
     def crystal_alive(self) -> np.ndarray:
@@ -244,7 +283,8 @@ class FrostSim:
         """Bytes held by the simulation's arrays (capacity, not just the filled rows)."""
         bufs = (self._crystals, self._parents, self._ups, self._ups_link, self._segs,
                 self._segs_link, self._wx, self._wy, self._warea, self._areas, self._carea,
-                self._calive, self._ualive, self._salive, self.candidates)
+                self._calive, self._ualive, self._salive, self._seg_range, self._ups_range,
+                self._area_ice, self.candidates)
         own = self._own.nbytes() if self._own is not None else 0
         return sum(b.nbytes() for b in bufs) + own
 
@@ -283,21 +323,62 @@ class FrostSim:
         counts, ids = self.candidates.gather_flat(keys[w])
         return self._nearest(w, counts, ids, x, y)
 
+    def _drop_in_full_cells(self) -> None:
+        """Water in a cell that lists CELL_CAP crystals has arrived at finished ice."""
+        keys = self.grid.keys(self._wx.raw(), self._wy.raw())
+        full = self.candidates.count[keys] >= CELL_CAP
+        if full.any():
+            self.water_dropped += int(full.sum())
+            self._keep_water(~full)
+
+    def _admit(self, frozen: np.ndarray, parents: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The freezes whose cells all stay within CELL_CAP; the rest of the water is
+        dropped (in walker order, so both neighbour searches drop the same)."""
+        pts = np.column_stack((self._wx.raw()[frozen], self._wy.raw()[frozen]))
+        cells, owner = self.grid.disc_cells(pts, self.params.hc)
+        if len(cells) == 0 or self.candidates.count[cells].max() + len(frozen) <= CELL_CAP:
+            return frozen, parents
+        order = np.argsort(cells, kind="stable")
+        c = cells[order]
+        first = np.concatenate(([0], np.flatnonzero(c[1:] != c[:-1]) + 1))
+        rank = np.empty(len(c), np.int64)
+        rank[order] = np.arange(len(c)) - np.repeat(first, np.diff(first, append=len(c)))
+        over = self.candidates.count[cells] + rank >= CELL_CAP
+        ok = np.bincount(owner[over], minlength=len(frozen)) == 0
+        if not ok.all():
+            self.water_dropped += int((~ok).sum())
+            keep = np.ones(self._wx.n, bool)
+            keep[frozen[~ok]] = False
+            self._keep_water(keep)
+            # The kept walkers move down; frozen ones keep their order.
+            frozen, parents = np.searchsorted(np.flatnonzero(keep), frozen[ok]), parents[ok]
+        return frozen, parents
+
     def _link(self, frozen: np.ndarray, parents: np.ndarray) -> slice:
         """Frozen walkers become crystals linked to their parents; links are upsampled."""
         pts = np.column_stack((self._wx.raw()[frozen], self._wy.raw()[frozen]))
+        new = self._add_crystals(pts, parents, self._warea.raw()[frozen])
+        ups, ups_link, segs, segs_link = upsample(self._crystals.raw()[parents], pts, self.params.D)
+        self._seg_range.append(_ranges(segs_link, len(frozen), self._segs.n))
+        self._ups_range.append(_ranges(ups_link, len(frozen), self._ups.n))
+        self._ups.append(ups)
+        self._ualive.append(np.ones(len(ups), bool))
+        self._salive.append(np.ones(len(segs), bool))
+        self._ups_link.append(ups_link.astype(np.int32) + new.start)
+        self._segs.append(segs)
+        self._segs_link.append(segs_link.astype(np.int32) + new.start)
+        if len(frozen):
+            d = pts - self._crystals.raw()[parents]
+            self._longest_link = max(self._longest_link, float(np.hypot(d[:, 0], d[:, 1]).max()))
+        return new
+
+    def _add_crystals(self, pts: np.ndarray, parents: np.ndarray, area: np.ndarray) -> slice:
+        """Append crystals (live) with their parents and areas; count them in their areas."""
         new = self._crystals.append(pts)
         self._parents.append(parents)
-        self._carea.append(self._warea.raw()[frozen])
-        self._calive.append(np.ones(len(frozen), bool))
-        if len(frozen):
-            ups, ups_link, segs, segs_link = upsample(self.crystals[parents], pts, self.params.D)
-            self._ups.append(ups)
-            self._ualive.append(np.ones(len(ups), bool))
-            self._salive.append(np.ones(len(segs), bool))
-            self._ups_link.append(ups_link.astype(np.int32) + new.start)
-            self._segs.append(segs)
-            self._segs_link.append(segs_link.astype(np.int32) + new.start)
+        self._carea.append(area)
+        self._calive.append(np.ones(len(pts), bool))
+        self._area_ice.raw()[:] += np.bincount(area, minlength=self._area_ice.n).astype(np.int32)
         return new
 
     def _register(self, new: slice) -> None:
@@ -314,16 +395,18 @@ class FrostSim:
     # ---- helpers --------------------------------------------------------------------
 
     def _crystals_near(self, x: float, y: float, radius: float) -> np.ndarray:
-        """Ascending indices of live crystals within `radius` of (x, y). Every crystal is
-        listed in its own cell, so the cells under the disc's bounding box hold them all."""
-        g = self.grid
-        cx = np.arange(max(int((x - radius) // g.cell), 0), min(int((x + radius) // g.cell), g.cols - 1) + 1)
-        cy = np.arange(max(int((y - radius) // g.cell), 0), min(int((y + radius) // g.cell), g.rows - 1) + 1)
-        cells = (cy[:, None] * g.cols + cx[None, :]).ravel()
-        ids, valid = self.candidates.gather(cells)
-        ids = np.unique(ids[valid])
+        """Ascending indices of live crystals within `radius` of (x, y)."""
+        ids = self._crystals_in_box(x - radius, y - radius, x + radius, y + radius)
         c = self._crystals.raw()[ids].astype(np.float64)
         return ids[np.hypot(c[:, 0] - x, c[:, 1] - y) < radius]
+
+    def _crystals_in_box(self, x0: float, y0: float, x1: float, y1: float) -> np.ndarray:
+        """Ascending indices of the live crystals listed in the cells under a px box (a
+        superset of those inside it: every crystal is listed in its own cell)."""
+        cols, rows = self.grid.span(x0, y0, x1, y1)
+        cells = (rows[:, None] * self.grid.cols + cols[None, :]).ravel()
+        ids, valid = self.candidates.gather(cells)
+        return np.unique(ids[valid])
 
     def _nearest(self, w: np.ndarray, counts: np.ndarray, ids: np.ndarray,
                  x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -379,32 +462,72 @@ class FrostSim:
         return off | (ox * ox + oy * oy > r * r)
 
     def _place(self, area: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Uniform spots in each walker's area, on screen and outside candidate cells.
-        Bounded rejection sampling: rounds of 1, 2, 4, 8, 16 tries per particle still
-        unplaced (31 in all; 4, 8, 16 for a small batch), so a nearly full area costs a
-        few rounds, not 31. `ok` is False where no free spot was found."""
+        """Uniform spots in each walker's area (its annulus), on screen and outside
+        candidate cells; `ok` is False where there is no free spot. Sampling the disc
+        places almost every walker in a round or two while an area is mostly glass; the
+        few left (an area nearly full of ice) are placed from its free cells directly,
+        so a full area costs one look at its cells, never a long rejection loop."""
         n = len(area)
         x, y = np.zeros(n, np.float32), np.zeros(n, np.float32)
         ok = np.zeros(n, bool)
         todo = np.arange(n)
-        areas = self._areas.raw()
-        tries = 1 if n > 1024 else 4  # a few respawns: spend tries, not rounds
-        while len(todo) and tries <= MAX_PLACE_TRIES // 2:
-            a = areas[np.tile(area[todo], tries)]
-            u = self.rng.random((2, len(a)), dtype=np.float32)
-            r = np.sqrt(a[:, 3] ** 2 + u[0] * (a[:, 2] ** 2 - a[:, 3] ** 2))  # uniform on the annulus
-            th = u[1] * TWO_PI
-            px, py = a[:, 0] + r * np.cos(th), a[:, 1] + r * np.sin(th)
-            good = (px >= 0) & (px < self.width) & (py >= 0) & (py < self.height)
-            good[good] = self.candidates.count[self.grid.keys(px[good], py[good])] == 0
-            good = good.reshape(tries, len(todo))
-            placed = good.any(axis=0)
-            pick = good.argmax(axis=0)[placed] * len(todo) + np.flatnonzero(placed)  # first good try
+        for tries in ((1, 2) if n > 1024 else (4,)):
+            px, py = self._disc_spots(np.tile(area[todo], tries))
+            placed, pick = _first_good(self._free(px, py).reshape(tries, len(todo)))
             x[todo[placed]], y[todo[placed]] = px[pick], py[pick]
             ok[todo[placed]] = True
             todo = todo[~placed]
-            tries *= 2
+        for a in np.unique(area[todo]):
+            mine = todo[area[todo] == a]
+            x[mine], y[mine], ok[mine] = self._cell_spots(int(a), len(mine))
         return x, y, ok
+
+    def _disc_spots(self, area: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """A uniform point of each area's annulus (which may reach off the screen)."""
+        a = self._areas.raw()[area]
+        u = self.rng.random((2, len(a)), dtype=np.float32)
+        r = np.sqrt(a[:, 3] ** 2 + u[0] * (a[:, 2] ** 2 - a[:, 3] ** 2))
+        th = u[1] * TWO_PI
+        return a[:, 0] + r * np.cos(th), a[:, 1] + r * np.sin(th)
+
+    def _free(self, px: np.ndarray, py: np.ndarray) -> np.ndarray:
+        """On the screen and in no candidate cell."""
+        good = (px >= 0) & (px < self.width) & (py >= 0) & (py < self.height)
+        good[good] = self.candidates.count[self.grid.keys(px[good], py[good])] == 0
+        return good
+
+    def _cell_spots(self, area: int, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """k uniform spots of `area`'s annulus outside candidate cells: a free cell that
+        meets the annulus at random (cells are equal), a uniform point in it, kept if it
+        lies in the annulus and on the screen; CELL_TRIES such draws each at most."""
+        cx, cy, r_out, r_in = (float(v) for v in self._areas.raw()[area, :4])
+        cells = self._free_cells(cx, cy, r_out, r_in)
+        if len(cells) == 0:
+            return np.zeros(k, np.float32), np.zeros(k, np.float32), np.zeros(k, bool)
+        u = self.rng.random((3, CELL_TRIES * k), dtype=np.float32)
+        cell = cells[np.minimum((u[0] * len(cells)).astype(np.int64), len(cells) - 1)]
+        s = np.float32(self.grid.cell)
+        px = (cell % self.grid.cols + u[1]) * s
+        py = (cell // self.grid.cols + u[2]) * s
+        d2 = (px - cx) ** 2 + (py - cy) ** 2
+        good = (d2 <= r_out * r_out) & (d2 >= r_in * r_in) & (px < self.width) & (py < self.height)
+        placed, pick = _first_good(good.reshape(CELL_TRIES, k))
+        x, y = np.zeros(k, np.float32), np.zeros(k, np.float32)
+        x[placed], y[placed] = px[pick], py[pick]
+        return x, y, placed
+
+    def _free_cells(self, cx: float, cy: float, r_out: float, r_in: float) -> np.ndarray:
+        """Flat indices of the cells with no crystal listed that meet the annulus."""
+        g = self.grid
+        cols, rows = g.span(cx - r_out, cy - r_out, cx + r_out, cy + r_out)
+        x0, y0 = cols[None, :] * g.cell, rows[:, None] * g.cell
+        near_x = np.clip(cx, x0, x0 + g.cell) - cx
+        near_y = np.clip(cy, y0, y0 + g.cell) - cy
+        far_x = np.maximum(np.abs(x0 - cx), np.abs(x0 + g.cell - cx))
+        far_y = np.maximum(np.abs(y0 - cy), np.abs(y0 + g.cell - cy))
+        meets = (near_x ** 2 + near_y ** 2 <= r_out ** 2) & (far_x ** 2 + far_y ** 2 >= r_in ** 2)
+        flat = (rows[:, None] * g.cols + cols[None, :])
+        return flat[meets & (self.candidates.count[flat] == 0)]
 
     def _spawn(self, area: np.ndarray) -> None:
         """Create water for `area[i]`; those with no free spot are dropped."""
@@ -414,6 +537,78 @@ class FrostSim:
         self._warea.append(area[ok])
         self.water_created += int(ok.sum())
         self.water_dropped += int((~ok).sum())
+
+    def _areas_for(self, pts: np.ndarray) -> np.ndarray:
+        """The area of each touch in turn: the one whose disc holds it (nearest centre),
+        else a new area opened there. Buckets of side active_radius keep each look-up to
+        the areas nearby, so a rebuild replanting thousands of touches stays cheap."""
+        areas, radius = self._areas.raw(), self.params.active_radius
+        buckets: dict[tuple[int, int], list[int]] = {}
+        for i, (cx, cy, r) in enumerate(areas[:, :3].tolist()):
+            for key in _bucket_keys(cx, cy, r, radius):
+                buckets.setdefault(key, []).append(i)
+        centres = areas[:, :3].tolist()
+        out = np.empty(len(pts), np.int32)
+        for k, (x, y) in enumerate(pts.tolist()):
+            near = [(dx * dx + dy * dy, i) for i in buckets.get(_bucket(x, y, radius), ())
+                    for dx, dy, r in [(x - centres[i][0], y - centres[i][1], centres[i][2])]
+                    if dx * dx + dy * dy <= r * r]
+            if near:
+                out[k] = min(near)[1]
+                continue
+            out[k] = len(centres)
+            centres.append([x, y, radius])
+            for key in _bucket_keys(x, y, radius, radius):
+                buckets.setdefault(key, []).append(out[k])
+        new = np.array(centres[len(areas):], np.float32).reshape(-1, 3)
+        self._areas.append(np.column_stack((new, np.zeros((len(new), 2), np.float32))))
+        self._area_ice.append(np.zeros(len(new), np.int32))
+        return out
+
+    def _fill(self, areas: np.ndarray) -> None:
+        """Top the pools of `areas` up to `humidity` within `water_budget`; when the budget
+        is spent, the areas holding more than a fair share give theirs up first."""
+        counts = np.bincount(self._warea.raw(), minlength=self._areas.n)
+        want = np.maximum(0, self.params.humidity - counts[areas])
+        room = self.params.water_budget - self._wx.n
+        if want.sum() > room:
+            holding = counts > 0
+            holding[areas] = True
+            share = self.params.water_budget // int(holding.sum())
+            want = np.minimum(want, np.maximum(0, share - counts[areas]))
+            room += self._trim(counts, areas, int(want.sum()) - room, share)
+        give = np.minimum(want, np.maximum(0, room - (np.cumsum(want) - want)))
+        self._spawn(np.repeat(areas.astype(np.int32), give))
+
+    def _trim(self, counts: np.ndarray, areas: np.ndarray, need: int, share: int) -> int:
+        """Drop up to `need` walkers of the areas other than `areas`, taking the largest
+        pools down to a common level no lower than `share`; returns how many went.
+        Each area keeps its oldest walkers (the first in array order)."""
+        if need <= 0:
+            return 0
+        others = counts.copy()
+        others[areas] = 0  # (an area being topped up holds less than `share`: never cut)
+        limit = np.minimum(counts, _level(others, need, share))
+        wa = self._warea.raw()
+        order = np.argsort(wa, kind="stable")
+        rank = np.empty(len(wa), np.int64)
+        rank[order] = np.arange(len(wa)) - np.repeat(np.cumsum(counts) - counts, counts)
+        keep = rank < limit[wa]
+        self._keep_water(keep)
+        return int((~keep).sum())
+
+    def _return_water(self, area: np.ndarray) -> None:
+        """Melted crystals' water goes back to their areas, never above `humidity` nor
+        the budget; an area with no ice left has nothing to grow on and loses its pool."""
+        empty = self._area_ice.raw() == 0
+        if empty.any():
+            self._keep_water(~empty[self._warea.raw()])
+        counts = np.bincount(self._warea.raw(), minlength=self._areas.n)
+        back = np.bincount(area[~empty[area]], minlength=self._areas.n)
+        back = np.minimum(back, np.maximum(0, self.params.humidity - counts))
+        room = max(0, self.params.water_budget - self._wx.n)
+        spawn = np.repeat(np.arange(len(back), dtype=np.int32), back)[:room]
+        self._spawn(spawn)
 
     def _forget_water(self, frozen: np.ndarray) -> None:
         """Frozen water is spent (the pool shrinks as ice grows)."""
@@ -450,3 +645,55 @@ class FrostSim:
         self._mark = now
         self.added = Added(self.tick, c, u, s, frozen)
         return self.added
+
+
+def _ranges(link: np.ndarray, n: int, offset: int) -> np.ndarray:
+    """n x 2 (first row, count) of each link's rows, given the ascending link index of
+    rows appended at `offset`."""
+    count = np.bincount(link, minlength=n).astype(np.int32)
+    first = offset + np.cumsum(count) - count
+    return np.column_stack((first, count)).astype(np.int32)
+
+
+def _rows(ranges: np.ndarray) -> np.ndarray:
+    """The row indices of (first, count) ranges, back to back."""
+    first, count = ranges[:, 0].astype(np.int64), ranges[:, 1].astype(np.int64)
+    total = int(count.sum())
+    if total == 0:
+        return np.empty(0, np.int64)
+    starts = np.repeat(first - (np.cumsum(count) - count), count)
+    return starts + np.arange(total)
+
+
+def _bucket(x: float, y: float, side: float) -> tuple[int, int]:
+    return int(x // side), int(y // side)
+
+
+def _bucket_keys(cx: float, cy: float, r: float, side: float):
+    """The buckets of side `side` that a disc of radius r at (cx, cy) reaches."""
+    for bx in range(int((cx - r) // side), int((cx + r) // side) + 1):
+        for by in range(int((cy - r) // side), int((cy + r) // side) + 1):
+            yield bx, by
+
+
+def _level(counts: np.ndarray, need: int, floor: int) -> int:
+    """The highest level >= floor such that cutting every count down to it frees at least
+    `need` (or `floor` itself if even that frees less): a water-filling cut."""
+    lo, hi = floor, int(counts.max(initial=0))
+    if np.maximum(counts - lo, 0).sum() < need:
+        return lo
+    while lo < hi:  # invariant: cutting to lo frees enough
+        mid = (lo + hi + 1) // 2
+        if np.maximum(counts - mid, 0).sum() >= need:
+            lo = mid
+        else:
+            hi = mid - 1
+    return lo
+
+
+def _first_good(good: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For tries x k flags: which of the k have a good try, and the flat index (into the
+    tries x k draws) of the first good try of each of those."""
+    placed = good.any(axis=0)
+    pick = good.argmax(axis=0)[placed] * good.shape[1] + np.flatnonzero(placed)
+    return placed, pick

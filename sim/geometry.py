@@ -141,8 +141,7 @@ class FrostGeometry:
     def melt(self, sim, melted) -> GeometryDelta:
         """Take a `sim.melt` result (`Melted`) out of the ice: its particles' bumps are
         subtracted and its segments' features wiped, the surviving features in the
-        wiped box are sent again. Costs O(melted) but for one vectorized scan of the
-        segments to find the survivors."""
+        wiped box are sent again. Costs O(ice near the melt)."""
         pts = np.concatenate((sim.crystals[melted.crystals], sim.upsampled[melted.upsampled]))
         rows = self._raise(pts, -1.0)
         width, height = self.params.feature_width, self.params.feature_height
@@ -187,12 +186,13 @@ def _bounds(xy: np.ndarray, pts: np.ndarray, reach: float):
 
 
 def _segments_in(sim, box, width: float) -> np.ndarray:
-    """Live segments whose feature (reaching width * L beside them) meets the box."""
-    seg = sim.segments
+    """Live segments whose feature (reaching width * L beside them) meets the box; only
+    the segments of the ice near the box are looked at."""
+    seg = sim.segments[sim.segments_near(box, width)]
     reach = width * np.hypot(seg[:, 2] - seg[:, 0], seg[:, 3] - seg[:, 1])
     x0 = np.minimum(seg[:, 0], seg[:, 2]) - reach
     x1 = np.maximum(seg[:, 0], seg[:, 2]) + reach
     y0 = np.minimum(seg[:, 1], seg[:, 3]) - reach
     y1 = np.maximum(seg[:, 1], seg[:, 3]) + reach
     meets = (x1 >= box[0]) & (x0 <= box[2]) & (y1 >= box[1]) & (y0 <= box[3])
-    return seg[meets & sim.segments_alive]
+    return seg[meets]

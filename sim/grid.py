@@ -30,6 +30,12 @@ class HashGrid:
         ky = np.minimum((y * self._inv).astype(np.int32), self.rows - 1)
         return ky * self.cols + kx
 
+    def span(self, x0: float, y0: float, x1: float, y1: float) -> tuple[np.ndarray, np.ndarray]:
+        """(cols, rows): the column and row indices of the cells under a px box, clipped."""
+        cols = np.arange(max(int(x0 // self.cell), 0), min(int(x1 // self.cell), self.cols - 1) + 1)
+        rows = np.arange(max(int(y0 // self.cell), 0), min(int(y1 // self.cell), self.rows - 1) + 1)
+        return cols, rows
+
     def disc_cells(self, pts: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
         """(cells, owner): every cell whose rectangle meets the open disc of `radius`
         around each point (at most 3x3 with the margin), owner indexing `pts`.

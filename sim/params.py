@@ -30,7 +30,13 @@ class Params:
     D: float = _p(7.0, "D: spacing of upsample particles along a skeleton link, px (Table 1: 1-10)",
                   0.0, 64.0, lo_open=True)
     humidity: int = _p(3000, "humidity: water particles per active area (Table 1: 500-5000)",
-                       1, 2_000_000)
+                       1, 100_000)
+    # Not in the paper: its touches each bring `humidity` walkers, so a drag that plants a
+    # touch every few px would bring hundreds of thousands. The whole screen's walkers are
+    # capped here; a touch beyond it takes a fair share from the areas holding the most.
+    # 10 000 is twice the largest pool of Table 1 and keeps a busy tick to a few ms.
+    water_budget: int = _p(10000, "water_budget: most water particles on the whole screen, all "
+                                  "active areas together", 1, 100_000)
     # Not in the paper. 5 px (below hc = 7, so walkers never tunnel through a freezing
     # area; Table 1 presets with a smaller hc clamp it to hc). Measured at c-2 over seeds
     # 0-9 (`step` 3 / 5 / 7): first crystal after a median 17.5 / 9.5 / 5 ticks (worst 43 /

@@ -13,8 +13,9 @@ from app import keys, tuning
 from app.keys import BINDINGS, Binding, help_lines, key_table
 from app.record import Recorder
 from app.simthread import SimThread
-from app.view import cursor_to_phone, fit_scale, letterbox, path_points
+from app.view import cursor_to_phone, fit_scale, letterbox
 from sim import Params
+from sim.gestures import path_points
 
 # ---- keys ------------------------------------------------------------------------------
 

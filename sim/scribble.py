@@ -1,0 +1,132 @@
+"""Scripted scribbles: what a person does to a touch demo, as events tick by tick.
+
+A schedule is a list with one entry per tick: the events the window's simulation thread
+would receive in that tick. `play` drives a Timeline through a Backlog exactly as that
+thread does (input applies within a time budget a tick, the rest waits), so the benchmark and
+the tests measure what a user meets. No GL, no window.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from .gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
+from .params import PRESETS, Params
+from .session import Backlog, Timeline
+
+TICKS_PER_SECOND = 25
+FINGER_SPEED = 800.0  # px per second: a brisk drag across a phone
+STROKE_GAP = 5  # ticks between the strokes of a scribble (the finger lifts)
+MELT_RADIUS = 24.0  # px, the window's default warm finger
+
+
+@dataclass(frozen=True)
+class Played:
+    """What a played schedule cost: each tick's seconds (events applied + step)."""
+
+    tick_s: np.ndarray
+    touches: int
+    walkers_max: int
+    crystals: int
+    backlog_max: int
+
+
+def stroke(start, end, spacing: float, kind: str, radius: float = MELT_RADIUS) -> list[list[dict]]:
+    """One drag from `start` to `end` at FINGER_SPEED: per tick, the touches (kind
+    "touch") or melts (kind "melt") the window sends as the cursor passes."""
+    length = math.dist(start, end)
+    ticks = max(1, math.ceil(length / FINGER_SPEED * TICKS_PER_SECOND))
+    out, at = [], start
+    first = [_event(kind, start, radius)]
+    for k in range(1, ticks + 1):
+        cursor = (start[0] + (end[0] - start[0]) * k / ticks,
+                  start[1] + (end[1] - start[1]) * k / ticks)
+        points = path_points(at, cursor, spacing)
+        if points:
+            at = points[-1]
+        out.append(first + [_event(kind, p, radius) for p in points])
+        first = []
+    return out
+
+
+def _event(kind: str, point, radius: float) -> dict:
+    x, y = (float(v) for v in point)
+    return {"kind": "touch", "x": x, "y": y} if kind == "touch" else \
+        {"kind": "melt", "x": x, "y": y, "r": radius}
+
+
+def scribble(params: Params, seed: int = 0, seconds: float = 60.0, size=(760, 1280)) -> list[list[dict]]:
+    """Left-button strokes between random points over the whole screen, then half as long
+    of right-button (warm finger) strokes, then every tuning change once (5 ticks apart),
+    `seconds` in all."""
+    rng = np.random.default_rng(seed)
+    changes = tuning_changes(params)
+    drawing = max(0, int(seconds * TICKS_PER_SECOND) - 5 * len(changes))
+    phases = (("touch", DRAG_SPACING_HC * params.hc, 2 * drawing // 3),
+              ("melt", MELT_SPACING * MELT_RADIUS, drawing))
+    schedule: list[list[dict]] = []
+    for kind, spacing, until in phases:
+        while len(schedule) < until:
+            a, b = (tuple(rng.uniform((0, 0), size)) for _ in range(2))
+            schedule += stroke(a, b, spacing, kind) + [[] for _ in range(STROKE_GAP)]
+        del schedule[until:]
+    for p in changes:  # a key press every 5 ticks
+        schedule += [[{"kind": "params", "params": p}]] + [[] for _ in range(4)]
+    return schedule
+
+
+def tuning_changes(params: Params) -> list[Params]:
+    """Each change the window's tuning keys make, applied one after another: every
+    length and humidity step up and down, growth mode on and off, every Table 1 preset."""
+    steps = [("humidity", 1.5), ("humidity", 1 / 1.5), ("hc", 0.5), ("hc", -0.5),
+             ("D", 0.5), ("D", -0.5), ("step", -0.5), ("step", 0.5), ("bump", 0.25),
+             ("bump", -0.25), ("grow", None), ("grow", None)]
+    out, p = [], params
+    for name, amount in steps:
+        value = getattr(p, name)
+        if amount is None:
+            value = not value
+        elif name == "humidity":
+            value = max(1, round(value * amount))
+        else:
+            value = round(value + amount, 6)
+        p = p.replace(**{name: value})
+        out.append(p)
+    keep = {k: v for k, v in p.as_dict().items() if k not in ("D", "hc", "humidity", "step")}
+    return out + [Params.preset(name, **keep) for name in PRESETS]
+
+
+def storm(seed: int = 0, events: int = 2000, seconds: float = 10.0, size=(760, 1280),
+          radius: float = MELT_RADIUS) -> list[list[dict]]:
+    """`events` touches and melts (half each, in random order) at random spots, sent as
+    fast as they come: evenly over `seconds`."""
+    rng = np.random.default_rng(seed)
+    ticks = int(seconds * TICKS_PER_SECOND)
+    xy = rng.uniform((0, 0), size, (events, 2))
+    kinds = rng.permutation(np.arange(events) % 2)
+    per_tick = np.array_split(np.arange(events), ticks)
+    return [[_event("melt" if kinds[i] else "touch", xy[i], radius) for i in part]
+            for part in per_tick]
+
+
+def play(params: Params, schedule: list[list[dict]], seed: int = 0, tail: int = 0,
+         size=(760, 1280)) -> Played:
+    """Run `schedule` (and `tail` quiet ticks after it) through a Timeline, timing each
+    tick's applied events and step together, as the simulation thread's tick_ms does."""
+    timeline, backlog = Timeline(params, seed, *size), Backlog()
+    times, walkers, waiting = [], 0, 0
+    clock = time.perf_counter
+    for events in [*schedule, *([[]] * tail)]:
+        backlog.extend(events)
+        t0 = clock()
+        backlog.run(lambda event: timeline.apply([event]))
+        timeline.step()
+        times.append(clock() - t0)
+        walkers = max(walkers, len(timeline.sim.water_area))
+        waiting = max(waiting, len(backlog))
+    return Played(np.array(times), len(timeline.touches), walkers, len(timeline.sim.crystals),
+                  waiting)

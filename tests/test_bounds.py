@@ -1,0 +1,251 @@
+"""Bounded work whatever the input: the water budget, areas that merge, the per-cell cap,
+melts that look only at the ice nearby, and input spread over ticks. Each is checked
+against a slow, obvious version or a hand-worked case."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
+
+from sim import FrostSim, Params, frost
+from sim.geometry import _segments_in
+from sim.scribble import scribble, storm
+from sim.session import Backlog, Timeline
+
+
+def grown(params: Params, touches, ticks: int, seed: int = 0) -> FrostSim:
+    sim = FrostSim(params, seed=seed)
+    for x, y in touches:
+        sim.touch(x, y)
+    for _ in range(ticks):
+        sim.step()
+    return sim
+
+
+def area_of_slow(areas: list, x: float, y: float) -> int:
+    """The area a touch joins, by brute force: nearest centre whose disc holds it."""
+    inside = [((x - cx) ** 2 + (y - cy) ** 2, i) for i, (cx, cy, r) in enumerate(areas)
+              if (x - cx) ** 2 + (y - cy) ** 2 <= r * r]
+    return min(inside)[1] if inside else -1
+
+
+# ---- areas and the water budget ---------------------------------------------------------
+
+
+def test_one_touch_gets_the_papers_pool():
+    for name in ("c-1", "c-2", "c-3", "a-1"):
+        sim = FrostSim(Params.preset(name), seed=0)
+        sim.touch(380, 640)
+        assert len(sim.water_area) == Params.preset(name).humidity
+
+
+@settings(max_examples=40, deadline=None)
+@example(points=[(10.0, 10.0), (210.0, 10.0), (130.0, 10.0)], budget=4000)  # nearer the 2nd
+@given(st.lists(st.tuples(st.floats(0, 759.9), st.floats(0, 1279.9)), min_size=1, max_size=40),
+       st.integers(1, 4000))
+def test_touches_join_the_area_that_holds_them_and_water_stays_in_budget(points, budget):
+    params = Params(humidity=1500, water_budget=budget, active_radius=150.0)
+    sim = FrostSim(params, seed=1)
+    areas: list[tuple[float, float, float]] = []
+    for x, y in points:
+        want = area_of_slow(areas, np.float32(x), np.float32(y))
+        before = np.bincount(sim.water_area, minlength=len(areas) + 1)
+        got = sim.touch(x, y)
+        # A touch never takes water from the area it tops up.
+        assert np.bincount(sim.water_area, minlength=len(areas) + 1)[got] >= before[got]
+        if want < 0:
+            areas.append((np.float32(x), np.float32(y), params.active_radius))
+            want = len(areas) - 1
+        assert got == want
+        assert len(sim.water_area) <= budget
+        sim.step()
+        assert len(sim.water_area) <= budget
+    assert len(sim.areas) == len(areas)
+
+
+def test_batch_planting_assigns_areas_like_touches_one_by_one():
+    rng = np.random.default_rng(3)
+    pts = rng.uniform((0, 0), (760, 1280), (300, 2))
+    one = FrostSim(Params(), seed=0)
+    by_one = [one.touch(x, y) for x, y in pts]
+    batch = FrostSim(Params(), seed=0).plant(pts)
+    assert batch.tolist() == by_one
+
+
+def test_a_new_area_beyond_the_budget_takes_a_fair_share():
+    params = Params(humidity=3000, water_budget=7000)
+    sim = FrostSim(params, seed=0)
+    for x in (100, 600):  # two far-apart areas: 3000 + 3000
+        sim.touch(x, 200)
+    sim.touch(380, 1100)  # a third: the budget is 7000, a fair share 2333
+    counts = np.bincount(sim.water_area, minlength=3)
+    assert counts.sum() <= 7000
+    share = 7000 // 3
+    assert counts[2] >= share - 1 and counts[2] <= 3000
+    assert (counts[:2] >= share).all()
+    # The trimmed areas kept their oldest walkers: the first ones created.
+    assert counts.sum() >= 7000 - 2
+
+
+def test_a_drag_through_one_area_adds_no_pools():
+    sim = FrostSim(Params.preset("c-2"), seed=0)
+    for y in np.arange(500, 700, 28.0):  # a drag well inside one 200 px area
+        sim.touch(380, y)
+        sim.step()
+    assert len(sim.areas) == 1
+    assert len(sim.water_area) <= Params().humidity
+    assert (sim.parents[:1] == -1).all() and (sim.parents == -1).sum() == 8  # a seed per touch
+
+
+# ---- melting: local work, the same result as a scan of everything -------------------------
+
+
+def melt_slow(sim: FrostSim, dead: np.ndarray):
+    """What melting `dead` cuts, by scanning the whole skeleton (before the melt)."""
+    live_orphan = sim.crystal_alive & ~np.isin(np.arange(len(sim.parents)), dead)
+    orphans = np.flatnonzero(np.isin(sim.parents, dead) & live_orphan)
+    cut = np.concatenate([dead, orphans])
+    segs = np.flatnonzero(np.isin(sim.segments_link, cut) & sim.segments_alive)
+    ups = np.flatnonzero(np.isin(sim.upsampled_link, cut) & sim.upsampled_alive)
+    return orphans, segs, ups
+
+
+@pytest.mark.parametrize("preset", ["c-2", "a-1", "c-1"])
+def test_melts_cut_exactly_what_a_full_scan_cuts(preset):
+    sim = grown(Params.preset(preset, replenish=True), [(380, 640), (300, 500)], 150)
+    rng = np.random.default_rng(0)
+    for x, y, r in rng.uniform((200, 400, 5), (500, 800, 60), (12, 3)):
+        live = np.flatnonzero(sim.crystal_alive)
+        c = sim.crystals[live].astype(np.float64)
+        dead = live[np.hypot(c[:, 0] - x, c[:, 1] - y) < r]
+        orphans, segs, ups = melt_slow(sim, dead)
+        melted = sim.melt(x, y, r)
+        assert melted.crystals.tolist() == dead.tolist()
+        assert sorted(melted.orphans.tolist()) == orphans.tolist()
+        assert sorted(melted.segments.tolist()) == segs.tolist()
+        assert sorted(melted.upsampled.tolist()) == ups.tolist()
+        sim.step()
+
+
+def test_survivors_near_a_melt_are_all_live_segments_that_meet_the_box():
+    sim = grown(Params.preset("c-1", replenish=True), [(380, 640)], 400)
+    sim.melt(380, 640, 30)
+    rng = np.random.default_rng(1)
+    corners = rng.uniform((200, 450), (560, 830), (40, 2))
+    boxes = [(x, y, x + s, y + s) for (x, y), s in zip(corners, rng.uniform(0.5, 30, 40), strict=True)]
+    for box, w in zip([(0.0, 0.0, 760.0, 1280.0), *boxes], [1.5, *([1.5, 4.0] * 20)], strict=True):
+        seg = sim.segments[sim.segments_alive]
+        reach = w * np.hypot(seg[:, 2] - seg[:, 0], seg[:, 3] - seg[:, 1])
+        meets = ((np.maximum(seg[:, 0], seg[:, 2]) + reach >= box[0])
+                 & (np.minimum(seg[:, 0], seg[:, 2]) - reach <= box[2])
+                 & (np.maximum(seg[:, 1], seg[:, 3]) + reach >= box[1])
+                 & (np.minimum(seg[:, 1], seg[:, 3]) - reach <= box[3]))
+        want = {tuple(s) for s in seg[meets].tolist()}
+        got = {tuple(s) for s in _segments_in(sim, box, w).tolist()}
+        assert got == want
+
+
+def test_melted_water_never_takes_a_pool_above_humidity():
+    params = Params.preset("c-2", humidity=800, active_radius=80.0, replenish=True)
+    sim = grown(params, [(380, 640)], 120)
+    assert len(sim.crystals) > 400
+    sim.melt(380, 640, 60)
+    assert len(sim.water_area) <= 800
+    for _ in range(30):
+        sim.step()
+        sim.melt(380, 640, 45)
+        assert len(sim.water_area) <= 800
+
+
+def test_an_area_with_all_its_ice_melted_keeps_no_water():
+    sim = grown(Params.preset("c-1"), [(380, 640), (380, 200)], 60)
+    sim.melt(380, 640, 250)  # every crystal of the first area
+    assert not sim.crystal_alive[sim._carea.view() == 0].any()
+    assert (sim.water_area != 0).all()
+    assert (sim.water_area == 1).sum() > 0
+
+
+# ---- the per-cell cap -------------------------------------------------------------------------
+
+
+def test_no_cell_ever_lists_more_than_the_cap():
+    sim = FrostSim(Params.preset("c-2", humidity=10000, replenish=True, active_radius=120.0), seed=0)
+    sim.touch(380, 640)
+    for _ in range(80):
+        sim.step()
+        assert sim.candidates.count.max() <= frost.CELL_CAP
+        # Water that walked into a full cell is gone.
+        keys = sim.grid.keys(sim.water[:, 0], sim.water[:, 1])
+        assert (sim.candidates.count[keys] < frost.CELL_CAP).all()
+    assert sim.candidates.count.max() == frost.CELL_CAP  # it was reached
+
+
+@pytest.mark.parametrize("preset", ["a-1", "c-3"])
+def test_the_cap_leaves_table_1_frost_unchanged(preset, monkeypatch):
+    capped = grown(Params.preset(preset), [(380, 640)], 200)
+    monkeypatch.setattr(frost, "CELL_CAP", 10**9)
+    free = grown(Params.preset(preset), [(380, 640)], 200)
+    assert np.array_equal(capped.crystals, free.crystals)
+    assert np.array_equal(capped.parents, free.parents)
+
+
+def test_freezes_that_would_overflow_a_cell_are_dropped_in_walker_order(monkeypatch):
+    monkeypatch.setattr(frost, "CELL_CAP", 3)
+    sim = FrostSim(Params(hc=7.0, step=1e-6), seed=0)
+    sim.touch(100.0, 100.0)  # listed in its cells: count 1 there
+    sim._wx.keep(np.zeros(sim._wx.n, bool))
+    sim._wy.keep(np.zeros(sim._wy.n, bool))
+    sim._warea.keep(np.zeros(sim._warea.n, bool))
+    for x in (103.0, 104.0, 105.0, 102.0):  # all within hc of the seed, in its cell
+        sim._wx.append(np.array([x], np.float32))
+        sim._wy.append(np.array([100.0], np.float32))
+        sim._warea.append(np.array([0], np.int32))
+    sim.step()
+    # cap 3, one listed: the first two walkers freeze, the other two are dropped.
+    np.testing.assert_allclose(sim.crystals[1:], [[103.0, 100.0], [104.0, 100.0]], atol=1e-4)
+    assert len(sim.water_area) == 0
+
+
+# ---- input spread over ticks -------------------------------------------------------------------
+
+
+def test_backlog_applies_one_then_more_while_the_budget_lasts():
+    now = [0.0]
+    applied = []
+
+    def apply(item):
+        applied.append(item)
+        now[0] += 0.004  # each item takes 4 ms
+
+    backlog = Backlog(budget_s=0.010, clock=lambda: now[0])
+    backlog.extend(range(10))
+    assert backlog.run(apply) == 3  # at 0, 4 and 8 ms; at 12 ms the budget is spent
+    assert applied == [0, 1, 2] and len(backlog) == 7
+    spent = Backlog(budget_s=0.0, clock=lambda: now[0])
+    spent.extend(["a", "b"])
+    assert spent.run(apply) == 1  # one item always goes, however little time is left
+    assert Backlog().run(apply) == 0
+
+
+def test_a_scribble_keeps_walkers_and_cells_bounded_and_replays():
+    params = Params.preset("c-2")
+    schedule = scribble(params, seed=2, seconds=10)
+    kinds = {e["kind"] for tick in schedule for e in tick}
+    assert kinds == {"touch", "melt", "params"}
+    timeline = Timeline(params, 0)
+    for events in schedule:
+        timeline.apply(events)
+        timeline.step()
+        assert len(timeline.sim.water_area) <= timeline.params.water_budget
+        assert timeline.sim.candidates.count.max() <= frost.CELL_CAP
+
+
+def test_a_storm_has_the_asked_number_of_touches_and_melts():
+    schedule = storm(seed=0, events=2000, seconds=10)
+    assert len(schedule) == 250
+    events = [e for tick in schedule for e in tick]
+    assert len(events) == 2000
+    assert sum(e["kind"] == "melt" for e in events) == 1000
+    assert all(0 <= e["x"] < 760 and 0 <= e["y"] < 1280 for e in events)
