@@ -4,6 +4,7 @@ mapping, the simulation thread's schedule, snapshots, rebuilds and failures."""
 from __future__ import annotations
 
 import re
+import threading
 import time
 
 import numpy as np
@@ -269,17 +270,14 @@ def test_export_command_writes_the_maps_of_the_current_frost(tmp_path):
 
     from app.maps import export_maps, live_segments
 
-    thread = SimThread(Params.preset("c-3"), seed=1, touches=[(380, 640)], dt=0.01)
-    thread.start()
-    time.sleep(0.5)
+    thread = SimThread(Params.preset("c-3"), seed=1, touches=[(380, 640)])
+    for _ in range(50):  # ticks driven by hand: no clock, no race with the writer
+        thread._tick()
     thread.send("pause")
-    time.sleep(0.1)
     thread.send("export", (tmp_path / "live", {"seed": "1"}))
-    deadline = time.monotonic() + 5
-    while len(list((tmp_path / "live").glob("*.png"))) < 3 and time.monotonic() < deadline:
-        time.sleep(0.05)
-    time.sleep(0.2)
-    thread.stop()
+    thread._tick()
+    for writer in [t for t in threading.enumerate() if t.name == "frost-maps"]:
+        writer.join(30)
     oracle = export_maps(tmp_path / "oracle", thread.geometry.heights, live_segments(thread.sim),
                          thread.params)
     assert len(thread.sim.crystals) > 50
