@@ -11,12 +11,21 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from app import simthread
 from app.simthread import SimThread
 from sim import Params
-from sim.session import SessionError, SessionLog, Timeline, replay
+from sim.session import Backlog, SessionError, SessionLog, Timeline, replay
 
 ROOT = Path(__file__).resolve().parent.parent
 PARAMS = Params.preset("c-3")
+
+
+@pytest.fixture(autouse=True)
+def input_backlog_on_a_still_clock(monkeypatch):
+    """Threads driven tick by tick here apply every command sent before a tick in that
+    tick: the backlog's time budget (tested in test_bounds) must not depend on the load."""
+    monkeypatch.setattr(simthread, "Backlog", lambda: Backlog(clock=lambda: 0.0))
+
 
 
 def live_session(ticks: int = 60) -> tuple[SimThread, list]:

@@ -10,13 +10,22 @@ import time
 import numpy as np
 import pytest
 
-from app import keys, tuning
+from app import keys, simthread, tuning
 from app.keys import BINDINGS, Binding, help_lines, key_table
 from app.record import Recorder
 from app.simthread import SimThread
 from app.view import cursor_to_phone, fit_scale, letterbox
 from sim import Params
 from sim.gestures import path_points
+from sim.session import Backlog
+
+
+@pytest.fixture(autouse=True)
+def input_backlog_on_a_still_clock(monkeypatch):
+    """Threads driven tick by tick here apply every command sent before a tick in that
+    tick: the backlog's time budget (tested in test_bounds) must not depend on the load."""
+    monkeypatch.setattr(simthread, "Backlog", lambda: Backlog(clock=lambda: 0.0))
+
 
 # ---- keys ------------------------------------------------------------------------------
 
