@@ -10,6 +10,8 @@ from sim.session import SessionError
 
 from .cli import build_parser, check_paths, has_display, params_from
 
+INTERRUPTED = 130  # the shell's status for a program ended by SIGINT (128 + 2)
+
 
 def main(argv: list[str] | None = None) -> int:
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
@@ -17,14 +19,26 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         params = params_from(args)
-        check_paths(args, parser)
+        warnings = check_paths(args, parser)
     except ValueError as err:
         parser.error(str(err))
+    for warning in warnings:
+        print(f"frost: warning: {warning}", file=sys.stderr)
+    try:
+        return _run(args, params)
+    except KeyboardInterrupt:  # Ctrl-C: every file is written atomically, none is half there
+        print("frost: interrupted (Ctrl-C)", file=sys.stderr)
+        return INTERRUPTED
+
+
+def _run(args, params: Params) -> int:
     if args.ticks is None and not args.replay:
         args.ticks = 250
     if args.replay:
         _warn_ignored(args)
-    if args.replay and not args.headless and has_display():
+    windowed = not (args.headless or args.figure8 or args.export_maps)
+    no_display = _display_problem() if windowed else None
+    if args.replay and windowed and no_display is None:
         try:
             params = _windowed_replay(args)
         except SessionError as err:
@@ -36,14 +50,22 @@ def main(argv: list[str] | None = None) -> int:
     if args.export_maps:
         from .maps import run as run_maps
         return run_maps(args, params)
-    if args.headless or not has_display():
-        if not args.headless:
-            print("frost: no display (DISPLAY is unset): rendering headless to PNG files instead",
+    if not windowed or no_display:
+        if no_display:
+            print(f"frost: no display ({no_display}): rendering headless to PNG files instead",
                   file=sys.stderr)
         from .headless import run as run_headless
         return run_headless(args, params)
     from .window import run as run_window
     return run_window(args, params)
+
+
+def _display_problem() -> str | None:
+    """Why no window can open here (None: it can), e.g. DISPLAY naming no server."""
+    if not has_display():
+        return "DISPLAY is unset"
+    from .window import display_problem
+    return display_problem()
 
 
 def _warn_ignored(args) -> None:
@@ -60,7 +82,7 @@ def _windowed_replay(args) -> Params:
     from .headless import load_session
 
     log_ = load_session(args.replay)
-    args.seed, args.touch, args.script = log_.seed, [], log_.events
+    args.seed, args.touch, args.script, args.view = log_.seed, [], log_.events, log_.view
     return Params(**log_.params)
 
 

@@ -170,28 +170,37 @@ def has_display() -> bool:
     return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
 
 
-# Path options: (attribute, what it names). Output files and folders may be missing (they
-# are made on writing) but must be creatable; the session to replay must be a readable file.
+# Path options. What a run writes at its end (a headless screenshot, a Fig. 8 sheet, the
+# maps) is refused at start-up when it cannot be written, before the work it would lose;
+# such files and folders may be missing (they are made on writing) but must be creatable.
+# The window's folders only get a start-up warning: the window reports each failed write
+# and runs on (a user may never press S). The session to replay must be a readable file.
 OUTPUT_FILES = ("screenshot", "figure8")
-OUTPUT_FOLDERS = ("export_maps", "screenshot_dir", "session_dir")
+OUTPUT_FOLDERS = ("export_maps",)
+WINDOW_FOLDERS = ("screenshot_dir", "session_dir")
 
 
-def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> None:
-    """Refuse, before any work, a path option that cannot be used; ValueError naming it.
-    Folders left at their defaults are the window's to report at run time."""
-    for name in OUTPUT_FILES + OUTPUT_FOLDERS:
+def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> list[str]:
+    """Refuse (ValueError naming the option) an output path that cannot be written or a
+    --replay that cannot be read; return warnings for the window's folders. Folders left
+    at their defaults are the window's to report at run time."""
+    warnings = []
+    for name in OUTPUT_FILES + OUTPUT_FOLDERS + WINDOW_FOLDERS:
         value = getattr(args, name)
         if value is None or value == parser.get_default(name):
             continue
-        option = "--" + name.replace("_", "-")
-        problem = _output_problem(Path(value), folder=name in OUTPUT_FOLDERS)
-        if problem:
-            raise ValueError(f"{option} {value}: {problem}")
+        problem = _output_problem(Path(value), folder=name not in OUTPUT_FILES)
+        message = f"--{name.replace('_', '-')} {value}: {problem}"
+        if problem and name in WINDOW_FOLDERS:
+            warnings.append(f"{message}; the window will say so at each write")
+        elif problem:
+            raise ValueError(message)
     if args.replay is not None:
         path = Path(args.replay)
         if not path.is_file() or not os.access(path, os.R_OK):
             what = "is a folder" if path.is_dir() else "cannot be read" if path.exists() else "no such file"
             raise ValueError(f"--replay {args.replay}: {what}")
+    return warnings
 
 
 def _output_problem(path: Path, folder: bool) -> str | None:

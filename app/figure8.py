@@ -17,8 +17,9 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
 from sim import PRESETS, FrostSim, Params
+from sim.files import why
 
-from .headless import Session, make_context
+from .headless import Progress, Session, make_context
 from .screenshot import read_image, save_png
 
 WIDTH, HEIGHT = 760, 1280
@@ -77,10 +78,11 @@ def preset_stats(name: str, sim: FrostSim, centre, reach_tick: int | None) -> Pr
     return PresetStats(name, n, len(sim.upsampled), extent, density, core, reach_tick)
 
 
-def grow_preset(ctx, name: str, seed: int, ticks: int, touch,
-                overrides: dict | None = None) -> tuple[np.ndarray, PresetStats]:
+def grow_preset(ctx, name: str, seed: int, ticks: int, touch, overrides: dict | None = None,
+                progress: Progress | None = None) -> tuple[np.ndarray, PresetStats]:
     """Grow preset `name` from `touch` for `ticks` ticks: its frame and its numbers."""
     session = Session(ctx, Params.preset(name, **(overrides or {})), seed)
+    session.progress = progress
     session.touch(*touch)
     reach_tick = None
     for _ in range(ticks):
@@ -127,8 +129,9 @@ def make_figure8(ctx, seed: int = 0, ticks: int = 250, touch=(380.0, 640.0),
                  overrides: dict | None = None) -> tuple[np.ndarray, list[PresetStats]]:
     """The sheet (H x W x 3 uint8) and every preset's numbers, a-1 ... c-3."""
     frames, stats = {}, []
+    progress = Progress(len(PRESETS) * ticks)  # all nine presets' ticks
     for name in PRESETS:
-        frames[name], s = grow_preset(ctx, name, seed, ticks, touch, overrides)
+        frames[name], s = grow_preset(ctx, name, seed, ticks, touch, overrides, progress)
         stats.append(s)
     title = f"Table 1 presets, seed {seed}, {ticks} ticks, touch {touch[0]:g},{touch[1]:g}"
     return compose(frames, title), stats
@@ -155,7 +158,11 @@ def run(args) -> int:
             "seed": args.seed, "ticks": args.ticks, "touch": list(touch),
             "stats": [s.__dict__ for s in stats], "Software": "frost (python -m app --figure8)",
             "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
-    path = save_png(sheet, Path(args.figure8), meta)
+    try:
+        path = save_png(sheet, Path(args.figure8), meta)
+    except OSError as err:
+        print(f"frost: error: cannot write {why(err, args.figure8)}", file=sys.stderr)
+        return 2
     print(format_table(stats))
     print(f"wrote {path}")
     return 0

@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 from sim import Params
+from sim.files import why
 from sim.gestures import MELT_SPACING, path_points
 from sim.session import Applied, SessionError, SessionLog, Timeline, apply_due, replay
 
@@ -37,6 +38,23 @@ def scripted_session(ticks: int) -> list[tuple[int, float, float]]:
             (2 * ticks // 5, WIDTH * 0.72, HEIGHT * 0.78)]
 
 
+class Progress:
+    """A line on stdout every PROGRESS_EVERY_S seconds of a long run, counting against
+    the whole run's ticks (all its stages together)."""
+
+    def __init__(self, total: int):
+        self.total, self.done = total, 0
+        self._last = time.perf_counter()
+
+    def step(self, sim) -> None:
+        self.done += 1
+        now = time.perf_counter()
+        if now - self._last >= PROGRESS_EVERY_S:
+            print(f"tick {sim.tick} ({self.done}/{self.total}), {len(sim.crystals)} crystals "
+                  "(Ctrl-C stops)", flush=True)
+            self._last = now
+
+
 class Session:
     """One headless run: a Timeline (simulation, geometry, events) and a renderer fed
     every delta in order."""
@@ -47,6 +65,7 @@ class Session:
         self.fbo = ctx.simple_framebuffer((WIDTH, HEIGHT), components=4)
         self.touches: list[tuple[int, float, float]] = []
         self.meta: dict = {}  # more PNG metadata, e.g. the session file replayed
+        self.progress: Progress | None = None  # told of every step when set
 
     @property
     def sim(self):
@@ -68,11 +87,14 @@ class Session:
     def step(self) -> None:
         for delta in self.timeline.step():
             self.renderer.apply(delta)
+        if self.progress:
+            self.progress.step(self.sim)
 
     def snapshot(self, path: Path) -> Path:
         self.renderer.render(self.fbo)
         meta = {"parameters": self.sim.params.as_dict(), "seed": self.sim.seed,
                 "touches": [list(t) for t in self.touches], "tick": self.sim.tick,
+                "view": self.renderer.view(),
                 "Software": "frost (python -m app --headless)", **self.meta}
         return save_png(read_image(self.fbo), path, meta)
 
@@ -120,13 +142,13 @@ def _run_touches(session: Session, args) -> int:
         _error(err)
         return 2
     melts, at = melt_events(args), 0
+    session.progress = Progress(args.ticks)
     for _ in range(args.ticks):
         at = apply_due(session.timeline, melts, at, session.show)
         session.step()
     apply_due(session.timeline, melts, at, session.show)
     path = Path(args.screenshot) if args.screenshot else timestamped_path(DEFAULT_FOLDER)
-    print(f"wrote {session.snapshot(path)}")
-    return 0
+    return _write(session, path, "wrote {}")
 
 
 def load_session(path) -> SessionLog:
@@ -138,11 +160,31 @@ def load_session(path) -> SessionLog:
     return log_
 
 
-def replay_session(ctx, log_: SessionLog, steps: int | None = None) -> Session:
-    """A Session that went through `log_` (see sim.session.replay) with its renderer."""
+def replay_session(ctx, log_: SessionLog, steps: int | None = None,
+                   progress: Progress | None = None) -> Session:
+    """A Session that went through `log_` (see sim.session.replay) with its renderer,
+    shown with the session's view, stating the replay's touches."""
     session = Session(ctx, Params(**log_.params), log_.seed)
-    session.timeline = replay(log_, steps, session.show, session.renderer.apply)
+    session.renderer.set_view(log_.view)
+    session.timeline = replay(log_, steps, session.show, session.renderer.apply,
+                              progress.step if progress else None)
+    session.touches = replayed_touches(session.timeline.events, WIDTH, HEIGHT)
     return session
+
+
+def replayed_touches(events: list[dict], width: int, height: int) -> list[tuple[int, float, float]]:
+    """(tick, x, y) of the touches a replay ended with, as a live run states them: a
+    clear drops them, a parameter change replants them at tick 0, off-screen ones never
+    counted."""
+    touches: list[tuple[int, float, float]] = []
+    for e in events:
+        if e["kind"] == "touch" and 0 <= e["x"] < width and 0 <= e["y"] < height:
+            touches.append((e["tick"], float(e["x"]), float(e["y"])))
+        elif e["kind"] == "clear":
+            touches = []
+        elif e["kind"] == "params":
+            touches = [(0, x, y) for _, x, y in touches]
+    return touches
 
 
 def _run_replay(ctx, args) -> int:
@@ -151,15 +193,27 @@ def _run_replay(ctx, args) -> int:
     except SessionError as err:
         _error(err)
         return 2
+    progress = Progress(log_.steps if args.ticks is None else args.ticks)
     try:
-        session = replay_session(ctx, log_, args.ticks)
+        session = replay_session(ctx, log_, args.ticks, progress)
     except ValueError as err:  # an event the simulation refuses, e.g. a touch off the screen
         _error(f"{args.replay}: cannot replay: {err}")
         return 2
     session.meta = {"session": str(args.replay), "replayed_steps": session.timeline.steps}
     path = Path(args.screenshot) if args.screenshot else timestamped_path(DEFAULT_FOLDER)
-    print(f"replayed {args.replay}: {session.timeline.steps} steps, "
-          f"{len(session.timeline.events)} events; wrote {session.snapshot(path)}")
+    return _write(session, path, f"replayed {args.replay}: {session.timeline.steps} steps, "
+                                 f"{len(session.timeline.events)} events; wrote {{}}")
+
+
+def _write(session: Session, path: Path, done: str) -> int:
+    """Write the frame to `path` and print `done` with the path; a path that cannot be
+    written is a one-line error (exit 2), with nothing half-written left behind."""
+    try:
+        written = session.snapshot(path)
+    except OSError as err:
+        _error(f"cannot write {why(err, path)}")
+        return 2
+    print(done.format(written))
     return 0
 
 
@@ -169,12 +223,18 @@ def _run_scripted(session: Session, args) -> int:
     script = scripted_session(args.ticks)
     stops = [t for t, _, _ in script[1:]] + [args.ticks]
     written = []
-    for (start, x, y), stop in zip(script, stops, strict=True):
-        session.touch(x, y)
-        _grow(session, stop - start)
-        written.append(session.snapshot(folder / f"frost-demo-tick{stop:04d}.png"))
-    if args.screenshot:
-        written.append(session.snapshot(Path(args.screenshot)))
+    session.progress = Progress(args.ticks)
+    try:
+        for (start, x, y), stop in zip(script, stops, strict=True):
+            session.touch(x, y)
+            for _ in range(stop - start):
+                session.step()
+            written.append(session.snapshot(folder / f"frost-demo-tick{stop:04d}.png"))
+        if args.screenshot:
+            written.append(session.snapshot(Path(args.screenshot)))
+    except OSError as err:
+        _error(f"cannot write {why(err, folder)}")
+        return 2
     print(f"wrote {len(written)} PNG files to {folder.resolve()}: "
           + ", ".join(p.name for p in written))
     return 0
@@ -183,16 +243,3 @@ def _run_scripted(session: Session, args) -> int:
 def _error(message) -> None:
     """A one-line error for the user, no traceback."""
     print(f"frost: error: {message}", file=sys.stderr)
-
-
-def _grow(session: Session, ticks: int) -> None:
-    """Advance `ticks` ticks, printing progress every few seconds on long runs."""
-    last = time.perf_counter()
-    for i in range(ticks):
-        session.step()
-        now = time.perf_counter()
-        if now - last > PROGRESS_EVERY_S:
-            print(f"tick {session.sim.tick} ({i + 1}/{ticks}), "
-                  f"{len(session.sim.crystals)} crystals", flush=True)
-            last = now
-

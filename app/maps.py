@@ -25,10 +25,11 @@ from pathlib import Path
 import numpy as np
 
 from sim import FrostSim, Params
+from sim.files import why, write_all_atomic
 from sim.geometry import FrostGeometry
 
 from .render import Material
-from .screenshot import save_png
+from .screenshot import png_writer
 
 log = logging.getLogger(__name__)
 
@@ -152,9 +153,12 @@ def export_maps(folder, grid: np.ndarray, segments: np.ndarray, params: Params,
     common = {"parameters": params.as_dict(), **(meta or {}), "height_max_px": top,
               "Software": "frost (app.maps)", "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
     folder = Path(folder)
-    return {name: save_png(images[name], folder / f"{name}.png",
-                           {**common, "map": name, "encoding": _MEANING[name]})
-            for name in MAP_NAMES}
+    paths = {name: folder / f"{name}.png" for name in MAP_NAMES}
+    # All three or none: a full disk or an unwritable folder leaves no half set.
+    write_all_atomic({paths[name]: png_writer(images[name], {**common, "map": name,
+                                                             "encoding": _MEANING[name]})
+                      for name in MAP_NAMES})
+    return paths
 
 
 def live_segments(sim: FrostSim) -> np.ndarray:
@@ -163,8 +167,10 @@ def live_segments(sim: FrostSim) -> np.ndarray:
     return sim.segments if alive is None else sim.segments[alive]
 
 
-def grow(params: Params, seed: int, touches, ticks: int) -> tuple[FrostSim, FrostGeometry]:
-    """Run the simulation and its geometry (no GL): touches are (tick, x, y)."""
+def grow(params: Params, seed: int, touches, ticks: int,
+         on_tick=None) -> tuple[FrostSim, FrostGeometry]:
+    """Run the simulation and its geometry (no GL): touches are (tick, x, y);
+    `on_tick(sim)` after every tick (progress)."""
     sim = FrostSim(params, WIDTH, HEIGHT, seed)
     geometry = FrostGeometry(params, WIDTH, HEIGHT)
     plan = sorted(touches)
@@ -173,23 +179,30 @@ def grow(params: Params, seed: int, touches, ticks: int) -> tuple[FrostSim, Fros
             sim.touch(x, y)
         sim.step()
         geometry.update(sim)
+        if on_tick:
+            on_tick(sim)
     return sim, geometry
 
 
 def run(args, params: Params) -> int:
     """`python -m app --headless --touch X,Y --ticks N --export-maps DIR`."""
-    from .headless import scripted_session
+    from .headless import Progress, scripted_session
 
     if args.ticks < 0:
         print(f"frost: error: --ticks {args.ticks} must be 0 or more", file=sys.stderr)
         return 2
     touches = [(0, x, y) for x, y in args.touch] or scripted_session(args.ticks)
     try:
-        sim, geometry = grow(params, args.seed, touches, args.ticks)
+        sim, geometry = grow(params, args.seed, touches, args.ticks, Progress(args.ticks).step)
     except ValueError as err:
         print(f"frost: error: {err}", file=sys.stderr)
         return 2
     meta = {"seed": args.seed, "touches": [list(t) for t in touches], "tick": sim.tick}
-    paths = export_maps(args.export_maps, geometry.heights, live_segments(sim), params, meta)
+    try:
+        paths = export_maps(args.export_maps, geometry.heights, live_segments(sim), params, meta)
+    except OSError as err:  # nothing was written: the set appears whole or not at all
+        print(f"frost: error: cannot write the maps: {why(err, args.export_maps)}",
+              file=sys.stderr)
+        return 2
     print("wrote " + ", ".join(str(p) for p in paths.values()))
     return 0

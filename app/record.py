@@ -13,6 +13,8 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
+from sim.files import why, write_atomic
+
 log = logging.getLogger(__name__)
 
 # 380x640 and every 2nd phone frame: about 0.7 MB a frame, 12.5 frames a second.
@@ -35,15 +37,27 @@ def recording_path(folder: str | Path) -> Path:
 
 
 def write_animation(frames: list[Image.Image], path: Path) -> Path:
-    frames[0].save(path, save_all=True, append_images=frames[1:], duration=FRAME_MS,
-                   loop=0, quality=80, method=0)
+    """Encode `frames` to `path` atomically (a half-written WebP never appears)."""
+    write_atomic(path, lambda f: frames[0].save(
+        f, format="WEBP", save_all=True, append_images=frames[1:], duration=FRAME_MS,
+        loop=0, quality=80, method=0))
     log.info("recording: %d frames written to %s", len(frames), path)
     return path
 
 
+def _write_or_report(frames: list[Image.Image], path: Path, report) -> None:
+    """The writer thread: a failure goes to `report`, never kills the app."""
+    try:
+        write_animation(frames, path)
+    except OSError as err:
+        report(f"recording NOT written: {why(err, path)}")
+
+
 class Recorder:
-    def __init__(self, folder: str | Path):
+    def __init__(self, folder: str | Path, report=None):
         self.folder = folder
+        # Where a failed write is told (from any thread): the window's HUD; else the log.
+        self.report = report or (lambda text: log.warning("%s", text))
         self.frames: list[Image.Image] | None = None
         self._offered = 0
         self._writers: list[threading.Thread] = []
@@ -81,8 +95,13 @@ class Recorder:
         if not frames:
             log.info("recording: stopped with no frames")
             return
-        path = recording_path(self.folder)
-        writer = threading.Thread(target=write_animation, args=(frames, path), name="frost-rec")
+        try:
+            path = recording_path(self.folder)
+        except OSError as err:
+            self.report(f"recording: {len(frames)} frames lost: {why(err, self.folder)}")
+            return
+        writer = threading.Thread(target=_write_or_report, args=(frames, path, self.report),
+                                  name="frost-rec")
         writer.start()
         self._writers.append(writer)
 

@@ -98,6 +98,20 @@ class Renderer:
         self._grow(1 << 16)
         self.reset()
 
+    # ---- view state: what, besides the frost, decides the picture --------------------
+
+    def view(self) -> dict:
+        """The light and the toggles as JSON (session files and PNGs carry it, so a
+        replay draws the same picture; see sim.session.check_view)."""
+        return {"light": [float(v) for v in self.light], "features": bool(self.show_features),
+                "bumps": bool(self.show_bumps)}
+
+    def set_view(self, view: dict | None) -> None:
+        """Show as `view` (from `view()`) says; None keeps the defaults."""
+        if view is not None:
+            self.light = tuple(float(v) for v in view["light"])
+            self.show_features, self.show_bumps = view["features"], view["bumps"]
+
     # ---- uploads ----------------------------------------------------------------
 
     def apply(self, delta: GeometryDelta) -> None:

@@ -9,6 +9,7 @@ snapshot's geometry deltas in order. No GL here.
 
 from __future__ import annotations
 
+import json
 import logging
 import queue
 import threading
@@ -19,6 +20,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from sim import Params
+from sim.files import why
 from sim.geometry import GeometryDelta
 from sim.session import Applied, Backlog, SessionLog, Timeline, apply_due
 
@@ -75,6 +77,8 @@ class SimThread(threading.Thread):
         super().__init__(name="frost-sim", daemon=True)
         self.inbox: queue.Queue[Command] = queue.Queue()
         self.outbox: queue.Queue[Snapshot] = queue.Queue()
+        # (logging level, text) from this thread's workers, for the HUD and the log.
+        self.notices: queue.Queue[tuple[int, str]] = queue.Queue()
         self.size = (width, height)
         self.seed, self.dt, self.wake = seed, dt, wake or (lambda: None)
         self.first_params = params
@@ -129,6 +133,11 @@ class SimThread(threading.Thread):
         """Every snapshot produced since the last call, oldest first."""
         return _take_all(self.outbox)
 
+    def notify(self, level: int, text: str) -> None:
+        """A message for the main thread (any thread may call it)."""
+        self.notices.put((level, text))
+        self.wake()
+
     # ---- thread side ------------------------------------------------------------
 
     def run(self) -> None:
@@ -176,6 +185,8 @@ class SimThread(threading.Thread):
             melts = (*melts, *scheduled)
             grown = self._first_growth()
             clicks, self._clicks = tuple(self._clicks), []
+        if "export" in notes:  # after any step: the arrays of the tick the snapshot shows
+            self._export_now(notes.pop("export"))
         self.tick_ms = (time.perf_counter() - t0) * 1000.0
         self.outbox.put(self._snapshot(delta, reset=reset, clicks=clicks, grown=grown,
                                        message=message, melts=melts))
@@ -219,12 +230,17 @@ class SimThread(threading.Thread):
     def _clear(self, _arg, notes: dict) -> None:
         notes["applied"].append(self.timeline.apply([{"kind": "clear"}]))
 
-    def _export(self, arg, _notes: dict) -> None:
-        """Frost maps of this tick: the arrays are copied here, the PNGs written by a worker
-        so the schedule does not slip."""
-        folder, meta = arg
+    def _export(self, folder, notes: dict) -> None:
+        notes["export"] = folder
+
+    def _export_now(self, folder) -> None:
+        """Frost maps of this tick: the arrays, parameters, touches and tick are copied here
+        (what this tick's snapshot shows), the PNGs written by a worker so the schedule
+        does not slip."""
         grid, segments = self.geometry.heights.copy(), live_segments(self.sim).copy()
-        job = (folder, grid, segments, self.params, dict(meta, tick=str(self.sim.tick)))
+        meta = {"seed": str(self.seed), "touches": json.dumps(self.touches),
+                "tick": str(self.sim.tick)}
+        job = (folder, grid, segments, self.params, meta, self.notify)
         threading.Thread(target=_write_maps, args=job, name="frost-maps").start()
 
     def _pause(self, _arg, _notes: dict) -> None:
@@ -244,9 +260,14 @@ def _take_all(q: queue.Queue) -> list:
             return items
 
 
-def _write_maps(folder, grid, segments, params, meta) -> None:
-    paths = export_maps(folder, grid, segments, params, meta)
-    log.info("frost maps: %s", ", ".join(str(p) for p in paths.values()))
+def _write_maps(folder, grid, segments, params, meta, notify) -> None:
+    """The export worker: success or failure goes to `notify`, nothing dies silently."""
+    try:
+        paths = export_maps(folder, grid, segments, params, meta)
+    except OSError as err:
+        notify(logging.WARNING, f"frost maps NOT written: {why(err, folder)}")
+        return
+    notify(logging.INFO, "frost maps written: " + ", ".join(str(p) for p in paths.values()))
 
 
 def _merged(applied: list[Applied]) -> tuple[bool, tuple[GeometryDelta, ...], str | None]:

@@ -8,9 +8,11 @@ thread calls GL.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import logging
 import math
+import signal
 import time
 from pathlib import Path
 
@@ -18,6 +20,7 @@ import glfw
 import moderngl
 
 from sim import Params
+from sim.files import why
 from sim.gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
 
 from . import tuning
@@ -50,6 +53,17 @@ RECORD_CATCHUP = 4  # ticks a slow frame may still add to a recording
 
 class WindowError(RuntimeError):
     pass
+
+
+def display_problem() -> str | None:
+    """None when GLFW can reach the display; else why not (e.g. DISPLAY=:99 with no X
+    server there). GLFW is shut down again either way."""
+    errors: list[str] = []
+    glfw.set_error_callback(lambda code, text: errors.append(_text(text)))
+    ok = glfw.init()
+    glfw.terminate()
+    glfw.set_error_callback(None)
+    return None if ok else "; ".join(errors) or "GLFW could not start"
 
 
 def open_window(scale: float | None) -> tuple:
@@ -118,18 +132,21 @@ class FrostWindow:
         self.blit["u_texture"].value = 0
         self.quad = self.ctx.vertex_array(self.blit, [])
         self.hud = Hud(self.ctx)
-        self.recorder = Recorder(args.screenshot_dir)
         self.keys = key_table(lambda name: getattr(glfw, f"KEY_{name}"))
         self.actions = self._action_table()
         self.params = params
         self.sim = SimThread(params, args.seed, args.touch or (), *PHONE,
                              wake=glfw.post_empty_event, script=getattr(args, "script", ()))
+        self.recorder = Recorder(args.screenshot_dir,
+                                 lambda text: self.sim.notify(logging.WARNING, text))
+        self.renderer.set_view(getattr(args, "view", None))  # a replayed session's view
         self._init_state()
         self._connect()
 
     def _init_state(self) -> None:
         self.latest: Snapshot | None = None
         self.dirty, self.running, self.status = True, True, 0
+        self.interrupted = False  # ended by Ctrl-C (SIGINT)
         self.frames, self.renders, self.render_ms, self.snapshots = 0, 0, 0.0, 0
         self.frame_ms = 0.0  # render + present, moving average
         self.new_ticks = 0  # snapshots since the last recorded frame
@@ -139,6 +156,7 @@ class FrostWindow:
         self.melts_sent = 0  # by the current right-button drag
         self.message, self.message_until = "", 0.0
         self.screenshots: list[Path] = []
+        self.names: set[str] = set()  # stems of screenshots and map folders asked for
         self.session_path: Path | None = None
         self.latencies: list[tuple[str, int, float]] = []  # (kind, ticks, ms)
         self.started = time.monotonic()
@@ -180,14 +198,20 @@ class FrostWindow:
     def close(self) -> None:
         self.sim.stop()
         self.recorder.close()
-        self._save_session()
+        self._drain_notices()
+        try:
+            self._save_session()
+        except OSError as err:
+            log.warning("session NOT saved: %s", why(err, self.session_path))
         self._summary()
 
     def _save_session(self, path: Path | None = None) -> Path:
-        """The session up to the frame shown, to `path` (default: this run's file, made
-        on first use); replay it with --replay FILE."""
+        """The session up to the frame shown and the view it was shown with, to `path`
+        (default: this run's file, made on first use); replay it with --replay FILE.
+        OSError if it cannot be written (nothing half-written is left)."""
         snap = self.latest
         log_ = self.sim.session(snap.steps, snap.events) if snap else self.sim.session(0, 0)
+        log_.view = self.renderer.view()
         if path is None:
             self.session_path = self.session_path or timestamped_path(
                 self.args.session_dir, "session", ".json")
@@ -199,6 +223,12 @@ class FrostWindow:
     def _drain(self) -> None:
         for snap in self.sim.drain():
             self._apply(snap)
+        self._drain_notices()
+
+    def _drain_notices(self) -> None:
+        """Messages of the workers (map exports, recordings) to the HUD and the log."""
+        while not self.sim.notices.empty():
+            self._say(*self.sim.notices.get()[::-1])
 
     def _apply(self, snap: Snapshot) -> None:
         if snap.error:
@@ -302,7 +332,7 @@ class FrostWindow:
 
     def _stats_lines(self, now: float) -> list[str]:
         s = self.latest.stats if self.latest else Stats(0, 0.0, 0, 0, 0.0, 0, False)
-        p = self.params
+        p = self.latest.params if self.latest else self.params  # what the frame shows
         r = self.renderer
         state = [w for w, on in (("PAUSED", s.paused),
                                  (f"REC {self.recorder.count} frames", self.recorder.active)) if on]
@@ -434,6 +464,10 @@ class FrostWindow:
     def _quit(self, _arg) -> None:
         self.running = False
 
+    def interrupt(self) -> None:
+        """Ctrl-C: end the loop at the next frame, as Esc does."""
+        self.running, self.interrupted = False, True
+
     def _toggle_hud(self, _arg) -> None:
         self.hud.visible = not self.hud.visible
         self._damage()
@@ -478,25 +512,43 @@ class FrostWindow:
         self._say("params: " + " ".join(f"{k}={_number(v)}" for k, v in changed.items()))
 
     def _screenshot(self, _arg) -> None:
+        """The frame shown, as a PNG stating what made it (all from the snapshot shown and
+        the renderer's view), and its own session file: replaying it ends on this frame."""
         self._render_phone()
-        folder = Path(self.args.screenshot_dir)
-        folder.mkdir(parents=True, exist_ok=True)
-        meta = {"params": json.dumps(self.params.as_dict()), "seed": str(self.args.seed),
-                "touches": json.dumps(self.latest.touches if self.latest else []),
-                "tick": str(self.latest.stats.tick if self.latest else 0)}
-        path = timestamped_path(folder)
-        # This frame's own session file: replaying it ends on this frame.
-        meta["session"] = str(self._save_session(Path(self.args.session_dir) / f"{path.stem}.json"))
-        path = save_png(read_image(self.phone), path, meta)
+        snap = self.latest
+        meta = {"params": json.dumps((snap.params if snap else self.params).as_dict()),
+                "seed": str(self.sim.seed), "touches": json.dumps(snap.touches if snap else []),
+                "tick": str(snap.stats.tick if snap else 0),
+                "view": json.dumps(self.renderer.view())}
+        path = self._fresh_name(".png")
+        try:
+            meta["session"] = str(self._save_session(
+                Path(self.args.session_dir) / f"{path.stem}.json"))
+        except OSError as err:
+            self._say(f"screenshot's session NOT saved: {why(err, path.stem + '.json')}",
+                      logging.WARNING)
+        try:
+            path = save_png(read_image(self.phone), path, meta)
+        except OSError as err:
+            self._say(f"screenshot NOT saved: {why(err, path)}", logging.WARNING)
+            return
         self.screenshots.append(path)
         self._say(f"screenshot: {path}")
 
     def _export_maps(self, _arg) -> None:
-        folder = Path(self.args.screenshot_dir) / timestamped_path(Path(self.args.screenshot_dir)).stem
-        meta = {"seed": str(self.args.seed),
-                "touches": json.dumps(self.latest.touches if self.latest else [])}
-        self.sim.send("export", (folder, meta))
-        self._say(f"frost maps: {folder}/")
+        """The maps of the next tick's frost, written by a worker that reports back."""
+        folder = self._fresh_name("")
+        self.sim.send("export", folder)
+        self._say(f"frost maps: exporting to {folder}/")
+
+    def _fresh_name(self, suffix: str) -> Path:
+        """A new name in the screenshot folder whose stem no screenshot, screenshot
+        session, map folder or earlier request (written or failed) of this run has."""
+        shots = Path(self.args.screenshot_dir)
+        path = timestamped_path(shots, suffix=suffix, taken=self.names, also=(
+            (shots, ".png"), (shots, ""), (Path(self.args.session_dir), ".json")))
+        self.names.add(path.stem)
+        return path
 
     # ---- the end --------------------------------------------------------------------------
 
@@ -540,7 +592,8 @@ def run(args, params: Params) -> int:
     app = None
     try:
         app = FrostWindow(window, args, params)
-        return app.loop()
+        with _ctrl_c_ends(app):
+            status = app.loop()
     except Exception:
         log.exception("window failed")
         if app is not None:
@@ -550,3 +603,21 @@ def run(args, params: Params) -> int:
         if app is not None:
             app.close()
         glfw.terminate()
+    if app.interrupted:  # closed and saved; the caller says so and exits 130
+        raise KeyboardInterrupt
+    return status
+
+
+@contextlib.contextmanager
+def _ctrl_c_ends(app: FrostWindow):
+    """While the window runs, SIGINT ends the frame loop like Esc (and marks it
+    interrupted) instead of raising KeyboardInterrupt wherever the main thread is, e.g.
+    inside a GLFW callback, where ctypes would swallow it. Left alone when ignored."""
+    if signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
+        yield
+        return
+    signal.signal(signal.SIGINT, lambda *_: app.interrupt())
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, signal.default_int_handler)

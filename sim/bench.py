@@ -6,6 +6,9 @@
    least 90 % of the humidity's walkers, and walker steps per second.
 3. Growth mode: tick time from one touch until the screen is covered.
 4. The simulation's memory after a full c-2 growth.
+5. Scribble and storm: tick times (events applied + step + geometry, as the app's
+   simulation thread counts them) while a scripted user scribbles for 60 s and while
+   2 000 touches and melts arrive in 10 s; walkers, backlog and peak memory.
 """
 
 from __future__ import annotations
@@ -13,12 +16,14 @@ from __future__ import annotations
 import argparse
 import json
 import platform
+import resource
 import time
 import tracemalloc
 
 import numpy as np
 
 from . import FrostSim, Params
+from .scribble import play, scribble, storm
 
 CENTRE = (380.0, 640.0)
 
@@ -129,16 +134,59 @@ def memory() -> dict:
             "crystals": len(sim.crystals)}
 
 
+def abuse(presets: list[str], seconds: float) -> list[dict]:
+    """Tick-time distributions of a scripted scribble and a storm of input per preset."""
+    rows = []
+    for name in presets:
+        params = Params.preset(name)
+        for kind, schedule in (("scribble", scribble(params, 0, seconds)), ("storm", storm(0)),
+                               ("storm+grow", storm(0))):
+            p = params.replace(grow=True) if kind == "storm+grow" else params
+            played = play(p, schedule, tail=50)
+            tracemalloc.start()  # a second run for memory: tracing slows every tick
+            play(p, schedule, tail=50)
+            peak = tracemalloc.get_traced_memory()[1]
+            tracemalloc.stop()
+            t = 1e3 * played.tick_s
+            rows.append({"preset": name, "kind": kind, "ticks": len(t),
+                         "median_ms": float(np.median(t)), "p99_ms": float(np.percentile(t, 99)),
+                         "max_ms": float(t.max()), "over_40ms": int((t > 40).sum()),
+                         "touches": played.touches, "walkers_max": played.walkers_max,
+                         "crystals": played.crystals, "backlog_max": played.backlog_max,
+                         "traced_peak_mb": peak / 1e6})
+    return rows
+
+
+def print_abuse(rows: list[dict]) -> None:
+    print("\n## Scribble (60 s: drags, warm finger, every tuning change) and storm (2 000 "
+          "touches and melts in 10 s)")
+    print("preset kind        ticks  median ms  p99 ms  max ms  >40ms  touches  walkers  crystals  "
+          "backlog  traced MB")
+    for r in rows:
+        print(f"{r['preset']:6} {r['kind']:10} {r['ticks']:6} {r['median_ms']:10.2f} {r['p99_ms']:7.2f} "
+              f"{r['max_ms']:7.2f} {r['over_40ms']:6} {r['touches']:8} {r['walkers_max']:8} "
+              f"{r['crystals']:9} {r['backlog_max']:8} {r['traced_peak_mb']:10.1f}")
+    print(f"process peak RSS {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
+
+
+SECTIONS = ("fig9", "busy", "growth", "memory", "abuse")
+
+
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(prog="python -m sim.bench", description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=3, help="full growths per mode and preset")
     ap.add_argument("--samples", type=int, default=200, help="busy ticks timed per humidity")
     ap.add_argument("--quick", action="store_true", help="a fast smoke run")
+    ap.add_argument("--section", choices=SECTIONS, action="append",
+                    help="run only this section (repeatable; default: all)")
     args = ap.parse_args(argv)
     if args.quick:
         args.repeats, args.samples = 1, 20
     print(f"# frost sim benchmark: {platform.processor() or platform.machine()}, "
           f"numpy {np.__version__}, python {platform.python_version()}, one thread")
+    if args.section:
+        run_sections(args)
+        return
     rows = fig9(["c-1", "c-2", "c-3"], args.repeats)
     print("\n## Fig. 9: full growth from one touch (median of", args.repeats, "runs)")
     print("preset  ticks  candidate ms/tick  grid9 ms/tick  total cand s  total grid9 s  grid9/cand")
@@ -170,7 +218,21 @@ def main(argv: list[str] | None = None) -> None:
     print(f"\n## Memory after a full c-2 growth ({mem['crystals']} crystals)")
     print(f"array bytes {mem['array_bytes'] / 1e6:.2f} MB, "
           f"tracemalloc peak {mem['tracemalloc_peak_bytes'] / 1e6:.2f} MB")
-    print(json.dumps({"fig9": rows, "phases": prof, "busy": busy, "growth": curve, "memory": mem}))
+    abused = abuse(["c-2", "c-3"], 10.0 if args.quick else 60.0)
+    print_abuse(abused)
+    print(json.dumps({"fig9": rows, "phases": prof, "busy": busy, "growth": curve, "memory": mem,
+                      "abuse": abused}))
+
+
+def run_sections(args) -> None:
+    """Only the sections asked for (those with a printer of their own)."""
+    if "abuse" in args.section:
+        rows = abuse(["c-2", "c-3"], 10.0 if args.quick else 60.0)
+        print_abuse(rows)
+        print(json.dumps({"abuse": rows}))
+    others = set(args.section) - {"abuse"}
+    if others:
+        print(f"(sections {', '.join(sorted(others))} run only as part of the full benchmark)")
 
 
 if __name__ == "__main__":

@@ -7,6 +7,7 @@ Everything is plain numpy data; rendering reads the arrays and the per-tick `add
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,6 +28,12 @@ _GRID9_CHUNK = 4096
 # water that would freeze into it is dropped instead. Table 1's single touches never
 # list more than 58 (measured over seeds 0-2), so the paper's frost is unchanged.
 CELL_CAP = 128
+# Geometry work one tick's freezes may make, in grid-vertex raises (each new crystal brings
+# its link's upsample particles, and each particle raises a stencil of grid vertices).
+# Freezes beyond it wait a tick as water (in walker order). Table 1's single touches peak at
+# 166 050 (a-1, seeds 0-2) and two a-1 touches at about 332 000, so the paper's frost is
+# unchanged; a fast chain reaction at a large hc no longer makes one tick do seconds of work.
+FREEZE_WORK = 400_000
 
 
 @dataclass(frozen=True)
@@ -120,6 +127,10 @@ class FrostSim:
         self._seg_range = Growable(np.int32, (2,))
         self._ups_range = Growable(np.int32, (2,))
         self._longest_link = 0.0  # a crystal's children lie within this of it
+        # Grid vertices one new crystal may raise: its link's particles times the stencil.
+        reach = math.ceil(self.params.hc / self.params.grid_spacing) + 1
+        per_link = 1 + max(0, math.floor(self.params.hc / self.params.D) - 1)
+        self._work_per_crystal = per_link * (2 * reach + 1) ** 2
         # Water, structure of arrays; each particle belongs to one active area.
         self._wx = Growable(np.float32, capacity=self.params.humidity)
         self._wy = Growable(np.float32, capacity=self.params.humidity)
@@ -332,8 +343,11 @@ class FrostSim:
             self._keep_water(~full)
 
     def _admit(self, frozen: np.ndarray, parents: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The freezes whose cells all stay within CELL_CAP; the rest of the water is
-        dropped (in walker order, so both neighbour searches drop the same)."""
+        """The freezes this tick takes: within FREEZE_WORK (the rest wait a tick), then
+        those whose cells all stay within CELL_CAP (the rest of the water is dropped). In
+        walker order, so both neighbour searches admit the same."""
+        most = max(1, FREEZE_WORK // self._work_per_crystal)
+        frozen, parents = frozen[:most], parents[:most]
         pts = np.column_stack((self._wx.raw()[frozen], self._wy.raw()[frozen]))
         cells, owner = self.grid.disc_cells(pts, self.params.hc)
         if len(cells) == 0 or self.candidates.count[cells].max() + len(frozen) <= CELL_CAP:
@@ -539,30 +553,19 @@ class FrostSim:
         self.water_dropped += int((~ok).sum())
 
     def _areas_for(self, pts: np.ndarray) -> np.ndarray:
-        """The area of each touch in turn: the one whose disc holds it (nearest centre),
-        else a new area opened there. Buckets of side active_radius keep each look-up to
-        the areas nearby, so a rebuild replanting thousands of touches stays cheap."""
-        areas, radius = self._areas.raw(), self.params.active_radius
-        buckets: dict[tuple[int, int], list[int]] = {}
-        for i, (cx, cy, r) in enumerate(areas[:, :3].tolist()):
-            for key in _bucket_keys(cx, cy, r, radius):
-                buckets.setdefault(key, []).append(i)
-        centres = areas[:, :3].tolist()
+        """The area of each touch in turn: the one whose disc holds it (nearest centre,
+        lowest index among equals), else a new area opened there."""
         out = np.empty(len(pts), np.int32)
-        for k, (x, y) in enumerate(pts.tolist()):
-            near = [(dx * dx + dy * dy, i) for i in buckets.get(_bucket(x, y, radius), ())
-                    for dx, dy, r in [(x - centres[i][0], y - centres[i][1], centres[i][2])]
-                    if dx * dx + dy * dy <= r * r]
-            if near:
-                out[k] = min(near)[1]
+        for k, (x, y) in enumerate(pts):
+            a = self._areas.raw()
+            d2 = (a[:, 0] - x) ** 2 + (a[:, 1] - y) ** 2
+            inside = d2 <= a[:, 2] ** 2
+            if inside.any():
+                out[k] = np.argmin(np.where(inside, d2, np.inf))
                 continue
-            out[k] = len(centres)
-            centres.append([x, y, radius])
-            for key in _bucket_keys(x, y, radius, radius):
-                buckets.setdefault(key, []).append(out[k])
-        new = np.array(centres[len(areas):], np.float32).reshape(-1, 3)
-        self._areas.append(np.column_stack((new, np.zeros((len(new), 2), np.float32))))
-        self._area_ice.append(np.zeros(len(new), np.int32))
+            row = np.array([[x, y, self.params.active_radius, 0.0, 0.0]], np.float32)
+            out[k] = self._areas.append(row).start
+            self._area_ice.append(np.zeros(1, np.int32))
         return out
 
     def _fill(self, areas: np.ndarray) -> None:
@@ -663,17 +666,6 @@ def _rows(ranges: np.ndarray) -> np.ndarray:
         return np.empty(0, np.int64)
     starts = np.repeat(first - (np.cumsum(count) - count), count)
     return starts + np.arange(total)
-
-
-def _bucket(x: float, y: float, side: float) -> tuple[int, int]:
-    return int(x // side), int(y // side)
-
-
-def _bucket_keys(cx: float, cy: float, r: float, side: float):
-    """The buckets of side `side` that a disc of radius r at (cx, cy) reaches."""
-    for bx in range(int((cx - r) // side), int((cx + r) // side) + 1):
-        for by in range(int((cy - r) // side), int((cy + r) // side) + 1):
-            yield bx, by
 
 
 def _level(counts: np.ndarray, need: int, floor: int) -> int:

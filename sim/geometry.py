@@ -162,18 +162,20 @@ class FrostGeometry:
         c = np.rint(pts[:, 0:1] / gs).astype(np.int64) + self._stencil[1]
         d = np.hypot(c * gs - pts[:, 0:1], r * gs - pts[:, 1:2])
         hit = (d < self.params.hc) & (r >= 0) & (r < self.rows) & (c >= 0) & (c < self.cols)
-        flat = r[hit] * self.cols + c[hit]
-        idx, inv = np.unique(flat, return_inverse=True)
-        add = np.bincount(inv, self.params.bump * falloff(d[hit], self.params.hc))
-        total = self._sum.reshape(-1)
-        total[idx] += sign * add
-        # The sum is kept as is (adds and melts commute, in any order); only the shown
-        # height drops the round-off a melt leaves, so clear glass stays clear.
-        h = np.minimum(total[idx], self.params.max_height)
-        self.heights.reshape(-1)[idx] = np.where(h < 1e-6, 0.0, h)
-        if len(flat) == 0:
+        if not hit.any():
             return slice(0, 0)
-        return slice(int(r[hit].min()), int(r[hit].max()) + 1)
+        lo, hi = int(r[hit].min()), int(r[hit].max()) + 1
+        # One bincount over the dirty rows (no sort): each vertex's bumps add up in input
+        # order. The sum is kept as is (adds and melts commute, in any order); only the
+        # shown height drops the round-off a melt leaves, so clear glass stays clear.
+        flat = (r[hit] - lo) * self.cols + c[hit]
+        add = np.bincount(flat, self.params.bump * falloff(d[hit], self.params.hc),
+                          minlength=(hi - lo) * self.cols)
+        total = self._sum[lo:hi]
+        total += sign * add.reshape(hi - lo, self.cols)
+        h = np.minimum(total, self.params.max_height)
+        self.heights[lo:hi] = np.where(h < 1e-6, 0.0, h)
+        return slice(lo, hi)
 
 
 def _bounds(xy: np.ndarray, pts: np.ndarray, reach: float):

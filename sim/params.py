@@ -12,6 +12,11 @@ from dataclasses import dataclass, field
 from typing import Any
 
 NEIGHBOR_SEARCHES = ("candidate", "grid9")
+# Bounds on the work one new crystal makes (see Params.__post_init__): at most this many
+# upsample particles on a link of length hc (Table 1: at most 10, a-1), and hc at most this
+# many grid spacings (Table 1: 2.5). Beyond them a tick of fast growth took seconds.
+MAX_UPSAMPLE = 16
+MAX_HC_PER_SPACING = 12
 
 
 def _p(default: Any, doc: str, lo: float | None = None, hi: float | None = None,
@@ -26,7 +31,7 @@ class Params:
     """Simulation and geometry parameters. Construct with keywords; invalid values raise."""
 
     hc: float = _p(7.0, "hc: radius of a crystal's freezing area, px (Table 1: 3-10)",
-                   0.0, 64.0, lo_open=True)
+                   0.0, 16.0, lo_open=True)
     D: float = _p(7.0, "D: spacing of upsample particles along a skeleton link, px (Table 1: 1-10)",
                   0.0, 64.0, lo_open=True)
     humidity: int = _p(3000, "humidity: water particles per active area (Table 1: 500-5000)",
@@ -36,7 +41,7 @@ class Params:
     # capped here; a touch beyond it takes a fair share from the areas holding the most.
     # 10 000 is twice the largest pool of Table 1 and keeps a busy tick to a few ms.
     water_budget: int = _p(10000, "water_budget: most water particles on the whole screen, all "
-                                  "active areas together", 1, 100_000)
+                                  "active areas together", 1, 30_000)
     # Not in the paper. 5 px (below hc = 7, so walkers never tunnel through a freezing
     # area; Table 1 presets with a smaller hc clamp it to hc). Measured at c-2 over seeds
     # 0-9 (`step` 3 / 5 / 7): first crystal after a median 17.5 / 9.5 / 5 ticks (worst 43 /
@@ -75,6 +80,14 @@ class Params:
         if self.step > self.hc:
             raise ValueError(f"step={self.step!r} must not exceed hc={self.hc!r}: "
                              "walkers would tunnel through freezing areas")
+        # Work per new crystal: hc / D upsample particles on its link, and each particle
+        # raises (2 hc / grid_spacing + 3)^2 grid vertices. Table 1 stays far inside both.
+        if self.hc > self.D * MAX_UPSAMPLE:
+            raise ValueError(f"D={self.D!r} is below hc/{MAX_UPSAMPLE}={self.hc / MAX_UPSAMPLE:g}: "
+                             f"a link would hold more than {MAX_UPSAMPLE} upsample particles")
+        if self.grid_spacing * MAX_HC_PER_SPACING < self.hc:
+            raise ValueError(f"grid_spacing={self.grid_spacing!r} is below hc/{MAX_HC_PER_SPACING}: "
+                             f"each particle would raise too many grid vertices (hc={self.hc!r})")
 
     def replace(self, **changes: Any) -> Params:
         """A copy with `changes` applied (validated); unknown names raise ValueError."""

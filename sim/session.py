@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from .files import write_atomic
 from .frost import FrostSim
 from .geometry import FrostGeometry, GeometryDelta
 from .params import Params
@@ -56,17 +57,20 @@ class SessionLog:
     height: int = 1280
     events: list[dict[str, Any]] = field(default_factory=list)
     steps: int = 0  # steps the run took in all (its timelines together)
+    # How the renderer showed the last frame (light, features, bumps; see check_view);
+    # None in files older than it: the renderer's defaults.
+    view: dict[str, Any] | None = None
 
     def as_json(self) -> dict[str, Any]:
-        return {"format": FORMAT, "version": VERSION, "seed": self.seed, "width": self.width,
+        data = {"format": FORMAT, "version": VERSION, "seed": self.seed, "width": self.width,
                 "height": self.height, "params": self.params, "steps": self.steps,
                 "events": self.events}
+        return data if self.view is None else {**data, "view": self.view}
 
     def save(self, path) -> Path:
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(self.as_json(), indent=1))
-        return path
+        """Write the file atomically: an old file or the whole new one, never half."""
+        text = json.dumps(self.as_json(), indent=1).encode()
+        return write_atomic(path, lambda f: f.write(text))
 
     @classmethod
     def load(cls, path) -> SessionLog:
@@ -94,9 +98,13 @@ class SessionLog:
             raise SessionError("'events' must be a list")
         events = [check_event(e) for e in data["events"]]
         _check_order(events, params)
+        try:
+            view = None if data.get("view") is None else check_view(data["view"])
+        except ValueError as err:
+            raise SessionError(str(err)) from None
         return cls(_whole(data, "seed", 0, 2**63 - 1), dict(data["params"]),
                    _whole(data, "width", 1, 16384, 760), _whole(data, "height", 1, 16384, 1280),
-                   events, _whole(data, "steps", 0, 2**31 - 1, 0))
+                   events, _whole(data, "steps", 0, 2**31 - 1, 0), view)
 
 
 # Coordinates and radii beyond this many px are refused: nothing is that far off a
@@ -136,6 +144,20 @@ def _check_order(events: list[dict], first: Params) -> None:
         if spacing != first.grid_spacing:
             raise SessionError(f"event {event!r}: a params event cannot change grid_spacing "
                                f"(the session's is {first.grid_spacing})")
+
+
+def check_view(view: Any) -> dict[str, Any]:
+    """`view` if it is a renderer view state: {"light": [x, y, z] toward the light (not
+    all 0), "features": bool, "bumps": bool}; else ValueError saying what is wrong."""
+    light = view.get("light") if isinstance(view, dict) else None
+    if (not isinstance(light, list) or len(light) != 3
+            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in light)
+            or not any(light) or not all(abs(v) < 1e6 for v in light)):
+        raise ValueError(f"view {view!r}: 'light' must be 3 numbers, not all 0")
+    if not all(isinstance(view.get(k), bool) for k in ("features", "bumps")):
+        raise ValueError(f"view {view!r}: 'features' and 'bumps' must be true or false")
+    return {"light": [float(v) for v in light], "features": view["features"],
+            "bumps": view["bumps"]}
 
 
 def check_event(event: Any) -> dict[str, Any]:
@@ -286,10 +308,12 @@ class Timeline:
             self.sim.plant(self.touches)
 
 
-def replay(log_: SessionLog, steps: int | None = None, on_apply=None, on_step=None) -> Timeline:
+def replay(log_: SessionLog, steps: int | None = None, on_apply=None, on_step=None,
+           on_tick=None) -> Timeline:
     """Run `log_` for `steps` steps (default: as many as it took), applying each event at
-    its tick; `on_apply(Applied)` and `on_step(GeometryDelta)` see every result in order.
-    Events due after the last step (made while paused) apply too."""
+    its tick; `on_apply(Applied)` and `on_step(GeometryDelta)` see every result in order,
+    `on_tick(sim)` every step once it is done (progress). Events due after the last step
+    (made while paused) apply too."""
     steps = log_.steps if steps is None else steps
     timeline = Timeline(Params(**log_.params), log_.seed, log_.width, log_.height)
     on_apply, on_step = on_apply or (lambda _a: None), on_step or (lambda _d: None)
@@ -299,6 +323,8 @@ def replay(log_: SessionLog, steps: int | None = None, on_apply=None, on_step=No
         if n < steps:
             for delta in timeline.step():
                 on_step(delta)
+            if on_tick:
+                on_tick(timeline.sim)
     if i < len(log_.events):
         log.warning("replay: %d events after step %d were not applied", len(log_.events) - i,
                     steps)

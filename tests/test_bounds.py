@@ -249,3 +249,35 @@ def test_a_storm_has_the_asked_number_of_touches_and_melts():
     assert len(events) == 2000
     assert sum(e["kind"] == "melt" for e in events) == 1000
     assert all(0 <= e["x"] < 760 and 0 <= e["y"] < 1280 for e in events)
+
+
+def test_freezes_beyond_the_tick_s_work_wait_as_water(monkeypatch):
+    params = Params(hc=7.0, step=1e-6)
+    sim = FrostSim(params, seed=0)
+    per_crystal = sim._work_per_crystal
+    assert per_crystal == 1 * (2 * (2 + 1) + 1) ** 2  # D = hc: one segment; 7x7 stencil at 4 px
+    monkeypatch.setattr(frost, "FREEZE_WORK", 2 * per_crystal + 1)  # room for two a tick
+    sim.touch(100.0, 100.0)
+    for buf in (sim._wx, sim._wy, sim._warea):
+        buf.keep(np.zeros(buf.n, bool))
+    xs = [103.0, 97.0, 100.0, 104.0]
+    sim._wx.append(np.array(xs, np.float32))
+    sim._wy.append(np.array([104.0, 104.0, 95.0, 96.0], np.float32))
+    sim._warea.append(np.zeros(4, np.int32))
+    sim.step()
+    assert len(sim.crystals) == 3 and sim.crystals[1:, 0].tolist() == pytest.approx(xs[:2], abs=1e-4)
+    assert len(sim.water_area) == 2  # the other two are still water, not dropped
+    sim.step()
+    assert len(sim.crystals) == 5 and len(sim.water_area) == 0
+
+
+@pytest.mark.parametrize("refused, named, allowed", [
+    ({"D": 0.4}, "D=0.4", {"D": 7.0 / 16}),
+    ({"hc": 16.5, "D": 16.5}, "hc=16.5", {"hc": 16.0, "D": 16.0}),
+    ({"grid_spacing": 1, "hc": 12.5, "D": 7.0}, "grid_spacing=1", {"grid_spacing": 1, "hc": 12.0}),
+    ({"water_budget": 30_001}, "water_budget=30001", {"water_budget": 30_000}),
+    ({"humidity": 100_001}, "humidity=100001", {"humidity": 100_000})])
+def test_settings_whose_tick_work_is_unbounded_are_refused_by_name(refused, named, allowed):
+    with pytest.raises(ValueError, match=named.replace(".", r"\.")):
+        Params(**refused)
+    Params(**allowed)  # the largest allowed value of the same kind is fine

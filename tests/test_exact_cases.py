@@ -1,17 +1,13 @@
 """Hand-built cases on exact float32 values, each aimed at a one-line bug the statistical
 tests let through: `<=` for `<` in the freezing test, ties to the highest crystal index,
-a crystal hidden by float32 cell rounding without CELL_MARGIN, deltas and exports that
-are views of live arrays."""
+a crystal hidden by float32 cell rounding without CELL_MARGIN, deltas that are views of
+live arrays (exports: tests/test_recorded.py)."""
 
 from __future__ import annotations
-
-import threading
 
 import numpy as np
 import pytest
 
-from app import simthread
-from app.simthread import SimThread
 from sim import FrostSim, Params
 from sim.geometry import FrostGeometry
 
@@ -86,26 +82,3 @@ def test_geometry_deltas_are_copies_not_views_of_live_arrays():
         sim.step()
         geometry.update(sim)
     assert np.array_equal(deltas[-2].heights, before)
-
-
-def test_exported_maps_are_copied_at_their_tick(monkeypatch, tmp_path):
-    jobs = []
-
-    class Capture:
-        def __init__(self, target, args, name):
-            jobs.append(args)
-
-        def start(self):
-            pass
-
-    thread = SimThread(Params.preset("c-3"), 2, [(380.0, 640.0)])
-    for _ in range(20):
-        thread._tick()
-    monkeypatch.setattr(simthread.threading, "Thread", Capture)
-    thread.send("export", (tmp_path, {}))
-    thread._tick()
-    monkeypatch.setattr(simthread.threading, "Thread", threading.Thread)
-    ((_, grid, segments, _, meta),) = jobs
-    assert not np.shares_memory(grid, thread.geometry.heights)
-    assert not np.shares_memory(segments, thread.sim.segments)
-    assert meta["tick"] == "20"  # the tick the arrays were copied at

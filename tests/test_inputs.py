@@ -9,6 +9,7 @@ import contextlib
 import io
 import math
 import os
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -64,6 +65,7 @@ def stubbed(monkeypatch):
 
     for module in (figure8, maps, headless, window):
         monkeypatch.setattr(module, "run", record)
+    monkeypatch.setattr(entry, "_display_problem", lambda: None)  # as if a display works
     return calls
 
 
@@ -113,7 +115,6 @@ def assert_runnable(args, params) -> None:
 @example(argv=["--melt-path=nan,0:1,1@2", "--touch=1,1"])
 @example(argv=["--melt=1,2,0@3", "--touch=1,1"])  # a zero radius
 def test_any_command_line_runs_or_is_refused_in_one_line(stubbed, monkeypatch, argv):
-    monkeypatch.setattr(entry, "has_display", lambda: True)
     stubbed.clear()
     status, err = run_main(argv)
     if stubbed:
@@ -131,30 +132,47 @@ def test_mode_options_exclude_each_other(stubbed, tmp_path):
 # ---- path options -----------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("option", ["--screenshot", "--figure8", "--export-maps",
-                                    "--screenshot-dir", "--session-dir"])
-@pytest.mark.parametrize("case", ["file as folder", "unwritable", "missing parent"])
-def test_output_paths_are_checked_before_any_work(stubbed, monkeypatch, tmp_path, option, case):
+@pytest.fixture
+def blocked(monkeypatch, tmp_path):
+    """Paths that cannot be written: under a file, under a folder os.access calls
+    read-only (root ignores permission bits), and one whose folders are only missing."""
     blocker = tmp_path / "blocker"
     blocker.write_text("a file")
-    folder = option in ("--export-maps", "--screenshot-dir", "--session-dir")
-    target = {"file as folder": blocker / "sub" / "x.png",
-              "unwritable": tmp_path / "ro" / "x.png",
-              "missing parent": tmp_path / "new" / "deeper" / "x.png"}[case]
-    if case == "unwritable":  # root ignores permission bits: make os.access say no
-        (tmp_path / "ro").mkdir()
-        real = os.access
-        monkeypatch.setattr(cli.os, "access", lambda p, m: real(p, m) and "ro" not in str(p))
+    (tmp_path / "ro").mkdir()
+    real = os.access
+    monkeypatch.setattr(cli.os, "access", lambda p, m: real(p, m) and "ro" not in Path(p).parts)
+    return {"file as folder": (blocker / "sub" / "x.png", str(blocker)),
+            "unwritable": (tmp_path / "ro" / "x.png", str(tmp_path / "ro")),
+            "missing parent": (tmp_path / "new" / "deeper" / "x.png", None)}
+
+
+@pytest.mark.parametrize("option", ["--screenshot", "--figure8", "--export-maps"])
+@pytest.mark.parametrize("case", ["file as folder", "unwritable", "missing parent"])
+def test_output_paths_are_checked_before_any_work(stubbed, blocked, option, case):
+    target, named = blocked[case]
     status, err = run_main(["--headless", f"{option}={target}"])
-    if case == "missing parent":  # made when written
-        assert status == 0 and stubbed, err
+    if named is None:  # made when written
+        assert status == 0 and stubbed and err == "", err
         return
-    assert not stubbed
-    assert_refused_in_one_line(status, err, option, str(blocker if case == "file as folder" else
-                                                         tmp_path / "ro"))
-    if folder:  # a file where the folder itself belongs
-        status, err = run_main(["--headless", f"{option}={blocker}"])
+    assert not stubbed  # refused before the run started
+    assert_refused_in_one_line(status, err, option, named)
+    if option == "--export-maps":  # a file where the folder itself belongs
+        blocker = named if case == "file as folder" else None
+        status, err = run_main(["--headless", f"{option}={blocker or target.parent.parent / 'blocker'}"])
         assert_refused_in_one_line(status, err, option, "is a file, not a folder")
+
+
+@pytest.mark.parametrize("option", ["--screenshot-dir", "--session-dir"])
+@pytest.mark.parametrize("case", ["file as folder", "unwritable", "missing parent"])
+def test_the_windows_folders_get_a_one_line_warning_and_it_runs(stubbed, blocked, option, case):
+    target, named = blocked[case]
+    status, err = run_main([f"{option}={target}"])
+    assert status == 0 and stubbed  # the window reports each failed write and runs on
+    if named is None:
+        assert err == ""
+        return
+    assert err.count("\n") == 1 and err.startswith(f"frost: warning: {option} {target}: "), err
+    assert named in err and "Traceback" not in err
 
 
 @pytest.mark.parametrize("make, problem", [

@@ -9,9 +9,9 @@ then read its log, its screenshots and the driver's timings.
 from __future__ import annotations
 
 import json
-import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -65,17 +65,23 @@ def wait_for(log: Path, pattern: str, count: int = 1, timeout: float = 20.0) -> 
     raise TimeoutError(f"{pattern!r} x{count} not in {log}")
 
 
-def drive(out: Path) -> None:
+def drive(out: Path, mode: str = "session") -> None:
+    """Run the app under this X server and drive it through one of the DRIVES."""
     log = out / "app.log"
+    folder = out
+    if mode == "unwritable":  # every folder it writes to lies under a regular file
+        (out / "afile").write_text("not a folder")
+        folder = out / "afile"
     # c-3 (humidity 5000) with seed 1 freezes onto the seed within half a second.
     cmd = [sys.executable, "-m", "app", "--preset", "c-3", "--seed", "1",
-           "--screenshot-dir", str(out / "shots"), "--max-seconds", "60",
-           "--session-dir", str(out / "sessions"), "--melt-radius", str(MELT_RADIUS)]
+           "--screenshot-dir", str(folder / "shots"), "--max-seconds", "60",
+           "--session-dir", str(folder / "sessions"), "--melt-radius", str(MELT_RADIUS)]
     with open(log, "w") as sink:
-        app = subprocess.Popen(cmd, cwd=ROOT, stdout=sink, stderr=subprocess.STDOUT)
+        app = subprocess.Popen(cmd, cwd=ROOT, stdout=sink, stderr=subprocess.STDOUT,
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     result = {}
     try:
-        result = session(app, log)
+        result = DRIVES[mode](app, log)
     finally:
         if app.poll() is None:
             app.kill()
@@ -106,10 +112,51 @@ def session(app: subprocess.Popen, log: Path) -> dict:
     wait_for(log, r"rebuilt with", 2)
     xdo("key", "g")
     wait_for(log, r"rebuilt with", 3)
+    viewed(log)
     xdo("key", "Escape")
     pressed = time.monotonic()
     status = app.wait(timeout=10)
     return {"status": status, "exit_seconds": time.monotonic() - pressed, "scale": scale}
+
+
+def viewed(log: Path) -> None:
+    """Light moved, features off, then hc down and S in one burst (the screenshot comes
+    before the thread applies hc), then E."""
+    xdo("key", "Left", "Up", "Up")
+    xdo("key", "f")
+    time.sleep(0.3)
+    xdo("key", "bracketleft", "s")
+    wait_for(log, r"screenshot: ", 5)
+    xdo("key", "e")
+    wait_for(log, r"frost maps written: ")
+
+
+def unwritable(app: subprocess.Popen, log: Path) -> dict:
+    """S, R twice, E and Esc with nowhere to write: warnings, no crash, status 0."""
+    xdo("search", "--sync", "--onlyvisible", "--name", "^frost$")
+    wait_for(log, r"stats: ")
+    for keys, warning in ((["s"], r"screenshot NOT saved"), (["r"], r"recording: started"),
+                          (["r"], r"frames lost"), (["e"], r"frost maps NOT written")):
+        time.sleep(0.3)
+        xdo("key", *keys)
+        wait_for(log, warning)
+    time.sleep(0.5)
+    running = app.poll() is None
+    xdo("key", "Escape")
+    return {"status": app.wait(timeout=10), "running": running}
+
+
+def interrupt(app: subprocess.Popen, log: Path) -> dict:
+    """A screenshot, then Ctrl-C (SIGINT) while the frost grows."""
+    xdo("search", "--sync", "--onlyvisible", "--name", "^frost$")
+    wait_for(log, r"stats: ")
+    xdo("key", "s")
+    wait_for(log, r"screenshot: ")
+    app.send_signal(signal.SIGINT)
+    return {"status": app.wait(timeout=10)}
+
+
+DRIVES = {"session": session, "unwritable": unwritable, "interrupt": interrupt}
 
 
 def letterboxed(wid: str, log: Path) -> None:
@@ -146,15 +193,18 @@ def warm_finger(wid: str, log: Path) -> None:
 # ---- the tests --------------------------------------------------------------------------
 
 
-@pytest.fixture(scope="module")
-def run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("window")
-    subprocess.run(["xvfb-run", "-a", "-s", SCREEN, sys.executable, __file__, str(out)],
+def driven(out: Path, mode: str) -> dict:
+    subprocess.run(["xvfb-run", "-a", "-s", SCREEN, sys.executable, __file__, str(out), mode],
                    cwd=ROOT, timeout=120, check=False)
     log = (out / "app.log").read_text()
     result = json.loads((out / "result.json").read_text())
     shots = re.findall(r"screenshot: (\S+\.png)", log)
-    return {"log": log, "result": result, "shots": [Path(s) for s in shots]}
+    return {"log": log, "result": result, "shots": [Path(s) for s in shots], "out": out}
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    return driven(tmp_path_factory.mktemp("window"), "session")
 
 
 def box(image: np.ndarray, centre: tuple[int, int]) -> np.ndarray:
@@ -170,8 +220,8 @@ def test_esc_exits_with_status_zero(run):
 
 
 def test_screenshots_are_phone_sized_pngs_with_their_recipe(run):
-    assert len(run["shots"]) == 4
-    for path, hc in zip(run["shots"], (7.0, 7.0, 7.5, 7.5), strict=True):
+    assert len(run["shots"]) == 5
+    for path, hc in zip(run["shots"], (7.0, 7.0, 7.5, 7.5), strict=False):
         image = Image.open(path)
         assert image.size == (760, 1280)
         assert json.loads(image.text["params"])["hc"] == hc
@@ -195,8 +245,9 @@ def test_right_drag_melts_the_frost_back_to_glass(run):
     assert np.abs(box(melted, QUIET) - box(frost, QUIET)).max() == 0
 
 
-def test_a_screenshots_session_replays_headless_to_the_same_frame(run, tmp_path):
-    shot = run["shots"][3]
+@pytest.mark.parametrize("index", [3, 4])  # 4: light moved, features off
+def test_a_screenshots_session_replays_headless_to_the_same_frame(run, tmp_path, index):
+    shot = run["shots"][index]
     session = Path(Image.open(shot).text["session"])
     events = json.loads(session.read_text())["events"]
     assert {e["kind"] for e in events} >= {"touch", "melt", "params"}
@@ -206,6 +257,45 @@ def test_a_screenshots_session_replays_headless_to_the_same_frame(run, tmp_path)
     replayed = np.asarray(Image.open(out).convert("RGB")).astype(int)
     live = np.asarray(Image.open(shot).convert("RGB"))
     assert np.array_equal(replayed, live)  # bit for bit, window (GLX) and EGL alike
+    text, again = Image.open(shot).text, Image.open(out).text
+    assert json.loads(text["view"]) == json.loads(again["view"])
+    assert [t[1:] for t in json.loads(again["touches"])] == json.loads(text["touches"])
+
+
+def test_a_screenshot_states_the_frame_not_a_key_pressed_with_it(run):
+    from sim.session import SessionLog, replay
+
+    text = Image.open(run["shots"][4]).text
+    shown = replay(SessionLog.load(text["session"])).params.as_dict()
+    assert json.loads(text["params"]) == shown
+    view = json.loads(text["view"])
+    assert view["features"] is False and view["bumps"] is True and view["light"][0] < -0.35
+    assert "frost maps NOT" not in run["log"] and "Traceback" not in run["log"]
+
+
+@pytest.fixture(scope="module")
+def nowhere(tmp_path_factory):
+    return driven(tmp_path_factory.mktemp("unwritable"), "unwritable")
+
+
+def test_nowhere_to_write_is_reported_and_the_app_keeps_running(nowhere):
+    assert nowhere["result"] == {"status": 0, "running": True}, nowhere["log"][-3000:]
+    log = nowhere["log"]
+    for said in (r"WARNING app.window: screenshot NOT saved: .*afile",
+                 r"WARNING app.window: screenshot's session NOT saved: .*afile",
+                 r"WARNING app.window: recording: 1?\d+ frames lost",
+                 r"WARNING app.window: frost maps NOT written", r"WARNING app.window: session NOT saved"):
+        assert re.search(said, log), said
+    assert "Traceback" not in log and "summary:" in log
+    assert not list(nowhere["out"].rglob("*.tmp"))
+
+
+def test_ctrl_c_ends_the_window_with_130_saving_the_session(tmp_path_factory):
+    got = driven(tmp_path_factory.mktemp("interrupt"), "interrupt")
+    assert got["result"]["status"] == 130, got["log"][-3000:]
+    assert "frost: interrupted" in got["log"] and "Traceback" not in got["log"]
+    assert len(list((got["out"] / "sessions").glob("session-*.json"))) == 1
+    assert not list(got["out"].rglob("*.tmp"))
 
 
 def test_parameter_key_changes_the_parameter(run):
@@ -215,7 +305,7 @@ def test_parameter_key_changes_the_parameter(run):
 def test_g_toggles_growth_mode_with_a_rebuild(run):
     log = run["log"]
     assert log.index("params: grow=on") < log.index("params: grow=off")
-    after = log[log.index("params: grow=on"):]
+    after = log[log.index("params: grow=on"):log.rindex("params: hc=")]  # before `viewed`
     assert len(re.findall(r"rebuilt with \d+ touches replayed at tick 0 and [1-9]\d* melts", after)) == 2
 
 
@@ -278,13 +368,21 @@ def test_a_failing_simulation_thread_ends_the_app_with_status_1(tmp_path):
     assert time.monotonic() - started < 15
 
 
+# A window that cannot open on a display that works (e.g. no OpenGL 3.3) is an error.
+NO_WINDOW = """
+import sys
+import glfw
+from app.__main__ import main
+glfw.create_window = lambda *a: None
+sys.exit(main(["--max-seconds", "1"]))
+"""
+
+
 def test_no_window_is_a_clear_error_with_status_1(tmp_path):
-    env = {**os.environ, "DISPLAY": ":97531"}
-    env.pop("WAYLAND_DISPLAY", None)
-    proc = subprocess.run([sys.executable, "-m", "app", "--max-seconds", "1"], cwd=tmp_path, env=env,
-                          timeout=60, capture_output=True, text=True)
+    proc = subprocess.run(["xvfb-run", "-a", "-s", SCREEN, sys.executable, "-c", NO_WINDOW],
+                          cwd=tmp_path, timeout=60, capture_output=True, text=True)
     assert proc.returncode == 1
-    assert "GLFW could not start" in proc.stderr or "cannot open" in proc.stderr
+    assert "cannot open a" in proc.stderr and "Traceback" not in proc.stderr
 
 
 # A window that reports itself minimized the whole run; prints the CPU time it used.
@@ -312,4 +410,4 @@ def test_minimized_window_neither_crashes_nor_spins(tmp_path):
 
 
 if __name__ == "__main__":
-    drive(Path(sys.argv[1]))
+    drive(Path(sys.argv[1]), *sys.argv[2:])

@@ -4,7 +4,6 @@ mapping, the simulation thread's schedule, snapshots, rebuilds and failures."""
 from __future__ import annotations
 
 import re
-import threading
 import time
 
 import numpy as np
@@ -272,26 +271,3 @@ def test_growth_mode_toggles_and_keeps_the_rest():
     assert on.grow and tuning.differences(p, on) == {"grow": True}
     assert not tuning.toggled(on, "grow").grow
     assert any(b.keys == ("G",) and b.arg == "grow" for b in BINDINGS)
-
-
-def test_export_command_writes_the_maps_of_the_current_frost(tmp_path):
-    from PIL import Image
-
-    from app.maps import export_maps, live_segments
-
-    thread = SimThread(Params.preset("c-3"), seed=1, touches=[(380, 640)])
-    for _ in range(50):  # ticks driven by hand: no clock, no race with the writer
-        thread._tick()
-    thread.send("pause")
-    thread.send("export", (tmp_path / "live", {"seed": "1"}))
-    thread._tick()
-    for writer in [t for t in threading.enumerate() if t.name == "frost-maps"]:
-        writer.join(30)
-    oracle = export_maps(tmp_path / "oracle", thread.geometry.heights, live_segments(thread.sim),
-                         thread.params)
-    assert len(thread.sim.crystals) > 50
-    for name, path in oracle.items():
-        live = np.asarray(Image.open(tmp_path / "live" / path.name))
-        assert live.shape[:2] == (1280, 760)
-        np.testing.assert_array_equal(live, np.asarray(Image.open(path)), err_msg=name)
-    assert np.asarray(Image.open(tmp_path / "live" / "height.png")).max() > 0

@@ -1,0 +1,426 @@
+"""What the user sees is what was recorded: screenshots, map exports and session files
+state the snapshot that made their image, snapshots and exports are copies, a replay
+draws the screenshot again bit for bit (view included), writers fail loudly and
+atomically, long headless runs show progress and stop cleanly on Ctrl-C."""
+
+from __future__ import annotations
+
+import json
+import logging
+import os
+import signal
+import subprocess
+import sys
+import threading
+import types
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from app import simthread
+from app.maps import export_maps, live_segments
+from app.record import Recorder
+from app.screenshot import save_png
+from app.simthread import SimThread
+from sim import Params
+from sim.files import write_all_atomic, write_atomic
+from sim.session import SessionLog, replay
+
+ROOT = Path(__file__).resolve().parent.parent
+PARAMS = Params.preset("c-3")
+VIEW = {"light": [0.4, 0.2, 0.8944271909999159], "features": False, "bumps": True}
+
+
+def unwritable(tmp_path: Path) -> Path:
+    """A folder no one can make, root included: its parent is a regular file."""
+    (tmp_path / "afile").write_text("not a folder")
+    return tmp_path / "afile" / "sub"
+
+
+def ticked(thread: SimThread, n: int) -> list:
+    for _ in range(n):
+        thread._tick()
+    return thread.drain()
+
+
+# ---- snapshots and exports are copies of one tick --------------------------------------
+
+
+def test_snapshots_do_not_change_when_the_simulation_goes_on():
+    thread = SimThread(PARAMS, 1, [(380.0, 640.0)])
+    snap = ticked(thread, 8)[-1]
+    thread.send("melt", (380.0, 640.0, 30.0))
+    melt_snap = ticked(thread, 1)[-1]
+    kept = [(d.heights.copy(), d.features.copy()) for d in (snap.delta, *melt_snap.melts)]
+    thread.send("touch", ((390.0, 650.0), None))
+    ticked(thread, 30)  # the same rows keep growing
+    rows = snap.delta.rows
+    assert not np.array_equal(thread.geometry.heights[rows], kept[0][0])  # it did change
+    for d, (heights, features) in zip((snap.delta, *melt_snap.melts), kept, strict=True):
+        assert np.array_equal(d.heights, heights) and np.array_equal(d.features, features)
+    assert snap.touches == ((380.0, 640.0),)
+
+
+def test_exported_arrays_are_copies_the_simulation_cannot_change(monkeypatch):
+    jobs, done = [], threading.Event()
+    monkeypatch.setattr(simthread, "_write_maps", lambda *job: (jobs.append(job), done.set()))
+    thread = SimThread(PARAMS, 1, [(380.0, 640.0)])
+    ticked(thread, 10)
+    thread.send("export", Path("unused"))
+    ticked(thread, 1)
+    assert done.wait(10)
+    grid, segments = thread.geometry.heights.copy(), live_segments(thread.sim).copy()
+    ticked(thread, 30)
+    assert not np.array_equal(thread.geometry.heights, grid)  # the frost grew on
+    _, got_grid, got_segments, *_ = jobs[0]
+    assert np.array_equal(got_grid, grid) and np.array_equal(got_segments, segments)
+
+
+def test_an_export_states_the_tick_touches_and_params_of_its_arrays(tmp_path):
+    thread = SimThread(PARAMS, 1, [(380.0, 640.0)])
+    ticked(thread, 12)
+    thread.send("export", tmp_path / "live")
+    thread.send("touch", ((200.0, 300.0), None))  # the same tick, after the request
+    snap = ticked(thread, 1)[-1]
+    level, text = thread.notices.get(timeout=30)
+    assert level == logging.INFO and "frost maps written" in text
+    oracle = export_maps(tmp_path / "oracle", thread.geometry.heights,
+                         live_segments(thread.sim), thread.params)
+    for name, path in oracle.items():
+        live = Image.open(tmp_path / "live" / path.name)
+        np.testing.assert_array_equal(np.asarray(live), np.asarray(Image.open(path)), name)
+        assert live.text["tick"] == str(snap.stats.tick) and live.text["seed"] == "1"
+        assert json.loads(live.text["touches"]) == [list(t) for t in snap.touches]
+        assert json.loads(live.text["parameters"]) == snap.params.as_dict()
+    assert len(snap.touches) == 2
+
+
+# ---- the window states the snapshot shown (its methods on a stand-in, no display) --------
+
+
+class FakeFbo:
+    size = (4, 2)
+
+    def read(self, components, alignment):
+        return bytes(range(24))
+
+
+def window_standin(tmp_path: Path, shots: Path, sessions: Path):
+    """Just enough of a FrostWindow to run its screenshot and session code."""
+    from app.window import FrostWindow
+
+    said = []
+    thread = SimThread(PARAMS, 3, [(380.0, 640.0)])
+    args = types.SimpleNamespace(screenshot_dir=str(shots), session_dir=str(sessions), seed=3)
+    renderer = types.SimpleNamespace(view=lambda: dict(VIEW))
+    win = types.SimpleNamespace(sim=thread, args=args, renderer=renderer, phone=FakeFbo(),
+                                params=PARAMS, latest=None, session_path=None, screenshots=[],
+                                names=set(),
+                                _render_phone=lambda: None,
+                                _say=lambda text, level=logging.INFO: said.append((level, text)))
+    win._save_session = lambda path=None: FrostWindow._save_session(win, path)
+    win._fresh_name = lambda suffix: FrostWindow._fresh_name(win, suffix)
+    return win, said
+
+
+def take_shot(win) -> None:
+    from app.window import FrostWindow
+
+    FrostWindow._screenshot(win, None)
+
+
+def test_a_screenshot_states_the_snapshot_shown_not_a_key_pressed_since(tmp_path):
+    win, said = window_standin(tmp_path, tmp_path / "shots", tmp_path / "sessions")
+    win.latest = ticked(win.sim, 5)[-1]
+    win.params = PARAMS.replace(hc=7.5)  # a key press the thread has not applied yet
+    win.sim.send("params", win.params)
+    take_shot(win)
+    (shot,) = win.screenshots
+    text = Image.open(shot).text
+    assert json.loads(text["params"]) == PARAMS.as_dict()
+    assert text["tick"] == "5" and json.loads(text["view"]) == VIEW
+    log_ = SessionLog.load(text["session"])
+    assert replay(log_).params == PARAMS and log_.view == VIEW and log_.steps == 5
+    assert said[-1] == (logging.INFO, f"screenshot: {shot}")
+
+
+@pytest.mark.parametrize("bad", ["shots", "sessions", "both"])
+def test_a_screenshot_into_an_unwritable_folder_is_reported_not_raised(tmp_path, bad):
+    nowhere = unwritable(tmp_path)
+    shots = nowhere if bad in ("shots", "both") else tmp_path / "shots"
+    sessions = nowhere if bad in ("sessions", "both") else tmp_path / "sessions"
+    win, said = window_standin(tmp_path, shots, sessions)
+    win.latest = ticked(win.sim, 2)[-1]
+    take_shot(win)
+    warnings = [t for level, t in said if level == logging.WARNING]
+    assert warnings and all("NOT saved" in t and "afile" in t and "a file is in the way" in t
+                            for t in warnings)
+    assert len(win.screenshots) == (bad == "sessions")  # what can be written still is
+    assert len(list(tmp_path.rglob("*.tmp"))) == 0
+
+
+def test_a_full_disk_at_a_screenshot_names_the_file_and_keeps_its_session(tmp_path,
+                                                                          monkeypatch):
+    def full(_image, path, _meta):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr("app.window.save_png", full)
+    win, said = window_standin(tmp_path, tmp_path / "shots", tmp_path / "sessions")
+    win.latest = ticked(win.sim, 2)[-1]
+    take_shot(win)
+    level, text = said[-1]
+    assert level == logging.WARNING and text.startswith("screenshot NOT saved: ")
+    assert str(tmp_path / "shots" / "frost-") in text and text.endswith(".png: No space left on device")
+    assert len(list((tmp_path / "sessions").glob("*.json"))) == 1 and not win.screenshots
+
+
+def test_failed_screenshots_in_one_second_never_share_a_session_file(tmp_path):
+    win, said = window_standin(tmp_path, unwritable(tmp_path), tmp_path / "sessions")
+    win.latest = ticked(win.sim, 2)[-1]
+    take_shot(win)
+    win.latest = ticked(win.sim, 2)[-1]
+    take_shot(win)
+    steps = sorted(SessionLog.load(p).steps for p in (tmp_path / "sessions").glob("*.json"))
+    assert steps == [2, 4]  # the first is not overwritten by the second
+    names = [win._fresh_name("") for _ in range(3)]  # e.g. map folders asked for at once
+    assert len(set(names)) == 3
+
+
+# ---- atomic writes -------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("error", [OSError(28, "No space left on device"), KeyboardInterrupt()])
+def test_a_failed_write_leaves_the_old_file_and_no_temporary(tmp_path, error):
+    path = tmp_path / "s.json"
+    write_atomic(path, lambda f: f.write(b"old"))
+
+    def half(f):
+        f.write(b"new but ")
+        raise error
+
+    with pytest.raises(type(error)):
+        write_atomic(path, half)
+    assert path.read_bytes() == b"old" and sorted(p.name for p in tmp_path.iterdir()) == ["s.json"]
+    assert oct(path.stat().st_mode & 0o777) == oct(0o666 & ~current_umask())
+
+
+def current_umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def test_a_set_of_files_appears_whole_or_not_at_all(tmp_path):
+    def full(_f):
+        raise OSError(28, "No space left on device")
+
+    with pytest.raises(OSError):
+        write_all_atomic({tmp_path / "a": lambda f: f.write(b"a"), tmp_path / "b": full})
+    assert list(tmp_path.iterdir()) == []
+    write_all_atomic({tmp_path / "a": lambda f: f.write(b"a"), tmp_path / "b": lambda f: None})
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a", "b"]
+
+
+def test_every_writer_raises_oserror_on_an_unwritable_folder(tmp_path):
+    nowhere = unwritable(tmp_path)
+    with pytest.raises(NotADirectoryError):
+        SessionLog(0, {}).save(nowhere / "s.json")
+    with pytest.raises(NotADirectoryError):
+        save_png(np.zeros((2, 2, 3), np.uint8), nowhere / "x.png", {})
+    with pytest.raises(NotADirectoryError):
+        export_maps(nowhere, np.zeros((3, 3), np.float32), np.zeros((0, 4)), PARAMS,
+                    width=8, height=8)
+
+
+def test_a_map_set_that_fails_half_way_leaves_no_maps(tmp_path, monkeypatch):
+    from app import maps
+
+    real = maps.png_writer
+
+    def disk_full_at_alpha(image, meta):
+        if meta["map"] != "alpha":
+            return real(image, meta)
+        return lambda f: (_ for _ in ()).throw(OSError(28, "No space left on device"))
+
+    monkeypatch.setattr(maps, "png_writer", disk_full_at_alpha)
+    with pytest.raises(OSError):
+        export_maps(tmp_path, np.ones((3, 3), np.float32), np.zeros((0, 4)), PARAMS,
+                    width=8, height=8)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_an_export_worker_that_cannot_write_reports_it(tmp_path):
+    thread = SimThread(PARAMS, 1, [(380.0, 640.0)])
+    ticked(thread, 3)
+    thread.send("export", unwritable(tmp_path) / "maps")
+    ticked(thread, 1)
+    level, text = thread.notices.get(timeout=30)
+    assert level == logging.WARNING and "NOT written" in text and "afile" in text
+
+
+def test_a_recording_that_cannot_be_written_is_reported(tmp_path, monkeypatch):
+    said = []
+    rec = Recorder(unwritable(tmp_path), said.append)
+    rec.start()
+    rec.offer(lambda: np.zeros((1280, 760, 3), np.uint8))
+    rec.stop()  # cannot even name the file: reported at once
+    assert "1 frames lost" in said[-1]
+    rec = Recorder(tmp_path / "ok", said.append)
+    rec.start()
+    rec.offer(lambda: np.zeros((1280, 760, 3), np.uint8))
+    monkeypatch.setattr("app.record.write_atomic", lambda *a: (_ for _ in ()).throw(
+        PermissionError(13, "Permission denied")))  # root ignores the mode: fail as it would
+    rec.close()
+    assert "recording NOT written: " in said[-1] and "Permission denied" in said[-1]
+
+
+# ---- a replay draws the screenshot again, view and touches included ------------------
+
+
+def test_a_replay_with_a_moved_light_and_no_features_matches_the_live_frame(gl_ctx, tmp_path):
+    from app.headless import Session, replay_session
+    from app.screenshot import read_image
+
+    thread = SimThread(PARAMS, 4, [(380.0, 640.0)])
+    thread.send("touch", ((300.0, 500.0), None))
+    snaps = ticked(thread, 40)
+    live = Session(gl_ctx, PARAMS, 4)
+    live.renderer.set_view(VIEW)
+    for snap in snaps:
+        live.renderer.apply(snap.delta)
+    live.renderer.render(live.fbo)
+    log_ = thread.session(snaps[-1].steps, snaps[-1].events)
+    log_.view = live.renderer.view()
+    again = replay_session(gl_ctx, SessionLog.load(log_.save(tmp_path / "s.json")))
+    shot = again.snapshot(tmp_path / "again.png")
+    assert np.array_equal(read_image(live.fbo), np.asarray(Image.open(shot)))
+    log_.view = None  # the defaults: a different picture, so the view is what matched
+    plain = replay_session(gl_ctx, log_)
+    plain.renderer.render(plain.fbo)
+    assert not np.array_equal(read_image(live.fbo), read_image(plain.fbo))
+    text = Image.open(shot).text
+    assert json.loads(text["view"]) == VIEW
+    assert json.loads(text["touches"]) == [[0, 380.0, 640.0], [0, 300.0, 500.0]]
+
+
+def test_replayed_touches_follow_clears_and_rebuilds():
+    from app.headless import replayed_touches
+
+    events = [{"tick": 0, "kind": "touch", "x": 1.0, "y": 2.0},
+              {"tick": 3, "kind": "touch", "x": 900.0, "y": 2.0},  # off the screen
+              {"tick": 4, "kind": "touch", "x": 5.0, "y": 6.0},
+              {"tick": 9, "kind": "params", "params": {}},
+              {"tick": 2, "kind": "touch", "x": 7.0, "y": 8.0}]
+    assert replayed_touches(events, 760, 1280) == [(0, 1.0, 2.0), (0, 5.0, 6.0), (2, 7.0, 8.0)]
+    assert replayed_touches([*events, {"tick": 3, "kind": "clear"}], 760, 1280) == []
+
+
+@pytest.mark.parametrize("view, problem", [
+    ({"light": [0, 0, 0], "features": True, "bumps": True}, "light"),
+    ({"light": [1, 2], "features": True, "bumps": True}, "light"),
+    ({"light": [1, "a", 2], "features": True, "bumps": True}, "light"),
+    ({"light": [1, 0, 1], "features": 1, "bumps": True}, "features"),
+    ([1, 2, 3], "light"),
+])
+def test_a_bad_view_in_a_session_file_is_a_clear_error(tmp_path, view, problem):
+    from sim.session import SessionError
+
+    data = {**SessionLog(0, {}).as_json(), "view": view}
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(data))
+    with pytest.raises(SessionError, match=problem):
+        SessionLog.load(path)
+    path.write_text(json.dumps(SessionLog(0, {}).as_json()))  # older files have none
+    assert SessionLog.load(path).view is None
+
+
+# ---- progress and Ctrl-C --------------------------------------------------------------
+
+
+def headless(monkeypatch, gl_ctx, capsys, argv: list[str]) -> tuple[int, list[str], str]:
+    """`python -m app --headless ARGV` in this process: (status, progress lines, stderr)."""
+    from app import headless as mode
+    from app.__main__ import main
+
+    monkeypatch.setattr(mode, "make_context", lambda: gl_ctx)
+    monkeypatch.setattr(mode, "PROGRESS_EVERY_S", 0.0)
+    status = main(["--headless", *argv])
+    out, err = capsys.readouterr()
+    return status, [ln for ln in out.splitlines() if ln.startswith("tick ")], err
+
+
+def test_a_touch_run_shows_progress(monkeypatch, gl_ctx, capsys, tmp_path):
+    status, lines, _ = headless(monkeypatch, gl_ctx, capsys, [
+        "--touch", "380,640", "--ticks", "6", "--screenshot", str(tmp_path / "x.png")])
+    assert status == 0 and len(lines) == 6 and lines[-1].startswith("tick 6 (6/6)")
+
+
+def test_the_scripted_demo_counts_against_the_whole_run(monkeypatch, gl_ctx, capsys, tmp_path):
+    status, lines, _ = headless(monkeypatch, gl_ctx, capsys, [
+        "--ticks", "10", "--screenshot", str(tmp_path / "x.png")])
+    assert status == 0 and [ln.split()[2] for ln in lines] == [f"({i}/10)," for i in range(1, 11)]
+
+
+def test_a_replay_shows_progress(monkeypatch, gl_ctx, capsys, tmp_path):
+    thread = SimThread(PARAMS, 2, [(380.0, 640.0)])
+    snap = ticked(thread, 4)[-1]
+    path = thread.session(snap.steps, snap.events).save(tmp_path / "s.json")
+    status, lines, _ = headless(monkeypatch, gl_ctx, capsys, [
+        "--replay", str(path), "--screenshot", str(tmp_path / "x.png")])
+    assert status == 0 and [ln.split()[2] for ln in lines] == [f"({i}/4)," for i in range(1, 5)]
+
+
+def test_a_headless_png_into_an_unwritable_folder_is_one_line_exit_2(monkeypatch, gl_ctx, capsys,
+                                                                     tmp_path):
+    import app.__main__ as entry
+
+    # The writer's own failure: the start-up check would refuse this path first (its
+    # message is tested in tests/test_inputs.py), and a folder can go bad during a run.
+    monkeypatch.setattr(entry, "check_paths", lambda *_: None)
+    status, _, err = headless(monkeypatch, gl_ctx, capsys, [
+        "--touch", "380,640", "--ticks", "1", "--screenshot", str(unwritable(tmp_path) / "x.png")])
+    assert status == 2 and "frost: error: cannot write" in err and "Traceback" not in err
+
+
+def interrupted(cmd: list[str], ready: str, cwd: Path, env=None) -> tuple[int, str]:
+    """Run `python -m app CMD`, send SIGINT once `ready` is on stdout; (status, stderr)."""
+    proc = subprocess.Popen([sys.executable, "-m", "app", *cmd], cwd=cwd, env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        for line in proc.stdout:
+            if ready in line:
+                break
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        proc.kill()
+    return proc.returncode, err
+
+
+@pytest.mark.parametrize("mode", [["--touch", "380,640"], ["--export-maps", "OUT/maps"],
+                                  ["--figure8", "OUT/f.png"], ["--replay", "LONG"]])
+def test_ctrl_c_ends_a_long_headless_run_with_130_and_no_file(tmp_path, mode):
+    out, long = tmp_path / "out", tmp_path / "long.json"
+    SessionLog(0, PARAMS.as_dict(), events=[{"tick": 0, "kind": "touch", "x": 380, "y": 640}],
+               steps=100_000_000).save(long)
+    ticks = [] if "--replay" in mode else ["--preset", "c-3", "--ticks", "100000000"]
+    cmd = ["--headless", *ticks, "--screenshot", str(out / "x.png"),
+           *[a.replace("OUT", str(out)).replace("LONG", str(long)) for a in mode]]
+    status, err = interrupted(cmd, "tick ", tmp_path, {**os.environ, "PYTHONPATH": str(ROOT)})
+    assert status == 130, err
+    assert "frost: interrupted" in err and "Traceback" not in err
+    assert not out.exists()
+
+
+def test_a_display_that_does_not_exist_falls_back_to_headless(tmp_path):
+    env = {**os.environ, "DISPLAY": ":97531", "PYTHONPATH": str(ROOT)}
+    env.pop("WAYLAND_DISPLAY", None)
+    done = subprocess.run([sys.executable, "-m", "app", "--ticks", "5"], cwd=tmp_path, env=env,
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    said = [ln for ln in done.stderr.splitlines() if ln.startswith("frost: no display")]
+    assert len(said) == 1 and ":97531" in said[0] and "headless" in said[0]
+    assert len(list((tmp_path / "frost-out").glob("frost-demo-*.png"))) == 3
