@@ -46,6 +46,17 @@ def window_tools():
                     "(`make test` does)")
 
 
+def xvfb(args: list, **kw) -> subprocess.CompletedProcess:
+    """`args` under xvfb-run, captured. `xvfb-run -a` can hand two concurrent runs (other
+    agents' too) the same display; a server that did not come up is tried again."""
+    for _ in range(3):
+        proc = subprocess.run(["xvfb-run", "-a", "-s", SCREEN, *args], capture_output=True,
+                              text=True, **kw)
+        if "Failed to open display" not in proc.stderr:
+            break
+    return proc
+
+
 # ---- the driver: runs under Xvfb -------------------------------------------------------
 
 
@@ -360,8 +371,7 @@ sys.exit(main(["--touch", "380,640", "--max-seconds", "20"]))
 
 def test_a_failing_simulation_thread_ends_the_app_with_status_1(tmp_path):
     started = time.monotonic()
-    proc = subprocess.run(["xvfb-run", "-a", "-s", SCREEN, sys.executable, "-c", FAIL_AT_TICK_10],
-                          cwd=tmp_path, timeout=60, capture_output=True, text=True)
+    proc = xvfb([sys.executable, "-c", FAIL_AT_TICK_10], cwd=tmp_path, timeout=60)
     assert proc.returncode == 1, proc.stderr
     assert "simulation thread failed" in proc.stderr and "injected failure" in proc.stderr
     assert "Traceback" in proc.stderr
@@ -379,8 +389,7 @@ sys.exit(main(["--max-seconds", "1"]))
 
 
 def test_no_window_is_a_clear_error_with_status_1(tmp_path):
-    proc = subprocess.run(["xvfb-run", "-a", "-s", SCREEN, sys.executable, "-c", NO_WINDOW],
-                          cwd=tmp_path, timeout=60, capture_output=True, text=True)
+    proc = xvfb([sys.executable, "-c", NO_WINDOW], cwd=tmp_path, timeout=60)
     assert proc.returncode == 1
     assert "cannot open a" in proc.stderr and "Traceback" not in proc.stderr
 
@@ -398,8 +407,8 @@ sys.exit(status)
 
 
 def cpu_seconds_minimized(seconds: float, folder: Path) -> float:
-    proc = subprocess.run(["xvfb-run", "-a", "-s", SCREEN, sys.executable, "-c", MINIMIZED,
-                           str(seconds)], cwd=folder, timeout=60, capture_output=True, text=True)
+    proc = xvfb([sys.executable, "-c", MINIMIZED,
+                           str(seconds)], cwd=folder, timeout=60)
     assert proc.returncode == 0, proc.stderr
     return float(re.search(r"cpu ([\d.]+)", proc.stdout).group(1))
 
