@@ -47,6 +47,9 @@ def _run(args, params: Params) -> int:
     if args.figure8:
         from .figure8 import run as run_figure8
         return run_figure8(args)
+    if args.figure:
+        from .figure_fern import run as run_figure
+        return run_figure(args, params)
     if args.export_maps:
         from .maps import run as run_maps
         return run_maps(args, params)

@@ -8,10 +8,10 @@ import os
 import textwrap
 from pathlib import Path
 
-from sim import PRESETS, Params
+from sim import Params, all_presets
 from sim.session import check_event
 
-from .keys import help_lines
+from .keys import DEFAULT_PRESET, help_lines
 
 WIDTH, HEIGHT = 760, 1280  # the phone screen, px
 
@@ -101,7 +101,9 @@ def build_parser() -> argparse.ArgumentParser:
             "and writes PNG files instead."),
         epilog="keys in the window:\n  " + "\n  ".join(help_lines()),
         formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--preset", choices=list(PRESETS), help="Table 1 setting (a-1 ... c-3)")
+    p.add_argument("--preset", choices=list(all_presets()),
+                   help=f"Table 1 setting (a-1 ... c-3) or {DEFAULT_PRESET} (window frost's "
+                        f"fronds, the default)")
     p.add_argument("--seed", type=_whole, default=0, help="random seed (default 0)")
     p.add_argument("--headless", action="store_true", help="render offscreen (EGL), no window")
     p.add_argument("--touch", type=_touch, action="append", default=[], metavar="X,Y",
@@ -130,6 +132,9 @@ def build_parser() -> argparse.ArgumentParser:
     modes.add_argument("--figure8", metavar="FILE.png",
                    help="render the nine Table 1 presets from one touch into a 3x3 sheet (Fig. 8), "
                         "print each preset's numbers, and exit")
+    modes.add_argument("--figure", nargs=2, metavar=("fern", "FILE.png"),
+                   help="render a labelled sheet of fern growth (ticks 25 ... 750, one touch and "
+                        "three touches) with the chosen parameters, and exit")
     modes.add_argument("--export-maps", metavar="DIR",
                    help="headless: write height.png, normal.png and alpha.png of the final frost to DIR")
     p.add_argument("--screenshot-dir", default="screenshots",
@@ -161,9 +166,7 @@ def params_from(args: argparse.Namespace) -> Params:
     overrides = {n: getattr(args, n) for n, _, _ in Params.describe() if getattr(args, n) is not None}
     if "step" not in overrides and "hc" in overrides and overrides["hc"] > 0:
         overrides["step"] = min(Params.step, overrides["hc"])  # a smaller hc takes step with it
-    if args.preset:
-        return Params.preset(args.preset, **overrides)
-    return Params(**overrides)
+    return Params.preset(args.preset or DEFAULT_PRESET, **overrides)
 
 
 def has_display() -> bool:
@@ -195,6 +198,10 @@ def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> li
             warnings.append(f"{message}; the window will say so at each write")
         elif problem:
             raise ValueError(message)
+    if args.figure is not None:  # --figure KIND FILE.png
+        problem = _output_problem(Path(args.figure[1]), folder=False)
+        if problem:
+            raise ValueError(f"--figure {args.figure[1]}: {problem}")
     if args.replay is not None:
         path = Path(args.replay)
         if not path.is_file() or not os.access(path, os.R_OK):

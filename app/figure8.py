@@ -50,21 +50,21 @@ def label(name: str) -> str:
     return f"{name}  D={p['D']:g} hc={p['hc']:g} H={p['humidity']}"
 
 
-def cell_box(row: int, col: int) -> tuple[int, int, int, int]:
+def cell_box(row: int, col: int, cell=CELL) -> tuple[int, int, int, int]:
     """(left, top, right, bottom) of the image of cell (row, col) on the sheet."""
-    x = GAP + col * (CELL[0] + GAP)
-    y = TITLE_H + row * (LABEL_H + CELL[1] + GAP) + LABEL_H
-    return x, y, x + CELL[0], y + CELL[1]
+    x = GAP + col * (cell[0] + GAP)
+    y = TITLE_H + row * (LABEL_H + cell[1] + GAP) + LABEL_H
+    return x, y, x + cell[0], y + cell[1]
 
 
-def label_box(row: int, col: int) -> tuple[int, int, int, int]:
+def label_box(row: int, col: int, cell=CELL) -> tuple[int, int, int, int]:
     """(left, top, right, bottom) of the label band above cell (row, col)."""
-    x0, y0, x1, _ = cell_box(row, col)
+    x0, y0, x1, _ = cell_box(row, col, cell)
     return x0, y0 - LABEL_H, x1, y0
 
 
-def sheet_size() -> tuple[int, int]:
-    return GAP + len(COLS) * (CELL[0] + GAP), TITLE_H + len(ROWS) * (LABEL_H + CELL[1] + GAP)
+def sheet_size(cols: int = len(COLS), rows: int = len(ROWS), cell=CELL) -> tuple[int, int]:
+    return GAP + cols * (cell[0] + GAP), TITLE_H + rows * (LABEL_H + cell[1] + GAP)
 
 
 def preset_stats(name: str, sim: FrostSim, centre, reach_tick: int | None) -> PresetStats:
@@ -99,18 +99,22 @@ def grow_preset(ctx, name: str, seed: int, ticks: int, touch, overrides: dict | 
 
 def compose(frames: dict[str, np.ndarray], title: str) -> np.ndarray:
     """The 3 x 3 sheet: frames keyed by preset name, each scaled into its cell."""
-    sheet = Image.new("RGB", sheet_size(), (24, 26, 30))
+    names = [[f"{row}-{col}" for col in COLS] for row in ROWS]
+    return compose_grid([[(label(n), frames[n]) for n in row] for row in names], title)
+
+
+def compose_grid(cells: list[list[tuple[str, np.ndarray]]], title: str, cell=CELL) -> np.ndarray:
+    """A sheet of rows of (label, frame), each frame scaled into a `cell` with its label above."""
+    sheet = Image.new("RGB", sheet_size(len(cells[0]), len(cells), cell), (24, 26, 30))
     draw = ImageDraw.Draw(sheet)
     font = ImageFont.load_default()
     draw.text((GAP, 5), title, fill=(235, 235, 235), font=font)
-    for r, row in enumerate(ROWS):
-        for c, col in enumerate(COLS):
-            name = f"{row}-{col}"
-            x0, y0, _, _ = cell_box(r, c)
-            cell = Image.fromarray(frames[name]).resize(CELL, Image.Resampling.BOX)
-            sheet.paste(cell, (x0, y0))
-            lx, ly, _, _ = label_box(r, c)
-            draw.text((lx + 2, ly + 2), label(name), fill=(235, 235, 235), font=font)
+    for r, row in enumerate(cells):
+        for c, (text, frame) in enumerate(row):
+            x0, y0, _, _ = cell_box(r, c, cell)
+            sheet.paste(Image.fromarray(frame).resize(cell, Image.Resampling.BOX), (x0, y0))
+            lx, ly, _, _ = label_box(r, c, cell)
+            draw.text((lx + 2, ly + 2), text, fill=(235, 235, 235), font=font)
     return np.asarray(sheet)
 
 

@@ -30,9 +30,15 @@ BUMP_STEP = 0.25
 LIGHT_STEP = 0.1
 
 
+# The demo's default look (window frost's fronds, SPEC.md second half), one key from Table 1.
+DEFAULT_PRESET = "fern"
+
+
 def _preset_bindings() -> tuple[Binding, ...]:
-    return tuple(Binding((str(i),), str(i), f"preset {name} (Table 1)", "preset", name)
-                 for i, name in enumerate(PRESETS, start=1))
+    table = tuple(Binding((str(i),), str(i), f"preset {name} (Table 1)", "preset", name)
+                  for i, name in enumerate(PRESETS, start=1))
+    return (*table, Binding(("0",), "0", "preset fern (window frost: fronds; the default)",
+                            "preset", DEFAULT_PRESET))
 
 
 BINDINGS: tuple[Binding, ...] = (

@@ -5,7 +5,7 @@ Each returns a new, validated Params or raises ValueError saying why not.
 
 from __future__ import annotations
 
-from sim import PRESETS, Params
+from sim import EXTRA_PRESETS, Params, all_presets
 
 
 def changed(params: Params, name: str, value) -> Params:
@@ -32,8 +32,14 @@ def toggled(params: Params, name: str) -> Params:
 
 
 def preset(params: Params, name: str) -> Params:
-    """Table 1's setting `name`; the parameters it does not set keep their values."""
-    keep = {k: v for k, v in params.as_dict().items() if k not in PRESETS[name] and k != "step"}
+    """Preset `name` (Table 1's or 'fern'); the parameters it does not set keep their
+    values, except that entering or leaving a look beyond the paper (grains on) also
+    resets what those looks set (the fern rules, growth mode, the budget): one key
+    brings back the paper's look."""
+    reset = set(all_presets()[name]) | {"step"}
+    if params.grains or name in EXTRA_PRESETS:
+        reset = reset.union(*EXTRA_PRESETS.values())
+    keep = {k: v for k, v in params.as_dict().items() if k not in reset}
     return Params.preset(name, **keep)
 
 

@@ -19,7 +19,7 @@ from pathlib import Path
 import glfw
 import moderngl
 
-from sim import Params
+from sim import Params, preset_name
 from sim.files import why
 from sim.gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
 
@@ -339,7 +339,7 @@ class FrostWindow:
         lines = [
             f"fps {self.fps:5.1f}  frame {self.frame_ms:5.1f} ms  render {self.render_ms:5.1f} ms",
             f"tick {s.tick}  {s.tick_ms:5.1f} ms  rate {s.rate:4.1f}/s  overruns {s.overruns}",
-            f"crystals {s.crystals}  water {s.water}",
+            f"crystals {s.crystals}  water {s.water}  preset {preset_name(p)}",
             f"hc {p.hc:g}  D {p.D:g}  humidity {p.humidity}  step {p.step:g}  bump {p.bump:g}  "
             f"grow {_onoff(p.grow)}",
             f"features {_onoff(r.show_features)}  bumps {_onoff(r.show_bumps)}  "

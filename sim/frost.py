@@ -13,6 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .buffers import CellLists, Growable
+from .clearance import make_clearance
+from .fern import make_growth
 from .grid import HashGrid
 from .params import Params
 
@@ -22,6 +24,7 @@ TWO_PI = np.float32(2.0 * np.pi)
 CELL_TRIES = 8
 # grid9 queries walkers in chunks of this many to bound the gather matrix.
 _GRID9_CHUNK = 4096
+_NONE = np.empty(0, np.int64)
 # Most crystals one hash cell may list. The paper's rule lets ice pile up without end
 # where water keeps arriving (replenish, growth mode, touch after touch on one spot), and
 # a walker's search costs the length of its cell's list; a full cell is finished ice, and
@@ -58,10 +61,14 @@ class Melted:
     orphans: np.ndarray
 
 
-def walk_displacements(rng: np.random.Generator, m: int, step: float) -> tuple[np.ndarray, np.ndarray]:
-    """Eq. 2: each walker moves a*(cos t, sin t), a ~ U[0, step], t ~ U[0, 2 pi)."""
+def walk_displacements(rng: np.random.Generator, m: int, step: float,
+                       jump: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Eq. 2: each walker moves a*(cos t, sin t), a ~ U[0, step], t ~ U[0, 2 pi).
+    A walker whose clearance `jump[i]` exceeds the step jumps that far instead (long jumps)."""
     u = rng.random((2, m), dtype=np.float32)
     a = u[0] * np.float32(step)
+    if jump is not None:
+        a = np.where(jump > step, jump, a)
     theta = u[1] * TWO_PI
     return a * np.cos(theta), a * np.sin(theta)
 
@@ -141,6 +148,9 @@ class FrostSim:
         self._carea = Growable(np.int32)  # the area whose water became each crystal
         self.candidates = CellLists(self.grid.size)  # Fig. 3d: state = count > 0
         self._own = CellLists(self.grid.size + 1) if self.params.neighbor_search == "grid9" else None
+        # Beyond the paper (fern rules): where hits grow, and how far walkers may jump.
+        self.growth = make_growth(self.params, self.rng)
+        self.clearance = make_clearance(self.grid, self.width, self.height, self.params.long_jumps)
         self.water_created = 0
         self.water_frozen = 0
         self.water_dropped = 0
@@ -169,24 +179,28 @@ class FrostSim:
         pts32 = _on_screen_f32(pts, self.width, self.height)
         area = self._areas_for(pts32)
         seeds = self._add_crystals(pts32, np.full(len(pts), -1, np.int32), area)
+        self.growth.add_seeds(len(pts))
         for ranges, buf in ((self._seg_range, self._segs), (self._ups_range, self._ups)):
             ranges.append(np.column_stack((np.full(len(pts), buf.n), np.zeros(len(pts)))))
         self._register(seeds)
+        self._follow_ice(seeds)  # a seed joining an area may lie beyond its ice
         self._fill(np.unique(area))
         return area
 
     def step(self) -> Added:
-        """One tick: walk -> crystallize -> link and upsample -> update candidate cells."""
+        """One tick: walk -> crystallize -> settle (the growth rule) -> link and upsample ->
+        update candidate cells -> follow the ice."""
         self._walk()
         self._drop_in_full_cells()
-        frozen, parents = self._admit(*self._crystallize())
-        new = self._link(frozen, parents)
+        hits, parents = self._admit(*self._crystallize())
+        frozen, parents, pts, bounced = self.growth.settle(self, hits, parents)
+        new = self._link(frozen, parents, pts)
         self._register(new)
-        if self.params.grow:
-            self._follow_ice(new)
+        self._follow_ice(new)
+        lost = self._relocate(bounced)  # hits that only counted go back to the pool
         if self.params.replenish or self.params.grow:
             self._spawn(self._warea.raw()[frozen])
-        self._forget_water(frozen)
+        self._forget_water(frozen, lost)
         self.tick += 1
         return self._close_tick(len(frozen))
 
@@ -209,6 +223,7 @@ class FrostSim:
         near = self._crystals_near(x, y, radius + self._longest_link + 1.0)
         parents = self._parents.raw()
         orphans = near[np.isin(parents[near], dead)]
+        self.growth.melted(dead, parents, orphans)
         parents[orphans] = -1
         cut = np.concatenate([dead, orphans])
         segs = _rows(self._seg_range.raw()[cut])
@@ -297,7 +312,7 @@ class FrostSim:
                 self._calive, self._ualive, self._salive, self._seg_range, self._ups_range,
                 self._area_ice, self.candidates)
         own = self._own.nbytes() if self._own is not None else 0
-        return sum(b.nbytes() for b in bufs) + own
+        return sum(b.nbytes() for b in bufs) + own + self.growth.nbytes() + self.clearance.nbytes()
 
     # ---- phases ---------------------------------------------------------------------
 
@@ -306,21 +321,20 @@ class FrostSim:
         m = self._wx.n
         if m == 0:
             return
-        dx, dy = walk_displacements(self.rng, m, self.params.step)
         x, y = self._wx.raw(), self._wy.raw()
+        dx, dy = walk_displacements(self.rng, m, self.params.step, self._clearance(x, y))
         x += dx
         y += dy
-        left = np.flatnonzero(self._outside(x, y))
-        if len(left) == 0:
-            return
-        nx, ny, ok = self._place(self._warea.raw()[left])
-        x[left[ok]] = nx[ok]
-        y[left[ok]] = ny[ok]
-        if not ok.all():
-            keep = np.ones(m, bool)
-            keep[left[~ok]] = False
-            self.water_dropped += int((~ok).sum())
-            self._keep_water(keep)
+        lost = self._relocate(np.flatnonzero(self._outside(x, y)))
+        self._forget_water(_NONE, lost)
+
+    def _clearance(self, x: np.ndarray, y: np.ndarray) -> np.ndarray | None:
+        """Long jumps: each walker's clearance (None without them)."""
+        if not self.params.long_jumps:
+            return None
+        cx, cy, r = self._area_columns()
+        rim = r - np.hypot(x - cx, y - cy)
+        return self.clearance.radii(x, y, rim)
 
     def _crystallize(self) -> tuple[np.ndarray, np.ndarray]:
         """Sec. 3.4.3: the walkers within hc of a crystal, and their nearest crystal."""
@@ -348,6 +362,8 @@ class FrostSim:
         walker order, so both neighbour searches admit the same."""
         most = max(1, FREEZE_WORK // self._work_per_crystal)
         frozen, parents = frozen[:most], parents[:most]
+        if self.candidates.count.max(initial=0) + len(frozen) <= CELL_CAP:
+            return frozen, parents  # no cell can fill up this tick (cheap: one pass, no cells)
         pts = np.column_stack((self._wx.raw()[frozen], self._wy.raw()[frozen]))
         cells, owner = self.grid.disc_cells(pts, self.params.hc)
         if len(cells) == 0 or self.candidates.count[cells].max() + len(frozen) <= CELL_CAP:
@@ -368,10 +384,9 @@ class FrostSim:
             frozen, parents = np.searchsorted(np.flatnonzero(keep), frozen[ok]), parents[ok]
         return frozen, parents
 
-    def _link(self, frozen: np.ndarray, parents: np.ndarray) -> slice:
-        """Frozen walkers become crystals linked to their parents; links are upsampled."""
-        pts = np.column_stack((self._wx.raw()[frozen], self._wy.raw()[frozen]))
-        new = self._add_crystals(pts, parents, self._warea.raw()[frozen])
+    def _link(self, frozen: np.ndarray, parents: np.ndarray, pts: np.ndarray) -> slice:
+        """Frozen walkers become crystals at `pts` linked to their parents; links are upsampled."""
+        new = self._add_crystals(pts, parents, self._ice_area(frozen, parents))
         ups, ups_link, segs, segs_link = upsample(self._crystals.raw()[parents], pts, self.params.D)
         self._seg_range.append(_ranges(segs_link, len(frozen), self._segs.n))
         self._ups_range.append(_ranges(ups_link, len(frozen), self._ups.n))
@@ -385,6 +400,14 @@ class FrostSim:
             d = pts - self._crystals.raw()[parents]
             self._longest_link = max(self._longest_link, float(np.hypot(d[:, 0], d[:, 1]).max()))
         return new
+
+    def _ice_area(self, frozen: np.ndarray, parents: np.ndarray) -> np.ndarray:
+        """The area each new crystal belongs to: its water's (the paper's pools). With a
+        launch circle, the area of the ice it grew on, so each area's reach (and circle)
+        follows its own frost, not water that strayed onto a neighbour's."""
+        if self.params.launch:
+            return self._carea.raw()[parents]
+        return self._warea.raw()[frozen]
 
     def _add_crystals(self, pts: np.ndarray, parents: np.ndarray, area: np.ndarray) -> slice:
         """Append crystals (live) with their parents and areas; count them in their areas."""
@@ -402,6 +425,7 @@ class FrostSim:
         pts = self._crystals.raw()[new]
         ids = np.arange(new.start, new.stop, dtype=np.int32)
         cells, owner = self.grid.disc_cells(pts, self.params.hc)
+        self.clearance.lower(cells[self.candidates.count[cells] == 0])
         self.candidates.insert(cells, ids[owner])
         if self._own is not None:
             self._own.insert(self.grid.keys(pts[:, 0], pts[:, 1]), ids)
@@ -463,14 +487,17 @@ class FrostSim:
             parents.append(p)
         return np.concatenate(hits), np.concatenate(parents)
 
-    def _outside(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        """Walkers off the screen or outside their own active area."""
+    def _area_columns(self):
+        """Centre x, centre y and outer radius of each walker's area (scalars for one area)."""
         areas = self._areas.raw()
         if len(areas) == 1:
-            cx, cy, r = areas[0, :3]
-        else:
-            a = areas[self._warea.raw()]
-            cx, cy, r = a[:, 0], a[:, 1], a[:, 2]
+            return areas[0, :3]
+        w = self._warea.raw()  # one column at a time: much cheaper than gathering rows
+        return tuple(np.take(np.ascontiguousarray(areas[:, i]), w) for i in range(3))
+
+    def _outside(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """Walkers off the screen or outside their own active area."""
+        cx, cy, r = self._area_columns()
         ox, oy = x - cx, y - cy
         off = (x < 0) | (x >= self.width) | (y < 0) | (y >= self.height)
         return off | (ox * ox + oy * oy > r * r)
@@ -485,7 +512,10 @@ class FrostSim:
         x, y = np.zeros(n, np.float32), np.zeros(n, np.float32)
         ok = np.zeros(n, bool)
         todo = np.arange(n)
-        for tries in ((1, 2) if n > 1024 else (4,)):
+        # A launch circle may cross other areas' ice: give it more tries before the cells.
+        for tries in ((1, 2) if n > 1024 else (4,)) + ((16,) if self.params.launch else ()):
+            if len(todo) == 0:
+                break
             px, py = self._disc_spots(np.tile(area[todo], tries))
             placed, pick = _first_good(self._free(px, py).reshape(tries, len(todo)))
             x[todo[placed]], y[todo[placed]] = px[pick], py[pick]
@@ -500,9 +530,29 @@ class FrostSim:
         """A uniform point of each area's annulus (which may reach off the screen)."""
         a = self._areas.raw()[area]
         u = self.rng.random((2, len(a)), dtype=np.float32)
-        r = np.sqrt(a[:, 3] ** 2 + u[0] * (a[:, 2] ** 2 - a[:, 3] ** 2))
+        inner, outer = self._shell(a)
+        r = np.sqrt(inner ** 2 + u[0] * (outer ** 2 - inner ** 2))
         th = u[1] * TWO_PI
         return a[:, 0] + r * np.cos(th), a[:, 1] + r * np.sin(th)
+
+    def _shell(self, a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Inner and outer radius water is placed between, for area rows `a`. With a
+        launch circle (fern rule 4) both are `launch` px beyond the area's farthest ice,
+        while that circle lies inside the area."""
+        if not self.params.launch:
+            return a[:, 3], a[:, 2]
+        ring = a[:, 4] + np.float32(self.params.launch)
+        on = ring < a[:, 2]
+        return np.where(on, ring, a[:, 3]), np.where(on, ring, a[:, 2])
+
+    def _relocate(self, idx: np.ndarray) -> np.ndarray:
+        """Place walkers `idx` again in their areas; returns those with no free spot."""
+        if len(idx) == 0:
+            return idx
+        nx, ny, ok = self._place(self._warea.raw()[idx])
+        self._wx.raw()[idx[ok]] = nx[ok]
+        self._wy.raw()[idx[ok]] = ny[ok]
+        return idx[~ok]
 
     def _free(self, px: np.ndarray, py: np.ndarray) -> np.ndarray:
         """On the screen and in no candidate cell."""
@@ -613,13 +663,16 @@ class FrostSim:
         spawn = np.repeat(np.arange(len(back), dtype=np.int32), back)[:room]
         self._spawn(spawn)
 
-    def _forget_water(self, frozen: np.ndarray) -> None:
-        """Frozen water is spent (the pool shrinks as ice grows)."""
-        if len(frozen) == 0:
+    def _forget_water(self, frozen: np.ndarray, dropped: np.ndarray = _NONE) -> None:
+        """Frozen water is spent (the pool shrinks as ice grows); `dropped` water found no
+        free spot to be placed again."""
+        if len(frozen) == 0 and len(dropped) == 0:
             return
         self.water_frozen += len(frozen)
+        self.water_dropped += len(dropped)
         keep = np.ones(self._wx.n, bool)
         keep[frozen] = False
+        keep[dropped] = False
         self._keep_water(keep)
 
     def _keep_water(self, keep: np.ndarray) -> None:
@@ -629,13 +682,16 @@ class FrostSim:
     def _follow_ice(self, new: slice) -> None:
         """Growth mode: each area's annulus rides on its ice front, half an active radius
         either side of the farthest crystal, so its water can still reach the ice.
-        Costs O(new crystals): only the areas of this tick's crystals change."""
+        Costs O(new crystals): only the areas of this tick's crystals change. A launch
+        circle needs the reach too; without growth mode the areas keep their size."""
         area = self._carea.raw()[new]
-        if len(area) == 0:
+        if len(area) == 0 or not (self.params.grow or self.params.launch):
             return
         areas = self._areas.raw()
         d = np.hypot(*(self._crystals.raw()[new] - areas[area, :2]).T)
         np.maximum.at(areas[:, 4], area, d)
+        if not self.params.grow:
+            return
         band = np.float32(self.params.active_radius / 2)
         touched = np.unique(area)
         reach = areas[touched, 4]

@@ -12,6 +12,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 NEIGHBOR_SEARCHES = ("candidate", "grid9")
+# Parameters that only mean something with grains on.
+GRAIN_RULES = ("drift", "tip_hits", "side_hits", "side_gap")
+# The fern rules: off (at their defaults) in the paper's look.
+FERN_RULES = ("grains", *GRAIN_RULES, "long_jumps", "launch")
 # Bounds on the work one new crystal makes (see Params.__post_init__): at most this many
 # upsample particles on a link of length hc (Table 1: at most 10, a-1), and hc at most this
 # many grid spacings (Table 1: 2.5). Beyond them a tick of fast growth took seconds.
@@ -74,12 +78,35 @@ class Params:
                            "ice front, so frost keeps spreading (implies replenish)",
                     choices=(False, True))
 
+    # Beyond the paper: "fern" growth (SPEC.md, second half). All off by default, so the
+    # simulation is the paper's unless a preset or the user turns them on.
+    grains: bool = _p(False, "grains: six-fold growth: each seed draws an orientation and a new "
+                             "crystal sits one hc along the nearest of its parent's axes (fern rule 1)",
+                      choices=(False, True))
+    drift: float = _p(0.0, "drift: spread of the turn of a child's axes from its link, degrees "
+                           "(with grains; fronds curve)", 0.0, 30.0)
+    tip_hits: int = _p(1, "tip_hits: walker hits a crystal's straight-on slot takes to grow, hits "
+                          "(1: every hit, the paper; with grains; fern rule 2)", 1, 10_000)
+    side_hits: int = _p(1, "side_hits: walker hits a side slot (+-60 deg) takes to grow, hits "
+                           "(with grains)", 1, 10_000)
+    side_gap: int = _p(1, "side_gap: least links between side branches on one side of a stem, "
+                          "links (1: any; with grains)", 1, 16)
+    long_jumps: bool = _p(False, "long_jumps: a walker far from ice jumps to a random point of its "
+                                 "clearance circle, exact for Brownian motion (fern rule 3)",
+                          choices=(False, True))
+    launch: float = _p(0.0, "launch: new and returning water starts on a circle this many px beyond "
+                            "its area's farthest ice (0: anywhere in the area; fern rule 4)",
+                       0.0, 4000.0)
+
     def __post_init__(self) -> None:
         for f in dataclasses.fields(self):
             _validate(f, getattr(self, f.name))
         if self.step > self.hc:
             raise ValueError(f"step={self.step!r} must not exceed hc={self.hc!r}: "
                              "walkers would tunnel through freezing areas")
+        for name in GRAIN_RULES:
+            if not self.grains and getattr(self, name) != getattr(Params, name):
+                raise ValueError(f"{name}={getattr(self, name)!r} needs grains=True")
         # Work per new crystal: hc / D upsample particles on its link, and each particle
         # raises (2 hc / grid_spacing + 3)^2 grid vertices. Table 1 stays far inside both.
         if self.hc > self.D * MAX_UPSAMPLE:
@@ -98,10 +125,12 @@ class Params:
 
     @classmethod
     def preset(cls, name: str, **overrides: Any) -> Params:
-        """Table 1's setting `name` ('a-1' ... 'c-3'), with optional overrides."""
-        if name not in PRESETS:
-            raise ValueError(f"unknown preset {name!r}; choose one of {', '.join(PRESETS)}")
-        values = dict(PRESETS[name])
+        """Table 1's setting `name` ('a-1' ... 'c-3') or an extra look ('fern'), with
+        optional overrides."""
+        table = all_presets()
+        if name not in table:
+            raise ValueError(f"unknown preset {name!r}; choose one of {', '.join(table)}")
+        values = dict(table[name])
         # Table 1 leaves step open; keep the default where it fits, else clamp to hc.
         values.setdefault("step", min(cls.step, values["hc"]))
         values.update(overrides)
@@ -149,3 +178,33 @@ PRESETS: dict[str, dict[str, Any]] = {
     "c-2": {"D": 7.0, "hc": 7.0, "humidity": 3000},
     "c-3": {"D": 7.0, "hc": 7.0, "humidity": 5000},
 }
+
+# Looks beyond the paper, selectable by name like Table 1's (which PRESETS alone lists).
+# "fern": window frost's fronds (SPEC.md, second half); values tuned with `python -m
+# sim.bench --section fern` (see the README for the figures).
+EXTRA_PRESETS: dict[str, dict[str, Any]] = {
+    # Rendered with narrower, taller sharp features on links split in three (D 2.5): glossy
+    # stems with a fine texture; the paper's 1.5 made every link a hairy perpendicular rung.
+    "fern": {"D": 2.5, "hc": 7.0, "humidity": 3000, "feature_width": 1.0, "feature_height": 0.8,
+             "grains": True, "drift": 3.0,
+             "tip_hits": 5, "side_hits": 10, "side_gap": 2, "long_jumps": True,
+             "launch": 30.0, "grow": True, "water_budget": 6000},
+}
+
+
+def all_presets() -> dict[str, dict[str, Any]]:
+    """Table 1's presets, then the extra looks: every name `Params.preset` accepts."""
+    return {**PRESETS, **EXTRA_PRESETS}
+
+
+def preset_name(params: Params) -> str:
+    """The preset(s) `params` follows ('b-2/c-2' for Table 1's twins), or 'custom': the
+    preset's D, hc and humidity and its fern rules (off for Table 1). Growth mode, the
+    budget and the look (bump, features) may differ: they have keys of their own."""
+    names = []
+    for name in all_presets():
+        want = Params.preset(name)
+        fields = ("D", "hc", "humidity", *FERN_RULES)
+        if all(getattr(params, f) == getattr(want, f) for f in fields):
+            names.append(name)
+    return "/".join(names) or "custom"

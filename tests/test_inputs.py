@@ -36,8 +36,8 @@ NUMBER_TEXT = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True).map(repr),
     st.floats(0, 2000).map(lambda v: f"{v},{v * 0.6}"),
     st.text(max_size=6))
-PATH_OPTIONS = {"--replay", "--screenshot", "--figure8", "--export-maps", "--screenshot-dir",
-                "--session-dir"}
+PATH_OPTIONS = {"--replay", "--screenshot", "--figure8", "--figure", "--export-maps",
+                "--screenshot-dir", "--session-dir"}
 
 
 def value_options() -> list[str]:
@@ -182,6 +182,12 @@ def test_replay_of_a_missing_file_or_a_folder_is_refused(stubbed, tmp_path, make
     make(path)
     status, err = run_main(["--headless", "--replay", str(path)])
     assert_refused_in_one_line(status, err, "--replay", problem)
+
+
+def test_a_fern_figure_into_a_blocked_folder_is_refused(stubbed, blocked):
+    target, named = blocked["file as folder"]
+    status, err = run_main(["--figure", "fern", str(target)])
+    assert_refused_in_one_line(status, err, "--figure", named)
 
 
 def test_a_screenshot_over_a_folder_is_refused(stubbed, tmp_path):

@@ -1,0 +1,82 @@
+"""Long jumps (fern rule 3): how far a walker can jump without meeting ice.
+
+A walker whose clearance rho (a lower bound of its distance to every freezing area, its
+active area's rim and the screen edge) exceeds the walk step jumps to a uniformly random
+point of the circle of radius rho around it. That is exact for Brownian motion: started at
+the centre of a disc that holds no ice, it leaves the disc uniformly on its rim.
+
+The bound comes from the hash grid: per cell, the Chebyshev distance in cells (capped) to
+the nearest candidate cell. Every crystal's freezing disc lies inside candidate cells, so
+a walker in a cell k rings away from them is at least (k - 1) cells plus its distance to
+its own cell's border from any freezing area. The field is only lowered, where cells become
+candidates; melting leaves it low, which stays a valid (smaller) bound.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .grid import HashGrid
+
+# Rings of cells looked at around a new candidate cell: beyond this the bound stays at
+# CAP - 1 cells, and the area's rim or the screen usually bounds the jump anyway.
+CAP = 8
+# Jumps stop this many px short of the bound, so float32 rounding of the landing
+# point can never bring a walker within hc of ice or off its area.
+MARGIN = np.float32(1e-2)
+
+
+class NoJumps:
+    """The paper's walk: no walker jumps."""
+
+    def lower(self, cells: np.ndarray) -> None:
+        pass
+
+    def radii(self, x, y, rim) -> None:
+        return None
+
+    def nbytes(self) -> int:
+        return 0
+
+
+class Clearance:
+    """Per-cell lower bound of the distance to ice, in whole cells (see module doc)."""
+
+    def __init__(self, grid: HashGrid, width: int, height: int, cap: int = CAP):
+        self.grid, self.size = grid, (np.float32(width), np.float32(height))
+        self.rings = np.full(grid.size, cap, np.int16)
+        off = np.arange(-cap, cap + 1)
+        ox, oy = np.meshgrid(off, off)
+        self._ox, self._oy = ox.ravel(), oy.ravel()
+        self._ring = np.maximum(np.abs(self._ox), np.abs(self._oy)).astype(np.int16)
+        self._cell = np.float32(grid.cell)
+
+    def lower(self, cells: np.ndarray) -> None:
+        """`cells` just became candidate cells: lower the rings around them."""
+        if len(cells) == 0:
+            return
+        cy, cx = np.divmod(np.unique(cells), self.grid.cols)
+        tx, ty = cx[:, None] + self._ox, cy[:, None] + self._oy
+        ok = (tx >= 0) & (tx < self.grid.cols) & (ty >= 0) & (ty < self.grid.rows)
+        ring = np.broadcast_to(self._ring, tx.shape)
+        np.minimum.at(self.rings, (ty * self.grid.cols + tx)[ok], ring[ok])
+
+    def radii(self, x: np.ndarray, y: np.ndarray, rim: np.ndarray) -> np.ndarray:
+        """Each walker's clearance rho in px (0 in and next to candidate cells), given its
+        on-screen position and its distance `rim` to its area's rim."""
+        s = self._cell
+        kx, ky = (x / s).astype(np.int32), (y / s).astype(np.int32)  # its cell (Eq. 1)
+        fx, fy = x - kx * s, y - ky * s
+        border = np.minimum(np.minimum(fx, s - fx), np.minimum(fy, s - fy))
+        k = self.rings[ky * self.grid.cols + kx]
+        rho = np.where(k >= 1, (k - 1).astype(np.float32) * s + border, np.float32(0))
+        w, h = self.size
+        edge = np.minimum(np.minimum(x, w - x), np.minimum(y, h - y))
+        return np.minimum(np.minimum(rho, rim), edge) - MARGIN
+
+    def nbytes(self) -> int:
+        return self.rings.nbytes
+
+
+def make_clearance(grid: HashGrid, width: int, height: int, on: bool):
+    return Clearance(grid, width, height) if on else NoJumps()
