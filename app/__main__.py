@@ -8,7 +8,7 @@ import sys
 from sim import Params
 from sim.session import SessionError
 
-from .cli import build_parser, has_display, params_from
+from .cli import build_parser, check_paths, has_display, params_from
 
 INTERRUPTED = 130  # the shell's status for a program ended by SIGINT (128 + 2)
 
@@ -19,8 +19,11 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         params = params_from(args)
+        warnings = check_paths(args, parser)
     except ValueError as err:
         parser.error(str(err))
+    for warning in warnings:
+        print(f"frost: warning: {warning}", file=sys.stderr)
     try:
         return _run(args, params)
     except KeyboardInterrupt:  # Ctrl-C: every file is written atomically, none is half there

@@ -148,21 +148,27 @@ class SimThread(threading.Thread):
             self.outbox.put(self._snapshot(None, error=f"{type(err).__name__}: {err}"))
             self.wake()
 
+    # The schedule's clock and its wait (True: stop); tests drive the loop with fakes.
+    clock = staticmethod(time.monotonic)
+
+    def _wait(self, seconds: float) -> bool:
+        return self._stop_event.wait(seconds)
+
     def _loop(self) -> None:
-        start, k = time.monotonic(), 0
+        start, k = self.clock(), 0
         while not self._stop_event.is_set():
             k += 1
-            if self._stop_event.wait(max(0.0, start + k * self.dt - time.monotonic())):
+            if self._wait(max(0.0, start + k * self.dt - self.clock())):
                 return
             self._tick()
-            late = int((time.monotonic() - start) / self.dt) - k
+            late = int((self.clock() - start) / self.dt) - k
             if late > 0:  # skip the missed slots; never try to catch up
                 self.overruns += late
                 k += late
 
     def _tick(self) -> None:
         t0 = time.perf_counter()
-        self._stamps.append(time.monotonic())
+        self._stamps.append(self.clock())
         notes: dict[str, Any] = {"applied": []}
         self._script_at = apply_due(self.timeline, self.script, self._script_at,
                                     notes["applied"].append)

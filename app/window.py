@@ -375,7 +375,7 @@ class FrostWindow:
         if action == glfw.RELEASE:
             self.drag_from = None
             return
-        spot = self._cursor_phone()
+        spot = self._pointer_phone()  # where the events put it, not where it is by now
         if spot is None:
             return
         tick = self.latest.stats.tick if self.latest else 0
@@ -402,7 +402,7 @@ class FrostWindow:
         self.pointer = (x, y)
         if self.melt_from is not None:
             self._melt_drag()
-        spot = self.drag_from and self._cursor_phone()
+        spot = self.drag_from and self._pointer_phone()
         if not spot:
             return
         points = path_points(self.drag_from, spot, DRAG_SPACING_HC * self.params.hc)

@@ -97,6 +97,13 @@ def upsample(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, 
     return a[inner].astype(np.float32), seg_link[inner], segments, seg_link
 
 
+def _on_screen_f32(pts: np.ndarray, width: int, height: int) -> np.ndarray:
+    """On-screen float64 points as float32, still on the screen: x = 759.99999999 would
+    round up to 760.0, off a 760 px screen, so it becomes the largest float32 below 760."""
+    edge = np.nextafter(np.array([width, height], np.float32), np.float32(0))
+    return np.minimum(pts.astype(np.float32), edge)
+
+
 class FrostSim:
     """Window frost on a `width` x `height` px screen (SPEC.md)."""
 
@@ -173,8 +180,9 @@ class FrostSim:
         for x, y in pts:
             if not (np.isfinite(x) and np.isfinite(y) and 0 <= x < self.width and 0 <= y < self.height):
                 raise ValueError(f"touch ({x!r}, {y!r}) is off the {self.width}x{self.height} screen")
-        area = self._areas_for(pts.astype(np.float32))
-        seeds = self._add_crystals(pts.astype(np.float32), np.full(len(pts), -1, np.int32), area)
+        pts32 = _on_screen_f32(pts, self.width, self.height)
+        area = self._areas_for(pts32)
+        seeds = self._add_crystals(pts32, np.full(len(pts), -1, np.int32), area)
         self.growth.add_seeds(len(pts))
         for ranges, buf in ((self._seg_range, self._segs), (self._ups_range, self._ups)):
             ranges.append(np.column_stack((np.full(len(pts), buf.n), np.zeros(len(pts)))))

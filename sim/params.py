@@ -172,12 +172,12 @@ def _validate(f: dataclasses.Field, value: Any) -> None:
         if value not in meta["choices"] or type(value) is not type(meta["choices"][0]):
             raise ValueError(f"{name}={value!r} is not one of {meta['choices']}")
         return
-    want_int = isinstance(f.default, int)
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ValueError(f"{name}={value!r} must be a number")
-    if want_int and not float(value).is_integer():
+    # A whole-number parameter takes an int, not 4.0: it sizes arrays and counts particles.
+    if isinstance(f.default, int) and not isinstance(value, int):
         raise ValueError(f"{name}={value!r} must be a whole number")
-    if not math.isfinite(value):
+    if isinstance(value, float) and not math.isfinite(value):
         raise ValueError(f"{name}={value!r} must be finite")
     lo, hi = meta["lo"], meta["hi"]
     below = value <= lo if meta["lo_open"] else value < lo

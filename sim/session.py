@@ -77,26 +77,73 @@ class SessionLog:
         """The session in `path`; SessionError naming the file and the problem."""
         try:
             data = json.loads(Path(path).read_text())
-            return cls.from_json(data)
         except OSError as err:
             raise SessionError(f"{path}: cannot read: {err.strerror or err}") from None
-        except (json.JSONDecodeError, UnicodeDecodeError) as err:
+        except (json.JSONDecodeError, UnicodeDecodeError, RecursionError) as err:
             raise SessionError(f"{path}: not JSON: {err}") from None
-        except KeyError as err:
-            raise SessionError(f"{path}: not a frost session: no {err} entry") from None
-        except (TypeError, ValueError) as err:
+        try:
+            return cls.from_json(data)
+        except SessionError as err:
             raise SessionError(f"{path}: not a frost session: {err}") from None
 
     @classmethod
     def from_json(cls, data: Any) -> SessionLog:
+        """The session `data` describes; SessionError naming the first problem found."""
         if not isinstance(data, dict) or data.get("format") != FORMAT:
-            raise ValueError(f"'format' must be {FORMAT!r}")
-        Params(**data["params"])  # invalid parameters fail here, not mid-replay
+            raise SessionError(f"'format' must be {FORMAT!r}")
+        if "params" not in data:
+            raise SessionError("no 'params' entry")
+        params = _params(data["params"], "'params'")
+        if not isinstance(data.get("events"), list):
+            raise SessionError("'events' must be a list")
         events = [check_event(e) for e in data["events"]]
-        view = data.get("view")
-        return cls(int(data["seed"]), dict(data["params"]), int(data["width"]),
-                   int(data["height"]), events, int(data["steps"]),
-                   None if view is None else check_view(view))
+        _check_order(events, params)
+        try:
+            view = None if data.get("view") is None else check_view(data["view"])
+        except ValueError as err:
+            raise SessionError(str(err)) from None
+        return cls(_whole(data, "seed", 0, 2**63 - 1), dict(data["params"]),
+                   _whole(data, "width", 1, 16384, 760), _whole(data, "height", 1, 16384, 1280),
+                   events, _whole(data, "steps", 0, 2**31 - 1, 0), view)
+
+
+# Coordinates and radii beyond this many px are refused: nothing is that far off a
+# 16384 px screen, and sums of such floats would overflow to inf.
+MAX_COORD = 1e9
+
+
+def _whole(data: dict, key: str, lo: int, hi: int, default: int | None = None) -> int:
+    if key not in data and default is None:
+        raise SessionError(f"no {key!r} entry")
+    value = data.get(key, default)
+    if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
+        raise SessionError(f"{key!r} is {value!r}; it must be a whole number in [{lo}, {hi}]")
+    return value
+
+
+def _params(value: Any, where: str) -> Params:
+    if not isinstance(value, dict):
+        raise SessionError(f"{where} must be an object of parameter values, not {value!r}")
+    try:
+        return Params(**value)
+    except TypeError as err:  # an unknown keyword
+        raise SessionError(f"{where}: unknown parameter ({err})") from None
+    except ValueError as err:
+        raise SessionError(f"{where}: {err}") from None
+
+
+def _check_order(events: list[dict], first: Params) -> None:
+    """Ticks never go back but after a rebuild (a new timeline at tick 0); a params event
+    keeps grid_spacing (the renderer's height grid is sized once per session)."""
+    for prev, event in zip(events, events[1:], strict=False):
+        if event["tick"] < prev["tick"] and prev["kind"] not in REBUILDS:
+            raise SessionError(f"event {event!r} comes after tick {prev['tick']}: "
+                               "events must be in tick order")
+    for event in (e for e in events if e["kind"] == "params"):
+        spacing = event["params"].get("grid_spacing", Params.grid_spacing)
+        if spacing != first.grid_spacing:
+            raise SessionError(f"event {event!r}: a params event cannot change grid_spacing "
+                               f"(the session's is {first.grid_spacing})")
 
 
 def check_view(view: Any) -> dict[str, Any]:
@@ -114,19 +161,30 @@ def check_view(view: Any) -> dict[str, Any]:
 
 
 def check_event(event: Any) -> dict[str, Any]:
-    """`event` if it is a well-formed event, else ValueError saying what is wrong."""
-    if not isinstance(event, dict) or event.get("kind") not in EVENT_FIELDS:
-        raise ValueError(f"event {event!r}: 'kind' must be one of {', '.join(EVENT_FIELDS)}")
+    """`event` if it is a well-formed event, else SessionError saying what is wrong."""
+    if not isinstance(event, dict) or not isinstance(event.get("kind"), str) \
+            or event["kind"] not in EVENT_FIELDS:
+        raise SessionError(f"event {event!r}: 'kind' must be one of {', '.join(EVENT_FIELDS)}")
     missing = [k for k in ("tick", *EVENT_FIELDS[event["kind"]]) if k not in event]
     if missing:
-        raise ValueError(f"event {event!r} lacks {', '.join(missing)}")
-    if not isinstance(event["tick"], int) or event["tick"] < 0:
-        raise ValueError(f"event {event!r}: 'tick' must be a whole number >= 0")
-    if not all(isinstance(event[k], (int, float)) for k in ("x", "y", "r") if k in event):
-        raise ValueError(f"event {event!r}: x, y and r must be numbers")
+        raise SessionError(f"event {event!r} lacks {', '.join(missing)}")
+    tick = event["tick"]
+    if isinstance(tick, bool) or not isinstance(tick, int) or not 0 <= tick < 2**31:
+        raise SessionError(f"event {event!r}: 'tick' must be a whole number in [0, 2**31)")
+    for k in ("x", "y", "r"):
+        if k in EVENT_FIELDS[event["kind"]] and not _coordinate(event[k]):
+            raise SessionError(f"event {event!r}: x, y and r must be numbers "
+                               f"(finite, at most {MAX_COORD:g} in size)")
+    if event["kind"] == "melt" and not event["r"] > 0:
+        raise SessionError(f"event {event!r}: the melt radius r must be above 0")
     if event["kind"] == "params":
-        Params(**event["params"])
+        _params(event["params"], f"event at tick {tick}")
     return event
+
+
+def _coordinate(v: Any) -> bool:
+    # abs(v) <= MAX_COORD is False for nan and inf, and exact for ints of any size
+    return not isinstance(v, bool) and isinstance(v, (int, float)) and abs(v) <= MAX_COORD
 
 
 class Backlog:

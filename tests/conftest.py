@@ -2,17 +2,57 @@
 
 from __future__ import annotations
 
+import atexit
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
 import pytest
+from hypothesis import settings
+from hypothesis.configuration import set_hypothesis_home_dir
+
+# No example database: tests never write into the checkout (.hypothesis/). No deadline:
+# the machine is shared and loaded; speed is the benchmarks' business.
+settings.register_profile("frost", database=None, deadline=None)
+settings.load_profile("frost")
+_HYPOTHESIS_HOME = tempfile.mkdtemp(prefix="frost-hypothesis-")
+set_hypothesis_home_dir(_HYPOTHESIS_HOME)  # its caches too
+atexit.register(shutil.rmtree, _HYPOTHESIS_HOME, True)
 
 
 @pytest.fixture(scope="session")
 def gl_ctx():
-    """A standalone OpenGL context; GL tests skip cleanly where none can be made."""
+    """A standalone OpenGL context. None is a failure, not a skip: EGL is a dependency
+    (Makefile's APT_PKGS), so a missing context would hide every GL test."""
     from app.headless import make_context
 
     try:
         ctx = make_context()
     except RuntimeError as err:
-        pytest.skip(str(err))
+        pytest.fail(f"{err} (apt-get install libegl1 libgles2 libgl1; `make test` does)")
     yield ctx
     ctx.release()
+
+
+ROOT = Path(__file__).resolve().parent.parent
+# What tooling may leave in the checkout; anything else a test run adds is a bug.
+TOOLING = {".git", ".venv", "__pycache__", ".pytest_cache", ".ruff_cache", "frost.egg-info",
+           "build"}
+
+
+def checkout_files() -> set[str]:
+    found = set()
+    for folder, dirs, files in os.walk(ROOT):
+        dirs[:] = [d for d in dirs if d not in TOOLING]
+        found.update(os.path.relpath(os.path.join(folder, f), ROOT) for f in files)
+    return found
+
+
+@pytest.fixture(scope="session", autouse=True)
+def checkout_stays_clean():
+    """Tests write under tmp_path only: fail the run if the checkout gained files."""
+    before = checkout_files()
+    yield
+    added = sorted(checkout_files() - before)
+    assert not added, f"the tests wrote into the checkout: {added[:10]}"

@@ -141,8 +141,6 @@ def test_export_maps_sizes_modes_and_values(grown, tmp_path):
 def test_melted_ice_leaves_the_maps():
     params = Params.preset("c-2")
     sim, geometry = grow(params, 0, [(0, *TOUCH)], 100)
-    if not hasattr(sim, "melt"):
-        pytest.skip("this simulation has no melting")
     inside = (slice(640 - 30, 640 + 30), slice(380 - 30, 380 + 30))  # > hc + feature reach inside
     assert compute_maps(geometry.heights, live_segments(sim), params).height[inside].max() > 0
     geometry.melt(sim, sim.melt(*TOUCH, 60.0))
@@ -225,10 +223,8 @@ def test_cli_figure8_writes_a_sheet_with_metadata(tmp_path):
     """In a subprocess: the app makes its own GL context there."""
     out = tmp_path / "fig8.png"
     run = subprocess.run([sys.executable, "-m", "app", "--figure8", str(out), "--ticks", "20"],
-                         cwd=ROOT, capture_output=True, text=True, timeout=120)
-    if run.returncode == 1 and "no OpenGL" in run.stderr:
-        pytest.skip(run.stderr.strip())
-    assert run.returncode == 0, run.stderr
+                         cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr  # no OpenGL fails here: EGL is a dependency
     assert f"wrote {out}" in run.stdout and "c-3  D=7 hc=7 H=5000" in run.stdout
     im = Image.open(out)
     assert im.size == sheet_size() and json.loads(im.text["ticks"]) == 20

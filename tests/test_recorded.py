@@ -374,6 +374,11 @@ def test_a_replay_shows_progress(monkeypatch, gl_ctx, capsys, tmp_path):
 
 def test_a_headless_png_into_an_unwritable_folder_is_one_line_exit_2(monkeypatch, gl_ctx, capsys,
                                                                      tmp_path):
+    import app.__main__ as entry
+
+    # The writer's own failure: the start-up check would refuse this path first (its
+    # message is tested in tests/test_inputs.py), and a folder can go bad during a run.
+    monkeypatch.setattr(entry, "check_paths", lambda *_: [])
     status, _, err = headless(monkeypatch, gl_ctx, capsys, [
         "--touch", "380,640", "--ticks", "1", "--screenshot", str(unwritable(tmp_path) / "x.png")])
     assert status == 2 and "frost: error: cannot write" in err and "Traceback" not in err

@@ -11,12 +11,21 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from app import simthread
 from app.simthread import SimThread
 from sim import Params
-from sim.session import SessionError, SessionLog, Timeline, replay
+from sim.session import Backlog, SessionError, SessionLog, Timeline, replay
 
 ROOT = Path(__file__).resolve().parent.parent
 PARAMS = Params.preset("c-3")
+
+
+@pytest.fixture(autouse=True)
+def input_backlog_on_a_still_clock(monkeypatch):
+    """Threads driven tick by tick here apply every command sent before a tick in that
+    tick: the backlog's time budget (tested in test_bounds) must not depend on the load."""
+    monkeypatch.setattr(simthread, "Backlog", lambda: Backlog(clock=lambda: 0.0))
+
 
 
 def live_session(ticks: int = 60) -> tuple[SimThread, list]:
@@ -162,3 +171,15 @@ def test_clear_forgets_the_melts_a_rebuild_scheduled():
     assert len(timeline._pending) == 1
     timeline.apply([{"kind": "clear"}, {"kind": "touch", "x": 100.0, "y": 100.0}])
     assert timeline._pending == [] and timeline.touches == ((100.0, 100.0),)
+
+
+def test_events_due_after_the_last_step_still_apply():
+    # Made while paused after the last step: a touch and a melt at tick 3 of a 3-step run.
+    base = {"format": "frost-session", "seed": 1, "params": PARAMS.as_dict(), "steps": 3}
+    events = [{"tick": 0, "kind": "touch", "x": 380.0, "y": 640.0},
+              {"tick": 3, "kind": "touch", "x": 100.0, "y": 200.0},
+              {"tick": 3, "kind": "melt", "x": 380.0, "y": 640.0, "r": 5.0}]
+    timeline = replay(SessionLog.from_json({**base, "events": events}))
+    assert timeline.steps == 3 and timeline.tick == 3
+    assert timeline.touches == ((380.0, 640.0), (100.0, 200.0))
+    assert len(timeline.events) == 3 and not timeline.sim.crystal_alive[0]  # the seed melted
