@@ -187,7 +187,7 @@ def test_a_wiped_path_is_clear_then_refreezes_from_its_edges(mode):
     lists = [sorted(sim.candidates.items[k, :sim.candidates.count[k]].tolist())
              for k in range(sim.grid.size)]
     assert lists == candidate_oracle(sim)
-    for tick in range(REGROW_TICKS):
+    for _tick in range(REGROW_TICKS):
         new = sim.step().crystals
         p = sim.parents[new]
         assert (p >= 0).all()
