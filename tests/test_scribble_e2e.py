@@ -18,31 +18,17 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_window_e2e import ROOT, wait_for, xdo, xvfb
 
-ROOT = Path(__file__).resolve().parent.parent
-SCREEN = "-screen 0 1280x1400x24"
 STROKES_LEFT, STROKES_RIGHT = 12, 6
 SPEED = 800.0  # px per second, a brisk human drag
 MOVE_EVERY = 0.025  # s between pointer moves
-# Every key that changes a parameter: humidity, hc, D, step, bump, presets 1-9, growth mode.
+# Every key that changes a parameter: humidity, hc, D, step, bump, presets 1-9, fern,
+# window frost, temperature, growth mode.
 TUNING_KEYS = ["equal", "minus", "bracketright", "bracketleft", "apostrophe", "semicolon",
-               "o", "p", "l", "k", *"123456789", "g", "g"]
+               "o", "p", "l", "k", *"123456789", "0", "w", "t", "y", "g", "g"]
 
 pytestmark = pytest.mark.window
-
-
-def xdo(*args: str) -> None:
-    subprocess.run(["xdotool", *args], check=True, capture_output=True, timeout=30)
-
-
-def wait_for(log: Path, pattern: str, count: int = 1, timeout: float = 30.0) -> list[str]:
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        found = re.findall(pattern, log.read_text())
-        if len(found) >= count:
-            return found
-        time.sleep(0.05)
-    raise TimeoutError(f"{pattern!r} x{count} not in {log}")
 
 
 def drag(wid: str, button: str, a, b) -> None:
@@ -94,8 +80,7 @@ def drive(out: Path) -> None:
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
     out = tmp_path_factory.mktemp("scribble")
-    subprocess.run(["xvfb-run", "-a", "-s", SCREEN, sys.executable, __file__, str(out)],
-                   cwd=ROOT, timeout=300, check=False)
+    xvfb([sys.executable, __file__, str(out)], cwd=ROOT, timeout=300)
     log = (out / "app.log").read_text()
     result = json.loads((out / "result.json").read_text())
     stats = [tuple(map(float, m)) for m in re.findall(
