@@ -1,6 +1,6 @@
 """End to end: a person scribbles on the phone for half a minute and mashes the tuning keys.
 
-Runs this file as a script inside `xvfb-run` (the app in a subprocess, driven by
+Runs this file as a script on an Xvfb server of its own (the app in a subprocess, driven by
 xdotool at human speed: left drags all over the screen, right drags, every tuning and
 preset key, a screenshot, Esc). The tests then read the app's log. Bounds are generous on
 purpose: they catch a demo that freezes or dies under a scribble, not a slow machine. The

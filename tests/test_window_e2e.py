@@ -1,6 +1,6 @@
 """End to end: the phone window under Xvfb, driven with xdotool like a user would.
 
-One session (about 15 s) runs this file as a script inside `xvfb-run`: it starts
+One session (about 15 s) runs this file as a script on an Xvfb server of its own: it starts
 `python -m app` (a subprocess: GL contexts stay out of the pytest process), takes a
 screenshot, clicks, takes another, changes hc, lets it run, and presses Esc. The tests
 then read its log, its screenshots and the driver's timings.
@@ -9,7 +9,9 @@ then read its log, its screenshots and the driver's timings.
 from __future__ import annotations
 
 import json
+import os
 import re
+import select
 import shutil
 import signal
 import subprocess
@@ -40,21 +42,31 @@ pytestmark = pytest.mark.window
 @pytest.fixture(scope="module", autouse=True)
 def window_tools():
     """Xvfb and xdotool are dependencies (Makefile's APT_PKGS): missing is a failure."""
-    missing = [t for t in ("xvfb-run", "xdotool") if shutil.which(t) is None]
+    missing = [t for t in ("Xvfb", "xdotool") if shutil.which(t) is None]
     if missing:
         pytest.fail(f"{', '.join(missing)} missing: apt-get install xvfb xauth xdotool "
                     "(`make test` does)")
 
 
 def xvfb(args: list, **kw) -> subprocess.CompletedProcess:
-    """`args` under xvfb-run, captured. `xvfb-run -a` can hand two concurrent runs (other
-    agents' too) the same display; a server that did not come up is tried again."""
-    for _ in range(3):
-        proc = subprocess.run(["xvfb-run", "-a", "-s", SCREEN, *args], capture_output=True,
-                              text=True, **kw)
-        if "Failed to open display" not in proc.stderr:
-            break
-    return proc
+    """`args` run (captured) with DISPLAY on an Xvfb server of its own. `-displayfd` makes
+    the server pick a free display and say which once it accepts clients, so concurrent
+    runs never share one and nothing waits on a guess (`xvfb-run -a` raced under load)."""
+    read, write = os.pipe()
+    server = subprocess.Popen(["Xvfb", "-displayfd", str(write), *SCREEN.split(), "-nolisten",
+                               "tcp"], pass_fds=(write,), stderr=subprocess.DEVNULL)
+    os.close(write)
+    try:
+        ready, _, _ = select.select([read], [], [], 60)
+        display = os.read(read, 64).decode().strip() if ready else ""
+        if not display:
+            pytest.fail("Xvfb did not start within 60 s")
+        env = {**os.environ, "DISPLAY": f":{display}"}
+        return subprocess.run(args, capture_output=True, text=True, env=env, **kw)
+    finally:
+        os.close(read)
+        server.terminate()
+        server.wait(10)
 
 
 # ---- the driver: runs under Xvfb -------------------------------------------------------
@@ -205,8 +217,7 @@ def warm_finger(wid: str, log: Path) -> None:
 
 
 def driven(out: Path, mode: str) -> dict:
-    subprocess.run(["xvfb-run", "-a", "-s", SCREEN, sys.executable, __file__, str(out), mode],
-                   cwd=ROOT, timeout=120, check=False)
+    xvfb([sys.executable, __file__, str(out), mode], cwd=ROOT, timeout=120)
     log = (out / "app.log").read_text()
     result = json.loads((out / "result.json").read_text())
     shots = re.findall(r"screenshot: (\S+\.png)", log)
