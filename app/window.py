@@ -57,11 +57,12 @@ class WindowError(RuntimeError):
 
 def display_problem() -> str | None:
     """None when GLFW can reach the display; else why not (e.g. DISPLAY=:99 with no X
-    server there). GLFW is shut down again either way."""
+    server there). On success GLFW stays initialized for the window: disconnecting the
+    only client would make a bare X server (Xvfb) reset, and a connection made during the
+    reset fails."""
     errors: list[str] = []
     glfw.set_error_callback(lambda code, text: errors.append(_text(text)))
     ok = glfw.init()
-    glfw.terminate()
     glfw.set_error_callback(None)
     return None if ok else "; ".join(errors) or "GLFW could not start"
 

@@ -54,7 +54,7 @@ def xvfb(args: list, **kw) -> subprocess.CompletedProcess:
     runs never share one and nothing waits on a guess (`xvfb-run -a` raced under load)."""
     read, write = os.pipe()
     server = subprocess.Popen(["Xvfb", "-displayfd", str(write), *SCREEN.split(), "-nolisten",
-                               "tcp"], pass_fds=(write,), stderr=subprocess.DEVNULL)
+                               "tcp", "-noreset"], pass_fds=(write,), stderr=subprocess.DEVNULL)
     os.close(write)
     try:
         ready, _, _ = select.select([read], [], [], 60)
@@ -431,3 +431,19 @@ def test_minimized_window_neither_crashes_nor_spins(tmp_path):
 
 if __name__ == "__main__":
     drive(Path(sys.argv[1]), *sys.argv[2:])
+
+
+# The display probe must leave GLFW connected: on a bare X server its disconnect, as the
+# only client, resets the server, and the window's own connection then raced the reset.
+PROBE_KEEPS_GLFW = """
+import glfw
+from app.window import display_problem
+assert display_problem() is None
+assert glfw.get_primary_monitor(), "GLFW was shut down after the probe"
+print("connected")
+"""
+
+
+def test_the_display_probe_keeps_glfw_connected_for_the_window(tmp_path):
+    proc = xvfb([sys.executable, "-c", PROBE_KEEPS_GLFW], cwd=tmp_path, timeout=60)
+    assert proc.returncode == 0 and "connected" in proc.stdout, proc.stderr
