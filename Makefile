@@ -21,7 +21,7 @@ bench-sim: $(STAMP)
 	$(PY) -m sim.bench $(ARGS)
 
 bench-render: $(STAMP)
-	$(PY) -m app.bench $(ARGS)
+	$(PY) -m app.tools.bench $(ARGS)
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check app sim tests assets

@@ -5,10 +5,9 @@ from __future__ import annotations
 import logging
 import sys
 
+from app.cli.options import build_parser, check_paths, has_display, params_from
 from sim import Params
 from sim.session import SessionError
-
-from .cli import build_parser, check_paths, has_display, params_from
 
 INTERRUPTED = 130  # the shell's status for a program ended by SIGINT (128 + 2)
 
@@ -45,21 +44,21 @@ def _run(args, params: Params) -> int:
             print(f"frost: error: {err}", file=sys.stderr)
             return 2
     if args.figure8:
-        from .figure8 import run as run_figure8
+        from app.tools.figure8 import run as run_figure8
         return run_figure8(args)
     if args.figure:
-        from .figure_fern import run as run_figure
+        from app.tools.figure_fern import run as run_figure
         return run_figure(args, params)
     if args.export_maps:
-        from .maps import run as run_maps
+        from app.tools.maps import run as run_maps
         return run_maps(args, params)
     if not windowed or no_display:
         if no_display:
             print(f"frost: no display ({no_display}): rendering headless to PNG files instead",
                   file=sys.stderr)
-        from .headless import run as run_headless
+        from app.tools.headless import run as run_headless
         return run_headless(args, params)
-    from .window import run as run_window
+    from app.window.frost_window import run as run_window
     return run_window(args, params)
 
 
@@ -67,7 +66,7 @@ def _display_problem() -> str | None:
     """Why no window can open here (None: it can), e.g. DISPLAY naming no server."""
     if not has_display():
         return "DISPLAY is unset"
-    from .window import display_problem
+    from app.window.frost_window import display_problem
     return display_problem()
 
 
@@ -82,7 +81,7 @@ def _warn_ignored(args) -> None:
 
 def _windowed_replay(args) -> Params:
     """Load --replay's session into args (seed, events) for the window; its parameters."""
-    from .headless import load_session
+    from app.tools.headless import load_session
 
     log_ = load_session(args.replay)
     args.seed, args.touch, args.script, args.view = log_.seed, [], log_.events, log_.view

@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from app import tuning
-from app.cli import build_parser, params_from
+from app.cli.options import build_parser, params_from
+from app.window import tuning
 from sim import PRESETS, FrostSim, Params, preset_name
 from sim.fern import SIXTH
 from sim.morphology import link_angles
@@ -288,8 +288,8 @@ def test_a_melted_crystal_frees_its_parents_slot_and_takes_its_counters():
 
 @pytest.mark.gl
 def test_fern_row_shows_the_ice_growing_and_the_sheet_holds_every_cell(gl_ctx):
-    from app.figure8 import cell_box, sheet_size
-    from app.figure_fern import CELL, compose_grid, grow_row
+    from app.tools.figure8 import cell_box, sheet_size
+    from app.tools.figure_fern import CELL, compose_grid, grow_row
 
     row = grow_row(gl_ctx, FERN, 0, [CENTRE], ticks=(0, 40, 120))
     assert [text.split(" (")[0] for text, _ in row] == ["tick 0", "tick 40", "tick 120"]

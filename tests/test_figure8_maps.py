@@ -13,7 +13,7 @@ import pytest
 from PIL import Image
 
 from app.__main__ import main
-from app.figure8 import (
+from app.tools.figure8 import (
     CELL,
     COLS,
     LABEL_H,
@@ -25,7 +25,7 @@ from app.figure8 import (
     make_figure8,
     sheet_size,
 )
-from app.maps import (
+from app.tools.maps import (
     alpha_map,
     bump_field,
     compute_maps,

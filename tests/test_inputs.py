@@ -17,8 +17,10 @@ from hypothesis import HealthCheck, event, example, given, settings
 from hypothesis import strategies as st
 
 import app.__main__ as entry
-from app import cli, figure8, headless, maps, window
-from app.cli import build_parser
+from app.cli import options as cli
+from app.cli.options import build_parser
+from app.tools import figure8, headless, maps
+from app.window import frost_window as window
 from sim import FrostSim, Params
 from sim.session import SessionError, SessionLog, check_event, replay
 

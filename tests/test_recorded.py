@@ -19,11 +19,11 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app import simthread
-from app.maps import export_maps, live_segments
-from app.record import Recorder
-from app.screenshot import save_png
-from app.simthread import SimThread
+from app.images import save_png
+from app.simthread import thread as simthread
+from app.simthread.thread import SimThread
+from app.tools.maps import export_maps, live_segments
+from app.window.record import Recorder
 from sim import Params
 from sim.files import write_all_atomic, write_atomic
 from sim.session import SessionLog, replay
@@ -109,7 +109,7 @@ class FakeFbo:
 
 def window_standin(tmp_path: Path, shots: Path, sessions: Path):
     """Just enough of a FrostWindow to run its screenshot and session code."""
-    from app.window import FrostWindow
+    from app.window.frost_window import FrostWindow
 
     said = []
     thread = SimThread(PARAMS, 3, [(380.0, 640.0)])
@@ -126,7 +126,7 @@ def window_standin(tmp_path: Path, shots: Path, sessions: Path):
 
 
 def take_shot(win) -> None:
-    from app.window import FrostWindow
+    from app.window.frost_window import FrostWindow
 
     FrostWindow._screenshot(win, None)
 
@@ -166,7 +166,7 @@ def test_a_full_disk_at_a_screenshot_names_the_file_and_keeps_its_session(tmp_pa
     def full(_image, path, _meta):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr("app.window.save_png", full)
+    monkeypatch.setattr("app.window.frost_window.save_png", full)
     win, said = window_standin(tmp_path, tmp_path / "shots", tmp_path / "sessions")
     win.latest = ticked(win.sim, 2)[-1]
     take_shot(win)
@@ -235,7 +235,7 @@ def test_every_writer_raises_oserror_on_an_unwritable_folder(tmp_path):
 
 
 def test_a_map_set_that_fails_half_way_leaves_no_maps(tmp_path, monkeypatch):
-    from app import maps
+    from app.tools import maps
 
     real = maps.png_writer
 
@@ -270,7 +270,7 @@ def test_a_recording_that_cannot_be_written_is_reported(tmp_path, monkeypatch):
     rec = Recorder(tmp_path / "ok", said.append)
     rec.start()
     rec.offer(lambda: np.zeros((1280, 760, 3), np.uint8))
-    monkeypatch.setattr("app.record.write_atomic", lambda *a: (_ for _ in ()).throw(
+    monkeypatch.setattr("app.window.record.write_atomic", lambda *a: (_ for _ in ()).throw(
         PermissionError(13, "Permission denied")))  # root ignores the mode: fail as it would
     rec.close()
     assert "recording NOT written: " in said[-1] and "Permission denied" in said[-1]
@@ -280,8 +280,8 @@ def test_a_recording_that_cannot_be_written_is_reported(tmp_path, monkeypatch):
 
 
 def test_a_replay_with_a_moved_light_and_no_features_matches_the_live_frame(gl_ctx, tmp_path):
-    from app.headless import Session, replay_session
-    from app.screenshot import read_image
+    from app.images import read_image
+    from app.tools.headless import Session, replay_session
 
     thread = SimThread(PARAMS, 4, [(380.0, 640.0)])
     thread.send("touch", ((300.0, 500.0), None))
@@ -306,7 +306,7 @@ def test_a_replay_with_a_moved_light_and_no_features_matches_the_live_frame(gl_c
 
 
 def test_replayed_touches_follow_clears_and_rebuilds():
-    from app.headless import replayed_touches
+    from app.tools.headless import replayed_touches
 
     events = [{"tick": 0, "kind": "touch", "x": 1.0, "y": 2.0},
               {"tick": 3, "kind": "touch", "x": 900.0, "y": 2.0},  # off the screen
@@ -341,8 +341,8 @@ def test_a_bad_view_in_a_session_file_is_a_clear_error(tmp_path, view, problem):
 
 def headless(monkeypatch, gl_ctx, capsys, argv: list[str]) -> tuple[int, list[str], str]:
     """`python -m app --headless ARGV` in this process: (status, progress lines, stderr)."""
-    from app import headless as mode
     from app.__main__ import main
+    from app.tools import headless as mode
 
     monkeypatch.setattr(mode, "make_context", lambda: gl_ctx)
     monkeypatch.setattr(mode, "PROGRESS_EVERY_S", 0.0)

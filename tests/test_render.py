@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.render import Renderer
-from app.screenshot import read_image, save_png, timestamped_path
-from app.shaders import SHADER_DIR, load_program, shader_source
+from app.gl.renderer import Renderer
+from app.gl.shaders import SHADER_DIR, load_program, shader_source
+from app.images import read_image, save_png, timestamped_path
 from sim import Params
 from sim.geometry import GeometryDelta, feature_triangles
 
@@ -121,7 +121,7 @@ def test_reset_clears_the_ice(gl_ctx, renderer):
 
 
 def test_missing_background_is_a_clear_error(tmp_path):
-    from app.render import load_background
+    from app.gl.renderer import load_background
 
     with pytest.raises(FileNotFoundError, match="make_background"):
         load_background(tmp_path / "none.png")
@@ -163,8 +163,8 @@ def test_headless_cli_bad_touch_is_a_clear_error(gl_ctx, tmp_path):
 
 
 def test_no_opengl_is_a_clear_message(monkeypatch, capsys):
-    from app import headless
-    from app.cli import build_parser
+    from app.cli.options import build_parser
+    from app.tools import headless
 
     def broken():
         raise RuntimeError("no OpenGL available: test")

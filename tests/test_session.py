@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from app import simthread
-from app.simthread import SimThread
+from app.simthread import thread as simthread
+from app.simthread.thread import SimThread
 from sim import Params
 from sim.session import Backlog, SessionError, SessionLog, Timeline, replay
 
@@ -84,8 +84,8 @@ def test_a_rebuild_melts_again_at_the_melts_ticks(tmp_path):
 
 
 def test_replayed_frames_match_the_live_renderer(gl_ctx):
-    from app.headless import Session, replay_session
-    from app.screenshot import read_image
+    from app.images import read_image
+    from app.tools.headless import Session, replay_session
 
     thread, snaps = live_session()
     live = Session(gl_ctx, PARAMS, 4)
@@ -135,8 +135,8 @@ def test_a_windowed_replay_drives_the_thread_through_the_same_events():
 
 
 def test_melt_options_become_melt_events_in_tick_order():
-    from app.cli import build_parser
-    from app.headless import melt_events
+    from app.cli.options import build_parser
+    from app.tools.headless import melt_events
 
     args = build_parser().parse_args(["--melt", "10,20@30", "--melt", "5,5,9@2",
                                       "--melt-path", "100,50:140,50@7", "--melt-radius", "20"])

@@ -408,7 +408,7 @@ def test_no_window_is_a_clear_error_with_status_1(tmp_path):
 # A window that reports itself minimized the whole run; prints the CPU time it used.
 MINIMIZED = """
 import sys, time
-import app.window as w
+import app.window.frost_window as w
 from app.__main__ import main
 w.FrostWindow._minimized = lambda self: True
 status = main(["--touch", "380,640", "--max-seconds", sys.argv[1]])
@@ -437,7 +437,7 @@ if __name__ == "__main__":
 # only client, resets the server, and the window's own connection then raced the reset.
 PROBE_KEEPS_GLFW = """
 import glfw
-from app.window import display_problem
+from app.window.frost_window import display_problem
 assert display_problem() is None
 assert glfw.get_primary_monitor(), "GLFW was shut down after the probe"
 print("connected")

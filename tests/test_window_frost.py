@@ -216,9 +216,9 @@ def test_a_wipe_opens_all_six_slots_of_the_ice_at_its_edge():
 
 
 def test_the_app_opens_window_mode_and_its_keys_rebuild_it():
-    from app import tuning
-    from app.cli import build_parser, params_from
-    from app.keys import BINDINGS
+    from app.cli.options import build_parser, params_from
+    from app.window import tuning
+    from app.window.keys import BINDINGS
 
     parse = build_parser().parse_args
     assert params_from(parse(["--window-frost"])) == WINDOW

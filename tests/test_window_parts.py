@@ -9,11 +9,12 @@ import time
 import numpy as np
 import pytest
 
-from app import keys, simthread, tuning
-from app.keys import BINDINGS, Binding, help_lines, key_table
-from app.record import Recorder
-from app.simthread import SimThread
-from app.view import cursor_to_phone, fit_scale, letterbox
+from app.simthread import thread as simthread
+from app.simthread.thread import SimThread
+from app.window import keys, tuning
+from app.window.keys import BINDINGS, Binding, help_lines, key_table
+from app.window.record import Recorder
+from app.window.view import cursor_to_phone, fit_scale, letterbox
 from sim import Params
 from sim.gestures import path_points
 from sim.session import Backlog
@@ -53,7 +54,7 @@ def test_a_key_bound_twice_is_refused(monkeypatch):
 
 
 def test_every_bound_action_exists_in_the_window():
-    from app.window import FrostWindow
+    from app.window.frost_window import FrostWindow
 
     actions = FrostWindow._action_table(FrostWindow.__new__(FrostWindow))
     assert {b.action for b in BINDINGS} <= set(actions)

@@ -19,12 +19,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from app.tools.maps import export_maps, live_segments
 from sim import Params
 from sim.files import why
 from sim.geometry import GeometryDelta
 from sim.session import Applied, Backlog, SessionLog, Timeline, apply_due
-
-from .maps import export_maps, live_segments
 
 log = logging.getLogger(__name__)
 

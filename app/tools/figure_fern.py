@@ -3,7 +3,7 @@
 Row 1 grows one touch at the screen's centre, row 2 three touches (three grains with their
 own orientations that meet); columns are ticks 25 ... 750 (1 to 30 s at 25 ticks per
 second). Each cell is the whole 760x1280 frame scaled down, labelled with its tick, time
-and crystal count. The layout is Fig. 8's (app.figure8).
+and crystal count. The layout is Fig. 8's (app.tools.figure8).
 """
 
 from __future__ import annotations
@@ -14,11 +14,10 @@ from pathlib import Path
 
 import numpy as np
 
+from app.images import read_image, save_png
+from app.tools.figure8 import compose_grid
+from app.tools.headless import Session, make_context
 from sim import Params
-
-from .figure8 import compose_grid
-from .headless import Session, make_context
-from .screenshot import read_image, save_png
 
 TICKS = (25, 50, 125, 250, 500, 750)
 ROWS = {"one touch": [(380.0, 640.0)],

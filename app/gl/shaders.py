@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-from pathlib import Path
+from app.resources import SHADER_DIR
 
-SHADER_DIR = Path(__file__).resolve().parent.parent / "shaders"
+__all__ = ["SHADER_DIR", "HEADER", "load_program", "shader_source"]
+
 # The files carry no #version line so that the same source serves OpenGL ES 3.0 phones,
 # desktop GL (4.3+ accepts "300 es") and the headless EGL context alike.
 HEADER = "#version 300 es\nprecision highp float;\n"

@@ -1,4 +1,4 @@
-"""Rendering benchmark: `python -m app.bench` (headless, 760x1280, about half the screen frosted).
+"""Rendering benchmark: `python -m app.tools.bench` (headless, 760x1280, about half the screen frosted).
 
 Prints the median frame time (ctx.finish() inside the timing), the median geometry
 update per tick, the median upload per tick, and one JSON line at the end.
@@ -14,11 +14,10 @@ import time
 
 import numpy as np
 
+from app.gl.renderer import Renderer
+from app.tools.headless import HEIGHT, WIDTH, make_context
 from sim import FrostSim, Params
 from sim.geometry import FrostGeometry
-
-from .headless import HEIGHT, WIDTH, make_context
-from .render import Renderer
 
 # Seven seeds spread over the screen; at c-2 each frosts a disc of about active_radius.
 TOUCHES = [(190, 200), (570, 330), (380, 640), (160, 760), (600, 930), (250, 1120), (560, 150)]
@@ -72,7 +71,7 @@ def time_frames(ctx, renderer: Renderer, fbo, frames: int) -> list[float]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m app.bench", description=__doc__)
+    ap = argparse.ArgumentParser(prog="python -m app.tools.bench", description=__doc__)
     ap.add_argument("--preset", default="c-2")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--frames", type=int, default=60)

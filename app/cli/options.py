@@ -8,10 +8,9 @@ import os
 import textwrap
 from pathlib import Path
 
+from app.window.keys import DEFAULT_PRESET, help_lines
 from sim import Params, all_presets
 from sim.session import check_event
-
-from .keys import DEFAULT_PRESET, help_lines
 
 WIDTH, HEIGHT = 760, 1280  # the phone screen, px
 

@@ -9,7 +9,7 @@ import moderngl
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
-from .shaders import load_program
+from app.gl.shaders import load_program
 
 FONT_SIZE = 14
 LINE_GAP = 3

@@ -16,11 +16,10 @@ from pathlib import Path
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
+from app.images import read_image, save_png
+from app.tools.headless import Progress, Session, make_context
 from sim import PRESETS, FrostSim, Params
 from sim.files import why
-
-from .headless import Progress, Session, make_context
-from .screenshot import read_image, save_png
 
 WIDTH, HEIGHT = 760, 1280
 CELL = (253, 427)  # a frame scaled by 1/3, px (width, height)

@@ -23,14 +23,14 @@ import moderngl
 import numpy as np
 from PIL import Image
 
+from app.gl.shaders import load_program
+from app.resources import ASSET_DIR
 from sim.geometry import VERTEX_FLOATS, GeometryDelta
 from sim.params import Params
 
-from .shaders import load_program
-
 log = logging.getLogger(__name__)
 
-BACKGROUND = Path(__file__).resolve().parent.parent / "assets" / "background.png"
+BACKGROUND = ASSET_DIR / "background.png"
 # Feature heights are stored in 8 bits as z / FEATURE_HEIGHT_SCALE: 16 px covers a
 # 32 px segment at feature_height 0.5 (links are at most about hc + step long)
 # in steps of 0.06 px.

@@ -7,13 +7,12 @@ import sys
 import time
 from pathlib import Path
 
+from app.gl.renderer import Renderer
+from app.images import read_image, save_png, timestamped_path
 from sim import Params
 from sim.files import why
 from sim.gestures import MELT_SPACING, path_points
 from sim.session import Applied, SessionError, SessionLog, Timeline, apply_due, replay
-
-from .render import Renderer
-from .screenshot import read_image, save_png, timestamped_path
 
 log = logging.getLogger(__name__)
 

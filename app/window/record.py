@@ -15,7 +15,7 @@ from PIL import Image
 
 from sim.files import why, write_atomic
 
-log = logging.getLogger(__name__)
+log = logging.getLogger("app.window")
 
 # 380x640 and every 2nd phone frame: about 0.7 MB a frame, 12.5 frames a second.
 FRAME_SIZE = (380, 640)

@@ -19,21 +19,21 @@ from pathlib import Path
 import glfw
 import moderngl
 
+from app.gl.renderer import Renderer
+from app.gl.shaders import load_program
+from app.images import read_image, save_png, timestamped_path
+from app.simthread.thread import SimThread, Snapshot, Stats
+from app.window.hud import Hud
+from app.window.keys import help_lines, key_table
+from app.window.record import Recorder
+from app.window.view import PHONE, cursor_to_phone, fit_scale, letterbox
 from sim import Params, preset_name
 from sim.files import why
 from sim.gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
 
 from . import tuning
-from .hud import Hud
-from .keys import help_lines, key_table
-from .record import Recorder
-from .render import Renderer
-from .screenshot import read_image, save_png, timestamped_path
-from .shaders import load_program
-from .simthread import SimThread, Snapshot, Stats
-from .view import PHONE, cursor_to_phone, fit_scale, letterbox
 
-log = logging.getLogger(__name__)
+log = logging.getLogger("app.window")
 
 TITLE = "frost"
 HUD_PERIOD = 0.25  # s between HUD stats refreshes

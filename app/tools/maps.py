@@ -24,12 +24,11 @@ from pathlib import Path
 
 import numpy as np
 
+from app.gl.renderer import Material
+from app.images import png_writer
 from sim import FrostSim, Params
 from sim.files import why, write_all_atomic
 from sim.geometry import FrostGeometry
-
-from .render import Material
-from .screenshot import png_writer
 
 log = logging.getLogger(__name__)
 
@@ -151,7 +150,7 @@ def export_maps(folder, grid: np.ndarray, segments: np.ndarray, params: Params,
     and what its values mean as text chunks."""
     images, top = encode(compute_maps(grid, segments, params, width, height))
     common = {"parameters": params.as_dict(), **(meta or {}), "height_max_px": top,
-              "Software": "frost (app.maps)", "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
+              "Software": "frost (app.tools.maps)", "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
     folder = Path(folder)
     paths = {name: folder / f"{name}.png" for name in MAP_NAMES}
     # All three or none: a full disk or an unwritable folder leaves no half set.
@@ -186,7 +185,7 @@ def grow(params: Params, seed: int, touches, ticks: int,
 
 def run(args, params: Params) -> int:
     """`python -m app --headless --touch X,Y --ticks N --export-maps DIR`."""
-    from .headless import Progress, scripted_session
+    from app.tools.headless import Progress, scripted_session
 
     if args.ticks < 0:
         print(f"frost: error: --ticks {args.ticks} must be 0 or more", file=sys.stderr)
