@@ -18,6 +18,7 @@ from .fern import make_growth
 from .grid import HashGrid
 from .pane import chill, glass_spots, make_pane
 from .params import Params
+from .screen import HEIGHT, WIDTH, touch_problem
 
 TWO_PI = np.float32(2.0 * np.pi)
 # A water particle that found no spot in its area's free cells after this many draws is
@@ -107,7 +108,7 @@ def _on_screen_f32(pts: np.ndarray, width: int, height: int) -> np.ndarray:
 class FrostSim:
     """Window frost on a `width` x `height` px screen (SPEC.md)."""
 
-    def __init__(self, params: Params | None = None, width: int = 760, height: int = 1280,
+    def __init__(self, params: Params | None = None, width: int = WIDTH, height: int = HEIGHT,
                  seed: int = 0):
         for name, v in (("width", width), ("height", height)):
             if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 0 < v <= 16384:
@@ -178,8 +179,9 @@ class FrostSim:
         seeds, then one top-up of each area they touched. Returns each seed's area."""
         pts = np.array(points, np.float64).reshape(-1, 2)
         for x, y in pts:
-            if not (np.isfinite(x) and np.isfinite(y) and 0 <= x < self.width and 0 <= y < self.height):
-                raise ValueError(f"touch ({x!r}, {y!r}) is off the {self.width}x{self.height} screen")
+            problem = touch_problem(x, y, (self.width, self.height))
+            if problem:
+                raise ValueError(problem)
         pts32 = _on_screen_f32(pts, self.width, self.height)
         area = self._areas_for(pts32)
         seeds = self._add_crystals(pts32, np.full(len(pts), -1, np.int32), area)

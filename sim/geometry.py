@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .params import Params
+from .screen import HEIGHT, WIDTH
 
 # Each segment gives 4 triangles of 3 vertices, each vertex x, y, z, nx, ny, nz.
 VERTS_PER_SEGMENT = 12
@@ -104,7 +105,7 @@ def bump_heights(points: np.ndarray, rows: int, cols: int, spacing: int,
 class FrostGeometry:
     """The height grid (Fig. 7) and sharp features (Fig. 6) of a growing frost."""
 
-    def __init__(self, params: Params, width: int = 760, height: int = 1280):
+    def __init__(self, params: Params, width: int = WIDTH, height: int = HEIGHT):
         self.params = params
         self.spacing = int(params.grid_spacing)
         self.rows = height // self.spacing + 1

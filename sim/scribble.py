@@ -16,6 +16,7 @@ import numpy as np
 
 from .gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
 from .params import PRESETS, Params
+from .screen import SIZE
 from .session import Backlog, Timeline
 
 TICKS_PER_SECOND = 25
@@ -59,7 +60,7 @@ def _event(kind: str, point, radius: float) -> dict:
         {"kind": "melt", "x": x, "y": y, "r": radius}
 
 
-def scribble(params: Params, seed: int = 0, seconds: float = 60.0, size=(760, 1280)) -> list[list[dict]]:
+def scribble(params: Params, seed: int = 0, seconds: float = 60.0, size=SIZE) -> list[list[dict]]:
     """Left-button strokes between random points over the whole screen, then half as long
     of right-button (warm finger) strokes, then every tuning change once (5 ticks apart),
     `seconds` in all."""
@@ -100,7 +101,7 @@ def tuning_changes(params: Params) -> list[Params]:
     return out + [Params.preset(name, **keep) for name in PRESETS]
 
 
-def storm(seed: int = 0, events: int = 2000, seconds: float = 10.0, size=(760, 1280),
+def storm(seed: int = 0, events: int = 2000, seconds: float = 10.0, size=SIZE,
           radius: float = MELT_RADIUS) -> list[list[dict]]:
     """`events` touches and melts (half each, in random order) at random spots, sent as
     fast as they come: evenly over `seconds`."""
@@ -114,7 +115,7 @@ def storm(seed: int = 0, events: int = 2000, seconds: float = 10.0, size=(760, 1
 
 
 def play(params: Params, schedule: list[list[dict]], seed: int = 0, tail: int = 0,
-         size=(760, 1280)) -> Played:
+         size=SIZE) -> Played:
     """Run `schedule` (and `tail` quiet ticks after it) through a Timeline, timing each
     tick's applied events and step together, as the simulation thread's tick_ms does."""
     timeline, backlog = Timeline(params, seed, *size), Backlog()

@@ -27,6 +27,7 @@ from .files import write_atomic
 from .frost import FrostSim
 from .geometry import FrostGeometry, GeometryDelta
 from .params import Params
+from .screen import HEIGHT, WIDTH, touch_problem
 
 log = logging.getLogger(__name__)
 
@@ -53,8 +54,8 @@ class SessionLog:
 
     seed: int
     params: dict[str, Any]
-    width: int = 760
-    height: int = 1280
+    width: int = WIDTH
+    height: int = HEIGHT
     events: list[dict[str, Any]] = field(default_factory=list)
     steps: int = 0  # steps the run took in all (its timelines together)
     # How the renderer showed the last frame (light, features, bumps; see check_view);
@@ -223,7 +224,7 @@ class Applied:
 class Timeline:
     """A FrostSim and its FrostGeometry driven by events (see the module docstring)."""
 
-    def __init__(self, params: Params, seed: int, width: int = 760, height: int = 1280,
+    def __init__(self, params: Params, seed: int, width: int = WIDTH, height: int = HEIGHT,
                  touches=()):
         self.seed, self.size = seed, (width, height)
         self.steps = 0
@@ -271,8 +272,7 @@ class Timeline:
 
     def _touch(self, event: dict, _notes: dict) -> None:
         x, y = float(event["x"]), float(event["y"])
-        w, h = self.size
-        if 0 <= x < w and 0 <= y < h:  # a touch off the screen is ignored
+        if touch_problem(x, y, self.size) is None:  # a touch off the screen is ignored
             self.sim.touch(x, y)
             self.touches = (*self.touches, (x, y))
 

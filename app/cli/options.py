@@ -10,9 +10,8 @@ from pathlib import Path
 
 from app.window.keys import DEFAULT_PRESET, help_lines
 from sim import Params, all_presets
+from sim.screen import touch_problem
 from sim.session import check_event
-
-WIDTH, HEIGHT = 760, 1280  # the phone screen, px
 
 
 class _Parser(argparse.ArgumentParser):
@@ -27,8 +26,9 @@ def _touch(text: str) -> tuple[float, float]:
         x, y = (float(v) for v in text.split(","))
     except ValueError:
         raise argparse.ArgumentTypeError(f"touch {text!r} must be X,Y in px, e.g. 380,640") from None
-    if not (0 <= x < WIDTH and 0 <= y < HEIGHT):  # False for nan too
-        raise argparse.ArgumentTypeError(f"touch {text!r} is off the {WIDTH}x{HEIGHT} screen")
+    problem = touch_problem(x, y)
+    if problem:
+        raise argparse.ArgumentTypeError(problem)
     return x, y
 
 

@@ -27,6 +27,7 @@ from app.gl.shaders import load_program
 from app.resources import ASSET_DIR
 from sim.geometry import VERTEX_FLOATS, GeometryDelta
 from sim.params import Params
+from sim.screen import HEIGHT, WIDTH
 
 log = logging.getLogger(__name__)
 
@@ -74,8 +75,8 @@ def load_background(path: Path = BACKGROUND) -> np.ndarray:
 class Renderer:
     """Draws the frost frame into a given framebuffer."""
 
-    def __init__(self, ctx: moderngl.Context, params: Params, width: int = 760,
-                 height: int = 1280, background: np.ndarray | None = None):
+    def __init__(self, ctx: moderngl.Context, params: Params, width: int = WIDTH,
+                 height: int = HEIGHT, background: np.ndarray | None = None):
         self.ctx, self.params = ctx, params
         self.size = (width, height)
         self.light = default_light()

@@ -23,6 +23,7 @@ from app.tools.maps import export_maps, live_segments
 from sim import Params
 from sim.files import why
 from sim.geometry import GeometryDelta
+from sim.screen import HEIGHT, WIDTH
 from sim.session import Applied, Backlog, SessionLog, Timeline, apply_due
 
 log = logging.getLogger(__name__)
@@ -70,7 +71,7 @@ class Command:
 class SimThread(threading.Thread):
     """Runs the simulation on a monotonic schedule: tick k is due at start + k * dt."""
 
-    def __init__(self, params: Params, seed: int, touches=(), width=760, height=1280,
+    def __init__(self, params: Params, seed: int, touches=(), width=WIDTH, height=HEIGHT,
                  wake: Callable[[], None] | None = None, dt: float = 1.0 / TICKS_PER_SECOND,
                  script=()):
         super().__init__(name="frost-sim", daemon=True)

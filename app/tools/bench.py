@@ -15,9 +15,10 @@ import time
 import numpy as np
 
 from app.gl.renderer import Renderer
-from app.tools.headless import HEIGHT, WIDTH, make_context
+from app.tools.headless import make_context
 from sim import FrostSim, Params
 from sim.geometry import FrostGeometry
+from sim.screen import HEIGHT, WIDTH
 
 # Seven seeds spread over the screen; at c-2 each frosts a disc of about active_radius.
 TOUCHES = [(190, 200), (570, 330), (380, 640), (160, 760), (600, 930), (250, 1120), (560, 150)]

@@ -20,8 +20,8 @@ from app.images import read_image, save_png
 from app.tools.headless import Progress, Session, make_context
 from sim import PRESETS, FrostSim, Params
 from sim.files import why
+from sim.screen import HEIGHT, WIDTH, touch_problem
 
-WIDTH, HEIGHT = 760, 1280
 CELL = (253, 427)  # a frame scaled by 1/3, px (width, height)
 LABEL_H = 16  # band above each cell holding its label, px
 GAP = 6  # px between cells and around the sheet
@@ -146,8 +146,8 @@ def run(args) -> int:
         print("frost: error: --figure8 takes --ticks >= 0 and at most one --touch", file=sys.stderr)
         return 2
     touch = args.touch[0] if args.touch else (WIDTH / 2, HEIGHT / 2)
-    if not (0 <= touch[0] < WIDTH and 0 <= touch[1] < HEIGHT):
-        print(f"frost: error: touch {touch} is off the {WIDTH}x{HEIGHT} screen", file=sys.stderr)
+    if touch_problem(*touch):
+        print(f"frost: error: {touch_problem(*touch)}", file=sys.stderr)
         return 2
     overrides = {n: getattr(args, n) for n, _, _ in Params.describe()
                  if getattr(args, n, None) is not None}

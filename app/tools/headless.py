@@ -12,11 +12,11 @@ from app.images import read_image, save_png, timestamped_path
 from sim import Params
 from sim.files import why
 from sim.gestures import MELT_SPACING, path_points
+from sim.screen import HEIGHT, WIDTH, check_touch
 from sim.session import Applied, SessionError, SessionLog, Timeline, apply_due, replay
 
 log = logging.getLogger(__name__)
 
-WIDTH, HEIGHT = 760, 1280
 PROGRESS_EVERY_S = 2.0  # a progress line at most this often on long runs
 DEFAULT_FOLDER = Path("frost-out")
 
@@ -71,8 +71,7 @@ class Session:
         return self.timeline.sim
 
     def touch(self, x: float, y: float) -> None:
-        if not (0 <= x < WIDTH and 0 <= y < HEIGHT):
-            raise ValueError(f"touch ({x:g}, {y:g}) is off the {WIDTH}x{HEIGHT} screen")
+        check_touch(x, y)
         self.show(self.timeline.apply([{"kind": "touch", "x": x, "y": y}]))
         self.touches.append((self.sim.tick, x, y))
 

@@ -29,10 +29,10 @@ from app.images import png_writer
 from sim import FrostSim, Params
 from sim.files import why, write_all_atomic
 from sim.geometry import FrostGeometry
+from sim.screen import HEIGHT, WIDTH
 
 log = logging.getLogger(__name__)
 
-WIDTH, HEIGHT = 760, 1280
 MAP_NAMES = ("height", "normal", "alpha")
 # Feature pyramids are rasterized in batches of about this many pixel samples.
 _BATCH_SAMPLES = 1 << 22

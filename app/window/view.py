@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-PHONE = (760, 1280)
+from sim.screen import SIZE as PHONE
+
 # Room left for window decorations and panels when fitting the monitor's work area.
 WORKAREA_MARGIN = 0.95
 
