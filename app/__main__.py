@@ -66,7 +66,7 @@ def _display_problem() -> str | None:
     """Why no window can open here (None: it can), e.g. DISPLAY naming no server."""
     if not has_display():
         return "DISPLAY is unset"
-    from app.window.frost_window import display_problem
+    from app.window.glfw_setup import display_problem
     return display_problem()
 
 

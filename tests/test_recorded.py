@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.images import save_png
+from app.images import read_image, save_png
 from app.simthread import thread as simthread
 from app.simthread.thread import SimThread
 from app.tools.maps import export_maps, live_segments
@@ -108,27 +108,21 @@ class FakeFbo:
 
 
 def window_standin(tmp_path: Path, shots: Path, sessions: Path):
-    """Just enough of a FrostWindow to run its screenshot and session code."""
-    from app.window.frost_window import FrostWindow
+    """The window's Capture on a real simulation thread, with a stand-in presenter (no GL)."""
+    from app.window.capture import Capture
 
     said = []
     thread = SimThread(PARAMS, 3, [(380.0, 640.0)])
-    args = types.SimpleNamespace(screenshot_dir=str(shots), session_dir=str(sessions), seed=3)
-    renderer = types.SimpleNamespace(view=lambda: dict(VIEW))
-    win = types.SimpleNamespace(sim=thread, args=args, renderer=renderer, phone=FakeFbo(),
-                                params=PARAMS, latest=None, session_path=None, screenshots=[],
-                                names=set(),
-                                _render_phone=lambda: None,
-                                _say=lambda text, level=logging.INFO: said.append((level, text)))
-    win._save_session = lambda path=None: FrostWindow._save_session(win, path)
-    win._fresh_name = lambda suffix: FrostWindow._fresh_name(win, suffix)
-    return win, said
+    presenter = types.SimpleNamespace(renderer=types.SimpleNamespace(view=lambda: dict(VIEW)),
+                                      render_phone=lambda: None,
+                                      read_phone=lambda: read_image(FakeFbo()))
+    capture = Capture(thread, presenter, lambda text, level=logging.INFO: said.append((level, text)),
+                      shots, sessions)
+    return types.SimpleNamespace(capture=capture, sim=thread, latest=None, params=PARAMS), said
 
 
 def take_shot(win) -> None:
-    from app.window.frost_window import FrostWindow
-
-    FrostWindow._screenshot(win, None)
+    win.capture.screenshot(win.latest, win.params)
 
 
 def test_a_screenshot_states_the_snapshot_shown_not_a_key_pressed_since(tmp_path):
@@ -137,7 +131,7 @@ def test_a_screenshot_states_the_snapshot_shown_not_a_key_pressed_since(tmp_path
     win.params = PARAMS.replace(hc=7.5)  # a key press the thread has not applied yet
     win.sim.send("params", win.params)
     take_shot(win)
-    (shot,) = win.screenshots
+    (shot,) = win.capture.screenshots
     text = Image.open(shot).text
     assert json.loads(text["params"]) == PARAMS.as_dict()
     assert text["tick"] == "5" and json.loads(text["view"]) == VIEW
@@ -157,7 +151,7 @@ def test_a_screenshot_into_an_unwritable_folder_is_reported_not_raised(tmp_path,
     warnings = [t for level, t in said if level == logging.WARNING]
     assert warnings and all("NOT saved" in t and "afile" in t and "a file is in the way" in t
                             for t in warnings)
-    assert len(win.screenshots) == (bad == "sessions")  # what can be written still is
+    assert len(win.capture.screenshots) == (bad == "sessions")  # what can be written still is
     assert len(list(tmp_path.rglob("*.tmp"))) == 0
 
 
@@ -166,14 +160,14 @@ def test_a_full_disk_at_a_screenshot_names_the_file_and_keeps_its_session(tmp_pa
     def full(_image, path, _meta):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr("app.window.frost_window.save_png", full)
+    monkeypatch.setattr("app.window.capture.save_png", full)
     win, said = window_standin(tmp_path, tmp_path / "shots", tmp_path / "sessions")
     win.latest = ticked(win.sim, 2)[-1]
     take_shot(win)
     level, text = said[-1]
     assert level == logging.WARNING and text.startswith("screenshot NOT saved: ")
     assert str(tmp_path / "shots" / "frost-") in text and text.endswith(".png: No space left on device")
-    assert len(list((tmp_path / "sessions").glob("*.json"))) == 1 and not win.screenshots
+    assert len(list((tmp_path / "sessions").glob("*.json"))) == 1 and not win.capture.screenshots
 
 
 def test_failed_screenshots_in_one_second_never_share_a_session_file(tmp_path):
@@ -184,7 +178,7 @@ def test_failed_screenshots_in_one_second_never_share_a_session_file(tmp_path):
     take_shot(win)
     steps = sorted(SessionLog.load(p).steps for p in (tmp_path / "sessions").glob("*.json"))
     assert steps == [2, 4]  # the first is not overwritten by the second
-    names = [win._fresh_name("") for _ in range(3)]  # e.g. map folders asked for at once
+    names = [win.capture.fresh_name("") for _ in range(3)]  # e.g. map folders asked for at once
     assert len(set(names)) == 3
 
 

@@ -437,7 +437,7 @@ if __name__ == "__main__":
 # only client, resets the server, and the window's own connection then raced the reset.
 PROBE_KEEPS_GLFW = """
 import glfw
-from app.window.frost_window import display_problem
+from app.window.glfw_setup import display_problem
 assert display_problem() is None
 assert glfw.get_primary_monitor(), "GLFW was shut down after the probe"
 print("connected")

@@ -54,10 +54,10 @@ def test_a_key_bound_twice_is_refused(monkeypatch):
 
 
 def test_every_bound_action_exists_in_the_window():
-    from app.window.frost_window import FrostWindow
+    from app.window.actions import Actions
 
-    actions = FrostWindow._action_table(FrostWindow.__new__(FrostWindow))
-    assert {b.action for b in BINDINGS} <= set(actions)
+    actions = Actions(Params(), *[None] * 8)
+    assert {b.action for b in BINDINGS} <= set(actions.table)
 
 
 def test_key_names_are_glfw_keys():

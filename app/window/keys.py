@@ -1,7 +1,7 @@
 """Key bindings: one table drives both the key handler and the help overlay (H).
 
 Keys are GLFW key names without the `KEY_` prefix, so this module needs no GLFW;
-`app.window.frost_window` resolves them to key codes. An action is a method name of the window's
+`app.window.actions` resolves them to key codes. An action is a name in the window's
 action dispatch table; `arg` is passed to it unchanged.
 """
 

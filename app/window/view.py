@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from sim.screen import SIZE as PHONE
 
 # Room left for window decorations and panels when fitting the monitor's work area.
@@ -39,3 +41,16 @@ def cursor_to_phone(cursor: tuple[float, float], window_size: tuple[int, int],
     if not (0 <= px < phone[0] and 0 <= py < phone[1]):
         return None
     return px, py
+
+
+@dataclass
+class Sizes:
+    """The window's size and its framebuffer's (they differ on HiDPI screens), as the
+    resize callbacks last reported them."""
+
+    window: tuple[int, int]
+    framebuffer: tuple[int, int]
+
+    def phone_at(self, cursor: tuple[float, float]):
+        """Phone px under a cursor in window coordinates, or None outside the phone."""
+        return cursor_to_phone(cursor, self.window, self.framebuffer)

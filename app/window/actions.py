@@ -1,0 +1,106 @@
+"""What the keys do: one dispatch table from the key table's action names (keys.BINDINGS)
+to the simulation thread, the renderer's view, the HUD and the capture of files."""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Callable
+
+import glfw
+
+from app.simthread.thread import SimThread, Snapshot
+from app.window import tuning
+from app.window.capture import Capture
+from app.window.keys import key_table
+from app.window.presenter import Presenter
+from app.window.record import Recorder
+from app.window.status import Status, onoff
+from sim import Params
+
+# Actions that repeat while their key is held.
+REPEATING = {"single_step", "scale", "shift", "light"}
+MAX_LIGHT_TILT = 0.95  # |xy| of the unit light vector: it never grazes the glass
+
+
+def moved_light(light, dx: float, dy: float) -> tuple[float, float, float]:
+    """The light direction moved on the screen (x right, y down), kept toward the viewer."""
+    x, y = float(light[0]) + dx, float(light[1]) + dy
+    r = math.hypot(x, y)
+    if r > MAX_LIGHT_TILT:
+        x, y = x * MAX_LIGHT_TILT / r, y * MAX_LIGHT_TILT / r
+    return x, y, math.sqrt(max(0.0, 1.0 - x * x - y * y))
+
+
+class Actions:
+    """The key callback and what each action does. `params` is what the keys asked for
+    last (the thread applies it at its next tick); `shown()` is the snapshot on screen,
+    `redraw()` asks for the phone to be rendered again, `quit_()` ends the frame loop."""
+
+    def __init__(self, params: Params, thread: SimThread, presenter: Presenter, status: Status,
+                 capture: Capture, recorder: Recorder, shown: Callable[[], Snapshot | None],
+                 redraw: Callable[[], None], quit_: Callable[[], None]):
+        self.params, self.thread, self.presenter = params, thread, presenter
+        self.status, self.redraw = status, redraw
+        self.keys = key_table(lambda name: getattr(glfw, f"KEY_{name}"))
+        self.table: dict[str, Callable] = {
+            "pause": lambda _: thread.send("pause"),
+            "single_step": lambda _: thread.send("step"),
+            "clear": self._clear, "record": lambda _: recorder.toggle(),
+            "screenshot": lambda _: capture.screenshot(shown(), self.params),
+            "export_maps": lambda _: capture.export_maps(),
+            "scale": lambda arg: self._tune(tuning.scaled, *arg),
+            "shift": lambda arg: self._tune(tuning.shifted, *arg),
+            "preset": lambda name: self._tune(tuning.preset, name),
+            "toggle_param": lambda name: self._tune(tuning.toggled, name),
+            "toggle_view": self._toggle_view, "light": self._move_light,
+            "toggle_hud": lambda _: self._toggle_hud("visible"),
+            "toggle_help": lambda _: self._toggle_hud("show_help"),
+            "quit": lambda _: quit_()}
+
+    def on_key(self, _window, key, _scancode, action, _mods) -> None:
+        binding = self.keys.get(key)
+        if binding is None or action == glfw.RELEASE:
+            return
+        if action == glfw.REPEAT and binding.action not in REPEATING:
+            return
+        self.table[binding.action](binding.arg)
+        self.status.hud_next = 0.0  # show the change at once
+
+    def _clear(self, _arg) -> None:
+        self.thread.send("clear")
+        self.status.say("cleared")
+
+    def _toggle_hud(self, flag: str) -> None:
+        hud = self.presenter.hud
+        setattr(hud, flag, not getattr(hud, flag))
+
+    def _toggle_view(self, name: str) -> None:
+        renderer = self.presenter.renderer
+        setattr(renderer, name, not getattr(renderer, name))
+        self.redraw()
+        self.status.say(f"{name} {onoff(getattr(renderer, name))}")
+
+    def _move_light(self, arg) -> None:
+        self.presenter.renderer.light = moved_light(self.presenter.renderer.light, *arg)
+        self.redraw()
+
+    def _tune(self, change, *arg) -> None:
+        try:
+            params = change(self.params, *arg)
+        except ValueError as err:
+            self.status.say(f"refused: {err}", logging.WARNING)
+            return
+        changed = tuning.differences(self.params, params)
+        if not changed:
+            self.status.say("params: unchanged")
+            return
+        self.params = params
+        self.thread.send("params", params)
+        self.status.say("params: " + " ".join(f"{k}={_number(v)}" for k, v in changed.items()))
+
+
+def _number(v) -> str:
+    if isinstance(v, bool):
+        return onoff(v)
+    return f"{v:g}" if isinstance(v, float) else str(v)

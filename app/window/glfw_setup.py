@@ -1,0 +1,71 @@
+"""GLFW set-up: can a window open here, and the phone's window with every hint in one place."""
+
+from __future__ import annotations
+
+import glfw
+
+from app.window.view import PHONE, fit_scale
+
+TITLE = "frost"
+
+
+class WindowError(RuntimeError):
+    pass
+
+
+def display_problem() -> str | None:
+    """None when GLFW can reach the display; else why not (e.g. DISPLAY=:99 with no X
+    server there). On success GLFW stays initialized for the window: disconnecting the
+    only client would make a bare X server (Xvfb) reset, and a connection made during the
+    reset fails."""
+    errors: list[str] = []
+    glfw.set_error_callback(lambda code, text: errors.append(glfw_text(text)))
+    ok = glfw.init()
+    glfw.set_error_callback(None)
+    return None if ok else "; ".join(errors) or "GLFW could not start"
+
+
+def open_window(scale: float | None) -> tuple:
+    """A GLFW window for the phone at `scale` (default: fit the monitor); (window, scale)."""
+    if scale is not None and not 0.05 <= scale <= 4.0:
+        raise WindowError(f"--scale {scale} must be in [0.05, 4]")
+    errors: list[str] = []
+    glfw.set_error_callback(lambda code, text: errors.append(f"{glfw_text(text)} ({code:#x})"))
+    if not glfw.init():
+        raise WindowError(f"GLFW could not start: {'; '.join(errors) or 'no reason given'}")
+    scale = scale or fit_scale(_workarea())
+    size = (max(1, round(PHONE[0] * scale)), max(1, round(PHONE[1] * scale)))
+    _window_hints()
+    window = glfw.create_window(*size, TITLE, None, None)
+    if not window:
+        glfw.terminate()
+        raise WindowError(f"cannot open a {size[0]}x{size[1]} OpenGL 3.3 core window: "
+                          f"{'; '.join(errors) or 'no reason given'}")
+    glfw.make_context_current(window)
+    glfw.swap_interval(1)
+    glfw.set_window_aspect_ratio(window, *PHONE)
+    return window, scale
+
+
+def _window_hints() -> None:
+    """Every GLFW hint in one place: OpenGL 3.3 core (runs the GLSL ES 3.00 shaders)."""
+    glfw.default_window_hints()
+    glfw.window_hint(glfw.CONTEXT_VERSION_MAJOR, 3)
+    glfw.window_hint(glfw.CONTEXT_VERSION_MINOR, 3)
+    glfw.window_hint(glfw.OPENGL_PROFILE, glfw.OPENGL_CORE_PROFILE)
+    glfw.window_hint(glfw.OPENGL_FORWARD_COMPAT, True)
+    glfw.window_hint(glfw.RESIZABLE, True)
+    glfw.window_hint(glfw.DOUBLEBUFFER, True)
+    glfw.window_hint(glfw.SCALE_TO_MONITOR, False)
+
+
+def _workarea() -> tuple[int, int]:
+    monitor = glfw.get_primary_monitor()
+    if not monitor:
+        return 0, 0
+    _, _, w, h = glfw.get_monitor_workarea(monitor)
+    return w, h
+
+
+def glfw_text(text) -> str:
+    return text.decode(errors="replace") if isinstance(text, bytes) else str(text)
