@@ -308,26 +308,34 @@ class Timeline:
             self.sim.plant(self.touches)
 
 
+def grow(timeline: Timeline, steps: int, events=(), on_apply=None, on_step=None,
+         on_tick=None) -> int:
+    """Step `timeline` `steps` times, applying each of `events` (in order, each at its
+    tick as the timeline counts it) when due; events due after the last step apply too.
+    `on_apply(Applied)` and `on_step(GeometryDelta)` see every result in order, `on_tick(sim)`
+    every step once it is done. Every run of frost that is not the live window goes
+    through here; returns how many of `events` applied."""
+    events = list(events)
+    on_apply, on_step = on_apply or (lambda _a: None), on_step or (lambda _d: None)
+    i = apply_due(timeline, events, 0, on_apply)
+    for _ in range(steps):
+        for delta in timeline.step():
+            on_step(delta)
+        if on_tick:
+            on_tick(timeline.sim)
+        i = apply_due(timeline, events, i, on_apply)
+    return i
+
+
 def replay(log_: SessionLog, steps: int | None = None, on_apply=None, on_step=None,
            on_tick=None) -> Timeline:
-    """Run `log_` for `steps` steps (default: as many as it took), applying each event at
-    its tick; `on_apply(Applied)` and `on_step(GeometryDelta)` see every result in order,
-    `on_tick(sim)` every step once it is done (progress). Events due after the last step
-    (made while paused) apply too."""
+    """Run `log_` for `steps` steps (default: as many as it took) through `grow`."""
     steps = log_.steps if steps is None else steps
     timeline = Timeline(Params(**log_.params), log_.seed, log_.width, log_.height)
-    on_apply, on_step = on_apply or (lambda _a: None), on_step or (lambda _d: None)
-    i = 0
-    for n in range(steps + 1):
-        i = apply_due(timeline, log_.events, i, on_apply)
-        if n < steps:
-            for delta in timeline.step():
-                on_step(delta)
-            if on_tick:
-                on_tick(timeline.sim)
-    if i < len(log_.events):
-        log.warning("replay: %d events after step %d were not applied", len(log_.events) - i,
-                    steps)
+    applied = grow(timeline, steps, log_.events, on_apply, on_step, on_tick)
+    if applied < len(log_.events):
+        log.warning("replay: %d events after step %d were not applied",
+                    len(log_.events) - applied, steps)
     return timeline
 
 
