@@ -21,7 +21,7 @@ def display_problem() -> str | None:
     errors: list[str] = []
     glfw.set_error_callback(lambda code, text: errors.append(glfw_text(text)))
     ok = glfw.init()
-    glfw.set_error_callback(None)
+    glfw.set_error_callback(None)  # type: ignore[arg-type]  # None removes it (GLFW docs)
     return None if ok else "; ".join(errors) or "GLFW could not start"
 
 

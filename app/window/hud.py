@@ -5,6 +5,8 @@ A panel re-renders its texture only when its text changes; drawing is one blende
 
 from __future__ import annotations
 
+from typing import cast
+
 import moderngl
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
@@ -52,6 +54,7 @@ class Panel:
     def __init__(self, ctx: moderngl.Context, program: moderngl.Program, font):
         self.ctx, self.program, self.font = ctx, program, font
         self.vao = ctx.vertex_array(program, [])
+        self.rect = cast(moderngl.Uniform, program["u_rect"])  # where on the screen, in NDC
         self.texture: moderngl.Texture | None = None
         self.lines: list[str] | None = None
         self.renders = 0  # texture re-renders, for tests and the log
@@ -82,7 +85,7 @@ class Panel:
         tw, th = tw * shrink, th * shrink
         x0, x1 = 2 * x / fw - 1, 2 * (x + tw) / fw - 1
         y0, y1 = 1 - 2 * (y + th) / fh, 1 - 2 * y / fh
-        self.program["u_rect"].value = (x0, y0, x1, y1)
+        self.rect.value = (x0, y0, x1, y1)
         self.texture.use(0)
         self.vao.render(moderngl.TRIANGLE_STRIP, vertices=4)
         return round(th)

@@ -25,11 +25,13 @@ class Presenter:
         self.ctx = ctx
         self.renderer = Renderer(ctx, params, *PHONE)
         self.renderer.set_view(view)  # a replayed session's view
-        self.phone = ctx.framebuffer(color_attachments=[ctx.texture(PHONE, 4)],
+        self.texture = ctx.texture(PHONE, 4)
+        self.texture.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        self.phone = ctx.framebuffer(color_attachments=[self.texture],
                                      depth_attachment=ctx.depth_renderbuffer(PHONE))
-        self.phone.color_attachments[0].filter = (moderngl.LINEAR, moderngl.LINEAR)
         self.blit = load_program(ctx, "blit.vert", "blit.frag")
         self.blit["u_texture"].value = 0
+        self.blit["u_rect"].value = (-1.0, -1.0, 1.0, 1.0)  # the whole viewport
         self.quad = ctx.vertex_array(self.blit, [])
         self.hud = Hud(ctx)
         self.renders, self.render_ms = 0, 0.0  # render_ms: a moving average
@@ -54,8 +56,7 @@ class Presenter:
         ctx.screen.clear(*BACKDROP)
         ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND | moderngl.CULL_FACE)
         ctx.viewport = letterbox(fb_size)
-        self.blit["u_rect"].value = (-1.0, -1.0, 1.0, 1.0)
-        self.phone.color_attachments[0].use(0)
+        self.texture.use(0)
         self.quad.render(moderngl.TRIANGLE_STRIP, vertices=4)
         ctx.viewport = (0, 0, *fb_size)
         self.hud.draw(fb_size, stats, help_lines)

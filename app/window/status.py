@@ -83,7 +83,7 @@ class Status:
         renderer's `view` switches, `recording` (e.g. "REC 12 frames") when on."""
         s = snap.stats if snap else NO_STATS
         p = snap.params if snap else params  # what the frame shows
-        state = [w for w, on in (("PAUSED", s.paused), (recording, recording)) if on]
+        state = [w for w in ("PAUSED" if s.paused else None, recording) if w]
         lines = [
             f"fps {self.fps:5.1f}  frame {self.frame_ms:5.1f} ms  render {render_ms:5.1f} ms",
             f"tick {s.tick}  {s.tick_ms:5.1f} ms  rate {s.rate:4.1f}/s  overruns {s.overruns}",

@@ -18,7 +18,7 @@ def fit_scale(workarea: tuple[int, int], phone: tuple[int, int] = PHONE) -> floa
     return min(1.0, WORKAREA_MARGIN * ww / pw, WORKAREA_MARGIN * wh / ph)
 
 
-def letterbox(fb_size: tuple[int, int], phone: tuple[int, int] = PHONE) -> tuple[int, ...]:
+def letterbox(fb_size: tuple[int, int], phone: tuple[int, int] = PHONE) -> tuple[int, int, int, int]:
     """The viewport (x, y, w, h), y from the bottom, of the phone centred in the framebuffer."""
     (fw, fh), (pw, ph) = fb_size, phone
     scale = min(fw / pw, fh / ph)
