@@ -18,10 +18,10 @@ test: $(STAMP)
 bench: bench-sim bench-render
 
 bench-sim: $(STAMP)
-	$(PY) -m sim.bench $(ARGS)
+	$(PY) -m app bench sim $(ARGS)
 
 bench-render: $(STAMP)
-	$(PY) -m app.tools.bench $(ARGS)
+	$(PY) -m app bench render $(ARGS)
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check app sim tests assets

@@ -6,7 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from app.cli.options import build_parser, params_from
+from app.cli.options import params_from
+from app.cli.parser import build_parser
 from app.window import tuning
 from sim import PRESETS, FrostSim, Params, preset_name
 from sim.fern import SIXTH
@@ -304,8 +305,10 @@ def test_fern_row_shows_the_ice_growing_and_the_sheet_holds_every_cell(gl_ctx):
 
 
 def test_figure_names_other_than_fern_are_refused(tmp_path, capsys):
-    from app.__main__ import main
+    from app.cli import main
 
-    assert main(["--figure", "snow", str(tmp_path / "x.png")]) == 2
-    assert "--figure 'snow': choose one of fern" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as stop:
+        main(["figure", "snow", str(tmp_path / "x.png")])
+    assert stop.value.code == 2
+    assert "invalid choice: 'snow' (choose from 'fern')" in capsys.readouterr().err
     assert not (tmp_path / "x.png").exists()

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.__main__ import main
+from app.cli import main
 from app.tools.figure8 import (
     CELL,
     COLS,
@@ -149,8 +149,8 @@ def test_melted_ice_leaves_the_maps():
 
 
 def test_cli_export_maps(tmp_path, capsys):
-    status = main(["--headless", "--preset", "c-2", "--touch", "380,640", "--ticks", "20",
-                   "--export-maps", str(tmp_path / "maps")])
+    status = main(["maps", str(tmp_path / "maps"), "--preset", "c-2", "--touch", "380,640",
+                   "--ticks", "20"])
     assert status == 0
     out = capsys.readouterr().out
     for name in ("height", "normal", "alpha"):
@@ -222,7 +222,7 @@ def test_stats_table_lists_every_preset(figure):
 def test_cli_figure8_writes_a_sheet_with_metadata(tmp_path):
     """In a subprocess: the app makes its own GL context there."""
     out = tmp_path / "fig8.png"
-    run = subprocess.run([sys.executable, "-m", "app", "--figure8", str(out), "--ticks", "20"],
+    run = subprocess.run([sys.executable, "-m", "app", "figure8", str(out), "--ticks", "20"],
                          cwd=tmp_path, capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr  # no OpenGL fails here: EGL is a dependency
     assert f"wrote {out}" in run.stdout and "c-3  D=7 hc=7 H=5000" in run.stdout

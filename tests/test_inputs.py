@@ -9,6 +9,9 @@ import contextlib
 import io
 import math
 import os
+import re
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -16,10 +19,9 @@ import pytest
 from hypothesis import HealthCheck, event, example, given, settings
 from hypothesis import strategies as st
 
-import app.__main__ as entry
-from app.cli import options as cli
-from app.cli.options import build_parser
-from app.tools import figure8, headless, maps
+from app.cli import commands, main, paths
+from app.cli.parser import build_parser
+from app.tools import bench, figure8, figure_fern, headless, maps
 from app.window import frost_window as window
 from sim import FrostSim, Params
 from sim.session import SessionError, SessionLog, check_event, replay
@@ -38,36 +40,49 @@ NUMBER_TEXT = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True).map(repr),
     st.floats(0, 2000).map(lambda v: f"{v},{v * 0.6}"),
     st.text(max_size=6))
-PATH_OPTIONS = {"--replay", "--screenshot", "--figure8", "--figure", "--export-maps",
-                "--screenshot-dir", "--session-dir"}
+PATH_OPTIONS = {"--out", "--screenshot-dir", "--session-dir"}
+# Each command (None: the window) and the positionals it needs: OUT is a fresh folder,
+# SESSION a session file.
+COMMANDS = {None: [], "render": [], "replay": ["SESSION"], "figure8": ["OUT/f.png"],
+            "figure": ["fern", "OUT/f.png"], "maps": ["OUT/maps"], "bench render": []}
 
 
-def value_options() -> list[str]:
-    """Every option of the parser that takes a value, paths aside (tested on their own)."""
-    opts = [a.option_strings[-1] for a in build_parser()._actions
-            if a.option_strings and a.nargs != 0]
-    return [o for o in opts if o not in PATH_OPTIONS]
+def command_parser(command: str | None):
+    parser = build_parser()
+    for word in (command or "").split():
+        parser = parser.commands[word]
+    return parser
 
 
-ARGV = st.lists(
-    st.one_of(st.tuples(st.sampled_from(value_options()), NUMBER_TEXT)
-              .map(lambda ov: f"{ov[0]}={ov[1]}"),
-              st.sampled_from(["--headless", "--bogus", "stray"])),
-    max_size=6)
+def options_of(command: str | None) -> tuple[list[str], list[str]]:
+    """The command's options that take a value (paths aside: tested on their own) and its flags."""
+    actions = [a for a in command_parser(command)._actions if a.option_strings and a.dest != "help"]
+    return ([a.option_strings[-1] for a in actions if a.nargs != 0 and a.option_strings[-1]
+             not in PATH_OPTIONS], [a.option_strings[-1] for a in actions if a.nargs == 0])
+
+
+@st.composite
+def command_lines(draw) -> list[str]:
+    command = draw(st.sampled_from(list(COMMANDS)))
+    valued, flags = options_of(command)
+    typed = st.tuples(st.sampled_from(valued), NUMBER_TEXT).map(lambda ov: f"{ov[0]}={ov[1]}")
+    other = st.sampled_from([*flags, "--headless", "--bogus", "stray", "render"])
+    head = command.split() if command else []
+    return head + COMMANDS[command] + draw(st.lists(st.one_of(typed, other), max_size=6))
 
 
 @pytest.fixture
 def stubbed(monkeypatch):
-    """main() with every mode replaced by a recorder: no window, no GL, no files."""
+    """main() with every command's work replaced by a recorder: no window, no GL, no files."""
     calls = []
 
     def record(args, params=None):
         calls.append((args, params))
         return 0
 
-    for module in (figure8, maps, headless, window):
+    for module in (figure8, figure_fern, maps, headless, window, bench):
         monkeypatch.setattr(module, "run", record)
-    monkeypatch.setattr(entry, "_display_problem", lambda: None)  # as if a display works
+    monkeypatch.setattr(commands, "display_problem", lambda: None)  # as if a display works
     return calls
 
 
@@ -75,7 +90,7 @@ def run_main(argv: list[str]) -> tuple[int, str]:
     err = io.StringIO()
     with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
         try:
-            status = entry.main(argv)
+            status = main(argv)
         except SystemExit as stop:
             status = stop.code
     return status, err.getvalue()
@@ -90,35 +105,51 @@ def assert_refused_in_one_line(status, err: str, *words: str) -> None:
 
 
 def assert_runnable(args, params) -> None:
-    """What every mode relies on once the command line is accepted."""
+    """What every command relies on once the command line is accepted."""
     assert params is None or isinstance(params, Params)
     assert isinstance(args.seed, int) and args.seed >= 0
-    assert args.ticks is None or (isinstance(args.ticks, int) and args.ticks >= 0)
-    assert args.replay is not None or args.ticks is not None
-    for x, y in args.touch:
+    ticks = getattr(args, "ticks", 0)
+    assert isinstance(ticks, int) and ticks >= 0 or ticks is None and args.command == "replay"
+    touches = getattr(args, "touch", [])
+    for x, y in touches:
         assert 0 <= x < 760 and 0 <= y < 1280
-    for m in args.melt:
+    assert len(touches) <= 1 or args.command != "figure8"
+    for m in getattr(args, "melt", []):
         check_event({**m, "r": args.melt_radius if m["r"] is None else m["r"]})
-    for value in (args.scale, args.max_seconds):
+    if getattr(args, "melt", None) or getattr(args, "melt_path", None):
+        assert touches or args.window_mode
+    for name in ("scale", "max_seconds"):
+        value = getattr(args, name, None)
         assert value is None or math.isfinite(value) and value >= 0
 
 
+def with_paths(argv: list[str], folder: Path) -> list[str]:
+    """argv with OUT a folder under `folder` and SESSION a session file there."""
+    session = folder / "s.json"
+    if not session.exists():
+        SessionLog(0, {}).save(session)
+    return [a.replace("OUT", str(folder / "out")).replace("SESSION", str(session)) for a in argv]
+
+
 @FIXTURE_OK
-@given(argv=ARGV)
+@given(argv=command_lines())
 @example(argv=["--hc=nan"])
 @example(argv=["--humidity=2.5"])
 @example(argv=["--touch=759.9999999999,3"])
 @example(argv=["--touch=nan,nan"])  # was silently ignored by the window
 @example(argv=["--seed=-1"])  # numpy refused it with a traceback
-@example(argv=["--ticks=-5"])
+@example(argv=["render", "--ticks=-5"])
 @example(argv=["--scale=nan"])
 @example(argv=["--max-seconds=-1"])
-@example(argv=["--melt=1e308,1e308,1e308@0", "--touch=1,1"])  # x + r overflowed in melt
-@example(argv=["--melt-path=nan,0:1,1@2", "--touch=1,1"])
-@example(argv=["--melt=1,2,0@3", "--touch=1,1"])  # a zero radius
-def test_any_command_line_runs_or_is_refused_in_one_line(stubbed, monkeypatch, argv):
+@example(argv=["render", "--melt=1e308,1e308,1e308@0", "--touch=1,1"])  # x + r overflowed in melt
+@example(argv=["render", "--melt-path=nan,0:1,1@2", "--touch=1,1"])
+@example(argv=["render", "--melt=1,2,0@3", "--touch=1,1"])  # a zero radius
+@example(argv=["figure8", "OUT/f.png", "--touch=1,1", "--touch=2,2"])
+@example(argv=["bench", "render", "--frames=0"])
+def test_any_command_line_runs_or_is_refused_in_one_line(stubbed, tmp_path, argv):
     stubbed.clear()
-    status, err = run_main(argv)
+    status, err = run_main(with_paths(argv, tmp_path))
+    event("ran" if stubbed else "refused")
     if stubbed:
         assert status == 0, err
         assert_runnable(*stubbed[0])
@@ -126,9 +157,123 @@ def test_any_command_line_runs_or_is_refused_in_one_line(stubbed, monkeypatch, a
         assert_refused_in_one_line(status, err)
 
 
-def test_mode_options_exclude_each_other(stubbed, tmp_path):
-    status, err = run_main(["--replay", str(tmp_path / "s.json"), "--export-maps", str(tmp_path)])
-    assert_refused_in_one_line(status, err, "--export-maps", "--replay")  # ticks was None there
+@pytest.mark.parametrize("argv, named", [
+    (["--headless", "--touch", "1,1"], "--headless"), (["--replay", "SESSION"], "--replay"),
+    (["--figure8", "OUT/f.png"], "--figure8"), (["--figure", "fern", "OUT/f.png"], "--figure"),
+    (["--export-maps=OUT"], "--export-maps"), (["render", "--screenshot", "OUT/x.png"], "--screenshot"),
+    (["render", "--headless"], "--headless"), (["--active_radius", "150"], "--active_radius")])
+def test_the_old_mode_options_are_refused_in_one_line(stubbed, tmp_path, argv, named):
+    status, err = run_main(with_paths(argv, tmp_path))
+    assert not stubbed
+    assert_refused_in_one_line(status, err, named)
+
+
+@pytest.mark.parametrize("argv, named", [
+    (["figure8", "OUT/f.png", "--touch", "1,1", "--touch", "2,2"], "--touch"),
+    (["render", "--melt", "10,10@3"], "--melt"),
+    (["render", "--melt-path", "0,0:9,9@3"], "--melt-path"),
+    (["--seed", "3", "render"], "render"),
+    (["replay", "SESSION", "--out", "OUT/x.png", "--scale", "1"], "--scale"),
+    (["replay", "SESSION", "--headless", "--session-dir", "OUT"], "--session-dir"),
+    (["figure8", "OUT/f.png", "--preset", "c-2"], "--preset"),
+    (["maps", "OUT", "--melt", "1,1@2"], "--melt"),
+    (["replay", "SESSION", "--touch", "1,1"], "--touch")])
+def test_combinations_that_make_no_sense_are_refused_in_one_line(stubbed, tmp_path, argv, named):
+    status, err = run_main(with_paths(argv, tmp_path))
+    assert not stubbed
+    assert_refused_in_one_line(status, err, named)
+
+
+def test_a_window_frost_render_melts_with_no_touch(stubbed):
+    status, err = run_main(["render", "--window-frost", "--melt", "10,10@3"])
+    assert status == 0 and len(stubbed) == 1, err
+
+
+@pytest.mark.parametrize("head", [[], ["render"], ["maps", "OUT"], ["figure", "fern", "OUT/f.png"]])
+def test_a_kebab_case_override_reaches_the_parameters(stubbed, tmp_path, head):
+    status, err = run_main(with_paths([*head, "--active-radius", "150", "--tip-hits=3"], tmp_path))
+    assert status == 0, err
+    args, params = stubbed[0]
+    assert params.active_radius == 150.0 and params.tip_hits == 3 and args.active_radius == 150.0
+    assert params.hc == Params.preset("fern").hc  # the rest is the default preset's
+
+
+def test_figure8_passes_its_overrides_by_their_parameter_names(stubbed, tmp_path):
+    status, err = run_main(with_paths(["figure8", "OUT/f.png", "--neighbor-search", "grid9"],
+                                      tmp_path))
+    assert status == 0, err
+    assert stubbed[0][0].neighbor_search == "grid9"
+
+
+def test_a_headless_replay_leaves_the_parameters_to_the_session(stubbed, tmp_path, monkeypatch):
+    monkeypatch.setattr(commands, "display_problem", lambda: "DISPLAY is unset")
+    status, err = run_main(with_paths(["replay", "SESSION"], tmp_path))
+    assert status == 0, err
+    assert stubbed[0][0].replay.endswith("s.json") and stubbed[0][0].ticks is None
+
+
+# ---- help ---------------------------------------------------------------------------------
+
+OVERRIDES = {"--hc", "--D", "--humidity", "--water-budget", "--step", "--active-radius", "--bump",
+             "--max-height", "--grid-spacing", "--feature-width", "--feature-height",
+             "--neighbor-search", "--replenish", "--grow", "--grains", "--drift", "--tip-hits",
+             "--side-hits", "--side-gap", "--long-jumps", "--launch", "--frame-sites",
+             "--pane-sites", "--temperature"}
+HELP_LISTS = {
+    "replay": {"--help", "--headless", "--ticks", "--out", "--melt-radius", "--session-dir",
+               "--screenshot-dir", "--scale", "--max-seconds"},
+    "figure8": {"--help", "--seed", "--ticks", "--touch"} | OVERRIDES,
+    "render": {"--help", "--preset", "--window-frost", "--seed", "--touch", "--ticks", "--out",
+               "--melt", "--melt-path", "--melt-radius"} | OVERRIDES,
+    "bench render": {"--help", "--preset", "--seed", "--frames", "--cover", "--max-ticks"}}
+
+
+def help_text(argv: list[str]) -> str:
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), pytest.raises(SystemExit) as stop:
+        main([*argv, "--help"])
+    assert stop.value.code == 0
+    return out.getvalue()
+
+
+def listed_options(text: str) -> dict[str, str]:
+    """Each option the help lists (the lines that start with one) and its help text."""
+    listed = {}
+    for block in re.split(r"\n(?=  -)", text):
+        found = re.match(r"  (?:-\w, )?(--[\w-]+)", block)
+        if found:
+            listed[found[1]] = " ".join(block.split())
+    return listed
+
+
+@pytest.mark.parametrize("command", list(HELP_LISTS))
+def test_each_commands_help_lists_its_own_options(command):
+    assert set(listed_options(help_text(command.split()))) == HELP_LISTS[command]
+
+
+@pytest.mark.parametrize("command", [c for c in COMMANDS if c] + [""])
+def test_each_option_says_its_default(command):
+    text = help_text(command.split())
+    for option, described in listed_options(text).items():
+        assert option == "--help" or "default" in described, described
+    assert ("keys in the window:" in text) == (command == ""), command  # the window's keys
+
+
+def test_bench_sim_hands_its_arguments_to_the_simulations_benchmark():
+    assert "--repeats" in help_text(["bench", "sim"]) and "--repeats" not in help_text(["bench"])
+
+
+def test_python_m_app_is_the_frost_command(tmp_path):
+    frost = Path(sys.executable).with_name("frost")
+    if not frost.exists():
+        pytest.skip("the frost script is not installed (pip install -e .)")
+    env = {**os.environ, "COLUMNS": "100"}
+    as_script = subprocess.run([frost, "--help"], capture_output=True, text=True, env=env,
+                               cwd=tmp_path, timeout=60)
+    as_module = subprocess.run([sys.executable, "-m", "app", "--help"], capture_output=True,
+                               text=True, env=env, cwd=tmp_path, timeout=60)
+    assert as_script.returncode == as_module.returncode == 0, as_script.stderr + as_module.stderr
+    assert as_script.stdout == as_module.stdout and as_script.stdout.startswith("usage: frost")
 
 
 # ---- path options -----------------------------------------------------------------------
@@ -142,26 +287,30 @@ def blocked(monkeypatch, tmp_path):
     blocker.write_text("a file")
     (tmp_path / "ro").mkdir()
     real = os.access
-    monkeypatch.setattr(cli.os, "access", lambda p, m: real(p, m) and "ro" not in Path(p).parts)
+    monkeypatch.setattr(paths.os, "access", lambda p, m: real(p, m) and "ro" not in Path(p).parts)
     return {"file as folder": (blocker / "sub" / "x.png", str(blocker)),
             "unwritable": (tmp_path / "ro" / "x.png", str(tmp_path / "ro")),
             "missing parent": (tmp_path / "new" / "deeper" / "x.png", None)}
 
 
-@pytest.mark.parametrize("option", ["--screenshot", "--figure8", "--export-maps"])
+OUTPUTS = {"render --out": lambda p: ["render", f"--out={p}"],
+           "figure8": lambda p: ["figure8", str(p)], "maps": lambda p: ["maps", str(p)]}
+
+
+@pytest.mark.parametrize("output", list(OUTPUTS))
 @pytest.mark.parametrize("case", ["file as folder", "unwritable", "missing parent"])
-def test_output_paths_are_checked_before_any_work(stubbed, blocked, option, case):
+def test_output_paths_are_checked_before_any_work(stubbed, blocked, output, case):
     target, named = blocked[case]
-    status, err = run_main(["--headless", f"{option}={target}"])
+    status, err = run_main(OUTPUTS[output](target))
     if named is None:  # made when written
         assert status == 0 and stubbed and err == "", err
         return
     assert not stubbed  # refused before the run started
-    assert_refused_in_one_line(status, err, option, named)
-    if option == "--export-maps":  # a file where the folder itself belongs
-        blocker = named if case == "file as folder" else None
-        status, err = run_main(["--headless", f"{option}={blocker or target.parent.parent / 'blocker'}"])
-        assert_refused_in_one_line(status, err, option, "is a file, not a folder")
+    assert_refused_in_one_line(status, err, output.split()[-1], named)
+    if output == "maps":  # a file where the folder itself belongs
+        blocker = named if case == "file as folder" else target.parent.parent / "blocker"
+        status, err = run_main(OUTPUTS[output](blocker))
+        assert_refused_in_one_line(status, err, str(blocker), "is a file, not a folder")
 
 
 @pytest.mark.parametrize("option", ["--screenshot-dir", "--session-dir"])
@@ -182,19 +331,19 @@ def test_the_windows_folders_get_a_one_line_warning_and_it_runs(stubbed, blocked
 def test_replay_of_a_missing_file_or_a_folder_is_refused(stubbed, tmp_path, make, problem):
     path = tmp_path / "s.json"
     make(path)
-    status, err = run_main(["--headless", "--replay", str(path)])
-    assert_refused_in_one_line(status, err, "--replay", problem)
+    status, err = run_main(["replay", "--headless", str(path)])
+    assert_refused_in_one_line(status, err, str(path), problem)
 
 
 def test_a_fern_figure_into_a_blocked_folder_is_refused(stubbed, blocked):
     target, named = blocked["file as folder"]
-    status, err = run_main(["--figure", "fern", str(target)])
-    assert_refused_in_one_line(status, err, "--figure", named)
+    status, err = run_main(["figure", "fern", str(target)])
+    assert_refused_in_one_line(status, err, str(target), named)
 
 
-def test_a_screenshot_over_a_folder_is_refused(stubbed, tmp_path):
-    status, err = run_main(["--headless", "--screenshot", str(tmp_path)])
-    assert_refused_in_one_line(status, err, "--screenshot", "is a folder, not a file")
+def test_a_render_over_a_folder_is_refused(stubbed, tmp_path):
+    status, err = run_main(["render", "--out", str(tmp_path)])
+    assert_refused_in_one_line(status, err, "--out", "is a folder, not a file")
 
 
 # ---- session files ----------------------------------------------------------------------

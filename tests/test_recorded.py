@@ -334,26 +334,26 @@ def test_a_bad_view_in_a_session_file_is_a_clear_error(tmp_path, view, problem):
 
 
 def headless(monkeypatch, gl_ctx, capsys, argv: list[str]) -> tuple[int, list[str], str]:
-    """`python -m app --headless ARGV` in this process: (status, progress lines, stderr)."""
-    from app.__main__ import main
+    """`frost ARGV` in this process: (status, progress lines, stderr)."""
+    from app.cli import main
     from app.tools import headless as mode
 
     monkeypatch.setattr(mode, "make_context", lambda: gl_ctx)
     monkeypatch.setattr(mode, "PROGRESS_EVERY_S", 0.0)
-    status = main(["--headless", *argv])
+    status = main(argv)
     out, err = capsys.readouterr()
     return status, [ln for ln in out.splitlines() if ln.startswith("tick ")], err
 
 
 def test_a_touch_run_shows_progress(monkeypatch, gl_ctx, capsys, tmp_path):
     status, lines, _ = headless(monkeypatch, gl_ctx, capsys, [
-        "--touch", "380,640", "--ticks", "6", "--screenshot", str(tmp_path / "x.png")])
+        "render", "--touch", "380,640", "--ticks", "6", "--out", str(tmp_path / "x.png")])
     assert status == 0 and len(lines) == 6 and lines[-1].startswith("tick 6 (6/6)")
 
 
 def test_the_scripted_demo_counts_against_the_whole_run(monkeypatch, gl_ctx, capsys, tmp_path):
     status, lines, _ = headless(monkeypatch, gl_ctx, capsys, [
-        "--ticks", "10", "--screenshot", str(tmp_path / "x.png")])
+        "render", "--ticks", "10", "--out", str(tmp_path / "x.png")])
     assert status == 0 and [ln.split()[2] for ln in lines] == [f"({i}/10)," for i in range(1, 11)]
 
 
@@ -362,19 +362,19 @@ def test_a_replay_shows_progress(monkeypatch, gl_ctx, capsys, tmp_path):
     snap = ticked(thread, 4)[-1]
     path = thread.session(snap.steps, snap.events).save(tmp_path / "s.json")
     status, lines, _ = headless(monkeypatch, gl_ctx, capsys, [
-        "--replay", str(path), "--screenshot", str(tmp_path / "x.png")])
+        "replay", str(path), "--out", str(tmp_path / "x.png")])
     assert status == 0 and [ln.split()[2] for ln in lines] == [f"({i}/4)," for i in range(1, 5)]
 
 
 def test_a_headless_png_into_an_unwritable_folder_is_one_line_exit_2(monkeypatch, gl_ctx, capsys,
                                                                      tmp_path):
-    import app.__main__ as entry
+    from app.cli import commands
 
     # The writer's own failure: the start-up check would refuse this path first (its
     # message is tested in tests/test_inputs.py), and a folder can go bad during a run.
-    monkeypatch.setattr(entry, "check_paths", lambda *_: [])
+    monkeypatch.setattr(commands, "check_paths", lambda *_: [])
     status, _, err = headless(monkeypatch, gl_ctx, capsys, [
-        "--touch", "380,640", "--ticks", "1", "--screenshot", str(unwritable(tmp_path) / "x.png")])
+        "render", "--touch", "380,640", "--ticks", "1", "--out", str(unwritable(tmp_path) / "x.png")])
     assert status == 2 and "frost: error: cannot write" in err and "Traceback" not in err
 
 
@@ -394,15 +394,18 @@ def interrupted(cmd: list[str], ready: str, cwd: Path, env=None) -> tuple[int, s
     return proc.returncode, err
 
 
-@pytest.mark.parametrize("mode", [["--touch", "380,640"], ["--export-maps", "OUT/maps"],
-                                  ["--figure8", "OUT/f.png"], ["--replay", "LONG"]])
+LONG_RUN = ["--preset", "c-3", "--ticks", "100000000"]
+
+
+@pytest.mark.parametrize("mode", [["render", "--touch", "380,640", "--out", "OUT/x.png", *LONG_RUN],
+                                  ["maps", "OUT/maps", *LONG_RUN],
+                                  ["figure8", "OUT/f.png", "--ticks", "100000000"],
+                                  ["replay", "LONG", "--out", "OUT/x.png"]])
 def test_ctrl_c_ends_a_long_headless_run_with_130_and_no_file(tmp_path, mode):
     out, long = tmp_path / "out", tmp_path / "long.json"
     SessionLog(0, PARAMS.as_dict(), events=[{"tick": 0, "kind": "touch", "x": 380, "y": 640}],
                steps=100_000_000).save(long)
-    ticks = [] if "--replay" in mode else ["--preset", "c-3", "--ticks", "100000000"]
-    cmd = ["--headless", *ticks, "--screenshot", str(out / "x.png"),
-           *[a.replace("OUT", str(out)).replace("LONG", str(long)) for a in mode]]
+    cmd = [a.replace("OUT", str(out)).replace("LONG", str(long)) for a in mode]
     status, err = interrupted(cmd, "tick ", tmp_path, {**os.environ, "PYTHONPATH": str(ROOT)})
     assert status == 130, err
     assert "frost: interrupted" in err and "Traceback" not in err

@@ -136,14 +136,14 @@ def test_png_metadata_and_fresh_names(tmp_path):
 
 
 def run_cli(*args, cwd=ROOT):
-    return subprocess.run([sys.executable, "-m", "app", "--headless", *args], cwd=cwd,
+    return subprocess.run([sys.executable, "-m", "app", "render", *args], cwd=cwd,
                           capture_output=True, text=True, timeout=120)
 
 
 def test_headless_cli_writes_png_with_metadata(gl_ctx, tmp_path):
     out = tmp_path / "shot.png"
     run = run_cli("--preset", "c-2", "--seed", "5", "--touch", "380,640", "--touch", "100,200",
-                  "--ticks", "20", "--hc", "6", "--screenshot", str(out))
+                  "--ticks", "20", "--hc", "6", "--out", str(out))
     assert run.returncode == 0, run.stderr
     image = Image.open(out)
     assert image.size == (760, 1280)
@@ -156,21 +156,21 @@ def test_headless_cli_writes_png_with_metadata(gl_ctx, tmp_path):
 
 
 def test_headless_cli_bad_touch_is_a_clear_error(gl_ctx, tmp_path):
-    run = run_cli("--touch", "9999,5", "--ticks", "1", "--screenshot", str(tmp_path / "x.png"))
+    run = run_cli("--touch", "9999,5", "--ticks", "1", "--out", str(tmp_path / "x.png"))
     assert run.returncode == 2
     assert "off the 760x1280 screen" in run.stdout + run.stderr
     assert "Traceback" not in run.stderr
 
 
 def test_no_opengl_is_a_clear_message(monkeypatch, capsys):
-    from app.cli.options import build_parser
+    from app.cli.parser import build_parser
     from app.tools import headless
 
     def broken():
         raise RuntimeError("no OpenGL available: test")
 
     monkeypatch.setattr(headless, "make_context", broken)
-    args = build_parser().parse_args(["--headless", "--touch", "10,10"])
+    args = build_parser().parse_args(["render", "--touch", "10,10"])
     assert headless.run(args, Params()) == 1
     assert "no OpenGL available" in capsys.readouterr().err
 

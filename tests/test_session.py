@@ -119,7 +119,7 @@ def test_a_bad_session_file_is_a_clear_error(tmp_path, text, problem):
 def test_replay_cli_exits_2_naming_the_file(tmp_path):
     path = tmp_path / "broken.json"
     path.write_text(json.dumps({"format": "frost-session", "events": []}))
-    done = subprocess.run([sys.executable, "-m", "app", "--headless", "--replay", str(path)],
+    done = subprocess.run([sys.executable, "-m", "app", "replay", "--headless", str(path)],
                           cwd=ROOT, capture_output=True, text=True, timeout=60)
     assert done.returncode == 2 and str(path) in done.stderr and "Traceback" not in done.stderr
 
@@ -135,17 +135,17 @@ def test_a_windowed_replay_drives_the_thread_through_the_same_events():
 
 
 def test_melt_options_become_melt_events_in_tick_order():
-    from app.cli.options import build_parser
+    from app.cli.parser import build_parser
     from app.tools.headless import melt_events
 
-    args = build_parser().parse_args(["--melt", "10,20@30", "--melt", "5,5,9@2",
+    args = build_parser().parse_args(["render", "--melt", "10,20@30", "--melt", "5,5,9@2",
                                       "--melt-path", "100,50:140,50@7", "--melt-radius", "20"])
     events = melt_events(args)
     assert [e["tick"] for e in events] == [2, 7, 7, 7, 7, 7, 30]
     assert events[0]["r"] == 9 and events[-1]["r"] == 20
     assert [e["x"] for e in events if e["tick"] == 7] == [100, 110, 120, 130, 140]
     with pytest.raises(SystemExit):
-        build_parser().parse_args(["--melt", "1,2,0@3"])
+        build_parser().parse_args(["render", "--melt", "1,2,0@3"])
 
 
 @pytest.mark.parametrize("pause", [False, True])

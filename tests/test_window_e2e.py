@@ -274,8 +274,8 @@ def test_a_screenshots_session_replays_headless_to_the_same_frame(run, tmp_path,
     events = json.loads(session.read_text())["events"]
     assert {e["kind"] for e in events} >= {"touch", "melt", "params"}
     out = tmp_path / "replay.png"
-    subprocess.run([sys.executable, "-m", "app", "--headless", "--replay", str(session),
-                    "--screenshot", str(out)], cwd=ROOT, check=True, timeout=120)
+    subprocess.run([sys.executable, "-m", "app", "replay", str(session), "--headless",
+                    "--out", str(out)], cwd=ROOT, check=True, timeout=120)
     replayed = np.asarray(Image.open(out).convert("RGB")).astype(int)
     live = np.asarray(Image.open(shot).convert("RGB"))
     assert np.array_equal(replayed, live)  # bit for bit, window (GLX) and EGL alike

@@ -1,4 +1,4 @@
-"""Rendering benchmark: `python -m app.tools.bench` (headless, 760x1280, about half the screen frosted).
+"""Rendering benchmark: `frost bench render` (headless, 760x1280, about half the screen frosted).
 
 Prints the median frame time (ctx.finish() inside the timing), the median geometry
 update per tick, the median upload per tick, and one JSON line at the end.
@@ -6,10 +6,10 @@ update per tick, the median upload per tick, and one JSON line at the end.
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import statistics
+import sys
 import time
 
 import numpy as np
@@ -71,15 +71,13 @@ def time_frames(ctx, renderer: Renderer, fbo, frames: int) -> list[float]:
     return times
 
 
-def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m app.tools.bench", description=__doc__)
-    ap.add_argument("--preset", default="c-2")
-    ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--frames", type=int, default=60)
-    ap.add_argument("--cover", type=float, default=0.5, help="fraction of the screen to frost")
-    ap.add_argument("--max-ticks", type=int, default=600)
-    args = ap.parse_args(argv)
-    ctx = make_context()
+def run(args) -> int:
+    """`frost bench render [--preset NAME] [--seed N] [--frames N] [--cover F] [--max-ticks N]`."""
+    try:
+        ctx = make_context()
+    except RuntimeError as err:
+        print(f"frost: error: {err}", file=sys.stderr)
+        return 1
     params = Params.preset(args.preset)
     sim, geometry, renderer, fbo, geo_t, up_t = grow(ctx, params, args.seed, args.cover,
                                                      args.max_ticks)
@@ -106,5 +104,7 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
-if __name__ == "__main__":
-    raise SystemExit(main())
+if __name__ == "__main__":  # the command's old name
+    from app.cli import main
+
+    raise SystemExit(main(["bench", "render", *sys.argv[1:]]))

@@ -141,9 +141,9 @@ def make_figure8(ctx, seed: int = 0, ticks: int = 250, touch=(380.0, 640.0),
 
 
 def run(args) -> int:
-    """`python -m app --figure8 FILE.png [--seed N] [--ticks N] [--touch X,Y]`."""
+    """`frost figure8 FILE.png [--seed N] [--ticks N] [--touch X,Y]`."""
     if args.ticks < 0 or len(args.touch) > 1:
-        print("frost: error: --figure8 takes --ticks >= 0 and at most one --touch", file=sys.stderr)
+        print("frost: error: figure8 takes --ticks >= 0 and at most one --touch", file=sys.stderr)
         return 2
     touch = args.touch[0] if args.touch else (WIDTH / 2, HEIGHT / 2)
     if touch_problem(*touch):
@@ -159,12 +159,12 @@ def run(args) -> int:
         return 1
     meta = {"presets": {s.name: PRESETS[s.name] for s in stats}, "overrides": overrides,
             "seed": args.seed, "ticks": args.ticks, "touch": list(touch),
-            "stats": [s.__dict__ for s in stats], "Software": "frost (python -m app --figure8)",
+            "stats": [s.__dict__ for s in stats], "Software": "frost (frost figure8)",
             "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
     try:
-        path = save_png(sheet, Path(args.figure8), meta)
+        path = save_png(sheet, Path(args.out), meta)
     except OSError as err:
-        print(f"frost: error: cannot write {why(err, args.figure8)}", file=sys.stderr)
+        print(f"frost: error: cannot write {why(err, args.out)}", file=sys.stderr)
         return 2
     print(format_table(stats))
     print(f"wrote {path}")

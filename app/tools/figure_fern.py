@@ -1,4 +1,4 @@
-"""`--figure fern FILE.png`: fern growth over time, one touch and three touches, on one sheet.
+"""`frost figure fern FILE.png`: fern growth over time, one touch and three touches, on one sheet.
 
 Row 1 grows one touch at the screen's centre, row 2 three touches (three grains with their
 own orientations that meet); columns are ticks 25 ... 750 (1 to 30 s at 25 ticks per
@@ -24,7 +24,6 @@ ROWS = {"one touch": [(380.0, 640.0)],
         "three touches": [(250.0, 400.0), (520.0, 560.0), (330.0, 930.0)]}
 CELL = (190, 320)  # a frame scaled by 1/4, px
 TICKS_PER_SECOND = 25
-FIGURES = ("fern",)
 
 
 def grow_row(ctx, params: Params, seed: int, touches, ticks=TICKS) -> list[tuple[str, np.ndarray]]:
@@ -52,11 +51,8 @@ def make_sheet(ctx, params: Params, seed: int = 0) -> np.ndarray:
 
 
 def run(args, params: Params) -> int:
-    """`python -m app --figure fern FILE.png [--seed N] [parameter overrides]`."""
-    name, path = args.figure
-    if name not in FIGURES:
-        print(f"frost: error: --figure {name!r}: choose one of {', '.join(FIGURES)}", file=sys.stderr)
-        return 2
+    """`frost figure fern FILE.png [--seed N] [--preset NAME] [parameter overrides]`."""
+    path = args.out
     try:
         ctx = make_context()
         sheet = make_sheet(ctx, params, args.seed)
@@ -65,7 +61,7 @@ def run(args, params: Params) -> int:
         return 1
     meta = {"parameters": params.as_dict(), "seed": args.seed, "ticks": list(TICKS),
             "rows": {k: [list(t) for t in v] for k, v in ROWS.items()},
-            "Software": "frost (python -m app --figure fern)",
+            "Software": "frost (frost figure fern)",
             "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
     try:
         out = save_png(sheet, Path(path), meta)

@@ -93,7 +93,7 @@ class Session:
         meta = {"parameters": self.sim.params.as_dict(), "seed": self.sim.seed,
                 "touches": [list(t) for t in self.touches], "tick": self.sim.tick,
                 "view": self.renderer.view(),
-                "Software": "frost (python -m app --headless)", **self.meta}
+                "Software": "frost (frost render)", **self.meta}
         return save_png(read_image(self.fbo), path, meta)
 
 
@@ -112,7 +112,7 @@ def melt_events(args) -> list[dict]:
 
 
 def run(args, params: Params) -> int:
-    """`python -m app --headless ...`; returns the exit status."""
+    """`frost render ...` and a headless `frost replay ...`; returns the exit status."""
     if args.ticks is not None and args.ticks < 0:
         _error(f"--ticks {args.ticks} must be 0 or more")
         return 2
@@ -145,7 +145,7 @@ def _run_touches(session: Session, args) -> int:
         at = apply_due(session.timeline, melts, at, session.show)
         session.step()
     apply_due(session.timeline, melts, at, session.show)
-    path = Path(args.screenshot) if args.screenshot else timestamped_path(DEFAULT_FOLDER)
+    path = Path(args.out) if args.out else timestamped_path(DEFAULT_FOLDER)
     return _write(session, path, "wrote {}")
 
 
@@ -198,7 +198,7 @@ def _run_replay(ctx, args) -> int:
         _error(f"{args.replay}: cannot replay: {err}")
         return 2
     session.meta = {"session": str(args.replay), "replayed_steps": session.timeline.steps}
-    path = Path(args.screenshot) if args.screenshot else timestamped_path(DEFAULT_FOLDER)
+    path = Path(args.out) if args.out else timestamped_path(DEFAULT_FOLDER)
     return _write(session, path, f"replayed {args.replay}: {session.timeline.steps} steps, "
                                  f"{len(session.timeline.events)} events; wrote {{}}")
 
@@ -217,7 +217,7 @@ def _write(session: Session, path: Path, done: str) -> int:
 
 def _run_scripted(session: Session, args) -> int:
     """No touches given: a short scripted demo, a PNG after each stage."""
-    folder = Path(args.screenshot).parent if args.screenshot else DEFAULT_FOLDER
+    folder = Path(args.out).parent if args.out else DEFAULT_FOLDER
     script = scripted_session(args.ticks)
     stops = [t for t, _, _ in script[1:]] + [args.ticks]
     written = []
@@ -228,8 +228,8 @@ def _run_scripted(session: Session, args) -> int:
             for _ in range(stop - start):
                 session.step()
             written.append(session.snapshot(folder / f"frost-demo-tick{stop:04d}.png"))
-        if args.screenshot:
-            written.append(session.snapshot(Path(args.screenshot)))
+        if args.out:
+            written.append(session.snapshot(Path(args.out)))
     except OSError as err:
         _error(f"cannot write {why(err, folder)}")
         return 2

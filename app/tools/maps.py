@@ -184,7 +184,7 @@ def grow(params: Params, seed: int, touches, ticks: int,
 
 
 def run(args, params: Params) -> int:
-    """`python -m app --headless --touch X,Y --ticks N --export-maps DIR`."""
+    """`frost maps DIR [--touch X,Y] [--ticks N]`."""
     from app.tools.headless import Progress, scripted_session
 
     if args.ticks < 0:
@@ -198,9 +198,9 @@ def run(args, params: Params) -> int:
         return 2
     meta = {"seed": args.seed, "touches": [list(t) for t in touches], "tick": sim.tick}
     try:
-        paths = export_maps(args.export_maps, geometry.heights, live_segments(sim), params, meta)
+        paths = export_maps(args.out_dir, geometry.heights, live_segments(sim), params, meta)
     except OSError as err:  # nothing was written: the set appears whole or not at all
-        print(f"frost: error: cannot write the maps: {why(err, args.export_maps)}",
+        print(f"frost: error: cannot write the maps: {why(err, args.out_dir)}",
               file=sys.stderr)
         return 2
     print("wrote " + ", ".join(str(p) for p in paths.values()))

@@ -1,0 +1,162 @@
+"""`frost` (and `python -m app`): parse the command line, refuse what makes no sense in
+one line, and run the command."""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+
+from app.cli.options import WINDOW_DEFAULTS, has_display, params_from
+from app.cli.parser import PROG, build_parser, parser_for
+from app.cli.paths import check_paths
+from sim import Params
+from sim.session import SessionError
+
+INTERRUPTED = 130  # the shell's status for a program ended by SIGINT (128 + 2)
+# The mode flags of the one-parser command line before subcommands, and what replaced them.
+MOVED = {"--headless": "frost render", "--replay": "frost replay FILE.json",
+         "--figure8": "frost figure8 FILE.png", "--figure": "frost figure fern FILE.png",
+         "--export-maps": "frost maps DIR", "--screenshot": "--out FILE.png (frost render)"}
+
+
+def main(argv: list[str] | None = None) -> int:
+    logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
+    argv = sys.argv[1:] if argv is None else list(argv)
+    try:
+        if argv[:2] == ["bench", "sim"]:  # its arguments are sim.bench's to parse
+            from sim.bench import main as bench_sim
+            return bench_sim(argv[2:]) or 0
+        args, params = _parse(argv)
+        return RUN[args.command](args, params)
+    except KeyboardInterrupt:  # Ctrl-C: every file is written atomically, none is half there
+        print(f"{PROG}: interrupted (Ctrl-C)", file=sys.stderr)
+        return INTERRUPTED
+
+
+def _parse(argv: list[str]) -> tuple[argparse.Namespace, Params]:
+    """The command line's arguments and Params, or a one-line error (exit status 2); warns
+    of the window's folders that cannot be written."""
+    parser = build_parser()
+    moved = _moved_option(argv)
+    if moved:
+        parser.error(moved)
+    args, unknown = parser.parse_known_args(argv)
+    command = parser_for(parser, args)
+    if unknown:
+        command.error(f"unrecognized arguments: {' '.join(unknown)}")
+    try:
+        params = params_from(args)
+        _refuse_nonsense(args, argv)
+        warnings = check_paths(args, command)
+    except ValueError as err:
+        command.error(str(err))
+    for warning in warnings:
+        print(f"{PROG}: warning: {warning}", file=sys.stderr)
+    return args, params
+
+
+def _moved_option(argv: list[str]) -> str | None:
+    """Why an option of the old command line is not one any more (None: none is used)."""
+    for arg in argv:
+        flag = arg.split("=", 1)[0]
+        if flag in MOVED and not (flag == "--headless" and argv[:1] == ["replay"]):
+            return f"{flag} is gone: use {MOVED[flag]}"
+        if flag.startswith("--") and "_" in flag:
+            return f"{flag}: options are spelled with dashes: {flag.replace('_', '-')}"
+    return None
+
+
+def _refuse_nonsense(args: argparse.Namespace, argv: list[str]) -> None:
+    """ValueError naming the options of a combination the grammar lets through."""
+    if args.command and argv[:1] != [args.command]:
+        raise ValueError(f"the window's options do not go before a command: write "
+                         f"frost {args.command} [options]")
+    if args.command == "figure8" and len(args.touch) > 1:
+        raise ValueError(f"figure8 grows from one --touch; got {len(args.touch)} --touch options")
+    if args.command == "render" and (args.melt or args.melt_path) and not args.touch \
+            and not args.window_mode:  # a frosted window grows untouched; the demo takes none
+        raise ValueError("--melt and --melt-path need --touch (or --window-frost): the scripted "
+                         "demo takes none")
+    if args.command == "replay" and _replay_headless(args):
+        window = [f"--{n.replace('_', '-')}" for n, d in WINDOW_DEFAULTS.items()
+                  if getattr(args, n) != d]
+        if window:
+            raise ValueError(f"{', '.join(window)}: window options, but --headless, --out or "
+                             "--ticks make this replay headless")
+
+
+def _replay_headless(args: argparse.Namespace) -> bool:
+    return bool(args.headless or args.out or args.ticks is not None)
+
+
+def _window(args: argparse.Namespace, params: Params) -> int:
+    """The window; with no display, the headless render of the same command line."""
+    problem = display_problem()
+    if problem:
+        print(f"{PROG}: no display ({problem}): rendering headless to PNG files instead",
+              file=sys.stderr)
+        from app.tools.headless import run
+        return run(args, params)
+    from app.window.frost_window import run
+    return run(args, params)
+
+
+def _render(args: argparse.Namespace, params: Params) -> int:
+    from app.tools.headless import run
+    return run(args, params)
+
+
+def _replay(args: argparse.Namespace, params: Params) -> int:
+    if _replay_headless(args) or display_problem():
+        from app.tools.headless import run
+        return run(args, params)  # the session file sets the parameters
+    try:
+        params = _windowed_replay(args)
+    except SessionError as err:
+        print(f"{PROG}: error: {err}", file=sys.stderr)
+        return 2
+    from app.window.frost_window import run
+    return run(args, params)
+
+
+def _windowed_replay(args: argparse.Namespace) -> Params:
+    """Load the replay's session into args (seed, events) for the window; its parameters."""
+    from app.tools.headless import load_session
+
+    log_ = load_session(args.replay)
+    args.seed, args.touch, args.script, args.view = log_.seed, [], log_.events, log_.view
+    return Params(**log_.params)
+
+
+def _figure8(args: argparse.Namespace, params: Params) -> int:
+    from app.tools.figure8 import run
+    return run(args)
+
+
+def _figure(args: argparse.Namespace, params: Params) -> int:
+    from app.tools.figure_fern import run
+    return run(args, params)
+
+
+def _maps(args: argparse.Namespace, params: Params) -> int:
+    from app.tools.maps import run
+    return run(args, params)
+
+
+def _bench_render(args: argparse.Namespace, params: Params) -> int:
+    from app.tools.bench import run
+    return run(args)
+
+
+RUN = {None: _window, "render": _render, "replay": _replay, "figure8": _figure8,
+       "figure": _figure, "maps": _maps, "bench": _bench_render}
+
+
+def display_problem() -> str | None:
+    """Why no window can open here (None: it can), e.g. DISPLAY naming no server."""
+    if not has_display():
+        return "DISPLAY is unset"
+    from app.window.glfw_setup import display_problem as probe
+    return probe()
+

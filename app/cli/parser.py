@@ -1,0 +1,171 @@
+"""The `frost` command line: the window with no subcommand, one subcommand per other job.
+
+Each subcommand has only the options that make sense for it; the shared ones come from
+app.cli.options.
+"""
+
+from __future__ import annotations
+
+import argparse
+import textwrap
+
+from app.cli import options, values
+from app.window.keys import help_lines
+from sim import all_presets
+
+PROG = "frost"
+FIGURES = ("fern",)
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse whose errors are one line naming the problem (exit status 2), with no
+    abbreviated options (each option is spelled one way), and which knows its
+    subcommands' parsers by name."""
+
+    def __init__(self, **kwargs):
+        kwargs.setdefault("formatter_class", argparse.RawDescriptionHelpFormatter)
+        super().__init__(allow_abbrev=False, **kwargs)
+        self.commands: dict[str, Parser] = {}
+
+    def error(self, message: str):
+        self.exit(2, f"{PROG}: error: {message} (see {self.prog} --help)\n")
+
+    def command(self, subs, name: str, summary: str, description: str = "",
+                usage: str = "[options]", **kwargs) -> Parser:
+        """A subcommand `name`: `summary` in the list of commands, `description` atop its help."""
+        sub = subs.add_parser(name, prog=f"{self.prog} {name}", usage=f"%(prog)s {usage}",
+                              help=summary, description=_para(description or summary), **kwargs)
+        self.commands[name] = sub
+        return sub
+
+
+def _para(text: str) -> str:
+    return textwrap.fill(text, 88)
+
+
+def build_parser() -> Parser:
+    root = _window()
+    subs = root.add_subparsers(dest="command", title="commands (frost COMMAND --help for each)",
+                               metavar="COMMAND")
+    for add in (_render, _replay, _figure8, _figure, _maps, _bench):
+        add(root, subs)
+    return root
+
+
+def parser_for(root: Parser, args: argparse.Namespace) -> Parser:
+    """The parser of the command `args` came from (`root` for the window). A command with
+    subcommands of its own keeps the one chosen under its own name (args.bench)."""
+    if not args.command:
+        return root
+    parser = root.commands[args.command]
+    if parser.commands:
+        parser = parser.commands[getattr(args, args.command)]
+    return parser
+
+
+def _window() -> Parser:
+    p = Parser(prog=PROG, usage="%(prog)s [options]           (the window)\n       "
+                                "%(prog)s COMMAND [options]   (COMMAND below)", description=_para(
+        "Real-time window frost on a 760x1280 phone screen. With no COMMAND it opens the "
+        "window: click (or drag) to plant seed crystals, drag with the right button to melt "
+        "the ice (a warm finger). Each session is saved (--session-dir) and frost replay "
+        "plays it again bit for bit. With no display it grows the scripted demo offscreen "
+        "and writes PNG files to frost-out/ instead."),
+        epilog="keys in the window:\n  " + "\n  ".join(help_lines()))
+    options.add_preset(p)
+    options.add_seed(p)
+    options.add_touch(p, options.PLANT, "none")
+    options.add_window(p)
+    options.add_ticks(p, options.DEFAULT_TICKS,
+                      "with no display: how long the PNG render done instead grows")
+    options.add_overrides(p)
+    # What the no-display fallback (frost render's code) reads and the window has no options for.
+    p.set_defaults(replay=None, melt=[], melt_path=[], out=None)
+    return p
+
+
+def _render(root: Parser, subs) -> None:
+    p = root.command(subs, "render", "grow the frost offscreen (no display needed) and write PNGs",
+                     "Grow the frost offscreen (EGL, no display needed) and write a PNG. With no "
+                     "--touch it runs the scripted demo (three touches over the run) and writes "
+                     "a PNG after each stage into the folder of --out (default frost-out/).")
+    options.add_preset(p)
+    options.add_seed(p)
+    options.add_touch(p, options.PLANT, "the scripted demo")
+    options.add_ticks(p, options.DEFAULT_TICKS, "how long to grow")
+    options.add_out(p)
+    options.add_melts(p)
+    options.add_overrides(p)
+
+
+def _replay(root: Parser, subs) -> None:
+    p = root.command(subs, "replay", "play a recorded session again, windowed or to a PNG",
+                     "Play a recorded session (sessions/*.json) again bit for bit: its seed, "
+                     "parameters, touches, melts and changes at their ticks. Windowed when a "
+                     "display exists; headless (a PNG after --ticks) with --headless, --out or "
+                     "--ticks, or with no display.", "FILE.json [options]")
+    p.add_argument("replay", metavar="FILE.json", help="the session file")
+    g = p.add_argument_group("headless")
+    g.add_argument("--headless", action="store_true", help="render offscreen, no window (default off)")
+    options.add_ticks(g, None, "how far to replay")
+    options.add_out(g)
+    options.add_window(p.add_argument_group("window"))
+
+
+def _figure8(root: Parser, subs) -> None:
+    p = root.command(subs, "figure8", "the paper's Fig. 8: the nine Table 1 presets on one sheet",
+                     "Render the nine Table 1 presets (a-1 ... c-3) from one touch into a 3x3 "
+                     "sheet (Fig. 8), print each preset's numbers, and exit.", "FILE.png [options]")
+    p.add_argument("out", metavar="FILE.png", help="the sheet to write")
+    options.add_seed(p)
+    options.add_ticks(p, options.DEFAULT_TICKS, "how long each preset grows")
+    options.add_touch(p, "the one touch", "the centre, 380,640")
+    options.add_overrides(p)
+
+
+def _figure(root: Parser, subs) -> None:
+    p = root.command(subs, "figure", "a labelled sheet of growth over time (fern)",
+                     "Render a labelled sheet of fern growth (ticks 25 ... 750, one touch and three "
+                     "touches) with the chosen parameters, and exit.", "KIND FILE.png [options]")
+    p.add_argument("kind", choices=FIGURES, metavar="KIND", help=f"which figure: {', '.join(FIGURES)}")
+    p.add_argument("out", metavar="FILE.png", help="the sheet to write")
+    options.add_preset(p)
+    options.add_seed(p)
+    options.add_overrides(p)
+
+
+def _maps(root: Parser, subs) -> None:
+    p = root.command(subs, "maps", "height, normal and alpha maps of grown frost for game engines",
+                     "Grow the frost (no display needed) and write height.png (16-bit), normal.png "
+                     "and alpha.png of the final frost to DIR. With no --touch it grows the "
+                     "scripted demo's three touches.", "DIR [options]")
+    p.add_argument("out_dir", metavar="DIR", help="the folder to write the maps into")
+    options.add_preset(p)
+    options.add_seed(p)
+    options.add_touch(p, options.PLANT, "the scripted demo")
+    options.add_ticks(p, options.DEFAULT_TICKS, "how long to grow")
+    options.add_overrides(p)
+
+
+def _bench(root: Parser, subs) -> None:
+    p = root.command(subs, "bench", "benchmarks: the simulation (sim) or the renderer (render)",
+                     usage="WHAT [options]")
+    kinds = p.add_subparsers(dest="bench", title="benchmarks", metavar="WHAT", required=True)
+    # Never parsed here (app.cli.commands hands its arguments to sim.bench, as argparse
+    # cannot pass on options it does not know); listed so that frost bench --help names it.
+    p.command(kinds, "sim", "the simulation's benchmark: every argument, --help too, goes to "
+              "python -m sim.bench", usage="[ARGS ...]", add_help=False)
+    _bench_render(p.command(kinds, "render", "the renderer's benchmark: frame, geometry and "
+                            "upload times at about half the screen frosted (headless, 760x1280)"))
+
+
+def _bench_render(p: Parser) -> None:
+    p.add_argument("--preset", choices=list(all_presets()), default="c-2", metavar="NAME",
+                   help="parameter set to grow (default c-2)")
+    options.add_seed(p)
+    p.add_argument("--frames", type=values.count, default=60, metavar="N",
+                   help="frames to time, frames (default 60)")
+    p.add_argument("--cover", type=values.fraction, default=0.5, metavar="F",
+                   help="fraction of the screen to frost before timing frames (default 0.5)")
+    p.add_argument("--max-ticks", type=values.whole, default=600, metavar="N",
+                   help="most ticks to grow toward --cover, ticks (default 600)")
