@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from oracles import feature_vertices
 from PIL import Image
 
 from app.__main__ import main
@@ -37,7 +38,6 @@ from app.tools.maps import (
     normal_map,
 )
 from sim import PRESETS, Params
-from sim.geometry import feature_vertices
 
 ROOT = Path(__file__).resolve().parent.parent
 TOUCH = (380.0, 640.0)
