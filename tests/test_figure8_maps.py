@@ -14,6 +14,7 @@ from oracles import feature_vertices
 from PIL import Image
 
 from app.__main__ import main
+from app.images import export_maps
 from app.tools.figure8 import (
     CELL,
     COLS,
@@ -26,18 +27,9 @@ from app.tools.figure8 import (
     make_figure8,
     sheet_size,
 )
-from app.tools.maps import (
-    alpha_map,
-    bump_field,
-    compute_maps,
-    encode,
-    export_maps,
-    feature_field,
-    grow,
-    live_segments,
-    normal_map,
-)
+from app.tools.maps import grow
 from sim import PRESETS, Params
+from sim.maps import alpha_map, bump_field, compute_maps, encode, feature_field, live_segments, normal_map
 
 ROOT = Path(__file__).resolve().parent.parent
 TOUCH = (380.0, 640.0)

@@ -16,7 +16,6 @@ Only the main thread may call this (GL).
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
 from pathlib import Path
 
 import moderngl
@@ -26,6 +25,7 @@ from PIL import Image
 from app.gl.shaders import load_program
 from app.resources import ASSET_DIR
 from sim.geometry import VERTEX_FLOATS, GeometryDelta
+from sim.material import Material
 from sim.params import Params
 from sim.screen import HEIGHT, WIDTH
 
@@ -41,21 +41,6 @@ VERTEX_BYTES = VERTEX_FLOATS * 4
 # Side of a screen tile of the ice pass, px. Smaller tiles hug the ice closer but cost
 # more instances (3.8k at most at 16 px, a few kB).
 TILE = 16
-
-
-@dataclass(frozen=True)
-class Material:
-    """How the ice looks: Phong terms and the thickness-to-opacity law."""
-
-    ice_color: tuple[float, float, float] = (0.93, 0.96, 1.0)
-    ambient: float = 0.72  # frost scatters light: bright even away from the lamp
-    diffuse: float = 0.38
-    specular: float = 1.3  # wide, strong glints read as wet, sparkling ice
-    shininess: float = 12.0
-    opacity: float = 0.88  # very thick ice still lets a little of the view through
-    density: float = 0.45  # alpha = opacity * (1 - exp(-density * thickness_px))
-    relief: float = 1.6  # exaggerate slopes so px-high ice still catches the light
-    refraction: float = 4.0  # px of background shift per unit of normal tilt
 
 
 def default_light() -> np.ndarray:

@@ -19,10 +19,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from app.tools.maps import export_maps, live_segments
+from app.images import export_maps
 from sim import Params
 from sim.files import why
 from sim.geometry import GeometryDelta
+from sim.maps import live_segments
 from sim.screen import HEIGHT, WIDTH
 from sim.session import Applied, Backlog, SessionLog, Timeline, apply_due
 
