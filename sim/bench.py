@@ -39,7 +39,7 @@ def full_growth(params: Params, seed: int, max_ticks: int = 5000) -> tuple[Frost
     """Grow one touch until 90 % of its water froze; returns the sim and each tick's seconds."""
     sim = FrostSim(params, seed=seed)
     sim.touch(*CENTRE)
-    times = []
+    times: list[float] = []
     clock = time.perf_counter
     while len(times) < max_ticks and sim.water_frozen < 0.9 * sim.water_created and len(sim.water_area):
         t0 = clock()
@@ -275,7 +275,9 @@ def window_run(seed: int, after: int, trace: bool = False) -> dict:
         tracemalloc.start()
     sim = FrostSim(Params.preset("window"), seed=seed)
     held = np.zeros(sim.grid.size, bool)
-    times, cover, full = [], [], None
+    times: list[float] = []
+    cover: list[float] = []
+    full: int | None = None
     while len(times) < 6000 and (full is None or len(times) < full + after):
         t0 = time.perf_counter()
         new = sim.step().crystals

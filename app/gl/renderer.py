@@ -64,7 +64,7 @@ class Renderer:
                  height: int = HEIGHT, background: np.ndarray | None = None):
         self.ctx, self.params = ctx, params
         self.size = (width, height)
-        self.light = default_light()
+        self.light: np.ndarray | tuple[float, ...] = default_light()
         self.material = Material()
         self.show_features = True
         self.show_bumps = True
@@ -80,8 +80,9 @@ class Renderer:
         self._background_pass = ctx.vertex_array(self._background_prog, [])
         self._ice_prog = load_program(ctx, "tile.vert", "ice.frag")
         self.tiles = TileSet(ctx, self._ice_prog, self.size, spacing)
-        self._vbo, self._features, self._pending = None, None, 0
-        self._grow(1 << 16)
+        self._pending = 0  # vertices queued in _vbo, not yet drawn into the ice texture
+        self._vbo = ctx.buffer(reserve=1 << 16, dynamic=True)
+        self._features = self._feature_array(self._vbo)
         self.reset()
 
     # ---- view state: what, besides the frost, decides the picture --------------------
@@ -155,14 +156,15 @@ class Renderer:
         self._pending += len(verts)
 
     def _grow(self, size: int) -> None:
+        """A vertex buffer of `size` bytes in place of the old one, the queue copied over."""
         vbo = self.ctx.buffer(reserve=size, dynamic=True)
-        if self._vbo is not None:
-            self.ctx.copy_buffer(vbo, self._vbo, self._pending * VERTEX_BYTES)
-            self._vbo.release()
-            self._features.release()
-        self._vbo = vbo
-        self._features = self.ctx.vertex_array(
-            self._feature_prog, [(vbo, "3f 3f", "in_position", "in_normal")])
+        self.ctx.copy_buffer(vbo, self._vbo, self._pending * VERTEX_BYTES)
+        self._vbo.release()
+        self._features.release()
+        self._vbo, self._features = vbo, self._feature_array(vbo)
+
+    def _feature_array(self, vbo: moderngl.Buffer) -> moderngl.VertexArray:
+        return self.ctx.vertex_array(self._feature_prog, [(vbo, "3f 3f", "in_position", "in_normal")])
 
     def _background_texture(self, image: np.ndarray | None) -> moderngl.Texture:
         image = load_background() if image is None else image
