@@ -45,7 +45,9 @@ def make_search(kind: str, grid: HashGrid, candidates: CellLists, hc: float) -> 
     """The search `Params.neighbor_search` names ("candidate" or "grid9")."""
     if kind == "grid9":
         return Grid9Search(grid, hc)
-    return CandidateSearch(grid, candidates, hc)
+    if kind == "candidate":
+        return CandidateSearch(grid, candidates, hc)
+    raise ValueError(f"neighbor_search={kind!r}: expected 'candidate' or 'grid9'")
 
 
 def nearest_listed(crystals: np.ndarray, hc2: np.float32, w: np.ndarray, counts: np.ndarray,

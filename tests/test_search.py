@@ -81,3 +81,5 @@ def test_make_search_picks_the_named_search():
     grid = HashGrid(90, 90, 5.0)
     for kind, cls in (("candidate", CandidateSearch), ("grid9", Grid9Search)):
         assert type(make_search(kind, grid, CellLists(grid.size), 5.0)) is cls
+    with pytest.raises(ValueError, match="octree"):
+        make_search("octree", grid, CellLists(grid.size), 5.0)
