@@ -25,6 +25,7 @@ bench-render: $(STAMP)
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check app sim tests assets
+	$(VENV)/bin/mypy app sim
 
 system:
 	@missing=""; for p in $(APT_PKGS); do \

@@ -1,4 +1,6 @@
-"""Screenshots: read a framebuffer, write a PNG that carries how the frost was made."""
+"""PNGs that carry how the frost was made: screenshots (read from a framebuffer) and the
+height / normal / alpha maps (computed by sim.maps). PIL and numpy only, no GL, so the
+simulation thread can write maps and the GL tools can write screenshots alike."""
 
 from __future__ import annotations
 
@@ -10,7 +12,10 @@ from pathlib import Path
 import numpy as np
 from PIL import Image, PngImagePlugin
 
-from sim.files import write_atomic
+from sim.files import write_all_atomic, write_atomic
+from sim.maps import MAP_NAMES, MEANING, compute_maps, encode
+from sim.params import Params
+from sim.screen import HEIGHT, WIDTH
 
 log = logging.getLogger(__name__)
 
@@ -50,3 +55,23 @@ def timestamped_path(folder, prefix: str = "frost", suffix: str = ".png", also=(
             (Path(other) / f"{path.stem}{ext}").exists() for other, ext in also):
         path, n = folder / f"{prefix}-{stamp}-{n}{suffix}", n + 1
     return path
+
+
+def export_maps(folder, grid: np.ndarray, segments: np.ndarray, params: Params,
+                meta: dict | None = None, width: int = WIDTH, height: int = HEIGHT) -> dict[str, Path]:
+    """Write height.png, normal.png and alpha.png into `folder`; returns name -> path.
+
+    `grid` is the geometry's height grid (FrostGeometry.heights, or the renderer's
+    mirror of it) and `segments` the live skeleton (`sim.maps.live_segments`), both copied
+    by the caller if another thread may change them. Each PNG carries `meta`, the
+    parameters and what its values mean as text chunks."""
+    images, top = encode(compute_maps(grid, segments, params, width, height))
+    common = {"parameters": params.as_dict(), **(meta or {}), "height_max_px": top,
+              "Software": "frost (app.tools.maps)", "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
+    folder = Path(folder)
+    paths = {name: folder / f"{name}.png" for name in MAP_NAMES}
+    # All three or none: a full disk or an unwritable folder leaves no half set.
+    write_all_atomic({paths[name]: png_writer(images[name], {**common, "map": name,
+                                                             "encoding": MEANING[name]})
+                      for name in MAP_NAMES})
+    return paths

@@ -39,7 +39,7 @@ def full_growth(params: Params, seed: int, max_ticks: int = 5000) -> tuple[Frost
     """Grow one touch until 90 % of its water froze; returns the sim and each tick's seconds."""
     sim = FrostSim(params, seed=seed)
     sim.touch(*CENTRE)
-    times = []
+    times: list[float] = []
     clock = time.perf_counter
     while len(times) < max_ticks and sim.water_frozen < 0.9 * sim.water_created and len(sim.water_area):
         t0 = clock()
@@ -275,7 +275,9 @@ def window_run(seed: int, after: int, trace: bool = False) -> dict:
         tracemalloc.start()
     sim = FrostSim(Params.preset("window"), seed=seed)
     held = np.zeros(sim.grid.size, bool)
-    times, cover, full = [], [], None
+    times: list[float] = []
+    cover: list[float] = []
+    full: int | None = None
     while len(times) < 6000 and (full is None or len(times) < full + after):
         t0 = time.perf_counter()
         new = sim.step().crystals
@@ -324,7 +326,7 @@ def window_section(seeds: int, after: int) -> dict:
 SECTIONS = ("fig9", "busy", "growth", "memory", "abuse", "fern", "window")
 
 
-def main(argv: list[str] | None = None) -> None:
+def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m sim.bench", description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=3, help="full growths per mode and preset")
     ap.add_argument("--samples", type=int, default=200, help="busy ticks timed per humidity")
@@ -338,7 +340,7 @@ def main(argv: list[str] | None = None) -> None:
           f"numpy {np.__version__}, python {platform.python_version()}, one thread")
     if args.section:
         run_sections(args)
-        return
+        return 0
     rows = fig9(["c-1", "c-2", "c-3"], args.repeats)
     print("\n## Fig. 9: full growth from one touch (median of", args.repeats, "runs)")
     print("preset  ticks  candidate ms/tick  grid9 ms/tick  total cand s  total grid9 s  grid9/cand")
@@ -376,6 +378,7 @@ def main(argv: list[str] | None = None) -> None:
     window = window_section(*_window_sizes(args))
     print(json.dumps({"fig9": rows, "phases": prof, "busy": busy, "growth": curve, "memory": mem,
                       "abuse": abused, "fern": fern, "window": window}))
+    return 0
 
 
 def run_sections(args) -> None:
@@ -404,4 +407,4 @@ def _window_sizes(args) -> tuple[int, int]:
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

@@ -15,7 +15,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import BinaryIO
 
-Writer = Callable[[BinaryIO], None]
+# What a writer returns is ignored (f.write's byte count, say).
+Writer = Callable[[BinaryIO], object]
 
 
 def _umask() -> int:

@@ -19,13 +19,12 @@ from .grid import HashGrid
 from .pane import chill, glass_spots, make_pane
 from .params import Params
 from .screen import HEIGHT, WIDTH, touch_problem
+from .search import make_search
 
 TWO_PI = np.float32(2.0 * np.pi)
 # A water particle that found no spot in its area's free cells after this many draws is
 # dropped: an area filled with ice has no free spot left (its frost is complete).
 CELL_TRIES = 8
-# grid9 queries walkers in chunks of this many to bound the gather matrix.
-_GRID9_CHUNK = 4096
 _NONE = np.empty(0, np.int64)
 # Most crystals one hash cell may list. The paper's rule lets ice pile up without end
 # where water keeps arriving (replenish, growth mode, touch after touch on one spot), and
@@ -119,7 +118,6 @@ class FrostSim:
         self.rng = np.random.default_rng(seed)
         self.grid = HashGrid(self.width, self.height, self.params.hc)
         self.tick = 0
-        self._hc2 = np.float32(self.params.hc) ** 2
         # The ice skeleton: crystals with parent links (-1 for a seed), upsample
         # particles and the chain segments between consecutive skeleton nodes.
         self._crystals = Growable(np.float32, (2,))
@@ -149,7 +147,7 @@ class FrostSim:
         self._area_ice = Growable(np.int32)  # live crystals of each area
         self._carea = Growable(np.int32)  # the area whose water became each crystal
         self.candidates = CellLists(self.grid.size)  # Fig. 3d: state = count > 0
-        self._own = CellLists(self.grid.size + 1) if self.params.neighbor_search == "grid9" else None
+        self.search = make_search(self.params.neighbor_search, self.grid, self.candidates, self.params.hc)
         # Beyond the paper (fern rules): where hits grow, and how far walkers may jump.
         self.growth = make_growth(chill(self.params), self.rng)  # window mode: temperature
         self.clearance = make_clearance(self.grid, self.width, self.height,
@@ -225,8 +223,7 @@ class FrostSim:
         pts = self._crystals.raw()[dead]
         cells, _ = self.grid.disc_cells(pts, self.params.hc)
         self.candidates.remove(cells, dead)
-        if self._own is not None:
-            self._own.remove(self.grid.keys(pts[:, 0], pts[:, 1]), dead)
+        self.search.remove(pts, dead)
         # A child lies within one link of its parent: look no further than that.
         near = self._crystals_near(x, y, radius + self._longest_link + 1.0)
         parents = self._parents.raw()
@@ -318,9 +315,8 @@ class FrostSim:
         bufs = (self._crystals, self._parents, self._ups, self._ups_link, self._segs,
                 self._segs_link, self._wx, self._wy, self._warea, self._areas, self._carea,
                 self._calive, self._ualive, self._salive, self._seg_range, self._ups_range,
-                self._area_ice, self.candidates)
-        own = self._own.nbytes() if self._own is not None else 0
-        return sum(b.nbytes() for b in bufs) + own + self.growth.nbytes() + self.clearance.nbytes()
+                self._area_ice, self.candidates, self.search, self.growth, self.clearance)
+        return sum(b.nbytes() for b in bufs)
 
     # ---- phases ---------------------------------------------------------------------
 
@@ -348,13 +344,7 @@ class FrostSim:
         """Sec. 3.4.3: the walkers within hc of a crystal, and their nearest crystal."""
         if self._wx.n == 0:
             return np.empty(0, np.int64), np.empty(0, np.int32)
-        x, y = self._wx.raw(), self._wy.raw()
-        keys = self.grid.keys(x, y)
-        if self._own is not None:
-            return self._nearest_grid9(x, y, keys)
-        w = np.flatnonzero(self.candidates.count[keys] > 0)
-        counts, ids = self.candidates.gather_flat(keys[w])
-        return self._nearest(w, counts, ids, x, y)
+        return self.search.nearest(self._crystals.raw(), self._wx.raw(), self._wy.raw())
 
     def _drop_in_full_cells(self) -> None:
         """Water in a cell that lists CELL_CAP crystals has arrived at finished ice."""
@@ -435,8 +425,7 @@ class FrostSim:
         cells, owner = self.grid.disc_cells(pts, self.params.hc)
         self.clearance.lower(cells[self.candidates.count[cells] == 0])
         self.candidates.insert(cells, ids[owner])
-        if self._own is not None:
-            self._own.insert(self.grid.keys(pts[:, 0], pts[:, 1]), ids)
+        self.search.insert(pts, ids)
 
     # ---- helpers --------------------------------------------------------------------
 
@@ -453,47 +442,6 @@ class FrostSim:
         cells = (rows[:, None] * self.grid.cols + cols[None, :]).ravel()
         ids, valid = self.candidates.gather(cells)
         return np.unique(ids[valid])
-
-    def _nearest(self, w: np.ndarray, counts: np.ndarray, ids: np.ndarray,
-                 x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Of walkers `w`, each with `counts[i] > 0` crystal ids listed back to back in `ids`,
-        those within hc of one, and the nearest (lowest index among equals). Both neighbour
-        searches share this, so their distances are the same floats."""
-        if len(w) == 0:
-            return w, np.empty(0, np.int32)
-        starts = np.cumsum(counts) - counts
-        rows = np.repeat(np.arange(len(w)), counts)
-        c = self._crystals.raw()
-        dx = c[ids, 0] - x[w][rows]
-        dy = c[ids, 1] - y[w][rows]
-        d2 = dx * dx + dy * dy
-        dmin = np.minimum.reduceat(d2, starts)
-        tied = np.where(d2 == dmin[rows], ids, np.iinfo(np.int32).max)
-        parent = np.minimum.reduceat(tied, starts)
-        hit = dmin < self._hc2
-        return w[hit], parent[hit].astype(np.int32)
-
-    def _nearest_grid9(self, x: np.ndarray, y: np.ndarray, keys: np.ndarray):
-        """Fig. 9's baseline: every walker against the crystals of its 9 surrounding cells."""
-        cols, rows = self.grid.cols, self.grid.rows
-        kx, ky = keys % cols, keys // cols
-        hits, parents = [], []
-        for lo in range(0, len(keys), _GRID9_CHUNK):
-            sl = slice(lo, lo + _GRID9_CHUNK)
-            nx = kx[sl, None] + np.array([-1, 0, 1, -1, 0, 1, -1, 0, 1])
-            ny = ky[sl, None] + np.array([-1, -1, -1, 0, 0, 0, 1, 1, 1])
-            inside = (nx >= 0) & (nx < cols) & (ny >= 0) & (ny < rows)
-            cells = np.where(inside, ny * cols + nx, self.grid.size)  # last cell stays empty
-            width = int(self._own.count[cells].max(initial=0))
-            ids = self._own.items[cells, :width].reshape(len(cells), -1)
-            valid = (np.arange(width) < self._own.count[cells][..., None]).reshape(len(cells), -1)
-            counts = valid.sum(axis=1)
-            some = counts > 0
-            w = np.arange(sl.start, sl.start + len(cells))[some]
-            h, p = self._nearest(w, counts[some], ids[some][valid[some]], x, y)
-            hits.append(h)
-            parents.append(p)
-        return np.concatenate(hits), np.concatenate(parents)
 
     def _area_columns(self):
         """Centre x, centre y and outer radius of each walker's area (scalars for one area)."""
@@ -767,6 +715,6 @@ def _level(counts: np.ndarray, need: int, floor: int) -> int:
 def _first_good(good: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """For tries x k flags: which of the k have a good try, and the flat index (into the
     tries x k draws) of the first good try of each of those."""
-    placed = good.any(axis=0)
+    placed = np.any(good, axis=0)  # (an array for mypy, where good.any may be a scalar)
     pick = good.argmax(axis=0)[placed] * good.shape[1] + np.flatnonzero(placed)
     return placed, pick

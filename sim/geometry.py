@@ -37,17 +37,6 @@ class GeometryDelta:
     clear_box: tuple[float, float, float, float] | None = None
 
 
-def feature_vertices(p, q, width: float = 1.5,
-                     height: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
-    """Fig. 6 for one segment p -> q: the 5 points (p, q, m, s1, s2) as 5 x 3 and the
-    4 faces as index triples into them. m is the midpoint raised to height*L; s1, s2 =
-    m -/+ width*L*n on the glass, with n the unit perpendicular (-dy, dx)/L."""
-    seg = np.array([[*p, *q]], np.float32)
-    xyz = _feature_points(seg, width, height)[0]
-    faces = np.array([[0, 3, 2], [3, 1, 2], [1, 4, 2], [4, 0, 2]])
-    return xyz, faces
-
-
 def _feature_points(seg: np.ndarray, width: float, height: float) -> np.ndarray:
     """s x 5 x 3 points (p, q, m, s1, s2) of the sharp features of segments s x 4."""
     p, q = seg[:, 0:2].astype(np.float64), seg[:, 2:4].astype(np.float64)
@@ -90,16 +79,6 @@ def falloff(d: np.ndarray, radius: float) -> np.ndarray:
     `bump` as printed in Fig. 7 would give a terraced look), and it needs no sqrt."""
     u = np.clip(1.0 - d * d / (radius * radius), 0.0, None)
     return u * u
-
-
-def bump_heights(points: np.ndarray, rows: int, cols: int, spacing: int,
-                 radius: float, bump: float, cap: float) -> np.ndarray:
-    """Slow, obvious oracle: the capped height grid from all particles at once."""
-    vy, vx = np.mgrid[0:rows, 0:cols].astype(np.float64) * spacing
-    h = np.zeros((rows, cols))
-    for x, y in points:
-        h += bump * falloff(np.hypot(vx - x, vy - y), radius)
-    return np.minimum(h, cap).astype(np.float32)
 
 
 class FrostGeometry:

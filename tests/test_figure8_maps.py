@@ -10,9 +10,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from oracles import feature_vertices
 from PIL import Image
 
 from app.cli import main
+from app.images import export_maps
 from app.tools.figure8 import (
     CELL,
     COLS,
@@ -25,19 +27,9 @@ from app.tools.figure8 import (
     make_figure8,
     sheet_size,
 )
-from app.tools.maps import (
-    alpha_map,
-    bump_field,
-    compute_maps,
-    encode,
-    export_maps,
-    feature_field,
-    grow,
-    live_segments,
-    normal_map,
-)
+from app.tools.maps import grow
 from sim import PRESETS, Params
-from sim.geometry import feature_vertices
+from sim.maps import alpha_map, bump_field, compute_maps, encode, feature_field, live_segments, normal_map
 
 ROOT = Path(__file__).resolve().parent.parent
 TOUCH = (380.0, 640.0)

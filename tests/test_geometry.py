@@ -4,15 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from oracles import bump_heights, feature_vertices
 
 from sim import FrostSim, Params
-from sim.geometry import (
-    FrostGeometry,
-    bump_heights,
-    falloff,
-    feature_triangles,
-    feature_vertices,
-)
+from sim.geometry import FrostGeometry, falloff, feature_triangles
 
 
 def test_single_segment_points_by_hand():

@@ -19,13 +19,13 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.images import read_image, save_png
+from app.images import export_maps, read_image, save_png
 from app.simthread import thread as simthread
 from app.simthread.thread import SimThread
-from app.tools.maps import export_maps, live_segments
 from app.window.record import Recorder
 from sim import Params
 from sim.files import write_all_atomic, write_atomic
+from sim.maps import live_segments
 from sim.session import SessionLog, replay
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -229,16 +229,16 @@ def test_every_writer_raises_oserror_on_an_unwritable_folder(tmp_path):
 
 
 def test_a_map_set_that_fails_half_way_leaves_no_maps(tmp_path, monkeypatch):
-    from app.tools import maps
+    from app import images
 
-    real = maps.png_writer
+    real = images.png_writer
 
     def disk_full_at_alpha(image, meta):
         if meta["map"] != "alpha":
             return real(image, meta)
         return lambda f: (_ for _ in ()).throw(OSError(28, "No space left on device"))
 
-    monkeypatch.setattr(maps, "png_writer", disk_full_at_alpha)
+    monkeypatch.setattr(images, "png_writer", disk_full_at_alpha)
     with pytest.raises(OSError):
         export_maps(tmp_path, np.ones((3, 3), np.float32), np.zeros((0, 4)), PARAMS,
                     width=8, height=8)

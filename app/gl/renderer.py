@@ -16,7 +16,6 @@ Only the main thread may call this (GL).
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
 from pathlib import Path
 
 import moderngl
@@ -26,6 +25,7 @@ from PIL import Image
 from app.gl.shaders import load_program
 from app.resources import ASSET_DIR
 from sim.geometry import VERTEX_FLOATS, GeometryDelta
+from sim.material import Material
 from sim.params import Params
 from sim.screen import HEIGHT, WIDTH
 
@@ -41,21 +41,6 @@ VERTEX_BYTES = VERTEX_FLOATS * 4
 # Side of a screen tile of the ice pass, px. Smaller tiles hug the ice closer but cost
 # more instances (3.8k at most at 16 px, a few kB).
 TILE = 16
-
-
-@dataclass(frozen=True)
-class Material:
-    """How the ice looks: Phong terms and the thickness-to-opacity law."""
-
-    ice_color: tuple[float, float, float] = (0.93, 0.96, 1.0)
-    ambient: float = 0.72  # frost scatters light: bright even away from the lamp
-    diffuse: float = 0.38
-    specular: float = 1.3  # wide, strong glints read as wet, sparkling ice
-    shininess: float = 12.0
-    opacity: float = 0.88  # very thick ice still lets a little of the view through
-    density: float = 0.45  # alpha = opacity * (1 - exp(-density * thickness_px))
-    relief: float = 1.6  # exaggerate slopes so px-high ice still catches the light
-    refraction: float = 4.0  # px of background shift per unit of normal tilt
 
 
 def default_light() -> np.ndarray:
@@ -79,7 +64,7 @@ class Renderer:
                  height: int = HEIGHT, background: np.ndarray | None = None):
         self.ctx, self.params = ctx, params
         self.size = (width, height)
-        self.light = default_light()
+        self.light: np.ndarray | tuple[float, ...] = default_light()
         self.material = Material()
         self.show_features = True
         self.show_bumps = True
@@ -95,8 +80,9 @@ class Renderer:
         self._background_pass = ctx.vertex_array(self._background_prog, [])
         self._ice_prog = load_program(ctx, "tile.vert", "ice.frag")
         self.tiles = TileSet(ctx, self._ice_prog, self.size, spacing)
-        self._vbo, self._features, self._pending = None, None, 0
-        self._grow(1 << 16)
+        self._pending = 0  # vertices queued in _vbo, not yet drawn into the ice texture
+        self._vbo = ctx.buffer(reserve=1 << 16, dynamic=True)
+        self._features = self._feature_array(self._vbo)
         self.reset()
 
     # ---- view state: what, besides the frost, decides the picture --------------------
@@ -170,14 +156,15 @@ class Renderer:
         self._pending += len(verts)
 
     def _grow(self, size: int) -> None:
+        """A vertex buffer of `size` bytes in place of the old one, the queue copied over."""
         vbo = self.ctx.buffer(reserve=size, dynamic=True)
-        if self._vbo is not None:
-            self.ctx.copy_buffer(vbo, self._vbo, self._pending * VERTEX_BYTES)
-            self._vbo.release()
-            self._features.release()
-        self._vbo = vbo
-        self._features = self.ctx.vertex_array(
-            self._feature_prog, [(vbo, "3f 3f", "in_position", "in_normal")])
+        self.ctx.copy_buffer(vbo, self._vbo, self._pending * VERTEX_BYTES)
+        self._vbo.release()
+        self._features.release()
+        self._vbo, self._features = vbo, self._feature_array(vbo)
+
+    def _feature_array(self, vbo: moderngl.Buffer) -> moderngl.VertexArray:
+        return self.ctx.vertex_array(self._feature_prog, [(vbo, "3f 3f", "in_position", "in_normal")])
 
     def _background_texture(self, image: np.ndarray | None) -> moderngl.Texture:
         image = load_background() if image is None else image

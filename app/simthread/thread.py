@@ -19,10 +19,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from app.tools.maps import export_maps, live_segments
+from app.images import export_maps
 from sim import Params
 from sim.files import why
 from sim.geometry import GeometryDelta
+from sim.maps import live_segments
 from sim.screen import HEIGHT, WIDTH
 from sim.session import Applied, Backlog, SessionLog, Timeline, apply_due
 
@@ -177,7 +178,9 @@ class SimThread(threading.Thread):
         reset, melts, message = _merged(notes["applied"])
         if reset:
             self._watch = {}
-        delta, grown, clicks = None, (), ()
+        delta = None
+        grown: tuple[tuple[int, float], ...] = ()
+        clicks: tuple[tuple[int, float], ...] = ()
         if not self.paused or notes.pop("single", False):
             # sim.added (what the geometry reads) covers touches only once a step closes it,
             # so a click made while paused shows (and is timed) at the next step.
@@ -272,7 +275,8 @@ def _write_maps(folder, grid, segments, params, meta, notify) -> None:
 
 def _merged(applied: list[Applied]) -> tuple[bool, tuple[GeometryDelta, ...], str | None]:
     """One tick's results: a rebuild drops the melt deltas made before it."""
-    reset, melts, message = False, [], None
+    reset, message = False, None
+    melts: list[GeometryDelta] = []
     for a in applied:
         if a.reset:
             reset, melts = True, []

@@ -26,7 +26,8 @@ def make_context():
     try:
         import moderngl
 
-        return moderngl.create_standalone_context(backend="egl")
+        # moderngl types **settings as one dict argument; backend is a keyword it reads
+        return moderngl.create_standalone_context(backend="egl")  # type: ignore[arg-type]
     except Exception as err:  # moderngl raises bare Exceptions for missing EGL/drivers
         raise RuntimeError(f"no OpenGL available: {err}") from err
 

@@ -1,0 +1,140 @@
+"""Frost maps for game engines: height, normal and alpha, as numpy arrays (no PIL, no GL).
+
+Everything is computed from the simulation's own geometry, not read back from GL, so
+the maps are exact (no 8-bit feature heights, no half floats), need no context, and can
+be computed on any thread that holds a copy of the arrays:
+- the bumpy surface (Fig. 7): the geometry grid, bilinear at each pixel's centre, as
+  the renderer samples its height texture;
+- the sharp features (Fig. 6): each segment's four triangles form a pyramid over the
+  rhombus (p, s1, q, s2) with apex m, so its height has the closed form
+  feature_height*L * max(0, 1 - |u| - |v|), u along the segment (1 at p and q), v across
+  it (1 at s1 and s2); where features overlap the highest wins (the renderer's depth test);
+- as in the renderer's ice pass, the two surfaces add: z = bumps + features;
+- alpha is the renderer's thickness law (sim.material), opacity * (1 - exp(-density * z));
+- normals come from the height gradient (central differences, px per px).
+`encode` turns them into the integer images that app.images.export_maps writes as PNGs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from types import MappingProxyType
+
+import numpy as np
+
+from .frost import FrostSim
+from .material import Material
+from .params import Params
+from .screen import HEIGHT, WIDTH
+
+MAP_NAMES = ("height", "normal", "alpha")
+# Feature pyramids are rasterized in batches of about this many pixel samples.
+_BATCH_SAMPLES = 1 << 22
+
+
+@dataclass(frozen=True)
+class FrostMaps:
+    """The three maps as float arrays, H x W (normal H x W x 3), before encoding."""
+
+    height: np.ndarray  # px above the glass
+    normal: np.ndarray  # unit vectors, x right, y up (OpenGL convention), z out of the glass
+    alpha: np.ndarray  # 0..1
+
+
+def bump_field(grid: np.ndarray, spacing: float, width: int, height: int) -> np.ndarray:
+    """The height grid (vertex (r, c) at px (c*spacing, r*spacing)) bilinear at every
+    pixel centre, clamped at the edges: H x W float32."""
+    def axis(n: int, size: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        t = np.clip((np.arange(n) + 0.5) / spacing, 0, size - 1)
+        i0 = np.minimum(np.floor(t).astype(np.int64), size - 1)
+        return i0, np.minimum(i0 + 1, size - 1), (t - i0).astype(np.float32)
+
+    x0, x1, wx = axis(width, grid.shape[1])
+    y0, y1, wy = axis(height, grid.shape[0])
+    rows = grid[:, x0] * (1 - wx) + grid[:, x1] * wx
+    return (rows[y0] * (1 - wy)[:, None] + rows[y1] * wy[:, None]).astype(np.float32)
+
+
+def feature_field(segments: np.ndarray, width_factor: float, height_factor: float,
+                  width: int, height: int) -> np.ndarray:
+    """Highest sharp-feature surface at every pixel centre: H x W float32 (0 off the ice)."""
+    out = np.zeros(width * height, np.float32)
+    seg = np.asarray(segments, np.float64).reshape(-1, 4)
+    length = np.hypot(seg[:, 2] - seg[:, 0], seg[:, 3] - seg[:, 1])
+    seg, length = seg[length > 0], length[length > 0]
+    if width_factor <= 0 or height_factor <= 0 or len(seg) == 0:
+        return out.reshape(height, width)
+    reach = np.ceil(np.maximum(0.5, width_factor) * length).astype(np.int64) + 1
+    for r in np.unique(reach):  # one stencil size per batch
+        pick = np.flatnonzero(reach == r)
+        per = max(1, _BATCH_SAMPLES // (2 * r + 1) ** 2)
+        for lo in range(0, len(pick), per):
+            rows = pick[lo:lo + per]
+            _raise_pyramids(out, seg[rows], length[rows], int(r), width_factor,
+                            height_factor, width, height)
+    return out.reshape(height, width)
+
+
+def _raise_pyramids(out: np.ndarray, seg: np.ndarray, length: np.ndarray, reach: int,
+                    wf: float, hf: float, width: int, height: int) -> None:
+    """Max the pyramids of `seg` into the flat image `out` over a (2 reach + 1)^2 stencil."""
+    m = 0.5 * (seg[:, :2] + seg[:, 2:])
+    t = (seg[:, 2:] - seg[:, :2]) / length[:, None]  # unit along the segment
+    oy, ox = (a.ravel() for a in np.mgrid[-reach:reach + 1, -reach:reach + 1])
+    px = np.floor(m[:, 0:1]).astype(np.int64) + ox
+    py = np.floor(m[:, 1:2]).astype(np.int64) + oy
+    dx, dy = px + 0.5 - m[:, 0:1], py + 0.5 - m[:, 1:2]
+    u = (dx * t[:, 0:1] + dy * t[:, 1:2]) / (0.5 * length[:, None])
+    v = (dy * t[:, 0:1] - dx * t[:, 1:2]) / (wf * length[:, None])
+    z = hf * length[:, None] * (1.0 - np.abs(u) - np.abs(v))
+    hit = (z > 0) & (px >= 0) & (px < width) & (py >= 0) & (py < height)
+    np.maximum.at(out, py[hit] * width + px[hit], z[hit].astype(np.float32))
+
+
+def normal_map(height: np.ndarray, strength: float = 1.0) -> np.ndarray:
+    """Unit tangent-space normals of a height field (px, row 0 at the top): H x W x 3,
+    x right, y UP the image (OpenGL / Unity / Blender convention), z out of the glass.
+    n = normalize(-s dh/dx, +s dh/drow, 1): rows grow downward, so dh/dy_up = -dh/drow."""
+    h = np.asarray(height, np.float64)
+    d_row, d_col = np.gradient(h) if min(h.shape) > 1 else (np.zeros_like(h), np.zeros_like(h))
+    n = np.stack((-strength * d_col, strength * d_row, np.ones_like(h)), axis=-1)
+    return (n / np.linalg.norm(n, axis=-1, keepdims=True)).astype(np.float32)
+
+
+def alpha_map(height: np.ndarray, material: Material | None = None) -> np.ndarray:
+    """The renderer's opacity law: opacity * (1 - exp(-density * thickness))."""
+    m = material or Material()
+    return (m.opacity * (1.0 - np.exp(-m.density * np.maximum(height, 0.0)))).astype(np.float32)
+
+
+def compute_maps(grid: np.ndarray, segments: np.ndarray, params: Params,
+                 width: int = WIDTH, height: int = HEIGHT) -> FrostMaps:
+    """The three maps of a frost from its height grid and skeleton segments."""
+    z = bump_field(grid, params.grid_spacing, width, height)
+    z += feature_field(segments, params.feature_width, params.feature_height, width, height)
+    return FrostMaps(z, normal_map(z), alpha_map(z))
+
+
+def encode(maps: FrostMaps) -> tuple[dict[str, np.ndarray], float]:
+    """uint16 height (0..65535 = 0..height_max px), RGB8 normal (n*0.5+0.5), 8-bit alpha;
+    and height_max, the px that 65535 stands for (at least 1 px)."""
+    top = max(1.0, float(np.ceil(maps.height.max(initial=0.0))))
+    images = {
+        "height": np.round(np.clip(maps.height / top, 0, 1) * 65535).astype(np.uint16),
+        "normal": np.round((maps.normal * 0.5 + 0.5) * 255).astype(np.uint8),
+        "alpha": np.round(np.clip(maps.alpha, 0, 1) * 255).astype(np.uint8),
+    }
+    return images, top
+
+
+MEANING = MappingProxyType({  # what each encoded image's values stand for
+    "height": "16-bit grey: height above the glass = value / 65535 * height_max_px px",
+    "normal": "RGB: tangent-space unit normal * 0.5 + 0.5; x right, y up (OpenGL), z out of the glass",
+    "alpha": "8-bit grey: ice opacity, opacity * (1 - exp(-density * height_px))",
+})
+
+
+def live_segments(sim: FrostSim) -> np.ndarray:
+    """The skeleton segments that have not melted (all of them in a sim without melting)."""
+    alive = getattr(sim, "segments_alive", None)
+    return sim.segments if alive is None else sim.segments[alive]
