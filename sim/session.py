@@ -308,6 +308,11 @@ class Timeline:
             self.sim.plant(self.touches)
 
 
+def touch_events(points, tick: int = 0) -> list[dict[str, Any]]:
+    """Touch events at `tick` for (x, y) points."""
+    return [{"tick": tick, "kind": "touch", "x": float(x), "y": float(y)} for x, y in points]
+
+
 def grow(timeline: Timeline, steps: int, events=(), on_apply=None, on_step=None,
          on_tick=None) -> int:
     """Step `timeline` `steps` times, applying each of `events` (in order, each at its

@@ -25,7 +25,7 @@ atexit.register(shutil.rmtree, _HYPOTHESIS_HOME, True)
 def gl_ctx():
     """A standalone OpenGL context. None is a failure, not a skip: EGL is a dependency
     (Makefile's APT_PKGS), so a missing context would hide every GL test."""
-    from app.tools.headless import make_context
+    from app.tools.offscreen import make_context
 
     try:
         ctx = make_context()

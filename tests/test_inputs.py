@@ -21,7 +21,8 @@ from hypothesis import strategies as st
 
 from app.cli import commands, main, paths
 from app.cli.parser import build_parser
-from app.tools import bench, figure8, figure_fern, headless, maps
+from app.tools import bench, figure8, figure_fern, maps, render
+from app.tools import replay as replay_tool
 from app.window import frost_window as window
 from sim import FrostSim, Params
 from sim.session import SessionError, SessionLog, check_event, replay
@@ -80,7 +81,7 @@ def stubbed(monkeypatch):
         calls.append((args, params))
         return 0
 
-    for module in (figure8, figure_fern, maps, headless, window, bench):
+    for module in (figure8, figure_fern, maps, render, replay_tool, window, bench):
         monkeypatch.setattr(module, "run", record)
     monkeypatch.setattr(commands, "display_problem", lambda: None)  # as if a display works
     return calls

@@ -275,23 +275,24 @@ def test_a_recording_that_cannot_be_written_is_reported(tmp_path, monkeypatch):
 
 def test_a_replay_with_a_moved_light_and_no_features_matches_the_live_frame(gl_ctx, tmp_path):
     from app.images import read_image
-    from app.tools.headless import Session, replay_session
+    from app.tools.offscreen import Offscreen
+    from app.tools.replay import replay_offscreen
 
     thread = SimThread(PARAMS, 4, [(380.0, 640.0)])
     thread.send("touch", ((300.0, 500.0), None))
     snaps = ticked(thread, 40)
-    live = Session(gl_ctx, PARAMS, 4)
+    live = Offscreen(gl_ctx, PARAMS, 4)
     live.renderer.set_view(VIEW)
     for snap in snaps:
         live.renderer.apply(snap.delta)
     live.renderer.render(live.fbo)
     log_ = thread.session(snaps[-1].steps, snaps[-1].events)
     log_.view = live.renderer.view()
-    again = replay_session(gl_ctx, SessionLog.load(log_.save(tmp_path / "s.json")))
+    again = replay_offscreen(gl_ctx, SessionLog.load(log_.save(tmp_path / "s.json")))
     shot = again.snapshot(tmp_path / "again.png")
     assert np.array_equal(read_image(live.fbo), np.asarray(Image.open(shot)))
     log_.view = None  # the defaults: a different picture, so the view is what matched
-    plain = replay_session(gl_ctx, log_)
+    plain = replay_offscreen(gl_ctx, log_)
     plain.renderer.render(plain.fbo)
     assert not np.array_equal(read_image(live.fbo), read_image(plain.fbo))
     text = Image.open(shot).text
@@ -300,15 +301,15 @@ def test_a_replay_with_a_moved_light_and_no_features_matches_the_live_frame(gl_c
 
 
 def test_replayed_touches_follow_clears_and_rebuilds():
-    from app.tools.headless import replayed_touches
+    from app.tools.offscreen import touches_left
 
     events = [{"tick": 0, "kind": "touch", "x": 1.0, "y": 2.0},
               {"tick": 3, "kind": "touch", "x": 900.0, "y": 2.0},  # off the screen
               {"tick": 4, "kind": "touch", "x": 5.0, "y": 6.0},
               {"tick": 9, "kind": "params", "params": {}},
               {"tick": 2, "kind": "touch", "x": 7.0, "y": 8.0}]
-    assert replayed_touches(events, 760, 1280) == [(0, 1.0, 2.0), (0, 5.0, 6.0), (2, 7.0, 8.0)]
-    assert replayed_touches([*events, {"tick": 3, "kind": "clear"}], 760, 1280) == []
+    assert touches_left(events) == [(0, 1.0, 2.0), (0, 5.0, 6.0), (2, 7.0, 8.0)]
+    assert touches_left([*events, {"tick": 3, "kind": "clear"}]) == []
 
 
 @pytest.mark.parametrize("view, problem", [
@@ -336,10 +337,11 @@ def test_a_bad_view_in_a_session_file_is_a_clear_error(tmp_path, view, problem):
 def headless(monkeypatch, gl_ctx, capsys, argv: list[str]) -> tuple[int, list[str], str]:
     """`frost ARGV` in this process: (status, progress lines, stderr)."""
     from app.cli import main
-    from app.tools import headless as mode
+    from app.tools import progress, render, replay
 
-    monkeypatch.setattr(mode, "make_context", lambda: gl_ctx)
-    monkeypatch.setattr(mode, "PROGRESS_EVERY_S", 0.0)
+    for mode in (render, replay):
+        monkeypatch.setattr(mode, "make_context", lambda: gl_ctx)
+    monkeypatch.setattr(progress, "PROGRESS_EVERY_S", 0.0)
     status = main(argv)
     out, err = capsys.readouterr()
     return status, [ln for ln in out.splitlines() if ln.startswith("tick ")], err

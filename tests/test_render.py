@@ -164,14 +164,14 @@ def test_headless_cli_bad_touch_is_a_clear_error(gl_ctx, tmp_path):
 
 def test_no_opengl_is_a_clear_message(monkeypatch, capsys):
     from app.cli.parser import build_parser
-    from app.tools import headless
+    from app.tools import render
 
     def broken():
         raise RuntimeError("no OpenGL available: test")
 
-    monkeypatch.setattr(headless, "make_context", broken)
+    monkeypatch.setattr(render, "make_context", broken)
     args = build_parser().parse_args(["render", "--touch", "10,10"])
-    assert headless.run(args, Params()) == 1
+    assert render.run(args, Params()) == 1
     assert "no OpenGL available" in capsys.readouterr().err
 
 

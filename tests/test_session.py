@@ -85,17 +85,18 @@ def test_a_rebuild_melts_again_at_the_melts_ticks(tmp_path):
 
 def test_replayed_frames_match_the_live_renderer(gl_ctx):
     from app.images import read_image
-    from app.tools.headless import Session, replay_session
+    from app.tools.offscreen import Offscreen
+    from app.tools.replay import replay_offscreen
 
     thread, snaps = live_session()
-    live = Session(gl_ctx, PARAMS, 4)
+    live = Offscreen(gl_ctx, PARAMS, 4)
     for snap in snaps:
         if snap.reset:
             live.renderer.reset()
         for delta in (*snap.melts, *([snap.delta] if snap.delta else [])):
             live.renderer.apply(delta)
     live.renderer.render(live.fbo)
-    again = replay_session(gl_ctx, thread.session(snaps[-1].steps, snaps[-1].events))
+    again = replay_offscreen(gl_ctx, thread.session(snaps[-1].steps, snaps[-1].events))
     again.renderer.render(again.fbo)
     assert np.array_equal(read_image(live.fbo), read_image(again.fbo))
 
@@ -136,7 +137,7 @@ def test_a_windowed_replay_drives_the_thread_through_the_same_events():
 
 def test_melt_options_become_melt_events_in_tick_order():
     from app.cli.parser import build_parser
-    from app.tools.headless import melt_events
+    from app.tools.render import melt_events
 
     args = build_parser().parse_args(["render", "--melt", "10,20@30", "--melt", "5,5,9@2",
                                       "--melt-path", "100,50:140,50@7", "--melt-radius", "20"])

@@ -96,33 +96,33 @@ def _window(args: argparse.Namespace, params: Params) -> int:
     if problem:
         print(f"{PROG}: no display ({problem}): rendering headless to PNG files instead",
               file=sys.stderr)
-        from app.tools.headless import run
+        from app.tools.render import run
         return run(args, params)
     from app.window.frost_window import run
     return run(args, params)
 
 
 def _render(args: argparse.Namespace, params: Params) -> int:
-    from app.tools.headless import run
+    from app.tools.render import run
     return run(args, params)
 
 
 def _replay(args: argparse.Namespace, params: Params) -> int:
     if _replay_headless(args) or display_problem():
-        from app.tools.headless import run
-        return run(args, params)  # the session file sets the parameters
+        from app.tools import replay
+        return replay.run(args)  # the session file sets the parameters
     try:
         params = _windowed_replay(args)
     except SessionError as err:
         print(f"{PROG}: error: {err}", file=sys.stderr)
         return 2
-    from app.window.frost_window import run
-    return run(args, params)
+    from app.window import frost_window
+    return frost_window.run(args, params)
 
 
 def _windowed_replay(args: argparse.Namespace) -> Params:
     """Load the replay's session into args (seed, events) for the window; its parameters."""
-    from app.tools.headless import load_session
+    from app.tools.replay import load_session
 
     log_ = load_session(args.replay)
     args.seed, args.touch, args.script, args.view = log_.seed, [], log_.events, log_.view

@@ -15,7 +15,7 @@ import time
 import numpy as np
 
 from app.gl.renderer import Renderer
-from app.tools.headless import make_context
+from app.tools.offscreen import make_context
 from sim import FrostSim, Params
 from sim.geometry import FrostGeometry
 from sim.screen import HEIGHT, WIDTH

@@ -16,11 +16,13 @@ from pathlib import Path
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
-from app.images import read_image, save_png
-from app.tools.headless import Progress, Session, make_context
+from app.images import save_png
+from app.tools.offscreen import Offscreen, make_context
+from app.tools.progress import Progress
 from sim import PRESETS, FrostSim, Params
 from sim.files import why
 from sim.screen import HEIGHT, WIDTH, touch_problem
+from sim.session import touch_events
 
 CELL = (253, 427)  # a frame scaled by 1/3, px (width, height)
 LABEL_H = 16  # band above each cell holding its label, px
@@ -80,20 +82,19 @@ def preset_stats(name: str, sim: FrostSim, centre, reach_tick: int | None) -> Pr
 def grow_preset(ctx, name: str, seed: int, ticks: int, touch, overrides: dict | None = None,
                 progress: Progress | None = None) -> tuple[np.ndarray, PresetStats]:
     """Grow preset `name` from `touch` for `ticks` ticks: its frame and its numbers."""
-    session = Session(ctx, Params.preset(name, **(overrides or {})), seed)
-    session.progress = progress
-    session.touch(*touch)
-    reach_tick = None
-    for _ in range(ticks):
-        session.step()
-        new = session.sim.crystals[session.sim.added.crystals]
-        if reach_tick is None and len(new) and \
+    offscreen = Offscreen(ctx, Params.preset(name, **(overrides or {})), seed)
+    offscreen.progress = progress
+    reached: list[int] = []  # the first tick whose new crystals lie GROWTH_MARK px out
+
+    def watch(sim) -> None:
+        new = sim.crystals[sim.added.crystals]
+        if not reached and len(new) and \
                 np.hypot(*(new - np.asarray(touch, np.float32)).T).max() >= GROWTH_MARK:
-            reach_tick = session.sim.tick
-    session.renderer.render(session.fbo)
-    frame = read_image(session.fbo)
-    session.fbo.release()
-    return frame, preset_stats(name, session.sim, touch, reach_tick)
+            reached.append(sim.tick)
+    offscreen.grow(ticks, touch_events([touch]), watch)
+    frame = offscreen.frame()
+    offscreen.release()
+    return frame, preset_stats(name, offscreen.sim, touch, reached[0] if reached else None)
 
 
 def compose(frames: dict[str, np.ndarray], title: str) -> np.ndarray:

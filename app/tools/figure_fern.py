@@ -14,10 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
-from app.images import read_image, save_png
+from app.images import save_png
 from app.tools.figure8 import compose_grid
-from app.tools.headless import Session, make_context
+from app.tools.offscreen import Offscreen, make_context
 from sim import Params
+from sim.session import touch_events
 
 TICKS = (25, 50, 125, 250, 500, 750)
 ROWS = {"one touch": [(380.0, 640.0)],
@@ -28,18 +29,15 @@ TICKS_PER_SECOND = 25
 
 def grow_row(ctx, params: Params, seed: int, touches, ticks=TICKS) -> list[tuple[str, np.ndarray]]:
     """Frames of one growth at each of `ticks`, with their labels."""
-    session = Session(ctx, params, seed)
-    for x, y in touches:
-        session.touch(x, y)
+    offscreen = Offscreen(ctx, params, seed)
+    offscreen.grow(0, touch_events(touches))
     cells = []
     for tick in ticks:
-        while session.sim.tick < tick:
-            session.step()
-        session.renderer.render(session.fbo)
-        n = int(session.sim.crystal_alive.sum())
+        offscreen.grow(tick - offscreen.sim.tick)
+        n = int(offscreen.sim.crystal_alive.sum())
         cells.append((f"tick {tick} ({tick / TICKS_PER_SECOND:g} s) {n} crystals",
-                      read_image(session.fbo)))
-    session.fbo.release()
+                      offscreen.frame()))
+    offscreen.release()
     return cells
 
 

@@ -1,4 +1,4 @@
-"""`frost --export-maps`: grow a frost headless and write its height, normal and alpha
+"""`frost maps DIR`: grow a frost headless and write its height, normal and alpha
 maps for game engines (computed in sim.maps, written by app.images.export_maps)."""
 
 from __future__ import annotations
@@ -6,38 +6,31 @@ from __future__ import annotations
 import sys
 
 from app.images import export_maps
-from sim import FrostSim, Params
+from app.tools.progress import Progress
+from app.tools.render import demo_touches
+from sim import FrostSim, Params, session
 from sim.files import why
 from sim.geometry import FrostGeometry
 from sim.maps import live_segments
-from sim.screen import HEIGHT, WIDTH
+from sim.session import Timeline, touch_events
 
 
 def grow(params: Params, seed: int, touches, ticks: int,
          on_tick=None) -> tuple[FrostSim, FrostGeometry]:
-    """Run the simulation and its geometry (no GL): touches are (tick, x, y);
-    `on_tick(sim)` after every tick (progress)."""
-    sim = FrostSim(params, WIDTH, HEIGHT, seed)
-    geometry = FrostGeometry(params, WIDTH, HEIGHT)
-    plan = sorted(touches)
-    for tick in range(ticks):
-        for x, y in (p[1:] for p in plan if p[0] == tick):
-            sim.touch(x, y)
-        sim.step()
-        geometry.update(sim)
-        if on_tick:
-            on_tick(sim)
-    return sim, geometry
+    """The simulation and its geometry (no GL) after `ticks` ticks of touches (tick, x, y),
+    through sim.session.grow; `on_tick(sim)` after every tick (progress)."""
+    timeline = Timeline(params, seed)
+    events = [e for t, x, y in sorted(touches) for e in touch_events([(x, y)], t)]
+    session.grow(timeline, ticks, events, on_tick=on_tick)
+    return timeline.sim, timeline.geometry
 
 
 def run(args, params: Params) -> int:
     """`frost maps DIR [--touch X,Y] [--ticks N]`."""
-    from app.tools.headless import Progress, scripted_session
-
     if args.ticks < 0:
         print(f"frost: error: --ticks {args.ticks} must be 0 or more", file=sys.stderr)
         return 2
-    touches = [(0, x, y) for x, y in args.touch] or scripted_session(args.ticks)
+    touches = [(0, x, y) for x, y in args.touch] or demo_touches(args.ticks)
     try:
         sim, geometry = grow(params, args.seed, touches, args.ticks, Progress(args.ticks).step)
     except ValueError as err:

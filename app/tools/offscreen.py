@@ -1,0 +1,91 @@
+"""Frost drawn with no window: an EGL context, and `Offscreen`, the run that every
+offline tool (render, replay, figure sheets) draws from."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from app.gl.renderer import Renderer
+from app.images import read_image, save_png
+from app.tools.progress import Progress
+from sim import Params
+from sim.screen import HEIGHT, SIZE, WIDTH, touch_problem
+from sim.session import Applied, Timeline, grow
+
+
+def make_context():
+    """A standalone OpenGL context with no window (EGL), or RuntimeError saying why not."""
+    try:
+        import moderngl
+
+        # moderngl types **settings as one dict argument; backend is a keyword it reads
+        return moderngl.create_standalone_context(backend="egl")  # type: ignore[arg-type]
+    except Exception as err:  # moderngl raises bare Exceptions for missing EGL/drivers
+        raise RuntimeError(f"no OpenGL available: {err}") from err
+
+
+class Offscreen:
+    """A Timeline (simulation, geometry, events) and a renderer fed every delta in order."""
+
+    def __init__(self, ctx, params: Params, seed: int, view: dict | None = None):
+        self.timeline = Timeline(params, seed, WIDTH, HEIGHT)
+        self.renderer = Renderer(ctx, params, WIDTH, HEIGHT)
+        self.renderer.set_view(view)
+        self.fbo = ctx.simple_framebuffer(SIZE, components=4)
+        self.meta: dict = {}  # more PNG metadata, e.g. the session file replayed
+        self.progress: Progress | None = None  # told of every step when set
+
+    @property
+    def sim(self):
+        return self.timeline.sim
+
+    def grow(self, steps: int, events=(), on_tick=None) -> int:
+        """`steps` steps with `events` applied at their ticks (sim.session.grow), every
+        result shown; `on_tick(sim)` after each step. How many events applied."""
+        def tick(sim) -> None:
+            if self.progress:
+                self.progress.step(sim)
+            if on_tick:
+                on_tick(sim)
+        return grow(self.timeline, steps, events, self.show, self.renderer.apply, tick)
+
+    def show(self, applied: Applied) -> None:
+        """Hand an event result to the renderer: a rebuild clears it, melts update it."""
+        if applied.reset:
+            self.renderer.reset()
+        for delta in applied.deltas:
+            self.renderer.apply(delta)
+
+    def frame(self) -> np.ndarray:
+        """The frost drawn now: H x W x 3 uint8, top row first."""
+        self.renderer.render(self.fbo)
+        return read_image(self.fbo)
+
+    def touches(self) -> list[tuple[int, float, float]]:
+        """(tick, x, y) of the touches the frost now grows from, as a live run states them."""
+        return touches_left(self.timeline.events)
+
+    def snapshot(self, path: Path, software: str = "frost render") -> Path:
+        meta = {"parameters": self.sim.params.as_dict(), "seed": self.sim.seed,
+                "touches": [list(t) for t in self.touches()], "tick": self.sim.tick,
+                "view": self.renderer.view(), "Software": f"frost ({software})", **self.meta}
+        return save_png(self.frame(), path, meta)
+
+    def release(self) -> None:
+        self.fbo.release()
+
+
+def touches_left(events: list[dict]) -> list[tuple[int, float, float]]:
+    """(tick, x, y) of the touches a run's events leave: a clear drops them, a parameter
+    change replants them at tick 0, off-screen ones never counted."""
+    touches: list[tuple[int, float, float]] = []
+    for e in events:
+        if e["kind"] == "touch" and touch_problem(e["x"], e["y"]) is None:
+            touches.append((e["tick"], float(e["x"]), float(e["y"])))
+        elif e["kind"] == "clear":
+            touches = []
+        elif e["kind"] == "params":
+            touches = [(0, x, y) for _, x, y in touches]
+    return touches

@@ -1,0 +1,91 @@
+"""`frost render`: grow the frost offscreen from touches (or the scripted demo) and
+write PNG files; no display needed."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from app.images import timestamped_path
+from app.tools.offscreen import Offscreen, make_context
+from app.tools.progress import Progress
+from sim import Params
+from sim.files import why
+from sim.gestures import MELT_SPACING, path_points
+from sim.screen import HEIGHT, WIDTH
+from sim.session import touch_events
+
+DEFAULT_FOLDER = Path("frost-out")
+
+
+def demo_touches(ticks: int) -> list[tuple[int, float, float]]:
+    """The demo with no --touch: (tick, x, y) of touches staggered over the run."""
+    return [(0, WIDTH / 2, HEIGHT / 2), (ticks // 5, WIDTH * 0.25, HEIGHT * 0.25),
+            (2 * ticks // 5, WIDTH * 0.72, HEIGHT * 0.78)]
+
+
+def melt_events(args) -> list[dict]:
+    """--melt and --melt-path as melt events in tick order (a path: a melt every half
+    radius along it)."""
+    r = args.melt_radius
+    events = [{**m, "r": m["r"] or r} for m in args.melt]
+    for path in args.melt_path:
+        spots = [path["points"][0]]
+        for a, b in zip(path["points"], path["points"][1:], strict=False):
+            spots.extend(path_points(a, b, MELT_SPACING * r))
+        events.extend({"tick": path["tick"], "kind": "melt", "x": x, "y": y, "r": r}
+                      for x, y in spots)
+    return sorted(events, key=lambda e: e["tick"])
+
+
+def run(args, params: Params) -> int:
+    """`frost render ...`; returns the exit status."""
+    try:
+        ctx = make_context()
+    except RuntimeError as err:
+        error(err)
+        return 1
+    offscreen = Offscreen(ctx, params, args.seed)
+    offscreen.progress = Progress(args.ticks)
+    if args.touch or params.window_frost:  # a window frosts from its frame untouched
+        offscreen.grow(args.ticks, touch_events(args.touch) + melt_events(args))
+        return write(offscreen, Path(args.out) if args.out else timestamped_path(DEFAULT_FOLDER),
+                     "wrote {}")
+    return _run_demo(offscreen, args)
+
+
+def _run_demo(offscreen: Offscreen, args) -> int:
+    """No touches given: a short scripted demo, a PNG after each stage."""
+    folder = Path(args.out).parent if args.out else DEFAULT_FOLDER
+    script = demo_touches(args.ticks)
+    stops = [t for t, _, _ in script[1:]] + [args.ticks]
+    written = []
+    try:
+        for (start, x, y), stop in zip(script, stops, strict=True):
+            offscreen.grow(stop - start, touch_events([(x, y)], start))
+            written.append(offscreen.snapshot(folder / f"frost-demo-tick{stop:04d}.png"))
+        if args.out:
+            written.append(offscreen.snapshot(Path(args.out)))
+    except OSError as err:
+        error(f"cannot write {why(err, folder)}")
+        return 2
+    print(f"wrote {len(written)} PNG files to {folder.resolve()}: "
+          + ", ".join(p.name for p in written))
+    return 0
+
+
+def write(offscreen: Offscreen, path: Path, done: str) -> int:
+    """Write the frame to `path` and print `done` with the path; a path that cannot be
+    written is a one-line error (exit 2), with nothing half-written left behind."""
+    try:
+        written = offscreen.snapshot(path)
+    except OSError as err:
+        error(f"cannot write {why(err, path)}")
+        return 2
+    print(done.format(written))
+    return 0
+
+
+def error(message) -> None:
+    """A one-line error for the user, no traceback."""
+    print(f"frost: error: {message}", file=sys.stderr)

@@ -1,0 +1,56 @@
+"""`frost replay FILE.json` with no window: a recorded session drawn again offscreen,
+bit for bit, and written as a PNG."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from app.images import timestamped_path
+from app.tools.offscreen import Offscreen, make_context
+from app.tools.progress import Progress
+from app.tools.render import DEFAULT_FOLDER, error, write
+from sim import Params
+from sim.screen import HEIGHT, WIDTH
+from sim.session import SessionError, SessionLog
+
+
+def load_session(path) -> SessionLog:
+    """The session file `path` for this 760x1280 screen; SessionError saying why not."""
+    log_ = SessionLog.load(path)
+    if (log_.width, log_.height) != (WIDTH, HEIGHT):
+        raise SessionError(f"{path}: a {log_.width}x{log_.height} session; this app renders "
+                           f"{WIDTH}x{HEIGHT}")
+    return log_
+
+
+def replay_offscreen(ctx, log_: SessionLog, steps: int | None = None,
+                     progress: Progress | None = None) -> Offscreen:
+    """An Offscreen that went through `log_` for `steps` steps (default: as recorded),
+    shown with the session's view."""
+    offscreen = Offscreen(ctx, Params(**log_.params), log_.seed, log_.view)
+    offscreen.progress = progress
+    steps = log_.steps if steps is None else steps
+    if offscreen.grow(steps, log_.events) < len(log_.events):
+        print(f"frost: warning: events after step {steps} were not applied")
+    return offscreen
+
+
+def run(args) -> int:
+    """`frost replay FILE.json` when headless; returns the exit status."""
+    try:
+        log_ = load_session(args.replay)
+        ctx = make_context()
+    except (SessionError, RuntimeError) as err:
+        error(err)
+        return 2 if isinstance(err, SessionError) else 1
+    progress = Progress(log_.steps if args.ticks is None else args.ticks)
+    try:
+        offscreen = replay_offscreen(ctx, log_, args.ticks, progress)
+    except ValueError as err:  # an event the simulation refuses
+        error(f"{args.replay}: cannot replay: {err}")
+        return 2
+    timeline = offscreen.timeline
+    offscreen.meta = {"session": str(args.replay), "replayed_steps": timeline.steps}
+    path = Path(args.out) if args.out else timestamped_path(DEFAULT_FOLDER)
+    return write(offscreen, path, f"replayed {args.replay}: {timeline.steps} steps, "
+                                  f"{len(timeline.events)} events; wrote {{}}")
