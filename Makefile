@@ -39,7 +39,7 @@ system:
 	  echo "frost: please install these Debian packages (as root): apt-get install$$missing"; \
 	fi
 
-$(STAMP): pyproject.toml | system
+$(STAMP): pyproject.toml setup.py | system
 	python3 -m venv $(VENV)
 	$(PY) -m pip install -q --upgrade pip
 	$(PY) -m pip install -q -e '.[dev]'

@@ -2,7 +2,7 @@
 
 In a checkout they are the top-level `shaders/` and `assets/` folders; an installed
 wheel carries them inside the package, as `app/_data/shaders` and `app/_data/assets`
-(see pyproject.toml)."""
+(copied there by setup.py)."""
 
 from __future__ import annotations
 

@@ -9,9 +9,9 @@
 5. Scribble and storm: tick times (events applied + step + geometry, as the app's
    simulation thread counts them) while a scripted user scribbles for 60 s and while
    2 000 touches and melts arrive in 10 s; walkers, backlog and peak memory.
-6. Fern growth (SPEC.md, second half): shape measures and tick costs of paper c-2 vs fern
+6. Fern growth (docs/method.md, section 6): shape measures and tick costs of paper c-2 vs fern
    (`--section fern` runs only this).
-7. Window mode (issue 10): from start to 95 % of the pane's hash cells holding a crystal at
+7. Window mode (sim/pane.py): from start to 95 % of the pane's hash cells holding a crystal at
    the default temperature, tick time against coverage, then the full pane's ticks and
    memory (`--section window` runs only this).
 """

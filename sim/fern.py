@@ -1,4 +1,4 @@
-"""Growth rules: where a walker that reached ice leaves its crystal (SPEC.md, fern rules 1-2).
+"""Growth rules: where a walker that reached ice leaves its crystal (docs/method.md, fern rules 1-2).
 
 `FrostSim` asks its growth rule, once per tick, which of the walkers within hc of ice
 become crystals, where, and which go back to the pool. `PaperGrowth` is Sec. 3.4.3 as

@@ -105,7 +105,7 @@ def _on_screen_f32(pts: np.ndarray, width: int, height: int) -> np.ndarray:
 
 
 class FrostSim:
-    """Window frost on a `width` x `height` px screen (SPEC.md)."""
+    """Window frost on a `width` x `height` px screen (docs/method.md)."""
 
     def __init__(self, params: Params | None = None, width: int = WIDTH, height: int = HEIGHT,
                  seed: int = 0):

@@ -1,4 +1,4 @@
-"""Measures of a frost skeleton's shape, for the benchmark and the tests (SPEC.md, fern).
+"""Measures of a frost skeleton's shape, for the benchmark and the tests (docs/method.md, fern growth).
 
 - mass-radius dimension: slope of log N(<r) on log r, r from 2 hc to 0.8 of the farthest
   crystal (off-lattice DLA: 1.71; a filled disc: 2);

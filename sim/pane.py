@@ -1,4 +1,4 @@
-"""Window mode (issue 10): frost that nucleates on the frame and grows over the whole pane.
+"""Window mode: frost that nucleates on the frame and grows over the whole pane.
 
 With `window_frost` on, the simulation starts with seeds along the screen's border (the
 frame), spaced irregularly, plus `pane_sites` scratch and dust seeds on the glass; each is

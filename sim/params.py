@@ -1,7 +1,7 @@
 """Every tunable of the simulation and its geometry, validated in one place.
 
 Lengths are in phone-screen pixels (760x1280, origin top-left, y down); time is
-in ticks (the app runs 25 per second). See SPEC.md for where each comes from.
+in ticks (the app runs 25 per second). docs/method.md says where each comes from.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ NEIGHBOR_SEARCHES = ("candidate", "grid9")
 GRAIN_RULES = ("drift", "tip_hits", "side_hits", "side_gap")
 # The fern rules: off (at their defaults) in the paper's look.
 FERN_RULES = ("grains", *GRAIN_RULES, "long_jumps", "launch")
-# Parameters that only mean something in window mode (issue 10, sim/pane.py).
+# Parameters that only mean something in window mode (sim/pane.py).
 WINDOW_RULES = ("frame_sites", "pane_sites", "temperature")
 # Bounds on the work one new crystal makes (see Params.__post_init__): at most this many
 # upsample particles on a link of length hc (Table 1: at most 10, a-1), and hc at most this
@@ -80,7 +80,7 @@ class Params:
                            "ice front, so frost keeps spreading (implies replenish)",
                     choices=(False, True))
 
-    # Beyond the paper: "fern" growth (SPEC.md, second half). All off by default, so the
+    # Beyond the paper: "fern" growth (docs/method.md, section 6). All off by default, so the
     # simulation is the paper's unless a preset or the user turns them on.
     grains: bool = _p(False, "grains: six-fold growth: each seed draws an orientation and a new "
                              "crystal sits one hc along the nearest of its parent's axes (fern rule 1)",
@@ -100,7 +100,7 @@ class Params:
                             "its area's farthest ice (0: anywhere in the area; fern rule 4)",
                        0.0, 4000.0)
 
-    # Beyond the paper: the frosted window (issue 10; sim/pane.py). Off by default.
+    # Beyond the paper: the frosted window (sim/pane.py). Off by default.
     window_frost: bool = _p(False, "window_frost: frost nucleates on the screen's border and on a few "
                                    "pane sites and grows over the whole pane from one pool of "
                                    "humidity walkers (needs grains)", choices=(False, True))
@@ -200,7 +200,7 @@ PRESETS: dict[str, dict[str, Any]] = {
 }
 
 # Looks beyond the paper, selectable by name like Table 1's (which PRESETS alone lists).
-# "fern": window frost's fronds (SPEC.md, second half); values tuned with `python -m
+# "fern": window frost's fronds (docs/method.md, section 6); values tuned with `python -m
 # sim.bench --section fern` (see the README for the figures).
 EXTRA_PRESETS: dict[str, dict[str, Any]] = {
     # Rendered with narrower, taller sharp features on links split in three (D 2.5): glossy
@@ -210,7 +210,7 @@ EXTRA_PRESETS: dict[str, dict[str, Any]] = {
              "tip_hits": 5, "side_hits": 10, "side_gap": 2, "long_jumps": True,
              "launch": 30.0, "grow": True, "water_budget": 6000},
 }
-# "window": fern frost nucleating on the frame (issue 10; README's window section). Hit
+# "window": fern frost nucleating on the frame (README's window section). Hit
 # counts 3 / 6 (at the default -10 C) frost 95 % of the pane's cells in about 1 200 ticks
 # (seed 0); fern's 5 / 10 needed over 4 000, 2 / 4 about 600 (`python -m sim.bench
 # --section window`).

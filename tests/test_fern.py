@@ -1,4 +1,4 @@
-"""Fern growth (SPEC.md, second half) against independent oracles: geometry recomputed from
+"""Fern growth (docs/method.md, section 6) against independent oracles: geometry recomputed from
 the positions, hand-placed walkers, brute-force clearances and off-lattice DLA's dimension."""
 
 import math

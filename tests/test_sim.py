@@ -1,4 +1,4 @@
-"""The simulation core against brute-force oracles (SPEC.md, Sec. 3.3-3.4)."""
+"""The simulation core against brute-force oracles (docs/method.md; the paper's Sec. 3.3-3.4)."""
 
 import math
 

@@ -1,4 +1,4 @@
-"""Window mode (issue 10): seeds on the frame, one pane-wide pool, temperature, and a wiped
+"""Window mode (sim/pane.py): seeds on the frame, one pane-wide pool, temperature, and a wiped
 path that refreezes from its edges, against brute-force oracles."""
 
 import numpy as np

@@ -82,9 +82,10 @@ def add_window(p) -> None:
 
 
 def add_overrides(p) -> None:
-    """One option per simulation parameter (see SPEC.md), kebab-case; dest stays the
+    """One option per simulation parameter (see docs/method.md), kebab-case; dest stays the
     parameter's name."""
-    g = p.add_argument_group("parameter overrides (see SPEC.md; default: the preset's)")
+    g = p.add_argument_group("parameter overrides (docs/method.md says what each does; "
+                             "default: the preset's)")
     for name, default, doc in Params.describe():
         if name in NOT_OVERRIDES:
             continue

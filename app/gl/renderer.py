@@ -237,9 +237,11 @@ class Renderer:
 
 
 class TileSet:
-    """The screen tiles that hold ice, drawn as instanced quads. Ice only ever grows
-    (until a reset), so tiles are only ever added; the instance list is re-sent
-    (at most a few kB) on the frames after one was added."""
+    """The screen tiles that hold ice, drawn as instanced quads. Tiles are only added
+    (until a reset): a melt leaves its tiles marked, which costs their fragments but
+    draws the melted glass exactly (zero alpha blends to the background), and the ice
+    regrows there. The instance list is re-sent (at most a few kB) on the frames after
+    one was added."""
 
     def __init__(self, ctx: moderngl.Context, prog, size: tuple[int, int], spacing: int):
         self.ctx, self.spacing = ctx, spacing

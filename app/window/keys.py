@@ -32,7 +32,7 @@ LIGHT_STEP = 0.1
 TEMPERATURE_STEP = 2.0
 
 
-# The demo's default look (window frost's fronds, SPEC.md second half), one key from Table 1.
+# The demo's default look (window frost's fronds, docs/method.md), one key from Table 1.
 DEFAULT_PRESET = "fern"
 
 

@@ -1,0 +1,111 @@
+"""The package as a user gets it: a wheel built from a copy of the checkout, installed into a
+fresh virtualenv, its `frost` command run from a folder that is not the checkout."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import ROOT, TOOLING
+from PIL import Image
+
+pytestmark = pytest.mark.slow
+
+# The render the test asks the installed command for (arguments after `frost`).
+RENDER_ARGS = ["render", "--touch", "380,640", "--ticks", "50", "--out", "x.png"]
+TOUCH = (380, 640)
+# What a checkout may hold that a build must not see (the demo's outputs, build leftovers).
+NOT_SOURCE = [*TOOLING, "*.egg-info", "screenshots", "recordings", "frost-out", "sessions", ".gl", ".whl"]
+
+
+def _run(cmd: list, cwd: Path, timeout: float = 300) -> subprocess.CompletedProcess:
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME", "VIRTUAL_ENV")}
+    done = subprocess.run([str(c) for c in cmd], cwd=cwd, env=env, capture_output=True, text=True,
+                          timeout=timeout)
+    assert done.returncode == 0, f"{cmd} failed:\n{done.stdout}\n{done.stderr}"
+    return done
+
+
+@pytest.fixture(scope="module")
+def wheel(tmp_path_factory) -> Path:
+    """The wheel, built from a copy so the build leaves nothing in the checkout."""
+    tmp = tmp_path_factory.mktemp("wheel")
+    shutil.copytree(ROOT, tmp / "src", ignore=shutil.ignore_patterns(*NOT_SOURCE))
+    _run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "-w", tmp / "dist", tmp / "src"], tmp)
+    (found,) = (tmp / "dist").glob("frost-*.whl")
+    return found
+
+
+@pytest.fixture(scope="module")
+def venv(wheel, tmp_path_factory) -> Path:
+    """A fresh virtualenv holding the wheel and its dependencies (from the index or pip's cache)."""
+    where = tmp_path_factory.mktemp("venv") / "venv"
+    _run([sys.executable, "-m", "venv", where], where.parent)
+    _run([where / "bin" / "python", "-m", "pip", "install", "-q", wheel], where.parent)
+    return where / "bin"
+
+
+@pytest.fixture
+def elsewhere(tmp_path) -> Path:
+    """A working folder outside the checkout."""
+    assert ROOT not in tmp_path.parents
+    return tmp_path
+
+
+def test_wheel_holds_every_module_the_shaders_and_the_background(wheel):
+    checkout = [p for pkg in ("app", "sim") for p in (ROOT / pkg).rglob("*.py")]
+    modules = {p.relative_to(ROOT).as_posix(): p for p in checkout}
+    data = {f"app/_data/shaders/{p.name}": p for p in (ROOT / "shaders").iterdir()}
+    assert any(name.endswith(".frag") for name in data)
+    data["app/_data/assets/background.png"] = ROOT / "assets" / "background.png"
+    with zipfile.ZipFile(wheel) as whl:
+        names = set(whl.namelist())
+        assert set(modules) - names == set()
+        assert set(data) - names == set()
+        for name, source in data.items():
+            assert whl.read(name) == source.read_bytes(), name
+
+
+def test_installed_package_is_not_the_checkout(venv, elsewhere):
+    where = "import app, sim; print(app.__file__); print(sim.__file__)"
+    out = _run([venv / "python", "-c", where], elsewhere)
+    for line in out.stdout.splitlines():
+        assert Path(line).is_relative_to(venv.parent), line
+
+
+def test_frost_help(venv, elsewhere):
+    out = _run([venv / "frost", "--help"], elsewhere)
+    assert "usage:" in out.stdout
+    assert "--touch" in out.stdout
+
+
+def _render(cmd: list, cwd: Path, ticks: str | None = None) -> np.ndarray:
+    """Run `cmd` + RENDER_ARGS in `cwd` (with --ticks replaced by `ticks`); its PNG as an array."""
+    args = list(RENDER_ARGS)
+    if ticks is not None:
+        args[args.index("--ticks") + 1] = ticks
+    _run([*cmd, *args], cwd)
+    png = cwd / "x.png"
+    assert png.is_file()
+    with Image.open(png) as im:
+        assert im.size == (760, 1280)
+        pixels = np.asarray(im.convert("RGB")).astype(int)
+    png.unlink()
+    return pixels
+
+
+def test_installed_frost_renders_the_touch_from_another_folder(venv, elsewhere):
+    frosted = _render([venv / "frost"], elsewhere)
+    bare = _render([venv / "frost"], elsewhere, ticks="0")
+    changed = np.argwhere((frosted != bare).any(axis=2))
+    assert len(changed) > 1000, "the 50 ticks of frost left the picture as it was at tick 0"
+    (y0, x0), (y1, x1) = changed.min(axis=0), changed.max(axis=0)
+    assert x0 < TOUCH[0] < x1 and y0 < TOUCH[1] < y1, "the frost is not around the touch"
+    # the checkout's own render is the oracle for the installed shaders and background
+    assert np.array_equal(frosted, _render([sys.executable, "-m", "app"], elsewhere))
