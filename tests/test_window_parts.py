@@ -3,6 +3,7 @@ mapping, the simulation thread's schedule, snapshots, rebuilds and failures."""
 
 from __future__ import annotations
 
+import logging
 import re
 import time
 
@@ -206,6 +207,26 @@ def test_a_click_while_paused_is_timed_when_it_shows():
     thread._tick()
     first, second = thread.drain()
     assert first.clicks == () and second.clicks == ((0, 0.0),)
+
+
+def test_a_right_drag_is_logged_when_a_frame_shows_all_its_melts(monkeypatch, caplog):
+    from app.window.status import Status
+
+    caplog.set_level(logging.INFO, logger="app.window")
+    # One command a tick (a spent input budget): the drag's three melts take three ticks.
+    monkeypatch.setattr(simthread, "Backlog", lambda: Backlog(budget_s=0.0, clock=lambda: 0.0))
+    thread, status = SimThread(Params.preset("c-3"), 0, [(380, 640)]), Status()
+    sent = [thread.send("melt", (x, 640.0, 20.0)) for x in (360.0, 380.0, 400.0)]
+    status.melted(sent[-1], 3, 20.0)
+    logged = []
+    for _ in range(3):
+        thread._tick()
+        for snap in thread.drain():
+            status.shown(snap)
+        status.presented(time.monotonic(), lambda now: [])
+        logged.append(caplog.text.count("all shown"))
+    assert sent == [1, 2, 3] and logged == [0, 0, 1]
+    assert "warm finger: 3 melts of radius 20 px, all shown at tick 3" in caplog.text
 
 
 def test_clear_drops_touches_and_resets():

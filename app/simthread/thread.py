@@ -43,6 +43,7 @@ class Stats:
     rate: float  # achieved ticks per second over the last RATE_WINDOW ticks
     overruns: int  # scheduled ticks skipped because a tick ran late
     paused: bool
+    handled: int = 0  # commands applied so far (the first `handled` that send() sent)
 
 
 @dataclass(frozen=True)
@@ -85,6 +86,7 @@ class SimThread(threading.Thread):
         self.first_params = params
         self.script, self._script_at = list(script), 0  # a replayed session's events
         self.paused, self.overruns, self.tick_ms = False, 0, 0.0
+        self.sent = self.handled = 0  # commands sent (main thread), applied (this thread)
         self._stop_event = threading.Event()
         self._stamps: deque[float] = deque(maxlen=RATE_WINDOW)
         self._clicks: list[tuple[int, float]] = []  # planted, not yet shown by a step
@@ -122,8 +124,12 @@ class SimThread(threading.Thread):
 
     # ---- main-thread side -------------------------------------------------------
 
-    def send(self, kind: str, arg: Any = None) -> None:
+    def send(self, kind: str, arg: Any = None) -> int:
+        """Queue a command for the next ticks; how many commands have been sent so far (a
+        snapshot whose stats.handled reaches it shows this one applied)."""
+        self.sent += 1
         self.inbox.put(Command(kind, arg))
+        return self.sent
 
     def stop(self, timeout: float = 1.0) -> None:
         self._stop_event.set()
@@ -174,7 +180,7 @@ class SimThread(threading.Thread):
         self._script_at = apply_due(self.timeline, self.script, self._script_at,
                                     notes["applied"].append)
         self.backlog.extend(_take_all(self.inbox))
-        self.backlog.run(lambda cmd: self._handlers[cmd.kind](cmd.arg, notes))
+        self.handled += self.backlog.run(lambda cmd: self._handlers[cmd.kind](cmd.arg, notes))
         reset, melts, message = _merged(notes["applied"])
         if reset:
             self._watch = {}
@@ -211,7 +217,7 @@ class SimThread(threading.Thread):
         s = self._stamps
         rate = (len(s) - 1) / (s[-1] - s[0]) if len(s) > 1 and s[-1] > s[0] else 0.0
         return Stats(self.sim.tick, self.tick_ms, len(self.sim.crystals),
-                     len(self.sim.water_area), rate, self.overruns, self.paused)
+                     len(self.sim.water_area), rate, self.overruns, self.paused, self.handled)
 
     # ---- commands: each takes (arg, notes) and applies at this tick ---------------
 

@@ -54,7 +54,7 @@ class FrostWindow:
         self.actions = Actions(params, self.thread, self.presenter, self.status, self.capture,
                                self.recorder, lambda: self.latest, self.redraw, self.stop)
         self.pointer = Pointer(window, self.sizes, self.thread, args.melt_radius,
-                               lambda: self.actions.params.hc, self.shown_tick)
+                               lambda: self.actions.params.hc, self.shown_tick, self.status.melted)
         self.latest: Snapshot | None = None
         self.running, self.interrupted, self.exit_status = True, False, 0
         self.dirty = self.damaged = True  # render the phone again; present again

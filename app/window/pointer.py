@@ -4,7 +4,6 @@ simulation thread; where the cursor is comes from the events, not from a query."
 
 from __future__ import annotations
 
-import logging
 import time
 from collections.abc import Callable
 
@@ -14,17 +13,17 @@ from app.simthread.thread import SimThread
 from app.window.view import Sizes
 from sim.gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
 
-log = logging.getLogger("app.window")
-
 
 class Pointer:
     """GLFW's mouse-button and cursor callbacks for one window."""
 
     def __init__(self, window, sizes: Sizes, thread: SimThread, melt_radius: float,
-                 hc: Callable[[], float], tick: Callable[[], int]):
+                 hc: Callable[[], float], tick: Callable[[], int],
+                 melted: Callable[[int, int, float], None]):
         self.window, self.sizes, self.thread = window, sizes, thread
         self.melt_radius = melt_radius
         self.hc, self.tick = hc, tick  # the freezing radius asked for; the tick shown
+        self.melted = melted  # (last command, melts, radius) of a right drag just ended
         self.cursor: tuple[float, float] | None = None  # the last motion event's, window px
         self.drag_from = None  # where a left drag last planted
         self.melt_from = None  # where a right drag last melted
@@ -59,7 +58,7 @@ class Pointer:
         """Right button down: melt under the cursor, and along the path while it is held."""
         if action == glfw.RELEASE:
             if self.melt_from is not None:
-                log.info("warm finger: %d melts of radius %g px", self.melts_sent, self.melt_radius)
+                self.melted(self.thread.sent, self.melts_sent, self.melt_radius)
             self.melt_from = None
             return
         self.melt_from, self.melts_sent = self._phone_spot(), 0

@@ -31,6 +31,8 @@ class Status:
         self.message, self.message_until = "", 0.0
         self.latencies: list[tuple[str, int, float]] = []  # (kind, ticks, ms)
         self.clicks_pending: list[tuple[str, tuple[int, float], int]] = []
+        self.drags: list[tuple[int, int, float]] = []  # right drags whose melts are not all shown
+        self.drags_shown: list[tuple[int, float, int]] = []  # shown in the frame being made
         self.hud_next, self._log_next = 0.0, self.started + LOG_PERIOD
         self._fps_mark = self._log_mark = (0, self.started)
         self.stats: list[str] = []  # the HUD's stats lines, refreshed every HUD_PERIOD
@@ -41,11 +43,19 @@ class Status:
         self.message, self.message_until = text, time.monotonic() + MESSAGE_SECONDS
         self.hud_next = 0.0
 
+    def melted(self, last: int, melts: int, radius: float) -> None:
+        """A right drag ended: `melts` melts, the last of them the thread's command `last`."""
+        self.drags.append((last, melts, radius))
+
     def shown(self, snap: Snapshot) -> None:
-        """A snapshot was applied: its clicks' latencies are measured at the next frame."""
+        """A snapshot was applied: its clicks' latencies, and the right drags whose melts it
+        completes, are logged with the next frame."""
         tick = snap.stats.tick
         self.clicks_pending.extend(("frost", c, tick) for c in snap.clicks)
         self.clicks_pending.extend(("growth", c, tick) for c in snap.grown)
+        done = [d for d in self.drags if d[0] <= snap.stats.handled]
+        self.drags = [d for d in self.drags if d[0] > snap.stats.handled]
+        self.drags_shown.extend((melts, radius, tick) for _, melts, radius in done)
 
     def refresh(self, now: float, lines) -> None:
         """New HUD stats when they are due; `lines(now)` words them."""
@@ -67,6 +77,9 @@ class Status:
             log.info("click-to-first-%s: %d ticks, %.1f ms (%s)", kind, tick - click_tick, ms,
                      LATENCY_NOTES[kind])
         self.clicks_pending = []
+        for melts, radius, tick in self.drags_shown:
+            log.info("warm finger: %d melts of radius %g px, all shown at tick %d", melts, radius, tick)
+        self.drags_shown = []
         if now >= self._log_next:
             self._log_next = now + LOG_PERIOD
             frames, since = self._log_mark
