@@ -229,6 +229,15 @@ def test_a_right_drag_is_logged_when_a_frame_shows_all_its_melts(monkeypatch, ca
     assert "warm finger: 3 melts of radius 20 px, all shown at tick 3" in caplog.text
 
 
+def test_the_summary_gives_each_latency_kind_its_count_median_and_worst():
+    from app.window.status import latency_summary
+
+    clicks = [("frost", 1, 30.0), ("growth", 5, 200.0), ("frost", 1, 50.0), ("frost", 2, 40.0)]
+    assert latency_summary(clicks) == ("frost 3 clicks median 40 ms max 50 ms, "
+                                       "growth 1 clicks median 200 ms max 200 ms")
+    assert latency_summary([]) == "none"
+
+
 def test_clear_drops_touches_and_resets():
     thread = SimThread(Params(), 0, [(380, 640)])
     thread._tick()

@@ -4,6 +4,7 @@ log every LOG_PERIOD, click latencies, and the summary at exit (no GL, no GLFW).
 from __future__ import annotations
 
 import logging
+import statistics
 import time
 
 from app.simthread.thread import Snapshot, Stats
@@ -115,11 +116,22 @@ class Status:
                 exit_status: int) -> None:
         elapsed = max(time.monotonic() - self.started, 1e-9)
         s = snap.stats if snap else NO_STATS
-        lat = ", ".join(f"{k} {t} ticks {ms:.0f} ms" for k, t, ms in self.latencies) or "none"
+        lat = latency_summary(self.latencies)
         log.info("summary: %.1f s, %d frames (%.1f fps), %d phone renders, %d ticks "
                  "(%.1f ticks/s), %d overruns, %d screenshots, latency %s, exit status %d",
                  elapsed, self.frames, self.frames / elapsed, renders, ticks,
                  ticks / elapsed, s.overruns, screenshots, lat, exit_status)
+
+
+def latency_summary(latencies: list[tuple[str, int, float]]) -> str:
+    """Per kind of click latency (LATENCY_NOTES): how many, the median and the worst."""
+    parts = []
+    for kind in LATENCY_NOTES:
+        ms = sorted(m for k, _, m in latencies if k == kind)
+        if ms:
+            parts.append(f"{kind} {len(ms)} clicks median {statistics.median(ms):.0f} ms "
+                         f"max {ms[-1]:.0f} ms")
+    return ", ".join(parts) or "none"
 
 
 def onoff(flag: bool) -> str:
