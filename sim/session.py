@@ -104,7 +104,7 @@ class SessionLog:
         except ValueError as err:
             raise SessionError(str(err)) from None
         return cls(_whole(data, "seed", 0, 2**63 - 1), dict(data["params"]),
-                   _whole(data, "width", 1, 16384, 760), _whole(data, "height", 1, 16384, 1280),
+                   _whole(data, "width", 1, 16384, WIDTH), _whole(data, "height", 1, 16384, HEIGHT),
                    events, _whole(data, "steps", 0, 2**31 - 1, 0), view)
 
 

@@ -118,7 +118,7 @@ def window_standin(tmp_path: Path, shots: Path, sessions: Path):
                                       read_phone=lambda: read_image(FakeFbo()))
     capture = Capture(thread, presenter, lambda text, level=logging.INFO: said.append((level, text)),
                       shots, sessions)
-    return types.SimpleNamespace(capture=capture, sim=thread, latest=None, params=PARAMS), said
+    return types.SimpleNamespace(capture=capture, thread=thread, latest=None, params=PARAMS), said
 
 
 def take_shot(win) -> None:
@@ -127,9 +127,9 @@ def take_shot(win) -> None:
 
 def test_a_screenshot_states_the_snapshot_shown_not_a_key_pressed_since(tmp_path):
     win, said = window_standin(tmp_path, tmp_path / "shots", tmp_path / "sessions")
-    win.latest = ticked(win.sim, 5)[-1]
+    win.latest = ticked(win.thread, 5)[-1]
     win.params = PARAMS.replace(hc=7.5)  # a key press the thread has not applied yet
-    win.sim.send("params", win.params)
+    win.thread.send("params", win.params)
     take_shot(win)
     (shot,) = win.capture.screenshots
     text = Image.open(shot).text
@@ -146,7 +146,7 @@ def test_a_screenshot_into_an_unwritable_folder_is_reported_not_raised(tmp_path,
     shots = nowhere if bad in ("shots", "both") else tmp_path / "shots"
     sessions = nowhere if bad in ("sessions", "both") else tmp_path / "sessions"
     win, said = window_standin(tmp_path, shots, sessions)
-    win.latest = ticked(win.sim, 2)[-1]
+    win.latest = ticked(win.thread, 2)[-1]
     take_shot(win)
     warnings = [t for level, t in said if level == logging.WARNING]
     assert warnings and all("NOT saved" in t and "afile" in t and "a file is in the way" in t
@@ -162,7 +162,7 @@ def test_a_full_disk_at_a_screenshot_names_the_file_and_keeps_its_session(tmp_pa
 
     monkeypatch.setattr("app.window.capture.save_png", full)
     win, said = window_standin(tmp_path, tmp_path / "shots", tmp_path / "sessions")
-    win.latest = ticked(win.sim, 2)[-1]
+    win.latest = ticked(win.thread, 2)[-1]
     take_shot(win)
     level, text = said[-1]
     assert level == logging.WARNING and text.startswith("screenshot NOT saved: ")
@@ -172,9 +172,9 @@ def test_a_full_disk_at_a_screenshot_names_the_file_and_keeps_its_session(tmp_pa
 
 def test_failed_screenshots_in_one_second_never_share_a_session_file(tmp_path):
     win, said = window_standin(tmp_path, unwritable(tmp_path), tmp_path / "sessions")
-    win.latest = ticked(win.sim, 2)[-1]
+    win.latest = ticked(win.thread, 2)[-1]
     take_shot(win)
-    win.latest = ticked(win.sim, 2)[-1]
+    win.latest = ticked(win.thread, 2)[-1]
     take_shot(win)
     steps = sorted(SessionLog.load(p).steps for p in (tmp_path / "sessions").glob("*.json"))
     assert steps == [2, 4]  # the first is not overwritten by the second

@@ -10,6 +10,7 @@ import os
 from app.cli import values
 from app.window.keys import DEFAULT_PRESET
 from sim import Params, all_presets
+from sim.screen import HEIGHT, WIDTH
 
 DEFAULT_TICKS = 250
 # The window's options and their defaults; a replay told to render headless refuses them.
@@ -37,7 +38,7 @@ def add_seed(p) -> None:
 
 def add_touch(p, what: str, default: str) -> None:
     p.add_argument("--touch", type=values.touch, action="append", default=[], metavar="X,Y",
-                   help=f"{what}: X,Y in px, 0 <= X < 760, 0 <= Y < 1280 (default {default})")
+                   help=f"{what}: X,Y in px, 0 <= X < {WIDTH}, 0 <= Y < {HEIGHT} (default {default})")
 
 
 def add_out(p) -> None:
@@ -76,7 +77,7 @@ def add_window(p) -> None:
     p.add_argument("--screenshot-dir", default=WINDOW_DEFAULTS["screenshot_dir"], metavar="DIR",
                    help="folder for screenshots (S, F12) and recordings (R) (default screenshots)")
     p.add_argument("--scale", type=values.scale, metavar="F",
-                   help="window size as a fraction of 760x1280 (default: fit the monitor)")
+                   help=f"window size as a fraction of {WIDTH}x{HEIGHT} (default: fit the monitor)")
     p.add_argument("--max-seconds", type=values.seconds, metavar="S",
                    help="close by itself after S seconds, exit status 0 (default: stay open)")
 

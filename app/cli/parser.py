@@ -12,6 +12,7 @@ import textwrap
 from app.cli import options, values
 from app.window.keys import help_lines
 from sim import all_presets
+from sim.screen import HEIGHT, WIDTH
 
 PROG = "frost"
 FIGURES = ("fern",)
@@ -66,7 +67,7 @@ def parser_for(root: Parser, args: argparse.Namespace) -> Parser:
 def _window() -> Parser:
     p = Parser(prog=PROG, usage="%(prog)s [options]           (the window)\n       "
                                 "%(prog)s COMMAND [options]   (COMMAND below)", description=_para(
-        "Real-time window frost on a 760x1280 phone screen. With no COMMAND it opens the "
+        f"Real-time window frost on a {WIDTH}x{HEIGHT} phone screen. With no COMMAND it opens the "
         "window: click (or drag) to plant seed crystals, drag with the right button to melt "
         "the ice (a warm finger). Each session is saved (--session-dir) and frost replay "
         "plays it again bit for bit. With no display it grows the scripted demo offscreen "
@@ -156,7 +157,7 @@ def _bench(root: Parser, subs) -> None:
     p.command(kinds, "sim", "the simulation's benchmark: every argument, --help too, goes to "
               "python -m sim.bench", usage="[ARGS ...]", add_help=False)
     _bench_render(p.command(kinds, "render", "the renderer's benchmark: frame, geometry and "
-                            "upload times at about half the screen frosted (headless, 760x1280)"))
+                            f"upload times at about half the screen frosted (headless, {WIDTH}x{HEIGHT})"))
 
 
 def _bench_render(p: Parser) -> None:

@@ -92,7 +92,7 @@ def run(args) -> int:
     print(f"{sim.tick} ticks, {result['frosted']:.0%} of the screen frosted, "
           f"{result['crystals']} crystals")
     print(f"frame: median {result['frame_ms']} ms, best {result['frame_ms_min']} ms over "
-          f"{args.frames} frames (760x1280, ctx.finish() inside)")
+          f"{args.frames} frames ({WIDTH}x{HEIGHT}, ctx.finish() inside)")
     print(f"geometry update: median {result['geometry_ms_per_tick']} ms/tick "
           f"(max {result['geometry_ms_max']})")
     print(f"upload (dirty height rows + new feature vertices): median "

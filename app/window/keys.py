@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from sim import PRESETS
+from sim.screen import HEIGHT, WIDTH
 
 
 @dataclass(frozen=True)
@@ -47,7 +48,7 @@ BINDINGS: tuple[Binding, ...] = (
     Binding(("SPACE",), "Space", "pause / resume the simulation", "pause"),
     Binding(("N", "PERIOD"), "N .", "one tick while paused", "single_step"),
     Binding(("C",), "C", "clear the frost (and the touches)", "clear"),
-    Binding(("S", "F12"), "S F12", "screenshot (760x1280 PNG)", "screenshot"),
+    Binding(("S", "F12"), "S F12", f"screenshot ({WIDTH}x{HEIGHT} PNG)", "screenshot"),
     Binding(("R",), "R", "record on / off (animated WebP)", "record"),
     Binding(("E",), "E", "export frost maps (height, normal, alpha PNGs)", "export_maps"),
     Binding(("EQUAL", "KP_ADD"), "=", f"humidity up (x{HUMIDITY_FACTOR})", "scale",
