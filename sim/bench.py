@@ -94,14 +94,24 @@ def _timed(fn, spent: dict[str, float], name: str):
 
 
 def busy_ticks(humidity: int, samples: int) -> list[float]:
-    """Seconds of ticks that start with at least 90 % of `humidity` walkers."""
-    params = Params.preset("c-2", humidity=humidity)
+    """Seconds of ticks that start with at least 90 % of `humidity` walkers (the screen's
+    water budget raised to `humidity` where it is below, so that one touch can hold them)."""
+    budget = max(humidity, Params().water_budget)
+    return busy_ticks_for(Params.preset("c-2", humidity=humidity, water_budget=budget), samples)
+
+
+def busy_ticks_for(params: Params, samples: int) -> list[float]:
+    """Seconds of ticks that start with at least 90 % of `params.humidity` walkers."""
+    humidity = params.humidity
     times: list[float] = []
     seed = 0
     while len(times) < samples:
         sim = FrostSim(params, seed=seed)
         sim.touch(*CENTRE)
         seed += 1
+        if len(sim.water_area) < 0.9 * humidity:
+            raise ValueError(f"a touch brought {len(sim.water_area)} of {humidity} walkers: "
+                             "no tick of it can be busy")
         while len(times) < samples and len(sim.water_area) >= 0.9 * humidity:
             t0 = time.perf_counter()
             sim.step()
@@ -323,24 +333,8 @@ def window_section(seeds: int, after: int) -> dict:
             "tracemalloc_peak_bytes": mem["peak"]}
 
 
-SECTIONS = ("fig9", "busy", "growth", "memory", "abuse", "fern", "window")
-
-
-def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m sim.bench", description=__doc__.splitlines()[0])
-    ap.add_argument("--repeats", type=int, default=3, help="full growths per mode and preset")
-    ap.add_argument("--samples", type=int, default=200, help="busy ticks timed per humidity")
-    ap.add_argument("--quick", action="store_true", help="a fast smoke run")
-    ap.add_argument("--section", choices=SECTIONS, action="append",
-                    help="run only this section (repeatable; default: all)")
-    args = ap.parse_args(argv)
-    if args.quick:
-        args.repeats, args.samples = 1, 20
-    print(f"# frost sim benchmark: {platform.processor() or platform.machine()}, "
-          f"numpy {np.__version__}, python {platform.python_version()}, one thread")
-    if args.section:
-        run_sections(args)
-        return 0
+def section_fig9(args) -> dict:
+    """Fig. 9's table and where a c-2 growth spends its time, for both searches."""
     rows = fig9(["c-1", "c-2", "c-3"], args.repeats)
     print("\n## Fig. 9: full growth from one touch (median of", args.repeats, "runs)")
     print("preset  ticks  candidate ms/tick  grid9 ms/tick  total cand s  total grid9 s  grid9/cand")
@@ -353,47 +347,78 @@ def main(argv: list[str] | None = None) -> int:
     print("phase         candidate    grid9")
     for phase in prof["candidate"]:
         print(f"{phase:12} {1e3 * prof['candidate'][phase]:10.2f} {1e3 * prof['grid9'][phase]:8.2f}")
+    return {"fig9": rows, "phases": prof}
+
+
+# The largest is the most water the screen's budget may hold (`water_budget`'s range).
+BUSY_HUMIDITIES = (500, 3000, 5000, 10000, 30000)
+
+
+def section_busy(args) -> dict:
+    """Tick times when nearly every walker moves, at five humidities."""
     print(f"\n## Busy ticks (>= 90 % of walkers moving), c-2, {args.samples} ticks each")
     print("humidity  median ms  p95 ms  walker steps/s")
     busy = []
-    for hum in (500, 3000, 5000, 30000, 100000):
+    for hum in BUSY_HUMIDITIES:
         t = np.array(busy_ticks(hum, args.samples))
         med, p95 = float(np.median(t)), float(np.percentile(t, 95))
         busy.append({"humidity": hum, "median_ms": 1e3 * med, "p95_ms": 1e3 * p95,
                      "walker_steps_per_s": hum / med})
         print(f"{hum:8} {1e3 * med:10.3f} {1e3 * p95:7.3f} {hum / med / 1e6:11.1f} M")
+    return {"busy": busy}
+
+
+def section_growth(args) -> dict:
+    """Growth mode from one touch until the screen is covered."""
     curve = growth_curve()
     print("\n## Growth mode (grow=on), humidity 3000: one touch until the screen is covered")
     print(" tick  crystals  covered  median ms  max ms")
     for r in curve:
         print(f"{r['tick']:5} {r['crystals']:9} {100 * r['covered']:7.1f}% {r['median_ms']:10.3f} "
               f"{r['max_ms']:7.2f}")
+    return {"growth": curve}
+
+
+def section_memory(args) -> dict:
+    """What a full c-2 growth holds."""
     mem = memory()
     print(f"\n## Memory after a full c-2 growth ({mem['crystals']} crystals)")
     print(f"array bytes {mem['array_bytes'] / 1e6:.2f} MB, "
           f"tracemalloc peak {mem['tracemalloc_peak_bytes'] / 1e6:.2f} MB")
-    abused = abuse(["c-2", "c-3"], 10.0 if args.quick else 60.0)
-    print_abuse(abused)
-    fern = fern_section(*_fern_sizes(args))
-    window = window_section(*_window_sizes(args))
-    print(json.dumps({"fig9": rows, "phases": prof, "busy": busy, "growth": curve, "memory": mem,
-                      "abuse": abused, "fern": fern, "window": window}))
+    return {"memory": mem}
+
+
+def section_abuse(args) -> dict:
+    """The scripted scribble and the storm (tick distributions, memory)."""
+    rows = abuse(["c-2", "c-3"], 10.0 if args.quick else 60.0)
+    print_abuse(rows)
+    return {"abuse": rows}
+
+
+SECTIONS = {"fig9": section_fig9, "busy": section_busy, "growth": section_growth,
+            "memory": section_memory, "abuse": section_abuse,
+            "fern": lambda args: {"fern": fern_section(*_fern_sizes(args))},
+            "window": lambda args: {"window": window_section(*_window_sizes(args))}}
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m sim.bench", description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=3, help="full growths per mode and preset")
+    ap.add_argument("--samples", type=int, default=200, help="busy ticks timed per humidity")
+    ap.add_argument("--quick", action="store_true", help="a fast smoke run")
+    ap.add_argument("--section", choices=list(SECTIONS), action="append",
+                    help="run only this section (repeatable; default: all, in this order)")
+    args = ap.parse_args(argv)
+    if args.quick:
+        args.repeats, args.samples = 1, 20
+    print(f"# frost sim benchmark: {platform.processor() or platform.machine()}, "
+          f"numpy {np.__version__}, python {platform.python_version()}, one thread")
+    figures: dict = {}
+    for name, section in SECTIONS.items():
+        if not args.section or name in args.section:
+            figures.update(section(args))
+    print(json.dumps(figures))
     return 0
-
-
-def run_sections(args) -> None:
-    """Only the sections asked for (those with a printer of their own)."""
-    if "abuse" in args.section:
-        rows = abuse(["c-2", "c-3"], 10.0 if args.quick else 60.0)
-        print_abuse(rows)
-        print(json.dumps({"abuse": rows}))
-    if "fern" in args.section:
-        print(json.dumps({"fern": fern_section(*_fern_sizes(args))}))
-    if "window" in args.section:
-        print(json.dumps({"window": window_section(*_window_sizes(args))}))
-    others = set(args.section) - {"abuse", "fern", "window"}
-    if others:
-        print(f"(sections {', '.join(sorted(others))} run only as part of the full benchmark)")
 
 
 def _fern_sizes(args) -> tuple[int, int]:
