@@ -1,8 +1,13 @@
 """The simulation benchmark's sections run on their own and measure what they say."""
+import contextlib
+import io
 import json
 
 import pytest
+from hypothesis import HealthCheck, example, given, settings
+from hypothesis import strategies as st
 
+from app import cli
 from sim import bench
 from sim.params import Params
 
@@ -39,3 +44,44 @@ def test_each_section_runs_alone(capsys):
     assert set(figures) == {"memory"}
     assert figures["memory"]["crystals"] > 0
     assert "Fig. 9" not in out
+
+
+# ---- its command line -------------------------------------------------------------------
+
+VALUES = st.one_of(st.sampled_from(["", "0", "-1", "1", "2.5", "1e9", "nan", "100000", "100001",
+                                    "fig9", "busy", "memory", "nope", "3"]),
+                   st.integers(-10**9, 10**9).map(str), st.text(max_size=5))
+OPTIONS = st.lists(st.one_of(
+    st.tuples(st.sampled_from(["--repeats", "--samples", "--section"]), VALUES)
+    .map(lambda ov: f"{ov[0]}={ov[1]}"),
+    st.sampled_from(["--quick", "--bogus", "stray"])), max_size=5)
+
+
+@settings(suppress_health_check=[HealthCheck.function_scoped_fixture], max_examples=150)
+@given(argv=OPTIONS)
+@example(argv=["--repeats=0"])  # fig9 took the median of no runs: KeyError
+@example(argv=["--samples=-1"])  # busy took the percentile of no ticks: IndexError
+def test_frost_bench_sim_runs_or_is_refused_in_one_line(monkeypatch, argv):
+    ran = []
+
+    def section(args) -> dict:
+        ran.append(args)
+        return {}
+
+    monkeypatch.setattr(bench, "SECTIONS", dict.fromkeys(bench.SECTIONS, section))
+    err, out = io.StringIO(), io.StringIO()
+    status: int | str | None
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
+        try:
+            status = cli.main(["bench", "sim", *argv])
+        except SystemExit as stop:  # argparse's way out, as in a real run
+            status = stop.code
+    if ran:
+        assert status == 0
+        args = ran[0]
+        assert isinstance(args.repeats, int) and args.repeats >= 1
+        assert isinstance(args.samples, int) and args.samples >= 1
+    else:
+        message = err.getvalue()
+        assert status == 2, message
+        assert message.count("\n") == 1 and message.startswith("frost bench sim: error: "), message

@@ -26,7 +26,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if argv[:2] == ["bench", "sim"]:  # its arguments are sim.bench's to parse
             from sim.bench import main as bench_sim
-            return bench_sim(argv[2:])
+            return bench_sim(argv[2:], prog="frost bench sim")
         args, params = _parse(argv)
         return RUN[args.command](args, params)
     except KeyboardInterrupt:  # Ctrl-C: every file is written atomically, none is half there
