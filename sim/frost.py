@@ -173,8 +173,9 @@ class FrostSim:
         return int(self.plant([(x, y)])[0])
 
     def plant(self, points) -> np.ndarray:
-        """Touches at every (x, y) of `points` at once (as a rebuild replants them): the
-        seeds, then one top-up of each area they touched. Returns each seed's area."""
+        """Touches at every (x, y) of `points` at once (a run's first touches, or those a
+        rebuild replants together): the seeds, then one top-up of each area they touched.
+        Returns each seed's area."""
         pts = np.array(points, np.float64).reshape(-1, 2)
         for x, y in pts:
             problem = touch_problem(x, y, (self.width, self.height))

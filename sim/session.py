@@ -6,10 +6,15 @@ the step that produces tick t + 1 (several events of one tick apply in their ord
 Kinds: "touch" (x, y), "melt" (x, y, r), "params" (params: a dict; rebuilds the
 simulation) and "clear" (drops the touches and melts, rebuilds).
 
-A rebuild (params, clear) starts a new timeline at tick 0: the touches so far are planted
-at tick 0 and the melts so far are scheduled again at their own ticks (one at tick t
-applies in the step that produces tick t + 1, before the walk), so a melted spot melts
-again when the new frost reaches the same age. Later event ticks count from there.
+A rebuild (params, clear) starts a new timeline at tick 0. The touches so far are planted
+again in their order and at their own pace: the first at tick 0, each pause between two
+touches kept but shortened to at most REGROW_GAP ticks (so a scribble regrows stroke by
+stroke as it was drawn, with the water going where it went then, and a touch made minutes
+after the last is back within half a second). The melts so far are scheduled again at
+their own ticks (one at tick t applies in the step that produces tick t + 1, before the
+walk), so a melted spot melts again when the new frost reaches the same age. Later event
+ticks count from there. Session files of version 1 replant every touch at tick 0, as
+frost did when they were written, so they still replay bit for bit.
 No GL here: deltas are plain arrays for app/ to upload.
 """
 
@@ -32,7 +37,9 @@ from .screen import HEIGHT, WIDTH, touch_problem
 log = logging.getLogger(__name__)
 
 FORMAT = "frost-session"
-VERSION = 1
+VERSION = 2  # 2: a rebuild replants the touches at their own pace (1: all at tick 0)
+# Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
+REGROW_GAP = 12
 # The keys each event kind needs besides "tick" and "kind".
 EVENT_FIELDS = {"touch": ("x", "y"), "melt": ("x", "y", "r"), "params": ("params",),
                 "clear": ()}
@@ -61,9 +68,10 @@ class SessionLog:
     # How the renderer showed the last frame (light, features, bumps; see check_view);
     # None in files older than it: the renderer's defaults.
     view: dict[str, Any] | None = None
+    version: int = VERSION  # how its rebuilds replant (see regrow_gap)
 
     def as_json(self) -> dict[str, Any]:
-        data = {"format": FORMAT, "version": VERSION, "seed": self.seed, "width": self.width,
+        data = {"format": FORMAT, "version": self.version, "seed": self.seed, "width": self.width,
                 "height": self.height, "params": self.params, "steps": self.steps,
                 "events": self.events}
         return data if self.view is None else {**data, "view": self.view}
@@ -105,7 +113,25 @@ class SessionLog:
             raise SessionError(str(err)) from None
         return cls(_whole(data, "seed", 0, 2**63 - 1), dict(data["params"]),
                    _whole(data, "width", 1, 16384, WIDTH), _whole(data, "height", 1, 16384, HEIGHT),
-                   events, _whole(data, "steps", 0, 2**31 - 1, 0), view)
+                   events, _whole(data, "steps", 0, 2**31 - 1, 0), view,
+                   _whole(data, "version", 1, VERSION, VERSION))
+
+
+def regrow_gap(version: int) -> int:
+    """The longest pause between replanted touches in a session file of `version`."""
+    return 0 if version < 2 else REGROW_GAP
+
+
+def regrow(touches: list[dict[str, Any]], gap: int) -> list[dict[str, Any]]:
+    """`touches` (in tick order) as a rebuild schedules them again: the first at tick 0,
+    each later one after the pause it followed, shortened to at most `gap` ticks."""
+    out, at, prev = [], 0, None
+    for event in touches:
+        if prev is not None:
+            at += min(event["tick"] - prev, gap)
+        prev = event["tick"]
+        out.append({**event, "tick": at})
+    return out
 
 
 # Coordinates and radii beyond this many px are refused: nothing is that far off a
@@ -225,13 +251,18 @@ class Timeline:
     """A FrostSim and its FrostGeometry driven by events (see the module docstring)."""
 
     def __init__(self, params: Params, seed: int, width: int = WIDTH, height: int = HEIGHT,
-                 touches=()):
-        self.seed, self.size = seed, (width, height)
+                 touches=(), gap: int = REGROW_GAP):
+        self.seed, self.size, self.gap = seed, (width, height), gap
         self.steps = 0
+        # Every touch the frost grows from: planted, or scheduled by a rebuild.
         self.touches: tuple[tuple[float, float], ...] = tuple(touches)
         self.melts: list[dict[str, Any]] = []  # this timeline's melts, as applied
         self.events: list[dict[str, Any]] = []  # every event applied, with its tick
-        self._pending: list[dict[str, Any]] = []  # melts scheduled by a rebuild
+        # This timeline's touches as planted; "group" tells those planted together.
+        self._sown: list[dict[str, Any]] = []
+        self._group = 0
+        # Touches and melts a rebuild scheduled, in tick order.
+        self._pending: list[dict[str, Any]] = touch_events(self.touches)
         self._handlers = {"touch": self._touch, "melt": self._melt,
                           "params": self._params, "clear": self._clear}
         self._build(params)
@@ -264,16 +295,40 @@ class Timeline:
         self.steps += 1
         return [*notes["deltas"], self.geometry.update(self.sim)]
 
+    def touch_ticks(self) -> list[tuple[int, float, float]]:
+        """(tick, x, y) of every touch the frost grows from, planted or scheduled."""
+        return [(e["tick"], e["x"], e["y"]) for e in self._sown + self._pending
+                if e["kind"] == "touch"]
+
     def _due(self, notes: dict) -> None:
         while self._pending and self._pending[0]["tick"] <= self.sim.tick:
-            self._melt(self._pending.pop(0), notes)
+            if self._pending[0]["kind"] == "melt":
+                self._melt(self._pending.pop(0), notes)
+            else:
+                self._sow_due()
+
+    def _sow_due(self) -> None:
+        """Plant the touches due first, together if they were planted together before
+        (with gap 0, as version 1 did: every touch due)."""
+        head, n = self._pending, 1
+        while (n < len(head) and head[n]["kind"] == "touch" and head[n]["tick"] == head[0]["tick"]
+               and (self.gap == 0 or head[n].get("group") == head[0].get("group"))):
+            n += 1
+        self._sow(head[:n])
+        del head[:n]
+
+    def _sow(self, touches: list[dict[str, Any]]) -> None:
+        """Plant `touches` now, together (one top-up per area they touch)."""
+        self.sim.plant([(e["x"], e["y"]) for e in touches])
+        self._group += 1
+        self._sown += [{**e, "tick": self.sim.tick, "group": self._group} for e in touches]
 
     # ---- event handlers: (event, notes) ------------------------------------------------
 
     def _touch(self, event: dict, _notes: dict) -> None:
         x, y = float(event["x"]), float(event["y"])
         if touch_problem(x, y, self.size) is None:  # a touch off the screen is ignored
-            self.sim.touch(x, y)
+            self._sow([{"tick": self.sim.tick, "kind": "touch", "x": x, "y": y}])
             self.touches = (*self.touches, (x, y))
 
     def _melt(self, event: dict, notes: dict) -> None:
@@ -285,17 +340,24 @@ class Timeline:
     def _params(self, event: dict, notes: dict) -> None:
         params = event["params"]
         self._rebuild(params if isinstance(params, Params) else Params(**params), notes)
-        notes["message"] = (f"rebuilt with {len(self.touches)} touches replayed at tick 0 "
-                            f"and {len(self._pending)} melts at their ticks")
+        ticks = [t for t, _x, _y in self.touch_ticks()]
+        melts = sum(e["kind"] == "melt" for e in self._pending)
+        notes["message"] = (f"rebuilt with {len(ticks)} touches replanted in their order by "
+                            f"tick {max(ticks, default=0)} and {melts} melts at their ticks")
 
     def _clear(self, _event: dict, notes: dict) -> None:
-        self.touches, self.melts, self._pending = (), [], []
+        self.touches, self.melts, self._pending, self._sown = (), [], [], []
         self._rebuild(self.params, notes)
 
     def _rebuild(self, params: Params, notes: dict) -> None:
-        # Melts still waiting from an earlier rebuild keep their ticks too.
-        self._pending = sorted(self.melts + self._pending, key=lambda m: m["tick"])
-        self.melts = []
+        # What an earlier rebuild scheduled and has not happened yet comes again too.
+        touches = self._sown + [e for e in self._pending if e["kind"] == "touch"]
+        melts = self.melts + [e for e in self._pending if e["kind"] == "melt"]
+        touches = regrow(sorted(touches, key=lambda e: e["tick"]), self.gap)
+        self.touches = tuple((e["x"], e["y"]) for e in touches)
+        # (stable: a tick's touches before its melts, as they applied)
+        self._pending = sorted(touches + melts, key=lambda e: e["tick"])
+        self.melts, self._sown = [], []
         self._build(params)
         notes["reset"] = True
         notes["deltas"].clear()  # older melt deltas belong to the old frost
@@ -304,8 +366,9 @@ class Timeline:
         self.params = params
         self.sim = FrostSim(params, *self.size, seed=self.seed)
         self.geometry = FrostGeometry(params, *self.size)
-        if self.touches:
-            self.sim.plant(self.touches)
+        while self._pending and self._pending[0]["tick"] == 0 \
+                and self._pending[0]["kind"] == "touch":  # (melts wait for the step)
+            self._sow_due()
 
 
 def touch_events(points, tick: int = 0) -> list[dict[str, Any]]:
@@ -336,7 +399,8 @@ def replay(log_: SessionLog, steps: int | None = None, on_apply=None, on_step=No
            on_tick=None) -> Timeline:
     """Run `log_` for `steps` steps (default: as many as it took) through `grow`."""
     steps = log_.steps if steps is None else steps
-    timeline = Timeline(Params(**log_.params), log_.seed, log_.width, log_.height)
+    timeline = Timeline(Params(**log_.params), log_.seed, log_.width, log_.height,
+                        gap=regrow_gap(log_.version))
     applied = grow(timeline, steps, log_.events, on_apply, on_step, on_tick)
     if applied < len(log_.events):
         log.warning("replay: %d events after step %d were not applied",

@@ -301,15 +301,21 @@ def test_a_replay_with_a_moved_light_and_no_features_matches_the_live_frame(gl_c
 
 
 def test_replayed_touches_follow_clears_and_rebuilds():
-    from app.tools.offscreen import touches_left
+    from sim.session import Timeline, grow
 
     events = [{"tick": 0, "kind": "touch", "x": 1.0, "y": 2.0},
               {"tick": 3, "kind": "touch", "x": 900.0, "y": 2.0},  # off the screen
               {"tick": 4, "kind": "touch", "x": 5.0, "y": 6.0},
-              {"tick": 9, "kind": "params", "params": {}},
+              {"tick": 40, "kind": "touch", "x": 9.0, "y": 9.0},
+              {"tick": 45, "kind": "params", "params": {}},
               {"tick": 2, "kind": "touch", "x": 7.0, "y": 8.0}]
-    assert touches_left(events) == [(0, 1.0, 2.0), (0, 5.0, 6.0), (2, 7.0, 8.0)]
-    assert touches_left([*events, {"tick": 3, "kind": "clear"}]) == []
+    timeline = Timeline(Params(), 0)
+    grow(timeline, 47, events)  # 45 ticks, the rebuild, 2 ticks
+    # replanted in their order, the pause of 36 ticks shortened to 12; the new one at 2
+    assert timeline.touch_ticks() == [(0, 1.0, 2.0), (2, 7.0, 8.0), (4, 5.0, 6.0),
+                                      (16, 9.0, 9.0)]
+    grow(timeline, 1, [{"tick": 3, "kind": "clear"}])
+    assert timeline.touch_ticks() == []
 
 
 @pytest.mark.parametrize("view, problem", [

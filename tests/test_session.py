@@ -14,7 +14,7 @@ import pytest
 from app.simthread import thread as simthread
 from app.simthread.thread import SimThread
 from sim import Params
-from sim.session import Backlog, SessionError, SessionLog, Timeline, replay
+from sim.session import Backlog, SessionError, SessionLog, Timeline, grow, regrow, replay, touch_events
 
 ROOT = Path(__file__).resolve().parent.parent
 PARAMS = Params.preset("c-3")
@@ -172,6 +172,69 @@ def test_clear_forgets_the_melts_a_rebuild_scheduled():
     assert len(timeline._pending) == 1
     timeline.apply([{"kind": "clear"}, {"kind": "touch", "x": 100.0, "y": 100.0}])
     assert timeline._pending == [] and timeline.touches == ((100.0, 100.0),)
+
+
+def test_regrow_keeps_the_touches_order_and_shortens_only_long_pauses():
+    ticks = [5, 5, 9, 60, 61, 200]  # by hand, gap 12: 0, 0, 4, 4+12, 16+1, 17+12
+    touches = [{"tick": t, "kind": "touch", "x": float(k), "y": 0.0} for k, t in enumerate(ticks)]
+    again = regrow(touches, 12)
+    assert [e["tick"] for e in again] == [0, 0, 4, 16, 17, 29]
+    assert [e["x"] for e in again] == [0, 1, 2, 3, 4, 5]
+    assert [e["tick"] for e in regrow(touches, 0)] == [0] * 6  # version 1: all at tick 0
+
+
+def frost_arrays(sim) -> dict[str, np.ndarray]:
+    return {name: np.array(getattr(sim, name)) for name in
+            ("crystals", "parents", "segments", "upsampled", "water", "areas")}
+
+
+def test_a_rebuild_regrows_a_scribble_as_it_grew_live():
+    # The fern look, drags from tick 0 with pauses of 5 ticks: a rebuild with the same
+    # parameters must give back the very frost the scribble grew (the touches once went
+    # all at tick 0, and the water split over every area at once left sparse twigs).
+    from sim.gestures import DRAG_SPACING_HC
+    from sim.scribble import STROKE_GAP, stroke
+
+    params = Params.preset("fern")
+    schedule = []
+    for a, b in (((60, 80), (700, 600)), ((700, 100), (80, 1200)), ((380, 300), (600, 1250))):
+        schedule += stroke(a, b, DRAG_SPACING_HC * params.hc, "touch") + [[]] * STROKE_GAP
+    events = [{**e, "tick": t} for t, tick_events in enumerate(schedule) for e in tick_events]
+    steps = len(schedule) + 40
+    timeline = Timeline(params, 3)
+    grow(timeline, steps, events)
+    live = frost_arrays(timeline.sim)
+    assert len(timeline.touches) > 60 and len(live["areas"]) < 10
+    timeline.apply([{"kind": "params", "params": params}])
+    grow(timeline, steps)
+    again = frost_arrays(timeline.sim)
+    for name in live:
+        assert np.array_equal(live[name], again[name]), name
+    assert timeline.touch_ticks() == [(e["tick"], e["x"], e["y"]) for e in events]
+
+
+@pytest.mark.parametrize("version, ticks", [(1, [0, 0, 0]), (2, [0, 12, 13])])
+def test_a_session_file_replants_as_its_version_did(tmp_path, version, ticks):
+    events = [*touch_events([(300.0, 400.0)]), *touch_events([(500.0, 700.0)], 30),
+              *touch_events([(520.0, 700.0)], 31),
+              {"tick": 40, "kind": "params", "params": PARAMS.replace(humidity=4000).as_dict()}]
+    log = SessionLog(0, PARAMS.as_dict(), events=events, steps=60, version=version)
+    log = SessionLog.load(log.save(tmp_path / "s.json"))
+    assert log.version == version and log.as_json()["version"] == version
+    timeline = replay(log)
+    assert [t for t, _x, _y in timeline.touch_ticks()] == ticks
+    # the same frost as a run that starts from the regrown schedule
+    # (the touches due at tick 0 are planted at once, as a session's first touches are)
+    at0 = [(e["x"], e["y"]) for e, t in zip(events[:3], ticks, strict=True) if t == 0]
+    fresh = Timeline(PARAMS.replace(humidity=4000), 0, touches=at0)
+    grow(fresh, 20, [{**e, "tick": t} for e, t in zip(events[:3], ticks, strict=True) if t > 0])
+    same_frost(timeline.sim, fresh.sim)
+
+
+def test_a_session_file_from_a_later_frost_is_refused():
+    data = {"format": "frost-session", "version": 3, "seed": 0, "params": {}, "events": []}
+    with pytest.raises(SessionError, match="version"):
+        SessionLog.from_json(data)
 
 
 def test_events_due_after_the_last_step_still_apply():

@@ -11,8 +11,8 @@ from app.gl.renderer import Renderer
 from app.images import read_image, save_png
 from app.tools.progress import Progress
 from sim import Params
-from sim.screen import HEIGHT, SIZE, WIDTH, touch_problem
-from sim.session import Applied, Timeline, grow
+from sim.screen import HEIGHT, SIZE, WIDTH
+from sim.session import REGROW_GAP, Applied, Timeline, grow
 
 
 def make_context():
@@ -29,8 +29,9 @@ def make_context():
 class Offscreen:
     """A Timeline (simulation, geometry, events) and a renderer fed every delta in order."""
 
-    def __init__(self, ctx, params: Params, seed: int, view: dict | None = None):
-        self.timeline = Timeline(params, seed, WIDTH, HEIGHT)
+    def __init__(self, ctx, params: Params, seed: int, view: dict | None = None,
+                 gap: int = REGROW_GAP):
+        self.timeline = Timeline(params, seed, WIDTH, HEIGHT, gap=gap)
         self.renderer = Renderer(ctx, params, WIDTH, HEIGHT)
         self.renderer.set_view(view)
         self.fbo = ctx.simple_framebuffer(SIZE, components=4)
@@ -65,7 +66,7 @@ class Offscreen:
 
     def touches(self) -> list[tuple[int, float, float]]:
         """(tick, x, y) of the touches the frost now grows from, as a live run states them."""
-        return touches_left(self.timeline.events)
+        return self.timeline.touch_ticks()
 
     def snapshot(self, path: Path, software: str = "frost render") -> Path:
         meta = {"parameters": self.sim.params.as_dict(), "seed": self.sim.seed,
@@ -76,16 +77,3 @@ class Offscreen:
     def release(self) -> None:
         self.fbo.release()
 
-
-def touches_left(events: list[dict]) -> list[tuple[int, float, float]]:
-    """(tick, x, y) of the touches a run's events leave: a clear drops them, a parameter
-    change replants them at tick 0, off-screen ones never counted."""
-    touches: list[tuple[int, float, float]] = []
-    for e in events:
-        if e["kind"] == "touch" and touch_problem(e["x"], e["y"]) is None:
-            touches.append((e["tick"], float(e["x"]), float(e["y"])))
-        elif e["kind"] == "clear":
-            touches = []
-        elif e["kind"] == "params":
-            touches = [(0, x, y) for _, x, y in touches]
-    return touches

@@ -11,7 +11,7 @@ from app.tools.progress import Progress
 from app.tools.render import DEFAULT_FOLDER, error, write
 from sim import Params
 from sim.screen import HEIGHT, WIDTH
-from sim.session import SessionError, SessionLog
+from sim.session import SessionError, SessionLog, regrow_gap
 
 
 def load_session(path) -> SessionLog:
@@ -27,7 +27,8 @@ def replay_offscreen(ctx, log_: SessionLog, steps: int | None = None,
                      progress: Progress | None = None) -> Offscreen:
     """An Offscreen that went through `log_` for `steps` steps (default: as recorded),
     shown with the session's view."""
-    offscreen = Offscreen(ctx, Params(**log_.params), log_.seed, log_.view)
+    offscreen = Offscreen(ctx, Params(**log_.params), log_.seed, log_.view,
+                          regrow_gap(log_.version))
     offscreen.progress = progress
     steps = log_.steps if steps is None else steps
     if offscreen.grow(steps, log_.events) < len(log_.events):
