@@ -206,6 +206,8 @@ def test_a_rebuild_regrows_a_scribble_as_it_grew_live():
     live = frost_arrays(timeline.sim)
     assert len(timeline.touches) > 60 and len(live["areas"]) < 10
     timeline.apply([{"kind": "params", "params": params}])
+    grow(timeline, 7)  # a key pressed again mid-regrowth starts the same regrowth over
+    timeline.apply([{"kind": "params", "params": params}])
     grow(timeline, steps)
     again = frost_arrays(timeline.sim)
     for name in live:
