@@ -20,7 +20,7 @@ import pytest
 from PIL import Image
 
 from app.images import export_maps, read_image, save_png
-from app.simthread import thread as simthread
+from app.simthread import export
 from app.simthread.thread import SimThread
 from app.window.record import Recorder
 from sim import Params
@@ -65,7 +65,7 @@ def test_snapshots_do_not_change_when_the_simulation_goes_on():
 
 def test_exported_arrays_are_copies_the_simulation_cannot_change(monkeypatch):
     jobs, done = [], threading.Event()
-    monkeypatch.setattr(simthread, "_write_maps", lambda *job: (jobs.append(job), done.set()))
+    monkeypatch.setattr(export, "write_maps", lambda *job: (jobs.append(job), done.set()))
     thread = SimThread(PARAMS, 1, [(380.0, 640.0)])
     ticked(thread, 10)
     thread.send("export", Path("unused"))

@@ -209,6 +209,31 @@ def test_a_click_while_paused_is_timed_when_it_shows():
     assert first.clicks == () and second.clicks == ((0, 0.0),)
 
 
+def test_a_click_is_reported_grown_once_at_the_tick_its_seed_first_gets_a_child():
+    thread = SimThread(Params(), 0, [(100.0, 100.0)])  # crystal 0: a seed nobody clicked
+    thread.send("touch", ((380.0, 640.0), (0, 1.0)))
+    seed, reported, first_child = 1, [], None
+    for _ in range(60):
+        thread._tick()
+        snap = thread.drain()[-1]
+        reported += [(snap.stats.tick, click) for click in snap.grown]
+        if first_child is None and (thread.sim.parents == seed).any():  # the oracle
+            first_child = snap.stats.tick
+    assert first_child is not None and reported == [(first_child, (0, 1.0))]
+
+
+def test_a_rebuild_forgets_the_seeds_it_renumbered():
+    thread = SimThread(Params(), 0)
+    thread.send("touch", ((380.0, 640.0), (0, 1.0)))
+    thread._tick()
+    thread.send("params", Params(hc=8.0))  # the touch is replanted, but not as a click
+    grown = []
+    for _ in range(60):
+        thread._tick()
+        grown += thread.drain()[-1].grown
+    assert (thread.sim.parents == 0).any() and grown == []
+
+
 def test_a_right_drag_is_logged_when_a_frame_shows_all_its_melts(monkeypatch, caplog):
     from app.window.status import Status
 

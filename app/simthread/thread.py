@@ -9,7 +9,6 @@ snapshot's geometry deltas in order. No GL here.
 
 from __future__ import annotations
 
-import json
 import logging
 import queue
 import threading
@@ -19,11 +18,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from app.images import export_maps
+from app.simthread.clicks import Click, Clicks
+from app.simthread.export import export_now
 from sim import Params
-from sim.files import why
 from sim.geometry import GeometryDelta
-from sim.maps import live_segments
 from sim.screen import HEIGHT, WIDTH
 from sim.session import Applied, Backlog, SessionLog, Timeline, apply_due
 
@@ -55,13 +53,23 @@ class Snapshot:
     params: Params
     touches: tuple[tuple[float, float], ...]
     reset: bool = False  # the renderer must clear before applying `delta`
-    clicks: tuple[tuple[int, float], ...] = ()  # (click tick, click time) planted this tick
-    grown: tuple[tuple[int, float], ...] = ()  # clicks whose seed got its first crystal
+    clicks: tuple[Click, ...] = ()  # clicks this tick's step shows
+    grown: tuple[Click, ...] = ()  # clicks whose seed got its first crystal
     message: str | None = None  # for the HUD / log, e.g. a refused parameter
     error: str | None = None  # the thread died; the app must exit non-zero
     melts: tuple[GeometryDelta, ...] = ()  # melt deltas, applied before `delta`
     steps: int = 0  # steps taken by the session so far
     events: int = 0  # events recorded so far (a session file of this frame keeps these)
+
+
+@dataclass(frozen=True)
+class Step:
+    """What one step of the timeline gave a tick (nothing while paused)."""
+
+    delta: GeometryDelta | None = None
+    melts: tuple[GeometryDelta, ...] = ()  # melts a rebuild scheduled for this step
+    clicks: tuple[Click, ...] = ()
+    grown: tuple[Click, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -89,11 +97,10 @@ class SimThread(threading.Thread):
         self.sent = self.handled = 0  # commands sent (main thread), applied (this thread)
         self._stop_event = threading.Event()
         self._stamps: deque[float] = deque(maxlen=RATE_WINDOW)
-        self._clicks: list[tuple[int, float]] = []  # planted, not yet shown by a step
+        self._clicks = Clicks()  # for the latency log
         self._handlers = {"touch": self._touch, "melt": self._melt, "params": self._set_params,
                           "clear": self._clear, "pause": self._pause, "step": self._single,
                           "export": self._export}
-        self._watch: dict[int, tuple[int, float]] = {}
         self.backlog = Backlog()  # commands wait here when more arrive than a tick takes
         self.timeline = Timeline(params, seed, width, height)
         events = [{"kind": "touch", "x": float(x), "y": float(y)} for x, y in touches]
@@ -183,31 +190,23 @@ class SimThread(threading.Thread):
         self.handled += self.backlog.run(lambda cmd: self._handlers[cmd.kind](cmd.arg, notes))
         reset, melts, message = _merged(notes["applied"])
         if reset:
-            self._watch = {}
-        delta = None
-        grown: tuple[tuple[int, float], ...] = ()
-        clicks: tuple[tuple[int, float], ...] = ()
-        if not self.paused or notes.pop("single", False):
-            # sim.added (what the geometry reads) covers touches only once a step closes it,
-            # so a click made while paused shows (and is timed) at the next step.
-            *scheduled, delta = self.timeline.step()
-            melts = (*melts, *scheduled)
-            grown = self._first_growth()
-            clicks, self._clicks = tuple(self._clicks), []
+            self._clicks.forget_seeds()
+        # A click made while paused shows (and is timed) at the next step.
+        step = self._step() if not self.paused or notes.pop("single", False) else Step()
         if "export" in notes:  # after any step: the arrays of the tick the snapshot shows
-            self._export_now(notes.pop("export"))
+            export_now(notes.pop("export"), self.timeline, self.seed, self.notify)
         self.tick_ms = (time.perf_counter() - t0) * 1000.0
-        self.outbox.put(self._snapshot(delta, reset=reset, clicks=clicks, grown=grown,
-                                       message=message, melts=melts))
+        self.outbox.put(self._snapshot(step.delta, reset=reset, clicks=step.clicks,
+                                       grown=step.grown, message=message,
+                                       melts=(*melts, *step.melts)))
         self.wake()
 
-    def _first_growth(self) -> tuple[tuple[int, float], ...]:
-        """Clicks whose seed crystal became a parent in this tick (for the latency log)."""
-        if not self._watch:
-            return ()
-        parents = set(self.sim.parents[self.sim.added.crystals].tolist())
-        done = parents.intersection(self._watch)
-        return tuple(self._watch.pop(seed) for seed in sorted(done))
+    def _step(self) -> Step:
+        """One step of the timeline: its deltas, and the clicks it shows and grew."""
+        *scheduled, delta = self.timeline.step()
+        # (sim.added, what the geometry reads, covers a touch once a step closes it)
+        clicks, grown = self._clicks.stepped(self.sim.parents[self.sim.added.crystals])
+        return Step(delta, tuple(scheduled), clicks, grown)
 
     def _snapshot(self, delta, **extra) -> Snapshot:
         return Snapshot(delta, self._stats(), self.params, self.touches, steps=self.timeline.steps,
@@ -226,8 +225,7 @@ class SimThread(threading.Thread):
         before = len(self.touches)
         notes["applied"].append(self.timeline.apply([{"kind": "touch", "x": x, "y": y}]))
         if click is not None and len(self.touches) > before:
-            self._clicks.append(click)
-            self._watch[len(self.sim.crystals) - 1] = click
+            self._clicks.planted(click, len(self.sim.crystals) - 1)
 
     def _melt(self, arg, notes: dict) -> None:
         x, y, r = arg
@@ -241,16 +239,6 @@ class SimThread(threading.Thread):
 
     def _export(self, folder, notes: dict) -> None:
         notes["export"] = folder
-
-    def _export_now(self, folder) -> None:
-        """Frost maps of this tick: the arrays, parameters, touches and tick are copied here
-        (what this tick's snapshot shows), the PNGs written by a worker so the schedule
-        does not slip."""
-        grid, segments = self.geometry.heights.copy(), live_segments(self.sim).copy()
-        meta = {"seed": str(self.seed), "touches": json.dumps(self.touches),
-                "tick": str(self.sim.tick)}
-        job = (folder, grid, segments, self.params, meta, self.notify)
-        threading.Thread(target=_write_maps, args=job, name="frost-maps").start()
 
     def _pause(self, _arg, _notes: dict) -> None:
         self.paused = not self.paused
@@ -267,16 +255,6 @@ def _take_all(q: queue.Queue) -> list:
             items.append(q.get_nowait())
         except queue.Empty:
             return items
-
-
-def _write_maps(folder, grid, segments, params, meta, notify) -> None:
-    """The export worker: success or failure goes to `notify`, nothing dies silently."""
-    try:
-        paths = export_maps(folder, grid, segments, params, meta)
-    except OSError as err:
-        notify(logging.WARNING, f"frost maps NOT written: {why(err, folder)}")
-        return
-    notify(logging.INFO, "frost maps written: " + ", ".join(str(p) for p in paths.values()))
 
 
 def _merged(applied: list[Applied]) -> tuple[bool, tuple[GeometryDelta, ...], str | None]:

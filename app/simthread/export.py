@@ -1,0 +1,39 @@
+"""Frost maps exported from the simulation thread: the arrays are copied at the tick the
+snapshot shows, the PNGs written by a worker so the thread's schedule does not slip."""
+
+from __future__ import annotations
+
+import json
+import logging
+import threading
+from collections.abc import Callable
+
+from app.images import export_maps
+from sim.files import why
+from sim.maps import live_segments
+from sim.session import Timeline
+
+Notify = Callable[[int, str], None]
+
+
+def export_now(folder, timeline: Timeline, seed: int, notify: Notify) -> threading.Thread:
+    """Start writing the frost maps of `timeline`'s current tick into `folder`: its
+    arrays, parameters, touches and tick are copied here; success or failure goes to
+    `notify(level, text)`. Returns the (started) worker."""
+    sim = timeline.sim
+    grid, segments = timeline.geometry.heights.copy(), live_segments(sim).copy()
+    meta = {"seed": str(seed), "touches": json.dumps(timeline.touches), "tick": str(sim.tick)}
+    job = (folder, grid, segments, timeline.params, meta, notify)
+    worker = threading.Thread(target=write_maps, args=job, name="frost-maps")
+    worker.start()
+    return worker
+
+
+def write_maps(folder, grid, segments, params, meta, notify: Notify) -> None:
+    """The export worker: success or failure goes to `notify`, nothing dies silently."""
+    try:
+        paths = export_maps(folder, grid, segments, params, meta)
+    except OSError as err:
+        notify(logging.WARNING, f"frost maps NOT written: {why(err, folder)}")
+        return
+    notify(logging.INFO, "frost maps written: " + ", ".join(str(p) for p in paths.values()))
