@@ -73,16 +73,11 @@ class Renderer:
         self._background = self._background_texture(background)
         self._grid = np.zeros(self.grid_size[::-1], np.float32)  # mirror of the heights
         self._heights = ctx.texture(self.grid_size, 3, dtype="f2")
-        self._ice = ctx.texture(self.size, 4)
-        self._ice_fbo = ctx.framebuffer([self._ice], ctx.depth_renderbuffer(self.size))
-        self._feature_prog = load_program(ctx, "feature.vert", "feature.frag")
+        self.features = FeatureLayer(ctx, self.size)
         self._background_prog = load_program(ctx, "fullscreen.vert", "background.frag")
         self._background_pass = ctx.vertex_array(self._background_prog, [])
         self._ice_prog = load_program(ctx, "tile.vert", "ice.frag")
         self.tiles = TileSet(ctx, self._ice_prog, self.size, spacing)
-        self._pending = 0  # vertices queued in _vbo, not yet drawn into the ice texture
-        self._vbo = ctx.buffer(reserve=1 << 16, dynamic=True)
-        self._features = self._feature_array(self._vbo)
         self.reset()
 
     # ---- view state: what, besides the frost, decides the picture --------------------
@@ -106,25 +101,14 @@ class Renderer:
         if delta.reset:
             self.reset()
         if delta.clear_box is not None:
-            self._wipe(delta.clear_box)
+            self.features.wipe(delta.clear_box)
         if delta.rows.stop > delta.rows.start:
             fresh = (delta.heights > 0) & (self._grid[delta.rows] == 0)  # newly iced
             self._grid[delta.rows] = delta.heights
             self._upload_rows(delta.rows.start - 1, delta.rows.stop + 1)
             self.tiles.mark_heights(fresh, delta.rows.start)
         self.tiles.mark_triangles(delta.features[:, :2])
-        self._append(delta.features)
-
-    def _wipe(self, box: tuple[float, float, float, float]) -> None:
-        """Clear the features inside a px box (y down) of the ice texture, after drawing
-        what is queued (older than the wipe); the delta then re-sends the survivors."""
-        self._draw_new_features()
-        x0, y0 = max(int(np.floor(box[0])) - 1, 0), max(int(np.floor(box[1])) - 1, 0)
-        x1 = min(int(np.ceil(box[2])) + 1, self.size[0])
-        y1 = min(int(np.ceil(box[3])) + 1, self.size[1])
-        if x1 > x0 and y1 > y0:
-            viewport = (x0, self.size[1] - y1, x1 - x0, y1 - y0)  # GL rows count up
-            self._ice_fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0, viewport=viewport)
+        self.features.append(delta.features)
 
     def _upload_rows(self, lo: int, hi: int) -> None:
         """Write height and slope (per px) of grid rows lo..hi-1 to the texture."""
@@ -140,31 +124,8 @@ class Renderer:
         """Clear glass: no heights, no features."""
         self._grid[:] = 0
         self._upload_rows(0, len(self._grid))
-        self._ice_fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+        self.features.clear()
         self.tiles.clear()
-        self._pending = 0
-
-    def _append(self, verts: np.ndarray) -> None:
-        """Queue new feature vertices in the vertex buffer (drawn once, next frame)."""
-        if len(verts) == 0:
-            return
-        need = (self._pending + len(verts)) * VERTEX_BYTES
-        if need > self._vbo.size:
-            self._grow(max(2 * self._vbo.size, need))
-        self._vbo.write(np.ascontiguousarray(verts, np.float32).tobytes(),
-                        offset=self._pending * VERTEX_BYTES)
-        self._pending += len(verts)
-
-    def _grow(self, size: int) -> None:
-        """A vertex buffer of `size` bytes in place of the old one, the queue copied over."""
-        vbo = self.ctx.buffer(reserve=size, dynamic=True)
-        self.ctx.copy_buffer(vbo, self._vbo, self._pending * VERTEX_BYTES)
-        self._vbo.release()
-        self._features.release()
-        self._vbo, self._features = vbo, self._feature_array(vbo)
-
-    def _feature_array(self, vbo: moderngl.Buffer) -> moderngl.VertexArray:
-        return self.ctx.vertex_array(self._feature_prog, [(vbo, "3f 3f", "in_position", "in_normal")])
 
     def _background_texture(self, image: np.ndarray | None) -> moderngl.Texture:
         image = load_background() if image is None else image
@@ -179,7 +140,7 @@ class Renderer:
 
     def render(self, fbo: moderngl.Framebuffer) -> None:
         """Draw one full frame into `fbo` (which must be the screen's size)."""
-        self._draw_new_features()
+        self.features.draw_queued()
         fbo.use()
         self.ctx.viewport = (0, 0, *self.size)
         self.ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
@@ -189,30 +150,13 @@ class Renderer:
         if not (self.show_bumps or self.show_features):
             return
         self._heights.use(1)
-        self._ice.use(2)
+        self.features.texture.use(2)
         self._set(self._ice_prog, self._ice_uniforms())
         # Premultiplied "over": frame = ice + (1 - alpha) * background.
         self.ctx.enable(moderngl.BLEND)
         self.ctx.blend_func = moderngl.ONE, moderngl.ONE_MINUS_SRC_ALPHA
         self.tiles.render()
         self.ctx.disable(moderngl.BLEND)
-
-    def _draw_new_features(self) -> None:
-        """Rasterize the queued feature triangles into the persistent ice texture."""
-        if self._pending == 0:
-            return
-        prog = self._feature_prog
-        prog["u_screen"].value = self.size
-        prog["u_max_depth"].value = MAX_DEPTH
-        prog["u_height_scale"].value = FEATURE_HEIGHT_SCALE
-        self._ice_fbo.use()
-        self.ctx.viewport = (0, 0, *self.size)
-        self.ctx.disable(moderngl.BLEND)
-        self.ctx.enable(moderngl.DEPTH_TEST)
-        self.ctx.depth_func = "<"
-        self._features.render(moderngl.TRIANGLES, vertices=self._pending)
-        self.ctx.disable(moderngl.DEPTH_TEST)
-        self._pending = 0
 
     def _ice_uniforms(self) -> dict:
         m = self.material
@@ -234,6 +178,76 @@ class Renderer:
         for name, value in values.items():
             if name in prog:
                 prog[name].value = value
+
+
+class FeatureLayer:
+    """The sharp features: their triangles are queued as they arrive and rasterized once
+    into a persistent screen-sized "ice" texture (normal xy, height, coverage), a depth
+    test keeping the higher surface where two overlap."""
+
+    def __init__(self, ctx: moderngl.Context, size: tuple[int, int]):
+        self.ctx, self.size = ctx, size
+        self.texture = ctx.texture(size, 4)
+        self._fbo = ctx.framebuffer([self.texture], ctx.depth_renderbuffer(size))
+        self._prog = load_program(ctx, "feature.vert", "feature.frag")
+        self._pending = 0  # vertices queued in _vbo, not yet drawn into the texture
+        self._vbo = ctx.buffer(reserve=1 << 16, dynamic=True)
+        self._array = self._vertex_array(self._vbo)
+
+    def clear(self) -> None:
+        """No features, nothing queued."""
+        self._fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+        self._pending = 0
+
+    def wipe(self, box: tuple[float, float, float, float]) -> None:
+        """Clear the features inside a px box (y down), after drawing what is queued
+        (older than the wipe); the delta then re-sends the survivors."""
+        self.draw_queued()
+        x0, y0 = max(int(np.floor(box[0])) - 1, 0), max(int(np.floor(box[1])) - 1, 0)
+        x1 = min(int(np.ceil(box[2])) + 1, self.size[0])
+        y1 = min(int(np.ceil(box[3])) + 1, self.size[1])
+        if x1 > x0 and y1 > y0:
+            viewport = (x0, self.size[1] - y1, x1 - x0, y1 - y0)  # GL rows count up
+            self._fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0, viewport=viewport)
+
+    def append(self, verts: np.ndarray) -> None:
+        """Queue new feature vertices (drawn once, next frame)."""
+        if len(verts) == 0:
+            return
+        need = (self._pending + len(verts)) * VERTEX_BYTES
+        if need > self._vbo.size:
+            self._grow(max(2 * self._vbo.size, need))
+        self._vbo.write(np.ascontiguousarray(verts, np.float32).tobytes(),
+                        offset=self._pending * VERTEX_BYTES)
+        self._pending += len(verts)
+
+    def draw_queued(self) -> None:
+        """Rasterize the queued triangles into the texture."""
+        if self._pending == 0:
+            return
+        prog = self._prog
+        prog["u_screen"].value = self.size
+        prog["u_max_depth"].value = MAX_DEPTH
+        prog["u_height_scale"].value = FEATURE_HEIGHT_SCALE
+        self._fbo.use()
+        self.ctx.viewport = (0, 0, *self.size)
+        self.ctx.disable(moderngl.BLEND)
+        self.ctx.enable(moderngl.DEPTH_TEST)
+        self.ctx.depth_func = "<"
+        self._array.render(moderngl.TRIANGLES, vertices=self._pending)
+        self.ctx.disable(moderngl.DEPTH_TEST)
+        self._pending = 0
+
+    def _grow(self, size: int) -> None:
+        """A vertex buffer of `size` bytes in place of the old one, the queue copied over."""
+        vbo = self.ctx.buffer(reserve=size, dynamic=True)
+        self.ctx.copy_buffer(vbo, self._vbo, self._pending * VERTEX_BYTES)
+        self._vbo.release()
+        self._array.release()
+        self._vbo, self._array = vbo, self._vertex_array(vbo)
+
+    def _vertex_array(self, vbo: moderngl.Buffer) -> moderngl.VertexArray:
+        return self.ctx.vertex_array(self._prog, [(vbo, "3f 3f", "in_position", "in_normal")])
 
 
 class TileSet:
