@@ -51,6 +51,13 @@ def write_all_atomic(writes: dict) -> list[Path]:
     return [path for _, path in done]
 
 
+def one_line(text: str) -> str:
+    """`text` as one line for a message: a character that is not printable (a newline, a
+    carriage return, an escape) is written as its Python escape, everything else kept. A
+    path or a key that a user typed may hold such characters; the message stays one line."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
+
+
 def why(err: OSError, path=None) -> str:
     """An OSError in one line for the user: the path (the error's own, else `path`, the
     file being written) and the reason."""
@@ -58,7 +65,7 @@ def why(err: OSError, path=None) -> str:
     if isinstance(err, (FileExistsError, NotADirectoryError)):
         reason = "a file is in the way where a folder must be"
     name = err.filename or path
-    return f"{name}: {reason}" if name else reason
+    return one_line(f"{name}: {reason}" if name else reason)
 
 
 def _write_temp(path: Path, write: Writer) -> str:

@@ -140,7 +140,7 @@ class Params:
         """A copy with `changes` applied (validated); unknown names raise ValueError."""
         unknown = set(changes) - {f.name for f in dataclasses.fields(self)}
         if unknown:
-            raise ValueError(f"unknown parameter(s): {', '.join(sorted(unknown))}")
+            raise ValueError(f"unknown parameter(s): {', '.join(map(repr, sorted(unknown)))}")
         return dataclasses.replace(self, **changes)
 
     @classmethod

@@ -24,11 +24,11 @@ import json
 import logging
 import time
 from collections import deque
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from .files import write_atomic
+from .files import one_line, write_atomic
 from .frost import FrostSim
 from .geometry import FrostGeometry, GeometryDelta
 from .params import Params
@@ -52,7 +52,11 @@ EVENT_BUDGET_S = 0.010
 
 
 class SessionError(ValueError):
-    """A session file that cannot be read or does not describe a session."""
+    """A session file that cannot be read or does not describe a session; its message is
+    one line, whatever the file holds."""
+
+    def __init__(self, message: str):
+        super().__init__(one_line(message))
 
 
 @dataclass
@@ -151,10 +155,11 @@ def _whole(data: dict, key: str, lo: int, hi: int, default: int | None = None) -
 def _params(value: Any, where: str) -> Params:
     if not isinstance(value, dict):
         raise SessionError(f"{where} must be an object of parameter values, not {value!r}")
+    unknown = sorted(set(value) - {f.name for f in fields(Params)}, key=repr)
+    if unknown:
+        raise SessionError(f"{where}: unknown parameter {', '.join(map(repr, unknown))}")
     try:
         return Params(**value)
-    except TypeError as err:  # an unknown keyword
-        raise SessionError(f"{where}: unknown parameter ({err})") from None
     except ValueError as err:
         raise SessionError(f"{where}: {err}") from None
 

@@ -15,7 +15,10 @@ from hypothesis.configuration import set_hypothesis_home_dir
 # No example database: tests never write into the checkout (.hypothesis/). No deadline:
 # the machine is shared and loaded; speed is the benchmarks' business.
 settings.register_profile("frost", database=None, deadline=None)
-settings.load_profile("frost")
+# A deeper search for the property tests, to run by hand after a change to what they
+# cover: FROST_HYPOTHESIS=frost-deep .venv/bin/python -m pytest tests/test_inputs.py
+settings.register_profile("frost-deep", settings.get_profile("frost"), max_examples=3000)
+settings.load_profile(os.environ.get("FROST_HYPOTHESIS", "frost"))
 _HYPOTHESIS_HOME = tempfile.mkdtemp(prefix="frost-hypothesis-")
 set_hypothesis_home_dir(_HYPOTHESIS_HOME)  # its caches too
 atexit.register(shutil.rmtree, _HYPOTHESIS_HOME, True)

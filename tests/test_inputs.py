@@ -25,6 +25,7 @@ from app.tools import bench, figure8, figure_fern, maps, render
 from app.tools import replay as replay_tool
 from app.window import frost_window as window
 from sim import FrostSim, Params
+from sim.files import one_line
 from sim.session import SessionError, SessionLog, check_event, replay
 
 FIXTURE_OK = settings(suppress_health_check=[HealthCheck.function_scoped_fixture])
@@ -347,6 +348,48 @@ def test_a_render_over_a_folder_is_refused(stubbed, tmp_path):
     assert_refused_in_one_line(status, err, "--out", "is a folder, not a file")
 
 
+# A path (or any text) a user typed may hold a newline, a carriage return or a terminal
+# escape; the message that names it stays one line and shows them escaped.
+ODD = "a\nb\rc\x1bd"
+ODD_SHOWN = "a\\nb\\rc\\x1bd"
+
+
+def test_a_replay_path_with_control_characters_is_refused_in_one_line(stubbed, tmp_path):
+    status, err = run_main(["replay", "--headless", str(tmp_path / ODD)])
+    assert_refused_in_one_line(status, err, ODD_SHOWN, "no such file")
+
+
+def test_an_output_path_with_control_characters_is_refused_in_one_line(stubbed, blocked):
+    target = blocked["file as folder"][0].parent / ODD / "x.png"
+    status, err = run_main(["render", f"--out={target}"])
+    assert_refused_in_one_line(status, err, ODD_SHOWN, "is a file, not a folder")
+
+
+def test_a_stray_argument_with_control_characters_is_refused_in_one_line(stubbed):
+    status, err = run_main(["render", ODD])
+    assert_refused_in_one_line(status, err, "unrecognized arguments", ODD_SHOWN)
+
+
+def test_a_window_folder_with_control_characters_gets_a_one_line_warning(stubbed, blocked):
+    target = blocked["file as folder"][0].parent / ODD
+    status, err = run_main([f"--screenshot-dir={target}"])
+    assert status == 0 and err.count("\n") == 1 and ODD_SHOWN in err, err
+
+
+@pytest.mark.parametrize("text, shown", [
+    ("a\nb", "a\\nb"), ("x\r\x1b[2Jy", "x\\r\\x1b[2Jy"), ("\u2028", "\\u2028"),
+    ("tab\there", "tab\\there"), ("é ü / ~", "é ü / ~"), ("", "")])
+def test_one_line_escapes_what_would_break_or_restyle_a_line(text, shown):
+    assert one_line(text) == shown
+
+
+@given(st.text())
+def test_one_line_is_one_printable_line_and_keeps_printable_text(text):
+    shown = one_line(text)
+    assert shown.isprintable() and len(shown.splitlines()) <= 1
+    assert (shown == text) == text.isprintable()
+
+
 # ---- session files ----------------------------------------------------------------------
 
 JSON = st.recursive(
@@ -409,13 +452,16 @@ def affordable(p: dict) -> bool:
     return q.hc >= 1 and q.humidity <= 5000 and q.grid_spacing >= 2 and q.D >= 0.5
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=max(300, settings.default.max_examples), deadline=None)
 @given(data=sessions())
 @example(data={"format": "frost-session", "seed": 0, "params": {"humidity": 3000.5}, "events": []})
 @example(data={"format": "frost-session", "seed": 0, "params": {"grid_spacing": 4.0}, "events": []})
 @example(data={"format": "frost-session", "seed": 0, "params": {"humidity": 10**400}, "events": []})
 @example(data={"format": "frost-session", "seed": 0, "params": [], "events": []})
 @example(data={"format": "frost-session", "seed": 0, "params": {"zap": 1}, "events": []})
+@example(data={"format": "frost-session", "seed": 0, "params": {"\n": 1}, "events": []})
+@example(data={"format": "frost-session", "seed": 0, "params": {}, "steps": 1,
+               "events": [{"kind": "params", "tick": 0, "params": {"hc\r": 8}}]})
 @example(data={"format": "frost-session", "seed": True, "params": {}, "events": []})
 @example(data={"format": "frost-session", "seed": -1, "params": {}, "events": []})
 @example(data={"format": "frost-session", "seed": 2.5, "params": {}, "events": []})
@@ -469,6 +515,14 @@ def test_a_session_file_on_disk_names_itself_in_the_error(tmp_path):
     path.write_text("[" * 100_000)  # deep nesting: json's RecursionError
     with pytest.raises(SessionError, match="not JSON"):
         SessionLog.load(path)
+
+
+def test_an_unknown_parameter_is_named_escaped_in_one_line():
+    data = {"format": "frost-session", "seed": 0, "params": {"zap\n": 1, "hc": 7.0},
+            "events": []}
+    with pytest.raises(SessionError) as refused:
+        SessionLog.from_json(data)
+    assert str(refused.value) == "'params': unknown parameter 'zap\\n'"
 
 
 def test_a_params_event_may_not_resize_the_renderers_grid():

@@ -12,6 +12,7 @@ import textwrap
 from app.cli import options, values
 from app.window.keys import help_lines
 from sim import all_presets
+from sim.files import one_line
 from sim.screen import HEIGHT, WIDTH
 
 PROG = "frost"
@@ -29,7 +30,7 @@ class Parser(argparse.ArgumentParser):
         self.commands: dict[str, Parser] = {}
 
     def error(self, message: str):
-        self.exit(2, f"{PROG}: error: {message} (see {self.prog} --help)\n")
+        self.exit(2, f"{PROG}: error: {one_line(message)} (see {self.prog} --help)\n")
 
     def command(self, subs, name: str, summary: str, description: str = "",
                 usage: str = "[options]", **kwargs) -> Parser:

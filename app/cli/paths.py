@@ -13,6 +13,8 @@ import argparse
 import os
 from pathlib import Path
 
+from sim.files import one_line
+
 OUTPUT_FILES = ("out",)
 OUTPUT_FOLDERS = ("out_dir",)
 WINDOW_FOLDERS = ("screenshot_dir", "session_dir")
@@ -38,13 +40,13 @@ def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> li
         path = Path(args.replay)
         if not path.is_file() or not os.access(path, os.R_OK):
             what = "is a folder" if path.is_dir() else "cannot be read" if path.exists() else "no such file"
-            raise ValueError(f"{args.replay}: {what}")
+            raise ValueError(f"{one_line(args.replay)}: {what}")
     return warnings
 
 
 def _named(action: argparse.Action, value) -> str:
     """An option and its value as typed (a positional: the value alone)."""
-    return f"{action.option_strings[0]} {value}" if action.option_strings else str(value)
+    return one_line(f"{action.option_strings[0]} {value}" if action.option_strings else value)
 
 
 def _output_problem(path: Path, folder: bool) -> str | None:
