@@ -100,6 +100,12 @@ class Params:
                             "its area's farthest ice (0: anywhere in the area; fern rule 4)",
                        0.0, 4000.0)
 
+    # Beyond the paper: a touch brings water to its own seed (docs/method.md, 5.3). Off in
+    # Table 1's presets: the paper's touch only tops its area's pool up.
+    touch_water: int = _p(0, "touch_water: walkers a touch into an area that already holds water "
+                             "moves from that area's pool onto the glass within 2 hc of its "
+                             "seed, walkers (0: none, the paper)", 0, 1000)
+
     # Beyond the paper: the frosted window (sim/pane.py). Off by default.
     window_frost: bool = _p(False, "window_frost: frost nucleates on the screen's border and on a few "
                                    "pane sites and grows over the whole pane from one pool of "
@@ -208,7 +214,7 @@ EXTRA_PRESETS: dict[str, dict[str, Any]] = {
     "fern": {"D": 2.5, "hc": 7.0, "humidity": 3000, "feature_width": 1.0, "feature_height": 0.8,
              "grains": True, "drift": 3.0,
              "tip_hits": 5, "side_hits": 10, "side_gap": 2, "long_jumps": True,
-             "launch": 30.0, "grow": True, "water_budget": 6000},
+             "launch": 30.0, "grow": True, "water_budget": 6000, "touch_water": 48},
 }
 # "window": fern frost nucleating on the frame (README's window section). Hit
 # counts 3 / 6 (at the default -10 C) frost 95 % of the pane's cells in about 1 200 ticks

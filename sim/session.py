@@ -37,7 +37,10 @@ from .screen import HEIGHT, WIDTH, touch_problem
 log = logging.getLogger(__name__)
 
 FORMAT = "frost-session"
-VERSION = 2  # 2: a rebuild replants the touches at their own pace (1: all at tick 0)
+# 3: where an area's disc draws fail, walkers are placed from all areas' cells in one
+# pass (sim/frost.py, CELL_WORK); 2: a rebuild replants the touches at their own pace
+# (1: all at tick 0). Older files replay as frost did when they were written.
+VERSION = 3
 # Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
 REGROW_GAP = 12
 # The keys each event kind needs besides "tick" and "kind".
@@ -256,8 +259,9 @@ class Timeline:
     """A FrostSim and its FrostGeometry driven by events (see the module docstring)."""
 
     def __init__(self, params: Params, seed: int, width: int = WIDTH, height: int = HEIGHT,
-                 touches=(), gap: int = REGROW_GAP):
-        self.seed, self.size, self.gap = seed, (width, height), gap
+                 touches=(), version: int = VERSION):
+        self.seed, self.size, self.version = seed, (width, height), version
+        self.gap = regrow_gap(version)
         self.steps = 0
         # Every touch the frost grows from: planted, or scheduled by a rebuild.
         self.touches: tuple[tuple[float, float], ...] = tuple(touches)
@@ -369,7 +373,7 @@ class Timeline:
 
     def _build(self, params: Params) -> None:
         self.params = params
-        self.sim = FrostSim(params, *self.size, seed=self.seed)
+        self.sim = FrostSim(params, *self.size, seed=self.seed, batched=self.version >= 3)
         self.geometry = FrostGeometry(params, *self.size)
         while self._pending and self._pending[0]["tick"] == 0 \
                 and self._pending[0]["kind"] == "touch":  # (melts wait for the step)
@@ -405,7 +409,7 @@ def replay(log_: SessionLog, steps: int | None = None, on_apply=None, on_step=No
     """Run `log_` for `steps` steps (default: as many as it took) through `grow`."""
     steps = log_.steps if steps is None else steps
     timeline = Timeline(Params(**log_.params), log_.seed, log_.width, log_.height,
-                        gap=regrow_gap(log_.version))
+                        version=log_.version)
     applied = grow(timeline, steps, log_.events, on_apply, on_step, on_tick)
     if applied < len(log_.events):
         log.warning("replay: %d events after step %d were not applied",
