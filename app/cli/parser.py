@@ -122,7 +122,7 @@ def _figure8(root: Parser, subs) -> None:
     options.add_seed(p)
     options.add_ticks(p, options.DEFAULT_TICKS, "how long each preset grows")
     options.add_touch(p, "the one touch", "the centre, 380,640")
-    options.add_overrides(p)
+    options.add_overrides(p, looks=())  # on top of each of Table 1's presets
 
 
 def _figure(root: Parser, subs) -> None:
