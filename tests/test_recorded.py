@@ -107,12 +107,12 @@ class FakeFbo:
         return bytes(range(24))
 
 
-def window_standin(tmp_path: Path, shots: Path, sessions: Path):
+def window_standin(tmp_path: Path, shots: Path, sessions: Path, touches=((380.0, 640.0),)):
     """The window's Capture on a real simulation thread, with a stand-in presenter (no GL)."""
     from app.window.capture import Capture
 
     said = []
-    thread = SimThread(PARAMS, 3, [(380.0, 640.0)])
+    thread = SimThread(PARAMS, 3, list(touches))
     presenter = types.SimpleNamespace(renderer=types.SimpleNamespace(view=lambda: dict(VIEW)),
                                       render_phone=lambda: None,
                                       read_phone=lambda: read_image(FakeFbo()))
@@ -180,6 +180,18 @@ def test_failed_screenshots_in_one_second_never_share_a_session_file(tmp_path):
     assert steps == [2, 4]  # the first is not overwritten by the second
     names = [win.capture.fresh_name("") for _ in range(3)]  # e.g. map folders asked for at once
     assert len(set(names)) == 3
+
+
+def test_a_window_run_with_no_event_leaves_no_session_file(tmp_path):
+    sessions = tmp_path / "sessions"
+    win, _ = window_standin(tmp_path, tmp_path / "shots", sessions, touches=())
+    win.latest = ticked(win.thread, 3)[-1]
+    assert win.capture.save_session(win.latest) is None and not sessions.exists()
+    win.thread.send("melt", (100.0, 100.0, 20.0))  # one event: now there is a run to replay
+    win.latest = ticked(win.thread, 2)[-1]
+    saved = win.capture.save_session(win.latest)
+    assert [p.name for p in sessions.iterdir()] == [saved.name]
+    assert [e["kind"] for e in SessionLog.load(saved).events] == ["melt"]
 
 
 # ---- atomic writes -------------------------------------------------------------------

@@ -72,8 +72,8 @@ def add_window(p) -> None:
     """The window's folders, size and lifetime."""
     add_melt_radius(p, "right-button drag")
     p.add_argument("--session-dir", default=WINDOW_DEFAULTS["session_dir"], metavar="DIR",
-                   help="folder for the session files written on exit and with each screenshot "
-                        "(default sessions)")
+                   help="folder for the session files written on exit (when there was an "
+                        "event to replay) and with each screenshot (default sessions)")
     p.add_argument("--screenshot-dir", default=WINDOW_DEFAULTS["screenshot_dir"], metavar="DIR",
                    help="folder for screenshots (S, F12) and recordings (R) (default screenshots)")
     p.add_argument("--scale", type=values.scale, metavar="F",

@@ -70,7 +70,8 @@ def _window() -> Parser:
                                 "%(prog)s COMMAND [options]   (COMMAND below)", description=_para(
         f"Real-time window frost on a {WIDTH}x{HEIGHT} phone screen. With no COMMAND it opens the "
         "window: click (or drag) to plant seed crystals, drag with the right button to melt "
-        "the ice (a warm finger). Each session is saved (--session-dir) and frost replay "
+        "the ice (a warm finger). Each session with a touch, melt or change is saved "
+        "(--session-dir) and frost replay "
         "plays it again bit for bit. With no display it grows the scripted demo offscreen "
         "and writes PNG files to frost-out/ instead."),
         epilog="keys in the window:\n  " + "\n  ".join(help_lines()))
