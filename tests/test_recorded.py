@@ -444,6 +444,16 @@ def test_the_demo_lists_exactly_the_files_it_writes(monkeypatch, gl_ctx, capsys,
     assert out[-1].startswith(f"wrote {len(files)} PNG file") and sorted(listed) == files
 
 
+def test_window_mode_renders_one_png_not_the_demo(monkeypatch, gl_ctx, capsys, tmp_path):
+    # as frost render --help says: the frosted window grows untouched, no scripted demo
+    monkeypatch.chdir(tmp_path)
+    status, out, _ = headless_out(monkeypatch, gl_ctx, capsys,
+                                  ["render", "--window-frost", "--ticks", "2"])
+    (png,) = (tmp_path / "frost-out").iterdir()
+    assert status == 0 and out[-1] == f"wrote {Path('frost-out') / png.name}"
+    assert json.loads(Image.open(png).text["touches"]) == []
+
+
 def test_a_second_demo_overwrites_nothing_of_the_first(monkeypatch, gl_ctx, capsys, tmp_path):
     monkeypatch.chdir(tmp_path)
     folder = tmp_path / "frost-out"

@@ -41,9 +41,11 @@ def add_touch(p, what: str, default: str) -> None:
                    help=f"{what}: X,Y in px, 0 <= X < {WIDTH}, 0 <= Y < {HEIGHT} (default {default})")
 
 
-def add_out(p) -> None:
+def add_out(p, demo: bool = False) -> None:
+    also = ("; the scripted demo writes its stages' PNGs beside it, by default "
+            "frost-out/frost-demo-TIMESTAMP-tickNNNN.png") if demo else ""
     p.add_argument("--out", metavar="FILE.png",
-                   help="write the final frame here (default frost-out/frost-TIMESTAMP.png)")
+                   help=f"write the final frame here (default frost-out/frost-TIMESTAMP.png{also})")
 
 
 def add_ticks(p, default: int | None, what: str) -> None:
