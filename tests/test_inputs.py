@@ -24,7 +24,7 @@ from app.cli.parser import build_parser
 from app.tools import bench, figure8, figure_fern, maps, render
 from app.tools import replay as replay_tool
 from app.window import frost_window as window
-from sim import FrostSim, Params
+from sim import PRESETS, FrostSim, Params
 from sim.files import one_line
 from sim.session import SessionError, SessionLog, check_event, replay
 
@@ -549,3 +549,38 @@ def test_a_touch_on_the_screen_stays_on_it_once_stored(x, y):
     assert abs(cx - x) <= np.spacing(np.float32(760)) and abs(cy - y) <= np.spacing(np.float32(1280))
     key = sim.grid.keys(np.array([cx]), np.array([cy]))[0]
     assert sim.candidates.count[key] >= 1  # listed in its own, on-screen cell
+
+
+def shown_defaults(described: str) -> dict[str, str]:
+    """'... (default: fern, window 2.5; Table 1 1.0-10.0)' -> {look: value} ('*': every look)."""
+    said = re.search(r"\(default([^()]*)\)", described)[1]
+    if not said.startswith(":"):
+        return {"*": said.strip()}
+    shown = {}
+    for part in said[1:].split(";"):
+        names, value = part.strip().rsplit(" ", 1)
+        shown.update({name: value for name in names.split(", ")})
+    return shown
+
+
+@pytest.mark.parametrize("head", [[], ["render"], ["maps", "OUT"], ["figure", "fern", "OUT/f.png"]])
+def test_each_override_shows_the_value_a_run_without_it_gets(stubbed, tmp_path, head):
+    def got(extra: list[str]) -> Params:
+        status, err = run_main(with_paths([*head, *extra], tmp_path))
+        assert status == 0, err
+        return stubbed.pop()[1]
+
+    def text(value) -> str:
+        return ("on" if value else "off") if isinstance(value, bool) else str(value)
+
+    runs = {"fern": got([]), "window": got(["--window-frost"])}
+    table = [got(["--preset", name]) for name in PRESETS]
+    for option, described in listed_options(help_text(head[:1])).items():
+        if option not in OVERRIDES:
+            continue
+        name = {"--D": "D"}.get(option, option[2:].replace("-", "_"))
+        values = sorted({getattr(p, name) for p in table})
+        want = {look: text(getattr(p, name)) for look, p in runs.items()}
+        want["Table 1"] = "-".join(text(v) for v in (values[0], values[-1])[:len(values)])
+        shown = shown_defaults(described)
+        assert shown == want or set(want.values()) == {shown.get("*")}, described

@@ -135,6 +135,7 @@ def make_figure8(ctx, seed: int = 0, ticks: int = 250, touch=(380.0, 640.0),
     frames, stats = {}, []
     progress = Progress(len(PRESETS) * ticks)  # all nine presets' ticks
     for name in PRESETS:
+        progress.begin(f"preset {name}")
         frames[name], s = grow_preset(ctx, name, seed, ticks, touch, overrides, progress)
         stats.append(s)
     title = f"Table 1 presets, seed {seed}, {ticks} ticks, touch {touch[0]:g},{touch[1]:g}"

@@ -3,6 +3,7 @@ bit for bit, and written as a PNG."""
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 from app.images import timestamped_path
@@ -32,7 +33,7 @@ def replay_offscreen(ctx, log_: SessionLog, steps: int | None = None,
     offscreen.progress = progress
     steps = log_.steps if steps is None else steps
     if offscreen.grow(steps, log_.events) < len(log_.events):
-        print(f"frost: warning: events after step {steps} were not applied")
+        print(f"frost: warning: events after step {steps} were not applied", file=sys.stderr)
     return offscreen
 
 
