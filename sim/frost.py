@@ -615,23 +615,32 @@ class FrostSim:
         k = len(area)
         x, y, ok = np.zeros(k, np.float32), np.zeros(k, np.float32), np.zeros(k, bool)
         todo = np.flatnonzero(lens[inv] > 0)
-        s, least = np.float32(self.grid.cell), np.float32(self.params.hc / 2) ** 2
-        for tries in (1, CELL_TRIES - 1):  # most land at once; the rest in one batch
-            if len(todo) == 0:
-                break
-            g = np.tile(inv[todo], tries)
-            u = self.rng.random((3, len(g)), dtype=np.float32)
-            cell = cells[off[g] + np.minimum((u[0] * lens[g]).astype(np.int64), lens[g] - 1)]
-            px, py = (cell % self.grid.cols + u[1]) * s, (cell // self.grid.cols + u[2]) * s
-            d2 = (px - cx[g]) ** 2 + (py - cy[g]) ** 2
-            good = (px < self.width) & (py < self.height) & (d2 <= r_out[g] ** 2)
-            good &= glass[g] | (d2 >= r_in[g] ** 2)
-            check = good & glass[g]  # glass between fronds: clear of every crystal
-            good[check] = _nearest_d2(self, np.column_stack((px[check], py[check]))) >= least
-            placed, pick = _first_good(good.reshape(tries, len(todo)))
-            x[todo[placed]], y[todo[placed]], ok[todo[placed]] = px[pick], py[pick], True
-            todo = todo[~placed]
+        if len(todo) == 0:
+            return x, y, ok
+        # CELL_TRIES draws each, drawn at once as `_cell_spots` draws them (one area's
+        # walkers land where they did, area by area); a glass check on the first draws,
+        # then on the later ones of the walkers still without a spot.
+        g = np.tile(inv[todo], CELL_TRIES)
+        u = self.rng.random((3, len(g)), dtype=np.float32)
+        cell = cells[off[g] + np.minimum((u[0] * lens[g]).astype(np.int64), lens[g] - 1)]
+        s = np.float32(self.grid.cell)
+        px, py = (cell % self.grid.cols + u[1]) * s, (cell // self.grid.cols + u[2]) * s
+        d2 = (px - cx[g]) ** 2 + (py - cy[g]) ** 2
+        good = (d2 <= r_out[g] ** 2) & (glass[g] | (d2 >= r_in[g] ** 2))
+        good &= (px < self.width) & (py < self.height)
+        check = good & glass[g]  # glass between fronds: clear of every crystal
+        first = np.arange(len(g)) < len(todo)
+        self._on_glass(px, py, good, check & first)
+        self._on_glass(px, py, good, check & ~first & ~np.tile(good[:len(todo)], CELL_TRIES))
+        placed, pick = _first_good(good.reshape(CELL_TRIES, len(todo)))
+        x[todo[placed]], y[todo[placed]], ok[todo[placed]] = px[pick], py[pick], True
         return x, y, ok
+
+    def _on_glass(self, px: np.ndarray, py: np.ndarray, good: np.ndarray, check: np.ndarray) -> None:
+        """`good` stays True where `check` only if the point is at least hc / 2 from every
+        live crystal."""
+        d2 = _nearest_d2(self, np.column_stack((px[check], py[check])))
+        good[check] = d2 >= np.float32(self.params.hc / 2) ** 2
 
     def _area_cells(self, area: int) -> tuple[np.ndarray, float, bool, bool]:
         """(cells, inner radius, glass, full) an area's water is drawn from when its disc
