@@ -10,6 +10,7 @@ import io
 import math
 import os
 import re
+import stat
 import subprocess
 import sys
 from pathlib import Path
@@ -296,7 +297,9 @@ def blocked(monkeypatch, tmp_path):
 
 
 OUTPUTS = {"render --out": lambda p: ["render", f"--out={p}"],
-           "figure8": lambda p: ["figure8", str(p)], "maps": lambda p: ["maps", str(p)]}
+           "figure8": lambda p: ["figure8", str(p)], "maps": lambda p: ["maps", str(p)],
+           # The window always writes its session on exit: a folder it cannot use loses it.
+           "--session-dir": lambda p: [f"--session-dir={p}"]}
 
 
 @pytest.mark.parametrize("output", list(OUTPUTS))
@@ -315,9 +318,9 @@ def test_output_paths_are_checked_before_any_work(stubbed, blocked, output, case
         assert_refused_in_one_line(status, err, str(blocker), "is a file, not a folder")
 
 
-@pytest.mark.parametrize("option", ["--screenshot-dir", "--session-dir"])
+@pytest.mark.parametrize("option", ["--screenshot-dir"])
 @pytest.mark.parametrize("case", ["file as folder", "unwritable", "missing parent"])
-def test_the_windows_folders_get_a_one_line_warning_and_it_runs(stubbed, blocked, option, case):
+def test_the_screenshot_folder_gets_a_one_line_warning_and_it_runs(stubbed, blocked, option, case):
     target, named = blocked[case]
     status, err = run_main([f"{option}={target}"])
     assert status == 0 and stubbed  # the window reports each failed write and runs on
@@ -341,6 +344,101 @@ def test_a_fern_figure_into_a_blocked_folder_is_refused(stubbed, blocked):
     target, named = blocked["file as folder"]
     status, err = run_main(["figure", "fern", str(target)])
     assert_refused_in_one_line(status, err, str(target), named)
+
+
+# Each command's output file, with {} for the path.
+FILE_OUTPUTS = {"render --out": ["render", "--out={}"], "figure8": ["figure8", "{}"],
+                "figure": ["figure", "fern", "{}"],
+                "replay --out": ["replay", "SESSION", "--out={}"]}
+FOLDER_OUTPUTS = {"maps": ["maps", "{}"], "--session-dir": ["--session-dir={}"],
+                  "replay --session-dir": ["replay", "SESSION", "--session-dir={}"]}
+
+
+def output_argv(template: list[str], path, folder: Path) -> list[str]:
+    return with_paths([a.replace("{}", str(path)) for a in template], folder)
+
+
+def make_node(kind: str, path: Path) -> None:
+    if kind == "fifo":
+        os.mkfifo(path)
+    elif os.geteuid() != 0:
+        pytest.skip("making a device node needs root")
+    else:  # a copy of /dev/null: the real one is never touched
+        os.mknod(path, stat.S_IFCHR | 0o666, os.makedev(1, 3))
+
+
+@pytest.mark.parametrize("output", list(FILE_OUTPUTS))
+@pytest.mark.parametrize("kind, said", [("fifo", "is a FIFO"),
+                                        ("char device", "is a character device")])
+@pytest.mark.parametrize("through_link", [False, True])
+def test_an_output_that_is_not_a_regular_file_is_refused_before_any_work(
+        stubbed, tmp_path, output, kind, said, through_link):
+    node = tmp_path / "node"
+    make_node(kind, node)
+    path = node
+    if through_link:
+        path = tmp_path / "link.png"
+        path.symlink_to(node)
+    status, err = run_main(output_argv(FILE_OUTPUTS[output], path, tmp_path))
+    assert not stubbed
+    assert_refused_in_one_line(status, err, str(path), said, "not a regular file")
+    assert os.lstat(node).st_mode & 0o170000 == (stat.S_IFIFO if kind == "fifo" else stat.S_IFCHR)
+
+
+def test_an_output_symlink_to_a_file_is_accepted(stubbed, tmp_path):
+    (tmp_path / "real.png").write_bytes(b"old")
+    (tmp_path / "link.png").symlink_to(tmp_path / "real.png")
+    status, err = run_main(["render", f"--out={tmp_path / 'link.png'}"])
+    assert status == 0 and stubbed and err == "", err
+
+
+LONG = "n" * 300
+
+
+@pytest.mark.parametrize("output", [*FILE_OUTPUTS, *FOLDER_OUTPUTS])
+@pytest.mark.parametrize("where", ["last", "folder"])
+def test_a_name_too_long_is_refused_before_any_work(stubbed, tmp_path, output, where):
+    template = FILE_OUTPUTS.get(output) or FOLDER_OUTPUTS[output]
+    path = tmp_path / LONG if where == "last" else tmp_path / LONG / "x"
+    status, err = run_main(output_argv(template, path, tmp_path))
+    assert not stubbed
+    assert_refused_in_one_line(status, err, "300 bytes long", str(path))
+
+
+def test_a_screenshot_folder_name_too_long_is_warned_of(stubbed, tmp_path):
+    status, err = run_main([f"--screenshot-dir={tmp_path / LONG}"])
+    assert status == 0 and stubbed and err.count("\n") == 1 and "300 bytes long" in err, err
+
+
+# /proc and /sys take no new files (even from root); only a file made there tells.
+PSEUDO = [p for p in ("/proc", "/sys") if os.path.isdir(p)]
+
+
+@pytest.mark.parametrize("root", PSEUDO)
+@pytest.mark.parametrize("output", [*FILE_OUTPUTS, *FOLDER_OUTPUTS])
+def test_a_folder_that_takes_no_files_is_refused_before_any_work(stubbed, tmp_path, root,
+                                                                 output):
+    template = FILE_OUTPUTS.get(output) or FOLDER_OUTPUTS[output]
+    path = f"{root}/frost-x.png"
+    status, err = run_main(output_argv(template, path, tmp_path))
+    assert not stubbed
+    assert_refused_in_one_line(status, err, path, f"cannot create files in {root}")
+    assert ".tmp" not in err and "frost-probe" not in err
+
+
+def test_the_start_up_check_leaves_no_probe_behind(stubbed, tmp_path):
+    (tmp_path / "out").mkdir()
+    for argv in (["maps", str(tmp_path / "out")], ["--session-dir", str(tmp_path / "new")],
+                 ["render", "--out", str(tmp_path / "out" / "x.png")]):
+        status, err = run_main(argv)
+        assert status == 0 and err == "", err
+    assert len(stubbed) == 3 and [p.name for p in tmp_path.rglob("*")] == ["out"]
+
+
+def test_a_replay_of_a_fifo_is_refused_without_blocking(stubbed, tmp_path):
+    os.mkfifo(tmp_path / "s.json")
+    status, err = run_main(["replay", "--headless", str(tmp_path / "s.json")])
+    assert_refused_in_one_line(status, err, "s.json", "is a FIFO")
 
 
 def test_a_render_over_a_folder_is_refused(stubbed, tmp_path):

@@ -1,10 +1,14 @@
 """Path options, checked before any work.
 
-What a run writes at its end (a headless PNG, a figure, the maps) is refused at start-up
-when it cannot be written, before the work it would lose; such files and folders may be
-missing (they are made on writing) but must be creatable. The window's folders only get a
-start-up warning: the window reports each failed write and runs on (a user may never press
-S). The session to replay must be a readable file.
+What a run writes at its end (a headless PNG, a figure, the maps, the window's session on
+exit) is refused at start-up when it cannot be written, before the work it would lose; such
+files and folders may be missing (they are made on writing) but must be creatable: no name
+in the path longer than the file system allows, a file may be created in the folder (a
+file system such as /proc or /sys takes none: a temporary file is made and removed to
+know), and an output file that exists is a regular file (sim.files refuses to replace a
+device, a FIFO or a socket; a symlink is checked where it leads). The screenshot folder
+only gets a start-up warning: the window reports each failed write and runs on (a user may
+never press S). The session to replay must be a readable file.
 """
 
 from __future__ import annotations
@@ -13,11 +17,12 @@ import argparse
 import os
 from pathlib import Path
 
-from sim.files import one_line
+from sim.files import not_regular, one_line, temp_file
 
 OUTPUT_FILES = ("out",)
-OUTPUT_FOLDERS = ("out_dir",)
-WINDOW_FOLDERS = ("screenshot_dir", "session_dir")
+OUTPUT_FOLDERS = ("out_dir", "session_dir")
+WINDOW_FOLDERS = ("screenshot_dir",)
+NAME_MAX = 255  # bytes in one name, where the file system does not say (Linux's limit)
 
 
 def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> list[str]:
@@ -37,10 +42,9 @@ def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> li
         elif problem:
             raise ValueError(message)
     if getattr(args, "replay", None) is not None:
-        path = Path(args.replay)
-        if not path.is_file() or not os.access(path, os.R_OK):
-            what = "is a folder" if path.is_dir() else "cannot be read" if path.exists() else "no such file"
-            raise ValueError(f"{one_line(args.replay)}: {what}")
+        problem = _replay_problem(Path(args.replay))
+        if problem:
+            raise ValueError(f"{one_line(args.replay)}: {problem}")
     return warnings
 
 
@@ -49,20 +53,70 @@ def _named(action: argparse.Action, value) -> str:
     return one_line(f"{action.option_strings[0]} {value}" if action.option_strings else value)
 
 
+def _replay_problem(path: Path) -> str | None:
+    try:
+        kind = not_regular(path)
+        if kind or not path.exists():
+            return f"is {kind}, not a session file" if kind else "no such file"
+        return None if os.access(path, os.R_OK) else "cannot be read"
+    except OSError as err:  # a name too long, a loop of symlinks
+        return err.strerror or str(err)
+
+
 def _output_problem(path: Path, folder: bool) -> str | None:
     """Why `path` cannot be written (a folder, or a file when not `folder`), or None."""
+    try:
+        return _too_long(path) or _writable_problem(Path(os.path.realpath(path)), folder)
+    except OSError as err:
+        return err.strerror or str(err)
+
+
+def _writable_problem(path: Path, folder: bool) -> str | None:
+    """`path` (symlinks resolved) exists as what it must be and takes new files, or is
+    missing and can be made; else why not."""
     if path.exists():
-        if folder and not path.is_dir():
-            return "is a file, not a folder"
-        if not folder and path.is_dir():
-            return "is a folder, not a file"
+        kind = not_regular(path)
+        if folder and kind != "a folder":
+            return f"is {kind or 'a file'}, not a folder"
+        if not folder and kind:
+            return "is a folder, not a file" if kind == "a folder" else \
+                f"is {kind}, not a regular file; frost writes only regular files"
         writable = os.access(path, os.W_OK | (os.X_OK if folder else 0))
-        return None if writable else "is not writable"
-    parent = path.parent
-    while not parent.exists() and parent != parent.parent:
-        parent = parent.parent
+        return _creates_files(path if folder else path.parent) if writable else "is not writable"
+    parent = _existing(path.parent)
     if not parent.is_dir():
         return f"{parent} is a file, not a folder"
     if not os.access(parent, os.W_OK | os.X_OK):
         return f"cannot create it: {parent} is not writable"
+    return _creates_files(parent)
+
+
+def _existing(path: Path) -> Path:
+    """`path` or the nearest folder above it that exists."""
+    while not path.exists() and path != path.parent:
+        path = path.parent
+    return path
+
+
+def _too_long(path: Path) -> str | None:
+    """A name in `path` longer than its file system allows, said; None if none is."""
+    try:
+        limit = os.pathconf(_existing(path.absolute().parent), "PC_NAME_MAX")
+    except (OSError, ValueError):
+        limit = NAME_MAX
+    longest = max(path.parts, key=lambda part: len(os.fsencode(part)))
+    size = len(os.fsencode(longest))
+    if size > limit:
+        return f"a name in it is {size} bytes long; the file system allows {limit}"
+    return None
+
+
+def _creates_files(folder: Path) -> str | None:
+    """None if a file can be made in `folder` (made and removed to know), else why not."""
+    try:
+        fd, probe = temp_file(folder, "frost-probe")
+    except OSError as err:
+        return f"cannot create files in {folder}: {err.strerror or err}"
+    os.close(fd)
+    os.unlink(probe)
     return None
