@@ -187,6 +187,14 @@ def test_combinations_that_make_no_sense_are_refused_in_one_line(stubbed, tmp_pa
     assert_refused_in_one_line(status, err, named)
 
 
+@pytest.mark.parametrize("hc", ["0.03", "0.01", "1e-300"])
+@pytest.mark.parametrize("head", [[], ["render"], ["maps", "OUT"]])
+def test_an_hc_below_its_floor_is_refused_in_one_line_naming_it(stubbed, tmp_path, hc, head):
+    status, err = run_main(with_paths([*head, "--hc", hc], tmp_path))
+    assert not stubbed
+    assert_refused_in_one_line(status, err, f"hc={float(hc)!r}", "[1.0, 16.0]")
+
+
 def test_a_window_frost_render_melts_with_no_touch(stubbed):
     status, err = run_main(["render", "--window-frost", "--melt", "10,10@3"])
     assert status == 0 and len(stubbed) == 1, err
