@@ -655,3 +655,20 @@ def test_a_touch_on_the_screen_stays_on_it_once_stored(x, y):
     assert abs(cx - x) <= np.spacing(np.float32(760)) and abs(cy - y) <= np.spacing(np.float32(1280))
     key = sim.grid.keys(np.array([cx]), np.array([cy]))[0]
     assert sim.candidates.count[key] >= 1  # listed in its own, on-screen cell
+
+
+# ---- one rule per quantity --------------------------------------------------------------
+
+
+@pytest.mark.parametrize("scale, ok", [("0.04", False), ("0.05", True), ("1", True), ("4", True),
+                                       ("4.01", False), ("5", False), ("8", False)])
+def test_the_command_line_takes_the_scales_the_window_opens_at(stubbed, scale, ok):
+    from app.window.glfw_setup import WindowError, open_window
+
+    status, err = run_main(["--scale", scale])
+    if ok:
+        assert status == 0 and stubbed, err
+        return
+    assert_refused_in_one_line(status, err, "--scale", "[0.05, 4]")
+    with pytest.raises(WindowError, match=r"\[0\.05, 4\]"):  # refused before GLFW starts
+        open_window(float(scale))

@@ -9,6 +9,7 @@ import os
 
 from app.cli import values
 from app.window.keys import DEFAULT_PRESET
+from app.window.view import SCALES
 from sim import Params, all_presets
 from sim.screen import HEIGHT, WIDTH
 
@@ -77,7 +78,8 @@ def add_window(p) -> None:
     p.add_argument("--screenshot-dir", default=WINDOW_DEFAULTS["screenshot_dir"], metavar="DIR",
                    help="folder for screenshots (S, F12) and recordings (R) (default screenshots)")
     p.add_argument("--scale", type=values.scale, metavar="F",
-                   help=f"window size as a fraction of {WIDTH}x{HEIGHT} (default: fit the monitor)")
+                   help=f"window size as a fraction of {WIDTH}x{HEIGHT}, {SCALES[0]:g} to "
+                        f"{SCALES[1]:g} (default: fit the monitor)")
     p.add_argument("--max-seconds", type=values.seconds, metavar="S",
                    help="close by itself after S seconds, exit status 0 (default: stay open)")
 

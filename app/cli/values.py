@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 import math
 
+from app.window.view import scale_problem
 from sim.screen import touch_problem
 from sim.session import check_event
 
@@ -22,11 +23,16 @@ def touch(text: str) -> tuple[float, float]:
     return x, y
 
 
-def positive(text: str, hi: float, what: str, zero: bool = False) -> float:
+def number(text: str) -> float:
+    """`text` as a float; NaN (refused by every range) when it is not a number."""
     try:
-        v = float(text)
+        return float(text)
     except ValueError:
-        v = math.nan
+        return math.nan
+
+
+def positive(text: str, hi: float, what: str, zero: bool = False) -> float:
+    v = number(text)
     if not (0 <= v <= hi if zero else 0 < v <= hi):
         lo = "[0" if zero else "(0"
         raise argparse.ArgumentTypeError(f"{text!r} must be {what} in {lo}, {hi:g}]")
@@ -96,7 +102,12 @@ def count(text: str) -> int:
 
 
 def scale(text: str) -> float:
-    return positive(text, 8.0, "a scale")
+    """The window's size: the window's own rule (app.window.view.scale_problem)."""
+    v = number(text)
+    problem = scale_problem(v)
+    if problem:
+        raise argparse.ArgumentTypeError(problem)
+    return v
 
 
 def seconds(text: str) -> float:

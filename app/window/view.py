@@ -8,6 +8,15 @@ from sim.screen import SIZE as PHONE
 
 # Room left for window decorations and panels when fitting the monitor's work area.
 WORKAREA_MARGIN = 0.95
+# The window's sizes, as a fraction of the phone's 760x1280: from a 38x64 thumbnail to
+# 3040x5120 (four 4K monitors stacked). --scale and the window both take this range.
+SCALES = (0.05, 4.0)
+
+
+def scale_problem(scale: float) -> str | None:
+    """Why the window cannot be `scale` times the phone (NaN too), or None when it can."""
+    lo, hi = SCALES
+    return None if lo <= scale <= hi else f"scale {scale:g} must be in [{lo:g}, {hi:g}]"
 
 
 def fit_scale(workarea: tuple[int, int], phone: tuple[int, int] = PHONE) -> float:
