@@ -672,3 +672,103 @@ def test_the_command_line_takes_the_scales_the_window_opens_at(stubbed, scale, o
     assert_refused_in_one_line(status, err, "--scale", "[0.05, 4]")
     with pytest.raises(WindowError, match=r"\[0\.05, 4\]"):  # refused before GLFW starts
         open_window(float(scale))
+
+
+def session_with(*events, **entries) -> dict:
+    return {"format": "frost-session", "seed": 0, "params": {}, "steps": 20,
+            "events": list(events), **entries}
+
+
+def loads(data: dict) -> bool:
+    try:
+        SessionLog.from_json(data)
+    except SessionError:
+        return False
+    return True
+
+
+def on_screen(x: float, y: float) -> bool:
+    return 0 <= x < 760 and 0 <= y < 1280  # the phone, by hand (NaN compares False)
+
+
+EDGES = [0.0, -0.0, 759.9999999, 760.0, 760.5, 1279.999, 1280.0, -1.0, -1e-9, 5e-324]
+COORD = st.one_of(st.sampled_from(EDGES), st.floats(-100, 1400), st.floats())
+
+
+@FIXTURE_OK
+@given(x=COORD, y=COORD)
+@example(x=760.0, y=5.0)  # a session took it; the command line refused it
+@example(x=-1.0, y=0.0)  # argparse said "expected one argument"
+def test_a_touch_is_taken_by_the_command_line_iff_by_a_session(stubbed, x, y):
+    stubbed.clear()
+    status, err = run_main(["render", "--touch", f"{x!r},{y!r}"])
+    session = loads(session_with({"kind": "touch", "tick": 0, "x": x, "y": y}))
+    assert (status == 0) == session == on_screen(x, y), err
+    if status:
+        assert_refused_in_one_line(status, err, "--touch", "is off the 760x1280 screen")
+
+
+RADII = st.one_of(st.sampled_from([1e-9, 0.5, 24.0, 10_000.0, 10_000.5, 1e9, 0.0, -1.0]),
+                  st.floats(-10, 20_000), st.floats())
+
+
+@FIXTURE_OK
+@given(x=COORD, y=COORD, r=RADII)
+@example(x=100.0, y=100.0, r=1e9)  # a --melt took it; --melt-radius refused it
+@example(x=900.0, y=100.0, r=10.0)  # a --melt off the screen was taken
+def test_a_melt_is_taken_by_the_command_line_iff_by_a_session(stubbed, tmp_path, x, y, r):
+    stubbed.clear()
+    ok = on_screen(x, y) and 0 < r <= 10_000  # by hand: a finger on the screen, r in range
+    status, err = run_main(["render", "--touch=1,1", f"--melt={x!r},{y!r},{r!r}@3"])
+    assert (status == 0) == ok, err
+    if status:
+        assert_refused_in_one_line(status, err, "--melt")
+    assert loads(session_with({"kind": "melt", "tick": 0, "x": x, "y": y, "r": r})) == ok
+    status, err = run_main(["render", "--touch=1,1", f"--melt-radius={r!r}"])
+    assert (status == 0) == (0 < r <= 10_000), err
+
+
+def test_a_melt_path_point_off_the_screen_is_refused(stubbed):
+    status, err = run_main(["render", "--touch=1,1", "--melt-path", "-5,3:10,10@2"])
+    assert_refused_in_one_line(status, err, "--melt-path", "(-5, 3) is off the 760x1280 screen")
+
+
+@pytest.mark.parametrize("option", ["--melt=5,5@{}", "--melt-path=5,5:9,9@{}"])
+def test_a_melt_after_the_last_tick_is_refused(stubbed, option):
+    status, err = run_main(["render", "--touch=1,1", "--ticks=10", option.format(11)])
+    assert_refused_in_one_line(status, err, "tick 11", "--ticks 10")
+    status, err = run_main(["render", "--touch=1,1", "--ticks=10", option.format(10)])
+    assert status == 0 and stubbed, err
+
+
+def test_a_melt_at_the_last_tick_applies():
+    from sim.session import Timeline, grow, touch_events
+
+    events = touch_events([(380, 640)]) + [{"tick": 10, "kind": "melt", "x": 380.0,
+                                            "y": 640.0, "r": 30.0}]
+    timeline = Timeline(Params.preset("c-2"), 0)
+    assert grow(timeline, 10, events) == 2 and timeline.melts[-1]["tick"] == 10
+
+
+@pytest.mark.parametrize("option, top, entry", [
+    ("--seed", 2**63 - 1, "seed"), ("--ticks", 2**31 - 1, "steps")])
+def test_a_seed_or_tick_count_is_taken_by_the_command_line_iff_by_a_session(
+        stubbed, option, top, entry):
+    for value, ok in ((top, True), (top + 1, False), (-1, False)):
+        stubbed.clear()
+        status, err = run_main(["render", "--touch=1,1", f"{option}={value}"])
+        assert (status == 0) == ok == loads(session_with(**{entry: value})), (value, err)
+        if not ok:
+            assert_refused_in_one_line(status, err, option, str(top))
+
+
+@pytest.mark.parametrize("argv, said", [
+    (["--touch", "-1,0"], "touch (-1, 0) is off the 760x1280 screen"),
+    (["render", "--touch", "1,1", "--melt", "-1,0@2"], "melt (-1, 0) is off"),
+    (["render", "--touch", "1,1", "--melt-path", "-1,0:5,5@2"], "melt path point (-1, 0) is off"),
+    (["--hc", "-1e-5"], "hc=-1e-05 is out of range"), (["--touch", "-.5,3"], "(-0.5, 3) is off"),
+    (["--seed", "-1"], "--seed: '-1' must be a whole number")])
+def test_a_negative_value_is_refused_for_what_is_wrong_with_it(stubbed, argv, said):
+    status, err = run_main(argv)
+    assert "expected one argument" not in err
+    assert_refused_in_one_line(status, err, said)

@@ -33,7 +33,7 @@ def add_preset(p) -> None:
 
 
 def add_seed(p) -> None:
-    p.add_argument("--seed", type=values.whole, default=0, metavar="N",
+    p.add_argument("--seed", type=values.seed, default=0, metavar="N",
                    help="random seed, a whole number (default 0)")
 
 
