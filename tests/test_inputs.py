@@ -393,6 +393,14 @@ def test_an_output_that_is_not_a_regular_file_is_refused_before_any_work(
     assert os.lstat(node).st_mode & 0o170000 == (stat.S_IFIFO if kind == "fifo" else stat.S_IFCHR)
 
 
+def test_a_map_file_that_is_a_fifo_is_refused_before_any_work(stubbed, tmp_path):
+    (tmp_path / "maps").mkdir()
+    os.mkfifo(tmp_path / "maps" / "normal.png")
+    status, err = run_main(["maps", str(tmp_path / "maps")])
+    assert not stubbed
+    assert_refused_in_one_line(status, err, "normal.png: is a FIFO")
+
+
 def test_an_output_symlink_to_a_file_is_accepted(stubbed, tmp_path):
     (tmp_path / "real.png").write_bytes(b"old")
     (tmp_path / "link.png").symlink_to(tmp_path / "real.png")

@@ -18,9 +18,12 @@ import os
 from pathlib import Path
 
 from sim.files import not_regular, one_line, temp_file
+from sim.maps import MAP_NAMES
 
 OUTPUT_FILES = ("out",)
 OUTPUT_FOLDERS = ("out_dir", "session_dir")
+# Files a folder option's command writes under fixed names: checked like an output file.
+FOLDER_FILES = {"out_dir": tuple(f"{name}.png" for name in MAP_NAMES)}
 WINDOW_FOLDERS = ("screenshot_dir",)
 NAME_MAX = 255  # bytes in one name, where the file system does not say (Linux's limit)
 
@@ -35,7 +38,8 @@ def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> li
         if name not in OUTPUT_FILES + OUTPUT_FOLDERS + WINDOW_FOLDERS or value is None \
                 or value == action.default:
             continue
-        problem = _output_problem(Path(value), folder=name not in OUTPUT_FILES)
+        problem = _output_problem(Path(value), folder=name not in OUTPUT_FILES) or \
+            _files_problem(Path(value), FOLDER_FILES.get(name, ()))
         message = f"{_named(action, value)}: {problem}"
         if problem and name in WINDOW_FOLDERS:
             warnings.append(f"{message}; the window will say so at each write")
@@ -51,6 +55,15 @@ def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> li
 def _named(action: argparse.Action, value) -> str:
     """An option and its value as typed (a positional: the value alone)."""
     return one_line(f"{action.option_strings[0]} {value}" if action.option_strings else value)
+
+
+def _files_problem(folder: Path, files: tuple[str, ...]) -> str | None:
+    """Why one of `files` in `folder` cannot be written, naming it; None if all can."""
+    for file in files:
+        problem = _output_problem(folder / file, folder=False)
+        if problem:
+            return f"{one_line(file)}: {problem}"
+    return None
 
 
 def _replay_problem(path: Path) -> str | None:
