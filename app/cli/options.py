@@ -11,7 +11,7 @@ from app.cli import values
 from app.window.keys import DEFAULT_PRESET
 from app.window.view import SCALES
 from sim import Params, all_presets
-from sim.screen import HEIGHT, WIDTH
+from sim.screen import HEIGHT, MAX_MELT_RADIUS, WIDTH
 
 DEFAULT_TICKS = 250
 # The window's options and their defaults; a replay told to render headless refuses them.
@@ -55,7 +55,8 @@ def add_ticks(p, default: int | None, what: str) -> None:
 
 def add_melt_radius(p, what: str) -> None:
     p.add_argument("--melt-radius", type=values.radius, default=WINDOW_DEFAULTS["melt_radius"],
-                   metavar="PX", help=f"radius of the warm finger ({what}), px (default 24)")
+                   metavar="PX", help=f"radius of the warm finger ({what}), px, at most "
+                                      f"{MAX_MELT_RADIUS:g} (default 24)")
 
 
 def add_melts(p) -> None:
