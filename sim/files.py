@@ -79,8 +79,15 @@ def writable_target(path) -> Path:
     OSError naming `path` when that exists and is not a regular file."""
     kind = _blamed(not_regular, path, path)
     if kind:
-        raise OSError(errno.EINVAL, f"is {kind}, not a regular file: refused, not replaced", str(path))
+        raise OSError(errno.EINVAL, refusal(kind), str(path))
     return Path(os.path.realpath(path))
+
+
+def refusal(kind: str) -> str:
+    """Why a file is not written over `kind` (what not_regular said), for a message."""
+    if kind == "a folder":
+        return "is a folder, not a file"
+    return f"is {kind}, not a regular file; frost writes only regular files"
 
 
 def one_line(text: str) -> str:

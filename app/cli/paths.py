@@ -17,7 +17,7 @@ import argparse
 import os
 from pathlib import Path
 
-from sim.files import not_regular, one_line, temp_file
+from sim.files import not_regular, one_line, refusal, temp_file
 from sim.maps import MAP_NAMES
 
 OUTPUT_FILES = ("out",)
@@ -92,8 +92,7 @@ def _writable_problem(path: Path, folder: bool) -> str | None:
         if folder and kind != "a folder":
             return f"is {kind or 'a file'}, not a folder"
         if not folder and kind:
-            return "is a folder, not a file" if kind == "a folder" else \
-                f"is {kind}, not a regular file; frost writes only regular files"
+            return refusal(kind)  # what the write itself would say, before the work
         writable = os.access(path, os.W_OK | (os.X_OK if folder else 0))
         return _creates_files(path if folder else path.parent) if writable else "is not writable"
     parent = _existing(path.parent)
