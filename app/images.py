@@ -19,6 +19,8 @@ from sim.screen import HEIGHT, WIDTH
 
 log = logging.getLogger(__name__)
 
+DEFAULT_FOLDER = Path("frost-out")  # where headless PNGs go without --out
+
 
 def read_image(fbo) -> np.ndarray:
     """The framebuffer's colour as H x W x 3 uint8, top row first (GL reads bottom-up)."""

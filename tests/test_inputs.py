@@ -305,9 +305,7 @@ def blocked(monkeypatch, tmp_path):
 
 
 OUTPUTS = {"render --out": lambda p: ["render", f"--out={p}"],
-           "figure8": lambda p: ["figure8", str(p)], "maps": lambda p: ["maps", str(p)],
-           # The window always writes its session on exit: a folder it cannot use loses it.
-           "--session-dir": lambda p: [f"--session-dir={p}"]}
+           "figure8": lambda p: ["figure8", str(p)], "maps": lambda p: ["maps", str(p)]}
 
 
 @pytest.mark.parametrize("output", list(OUTPUTS))
@@ -326,9 +324,9 @@ def test_output_paths_are_checked_before_any_work(stubbed, blocked, output, case
         assert_refused_in_one_line(status, err, str(blocker), "is a file, not a folder")
 
 
-@pytest.mark.parametrize("option", ["--screenshot-dir"])
+@pytest.mark.parametrize("option", ["--screenshot-dir", "--session-dir"])
 @pytest.mark.parametrize("case", ["file as folder", "unwritable", "missing parent"])
-def test_the_screenshot_folder_gets_a_one_line_warning_and_it_runs(stubbed, blocked, option, case):
+def test_the_windows_folders_get_a_one_line_warning_and_it_runs(stubbed, blocked, option, case):
     target, named = blocked[case]
     status, err = run_main([f"{option}={target}"])
     assert status == 0 and stubbed  # the window reports each failed write and runs on
@@ -358,7 +356,9 @@ def test_a_fern_figure_into_a_blocked_folder_is_refused(stubbed, blocked):
 FILE_OUTPUTS = {"render --out": ["render", "--out={}"], "figure8": ["figure8", "{}"],
                 "figure": ["figure", "fern", "{}"],
                 "replay --out": ["replay", "SESSION", "--out={}"]}
-FOLDER_OUTPUTS = {"maps": ["maps", "{}"], "--session-dir": ["--session-dir={}"],
+FOLDER_OUTPUTS = {"maps": ["maps", "{}"]}
+# The window's folders: warned of, and the window runs and reports each failed write.
+WINDOW_OUTPUTS = {"--screenshot-dir": ["--screenshot-dir={}"], "--session-dir": ["--session-dir={}"],
                   "replay --session-dir": ["replay", "SESSION", "--session-dir={}"]}
 
 
@@ -411,19 +411,26 @@ def test_an_output_symlink_to_a_file_is_accepted(stubbed, tmp_path):
 LONG = "n" * 300
 
 
-@pytest.mark.parametrize("output", [*FILE_OUTPUTS, *FOLDER_OUTPUTS])
-@pytest.mark.parametrize("where", ["last", "folder"])
-def test_a_name_too_long_is_refused_before_any_work(stubbed, tmp_path, output, where):
-    template = FILE_OUTPUTS.get(output) or FOLDER_OUTPUTS[output]
-    path = tmp_path / LONG if where == "last" else tmp_path / LONG / "x"
-    status, err = run_main(output_argv(template, path, tmp_path))
+def refused_or_warned(stubbed, output: str, status, err: str, *words: str) -> None:
+    """An output is refused before any work; a window's folder warned of in one line."""
+    if output in WINDOW_OUTPUTS:
+        assert status == 0 and stubbed, err
+        assert err.count("\n") == 1 and err.startswith("frost: warning: "), err
+        assert all(word in err for word in words), err
+        return
     assert not stubbed
-    assert_refused_in_one_line(status, err, "300 bytes long", str(path))
+    assert_refused_in_one_line(status, err, *words)
 
 
-def test_a_screenshot_folder_name_too_long_is_warned_of(stubbed, tmp_path):
-    status, err = run_main([f"--screenshot-dir={tmp_path / LONG}"])
-    assert status == 0 and stubbed and err.count("\n") == 1 and "300 bytes long" in err, err
+OUTPUT_TEMPLATES = {**FILE_OUTPUTS, **FOLDER_OUTPUTS, **WINDOW_OUTPUTS}
+
+
+@pytest.mark.parametrize("output", list(OUTPUT_TEMPLATES))
+@pytest.mark.parametrize("where", ["last", "folder"])
+def test_a_name_too_long_is_refused_or_warned_of(stubbed, tmp_path, output, where):
+    path = tmp_path / LONG if where == "last" else tmp_path / LONG / "x"
+    status, err = run_main(output_argv(OUTPUT_TEMPLATES[output], path, tmp_path))
+    refused_or_warned(stubbed, output, status, err, "300 bytes long", str(path))
 
 
 # /proc and /sys take no new files (even from root); only a file made there tells.
@@ -431,14 +438,12 @@ PSEUDO = [p for p in ("/proc", "/sys") if os.path.isdir(p)]
 
 
 @pytest.mark.parametrize("root", PSEUDO)
-@pytest.mark.parametrize("output", [*FILE_OUTPUTS, *FOLDER_OUTPUTS])
-def test_a_folder_that_takes_no_files_is_refused_before_any_work(stubbed, tmp_path, root,
-                                                                 output):
-    template = FILE_OUTPUTS.get(output) or FOLDER_OUTPUTS[output]
+@pytest.mark.parametrize("output", list(OUTPUT_TEMPLATES))
+def test_a_folder_that_takes_no_files_is_refused_or_warned_of(stubbed, tmp_path, root,
+                                                             output):
     path = f"{root}/frost-x.png"
-    status, err = run_main(output_argv(template, path, tmp_path))
-    assert not stubbed
-    assert_refused_in_one_line(status, err, path, f"cannot create files in {root}")
+    status, err = run_main(output_argv(OUTPUT_TEMPLATES[output], path, tmp_path))
+    refused_or_warned(stubbed, output, status, err, path, f"cannot create files in {root}")
     assert ".tmp" not in err and "frost-probe" not in err
 
 
@@ -455,6 +460,20 @@ def test_a_replay_of_a_fifo_is_refused_without_blocking(stubbed, tmp_path):
     os.mkfifo(tmp_path / "s.json")
     status, err = run_main(["replay", "--headless", str(tmp_path / "s.json")])
     assert_refused_in_one_line(status, err, "s.json", "is a FIFO")
+
+
+@pytest.mark.parametrize("argv", [["render"], ["replay", "SESSION", "--headless"],
+                                  ["replay", "SESSION", "--ticks=3"]])
+def test_the_default_folder_is_checked_when_there_is_no_out(stubbed, tmp_path, monkeypatch, argv):
+    monkeypatch.chdir(tmp_path)
+    argv = with_paths(argv, tmp_path)
+    (tmp_path / "frost-out").write_text("a file in the way")
+    status, err = run_main(argv)
+    assert not stubbed
+    assert_refused_in_one_line(status, err, "frost-out", "is a file, not a folder")
+    (tmp_path / "frost-out").unlink()
+    status, err = run_main(argv)
+    assert status == 0 and stubbed and not (tmp_path / "frost-out").exists(), err
 
 
 def test_a_render_over_a_folder_is_refused(stubbed, tmp_path):

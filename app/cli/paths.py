@@ -1,14 +1,14 @@
 """Path options, checked before any work.
 
-What a run writes at its end (a headless PNG, a figure, the maps, the window's session on
-exit) is refused at start-up when it cannot be written, before the work it would lose; such
-files and folders may be missing (they are made on writing) but must be creatable: no name
-in the path longer than the file system allows, a file may be created in the folder (a
-file system such as /proc or /sys takes none: a temporary file is made and removed to
-know), and an output file that exists is a regular file (sim.files refuses to replace a
-device, a FIFO or a socket; a symlink is checked where it leads). The screenshot folder
-only gets a start-up warning: the window reports each failed write and runs on (a user may
-never press S). The session to replay must be a readable file.
+What a run writes at its end (a headless PNG, a figure, the maps) is refused at start-up
+when it cannot be written, before the work it would lose; such files and folders may be
+missing (they are made on writing) but must be creatable: no name in the path longer than
+the file system allows, a file may be created in the folder (a file system such as /proc
+or /sys takes none: a temporary file is made and removed to know), and an output file that
+exists is a regular file (sim.files refuses to replace a device, a FIFO or a socket; a
+symlink is checked where it leads). The window's folders are checked the same way but only
+get a start-up warning: the window reports each failed write and runs on, as the user
+chose (tests/test_window_e2e.py runs it so). The session to replay must be a readable file.
 """
 
 from __future__ import annotations
@@ -17,14 +17,15 @@ import argparse
 import os
 from pathlib import Path
 
+from app.images import DEFAULT_FOLDER
 from sim.files import not_regular, one_line, refusal, temp_file
 from sim.maps import MAP_NAMES
 
 OUTPUT_FILES = ("out",)
-OUTPUT_FOLDERS = ("out_dir", "session_dir")
+OUTPUT_FOLDERS = ("out_dir",)
 # Files a folder option's command writes under fixed names: checked like an output file.
 FOLDER_FILES = {"out_dir": tuple(f"{name}.png" for name in MAP_NAMES)}
-WINDOW_FOLDERS = ("screenshot_dir",)
+WINDOW_FOLDERS = ("screenshot_dir", "session_dir")
 NAME_MAX = 255  # bytes in one name, where the file system does not say (Linux's limit)
 
 
@@ -45,11 +46,22 @@ def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> li
             warnings.append(f"{message}; the window will say so at each write")
         elif problem:
             raise ValueError(message)
+    if _writes_default_folder(args):
+        problem = _output_problem(DEFAULT_FOLDER, folder=True)
+        if problem:
+            raise ValueError(f"{DEFAULT_FOLDER} (the PNGs' folder with no --out): {problem}")
     if getattr(args, "replay", None) is not None:
         problem = _replay_problem(Path(args.replay))
         if problem:
             raise ValueError(f"{one_line(args.replay)}: {problem}")
     return warnings
+
+
+def _writes_default_folder(args: argparse.Namespace) -> bool:
+    """The command renders headless with no --out (a replay: when it is told to)."""
+    headless = args.command == "render" or args.command == "replay" and (
+        args.headless or args.ticks is not None)
+    return headless and args.out is None
 
 
 def _named(action: argparse.Action, value) -> str:
