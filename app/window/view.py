@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from sim.screen import SIZE as PHONE
+from sim.screen import touch_problem
 
 # Room left for window decorations and panels when fitting the monitor's work area.
 WORKAREA_MARGIN = 0.95
@@ -47,7 +48,7 @@ def cursor_to_phone(cursor: tuple[float, float], window_size: tuple[int, int],
     vx, vy, vw, vh = letterbox(fb_size, phone)
     top = fh - vy - vh
     px, py = (fx - vx) * phone[0] / vw, (fy - top) * phone[1] / vh
-    if not (0 <= px < phone[0] and 0 <= py < phone[1]):
+    if touch_problem(px, py, phone):  # the rule sessions and the command line keep too
         return None
     return px, py
 
