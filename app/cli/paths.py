@@ -17,6 +17,7 @@ import argparse
 import os
 from pathlib import Path
 
+from app.cli.options import has_display
 from app.images import DEFAULT_FOLDER
 from sim.files import not_regular, one_line, refusal, temp_file
 from sim.maps import MAP_NAMES
@@ -58,9 +59,10 @@ def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> li
 
 
 def _writes_default_folder(args: argparse.Namespace) -> bool:
-    """The command renders headless with no --out (a replay: when it is told to)."""
+    """The command renders headless with no --out: render, a replay told to, and the
+    window where no display is named (it renders instead)."""
     headless = args.command == "render" or args.command == "replay" and (
-        args.headless or args.ticks is not None)
+        args.headless or args.ticks is not None) or args.command is None and not has_display()
     return headless and args.out is None
 
 
