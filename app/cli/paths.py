@@ -36,17 +36,11 @@ def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> li
     folders. Folders left at their defaults are the window's to report at run time."""
     warnings = []
     for action in parser._actions:  # this command's own options, not the root's defaults
-        name, value = action.dest, getattr(args, action.dest, None)
-        if name not in OUTPUT_FILES + OUTPUT_FOLDERS + WINDOW_FOLDERS or value is None \
-                or value == action.default:
-            continue
-        problem = _output_problem(Path(value), folder=name not in OUTPUT_FILES) or \
-            _files_problem(Path(value), FOLDER_FILES.get(name, ()))
-        message = f"{_named(action, value)}: {problem}"
-        if problem and name in WINDOW_FOLDERS:
-            warnings.append(f"{message}; the window will say so at each write")
+        problem = _option_problem(args, action)
+        if problem and action.dest in WINDOW_FOLDERS:
+            warnings.append(f"{problem}; the window will say so at each write")
         elif problem:
-            raise ValueError(message)
+            raise ValueError(problem)
     if _writes_default_folder(args):
         problem = _output_problem(DEFAULT_FOLDER, folder=True)
         if problem:
@@ -56,6 +50,18 @@ def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> li
         if problem:
             raise ValueError(f"{one_line(args.replay)}: {problem}")
     return warnings
+
+
+def _option_problem(args: argparse.Namespace, action: argparse.Action) -> str | None:
+    """Why the path an output option was given cannot be written, naming the option; None
+    if it can, or the option is no output path or was left at its default."""
+    name, value = action.dest, getattr(args, action.dest, None)
+    if name not in OUTPUT_FILES + OUTPUT_FOLDERS + WINDOW_FOLDERS or value is None \
+            or value == action.default:
+        return None
+    problem = _output_problem(Path(value), folder=name not in OUTPUT_FILES) or \
+        _files_problem(Path(value), FOLDER_FILES.get(name, ()))
+    return problem and f"{_named(action, value)}: {problem}"
 
 
 def _writes_default_folder(args: argparse.Namespace) -> bool:
