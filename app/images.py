@@ -16,6 +16,8 @@ from sim.maps import MAP_NAMES, MEANING, compute_maps, encode
 from sim.params import Params
 from sim.screen import HEIGHT, WIDTH
 
+DEFAULT_FOLDER = Path("frost-out")  # where headless PNGs go without --out
+
 
 def read_image(fbo) -> np.ndarray:
     """The framebuffer's colour as H x W x 3 uint8, top row first (GL reads bottom-up)."""

@@ -9,8 +9,9 @@ import os
 
 from app.cli import values
 from app.window.keys import DEFAULT_PRESET
+from app.window.view import SCALES
 from sim import PRESETS, Params, all_presets
-from sim.screen import HEIGHT, WIDTH
+from sim.screen import HEIGHT, MAX_MELT_RADIUS, WIDTH
 
 DEFAULT_TICKS = 250
 # The window's options and their defaults; a replay told to render headless refuses them.
@@ -32,7 +33,7 @@ def add_preset(p) -> None:
 
 
 def add_seed(p) -> None:
-    p.add_argument("--seed", type=values.whole, default=0, metavar="N",
+    p.add_argument("--seed", type=values.seed, default=0, metavar="N",
                    help="random seed, a whole number (default 0)")
 
 
@@ -56,7 +57,8 @@ def add_ticks(p, default: int | None, what: str) -> None:
 
 def add_melt_radius(p, what: str) -> None:
     p.add_argument("--melt-radius", type=values.radius, default=WINDOW_DEFAULTS["melt_radius"],
-                   metavar="PX", help=f"radius of the warm finger ({what}), px (default 24)")
+                   metavar="PX", help=f"radius of the warm finger ({what}), px, at most "
+                                      f"{MAX_MELT_RADIUS:g} (default 24)")
 
 
 def add_melts(p) -> None:
@@ -79,7 +81,8 @@ def add_window(p) -> None:
     p.add_argument("--screenshot-dir", default=WINDOW_DEFAULTS["screenshot_dir"], metavar="DIR",
                    help="folder for screenshots (S, F12) and recordings (R) (default screenshots)")
     p.add_argument("--scale", type=values.scale, metavar="F",
-                   help=f"window size as a fraction of {WIDTH}x{HEIGHT} (default: fit the monitor)")
+                   help=f"window size as a fraction of {WIDTH}x{HEIGHT}, {SCALES[0]:g} to "
+                        f"{SCALES[1]:g} (default: fit the monitor)")
     p.add_argument("--max-seconds", type=values.seconds, metavar="S",
                    help="close by itself after S seconds, exit status 0 (default: stay open)")
 

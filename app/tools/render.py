@@ -6,7 +6,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from app.images import timestamped_path
+from app.images import DEFAULT_FOLDER, timestamped_path
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
 from sim import Params
@@ -14,8 +14,6 @@ from sim.files import why
 from sim.gestures import MELT_SPACING, path_points
 from sim.screen import HEIGHT, WIDTH
 from sim.session import touch_events
-
-DEFAULT_FOLDER = Path("frost-out")
 
 
 def demo_touches(ticks: int) -> list[tuple[int, float, float]]:
