@@ -186,6 +186,26 @@ def test_param_change_rebuilds_and_replays_the_touches_deterministically():
     assert np.array_equal(a.sim.crystals, b.sim.crystals)
 
 
+def test_every_map_export_asked_for_is_written_even_in_one_tick_or_at_stop(tmp_path):
+    """E pressed three times within one tick, then twice more as the window closes: five
+    folders, each with its three maps, and a notice for each; none overwrites another."""
+    thread = SimThread(Params(), 0, [(380, 640)])
+    folders = [tmp_path / f"maps-{i}" for i in range(5)]
+    thread._tick()
+    for folder in folders[:3]:
+        thread.send("export", folder)
+    thread._tick()
+    for folder in folders[3:]:
+        thread.send("export", folder)
+    thread.stop()
+    notices = [text for _, text in simthread._take_all(thread.notices)]
+    for folder in folders:
+        assert sorted(p.name for p in folder.iterdir()) == ["alpha.png", "height.png",
+                                                            "normal.png"]
+        assert sum(str(folder / "height.png") in text for text in notices) == 1
+    assert len(notices) == 5
+
+
 def test_pause_and_single_step():
     thread = SimThread(Params(), 0, [(380, 640)])
     thread.send("pause")

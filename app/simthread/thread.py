@@ -100,8 +100,9 @@ class SimThread(threading.Thread):
         self._clicks = Clicks()  # for the latency log
         self._handlers = {"touch": self._touch, "melt": self._melt, "params": self._set_params,
                           "clear": self._clear, "pause": self._pause, "step": self._single,
-                          "export": self._export}
+                          "export": self._ask_export}
         self.backlog = Backlog()  # commands wait here when more arrive than a tick takes
+        self._writers: list[threading.Thread] = []  # map exports being written
         self.timeline = Timeline(params, seed, width, height)
         events = [{"kind": "touch", "x": float(x), "y": float(y)} for x, y in touches]
         self.timeline.apply(events)
@@ -139,9 +140,24 @@ class SimThread(threading.Thread):
         return self.sent
 
     def stop(self, timeout: float = 1.0) -> None:
+        """End the thread, write the map exports still asked for, wait for every writer."""
         self._stop_event.set()
         if self.is_alive():
             self.join(timeout)
+        self._last_exports()
+        for writer in self._writers:
+            writer.join()
+
+    def _last_exports(self) -> None:
+        """Exports sent but not yet taken by a tick: the maps of the last tick when the
+        thread has ended, else (a tick still running) reported as not written."""
+        waiting = [*self.backlog.take_all(), *_take_all(self.inbox)]
+        for folder in (c.arg for c in waiting if c.kind == "export"):
+            if self.is_alive():
+                self.notify(logging.WARNING, f"frost maps NOT written: {folder}: the "
+                            "simulation did not stop")
+            else:
+                self._export(folder)
 
     def drain(self) -> list[Snapshot]:
         """Every snapshot produced since the last call, oldest first."""
@@ -193,8 +209,8 @@ class SimThread(threading.Thread):
             self._clicks.forget_seeds()
         # A click made while paused shows (and is timed) at the next step.
         step = self._step() if not self.paused or notes.pop("single", False) else Step()
-        if "export" in notes:  # after any step: the arrays of the tick the snapshot shows
-            export_now(notes.pop("export"), self.timeline, self.seed, self.notify)
+        for folder in notes.pop("exports", []):  # after any step: the tick the snapshot shows
+            self._export(folder)
         self.tick_ms = (time.perf_counter() - t0) * 1000.0
         self.outbox.put(self._snapshot(step.delta, reset=reset, clicks=step.clicks,
                                        grown=step.grown, message=message,
@@ -237,8 +253,11 @@ class SimThread(threading.Thread):
     def _clear(self, _arg, notes: dict) -> None:
         notes["applied"].append(self.timeline.apply([{"kind": "clear"}]))
 
-    def _export(self, folder, notes: dict) -> None:
-        notes["export"] = folder
+    def _ask_export(self, folder, notes: dict) -> None:
+        notes.setdefault("exports", []).append(folder)
+
+    def _export(self, folder) -> None:
+        self._writers.append(export_now(folder, self.timeline, self.seed, self.notify))
 
     def _pause(self, _arg, _notes: dict) -> None:
         self.paused = not self.paused
