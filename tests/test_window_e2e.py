@@ -23,6 +23,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from sim.session import SessionLog
+
 ROOT = Path(__file__).resolve().parent.parent
 SCREEN = "-screen 0 1280x1400x24"  # taller than the 1280 px phone
 CLICK = (380, 420)  # phone px
@@ -169,17 +171,21 @@ def unwritable(app: subprocess.Popen, log: Path) -> dict:
     return {"status": app.wait(timeout=10), "running": running}
 
 
-def interrupt(app: subprocess.Popen, log: Path) -> dict:
-    """A screenshot, then Ctrl-C (SIGINT) while the frost grows."""
-    xdo("search", "--sync", "--onlyvisible", "--name", "^frost$")
+def interrupt(app: subprocess.Popen, log: Path, signum: int = signal.SIGINT) -> dict:
+    """A click and a screenshot, then Ctrl-C (SIGINT, or `signum`) while the frost grows."""
+    wid = xdo("search", "--sync", "--onlyvisible", "--name", "^frost$").split()[0]
     wait_for(log, r"stats: ")
+    xdo("mousemove", "--window", wid, "200", "300")
+    xdo("click", "1")
     xdo("key", "s")
     wait_for(log, r"screenshot: ")
-    app.send_signal(signal.SIGINT)
+    app.send_signal(signum)
     return {"status": app.wait(timeout=10)}
 
 
-DRIVES = {"session": session, "unwritable": unwritable, "interrupt": interrupt}
+DRIVES = {"session": session, "unwritable": unwritable, "interrupt": interrupt,
+          "SIGTERM": lambda app, log: interrupt(app, log, signal.SIGTERM),
+          "SIGHUP": lambda app, log: interrupt(app, log, signal.SIGHUP)}
 
 
 def letterboxed(wid: str, log: Path) -> None:
@@ -315,12 +321,30 @@ def test_nowhere_to_write_is_reported_and_the_app_keeps_running(nowhere):
     assert not list(nowhere["out"].rglob("*.tmp"))
 
 
+def saved_on_signal(got: dict, status: int) -> None:
+    """The process exits `status` and says so in its summary, having saved the session with
+    the click; nothing half-written."""
+    log = got["log"]
+    assert got["result"]["status"] == status, log[-3000:]
+    assert re.search(rf"summary: .*, exit status {status}$", log, re.M), log[-3000:]
+    assert "Traceback" not in log
+    (path,) = (got["out"] / "sessions").glob("session-*.json")
+    saved = SessionLog.load(path)
+    assert saved.steps > 0 and [e["kind"] for e in saved.events] == ["touch"]
+    assert not list(got["out"].rglob("*.tmp"))
+
+
 def test_ctrl_c_ends_the_window_with_130_saving_the_session(tmp_path_factory):
     got = driven(tmp_path_factory.mktemp("interrupt"), "interrupt")
-    assert got["result"]["status"] == 130, got["log"][-3000:]
-    assert "frost: interrupted" in got["log"] and "Traceback" not in got["log"]
-    assert len(list((got["out"] / "sessions").glob("session-*.json"))) == 1
-    assert not list(got["out"].rglob("*.tmp"))
+    saved_on_signal(got, 130)
+    assert "frost: interrupted" in got["log"]
+
+
+@pytest.mark.parametrize("name, status", [("SIGTERM", 143), ("SIGHUP", 129)])
+def test_sigterm_and_sighup_end_the_window_saving_the_session(tmp_path_factory, name, status):
+    got = driven(tmp_path_factory.mktemp(name), name)
+    saved_on_signal(got, status)
+    assert f"window: {name} received: closing" in got["log"]
 
 
 def test_parameter_key_changes_the_parameter(run):

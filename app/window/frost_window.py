@@ -56,7 +56,8 @@ class FrostWindow:
         self.pointer = Pointer(window, self.sizes, self.thread, args.melt_radius,
                                lambda: self.actions.params.hc, self.shown_tick, self.status.melted)
         self.latest: Snapshot | None = None
-        self.running, self.interrupted, self.exit_status = True, False, 0
+        self.running, self.exit_status = True, 0
+        self.ended_by: signal.Signals | None = None  # the signal that ended the loop
         self.dirty = self.damaged = True  # render the phone again; present again
         self.iconified, self.snapshots, self.new_ticks = False, 0, 0
         self._connect()
@@ -83,9 +84,13 @@ class FrostWindow:
     def stop(self) -> None:
         self.running = False
 
-    def interrupt(self) -> None:
-        """Ctrl-C: end the loop at the next frame, as Esc does."""
-        self.running, self.interrupted = False, True
+    def end_by(self, signum: int) -> None:
+        """Ctrl-C, SIGTERM or SIGHUP: end the loop at the next frame, as Esc does (the
+        session is saved), and exit as the shell reports that signal: 128 + its number.
+        Once the loop has ended (Esc, a signal, an error) it changes nothing."""
+        if self.running:
+            self.running, self.ended_by = False, signal.Signals(signum)
+            self.exit_status = 128 + signum
 
     def _minimized(self) -> bool:
         return self.iconified or 0 in self.sizes.framebuffer
@@ -106,6 +111,9 @@ class FrostWindow:
             else:
                 self._frame()
             glfw.wait_events_timeout(IDLE_WAIT)
+        self.running = False
+        if self.ended_by is not None:
+            log.info("window: %s received: closing", self.ended_by.name)
         return self.exit_status
 
     def close(self) -> None:
@@ -195,35 +203,50 @@ def run(args, params: Params) -> int:
         return 1
     log.info("window: %dx%d at scale %.2f, framebuffer %dx%d",
              *glfw.get_window_size(window), scale, *glfw.get_framebuffer_size(window))
-    app = None
     try:
         app = FrostWindow(window, args, params)
-        with _ctrl_c_ends(app):
-            status = app.loop()
     except Exception:
         log.exception("window failed")
-        if app is not None:
-            app.exit_status = 1
-        return 1
-    finally:
-        if app is not None:
-            app.close()
         glfw.terminate()
-    if app.interrupted:  # closed and saved; the caller says so and exits 130
+        return 1
+    with _signals_end(app):
+        status = _run(app)
+    if app.ended_by == signal.SIGINT:  # closed and saved; the caller says so and exits 130
         raise KeyboardInterrupt
     return status
 
 
+def _run(app: FrostWindow) -> int:
+    """The frame loop, then the window closed (session saved) whatever ended it."""
+    try:
+        return app.loop()
+    except Exception:
+        log.exception("window failed")
+        app.running, app.exit_status = False, 1
+        return 1
+    finally:
+        app.close()
+        glfw.terminate()
+
+
+# Signals that end the window as Esc does, and the handler each has by default (a signal
+# the parent set to be ignored, as nohup does with SIGHUP, is left alone).
+ENDING_SIGNALS = {signal.SIGINT: signal.default_int_handler, signal.SIGTERM: signal.SIG_DFL,
+                  signal.SIGHUP: signal.SIG_DFL}
+
+
 @contextlib.contextmanager
-def _ctrl_c_ends(app: FrostWindow):
-    """While the window runs, SIGINT ends the frame loop like Esc (and marks it
-    interrupted) instead of raising KeyboardInterrupt wherever the main thread is, e.g.
-    inside a GLFW callback, where ctypes would swallow it. Left alone when ignored."""
-    if signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
-        yield
-        return
-    signal.signal(signal.SIGINT, lambda *_: app.interrupt())
+def _signals_end(app: FrostWindow):
+    """While the window runs and closes, Ctrl-C, SIGTERM and SIGHUP end the frame loop
+    like Esc, so the session, a running recording and queued exports are written, instead
+    of killing the process at once or raising KeyboardInterrupt wherever the main thread
+    is (inside a GLFW callback ctypes would swallow it). A second one while closing
+    changes nothing: the files are being written."""
+    mine = [s for s, default in ENDING_SIGNALS.items() if signal.getsignal(s) is default]
+    for signum in mine:
+        signal.signal(signum, lambda num, _frame: app.end_by(num))
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, signal.default_int_handler)
+        for signum in mine:
+            signal.signal(signum, ENDING_SIGNALS[signum])
