@@ -13,6 +13,7 @@ import logging
 import math
 import signal
 import time
+from collections.abc import Callable
 
 import glfw
 import moderngl
@@ -231,8 +232,9 @@ def _run(app: FrostWindow) -> int:
 
 # Signals that end the window as Esc does, and the handler each has by default (a signal
 # the parent set to be ignored, as nohup does with SIGHUP, is left alone).
-ENDING_SIGNALS = {signal.SIGINT: signal.default_int_handler, signal.SIGTERM: signal.SIG_DFL,
-                  signal.SIGHUP: signal.SIG_DFL}
+ENDING_SIGNALS: dict[signal.Signals, Callable | int] = {
+    signal.SIGINT: signal.default_int_handler, signal.SIGTERM: signal.SIG_DFL,
+    signal.SIGHUP: signal.SIG_DFL}
 
 
 @contextlib.contextmanager
