@@ -5,16 +5,18 @@ from __future__ import annotations
 
 import logging
 import re
+import threading
 import time
 
 import numpy as np
 import pytest
+from PIL import Image
 
 from app.simthread import thread as simthread
 from app.simthread.thread import SimThread
 from app.window import keys, tuning
 from app.window.keys import BINDINGS, Binding, help_lines, key_table
-from app.window.record import Recorder
+from app.window.record import FRAME_GAP, Recorder
 from app.window.view import cursor_to_phone, fit_scale, letterbox
 from sim import Params
 from sim.gestures import path_points
@@ -306,19 +308,78 @@ def test_a_failing_tick_is_reported_not_hung(monkeypatch, caplog):
 # ---- recording ----------------------------------------------------------------------------
 
 
-def test_recording_keeps_every_second_frame_and_writes_webp(tmp_path):
-    rec = Recorder(tmp_path)
+class StepClock:
+    """A clock that reads `now`, moved by hand."""
+
+    def __init__(self):
+        self.now = 0.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+def record(tmp_path, times: list[float], end: float) -> tuple[list[int], int]:
+    """Frames offered at `times` (each a different grey), stopped at `end`: the durations
+    (ms) of the WebP written and how many frames were offered."""
+    clock = StepClock()
+    rec = Recorder(tmp_path, clock=clock)
     rec.toggle()
-    frame = np.zeros((1280, 760, 3), np.uint8)
-    for i in range(6):
-        frame[:, :, 0] = 40 * i
-        rec.offer(lambda: frame.copy())
-    assert rec.count == 3
+    for i, t in enumerate(times):
+        clock.now = t
+        rec.offer(lambda i=i: np.full((1280, 760, 3), (7 * i) % 256, np.uint8))
+    clock.now = end
+    rec.toggle()
     rec.close()
     (path,) = tmp_path.glob("*.webp")
-    from PIL import Image
     with Image.open(path) as image:
-        assert image.size == (380, 640) and image.n_frames == 3
+        assert image.size == (380, 640)
+        durations = []
+        for k in range(image.n_frames):
+            image.seek(k)
+            image.load()  # Pillow reads a frame's duration with its pixels
+            durations.append(image.info["duration"])
+    return durations, len(times)
+
+
+def test_a_recording_frame_lasts_until_the_next_one_kept(tmp_path):
+    # Hand-worked: 0.03 and 0.05 come sooner than FRAME_GAP (0.08 s) after 0, 0.52 after
+    # 0.5; the last frame lasts until the stop at 1.0.
+    durations, _ = record(tmp_path, [0.0, 0.03, 0.05, 0.09, 0.2, 0.5, 0.52], end=1.0)
+    assert durations == [90, 110, 300, 500]
+
+
+@pytest.mark.parametrize("fps, seconds", [(21.0, 4.0), (3.6, 10.0), (60.0, 2.0)])
+def test_a_recording_plays_as_long_as_it_was_recorded(tmp_path, fps, seconds):
+    """Drawn at 21 fps for 4 s (it played in 3.44 s), an idle window's 3.6 fps for 10 s
+    (2.8 s), or faster than a recording keeps: it plays for as long as it was made."""
+    times = [100.0 + k / fps for k in range(int(seconds * fps))]
+    durations, offered = record(tmp_path, times, end=100.0 + seconds)
+    assert sum(durations) == round(seconds * 1000)
+    assert min(durations) >= FRAME_GAP * 1000 - 1  # at most 12.5 frames a second kept
+    if fps < 1 / FRAME_GAP:
+        assert len(durations) == offered
+
+
+def test_recordings_stopped_while_another_is_written_get_their_own_files(tmp_path,
+                                                                         monkeypatch):
+    """R toggled fast: each recording's name is new though the writer of the one before
+    has not made its file yet."""
+    from app.window import record as recording
+    gate, write = threading.Event(), recording.write_animation
+    monkeypatch.setattr(recording, "write_animation",
+                        lambda *args: (gate.wait(10), write(*args))[1])
+    rec = Recorder(tmp_path)
+    for grey in (0, 255, 128):
+        rec.toggle()
+        rec.offer(lambda g=grey: np.full((1280, 760, 3), g, np.uint8))
+        rec.toggle()
+    gate.set()
+    rec.close()
+    greys = []
+    for path in tmp_path.glob("*.webp"):
+        with Image.open(path) as image:
+            greys.append(int(np.asarray(image.convert("L")).mean().round()))
+    assert sorted(greys) == [0, 128, 255]
 
 
 # ---- tuning -------------------------------------------------------------------------------

@@ -35,7 +35,6 @@ log = logging.getLogger("app.window")
 
 IDLE_WAIT = 0.1  # s to wait for events while minimized or idle
 HELP = help_lines("\t")  # the help overlay, key and description in two columns
-RECORD_CATCHUP = 4  # ticks a slow frame may still add to a recording
 
 
 class FrostWindow:
@@ -167,10 +166,8 @@ class FrostWindow:
         now, t0, presented = time.monotonic(), time.perf_counter(), self.status.frames
         if self.dirty:
             self.presenter.render_phone()
-        if self.new_ticks and self.recorder.active:
-            # One recorded frame per tick (25 per second), whatever the frame rate.
-            for _ in range(min(self.new_ticks, RECORD_CATCHUP)):
-                self.recorder.offer(self.presenter.read_phone)
+        if self.new_ticks and self.recorder.active:  # each frame lasts until the next
+            self.recorder.offer(self.presenter.read_phone)
         self.new_ticks = 0
         if self.dirty or now >= self.status.hud_next or self.damaged:
             self._present(now)
