@@ -23,6 +23,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from app.window.capture import AUTOSAVE_PERIOD
 from sim.session import SessionLog
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -189,7 +190,25 @@ def interrupt(app: subprocess.Popen, log: Path, signum: int = signal.SIGINT) -> 
     return {"status": app.wait(timeout=10)}
 
 
-DRIVES = {"session": session, "unwritable": unwritable, "interrupt": interrupt,
+def lost(app: subprocess.Popen, log: Path, how: str) -> dict:
+    """A click and R, then the window killed at the X server (`xdotool windowkill`) or the
+    process killed at once (SIGKILL) after the session was last kept on disk."""
+    wid = xdo("search", "--sync", "--onlyvisible", "--name", "^frost$").split()[0]
+    wait_for(log, r"stats: ")
+    xdo("mousemove", "--window", wid, "200", "300")
+    xdo("click", "1")
+    xdo("key", "r")
+    time.sleep(AUTOSAVE_PERIOD + 1.0)
+    if how == "windowkill":
+        xdo("windowkill", wid)
+    else:
+        app.kill()
+    return {"status": app.wait(timeout=20)}
+
+
+DRIVES = {"windowkill": lambda app, log: lost(app, log, "windowkill"),
+          "SIGKILL": lambda app, log: lost(app, log, "SIGKILL"), "session": session,
+          "unwritable": unwritable, "interrupt": interrupt,
           "SIGTERM": lambda app, log: interrupt(app, log, signal.SIGTERM),
           "SIGHUP": lambda app, log: interrupt(app, log, signal.SIGHUP)}
 
@@ -344,6 +363,23 @@ def test_ctrl_c_ends_the_window_with_130_saving_the_session(tmp_path_factory):
     got = driven(tmp_path_factory.mktemp("interrupt"), "interrupt")
     saved_on_signal(got, 130)
     assert "frost: interrupted" in got["log"]
+
+
+def test_a_lost_display_writes_the_session_and_the_recording_then_exits_1(tmp_path_factory):
+    got = driven(tmp_path_factory.mktemp("windowkill"), "windowkill")
+    saved_on_signal(got, 1)
+    log = got["log"]
+    assert "display connection is lost" in log
+    ((path,),) = [re.findall(r"recording: \d+ frames .* written to (\S+\.webp)", log)]
+    assert Path(path).is_file()
+
+
+def test_a_killed_window_leaves_its_session_kept_on_disk(tmp_path_factory):
+    got = driven(tmp_path_factory.mktemp("killed"), "SIGKILL")
+    assert got["result"]["status"] == -signal.SIGKILL
+    (path,) = (got["out"] / "sessions").glob("session-*.json")
+    saved = SessionLog.load(path)
+    assert [e["kind"] for e in saved.events] == ["touch"] and saved.steps > 0
 
 
 @pytest.mark.parametrize("name, status", [("SIGTERM", 143), ("SIGHUP", 129)])

@@ -15,12 +15,13 @@ from PIL import Image
 from app.simthread import thread as simthread
 from app.simthread.thread import SimThread
 from app.window import keys, tuning
+from app.window.capture import AUTOSAVE_PERIOD, Capture
 from app.window.keys import BINDINGS, Binding, help_lines, key_table
 from app.window.record import FRAME_GAP, Recorder
 from app.window.view import cursor_to_phone, fit_scale, letterbox
 from sim import Params
 from sim.gestures import path_points
-from sim.session import Backlog
+from sim.session import Backlog, SessionLog
 
 
 @pytest.fixture(autouse=True)
@@ -303,6 +304,82 @@ def test_a_failing_tick_is_reported_not_hung(monkeypatch, caplog):
     snap = thread.drain()[-1]
     assert snap.error and "ZeroDivisionError" in snap.error
     assert "simulation thread failed" in caplog.text and "Traceback" in caplog.text
+
+
+# ---- the session kept on disk ---------------------------------------------------------------
+
+
+class FakeRenderer:
+    def __init__(self):
+        self.light = [0.0, 0.0, 1.0]
+
+    def view(self) -> dict:
+        return {"light": list(self.light), "features": True, "bumps": True}
+
+
+def keeper(tmp_path) -> tuple[SimThread, Capture, list[str], FakeRenderer]:
+    thread = SimThread(Params(), 0, [(380, 640)])
+    renderer, said = FakeRenderer(), []
+    presenter = type("FakePresenter", (), {"renderer": renderer})()
+    capture = Capture(thread, presenter, lambda text, *_: said.append(text), tmp_path / "shots",
+                      tmp_path / "sessions")
+    return thread, capture, said, renderer
+
+
+def ticked(thread: SimThread, ticks: int):
+    for _ in range(ticks):
+        thread._tick()
+    return thread.drain()[-1]
+
+
+def test_the_session_file_follows_the_run_at_most_every_autosave_period(tmp_path):
+    """What a process killed at once (SIGKILL, the display gone) leaves: the session as
+    it was at the last save, saved again once it changed and AUTOSAVE_PERIOD passed."""
+    thread, capture, said, renderer = keeper(tmp_path)
+    saved, snap = [], None
+    for now, ticks in ((0.0, 5), (1.0, 5), (AUTOSAVE_PERIOD, 5), (2 * AUTOSAVE_PERIOD, 0)):
+        snap = ticked(thread, ticks) if ticks else snap
+        capture.keep_session(snap, now)
+        capture.wait_kept()
+        saved.append(SessionLog.load(capture.session_path).steps)
+    assert saved == [5, 5, 15, 15]  # too soon at 1 s; unchanged at the end
+    renderer.light = [0.5, 0.0, 0.866]  # the view alone changed: saved with it
+    capture.keep_session(snap, 3 * AUTOSAVE_PERIOD)
+    capture.wait_kept()
+    assert SessionLog.load(capture.session_path).view["light"] == [0.5, 0.0, 0.866]
+    assert said == [] and len(list((tmp_path / "sessions").iterdir())) == 1
+
+
+def test_an_autosave_never_holds_a_frame_nor_outlives_the_last_save(tmp_path, monkeypatch):
+    """A slow disk: keep_session returns while its file is written, starts no second one
+    meanwhile, and the save at exit waits for it, so the file ends with the last state."""
+    thread, capture, _, _ = keeper(tmp_path)
+    gate, save, writes = threading.Event(), SessionLog.save, []
+
+    def slow_save(session, path):
+        writes.append(session.steps)
+        if len(writes) == 1:
+            assert gate.wait(10)
+        return save(session, path)
+
+    monkeypatch.setattr(SessionLog, "save", slow_save)
+    capture.keep_session(ticked(thread, 3), 0.0)  # returns with the write held at the gate
+    capture.keep_session(ticked(thread, 3), 2 * AUTOSAVE_PERIOD)  # still writing: skipped
+    last = ticked(thread, 3)
+    threading.Timer(0.2, gate.set).start()
+    capture.save_session(last)
+    capture.wait_kept()  # (nothing left to wait for)
+    assert writes == [3, 9] and SessionLog.load(capture.session_path).steps == 9
+
+
+def test_a_session_that_cannot_be_kept_is_told_once(tmp_path):
+    thread, capture, said, _ = keeper(tmp_path)
+    (tmp_path / "sessions").write_text("a file where the folder must be")
+    for k in range(3):
+        capture.keep_session(ticked(thread, 1), k * AUTOSAVE_PERIOD)
+        capture.wait_kept()
+    told = [text for _, text in simthread._take_all(thread.notices)]
+    assert len(told) == 1 and told[0].startswith("session NOT saved: ") and said == []
 
 
 # ---- recording ----------------------------------------------------------------------------

@@ -142,7 +142,7 @@ class SimThread(threading.Thread):
     def stop(self, timeout: float = 1.0) -> None:
         """End the thread, write the map exports still asked for, wait for every writer."""
         self._stop_event.set()
-        if self.is_alive():
+        if self.is_alive() and threading.current_thread() is not self:
             self.join(timeout)
         self._last_exports()
         for writer in self._writers:

@@ -23,6 +23,7 @@ from app.window.actions import Actions
 from app.window.capture import Capture
 from app.window.glfw_setup import WindowError, open_window
 from app.window.keys import help_lines
+from app.window.lost_display import on_lost_display
 from app.window.pointer import Pointer
 from app.window.presenter import Presenter
 from app.window.record import Recorder
@@ -103,6 +104,7 @@ class FrostWindow:
         deadline = self.status.started + (self.max_seconds or math.inf)
         while self.running and not glfw.window_should_close(self.window):
             self._drain()
+            self.capture.keep_session(self.latest, time.monotonic())
             if time.monotonic() >= deadline:
                 log.info("window: --max-seconds %.1f reached", self.max_seconds)
                 break
@@ -118,6 +120,19 @@ class FrostWindow:
 
     def close(self) -> None:
         self.thread.stop()
+        self._write_out()
+
+    def display_lost(self) -> None:
+        """The X connection is gone (lost_display): Xlib ends the process with status 1
+        when this returns, so the files are written now, with no GLFW or GL call."""
+        log.error("window: the display connection is lost (X server gone or window killed)")
+        self.thread.wake = lambda: None  # its wake-ups would meet the dead connection
+        self.running, self.exit_status = False, 1
+        self.thread.stop()
+        self._write_out()
+
+    def _write_out(self) -> None:
+        """A running recording, the session and the summary (the thread has stopped)."""
         self.recorder.close()
         self._drain_notices()
         try:
@@ -203,6 +218,7 @@ def run(args, params: Params) -> int:
              *glfw.get_window_size(window), scale, *glfw.get_framebuffer_size(window))
     try:
         app = FrostWindow(window, args, params)
+        on_lost_display(app.display_lost)
     except Exception:
         log.exception("window failed")
         glfw.terminate()
