@@ -117,7 +117,7 @@ def drive(out: Path, mode: str = "session") -> None:
 def session(app: subprocess.Popen, log: Path) -> dict:
     wid = xdo("search", "--sync", "--onlyvisible", "--name", "^frost$").split()[0]
     scale = float(wait_for(log, r"at scale ([\d.]+)")[0])
-    wait_for(log, r"stats: ")  # frames are flowing
+    wait_for(log, r"stats \(")  # frames are flowing
     xdo("mousemove", "--window", wid, "5", "5")
     xdo("key", "--clearmodifiers", "s")
     wait_for(log, r"screenshot: ", 1)
@@ -166,7 +166,7 @@ def viewed(log: Path) -> None:
 def unwritable(app: subprocess.Popen, log: Path) -> dict:
     """S, R twice, E and Esc with nowhere to write: warnings, no crash, status 0."""
     xdo("search", "--sync", "--onlyvisible", "--name", "^frost$")
-    wait_for(log, r"stats: ")
+    wait_for(log, r"stats \(")
     for keys, warning in ((["s"], r"screenshot NOT saved"), (["r"], r"recording: started"),
                           (["r"], r"frames lost"), (["e"], r"frost maps NOT written")):
         time.sleep(0.3)
@@ -181,7 +181,7 @@ def unwritable(app: subprocess.Popen, log: Path) -> dict:
 def interrupt(app: subprocess.Popen, log: Path, signum: int = signal.SIGINT) -> dict:
     """A click and a screenshot, then Ctrl-C (SIGINT, or `signum`) while the frost grows."""
     wid = xdo("search", "--sync", "--onlyvisible", "--name", "^frost$").split()[0]
-    wait_for(log, r"stats: ")
+    wait_for(log, r"stats \(")
     xdo("mousemove", "--window", wid, "200", "300")
     xdo("click", "1")
     xdo("key", "s")
@@ -194,7 +194,7 @@ def lost(app: subprocess.Popen, log: Path, how: str) -> dict:
     """A click and R, then the window killed at the X server (`xdotool windowkill`) or the
     process killed at once (SIGKILL) after the session was last kept on disk."""
     wid = xdo("search", "--sync", "--onlyvisible", "--name", "^frost$").split()[0]
-    wait_for(log, r"stats: ")
+    wait_for(log, r"stats \(")
     xdo("mousemove", "--window", wid, "200", "300")
     xdo("click", "1")
     xdo("key", "r")
@@ -414,7 +414,7 @@ def test_tick_rate_is_logged_while_rendering(run):
     # schedule itself is tested on a fake clock (test_window_parts); this is the figure.
     log = run["log"]
     window = log[log.index("params: hc=7.5"):log.index("recording: started")]
-    rates = [float(r) for r in re.findall(r"rate +([\d.]+)/s", window)]
+    rates = [float(r) for r in re.findall(r"sim +([\d.]+) ticks/s", window)]
     assert len(rates) >= 2 and all(r > 0 for r in rates), window
     print(f"benchmark: ticks per second while rendering: {rates}")
 

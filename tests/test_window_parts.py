@@ -18,8 +18,9 @@ from app.window import keys, tuning
 from app.window.capture import AUTOSAVE_PERIOD, Capture
 from app.window.keys import BINDINGS, Binding, help_lines, key_table
 from app.window.record import FRAME_GAP, Recorder
+from app.window.status import IDLE_GAP, DrawRate, Status
 from app.window.view import cursor_to_phone, fit_scale, letterbox
-from sim import Params
+from sim import Params, preset_name
 from sim.gestures import path_points
 from sim.session import Backlog, SessionLog
 
@@ -304,6 +305,47 @@ def test_a_failing_tick_is_reported_not_hung(monkeypatch, caplog):
     snap = thread.drain()[-1]
     assert snap.error and "ZeroDivisionError" in snap.error
     assert "simulation thread failed" in caplog.text and "Traceback" in caplog.text
+
+
+# ---- the HUD's figures ----------------------------------------------------------------------
+
+
+def test_the_draw_rate_counts_redraws_while_drawing_and_reads_idle_between():
+    rate = DrawRate()
+    for t in (0.0, 0.04, 0.08, 0.12, 1.0, 1.04):  # 25 fps, a pause, 25 fps again
+        rate.drew(t)
+    assert rate.fps(1.05) == pytest.approx(25.0)  # the 0.88 s gap is not drawing
+    assert rate.fps(1.04 + IDLE_GAP + 0.01) is None  # a still window is idle, not 3.6 fps
+    for k in range(10):  # slow growth: a redraw every 0.3 s
+        rate.drew(10.0 + 0.3 * k)
+    assert rate.fps(12.8) == pytest.approx(1 / 0.3)
+
+
+def test_the_tick_median_is_the_median_of_the_last_ticks_shown():
+    thread = SimThread(Params(), 0, [(380, 640)])
+    for _ in range(70):
+        thread._tick()
+    snaps = thread.drain()
+    last = sorted(s.stats.tick_ms for s in snaps[-simthread.RATE_WINDOW:])
+    middle = simthread.RATE_WINDOW // 2
+    assert snaps[-1].stats.tick_median_ms == pytest.approx((last[middle - 1] + last[middle]) / 2)
+
+
+def test_the_hud_shows_ticks_per_second_fps_while_drawing_and_the_tick_median():
+    stats = simthread.Stats(tick=120, tick_ms=30.0, crystals=5, water=7, rate=24.5, overruns=2,
+                            paused=False, tick_median_ms=3.25)
+    snap = simthread.Snapshot(None, stats, Params(), ())
+    view = type("View", (), {"show_features": True, "show_bumps": False,
+                             "light": (0.0, 0.0, 1.0)})()
+    status = Status()
+    idle = status.lines(0.0, snap, Params(), view, None, 1.5)[:3]
+    assert idle == ["sim 24.5 ticks/s  tick median  3.2 ms  overruns 2",
+                    "drawing idle (nothing changed)  render  1.5 ms",
+                    "tick 120  crystals 5  water 7  preset " + preset_name(Params())]
+    for k in range(5):
+        status.drawing.drew(100.0 + 0.05 * k)
+    status.refresh(100.2, lambda now: status.lines(now, snap, Params(), view, None, 1.5))
+    assert status.stats[1] == "drawing 20.0 fps  render  1.5 ms"
 
 
 # ---- the session kept on disk ---------------------------------------------------------------

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import logging
 import queue
+import statistics
 import threading
 import time
 from collections import deque
@@ -42,6 +43,7 @@ class Stats:
     overruns: int  # scheduled ticks skipped because a tick ran late
     paused: bool
     handled: int = 0  # commands applied so far (the first `handled` that send() sent)
+    tick_median_ms: float = 0.0  # tick_ms's median over the last RATE_WINDOW ticks
 
 
 @dataclass(frozen=True)
@@ -97,6 +99,7 @@ class SimThread(threading.Thread):
         self.sent = self.handled = 0  # commands sent (main thread), applied (this thread)
         self._stop_event = threading.Event()
         self._stamps: deque[float] = deque(maxlen=RATE_WINDOW)
+        self._tick_times: deque[float] = deque(maxlen=RATE_WINDOW)  # ms, for the median
         self._clicks = Clicks()  # for the latency log
         self._handlers = {"touch": self._touch, "melt": self._melt, "params": self._set_params,
                           "clear": self._clear, "pause": self._pause, "step": self._single,
@@ -212,6 +215,7 @@ class SimThread(threading.Thread):
         for folder in notes.pop("exports", []):  # after any step: the tick the snapshot shows
             self._export(folder)
         self.tick_ms = (time.perf_counter() - t0) * 1000.0
+        self._tick_times.append(self.tick_ms)
         self.outbox.put(self._snapshot(step.delta, reset=reset, clicks=step.clicks,
                                        grown=step.grown, message=message,
                                        melts=(*melts, *step.melts)))
@@ -231,8 +235,10 @@ class SimThread(threading.Thread):
     def _stats(self) -> Stats:
         s = self._stamps
         rate = (len(s) - 1) / (s[-1] - s[0]) if len(s) > 1 and s[-1] > s[0] else 0.0
+        median = statistics.median(self._tick_times) if self._tick_times else 0.0
         return Stats(self.sim.tick, self.tick_ms, len(self.sim.crystals),
-                     len(self.sim.water_area), rate, self.overruns, self.paused, self.handled)
+                     len(self.sim.water_area), rate, self.overruns, self.paused, self.handled,
+                     median)
 
     # ---- commands: each takes (arg, notes) and applies at this tick ---------------
 

@@ -178,16 +178,16 @@ class FrostWindow:
         self.latest = snap
 
     def _frame(self) -> None:
-        now, t0, presented = time.monotonic(), time.perf_counter(), self.status.frames
-        if self.dirty:
+        now, drawn = time.monotonic(), self.dirty
+        if drawn:
             self.presenter.render_phone()
         if self.new_ticks and self.recorder.active:  # each frame lasts until the next
             self.recorder.offer(self.presenter.read_phone)
         self.new_ticks = 0
         if self.dirty or now >= self.status.hud_next or self.damaged:
             self._present(now)
-        if self.status.frames > presented:
-            self.status.timed(time.perf_counter() - t0)
+        if drawn:
+            self.status.drawing.drew(now)
 
     def _present(self, now: float) -> None:
         self.status.refresh(now, self._stats_lines)
