@@ -179,27 +179,32 @@ def unwritable(app: subprocess.Popen, log: Path) -> dict:
 
 
 def interrupt(app: subprocess.Popen, log: Path, signum: int = signal.SIGINT) -> dict:
-    """A click and a screenshot, then Ctrl-C (SIGINT, or `signum`) while the frost grows."""
+    """A click, R and a screenshot, then E and at once Ctrl-C (SIGINT, or `signum`) while
+    the frost grows."""
     wid = xdo("search", "--sync", "--onlyvisible", "--name", "^frost$").split()[0]
     wait_for(log, r"stats \(")
     xdo("mousemove", "--window", wid, "200", "300")
     xdo("click", "1")
-    xdo("key", "s")
+    xdo("key", "r", "s")
     wait_for(log, r"screenshot: ")
+    time.sleep(0.5)
+    xdo("key", "e")
     app.send_signal(signum)
     return {"status": app.wait(timeout=10)}
 
 
 def lost(app: subprocess.Popen, log: Path, how: str) -> dict:
-    """A click and R, then the window killed at the X server (`xdotool windowkill`) or the
-    process killed at once (SIGKILL) after the session was last kept on disk."""
+    """A click and R, then (with E) the window killed at the X server (`xdotool windowkill`)
+    or the process killed at once (SIGKILL) after the session was last kept on disk."""
     wid = xdo("search", "--sync", "--onlyvisible", "--name", "^frost$").split()[0]
     wait_for(log, r"stats \(")
     xdo("mousemove", "--window", wid, "200", "300")
     xdo("click", "1")
     xdo("key", "r")
     time.sleep(AUTOSAVE_PERIOD + 1.0)
-    if how == "windowkill":
+    if how == "windowkill":  # the maps' writer started, not done: the rescue waits for it
+        xdo("key", "e")
+        wait_for(log, r"frost maps: exporting")
         xdo("windowkill", wid)
     else:
         app.kill()
@@ -348,8 +353,10 @@ def test_nowhere_to_write_is_reported_and_the_app_keeps_running(nowhere):
 
 def saved_on_signal(got: dict, status: int) -> None:
     """The process exits `status` and says so in its summary, having saved the session with
-    the click; nothing half-written."""
+    the click, the recording and the maps; nothing half-written."""
     log = got["log"]
+    assert re.search(r"recording: \d+ frames .* written to ", log), log[-3000:]
+    assert "frost maps written: " in log
     assert got["result"]["status"] == status, log[-3000:]
     assert re.search(rf"summary: .*, exit status {status}$", log, re.M), log[-3000:]
     assert "Traceback" not in log
