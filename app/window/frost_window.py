@@ -62,6 +62,7 @@ class FrostWindow:
         self.dirty = self.damaged = True  # render the phone again; present again
         self.iconified, self.snapshots, self.new_ticks = False, 0, 0
         self._connect()
+        self._x_handler = on_lost_display(self.display_lost)  # kept while the window is open
 
     def _connect(self) -> None:
         # Sizes come from callbacks: each GLFW call from Python waits for the GIL, which the
@@ -218,7 +219,6 @@ def run(args, params: Params) -> int:
              *glfw.get_window_size(window), scale, *glfw.get_framebuffer_size(window))
     try:
         app = FrostWindow(window, args, params)
-        on_lost_display(app.display_lost)
     except Exception:
         log.exception("window failed")
         glfw.terminate()

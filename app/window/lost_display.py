@@ -10,30 +10,31 @@ import ctypes
 import logging
 import threading
 from collections.abc import Callable
+from typing import Any
 
 import glfw
 
 log = logging.getLogger("app.window")
 
 _IOErrorHandler = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p)  # int (*)(Display *)
-_kept: list = []  # the installed callback: freed while Xlib may call it, it would crash
 
 
-def on_lost_display(rescue: Callable[[], None]) -> bool:
+def on_lost_display(rescue: Callable[[], None]) -> Any:
     """Have `rescue()` run (once) when the X connection is lost, before Xlib exits; it must
-    call neither GLFW nor GL. False where the window is not on X11 (nothing set)."""
+    call neither GLFW nor GL. Returns the handler, which the caller keeps as long as the
+    window is open (freed while Xlib may call it, it would crash the process); None where
+    the window is not on X11 (nothing set)."""
     if glfw.get_platform() != glfw.PLATFORM_X11:
-        return False
+        return None
     try:
         xlib = ctypes.CDLL("libX11.so.6")  # the library GLFW loaded: one handler for both
     except OSError:
-        return False
+        return None
     handler = _IOErrorHandler(_once(rescue))
     xlib.XSetIOErrorHandler.argtypes = [_IOErrorHandler]
     xlib.XSetIOErrorHandler.restype = ctypes.c_void_p
     xlib.XSetIOErrorHandler(handler)
-    _kept[:] = [handler]
-    return True
+    return handler
 
 
 def _once(rescue: Callable[[], None]) -> Callable[[int | None], int]:
