@@ -14,7 +14,7 @@ from PIL import Image
 
 from app.simthread import thread as simthread
 from app.simthread.thread import SimThread
-from app.window import keys, tuning
+from app.window import keys, lost_display, tuning
 from app.window.capture import AUTOSAVE_PERIOD, Capture
 from app.window.keys import BINDINGS, Binding, help_lines, key_table
 from app.window.record import FRAME_GAP, Recorder
@@ -422,6 +422,22 @@ def test_a_session_that_cannot_be_kept_is_told_once(tmp_path):
         capture.wait_kept()
     told = [text for _, text in simthread._take_all(thread.notices)]
     assert len(told) == 1 and told[0].startswith("session NOT saved: ") and said == []
+
+
+def test_the_lost_display_handler_rescues_once_and_never_waits_on_itself():
+    """Xlib may call its handler from the main and the simulation thread, and again from
+    inside the rescue: one rescue; the rescuer returns at once; another thread waits (the
+    process ends when the rescue returns)."""
+    rescues = []
+    handler = lost_display._once(lambda: rescues.append(handler(None)))
+    first = threading.Thread(target=handler, args=(None,), daemon=True)
+    first.start()
+    first.join(5)
+    assert not first.is_alive() and rescues == [0]  # the inner call returned at once
+    other = threading.Thread(target=handler, args=(None,), daemon=True)
+    other.start()
+    other.join(0.3)
+    assert other.is_alive() and rescues == [0]  # waits; no second rescue
 
 
 # ---- recording ----------------------------------------------------------------------------
