@@ -42,13 +42,13 @@ def _once(rescue: Callable[[], None]) -> Callable[[int | None], int]:
     waits on the lock until Xlib ends the process; the rescuer meeting it again (which it
     must not) returns at once rather than wait on itself."""
     lock = threading.Lock()
-    rescuer: list[int] = []
+    rescuer: list[threading.Thread] = []
 
     def handler(_display: int | None) -> int:
-        if rescuer == [threading.get_ident()]:
+        if rescuer == [threading.current_thread()]:
             return 0
         lock.acquire()  # never released: the process ends when the rescue returns
-        rescuer.append(threading.get_ident())
+        rescuer.append(threading.current_thread())
         try:
             rescue()
         except BaseException:  # nothing may unwind into Xlib's C frames
