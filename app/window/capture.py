@@ -44,10 +44,11 @@ class Capture:
         once; the save at exit tells it again."""
         if snap is None or now < self._autosave_next or self._keeping():
             return
+        self._autosave_next = now + AUTOSAVE_PERIOD  # looked at again then, changed or not
         session, path = self._session(snap), self._run_path()
         if self.saved == (session.steps, len(session.events), session.view):
             return
-        self._autosave_next, self.saved = now + AUTOSAVE_PERIOD, None
+        self.saved = None
         self._keeper = threading.Thread(target=self._keep, args=(session, path),
                                         name="frost-session", daemon=True)
         self._keeper.start()
