@@ -307,8 +307,33 @@ def window_run(seed: int, ticks: tuple[int, ...], trace: bool = False) -> dict:
     peak = tracemalloc.get_traced_memory()[1] if trace else 0
     if trace:
         tracemalloc.stop()
-    return {"rows": rows, "end": frosted_end(cover), "crystals": int(sim.crystal_alive.sum()),
-            "nbytes": sim.nbytes(), "peak": peak, "times": np.array(times)}
+    out = {"end": frosted_end(cover), "crystals": int(sim.crystal_alive.sum()),
+           "nbytes": sim.nbytes(), "peak": peak, "times": np.array(times)}
+    return {"rows": rows, **out, "wipe": [] if trace else wipe_regrowth(sim)}
+
+
+WIPE_Y, WIPE_HALF = 640.0, 20.0  # a 40 px wipe across the middle of the pane
+WIPE_TICKS = (150, 300, 750)
+
+
+def band_crystals(sim) -> int:
+    """Live crystals in the wiped band."""
+    c = sim.crystals[sim.crystal_alive]
+    return int((np.abs(c[:, 1] - WIPE_Y) < WIPE_HALF).sum())
+
+
+def wipe_regrowth(sim) -> list[float]:
+    """Wipe the band (a melt every 5 px across the pane), then the band's crystals after
+    each of WIPE_TICKS ticks as a share of those before the wipe."""
+    before = band_crystals(sim)
+    for x in np.arange(0.0, sim.width + 1.0, 5.0):
+        sim.melt(float(x), WIPE_Y, WIPE_HALF)
+    back = []
+    for t in range(1, WIPE_TICKS[-1] + 1):
+        sim.step()
+        if t in WIPE_TICKS:
+            back.append(band_crystals(sim) / max(before, 1))
+    return back
 
 
 def window_section(seeds: int, ticks: tuple[int, ...]) -> dict:
@@ -329,6 +354,10 @@ def window_section(seeds: int, ticks: tuple[int, ...]) -> dict:
     print(f"all ticks 1..{ticks[-1]}: median {np.median(whole):.2f} ms, p99 "
           f"{np.percentile(whole, 99):.2f} ms; frosted end (cells growing under "
           f"{100 * END_GAIN:g} % per {END_TICKS} ticks) at ticks {[r['end'] for r in runs]}")
+    print(f"a {2 * WIPE_HALF:g} px wipe across y = {WIPE_Y:g} at tick {ticks[-1]}: the band's "
+          "crystals back after " + "/".join(map(str, WIPE_TICKS)) + " ticks, seeds "
+          + "; ".join(f"{s}: " + "/".join(f"{100 * v:.0f} %" for v in r["wipe"])
+                      for s, r in enumerate(runs)))
     fern = [fern_one_touch(s, 250 if seeds > 1 else 50) for s in FERN_SEEDS]
     print("fern, one touch: median tick ms over its first ticks, seeds "
           + ", ".join(f"{s}: {t:.2f}" for s, t in zip(FERN_SEEDS, fern, strict=True)))
@@ -336,6 +365,7 @@ def window_section(seeds: int, ticks: tuple[int, ...]) -> dict:
     print(f"memory at tick {ticks[-1]} (seed 0, {mem['crystals']} crystals): array bytes "
           f"{mem['nbytes'] / 1e6:.2f} MB, tracemalloc peak {mem['peak'] / 1e6:.2f} MB")
     return {"runs": [r["rows"] for r in runs], "median": last, "end": [r["end"] for r in runs],
+            "wipe": [r["wipe"] for r in runs],
             "fern_ms": fern, "array_bytes": mem["nbytes"], "tracemalloc_peak_bytes": mem["peak"]}
 
 

@@ -53,10 +53,10 @@ class OpenGlass(Pane):
                                          sim.grid.cell, sim.params.vapour_var)
         if sim.params.frame_chill:
             self.chill = frame_weight(sim.grid, sim.width, sim.height, sim.params.frame_chill)
-            # By the colder frame water freezes nearer the ice: fewer rings are far enough,
-            # none at the frame itself (water lands beside the ice, as before the fronds).
-            near_frame = (self.chill - 1.0) / sim.params.frame_chill
-            self.rings = np.rint(self.far_rings * (1.0 - near_frame)).astype(np.int16)
+            # By the colder frame water freezes beside the ice (as before the fronds), within
+            # FRAME_PX ln 2 (104 px) of the edge, where the chill is half its most or more.
+            near_frame = (self.chill - 1.0) / sim.params.frame_chill >= 0.5
+            self.rings = np.where(near_frame, 0, self.far_rings).astype(np.int16)
         super().start()
 
     def melted(self, dead: np.ndarray) -> None:
