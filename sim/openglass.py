@@ -23,6 +23,11 @@ from .pane import REFERENCE_C, TRIES, Pane, _glass
 # Walkers per far cell of glass. At 2.5 (the band's density before the fronds) a 40 px
 # wipe was 38 % back after 300 ticks (SPEC section 1); 8 refroze it.
 FAR_DENSITY = 8.0
+# Where the frame's chill is this share of its most or more (within 150 ln(1 / 0.7) = 53 px
+# of the edge), water lands beside the ice. At 0.5 (104 px) the frame's short dense stems
+# pulled stem_lw under 75 px (72, seeds 0-2) and a wipe came back 121-143 %; at 0.7
+# frame/mid is 1.5 with stem_lw 77 px.
+FRAME_NEAR = 0.7
 # Size of the humidity field's blobs, px: the Gaussian blur's sigma is half of it.
 BLOB_PX = 200.0
 
@@ -53,9 +58,8 @@ class OpenGlass(Pane):
                                          sim.grid.cell, sim.params.vapour_var)
         if sim.params.frame_chill:
             self.chill = frame_weight(sim.grid, sim.width, sim.height, sim.params.frame_chill)
-            # By the colder frame water freezes beside the ice (as before the fronds), within
-            # FRAME_PX ln 2 (104 px) of the edge, where the chill is half its most or more.
-            near_frame = (self.chill - 1.0) / sim.params.frame_chill >= 0.5
+            # By the colder frame water freezes beside the ice (as before the fronds).
+            near_frame = (self.chill - 1.0) / sim.params.frame_chill >= FRAME_NEAR
             self.rings = np.where(near_frame, 0, self.far_rings).astype(np.int16)
         super().start()
 
