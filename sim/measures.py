@@ -89,6 +89,19 @@ def skeleton_measures(crystals, parents, alive) -> dict[str, float]:
             "order": float((L[ids] * order[ids]).sum() / total)}
 
 
+def side_spacing(crystals, parents, alive) -> float:
+    """Median over main stems (MAIN_PX or more) with side stems of their length per side
+    stem leaving them, px: how far apart side branches are (nan if none)."""
+    head, length, _, parent_stem, link = stems(crystals, parents, alive)
+    n = len(crystals)
+    L = np.bincount(head[link], weights=length[link], minlength=n)
+    ids = np.flatnonzero(L > 0)
+    kid = ids[parent_stem[ids] >= 0]
+    k_n = np.bincount(parent_stem[kid], minlength=n)
+    fed = ids[(L[ids] >= MAIN_PX) & (k_n[ids] > 0)]
+    return float(np.median(L[fed] / k_n[fed])) if len(fed) else float("nan")
+
+
 def pane_measures(sim) -> dict[str, float]:
     """Every measure of the module doc for a simulation's live skeleton."""
     alive = sim.crystal_alive

@@ -12,7 +12,15 @@ import pytest
 from sim import FrostSim, Params
 from sim.fern import SIDE, SLOT_KIND
 from sim.fronds import FRAME_PX, Fronds
-from sim.measures import END_GAIN, END_TICKS, clear_boxes, frame_mid, frosted_end, skeleton_measures
+from sim.measures import (
+    END_GAIN,
+    END_TICKS,
+    clear_boxes,
+    frame_mid,
+    frosted_end,
+    side_spacing,
+    skeleton_measures,
+)
 from sim.openglass import OpenGlass, ring_distance
 from sim.params import FROND_RULES
 from tests import frozen_runs
@@ -215,19 +223,24 @@ def test_the_frame_band_is_denser_with_the_chill():
     assert ratio(3.0) > 1.1 * ratio(0.0)
 
 
-def ticks_to(params, share, limit=3000):
+def grown_to(params, share, limit=3000):
     sim = FrostSim(params, seed=0)  # the whole screen (a small pane's pool floods it)
     held = np.zeros(sim.grid.size, bool)
     while sim.tick < limit and held.mean() < share:
         new = sim.step().crystals
         c = sim.crystals[new]
         held[sim.grid.keys(c[:, 0], c[:, 1])] = True
-    return sim.tick
+    return sim
 
 
-def test_colder_is_faster():
-    t = [ticks_to(WINDOW.replace(temperature=c), 0.4) for c in (20.0, 10.0, 4.0)]
+def test_colder_is_faster_and_its_side_branches_closer():
+    """-20, -10, -4 C to 40 % of the cells: fewer ticks, and side branches closer together
+    along the main stems (at the same coverage)."""
+    sims = [grown_to(WINDOW.replace(temperature=c), 0.4) for c in (20.0, 10.0, 4.0)]
+    t = [s.tick for s in sims]
     assert t[0] < t[1] < t[2] < 3000, t
+    gap = [side_spacing(s.crystals, s.parents, s.crystal_alive) for s in sims]
+    assert gap[0] < gap[1] < gap[2], gap
 
 
 # ---- the measures -----------------------------------------------------------------------------
@@ -252,6 +265,8 @@ def test_stem_measures_of_a_hand_built_feather():
     assert m["main_frac"] == pytest.approx(100 / 150, rel=1e-5)
     assert m["pinnate"] == pytest.approx(100 / 20, rel=1e-5)
     assert m["order"] == pytest.approx((lengths * orders).sum() / 150, rel=1e-5)
+    spacing = side_spacing(np.array(pts, np.float32), np.array(parents), np.ones(len(pts), bool))
+    assert spacing == pytest.approx(100 / 2, rel=1e-5)  # the one main stem, two sides
 
 
 def test_clear_boxes_and_frame_mid_by_hand():
