@@ -1,4 +1,4 @@
-"""Fronds (docs/method.md, section 7): how many hits a slot needs under frond rules 1 and 4.
+"""Fronds (docs/method.md, section 8): how many hits a slot needs under frond rules 1 and 4.
 
 - Branch order (rule 1): a crystal grown from a side slot of a non-seed crystal has its
   parent's order + 1, straight-on growth keeps it, a seed's stems are order 0 (the growth

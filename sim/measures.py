@@ -1,4 +1,4 @@
-"""Measures of a frosted pane (docs/method.md, section 7), shared by the benchmark and the tests.
+"""Measures of a frosted pane (docs/method.md, section 8), shared by the benchmark and the tests.
 
 Stems: a link (a crystal and its parent) continues its parent's stem when it is the
 parent's straightest child and turns less than STEM_TURN from the parent's own link; a

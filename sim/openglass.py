@@ -1,4 +1,4 @@
-"""Fronds (docs/method.md, section 7): where window water lands under frond rules 2 and 3.
+"""Fronds (docs/method.md, section 8): where window water lands under frond rules 2 and 3.
 
 - Water on open glass (rule 2): the pane's water lands in hash cells at least `water_far`
   cell rings (Chebyshev, in cells of 2 hc) from every candidate cell; nearer free glass

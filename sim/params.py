@@ -19,7 +19,7 @@ FERN_RULES = ("grains", *GRAIN_RULES, "long_jumps", "launch")
 # Parameters that only mean something in window mode (sim/pane.py).
 WINDOW_RULES = ("frame_sites", "pane_sites", "temperature", "water_far", "near_water",
                 "vapour_var", "frame_chill")
-# The frond rules (docs/method.md, section 7): off at their defaults; the window preset
+# The frond rules (docs/method.md, section 8): off at their defaults; the window preset
 # turns them on.
 FROND_RULES = ("order_hits", "max_order", "water_far", "near_water", "vapour_var", "frame_chill")
 # Bounds on the work one new crystal makes (see Params.__post_init__): at most this many
@@ -27,6 +27,7 @@ FROND_RULES = ("order_hits", "max_order", "water_far", "near_water", "vapour_var
 # many grid spacings (Table 1: 2.5). Beyond them a tick of fast growth took seconds.
 MAX_UPSAMPLE = 16
 MAX_HC_PER_SPACING = 12
+MIN_HC = 1.0  # px; see hc
 
 
 def _p(default: Any, doc: str, lo: float | None = None, hi: float | None = None,
@@ -40,8 +41,12 @@ def _p(default: Any, doc: str, lo: float | None = None, hi: float | None = None,
 class Params:
     """Simulation and geometry parameters. Construct with keywords; invalid values raise."""
 
+    # hc sizes the hash grid (cells of 2 hc, Eq. 1): its cells grow as 1 / hc^2. At the
+    # floor, 1 px, they are 243 200 and a touch's first ten ticks peaked at 47 MB; 0.25
+    # at 190 MB, and 0.03 was reported at 11 GB and 39 s for one tick. A crystal under a
+    # pixel has no look on the screen anyway.
     hc: float = _p(7.0, "hc: radius of a crystal's freezing area, px (Table 1: 3-10)",
-                   0.0, 16.0, lo_open=True)
+                   MIN_HC, 16.0)
     D: float = _p(7.0, "D: spacing of upsample particles along a skeleton link, px (Table 1: 1-10)",
                   0.0, 64.0, lo_open=True)
     humidity: int = _p(3000, "humidity: water particles per active area (Table 1: 500-5000)",
@@ -104,6 +109,12 @@ class Params:
                             "its area's farthest ice (0: anywhere in the area; fern rule 4)",
                        0.0, 4000.0)
 
+    # Beyond the paper: a touch brings water to its own seed (docs/method.md, 5.3). Off in
+    # Table 1's presets: the paper's touch only tops its area's pool up.
+    touch_water: int = _p(0, "touch_water: walkers a touch into an area that already holds water "
+                             "moves from that area's pool onto the glass within 2 hc of its "
+                             "seed, walkers (0: none, the paper)", 0, 1000)
+
     # Beyond the paper: the frosted window (sim/pane.py). Off by default.
     window_frost: bool = _p(False, "window_frost: frost nucleates on the screen's border and on a few "
                                    "pane sites and grows over the whole pane from one pool of "
@@ -116,7 +127,7 @@ class Params:
                                   "per slot, so frost grows faster and denser (with window_frost)",
                             0.0, 40.0, lo_open=True)
 
-    # Beyond the paper: fronds (docs/method.md, section 7; sim/fronds.py). Off by default.
+    # Beyond the paper: fronds (docs/method.md, section 8; sim/fronds.py). Off by default.
     order_hits: float = _p(1.0, "order_hits: a slot needs its hits x order_hits^order, order "
                                 "counting side branchings from the stem (1: every order alike; "
                                 "with grains; frond rule 1)", 1.0, 10.0)
@@ -233,10 +244,10 @@ EXTRA_PRESETS: dict[str, dict[str, Any]] = {
     "fern": {"D": 2.5, "hc": 7.0, "humidity": 3000, "feature_width": 1.0, "feature_height": 0.8,
              "grains": True, "drift": 3.0,
              "tip_hits": 5, "side_hits": 10, "side_gap": 2, "long_jumps": True,
-             "launch": 30.0, "grow": True, "water_budget": 6000},
+             "launch": 30.0, "grow": True, "water_budget": 6000, "touch_water": 48},
 }
 # "window": fern frost nucleating on the frame, grown as fronds (README's window section;
-# docs/method.md, section 7). The frond rules at the prototype's values (SPEC section 1):
+# docs/method.md, section 8). The frond rules at the prototype's values (SPEC section 1):
 # hit counts 1 / 3 at -10 C, x 3 per branch order, no side branches from order 3; water on
 # glass 2 cell rings from the ice, a humidity field of log-variance 1, a frame chill of 3.
 # The pool of 4 000 follows the temperature (x 2 at -20 C): the budget leaves it room.

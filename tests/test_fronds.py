@@ -1,4 +1,4 @@
-"""The frond rules (docs/method.md, section 7; sim/fronds.py, sim/openglass.py) and the pane's
+"""The frond rules (docs/method.md, section 8; sim/fronds.py, sim/openglass.py) and the pane's
 measures (sim/measures.py), against stored pre-change hashes, hand-worked cases and
 brute-force oracles."""
 

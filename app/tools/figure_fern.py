@@ -17,7 +17,9 @@ import numpy as np
 from app.images import save_png
 from app.tools.figure8 import compose_grid
 from app.tools.offscreen import Offscreen, make_context
+from app.tools.progress import Progress
 from sim import Params
+from sim.files import why
 from sim.session import touch_events
 
 TICKS = (25, 50, 125, 250, 500, 750)
@@ -27,9 +29,11 @@ CELL = (190, 320)  # a frame scaled by 1/4, px
 TICKS_PER_SECOND = 25
 
 
-def grow_row(ctx, params: Params, seed: int, touches, ticks=TICKS) -> list[tuple[str, np.ndarray]]:
+def grow_row(ctx, params: Params, seed: int, touches, ticks=TICKS,
+             progress: Progress | None = None) -> list[tuple[str, np.ndarray]]:
     """Frames of one growth at each of `ticks`, with their labels."""
     offscreen = Offscreen(ctx, params, seed)
+    offscreen.progress = progress
     offscreen.grow(0, touch_events(touches))
     cells = []
     for tick in ticks:
@@ -42,7 +46,11 @@ def grow_row(ctx, params: Params, seed: int, touches, ticks=TICKS) -> list[tuple
 
 
 def make_sheet(ctx, params: Params, seed: int = 0) -> np.ndarray:
-    rows = [grow_row(ctx, params, seed, touches) for touches in ROWS.values()]
+    progress = Progress(len(ROWS) * TICKS[-1])  # both rows' ticks: a minute or more
+    rows = []
+    for name, touches in ROWS.items():
+        progress.begin(name)
+        rows.append(grow_row(ctx, params, seed, touches, progress=progress))
     title = (f"fern growth, seed {seed}: row 1 {list(ROWS)[0]}, row 2 {list(ROWS)[1]}; "
              f"ticks {', '.join(map(str, TICKS))}")
     return compose_grid(rows, title, CELL)
@@ -64,7 +72,7 @@ def run(args, params: Params) -> int:
     try:
         out = save_png(sheet, Path(path), meta)
     except OSError as err:
-        print(f"frost: error: cannot write {path}: {err.strerror or err}", file=sys.stderr)
-        return 1
+        print(f"frost: error: cannot write {why(err, path)}", file=sys.stderr)
+        return 2
     print(f"wrote {out}")
     return 0
