@@ -297,3 +297,34 @@ def test_only_the_straightest_child_continues_a_stem():
     m = skeleton_measures(pts, np.array([-1, 0, 1, 1]), np.ones(4, bool))
     assert m["stem_lw"] == pytest.approx((20 ** 2 + 10 ** 2) / 30, rel=1e-5)
     assert m["order"] == pytest.approx(10 / 30, rel=1e-5)
+
+
+def tree_of(sim, root):
+    """The live crystals descending from `root`, walked down the parent links."""
+    mine = np.zeros(len(sim.parents), bool)
+    mine[root] = True
+    for i in range(root + 1, len(sim.parents)):  # a parent's index is below its child's
+        p = sim.parents[i]
+        mine[i] = p >= 0 and mine[p]
+    return mine & sim.crystal_alive
+
+
+def test_a_touch_in_window_mode_grows_a_frond():
+    """A touch on open glass, then 400 ticks: its tree's stems, against the same touch on
+    the window of before the fronds (the rules off), are longer and more of its ice lies
+    on main stems."""
+    def grown(params):
+        sim = FrostSim(params, seed=7)
+        for _ in range(150):
+            sim.step()
+        root = len(sim.crystals)
+        sim.touch(380.0, 640.0)
+        for _ in range(400):
+            sim.step()
+        mine = tree_of(sim, root)
+        return skeleton_measures(sim.crystals, sim.parents, mine), mine.sum()
+    fronds, n = grown(WINDOW)
+    before, _ = grown(Params.preset("window", **OLD_WINDOW))
+    assert n > 30
+    assert fronds["stem_lw"] > before["stem_lw"], (fronds, before)
+    assert fronds["main_frac"] > before["main_frac"], (fronds, before)
