@@ -109,8 +109,12 @@ class FernGrowth:
         self.child.raw()[dead] = -1
         self.hits.raw()[dead] = 0
         self.slot.raw()[orphans] = -1
-        self.seed.raw()[edge] = True
-        self.order.raw()[edge] = 0  # (else a wipe regrew as a few high-order stubs)
+        if not self.fronds.on:
+            self.seed.raw()[edge] = True
+        # Fronds (docs/method.md, 8): the edge keeps its own slots, whose stems then grow on
+        # across the clearing (six open slots each sprouted a stub: a band of stubs), and
+        # goes back to branch order 0 (else a wipe regrew as a few high-order stubs).
+        self.order.raw()[edge] = 0
 
     def nbytes(self) -> int:
         return sum(b.nbytes() for b in (self.axis, self.slot, self.seed, self.child, self.hits,

@@ -83,20 +83,21 @@ def order_oracle(sim):
     return out
 
 
-def test_order_rises_only_on_side_branches_and_resets_at_a_melts_edge():
+def test_order_rises_only_on_side_branches_and_resets_at_a_melts_edge_which_keeps_its_slots():
     sim = FrostSim(WINDOW.replace(frame_chill=0.0), W, H, seed=4)
     for _ in range(250):
         sim.step()
     order = sim.growth.order.view().astype(np.int64)
     assert (order == order_oracle(sim)).all()
     assert order.max() >= 2  # side branches of side branches grew
-    before = order.copy()
+    before, seeds = order.copy(), sim.growth.seed.view().copy()
     sim.melt(150.0, 200.0, 30.0)
     c = sim.crystals.astype(np.float64)
     edge = sim.crystal_alive & (np.hypot(c[:, 0] - 150, c[:, 1] - 200) < 30 + sim._longest_link + 1)
     assert edge.sum() > 3 and (before[edge] > 0).any()
     after = sim.growth.order.view()
     assert (after[edge] == 0).all() and (after[~edge] == before[~edge]).all()
+    assert (sim.growth.seed.view() == seeds).all()  # (without the fronds: six open slots)
 
 
 def test_a_slot_needs_hits_times_order_hits_to_the_order_and_max_order_closes_side_slots():
