@@ -14,9 +14,9 @@
    seed's first child.
 6. Fern growth (docs/method.md, section 6): shape measures and tick costs of paper c-2 vs fern
    (`--section fern` runs only this).
-7. Window mode (sim/pane.py): from start to 95 % of the pane's hash cells holding a crystal at
-   the default temperature, tick time against coverage, then the full pane's ticks and
-   memory (`--section window` runs only this).
+7. Window mode (sim/pane.py, the frond rules): the pane's measures (sim/measures.py) per seed at
+   ticks 500 / 1000 / 1500 / 2250 with the median and p99 tick times, the frosted end, the
+   one-touch fern tick and the memory (`--section window` runs only this).
 """
 
 from __future__ import annotations
@@ -32,6 +32,7 @@ import numpy as np
 
 from . import FrostSim, Params, all_presets
 from .geometry import FrostGeometry
+from .measures import END_GAIN, END_TICKS, frosted_end, pane_measures
 from .morphology import extent, mass_radius_dimension, six_fold_order, turn_shares
 from .scribble import play, scribble, spread, storm
 
@@ -297,62 +298,115 @@ def fern_section(seeds: int, ticks: int) -> dict:
     return out
 
 
-WINDOW_BINS = (0.25, 0.5, 0.75, 0.9, 0.95)
+WINDOW_TICKS = (500, 1000, 1500, 2250)
+MEASURES = ("stem_lw", "main_frac", "pinnate", "order", "clear21", "frame_mid", "cells")
+FERN_SEEDS = (0, 3, 11)
 
 
-def window_run(seed: int, after: int, trace: bool = False) -> dict:
-    """The window preset from start until 95 % of the pane's cells hold a crystal, then
-    `after` ticks of full pane: each tick's seconds and coverage, the memory."""
+def window_run(seed: int, ticks: tuple[int, ...], trace: bool = False) -> dict:
+    """The window preset from its start to tick ticks[-1]: the pane's measures at each of
+    `ticks` with the median and p99 of the tick times since the previous one, the frosted
+    end (sim.measures.frosted_end) and the memory."""
     if trace:
         tracemalloc.start()
     sim = FrostSim(Params.preset("window"), seed=seed)
     held = np.zeros(sim.grid.size, bool)
     times: list[float] = []
     cover: list[float] = []
-    full: int | None = None
-    while len(times) < 6000 and (full is None or len(times) < full + after):
+    rows: list[dict] = []
+    while sim.tick < ticks[-1]:
         t0 = time.perf_counter()
         new = sim.step().crystals
         times.append(time.perf_counter() - t0)
         c = sim.crystals[new]
         held[sim.grid.keys(c[:, 0], c[:, 1])] = True
-        cover.append(held.mean())
-        if full is None and cover[-1] >= 0.95:
-            full = len(times)
+        cover.append(float(held.mean()))
+        if sim.tick in ticks:
+            since = int(rows[-1]["tick"]) if rows else 0
+            t = 1e3 * np.array(times[since:])
+            rows.append({"tick": sim.tick, **pane_measures(sim), "median_ms": float(np.median(t)),
+                         "p99_ms": float(np.percentile(t, 99))})
     peak = tracemalloc.get_traced_memory()[1] if trace else 0
     if trace:
         tracemalloc.stop()
-    return {"times": np.array(times), "cover": np.array(cover), "full": full,
-            "crystals": int(sim.crystal_alive.sum()), "nbytes": sim.nbytes(), "peak": peak}
+    out = {"end": frosted_end(cover), "crystals": int(sim.crystal_alive.sum()),
+           "nbytes": sim.nbytes(), "peak": peak, "times": np.array(times)}
+    return {"rows": rows, **out, "wipe": [] if trace else wipe_regrowth(sim)}
 
 
-def window_section(seeds: int, after: int) -> dict:
-    print(f"\n## Window mode (preset window, default temperature): start to 95 % of the pane's "
-          f"cells holding a crystal, then {after} ticks of full pane; seeds 0..{seeds - 1}")
-    runs = [window_run(s, after) for s in range(seeds)]
-    print("seed  ticks to 95 %  crystals  median ms  p99 ms  max ms")
+WIPE_Y, WIPE_HALF = 640.0, 20.0  # a 40 px wipe across the middle of the pane
+WIPE_TICKS = (150, 300, 750)
+
+
+def band_crystals(sim) -> int:
+    """Live crystals in the wiped band."""
+    c = sim.crystals[sim.crystal_alive]
+    return int((np.abs(c[:, 1] - WIPE_Y) < WIPE_HALF).sum())
+
+
+def wipe_regrowth(sim) -> list[float]:
+    """Wipe the band (a melt every 5 px across the pane), then the band's crystals after
+    each of WIPE_TICKS ticks as a share of those before the wipe."""
+    before = band_crystals(sim)
+    for x in np.arange(0.0, sim.width + 1.0, 5.0):
+        sim.melt(float(x), WIPE_Y, WIPE_HALF)
+    back = []
+    for t in range(1, WIPE_TICKS[-1] + 1):
+        sim.step()
+        if t in WIPE_TICKS:
+            back.append(band_crystals(sim) / max(before, 1))
+    return back
+
+
+def window_section(seeds: int, ticks: tuple[int, ...]) -> dict:
+    print(f"\n## Window mode (preset window, default temperature): the pane's measures "
+          f"(sim/measures.py) and tick ms since the row before; seeds 0..{seeds - 1}")
+    print("seed  tick  stem_lw  main_frac  pinnate  order  clear21  frame/mid  cells  "
+          "median ms  p99 ms")
+    runs = [window_run(s, ticks) for s in range(seeds)]
     for s, r in enumerate(runs):
-        t = 1e3 * r["times"]
-        print(f"{s:4} {str(r['full']):>14} {r['crystals']:9} {np.median(t):10.2f} "
-              f"{np.percentile(t, 99):7.2f} {t.max():7.2f}")
-    print("\ntick ms against coverage (all seeds): coverage band  ticks  median  p99")
-    t = 1e3 * np.concatenate([r["times"] for r in runs])
-    cover = np.concatenate([np.where(np.arange(len(r["cover"])) < (r["full"] or 1e9),
-                                     r["cover"], 2.0) for r in runs])
-    curve, lo = [], 0.0
-    for hi in (*WINDOW_BINS, 3.0):
-        band = t[(cover >= lo) & (cover < hi)]
-        name = f"{100 * lo:3.0f}-{100 * hi:3.0f} %" if hi <= 1 else "full pane"
-        if len(band):
-            curve.append({"band": name, "ticks": len(band), "median_ms": float(np.median(band)),
-                          "p99_ms": float(np.percentile(band, 99))})
-            print(f"{name:>12} {len(band):6} {np.median(band):7.2f} {np.percentile(band, 99):6.2f}")
-        lo = hi
-    mem = window_run(0, after, trace=True)
-    print(f"\nmemory after full coverage (seed 0, {mem['crystals']} crystals): array bytes "
+        for row in r["rows"]:
+            print(f"{s:4} {row['tick']:5} " + _measure_cells(row)
+                  + f" {row['median_ms']:10.2f} {row['p99_ms']:7.2f}")
+    last = {k: float(np.median([r["rows"][-1][k] for r in runs])) for k in (*MEASURES, "median_ms",
+                                                                            "p99_ms")}
+    whole = 1e3 * np.concatenate([r["times"] for r in runs])
+    print(f"median  {ticks[-1]:5} " + _measure_cells(last)
+          + f" {last['median_ms']:10.2f} {last['p99_ms']:7.2f}")
+    print(f"all ticks 1..{ticks[-1]}: median {np.median(whole):.2f} ms, p99 "
+          f"{np.percentile(whole, 99):.2f} ms; frosted end (cells growing under "
+          f"{100 * END_GAIN:g} % per {END_TICKS} ticks) at ticks {[r['end'] for r in runs]}")
+    print(f"a {2 * WIPE_HALF:g} px wipe across y = {WIPE_Y:g} at tick {ticks[-1]}: the band's "
+          "crystals back after " + "/".join(map(str, WIPE_TICKS)) + " ticks, seeds "
+          + "; ".join(f"{s}: " + "/".join(f"{100 * v:.0f} %" for v in r["wipe"])
+                      for s, r in enumerate(runs)))
+    fern = [fern_one_touch(s, 250 if seeds > 1 else 50) for s in FERN_SEEDS]
+    print("fern, one touch: median tick ms over its first ticks, seeds "
+          + ", ".join(f"{s}: {t:.2f}" for s, t in zip(FERN_SEEDS, fern, strict=True)))
+    mem = window_run(0, ticks[-1:], trace=True)
+    print(f"memory at tick {ticks[-1]} (seed 0, {mem['crystals']} crystals): array bytes "
           f"{mem['nbytes'] / 1e6:.2f} MB, tracemalloc peak {mem['peak'] / 1e6:.2f} MB")
-    return {"full": [r["full"] for r in runs], "curve": curve, "array_bytes": mem["nbytes"],
-            "tracemalloc_peak_bytes": mem["peak"]}
+    return {"runs": [r["rows"] for r in runs], "median": last, "end": [r["end"] for r in runs],
+            "wipe": [r["wipe"] for r in runs],
+            "fern_ms": fern, "array_bytes": mem["nbytes"], "tracemalloc_peak_bytes": mem["peak"]}
+
+
+def _measure_cells(row: dict) -> str:
+    return (f"{row['stem_lw']:7.1f} {row['main_frac']:10.3f} {row['pinnate']:8.2f} "
+            f"{row['order']:6.2f} {row['clear21']:8.3f} {row['frame_mid']:10.2f} "
+            f"{row['cells']:6.3f}")
+
+
+def fern_one_touch(seed: int, ticks: int) -> float:
+    """Median ms of the first `ticks` ticks of one fern touch at the centre."""
+    sim = FrostSim(Params.preset("fern"), seed=seed)
+    sim.touch(*CENTRE)
+    times = []
+    for _ in range(ticks):
+        t0 = time.perf_counter()
+        sim.step()
+        times.append(time.perf_counter() - t0)
+    return 1e3 * float(np.median(times))
 
 
 def section_fig9(args) -> dict:
@@ -474,9 +528,9 @@ def _fern_sizes(args) -> tuple[int, int]:
     return (2, 50) if args.quick else (5, 250)
 
 
-def _window_sizes(args) -> tuple[int, int]:
-    """Seeds and full-pane ticks of the window section (fewer with --quick)."""
-    return (1, 50) if args.quick else (3, 250)
+def _window_sizes(args) -> tuple[int, tuple[int, ...]]:
+    """Seeds and measuring ticks of the window section (fewer with --quick)."""
+    return (1, (50, 100)) if args.quick else (3, WINDOW_TICKS)
 
 
 if __name__ == "__main__":

@@ -24,6 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from .buffers import Growable
+from .fronds import make_fronds
 from .params import Params
 
 SIXTH = np.pi / 3  # 60 degrees between a crystal's axes
@@ -67,6 +68,8 @@ class FernGrowth:
         self.seed = Growable(bool)  # a seed: six tip slots
         self.child = Growable(np.int32, (SLOTS,))  # each slot's child, -1 if empty
         self.hits = Growable(np.int32, (SLOTS,))
+        self.order = Growable(np.int8)  # branch order (frond rule 1)
+        self.fronds = make_fronds(params)
 
     # ---- hooks called by FrostSim ---------------------------------------------------
 
@@ -106,10 +109,16 @@ class FernGrowth:
         self.child.raw()[dead] = -1
         self.hits.raw()[dead] = 0
         self.slot.raw()[orphans] = -1
-        self.seed.raw()[edge] = True
+        if not self.fronds.on:
+            self.seed.raw()[edge] = True
+        # Fronds (docs/method.md, 8): the edge keeps its own slots, whose stems then grow on
+        # across the clearing (six open slots each sprouted a stub: a band of stubs), and
+        # goes back to branch order 0 (else a wipe regrew as a few high-order stubs).
+        self.order.raw()[edge] = 0
 
     def nbytes(self) -> int:
-        return sum(b.nbytes() for b in (self.axis, self.slot, self.seed, self.child, self.hits))
+        return sum(b.nbytes() for b in (self.axis, self.slot, self.seed, self.child, self.hits,
+                                         self.order))
 
     # ---- steps of settle ------------------------------------------------------------
 
@@ -121,7 +130,10 @@ class FernGrowth:
         turn = (np.arctan2(dy, dx) - self.axis.raw()[parents]) / SIXTH
         k = np.rint(turn).astype(np.int64) % SLOTS
         kind = np.where(self.seed.raw()[parents], TIP, SLOT_KIND[k])
-        return k, self.need[kind]
+        if not self.fronds.on:
+            return k, self.need[kind]
+        return k, self.fronds.need((sim.width, sim.height), self.order.raw()[parents],
+                                   kind == SIDE, self.need[kind], c)
 
     def _count(self, parents, k, need) -> np.ndarray:
         """Count the hits on open, empty slots in walker order; True for the hit that
@@ -176,10 +188,14 @@ class FernGrowth:
         turns from its link by the drift draw."""
         self.child.raw()[parents, k] = np.arange(first, first + len(parents), dtype=np.int32)
         turn = self.rng.standard_normal(len(parents)) * self.drift
-        self._append(angle + turn, k.astype(np.int8), np.zeros(len(parents), bool))
+        side = (SLOT_KIND[k] == SIDE) & ~self.seed.raw()[parents]
+        order = self.order.raw()[parents] + side
+        self._append(angle + turn, k.astype(np.int8), np.zeros(len(parents), bool),
+                     np.minimum(order, 127).astype(np.int8))
 
-    def _append(self, axis, slot, seed) -> None:
+    def _append(self, axis, slot, seed, order=None) -> None:
         self.axis.append(axis)
+        self.order.append(np.zeros(len(axis), np.int8) if order is None else order)
         self.slot.append(slot)
         self.seed.append(seed)
         self.child.append(np.full((len(axis), SLOTS), -1, np.int32))

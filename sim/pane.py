@@ -183,4 +183,7 @@ def pane_sites(rng: np.random.Generator, width: int, height: int, n: int) -> np.
 
 
 def make_pane(sim):
+    if sim.params.water_far:  # (frond rules 2 and 3)
+        from .openglass import OpenGlass
+        return OpenGlass(sim)
     return Pane(sim) if sim.params.window_frost else NoPane()

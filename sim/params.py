@@ -13,11 +13,15 @@ from typing import Any
 
 NEIGHBOR_SEARCHES = ("candidate", "grid9")
 # Parameters that only mean something with grains on.
-GRAIN_RULES = ("drift", "tip_hits", "side_hits", "side_gap")
+GRAIN_RULES = ("drift", "tip_hits", "side_hits", "side_gap", "order_hits", "max_order")
 # The fern rules: off (at their defaults) in the paper's look.
 FERN_RULES = ("grains", *GRAIN_RULES, "long_jumps", "launch")
 # Parameters that only mean something in window mode (sim/pane.py).
-WINDOW_RULES = ("frame_sites", "pane_sites", "temperature")
+WINDOW_RULES = ("frame_sites", "pane_sites", "temperature", "water_far", "near_water",
+                "vapour_var", "frame_chill")
+# The frond rules (docs/method.md, section 8): off at their defaults; the window preset
+# turns them on.
+FROND_RULES = ("order_hits", "max_order", "water_far", "near_water", "vapour_var", "frame_chill")
 # Bounds on the work one new crystal makes (see Params.__post_init__): at most this many
 # upsample particles on a link of length hc (Table 1: at most 10, a-1), and hc at most this
 # many grid spacings (Table 1: 2.5). Beyond them a tick of fast growth took seconds.
@@ -123,6 +127,24 @@ class Params:
                                   "per slot, so frost grows faster and denser (with window_frost)",
                             0.0, 40.0, lo_open=True)
 
+    # Beyond the paper: fronds (docs/method.md, section 8; sim/fronds.py). Off by default.
+    order_hits: float = _p(1.0, "order_hits: a slot needs its hits x order_hits^order, order "
+                                "counting side branchings from the stem (1: every order alike; "
+                                "with grains; frond rule 1)", 1.0, 10.0)
+    max_order: int = _p(0, "max_order: crystals of this branch order or more grow no side "
+                           "branches (0: no limit; with grains)", 0, 16)
+    water_far: int = _p(0, "water_far: window water lands on glass at least this many cell rings "
+                           "from every candidate cell (0: within 3 rings of the ice; with "
+                           "window_frost; frond rule 2)", 0, 8)
+    near_water: float = _p(0.2, "near_water: weight of a nearer free cell against a far one "
+                                "where window water lands (with water_far)", 0.0, 1.0)
+    vapour_var: float = _p(0.0, "vapour_var: variance of the log of a smooth random humidity "
+                                "field weighting where far water lands (0: even; with "
+                                "water_far; frond rule 3)", 0.0, 4.0)
+    frame_chill: float = _p(0.0, "frame_chill: hits divided by 1 + frame_chill x e^(-d / 150 px), "
+                                 "d the distance to the frame: a denser band along it (with "
+                                 "window_frost; frond rule 4)", 0.0, 20.0)
+
     def __post_init__(self) -> None:
         for f in dataclasses.fields(self):
             _validate(f, getattr(self, f.name))
@@ -135,6 +157,9 @@ class Params:
         for name in WINDOW_RULES:
             if not self.window_frost and getattr(self, name) != getattr(Params, name):
                 raise ValueError(f"{name}={getattr(self, name)!r} needs window_frost=True")
+        for name in ("near_water", "vapour_var"):
+            if not self.water_far and getattr(self, name) != getattr(Params, name):
+                raise ValueError(f"{name}={getattr(self, name)!r} needs water_far > 0")
         if self.window_frost and not self.grains:
             raise ValueError("window_frost=True needs grains=True: the temperature acts "
                              "through the hit counters")
@@ -221,12 +246,16 @@ EXTRA_PRESETS: dict[str, dict[str, Any]] = {
              "tip_hits": 5, "side_hits": 10, "side_gap": 2, "long_jumps": True,
              "launch": 30.0, "grow": True, "water_budget": 6000, "touch_water": 48},
 }
-# "window": fern frost nucleating on the frame (README's window section). Hit
-# counts 3 / 6 (at the default -10 C) frost 95 % of the pane's cells in about 1 200 ticks
-# (seed 0); fern's 5 / 10 needed over 4 000, 2 / 4 about 600 (`python -m sim.bench
-# --section window`).
+# "window": fern frost nucleating on the frame, grown as fronds (README's window section;
+# docs/method.md, section 8). The frond rules at the prototype's values (SPEC section 1):
+# hit counts 1 / 3 at -10 C, x 3 per branch order, no side branches from order 3; water on
+# glass 2 cell rings from the ice, a humidity field of log-variance 1, a frame chill of 3.
+# The pool of 4 000 follows the temperature (x 2 at -20 C): the budget leaves it room.
+# Measured with `python -m sim.bench --section window`.
 EXTRA_PRESETS["window"] = {**EXTRA_PRESETS["fern"], "window_frost": True,
-                           "tip_hits": 3, "side_hits": 6}
+                           "tip_hits": 1, "side_hits": 3, "order_hits": 3.0, "max_order": 3,
+                           "water_far": 2, "vapour_var": 1.0, "frame_chill": 3.0,
+                           "humidity": 4000, "water_budget": 10000}
 
 
 def all_presets() -> dict[str, dict[str, Any]]:

@@ -6,7 +6,9 @@ import pytest
 
 from sim import FrostSim, Params, preset_name
 from sim.grid import CELL_MARGIN
+from sim.measures import frosted_end
 from sim.pane import BAND
+from sim.params import FROND_RULES
 
 WINDOW = Params.preset("window")
 W, H = 300, 400  # a small pane keeps full coverage within a few hundred ticks
@@ -27,7 +29,9 @@ def arc_length(p, w, h):
 
 
 def test_window_is_fern_plus_window_mode_and_the_others_are_untouched():
-    assert WINDOW.replace(window_frost=False, tip_hits=5, side_hits=10) == Params.preset("fern")
+    off = {k: getattr(Params, k) for k in FROND_RULES}
+    assert WINDOW.replace(window_frost=False, tip_hits=5, side_hits=10, humidity=3000,
+                          water_budget=6000, **off) == Params.preset("fern")
     assert preset_name(WINDOW) == "window" and preset_name(Params.preset("fern")) == "fern"
     assert not Params().window_frost and not Params.preset("fern").window_frost
 
@@ -71,8 +75,10 @@ def test_frame_spacing_matches_the_parameter_and_is_irregular(per_100):
 
 
 def test_one_pool_for_the_whole_pane_placed_on_glass_near_the_ice():
+    # (the window's placement before the fronds, which water_far 0 keeps)
+    near = WINDOW.replace(water_far=0, vapour_var=0.0, frame_chill=0.0)
     for frame in (1.0, 10.0):
-        sim = FrostSim(WINDOW.replace(frame_sites=frame), W, H, seed=2)
+        sim = FrostSim(near.replace(frame_sites=frame), W, H, seed=2)
         sim.touch(150, 200)
         for _ in range(60):
             sim.step()
@@ -171,14 +177,17 @@ def test_a_wiped_path_is_clear_then_refreezes_from_its_edges(mode):
     for x, y in touches:
         sim.touch(x, y)
     cells = path_cells(sim)
-    for _ in range(2500):
+    cover: list[float] = []
+    for _ in range(2500):  # to the frosted end (sim/measures.py), or full coverage
         sim.step()
-        if coverage(sim, np.arange(sim.grid.size)) >= 0.95:
+        cover.append(coverage(sim, np.arange(sim.grid.size)))
+        if cover[-1] >= 0.95 or frosted_end(cover) is not None:
             break
     for _ in range(300):  # a while frosted: the ice's open slots fill up
         sim.step()
     before = coverage(sim, cells)
-    assert before > 0.8
+    # (fronds leave clear glass between them by design: about 60 % of cells hold ice)
+    assert before > (0.5 if params.water_far else 0.8)
     for x, y in PATH:
         sim.melt(x, y, R)
         assert len(sim.water) <= params.humidity
@@ -200,7 +209,9 @@ def test_a_wiped_path_is_clear_then_refreezes_from_its_edges(mode):
 
 
 def test_a_wipe_opens_all_six_slots_of_the_ice_at_its_edge():
-    sim = FrostSim(WINDOW, W, H, seed=2)
+    # (the window before the fronds: with them the edge keeps its slots, test_fronds.py)
+    old = WINDOW.replace(tip_hits=3, side_hits=6, **{k: getattr(Params, k) for k in FROND_RULES})
+    sim = FrostSim(old, W, H, seed=2)
     for _ in range(500):  # the pane is frosted
         sim.step()
     seeds_before = sim.growth.seed.view().copy()
