@@ -7,6 +7,13 @@ exported alpha map (sim.maps) follows the same law, so the two always agree.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from types import MappingProxyType
+
+# The ice shader's compile-time variant for each look (Params.look; shaders/ice.frag).
+LOOK_DEFINES = MappingProxyType({
+    "paper": (),
+    "glass": ("FILM", "SCATTER", "SPARKLE", "REFRACT"),
+})
 
 
 @dataclass(frozen=True)
@@ -21,3 +28,4 @@ class Material:
     opacity: float = 0.88  # very thick ice still lets a little of the view through
     density: float = 0.45  # alpha = opacity * (1 - exp(-density * thickness_px))
     relief: float = 1.6  # exaggerate slopes so px-high ice still catches the light
+    refraction: float = 12.0  # glass look: px the view behind shifts per unit slope
