@@ -113,6 +113,20 @@ class FrostGeometry:
         empty = np.empty((0, VERTEX_FLOATS), np.float32)
         return self._delta(0, slice(0, self.rows), empty, reset=True)
 
+    def redraw(self, sim) -> GeometryDelta:
+        """The whole live ice drawn anew (after a change of look): a reset delta holding
+        every height row and every live feature. Costs O(ice), once."""
+        self.reset()
+        pts = np.concatenate((sim.crystals[sim.crystal_alive],
+                              sim.upsampled[sim.upsampled_alive]))
+        self._raise(pts)
+        if self.ridges is not None:
+            feats = self.ridges.grow(sim, slice(0, len(sim.crystals)))
+        else:
+            feats = feature_triangles(sim.segments[sim.segments_alive], self.params.feature_width,
+                                      self.params.feature_height)
+        return self._delta(sim.tick, slice(0, self.rows), feats, reset=True)
+
     def update(self, sim) -> GeometryDelta:
         """Raise the grid around the tick's new particles and build their features."""
         added = sim.added

@@ -93,6 +93,7 @@ class PipeRidges:
         and of those that thickened."""
         self._extend(len(sim.crystals))
         idx = np.arange(new.start, new.stop)
+        idx = idx[sim.crystal_alive[idx]]
         self.carried[idx] = 1
         touched = self._propagate(sim.parents, sim.parents[idx], 1)
         links = np.union1d(idx, touched)

@@ -220,7 +220,7 @@ OVERRIDES = {"--hc", "--D", "--humidity", "--water-budget", "--step", "--active-
              "--max-height", "--grid-spacing", "--feature-width", "--feature-height",
              "--neighbor-search", "--replenish", "--grow", "--grains", "--drift", "--tip-hits",
              "--side-hits", "--side-gap", "--long-jumps", "--launch", "--frame-sites",
-             "--pane-sites", "--temperature"}
+             "--pane-sites", "--temperature", "--look"}
 HELP_LISTS = {
     "replay": {"--help", "--headless", "--ticks", "--out", "--melt-radius", "--session-dir",
                "--screenshot-dir", "--scale", "--max-seconds"},

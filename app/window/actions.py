@@ -53,6 +53,7 @@ class Actions:
             "shift": lambda arg: self._tune(tuning.shifted, *arg),
             "preset": lambda name: self._tune(tuning.preset, name),
             "toggle_param": lambda name: self._tune(tuning.toggled, name),
+            "cycle_param": lambda name: self._tune(tuning.cycled, name),
             "toggle_view": self._toggle_view, "light": self._move_light,
             "toggle_hud": lambda _: self._toggle_hud("visible"),
             "toggle_help": lambda _: self._toggle_hud("show_help"),

@@ -71,6 +71,8 @@ BINDINGS: tuple[Binding, ...] = (
             ("temperature", TEMPERATURE_STEP)),
     Binding(("Y",), "Y", f"window: warmer ({TEMPERATURE_STEP:g} C)", "shift",
             ("temperature", -TEMPERATURE_STEP)),
+    Binding(("V",), "V", "look: paper / glass (ridges, film, glints, refraction)", "cycle_param",
+            "look"),
     Binding(("F",), "F", "sharp features on / off", "toggle_view", "show_features"),
     Binding(("B",), "B", "bumpy surfaces on / off", "toggle_view", "show_bumps"),
     Binding(("LEFT",), "Left", "light from further left", "light", (-LIGHT_STEP, 0.0)),
