@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .params import Params
-from .ridges import PipeRidges, half_width, top_height
+from .ridges import PipeRidges, top_height, widest
 from .screen import HEIGHT, WIDTH
 
 # Each segment gives 4 triangles of 3 vertices, each vertex x, y, z, nx, ny, nz.
@@ -172,7 +172,7 @@ class FrostGeometry:
         dead = melted.crystals
         ends.append(parents[dead][parents[dead] >= 0])
         xy = c[np.concatenate(ends).astype(np.int64)]
-        reach = float(half_width(np.array([10**6]), self.params.hc)[0]) * 1.5 + 1.0
+        reach = 2.0 * widest(self.params.hc) + 1.0  # a ridge's cap reaches w past its end
         box = _bounds(np.vstack((xy - reach, xy + reach)), pts, self.params.hc)
         feats = np.empty((0, VERTEX_FLOATS), np.float32)
         if box is not None:

@@ -22,16 +22,24 @@ LEVELS_PER_DOUBLING = 2  # width levels per doubling of the carried count (+12 %
 TILT = 0.18  # spread of the random tilt per ridge face (sparkle), normal x and y
 
 
-def width_level(carried: np.ndarray) -> np.ndarray:
-    """Thickness level of links carrying `carried` crystals: floor(2 log2 n), 0 for a tip."""
-    return np.floor(LEVELS_PER_DOUBLING * np.log2(np.maximum(carried, 1))).astype(np.int32)
+def width_level(carried: np.ndarray, hc: float) -> np.ndarray:
+    """Thickness level of links carrying `carried` crystals: floor(2 log2 n), 0 for a tip,
+    no higher than the level whose width reaches the cap (thicker links look the same)."""
+    top = np.ceil(3.0 * LEVELS_PER_DOUBLING * np.log2(widest(hc) / MIN_HALF_WIDTH))
+    level = np.floor(LEVELS_PER_DOUBLING * np.log2(np.maximum(carried, 1)))
+    return np.minimum(level, top).astype(np.int32)
 
 
 def half_width(level: np.ndarray, hc: float) -> np.ndarray:
     """Half-width of a link at `level`, px: MIN_HALF_WIDTH * n^(1/3) at the level's
     lowest n, capped at MAX_HALF_WIDTH * hc."""
     w = MIN_HALF_WIDTH * np.exp2(level / (3.0 * LEVELS_PER_DOUBLING))
-    return np.minimum(w, max(MAX_HALF_WIDTH * hc, MIN_HALF_WIDTH))
+    return np.minimum(w, widest(hc))
+
+
+def widest(hc: float) -> float:
+    """The widest half-width a ridge can have, px."""
+    return max(MAX_HALF_WIDTH * hc, MIN_HALF_WIDTH)
 
 
 def ridge_height(params: Params) -> float:
@@ -41,7 +49,7 @@ def ridge_height(params: Params) -> float:
 
 def top_height(params: Params) -> float:
     """The highest a ridge can stand, px."""
-    return ridge_height(params) * max(MAX_HALF_WIDTH * params.hc, MIN_HALF_WIDTH)
+    return ridge_height(params) * widest(params.hc)
 
 
 def ridge_triangles(p: np.ndarray, q: np.ndarray, w: np.ndarray, slope: float,
@@ -99,22 +107,23 @@ class PipeRidges:
         links = np.union1d(idx, touched)
         alive = sim.crystal_alive[links] & (sim.parents[links] >= 0)
         links = links[alive]
-        level = width_level(self.carried[links])
+        level = width_level(self.carried[links], self.params.hc)
         return self.triangles(sim, links[level > self.drawn[links]])
 
     def melt(self, sim, dead: np.ndarray) -> np.ndarray:
         """Take the melted crystals out of the counts above them (sim.melt has cut their
         children loose already); the links whose level fell, which must be redrawn."""
         parents = sim.parents
-        roots = dead[parents[dead] >= 0]  # a dead crystal whose parent survived
+        up = parents[dead]
+        roots = dead[(up >= 0) & ~np.isin(up, dead)]  # melted, with a parent that survived
         touched = self._propagate(parents, parents[roots], -self.carried[roots])
         self.drawn[dead] = -1
         touched = touched[sim.crystal_alive[touched] & (parents[touched] >= 0)]
-        return touched[width_level(self.carried[touched]) < self.drawn[touched]]
+        return touched[width_level(self.carried[touched], self.params.hc) < self.drawn[touched]]
 
     def triangles(self, sim, links: np.ndarray) -> np.ndarray:
         """The ridges of `links` (child crystal indices) at their levels now, marked drawn."""
-        level = width_level(self.carried[links])
+        level = width_level(self.carried[links], self.params.hc)
         self.drawn[links] = level
         w = half_width(level, self.params.hc)
         c = sim.crystals

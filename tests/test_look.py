@@ -4,12 +4,23 @@ before the glass look existed), the glass look's shader variants, and its measur
 from __future__ import annotations
 
 import hashlib
+import itertools
+import shutil
+import subprocess
 
+import numpy as np
 import pytest
 
+from app.gl.renderer import Renderer
+from app.gl.shaders import load_program, shader_source
+from app.images import read_image
 from app.tools.offscreen import Offscreen
 from sim import Params
-from sim.session import touch_events
+from sim.geometry import FrostGeometry, feature_scale
+from sim.material import LOOK_DEFINES
+from sim.params import LOOKS
+from sim.ridges import VERTS_PER_LINK, width_level
+from sim.session import Timeline, grow, touch_events
 
 # sha256 of the H x W x 3 frame, computed on the code before the `look` setting existed
 # (commit 1c14e25), llvmpipe. What each run is: preset, seed, ticks, touches, melts.
@@ -40,3 +51,128 @@ def paper_frame(ctx, name: str):
 def test_paper_presets_unchanged(gl_ctx, name):
     digest = hashlib.sha256(paper_frame(gl_ctx, name).tobytes()).hexdigest()
     assert digest == PAPER_HASHES[name]
+
+
+# ---- the glass look's shader variants ---------------------------------------------------
+
+GLASS_DEFINES = LOOK_DEFINES["glass"]
+VARIANTS = [c for k in range(len(GLASS_DEFINES) + 1)
+            for c in itertools.combinations(GLASS_DEFINES, k)]
+
+
+@pytest.mark.parametrize("defines", VARIANTS, ids=lambda d: "+".join(d) or "paper")
+def test_every_ice_variant_is_glsl_es_300(defines, tmp_path):
+    exe = shutil.which("glslangValidator")
+    assert exe, "glslangValidator is missing: apt-get install glslang-tools (`make test` does)"
+    path = tmp_path / "ice.frag"
+    path.write_text(shader_source("ice.frag", defines))
+    run = subprocess.run([exe, str(path)], capture_output=True, text=True)
+    assert run.returncode == 0, run.stdout + run.stderr
+
+
+def test_every_look_compiles_in_context(gl_ctx):
+    for look in LOOKS:
+        load_program(gl_ctx, "tile.vert", "ice.frag", LOOK_DEFINES[look]).release()
+
+
+# ---- the pipe model ---------------------------------------------------------------------
+
+def carried_oracle(sim) -> dict[int, int]:
+    """Crystals each live link carries, walking up from every live crystal one by one."""
+    counts: dict[int, int] = {}
+    parents, alive = sim.parents, sim.crystal_alive
+    for c in range(len(parents)):
+        node = c
+        while alive[c] and node >= 0:
+            counts[node] = counts.get(node, 0) + 1
+            node = int(parents[node])
+    return counts
+
+
+def grown_glass(ticks: int, melts=()):
+    timeline = Timeline(Params.preset("fern"), 2, 300, 260, touches=[(150.0, 130.0)])
+    grow(timeline, ticks, list(melts))
+    return timeline
+
+
+def test_carried_counts_follow_growth_and_melts():
+    melts = [{"tick": 120, "kind": "melt", "x": 150.0, "y": 150.0, "r": 12.0},
+             {"tick": 160, "kind": "melt", "x": 120.0, "y": 110.0, "r": 20.0}]
+    timeline = grown_glass(200, melts)
+    sim, ridges = timeline.sim, timeline.geometry.ridges
+    want = carried_oracle(sim)
+    live = np.flatnonzero(sim.crystal_alive)
+    assert len(live) > 100 and max(want.values()) > 20
+    assert {int(c): int(ridges.carried[c]) for c in live} == want
+
+
+def test_a_link_is_sent_again_only_when_it_thickens():
+    # Sent once per width level it reached at the end of a tick, by the oracle's counts.
+    timeline = grown_glass(0)
+    hc, levels, sent = timeline.params.hc, {}, 0
+    for _ in range(110):
+        sent += len(timeline.step()[-1].features) // VERTS_PER_LINK
+        sim = timeline.sim
+        for c, n in carried_oracle(sim).items():
+            if sim.parents[c] >= 0:
+                levels.setdefault(c, set()).add(int(width_level(np.array([n]), hc)[0]))
+    assert len(levels) > 200
+    assert sent == sum(len(s) for s in levels.values())
+
+
+def test_after_a_melt_the_ridges_are_those_drawn_from_scratch(gl_ctx):
+    melts = [{"tick": 130, "kind": "melt", "x": 150.0, "y": 100.0, "r": 12.0}]
+    timeline = Timeline(Params.preset("fern"), 2, 300, 260, touches=[(150.0, 130.0)])
+    live_view = Renderer(gl_ctx, timeline.params, 300, 260, background=checkerboard(300, 260))
+    grow(timeline, 160, melts, lambda a: [live_view.apply(d) for d in a.deltas],
+         live_view.apply, None)
+    fresh = Renderer(gl_ctx, timeline.params, 300, 260, background=checkerboard(300, 260))
+    fresh.apply(FrostGeometry(timeline.params, 300, 260).redraw(timeline.sim))
+    a, b = draw(gl_ctx, live_view), draw(gl_ctx, fresh)
+    assert (a != b).any(axis=2).sum() == 0
+
+
+@pytest.mark.parametrize("first, then", [("paper", "glass"), ("glass", "paper")])
+def test_a_change_of_look_redraws_the_same_frost(gl_ctx, first, then):
+    def run(looks):
+        o = Offscreen(gl_ctx, Params.preset("fern", look=looks[0]), 0)
+        o.grow(120, touch_events([(380.0, 640.0)]))
+        change = [{"tick": 120, "kind": "params", "params": Params.preset("fern", look=looks[-1])}]
+        o.grow(60, change if len(looks) > 1 else [])
+        try:
+            return o.frame(), o.sim.crystals.copy()
+        finally:
+            o.release()
+
+    (switched, c1), (straight, c2) = run((first, then)), run((then,))
+    np.testing.assert_array_equal(c1, c2)  # the simulation went on, not regrown
+    np.testing.assert_array_equal(switched, straight)
+
+
+def test_high_features_are_not_clipped():
+    # feature_height up to 10 x L: the texture's scale must cover the tallest feature.
+    for look in LOOKS:
+        params = Params.preset("c-2", feature_height=10.0, look=look)
+        timeline = Timeline(params, 0, 200, 200, touches=[(100.0, 100.0)])
+        top = 0.0
+        for _ in range(60):
+            top = max(top, float(timeline.step()[-1].features[:, 2].max(initial=0.0)))
+        assert top > 16.0
+        assert top <= feature_scale(params)
+
+
+# ---- helpers ------------------------------------------------------------------------------
+
+def checkerboard(width: int, height: int, side: int = 8) -> np.ndarray:
+    y, x = np.mgrid[0:height, 0:width]
+    on = ((x // side + y // side) % 2).astype(np.uint8) * 255
+    return np.repeat(on[:, :, None], 3, axis=2)
+
+
+def draw(ctx, renderer: Renderer) -> np.ndarray:
+    fbo = ctx.simple_framebuffer(renderer.size, components=4)
+    try:
+        renderer.render(fbo)
+        return read_image(fbo)
+    finally:
+        fbo.release()
