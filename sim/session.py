@@ -188,8 +188,14 @@ def check_view(view: Any) -> dict[str, Any]:
         raise ValueError(f"view {view!r}: 'light' must be 3 numbers, not all 0")
     if not all(isinstance(view.get(k), bool) for k in ("features", "bumps")):
         raise ValueError(f"view {view!r}: 'features' and 'bumps' must be true or false")
-    return {"light": [float(v) for v in light], "features": view["features"],
-            "bumps": view["bumps"]}
+    checked = {"light": [float(v) for v in light], "features": view["features"],
+               "bumps": view["bumps"]}
+    if "background" in view:  # a backdrop's name or an image file (older files: dusk)
+        background = view["background"]
+        if not isinstance(background, str) or not 0 < len(background) <= 4096:
+            raise ValueError(f"view {view!r}: 'background' must be a backdrop's name or a file")
+        checked["background"] = background
+    return checked
 
 
 def check_event(event: Any) -> dict[str, Any]:

@@ -223,11 +223,12 @@ OVERRIDES = {"--hc", "--D", "--humidity", "--water-budget", "--step", "--active-
              "--pane-sites", "--temperature", "--look"}
 HELP_LISTS = {
     "replay": {"--help", "--headless", "--ticks", "--out", "--melt-radius", "--session-dir",
-               "--screenshot-dir", "--scale", "--max-seconds"},
-    "figure8": {"--help", "--seed", "--ticks", "--touch"} | OVERRIDES,
+               "--screenshot-dir", "--scale", "--max-seconds", "--background"},
+    "figure8": {"--help", "--seed", "--ticks", "--touch", "--background"} | OVERRIDES,
     "render": {"--help", "--preset", "--window-frost", "--seed", "--touch", "--ticks", "--out",
-               "--melt", "--melt-path", "--melt-radius"} | OVERRIDES,
-    "bench render": {"--help", "--preset", "--seed", "--frames", "--cover", "--max-ticks"}}
+               "--melt", "--melt-path", "--melt-radius", "--background"} | OVERRIDES,
+    "bench render": {"--help", "--preset", "--seed", "--frames", "--cover", "--max-ticks",
+                     "--background"}}
 
 
 def help_text(argv: list[str]) -> str:

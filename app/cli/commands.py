@@ -7,7 +7,7 @@ import argparse
 import logging
 import sys
 
-from app.cli.options import WINDOW_DEFAULTS, has_display, params_from
+from app.cli.options import WINDOW_DEFAULTS, has_display, params_from, view_from
 from app.cli.parser import PROG, build_parser, parser_for
 from app.cli.paths import check_paths
 from sim import Params
@@ -99,6 +99,7 @@ def _window(args: argparse.Namespace, params: Params) -> int:
         from app.tools.render import run
         return run(args, params)
     from app.window.frost_window import run
+    args.view = view_from(args)
     return run(args, params)
 
 
@@ -125,7 +126,8 @@ def _windowed_replay(args: argparse.Namespace) -> Params:
     from app.tools.replay import load_session
 
     log_ = load_session(args.replay)
-    args.seed, args.touch, args.script, args.view = log_.seed, [], log_.events, log_.view
+    args.seed, args.touch, args.script = log_.seed, [], log_.events
+    args.view = view_from(args, log_.view)
     return Params(**log_.params)
 
 

@@ -11,6 +11,17 @@ from sim.screen import touch_problem
 from sim.session import check_event
 
 
+def backdrop(text: str) -> str:
+    """A built-in backdrop's name or an image file that can be read."""
+    from app.backdrops import load_backdrop  # PIL: only when the option is used
+
+    try:
+        load_backdrop(text)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
+    return text
+
+
 def touch(text: str) -> tuple[float, float]:
     try:
         x, y = (float(v) for v in text.split(","))

@@ -22,6 +22,7 @@ import moderngl
 import numpy as np
 from PIL import Image
 
+from app.backdrops import DEFAULT_BACKDROP, load_backdrop
 from app.gl.shaders import load_program
 from app.resources import ASSET_DIR
 from sim.geometry import VERTEX_FLOATS, GeometryDelta
@@ -68,6 +69,7 @@ class Renderer:
         self.show_features = True
         self.show_bumps = True
         self.look, self.height_scale = params.look, FEATURE_HEIGHT_SCALE
+        self.backdrop = DEFAULT_BACKDROP  # the background's name (or file), for the view
         spacing = params.grid_spacing
         self.grid_size = (width // spacing + 1, height // spacing + 1)
         self._background = self._background_texture(background)
@@ -86,13 +88,24 @@ class Renderer:
         """The light and the toggles as JSON (session files and PNGs carry it, so a
         replay draws the same picture; see sim.session.check_view)."""
         return {"light": [float(v) for v in self.light], "features": bool(self.show_features),
-                "bumps": bool(self.show_bumps)}
+                "bumps": bool(self.show_bumps), "background": self.backdrop}
 
     def set_view(self, view: dict | None) -> None:
-        """Show as `view` (from `view()`) says; None keeps the defaults."""
-        if view is not None:
+        """Show as `view` (from `view()`, or some of its keys) says; None keeps the
+        defaults. A background that cannot be read raises ValueError."""
+        view = view or {}
+        if "light" in view:
             self.light = tuple(float(v) for v in view["light"])
-            self.show_features, self.show_bumps = view["features"], view["bumps"]
+        self.show_features = view.get("features", self.show_features)
+        self.show_bumps = view.get("bumps", self.show_bumps)
+        if view.get("background", self.backdrop) != self.backdrop:
+            self.set_backdrop(view["background"])
+
+    def set_backdrop(self, name: str) -> None:
+        """The view behind the glass: a built-in backdrop's name or an image file."""
+        image = load_backdrop(name, self.size)
+        self._background.write(np.ascontiguousarray(image).tobytes())
+        self.backdrop = name
 
     # ---- uploads ----------------------------------------------------------------
 

@@ -14,6 +14,7 @@ import time
 
 import numpy as np
 
+from app.cli.options import view_from
 from app.gl.renderer import Renderer
 from app.tools.offscreen import make_context
 from sim import FrostSim, Params
@@ -28,11 +29,13 @@ def ms(seconds: list[float]) -> float:
     return 1000.0 * statistics.median(seconds) if seconds else 0.0
 
 
-def grow(ctx, params: Params, seed: int, target: float, max_ticks: int):
+def grow(ctx, params: Params, seed: int, target: float, max_ticks: int,
+         view: dict | None = None):
     """Grow until `target` of the screen is frosted; time geometry and uploads per tick."""
     sim = FrostSim(params, WIDTH, HEIGHT, seed)
     geometry = FrostGeometry(params, WIDTH, HEIGHT)
     renderer = Renderer(ctx, params, WIDTH, HEIGHT)
+    renderer.set_view(view)
     fbo = ctx.simple_framebuffer((WIDTH, HEIGHT), components=4)
     for x, y in TOUCHES:
         sim.touch(x, y)
@@ -80,7 +83,7 @@ def run(args) -> int:
         return 1
     params = Params.preset(args.preset)
     sim, geometry, renderer, fbo, geo_t, up_t = grow(ctx, params, args.seed, args.cover,
-                                                     args.max_ticks)
+                                                     args.max_ticks, view_from(args))
     frames = time_frames(ctx, renderer, fbo, args.frames)
     result = {"preset": args.preset, "ticks": sim.tick, "frosted": round(covered(geometry), 3),
               "crystals": len(sim.crystals), "segments": len(sim.segments),

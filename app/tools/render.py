@@ -6,6 +6,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from app.cli.options import view_from
 from app.images import timestamped_path
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
@@ -45,7 +46,7 @@ def run(args, params: Params) -> int:
     except RuntimeError as err:
         error(err)
         return 1
-    offscreen = Offscreen(ctx, params, args.seed)
+    offscreen = Offscreen(ctx, params, args.seed, view_from(args))
     offscreen.progress = Progress(args.ticks)
     if args.touch or params.window_frost:  # a window frosts from its frame untouched
         offscreen.grow(args.ticks, touch_events(args.touch) + melt_events(args))

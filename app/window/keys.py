@@ -73,6 +73,7 @@ BINDINGS: tuple[Binding, ...] = (
             ("temperature", -TEMPERATURE_STEP)),
     Binding(("V",), "V", "look: paper / glass (ridges, film, glints, refraction)", "cycle_param",
             "look"),
+    Binding(("X",), "X", "backdrop: dusk, lockscreen (then the --background file)", "backdrop"),
     Binding(("F",), "F", "sharp features on / off", "toggle_view", "show_features"),
     Binding(("B",), "B", "bumpy surfaces on / off", "toggle_view", "show_bumps"),
     Binding(("LEFT",), "Left", "light from further left", "light", (-LIGHT_STEP, 0.0)),
