@@ -52,38 +52,47 @@ def top_height(params: Params) -> float:
     return ridge_height(params) * widest(params.hc)
 
 
+# Corners of a ridge: 0 P top, 1 Q top, 2 Q+, 3 P+, 4 Q-, 5 P-, 6 Q tip, 7 P tip (+/-: the
+# sides along n); its faces: two on each side of the body, a cap on each side at each end.
+FACES = np.array([0, 1, 2, 0, 2, 3, 0, 1, 4, 0, 4, 5, 1, 2, 6, 1, 4, 6, 0, 3, 7, 0, 5, 7])
+# Each face falls away from the ridge line with the flanks' slope s, toward +-n on the body
+# and toward +-t and +-n on a cap, so its normal is (s (ft t + fn n), 1) whatever the width.
+FACE_T = np.array([0, 0, 0, 0, 1, 1, -1, -1], np.float32)[None, :, None]
+FACE_N = np.array([1, 1, -1, -1, 1, -1, 1, -1], np.float32)[None, :, None]
+
+
 def ridge_triangles(p: np.ndarray, q: np.ndarray, w: np.ndarray, slope: float,
                     ids: np.ndarray) -> np.ndarray:
     """(24 k) x 6 float32 vertices (x, y, z, nx, ny, nz) of ridges from p to q (k x 2),
     half-width w; each face's normal tilted a little at random (seeded by `ids`)."""
-    p, q, w = p.astype(np.float64), q.astype(np.float64), w.astype(np.float64)[:, None]
+    p, q = p.astype(np.float32), q.astype(np.float32)
+    w = w.astype(np.float32)[:, None]
     d = q - p
     length = np.hypot(d[:, 0], d[:, 1])[:, None]
-    t = np.where(length > 0, d / np.where(length > 0, length, 1.0), [1.0, 0.0])
+    t = np.where(length > 0, d / np.where(length > 0, length, 1.0), np.float32([1.0, 0.0]))
     n = np.column_stack((-t[:, 1], t[:, 0]))
-    z = np.column_stack((np.zeros(len(p)), slope * w[:, 0]))
-    corners = [p, q, q + w * n, p + w * n, q - w * n, p - w * n, q + w * t, p - w * t]
-    heights = [z[:, 1], z[:, 1]] + [z[:, 0]] * 6
-    pts = np.stack([np.column_stack((c, h)) for c, h in zip(corners, heights, strict=True)], 1)
-    # 0 P top, 1 Q top, 2 Q+, 3 P+, 4 Q-, 5 P-, 6 Q tip, 7 P tip
-    faces = [0, 1, 2, 0, 2, 3, 0, 1, 4, 0, 4, 5, 1, 2, 6, 1, 4, 6, 0, 3, 7, 0, 5, 7]
-    tri = pts[:, faces].reshape(-1, 3, 3)
-    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    normal *= np.where(normal[:, 2:3] < 0, -1.0, 1.0)
-    normal[:, :2] += TILT * _jitter(np.repeat(ids, 8) * 8 + np.tile(np.arange(8), len(ids)))
-    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-12)
-    normal[normal[:, 2] <= 1e-9] = (0.0, 0.0, 1.0)  # a zero-width face: flat on the glass
-    verts = np.concatenate((tri, np.repeat(normal[:, None, :], 3, axis=1)), axis=2)
-    return verts.reshape(-1, 6).astype(np.float32)
+    wt, wn = w * t, w * n
+    pts = np.zeros((len(p), 8, 3), np.float32)
+    for i, corner in enumerate((p, q, q + wn, p + wn, q - wn, p - wn, q + wt, p - wt)):
+        pts[:, i, :2] = corner
+    pts[:, :2, 2] = slope * w
+    nxy = slope * (FACE_T * t[:, None, :] + FACE_N * n[:, None, :])
+    nxy += TILT * _jitter(ids[:, None] * 8 + np.arange(8)).reshape(nxy.shape)
+    normal = np.concatenate((nxy, np.ones((len(p), 8, 1), np.float32)), axis=2)
+    normal /= np.linalg.norm(normal, axis=2, keepdims=True)
+    verts = np.empty((len(p), 8, 3, 6), np.float32)
+    verts[..., :3] = pts[:, FACES].reshape(-1, 8, 3, 3)
+    verts[..., 3:] = normal[:, :, None, :]
+    return verts.reshape(-1, 6)
 
 
 def _jitter(keys: np.ndarray) -> np.ndarray:
     """Two numbers in [-1, 1) per key, the same for the same key (a hash, no state), so a
     redrawn ridge keeps its glints."""
-    h = (keys.astype(np.uint64) * np.uint64(0x9E3779B97F4A7C15)) >> np.uint64(11)
+    h = (keys.ravel().astype(np.uint64) * np.uint64(0x9E3779B97F4A7C15)) >> np.uint64(11)
     h2 = (h * np.uint64(0xBF58476D1CE4E5B9)) >> np.uint64(11)
-    u = np.column_stack((h & np.uint64(0xFFFF), h2 & np.uint64(0xFFFF))).astype(np.float64)
-    return u / 32768.0 - 1.0
+    u = np.column_stack((h & np.uint64(0xFFFF), h2 & np.uint64(0xFFFF))).astype(np.float32)
+    return u / np.float32(32768.0) - np.float32(1.0)
 
 
 class PipeRidges:
