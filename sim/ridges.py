@@ -69,7 +69,8 @@ def ridge_triangles(p: np.ndarray, q: np.ndarray, w: np.ndarray, slope: float,
     w = w.astype(np.float32)[:, None]
     d = q - p
     length = np.hypot(d[:, 0], d[:, 1])[:, None]
-    t = np.where(length > 0, d / np.where(length > 0, length, 1.0), np.float32([1.0, 0.0]))
+    t = np.where(length > 0, d / np.where(length > 0, length, 1.0),
+                 np.array([1.0, 0.0], np.float32))
     n = np.column_stack((-t[:, 1], t[:, 0]))
     wt, wn = w * t, w * n
     pts = np.zeros((len(p), 8, 3), np.float32)

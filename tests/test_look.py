@@ -14,6 +14,7 @@ import pytest
 from app.gl.renderer import Renderer
 from app.gl.shaders import load_program, shader_source
 from app.images import read_image
+from app.tools import glass_checks as checks
 from app.tools.offscreen import Offscreen
 from sim import Params
 from sim.geometry import FrostGeometry, feature_scale
@@ -176,3 +177,41 @@ def draw(ctx, renderer: Renderer) -> np.ndarray:
         return read_image(fbo)
     finally:
         fbo.release()
+
+
+# ---- the glass look's targets, measured (app/tools/glass_checks.py) ----------------------
+
+@pytest.fixture(scope="module")
+def fern_glass(gl_ctx):
+    """The default look (fern: glass), one touch at the centre, tick 750."""
+    run = checks.grown(gl_ctx, "glass")
+    yield run, run.frame(), checks.thickness(run.renderer)  # (bumps, ridges)
+    run.release()
+
+
+def test_glass_colour_is_even_along_a_link(fern_glass):
+    run, frame, _ = fern_glass
+    assert checks.colour_variation(frame, run.sim) <= 0.11
+
+
+def test_glass_ridges_are_thicker_by_the_seed_than_at_a_leaf(fern_glass):
+    run, _, thick = fern_glass
+    near, leaf = checks.ridge_mass(thick[1], run.sim, 0.75 * run.sim.params.hc)
+    assert near >= 2 * leaf > 0
+
+
+def test_glass_displaces_the_view_and_leaves_clear_glass_exact(fern_glass):
+    run, _, thick = fern_glass
+    seen = checks.view_through(run, sum(thick))
+    assert seen["medium_px"] > 5000 and seen["clear_px"] > 100_000
+    assert seen["displaced"] > 0.2
+    assert seen["clear_exact"]
+
+
+def test_the_paper_look_blends_the_view_without_displacing_it(gl_ctx):
+    run = checks.grown(gl_ctx, "paper", ticks=200)
+    try:
+        seen = checks.view_through(run, sum(checks.thickness(run.renderer)))
+    finally:
+        run.release()
+    assert seen["medium_px"] > 1000 and seen["displaced"] < 0.01 and seen["clear_exact"]

@@ -103,9 +103,16 @@ class Renderer:
 
     def set_backdrop(self, name: str) -> None:
         """The view behind the glass: a built-in backdrop's name or an image file."""
-        image = load_backdrop(name, self.size)
-        self._background.write(np.ascontiguousarray(image).tobytes())
+        self.set_background_image(load_backdrop(name, self.size), name)
+
+    def set_background_image(self, image: np.ndarray, name: str) -> None:
+        """The view behind the glass from an H x W x 3 uint8 image (top row first)."""
+        self._background.write(np.ascontiguousarray(image, np.uint8).tobytes())
         self.backdrop = name
+
+    def heights_grid(self) -> np.ndarray:
+        """A copy of the height grid the renderer holds (vertex (r, c) at px (c, r) x spacing)."""
+        return self._grid.copy()
 
     # ---- uploads ----------------------------------------------------------------
 
