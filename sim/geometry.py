@@ -123,8 +123,7 @@ class FrostGeometry:
         if self.ridges is not None:
             feats = self.ridges.grow(sim, slice(0, len(sim.crystals)))
         else:
-            feats = feature_triangles(sim.segments[sim.segments_alive], self.params.feature_width,
-                                      self.params.feature_height)
+            feats = live_features(sim, self.params)
         return self._delta(sim.tick, slice(0, self.rows), feats, reset=True)
 
     def update(self, sim) -> GeometryDelta:
@@ -205,6 +204,16 @@ class FrostGeometry:
         h = np.minimum(total, self.params.max_height)
         self.heights[lo:hi] = np.where(h < 1e-6, 0.0, h)
         return slice(lo, hi)
+
+
+def live_features(sim, params: Params) -> np.ndarray:
+    """The feature triangles of all the live ice as `params.look` draws them (what the
+    renderer holds after every delta; the glass look's widths counted afresh), for maps.
+    Leaves every geometry as it is."""
+    if params.look == "glass":
+        return PipeRidges(params).grow(sim, slice(0, len(sim.crystals)))
+    return feature_triangles(sim.segments[sim.segments_alive], params.feature_width,
+                             params.feature_height)
 
 
 def feature_height_bound(params: Params) -> float:

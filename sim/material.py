@@ -1,6 +1,6 @@
 """How the ice looks: the Phong terms and the thickness-to-opacity law.
 
-Shared data, numpy-free and GL-free: the renderer hands these to its shaders, and the
+Shared data, GL-free: the renderer hands these to its shaders, and the
 exported alpha map (sim.maps) follows the same law, so the two always agree.
 """
 
@@ -9,11 +9,23 @@ from __future__ import annotations
 from dataclasses import dataclass
 from types import MappingProxyType
 
+import numpy as np
+
 # The ice shader's compile-time variant for each look (Params.look; shaders/ice.frag).
 LOOK_DEFINES = MappingProxyType({
     "paper": (),
     "glass": ("FILM", "SCATTER", "SPARKLE", "REFRACT"),
 })
+
+
+# The glass look's film (shaders/ice.frag's FILM, the same numbers): the bump surface is
+# clear below FILM_CUT px and rises FILM_GAIN times as fast above it.
+FILM_CUT, FILM_GAIN = 0.8, 1.3
+
+
+def film(bumps):
+    """The bump surface's height (a numpy array) as the glass look shows it."""
+    return np.where(bumps > FILM_CUT, FILM_GAIN * (bumps - FILM_CUT), 0.0)
 
 
 @dataclass(frozen=True)

@@ -18,6 +18,7 @@ from app.tools import glass_checks as checks
 from app.tools.offscreen import Offscreen
 from sim import Params
 from sim.geometry import FrostGeometry, feature_scale
+from sim.maps import compute_maps, live_segments, map_triangles
 from sim.material import LOOK_DEFINES
 from sim.params import LOOKS
 from sim.ridges import VERTS_PER_LINK, width_level
@@ -215,3 +216,21 @@ def test_the_paper_look_blends_the_view_without_displacing_it(gl_ctx):
     finally:
         run.release()
     assert seen["medium_px"] > 1000 and seen["displaced"] < 0.01 and seen["clear_exact"]
+
+
+# ---- maps share the renderer's geometry ----------------------------------------------------
+
+@pytest.mark.parametrize("look", LOOKS)
+def test_maps_height_is_what_the_renderer_holds(gl_ctx, look):
+    # The drawn surface read back (bumps through the film, ridges from the feature texture)
+    # against the exported height map: equal to the texture's 8-bit steps but for pixels
+    # on a triangle's edge, where GL's tie rule and the pixel-centre test may differ.
+    timeline = Timeline(Params.preset("fern", look=look), 1, 300, 260, touches=[(150.0, 130.0)])
+    renderer = Renderer(gl_ctx, timeline.params, 300, 260, background=checkerboard(300, 260))
+    grow(timeline, 150, (), lambda a: [renderer.apply(d) for d in a.deltas], renderer.apply)
+    bumps, ridges = checks.thickness(renderer)
+    maps = compute_maps(timeline.geometry.heights, live_segments(timeline.sim), timeline.params,
+                        300, 260, map_triangles(timeline.sim, timeline.params))
+    step = renderer.height_scale / 255
+    off = np.abs(maps.height - (bumps + ridges)) > step + 1e-3
+    assert ridges.max() > 2 and off.mean() < 0.01

@@ -11,13 +11,13 @@ from app.gl.renderer import Renderer
 from app.tools.offscreen import Offscreen
 from sim import Params
 from sim.maps import bump_field
+from sim.material import film
 from sim.screen import HEIGHT, WIDTH
 from sim.session import touch_events
 
 CENTRE = (WIDTH / 2, HEIGHT / 2)
 TICKS = 750
 NEAR_SEED = 50.0  # px: the links "by the seed"
-FILM_CUT, FILM_GAIN = 0.8, 1.3  # as shaders/ice.frag's FILM
 CHECKER = 8  # px: side of the checkerboard's squares
 MEDIUM = (0.3, 0.7)  # what the ice lets through of the view: "medium opacity"
 
@@ -36,7 +36,7 @@ def thickness(renderer: Renderer) -> tuple[np.ndarray, np.ndarray]:
     w, h = renderer.size
     bumps = bump_field(renderer.heights_grid(), renderer.params.grid_spacing, w, h)
     if renderer.look == "glass":
-        bumps = np.where(bumps > FILM_CUT, FILM_GAIN * (bumps - FILM_CUT), 0.0)
+        bumps = film(bumps)
     renderer.features.draw_queued()
     tex = np.frombuffer(renderer.features.texture.read(), np.uint8).reshape(h, w, 4)[::-1]
     ridges = tex[..., 2] / 255.0 * renderer.height_scale * (tex[..., 3] / 255.0)
