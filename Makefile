@@ -5,6 +5,7 @@
 VENV    ?= .venv
 PY      := $(VENV)/bin/python
 STAMP   := $(VENV)/.installed
+SETUP_LOG := $(VENV)/setup.log
 APT_PKGS := xvfb xauth xdotool libegl1 libgles2 libgl1 glslang-tools
 
 .PHONY: run test bench bench-sim bench-render lint system clean
@@ -39,11 +40,15 @@ system:
 	  echo "frost: please install these Debian packages (as root): apt-get install$$missing"; \
 	fi
 
+# Quiet unless it fails: pip -q still prints setuptools' banner from the editable build,
+# so the set-up's output goes to a log that is shown only when a step fails.
 $(STAMP): pyproject.toml setup.py | system
-	python3 -m venv $(VENV)
-	$(PY) -m pip install -q --upgrade pip
-	$(PY) -m pip install -q -e '.[dev]'
-	touch $(STAMP)
+	@echo "frost: setting up $(VENV) (the Python packages; about a minute)"
+	@mkdir -p $(VENV)
+	@{ python3 -m venv $(VENV) && $(PY) -m pip install -q --upgrade pip && \
+	   $(PY) -m pip install -q -e '.[dev]'; } >$(SETUP_LOG) 2>&1 || { \
+	  cat $(SETUP_LOG); echo "frost: setting up $(VENV) failed (log: $(SETUP_LOG))"; exit 1; }
+	@touch $(STAMP)
 
 clean:
 	rm -rf $(VENV) build *.egg-info

@@ -67,3 +67,9 @@ def next_backdrop(current: str, extra: str | None = None) -> str:
     cycle = [*BACKDROPS, *([extra] if extra and extra not in BACKDROPS else [])]
     i = cycle.index(current) if current in cycle else -1
     return cycle[(i + 1) % len(cycle)]
+
+
+def view_from(args, view: dict | None = None) -> dict | None:
+    """`view` (a session's, or None) with the command line's --background on top."""
+    background = getattr(args, "background", None)
+    return view if background is None else {**(view or {}), "background": background}

@@ -5,7 +5,6 @@ simulation thread can write maps and the GL tools can write screenshots alike.""
 from __future__ import annotations
 
 import json
-import logging
 import time
 from pathlib import Path
 
@@ -17,7 +16,7 @@ from sim.maps import MAP_NAMES, MEANING, compute_maps, encode
 from sim.params import Params
 from sim.screen import HEIGHT, WIDTH
 
-log = logging.getLogger(__name__)
+DEFAULT_FOLDER = Path("frost-out")  # where headless PNGs go without --out
 
 
 def read_image(fbo) -> np.ndarray:
@@ -37,10 +36,9 @@ def png_writer(image: np.ndarray, meta: dict):
 
 
 def save_png(image: np.ndarray, path, meta: dict) -> Path:
-    """Write `image` to `path` atomically (never a half-written PNG) with `meta`."""
-    path = write_atomic(path, png_writer(image, meta))
-    log.info("screenshot written to %s", path)
-    return path
+    """Write `image` to `path` atomically (never a half-written PNG) with `meta`. Silent:
+    the caller says what it wrote, once."""
+    return write_atomic(path, png_writer(image, meta))
 
 
 def timestamped_path(folder, prefix: str = "frost", suffix: str = ".png", also=(),

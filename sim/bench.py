@@ -6,9 +6,12 @@
    least 90 % of the humidity's walkers, and walker steps per second.
 3. Growth mode: tick time from one touch until the screen is covered.
 4. The simulation's memory after a full c-2 growth.
-5. Scribble and storm: tick times (events applied + step + geometry, as the app's
-   simulation thread counts them) while a scripted user scribbles for 60 s and while
-   2 000 touches and melts arrive in 10 s; walkers, backlog and peak memory.
+5. Scribble, storm and spread, in the fern and window looks and at c-2 and c-3 (`--look`
+   picks others): tick times (events applied + step + geometry, as the app's simulation
+   thread counts them) while a scripted user scribbles for 60 s, while 2 000 touches and
+   melts arrive in 10 s, and while a touch a tick lands all over the screen for 1 200
+   ticks; walkers, backlog, peak memory, and how many ticks a touch waits for its
+   seed's first child.
 6. Fern growth (docs/method.md, section 6): shape measures and tick costs of paper c-2 vs fern
    (`--section fern` runs only this).
 7. Window mode (sim/pane.py): from start to 95 % of the pane's hash cells holding a crystal at
@@ -27,10 +30,10 @@ import tracemalloc
 
 import numpy as np
 
-from . import FrostSim, Params
+from . import FrostSim, Params, all_presets
 from .geometry import FrostGeometry
 from .morphology import extent, mass_radius_dimension, six_fold_order, turn_shares
-from .scribble import play, scribble, storm
+from .scribble import play, scribble, spread, storm
 
 CENTRE = (380.0, 640.0)
 
@@ -151,13 +154,22 @@ def memory() -> dict:
             "crystals": len(sim.crystals)}
 
 
-def abuse(presets: list[str], seconds: float) -> list[dict]:
-    """Tick-time distributions of a scripted scribble and a storm of input per preset."""
+ABUSE_LOOKS = ("fern", "window", "c-2", "c-3")
+
+
+def abuse(presets, seconds: float, spread_ticks: int = 1200) -> list[dict]:
+    """Tick-time distributions of a scripted scribble, a storm of touches and melts and a
+    spread of touches (one a tick, all over the screen) per look; for the paper's presets
+    (growth mode off) the storm again with growth mode on. How long touches wait for
+    their seed's first child, in ticks."""
     rows = []
     for name in presets:
         params = Params.preset(name)
-        for kind, schedule in (("scribble", scribble(params, 0, seconds)), ("storm", storm(0)),
-                               ("storm+grow", storm(0))):
+        kinds = [("scribble", scribble(params, 0, seconds)), ("storm", storm(0)),
+                 ("spread", spread(0, spread_ticks))]
+        if not params.grow:
+            kinds.append(("storm+grow", storm(0)))
+        for kind, schedule in kinds:
             p = params.replace(grow=True) if kind == "storm+grow" else params
             played = play(p, schedule, tail=50)
             tracemalloc.start()  # a second run for memory: tracing slows every tick
@@ -170,19 +182,27 @@ def abuse(presets: list[str], seconds: float) -> list[dict]:
                          "max_ms": float(t.max()), "over_40ms": int((t > 40).sum()),
                          "touches": played.touches, "walkers_max": played.walkers_max,
                          "crystals": played.crystals, "backlog_max": played.backlog_max,
-                         "traced_peak_mb": peak / 1e6})
+                         "traced_peak_mb": peak / 1e6, **_waits(played.first_growth)})
     return rows
 
 
+def _waits(ticks: np.ndarray) -> dict:
+    """Median and p95 ticks touches waited for their first child (NaN with no touch)."""
+    if len(ticks) == 0:
+        return {"wait_median": float("nan"), "wait_p95": float("nan")}
+    return {"wait_median": float(np.median(ticks)), "wait_p95": float(np.percentile(ticks, 95))}
+
+
 def print_abuse(rows: list[dict]) -> None:
-    print("\n## Scribble (60 s: drags, warm finger, every tuning change) and storm (2 000 "
-          "touches and melts in 10 s)")
-    print("preset kind        ticks  median ms  p99 ms  max ms  >40ms  touches  walkers  crystals  "
-          "backlog  traced MB")
+    print("\n## Scribble (60 s: drags, warm finger, every tuning change), storm (2 000 "
+          "touches and melts in 10 s), spread (a touch a tick all over the screen)")
+    print("look   kind        ticks  median ms  p99 ms  max ms  >40ms  touches  walkers  crystals  "
+          "backlog  traced MB  wait median  wait p95 (ticks)")
     for r in rows:
         print(f"{r['preset']:6} {r['kind']:10} {r['ticks']:6} {r['median_ms']:10.2f} {r['p99_ms']:7.2f} "
               f"{r['max_ms']:7.2f} {r['over_40ms']:6} {r['touches']:8} {r['walkers_max']:8} "
-              f"{r['crystals']:9} {r['backlog_max']:8} {r['traced_peak_mb']:10.1f}")
+              f"{r['crystals']:9} {r['backlog_max']:8} {r['traced_peak_mb']:10.1f} "
+              f"{r['wait_median']:12.0f} {r['wait_p95']:9.0f}")
     print(f"process peak RSS {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
 
 
@@ -390,7 +410,7 @@ def section_memory(args) -> dict:
 
 def section_abuse(args) -> dict:
     """The scripted scribble and the storm (tick distributions, memory)."""
-    rows = abuse(["c-2", "c-3"], 10.0 if args.quick else 60.0)
+    rows = abuse(args.look or ABUSE_LOOKS, *((10.0, 200) if args.quick else (60.0, 1200)))
     print_abuse(rows)
     return {"abuse": rows}
 
@@ -413,6 +433,9 @@ def main(argv: list[str] | None = None, prog: str = "python -m sim.bench") -> in
     ap.add_argument("--section", choices=list(SECTIONS), action="append", metavar="NAME",
                     help="run only this section, one of " + ", ".join(SECTIONS)
                          + " (repeatable; default: all, in that order)")
+    ap.add_argument("--look", choices=list(all_presets()), action="append", metavar="NAME",
+                    help="the abuse section's looks (repeatable; default: "
+                         + ", ".join(ABUSE_LOOKS) + ")")
     args = ap.parse_args(argv)
     if args.quick:
         args.repeats, args.samples = 1, 20

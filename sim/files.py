@@ -4,12 +4,20 @@ recordings, frost maps) goes through.
 Each file is written to a temporary name in its own folder and renamed over the final
 name with os.replace, which is atomic on one file system: a reader (or a crash, a full
 disk, Ctrl-C) sees the old file or the whole new one, never half of it.
+
+A rename replaces whatever has the name, so what is not a regular file is refused, never
+replaced: a symlink is followed (its target is written beside the target, the link kept);
+a device, a FIFO, a socket or a folder in the way is an OSError naming the path. (Writing
+through a FIFO could block forever, and through a device would not be atomic.) Every
+error names the path the caller gave, never the temporary file.
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
+import stat
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -38,17 +46,48 @@ def write_all_atomic(writes: dict) -> list[Path]:
     """Several files that appear together: every one is written to a temporary file
     first, and only when all succeeded are they renamed into place. On failure the
     temporary files are removed and the error (OSError, KeyboardInterrupt...) raised."""
-    done: list[tuple[str, Path]] = []
+    done: list[tuple[str, Path, Path]] = []  # (temporary, target, the caller's path)
     try:
         for path, write in writes.items():
-            done.append((_write_temp(Path(path), write), Path(path)))
-        for temp, path in done:
-            os.replace(temp, path)
+            target = writable_target(path)
+            done.append((_write_temp(target, write, path), target, Path(path)))
+        for temp, target, path in done:
+            _blamed(os.replace, path, temp, target)
     except BaseException:
-        for temp, _ in done:
+        for temp, _, _ in done:
             _remove(temp)
         raise
-    return [path for _, path in done]
+    return [path for _, _, path in done]
+
+
+def not_regular(path) -> str | None:
+    """What `path` is (a symlink: what it points to) when it exists and is not a regular
+    file, e.g. "a FIFO"; None when it is one or does not exist."""
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        return None
+    if stat.S_ISREG(mode):
+        return None
+    kinds = {stat.S_ISDIR: "a folder", stat.S_ISCHR: "a character device",
+             stat.S_ISBLK: "a block device", stat.S_ISFIFO: "a FIFO", stat.S_ISSOCK: "a socket"}
+    return next((kind for test, kind in kinds.items() if test(mode)), "not a regular file")
+
+
+def writable_target(path) -> Path:
+    """The file a write to `path` replaces: `path`, or the file its symlinks lead to.
+    OSError naming `path` when that exists and is not a regular file."""
+    kind = _blamed(not_regular, path, path)
+    if kind:
+        raise OSError(errno.EINVAL, refusal(kind), str(path))
+    return Path(os.path.realpath(path))
+
+
+def refusal(kind: str) -> str:
+    """Why a file is not written over `kind` (what not_regular said), for a message."""
+    if kind == "a folder":
+        return "is a folder, not a file"
+    return f"is {kind}, not a regular file; frost writes only regular files"
 
 
 def one_line(text: str) -> str:
@@ -68,19 +107,47 @@ def why(err: OSError, path=None) -> str:
     return one_line(f"{name}: {reason}" if name else reason)
 
 
-def _write_temp(path: Path, write: Writer) -> str:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, temp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+def _write_temp(target: Path, write: Writer, path) -> str:
+    """`write` into a new temporary file beside `target` (the caller's `path` resolved)."""
+    target.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        fd, temp = temp_file(target.parent, target.name)
+    except OSError as err:  # it names the temporary, which means nothing to the user
+        raise _blame(err, path, err.filename) from None
     try:
         with os.fdopen(fd, "wb") as f:
             os.fchmod(f.fileno(), FILE_MODE)
             write(f)
             f.flush()
             os.fsync(f.fileno())  # the bytes are on disk before the rename makes them visible
+    except OSError as err:
+        _remove(temp)
+        raise _blame(err, path, temp, target) from None
     except BaseException:
         _remove(temp)
         raise
     return temp
+
+
+def temp_file(folder, name: str) -> tuple[int, str]:
+    """A new temporary file in `folder` for `name` (fd, path). Its name is kept short: a
+    name near the file system's limit (255 bytes) must still have room for a temporary."""
+    return tempfile.mkstemp(prefix=f".{name[:32]}.", suffix=".tmp", dir=folder)
+
+
+def _blamed(call, path, *args):
+    """call(*args); an OSError it raises names the caller's `path` instead of a
+    temporary or resolved name."""
+    try:
+        return call(*args)
+    except OSError as err:
+        raise _blame(err, path, *map(str, args)) from None
+
+
+def _blame(err: OSError, path, *internal) -> OSError:
+    if err.filename is None or str(err.filename) in map(str, internal):
+        err.filename, err.filename2 = str(path), None
+    return err
 
 
 def _remove(temp: str) -> None:

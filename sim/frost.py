@@ -14,7 +14,7 @@ import numpy as np
 
 from .buffers import CellLists, Growable
 from .clearance import make_clearance
-from .fern import make_growth
+from .fern import _nearest_d2, make_growth
 from .grid import HashGrid
 from .pane import chill, glass_spots, make_pane
 from .params import Params
@@ -38,6 +38,12 @@ CELL_CAP = 128
 # 166 050 (a-1, seeds 0-2) and two a-1 touches at about 332 000, so the paper's frost is
 # unchanged; a fast chain reaction at a large hc no longer makes one tick do seconds of work.
 FREEZE_WORK = 400_000
+# Walkers one tick may place from cells (`_cell_spots_all`, where an area's disc draws
+# failed); the rest find no spot and are dropped, as in an area with no glass left. In an
+# area all ice (a fern look's pane after a storm of touches) nearly every walker hits ice
+# and is placed again each tick: ~3 700 cell placements a tick took the tick past 50 ms.
+# One touch's growth needs at most 173 a tick (fern, seed 0), Table 1's at most 13.
+CELL_WORK = 1000
 
 
 @dataclass(frozen=True)
@@ -108,7 +114,7 @@ class FrostSim:
     """Window frost on a `width` x `height` px screen (docs/method.md)."""
 
     def __init__(self, params: Params | None = None, width: int = WIDTH, height: int = HEIGHT,
-                 seed: int = 0):
+                 seed: int = 0, batched: bool = True):
         for name, v in (("width", width), ("height", height)):
             if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 0 < v <= 16384:
                 raise ValueError(f"{name}={v!r} must be a whole number of px in [1, 16384]")
@@ -116,6 +122,12 @@ class FrostSim:
         self.width, self.height = int(width), int(height)
         self.seed = seed
         self.rng = np.random.default_rng(seed)
+        # Where placement falls back to cells, one pass for all areas (False: one area at
+        # a time, as frost did before session version 3; replays of those files need it).
+        self.batched = batched
+        self._plans: dict[int, tuple[np.ndarray, float, bool, bool]] = {}
+        self._plans_key: tuple[int, int] | None = None
+        self._cell_work = CELL_WORK  # cell placements left in this tick
         self.grid = HashGrid(self.width, self.height, self.params.hc)
         self.tick = 0
         # The ice skeleton: crystals with parent links (-1 for a seed), upsample
@@ -172,16 +184,18 @@ class FrostSim:
         drag that plants a trail of touches costs what a few touches cost."""
         return int(self.plant([(x, y)])[0])
 
-    def plant(self, points) -> np.ndarray:
+    def plant(self, points, water: bool = True) -> np.ndarray:
         """Touches at every (x, y) of `points` at once (a run's first touches, or those a
-        rebuild replants together): the seeds, then one top-up of each area they touched.
-        Returns each seed's area."""
+        rebuild replants together): the seeds, then one top-up of each area they touched,
+        then (`water`, with `touch_water`) the water each seed that joined an area brings
+        (`_water_seed`). Returns each seed's area."""
         pts = np.array(points, np.float64).reshape(-1, 2)
         for x, y in pts:
             problem = touch_problem(x, y, (self.width, self.height))
             if problem:
                 raise ValueError(problem)
         pts32 = _on_screen_f32(pts, self.width, self.height)
+        opened = self._areas.n
         area = self._areas_for(pts32)
         seeds = self._add_crystals(pts32, np.full(len(pts), -1, np.int32), area)
         self.growth.add_seeds(len(pts))
@@ -190,11 +204,43 @@ class FrostSim:
         self._register(seeds)
         self._follow_ice(seeds)  # a seed joining an area may lie beyond its ice
         self._fill(np.unique(area))
+        if water and self.params.touch_water:
+            for seed in np.flatnonzero(area < opened):
+                self._water_seed(seeds.start + int(seed), int(area[seed]))
         return area
+
+    def _water_seed(self, seed: int, area: int) -> None:
+        """A touch into an area that holds water brings `touch_water` of that area's
+        walkers (drawn at random: a drag's next touch must not take the same ones back)
+        to glass around its seed: uniform in the ring from hc to 2 hc, on the screen, at
+        least hc / 2 from every live crystal, and where no crystal within hc (one it could
+        freeze to) is nearer than the seed; those with no such
+        spot in TRIES draws stay where they were. Nothing is created, so the pool and the
+        budget hold. Without it a seed in an area whose water rides a far ice front
+        waited seconds for its first hit (docs/method.md, 5.3)."""
+        mine = np.flatnonzero(self._warea.raw() == area)
+        if len(mine) > self.params.touch_water:
+            mine = np.sort(self.rng.choice(mine, self.params.touch_water, replace=False))
+        sx, sy = (float(v) for v in self._crystals.raw()[seed])
+        hc, todo = self.params.hc, mine
+        for _ in range(CELL_TRIES):
+            if len(todo) == 0:
+                break
+            u = self.rng.random((2, len(todo)))
+            r = hc * np.sqrt(1.0 + 3.0 * u[0])  # uniform in the ring's area: hc .. 2 hc
+            px = (sx + r * np.cos(TWO_PI * u[1])).astype(np.float32)
+            py = (sy + r * np.sin(TWO_PI * u[1])).astype(np.float32)
+            good = (px >= 0) & (px < self.width) & (py >= 0) & (py < self.height)
+            pts = np.column_stack((px[good], py[good]))
+            d2, own = _nearest_d2(self, pts), (pts[:, 0] - sx) ** 2 + (pts[:, 1] - sy) ** 2
+            good[good] = (d2 >= np.float32(hc / 2) ** 2) & (own <= d2)  # the seed's water
+            self._wx.raw()[todo[good]], self._wy.raw()[todo[good]] = px[good], py[good]
+            todo = todo[~good]
 
     def step(self) -> Added:
         """One tick: walk -> crystallize -> settle (the growth rule) -> link and upsample ->
         update candidate cells -> follow the ice -> refill the pool (window mode)."""
+        self._cell_work = CELL_WORK
         self._walk()
         self._drop_in_full_cells()
         hits, parents = self._admit(*self._crystallize())
@@ -470,7 +516,9 @@ class FrostSim:
         n = len(area)
         x, y = np.zeros(n, np.float32), np.zeros(n, np.float32)
         ok = np.zeros(n, bool)
-        todo = np.arange(n)
+        # An area whose annulus has no free cell cannot place by disc draws: to its cells.
+        direct = self._annulus_full(area) if self.batched else np.zeros(n, bool)
+        todo = np.flatnonzero(~direct)
         # A launch circle may cross other areas' ice: give it more tries before the cells.
         for tries in ((1, 2) if n > 1024 else (4,)) + ((16,) if self.params.launch else ()):
             if len(todo) == 0:
@@ -480,9 +528,14 @@ class FrostSim:
             x[todo[placed]], y[todo[placed]] = px[pick], py[pick]
             ok[todo[placed]] = True
             todo = todo[~placed]
-        for a in np.unique(area[todo]):
-            mine = todo[area[todo] == a]
-            x[mine], y[mine], ok[mine] = self._cell_spots(int(a), len(mine))
+        if len(todo) and not self.batched:  # session files before version 3
+            for a in np.unique(area[todo]):
+                mine = todo[area[todo] == a]
+                x[mine], y[mine], ok[mine] = self._cell_spots(int(a), len(mine))
+        elif self.batched:
+            todo = np.union1d(todo, np.flatnonzero(direct))[:self._cell_work]
+            self._cell_work -= len(todo)
+            x[todo], y[todo], ok[todo] = self._cell_spots_all(area[todo])
         return x, y, ok
 
     def _disc_spots(self, area: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -545,6 +598,89 @@ class FrostSim:
         x, y = np.zeros(k, np.float32), np.zeros(k, np.float32)
         x[placed], y[placed] = px[pick], py[pick]
         return x, y, placed
+
+    def _cell_spots_all(self, area: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """`_cell_spots` for walkers of any areas at once: each walker draws from its own
+        area's cells (`_area_cells`), CELL_TRIES rounds in all. The work is a few numpy
+        passes over the walkers whatever the number of areas: one call per area cost
+        ~1.5 ms, and a storm of touches made tens of areas (docs/method.md, 4.3)."""
+        ua, inv = np.unique(area, return_inverse=True)
+        plans = [self._area_cells(int(a)) for a in ua]
+        cells = np.concatenate([p[0] for p in plans]) if plans else _NONE
+        lens = np.array([len(p[0]) for p in plans], np.int64)
+        off = np.cumsum(lens) - lens
+        r_in = np.array([p[1] for p in plans], np.float32)
+        glass = np.array([p[2] for p in plans], bool)
+        cx, cy, r_out = (np.ascontiguousarray(self._areas.raw()[ua, i]) for i in range(3))
+        k = len(area)
+        x, y, ok = np.zeros(k, np.float32), np.zeros(k, np.float32), np.zeros(k, bool)
+        todo = np.flatnonzero(lens[inv] > 0)
+        if len(todo) == 0:
+            return x, y, ok
+        # CELL_TRIES draws each, drawn at once as `_cell_spots` draws them (one area's
+        # walkers land where they did, area by area); a glass check on the first draws,
+        # then on the later ones of the walkers still without a spot.
+        g = np.tile(inv[todo], CELL_TRIES)
+        u = self.rng.random((3, len(g)), dtype=np.float32)
+        cell = cells[off[g] + np.minimum((u[0] * lens[g]).astype(np.int64), lens[g] - 1)]
+        s = np.float32(self.grid.cell)
+        px, py = (cell % self.grid.cols + u[1]) * s, (cell // self.grid.cols + u[2]) * s
+        d2 = (px - cx[g]) ** 2 + (py - cy[g]) ** 2
+        good = (d2 <= r_out[g] ** 2) & (glass[g] | (d2 >= r_in[g] ** 2))
+        good &= (px < self.width) & (py < self.height)
+        check = good & glass[g]  # glass between fronds: clear of every crystal
+        first = np.arange(len(g)) < len(todo)
+        self._on_glass(px, py, good, check & first)
+        self._on_glass(px, py, good, check & ~first & ~np.tile(good[:len(todo)], CELL_TRIES))
+        placed, pick = _first_good(good.reshape(CELL_TRIES, len(todo)))
+        x[todo[placed]], y[todo[placed]], ok[todo[placed]] = px[pick], py[pick], True
+        return x, y, ok
+
+    def _on_glass(self, px: np.ndarray, py: np.ndarray, good: np.ndarray, check: np.ndarray) -> None:
+        """`good` stays True where `check` only if the point is at least hc / 2 from every
+        live crystal."""
+        d2 = _nearest_d2(self, np.column_stack((px[check], py[check])))
+        good[check] = d2 >= np.float32(self.params.hc / 2) ** 2
+
+    def _area_cells(self, area: int) -> tuple[np.ndarray, float, bool, bool]:
+        """(cells, inner radius, glass, full) an area's water is drawn from when its disc
+        draws failed: its annulus's free cells; in growth mode, else its whole disc's free
+        cells, else any cell of its disc, where a spot must be glass (`glass` True).
+        `full`: its annulus has no free cell. Kept until the ice changes (a tick's
+        growth, a touch, a melt)."""
+        key = (self._crystals.n, self.water_melted)
+        if key != self._plans_key:
+            self._plans, self._plans_key = {}, key
+        if area not in self._plans:
+            cx, cy, r_out, r_in = (float(v) for v in self._areas.raw()[area, :4])
+            flat, near2, far2 = self._box_cells(cx, cy, r_out)
+            disc = near2 <= r_out ** 2
+            free = disc & (self.candidates.count[flat] == 0)
+            cells, glass = flat[free & (far2 >= r_in ** 2)], False
+            full = len(cells) == 0
+            if full and self.params.grow:
+                r_in, cells = 0.0, flat[free]
+                if len(cells) == 0:
+                    cells, glass = flat[disc], True
+            self._plans[area] = (cells, r_in, glass, full)
+        return self._plans[area]
+
+    def _annulus_full(self, area: np.ndarray) -> np.ndarray:
+        """Per walker: its area's annulus holds no free cell (see `_area_cells`)."""
+        ua, inv = np.unique(area, return_inverse=True)
+        return np.array([self._area_cells(int(a))[3] for a in ua], bool)[inv]
+
+    def _box_cells(self, cx: float, cy: float, r: float):
+        """The flat indices of the cells under the disc's bounding box, with the squared
+        distance from (cx, cy) to each cell's nearest and farthest point."""
+        g = self.grid
+        cols, rows = g.span(cx - r, cy - r, cx + r, cy + r)
+        x0, y0 = cols[None, :] * g.cell, rows[:, None] * g.cell
+        near_x, near_y = np.clip(cx, x0, x0 + g.cell) - cx, np.clip(cy, y0, y0 + g.cell) - cy
+        far_x = np.maximum(np.abs(x0 - cx), np.abs(x0 + g.cell - cx))
+        far_y = np.maximum(np.abs(y0 - cy), np.abs(y0 + g.cell - cy))
+        flat = rows[:, None] * g.cols + cols[None, :]
+        return flat.ravel(), (near_x ** 2 + near_y ** 2).ravel(), (far_x ** 2 + far_y ** 2).ravel()
 
     def _free_cells(self, cx: float, cy: float, r_out: float, r_in: float,
                     free: bool = True) -> np.ndarray:

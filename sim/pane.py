@@ -86,7 +86,7 @@ class Pane:
         sites = np.vstack((frame_sites(sim.rng, w, h, sim.params.frame_sites),
                            pane_sites(sim.rng, w, h, sim.params.pane_sites)))
         if len(sites):
-            sim.plant(sites)
+            sim.plant(sites, water=False)  # the pane's own seeds: its pool is theirs
 
     def melted(self, dead: np.ndarray) -> None:
         """Melted crystals leave their cells' counts (those counted so far)."""

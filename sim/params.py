@@ -25,6 +25,7 @@ WINDOW_RULES = ("frame_sites", "pane_sites", "temperature")
 # many grid spacings (Table 1: 2.5). Beyond them a tick of fast growth took seconds.
 MAX_UPSAMPLE = 16
 MAX_HC_PER_SPACING = 12
+MIN_HC = 1.0  # px; see hc
 
 
 def _p(default: Any, doc: str, lo: float | None = None, hi: float | None = None,
@@ -38,8 +39,12 @@ def _p(default: Any, doc: str, lo: float | None = None, hi: float | None = None,
 class Params:
     """Simulation and geometry parameters. Construct with keywords; invalid values raise."""
 
+    # hc sizes the hash grid (cells of 2 hc, Eq. 1): its cells grow as 1 / hc^2. At the
+    # floor, 1 px, they are 243 200 and a touch's first ten ticks peaked at 47 MB; 0.25
+    # at 190 MB, and 0.03 was reported at 11 GB and 39 s for one tick. A crystal under a
+    # pixel has no look on the screen anyway.
     hc: float = _p(7.0, "hc: radius of a crystal's freezing area, px (Table 1: 3-10)",
-                   0.0, 16.0, lo_open=True)
+                   MIN_HC, 16.0)
     D: float = _p(7.0, "D: spacing of upsample particles along a skeleton link, px (Table 1: 1-10)",
                   0.0, 64.0, lo_open=True)
     humidity: int = _p(3000, "humidity: water particles per active area (Table 1: 500-5000)",
@@ -104,6 +109,12 @@ class Params:
     launch: float = _p(0.0, "launch: new and returning water starts on a circle this many px beyond "
                             "its area's farthest ice (0: anywhere in the area; fern rule 4)",
                        0.0, 4000.0)
+
+    # Beyond the paper: a touch brings water to its own seed (docs/method.md, 5.3). Off in
+    # Table 1's presets: the paper's touch only tops its area's pool up.
+    touch_water: int = _p(0, "touch_water: walkers a touch into an area that already holds water "
+                             "moves from that area's pool onto the glass within 2 hc of its "
+                             "seed, walkers (0: none, the paper)", 0, 1000)
 
     # Beyond the paper: the frosted window (sim/pane.py). Off by default.
     window_frost: bool = _p(False, "window_frost: frost nucleates on the screen's border and on a few "
@@ -213,7 +224,8 @@ EXTRA_PRESETS: dict[str, dict[str, Any]] = {
     "fern": {"D": 2.5, "hc": 7.0, "humidity": 3000, "feature_width": 1.0, "feature_height": 0.8,
              "grains": True, "drift": 3.0,
              "tip_hits": 5, "side_hits": 10, "side_gap": 2, "long_jumps": True,
-             "launch": 30.0, "grow": True, "water_budget": 6000, "look": "glass"},
+             "launch": 30.0, "grow": True, "water_budget": 6000, "touch_water": 48,
+             "look": "glass"},
 }
 # "window": fern frost nucleating on the frame (README's window section). Hit
 # counts 3 / 6 (at the default -10 C) frost 95 % of the pane's cells in about 1 200 ticks

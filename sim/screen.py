@@ -9,15 +9,32 @@ import math
 
 WIDTH, HEIGHT = 760, 1280  # the phone screen, px (origin top-left, y down)
 SIZE = (WIDTH, HEIGHT)
+# The warm finger's largest radius, px: several times the screen's diagonal (1 489 px),
+# so one melt can clear it all; the window's --melt-radius, a --melt's R and a session's
+# melts all keep to it.
+MAX_MELT_RADIUS = 10_000.0
 
 
-def touch_problem(x: float, y: float, size: tuple[int, int] = SIZE) -> str | None:
-    """Why a touch at (x, y) px cannot land on a `size` screen, or None when it can.
-    NaN and infinities are off every screen."""
+def touch_problem(x: float, y: float, size: tuple[int, int] = SIZE, what: str = "touch") -> str | None:
+    """Why a touch (or `what`) at (x, y) px cannot land on a `size` screen, or None when it
+    can. NaN and infinities are off every screen."""
     w, h = size
     if math.isfinite(x) and math.isfinite(y) and 0 <= x < w and 0 <= y < h:
         return None
-    return f"touch ({x:g}, {y:g}) is off the {w}x{h} screen"
+    return f"{what} ({x:g}, {y:g}) is off the {w}x{h} screen"
+
+
+def radius_problem(r: float) -> str | None:
+    """Why `r` px cannot be a melt's radius, or None when it can (NaN cannot)."""
+    if 0 < r <= MAX_MELT_RADIUS:
+        return None
+    return f"melt radius {r:g} must be in (0, {MAX_MELT_RADIUS:g}] px"
+
+
+def melt_problem(x: float, y: float, r: float, size: tuple[int, int] = SIZE) -> str | None:
+    """Why a melt of radius `r` at (x, y) cannot be made, or None when it can: its centre
+    is on the screen (where a finger can be) and its radius in range."""
+    return radius_problem(r) or touch_problem(x, y, size, "melt")
 
 
 def check_touch(x: float, y: float, size: tuple[int, int] = SIZE) -> tuple[float, float]:

@@ -34,6 +34,10 @@ class Played:
     walkers_max: int
     crystals: int
     backlog_max: int
+    # Ticks from each touch to its seed's first child (a seed melted first is left out;
+    # one never grown, or replanted by a rebuild first, counts the ticks it waited: a
+    # lower bound).
+    first_growth: np.ndarray
 
 
 def stroke(start, end, spacing: float, kind: str, radius: float = MELT_RADIUS) -> list[list[dict]]:
@@ -114,20 +118,55 @@ def storm(seed: int = 0, events: int = 2000, seconds: float = 10.0, size=SIZE,
             for part in per_tick]
 
 
+def spread(seed: int = 0, ticks: int = 1200, size=SIZE) -> list[list[dict]]:
+    """One touch a tick at a random spot for `ticks` ticks: clicks all over the screen."""
+    xy = np.random.default_rng(seed).uniform((0, 0), size, (ticks, 2))
+    return [[_event("touch", p, 0.0)] for p in xy]
+
+
 def play(params: Params, schedule: list[list[dict]], seed: int = 0, tail: int = 0,
          size=SIZE) -> Played:
     """Run `schedule` (and `tail` quiet ticks after it) through a Timeline, timing each
     tick's applied events and step together, as the simulation thread's tick_ms does."""
-    timeline, backlog = Timeline(params, seed, *size), Backlog()
+    timeline, backlog, seeds = Timeline(params, seed, *size), Backlog(), _Seeds()
     times, walkers, waiting = [], 0, 0
     clock = time.perf_counter
     for events in [*schedule, *([[]] * tail)]:
         backlog.extend(events)
         t0 = clock()
-        backlog.run(lambda event: timeline.apply([event]))
+        backlog.run(lambda event: seeds.apply(timeline, event))
         timeline.step()
         times.append(clock() - t0)
+        seeds.stepped(timeline.sim)
         walkers = max(walkers, len(timeline.sim.water_area))
         waiting = max(waiting, len(backlog))
     return Played(np.array(times), len(timeline.touches), walkers, len(timeline.sim.crystals),
-                  waiting)
+                  waiting, seeds.waits(timeline.sim.tick))
+
+
+class _Seeds:
+    """Each touch's seed until its first child: how long a touch waits to grow."""
+
+    def __init__(self) -> None:
+        self.planted: dict[int, int] = {}  # seed crystal -> the tick it was planted at
+        self.waited: list[int] = []
+
+    def apply(self, timeline: Timeline, event: dict) -> None:
+        sim, n = timeline.sim, len(timeline.sim.crystals)
+        timeline.apply([event])
+        if timeline.sim is not sim:  # a rebuild replants every touch: stop watching
+            self.waited += [sim.tick - t for t in self.planted.values()]
+            self.planted = {}
+        elif event["kind"] == "touch" and len(sim.crystals) > n:
+            self.planted[n] = sim.tick
+
+    def stepped(self, sim) -> None:
+        if self.planted:
+            alive = sim.crystal_alive
+            for s in set(sim.parents[sim.added.crystals].tolist()).intersection(self.planted):
+                self.waited.append(sim.tick - self.planted.pop(s))
+            for s in [s for s in self.planted if not alive[s]]:
+                del self.planted[s]  # melted before it grew
+
+    def waits(self, tick: int) -> np.ndarray:
+        return np.array(self.waited + [tick - t for t in self.planted.values()], np.int64)

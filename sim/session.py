@@ -32,12 +32,15 @@ from .files import one_line, write_atomic
 from .frost import FrostSim
 from .geometry import FrostGeometry, GeometryDelta
 from .params import Params
-from .screen import HEIGHT, WIDTH, touch_problem
+from .screen import HEIGHT, WIDTH, melt_problem, touch_problem
 
 log = logging.getLogger(__name__)
 
 FORMAT = "frost-session"
-VERSION = 2  # 2: a rebuild replants the touches at their own pace (1: all at tick 0)
+# 3: where an area's disc draws fail, walkers are placed from all areas' cells in one
+# pass (sim/frost.py, CELL_WORK); 2: a rebuild replants the touches at their own pace
+# (1: all at tick 0). Older files replay as frost did when they were written.
+VERSION = 3
 # Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
 REGROW_GAP = 12
 # The keys each event kind needs besides "tick" and "kind".
@@ -109,15 +112,15 @@ class SessionLog:
         params = _params(data["params"], "'params'")
         if not isinstance(data.get("events"), list):
             raise SessionError("'events' must be a list")
-        events = [check_event(e) for e in data["events"]]
+        size = _whole(data, "width", 1, 16384, WIDTH), _whole(data, "height", 1, 16384, HEIGHT)
+        events = [check_event(e, size) for e in data["events"]]
         _check_order(events, params)
         try:
             view = None if data.get("view") is None else check_view(data["view"])
         except ValueError as err:
             raise SessionError(str(err)) from None
-        return cls(_whole(data, "seed", 0, 2**63 - 1), dict(data["params"]),
-                   _whole(data, "width", 1, 16384, WIDTH), _whole(data, "height", 1, 16384, HEIGHT),
-                   events, _whole(data, "steps", 0, 2**31 - 1, 0), view,
+        return cls(_whole(data, "seed", 0, MAX_SEED), dict(data["params"]), *size,
+                   events, _whole(data, "steps", 0, MAX_TICK, 0), view,
                    _whole(data, "version", 1, VERSION, VERSION))
 
 
@@ -138,9 +141,14 @@ def regrow(touches: list[dict[str, Any]], gap: int) -> list[dict[str, Any]]:
     return out
 
 
-# Coordinates and radii beyond this many px are refused: nothing is that far off a
-# 16384 px screen, and sums of such floats would overflow to inf.
+# Coordinates and radii beyond this many px are refused before their range is checked:
+# no float overflows in the checks, whatever a file holds.
 MAX_COORD = 1e9
+# The largest seed and tick anywhere (files, command line): numpy's seeds are any whole
+# number, but a session keeps what fits 64 signed bits; 2**31 ticks is 2.7 years at 25 a
+# second.
+MAX_SEED = 2**63 - 1
+MAX_TICK = 2**31 - 1
 
 
 def _whole(data: dict, key: str, lo: int, hi: int, default: int | None = None) -> int:
@@ -198,8 +206,10 @@ def check_view(view: Any) -> dict[str, Any]:
     return checked
 
 
-def check_event(event: Any) -> dict[str, Any]:
-    """`event` if it is a well-formed event, else SessionError saying what is wrong."""
+def check_event(event: Any, size: tuple[int, int] = (WIDTH, HEIGHT)) -> dict[str, Any]:
+    """`event` if it is a well-formed event on a `size` screen (a touch or a melt's centre
+    on it, a melt's radius in range: sim.screen's rules), else SessionError saying what
+    is wrong."""
     if not isinstance(event, dict) or not isinstance(event.get("kind"), str) \
             or event["kind"] not in EVENT_FIELDS:
         raise SessionError(f"event {event!r}: 'kind' must be one of {', '.join(EVENT_FIELDS)}")
@@ -207,14 +217,19 @@ def check_event(event: Any) -> dict[str, Any]:
     if missing:
         raise SessionError(f"event {event!r} lacks {', '.join(missing)}")
     tick = event["tick"]
-    if isinstance(tick, bool) or not isinstance(tick, int) or not 0 <= tick < 2**31:
-        raise SessionError(f"event {event!r}: 'tick' must be a whole number in [0, 2**31)")
+    if isinstance(tick, bool) or not isinstance(tick, int) or not 0 <= tick <= MAX_TICK:
+        raise SessionError(f"event {event!r}: 'tick' must be a whole number in [0, {MAX_TICK}]")
     for k in ("x", "y", "r"):
         if k in EVENT_FIELDS[event["kind"]] and not _coordinate(event[k]):
             raise SessionError(f"event {event!r}: x, y and r must be numbers "
                                f"(finite, at most {MAX_COORD:g} in size)")
-    if event["kind"] == "melt" and not event["r"] > 0:
-        raise SessionError(f"event {event!r}: the melt radius r must be above 0")
+    problem = None
+    if event["kind"] == "touch":
+        problem = touch_problem(event["x"], event["y"], size)
+    elif event["kind"] == "melt":
+        problem = melt_problem(event["x"], event["y"], event["r"], size)
+    if problem:
+        raise SessionError(f"event {event!r}: {problem}")
     if event["kind"] == "params":
         _params(event["params"], f"event at tick {tick}")
     return event
@@ -262,8 +277,9 @@ class Timeline:
     """A FrostSim and its FrostGeometry driven by events (see the module docstring)."""
 
     def __init__(self, params: Params, seed: int, width: int = WIDTH, height: int = HEIGHT,
-                 touches=(), gap: int = REGROW_GAP):
-        self.seed, self.size, self.gap = seed, (width, height), gap
+                 touches=(), version: int = VERSION):
+        self.seed, self.size, self.version = seed, (width, height), version
+        self.gap = regrow_gap(version)
         self.steps = 0
         # Every touch the frost grows from: planted, or scheduled by a rebuild.
         self.touches: tuple[tuple[float, float], ...] = tuple(touches)
@@ -385,7 +401,7 @@ class Timeline:
 
     def _build(self, params: Params) -> None:
         self.params = params
-        self.sim = FrostSim(params, *self.size, seed=self.seed)
+        self.sim = FrostSim(params, *self.size, seed=self.seed, batched=self.version >= 3)
         self.geometry = FrostGeometry(params, *self.size)
         while self._pending and self._pending[0]["tick"] == 0 \
                 and self._pending[0]["kind"] == "touch":  # (melts wait for the step)
@@ -421,7 +437,7 @@ def replay(log_: SessionLog, steps: int | None = None, on_apply=None, on_step=No
     """Run `log_` for `steps` steps (default: as many as it took) through `grow`."""
     steps = log_.steps if steps is None else steps
     timeline = Timeline(Params(**log_.params), log_.seed, log_.width, log_.height,
-                        gap=regrow_gap(log_.version))
+                        version=log_.version)
     applied = grow(timeline, steps, log_.events, on_apply, on_step, on_tick)
     if applied < len(log_.events):
         log.warning("replay: %d events after step %d were not applied",

@@ -10,6 +10,7 @@ import io
 import math
 import os
 import re
+import stat
 import subprocess
 import sys
 from pathlib import Path
@@ -24,7 +25,7 @@ from app.cli.parser import build_parser
 from app.tools import bench, figure8, figure_fern, maps, render
 from app.tools import replay as replay_tool
 from app.window import frost_window as window
-from sim import FrostSim, Params
+from sim import PRESETS, FrostSim, Params
 from sim.files import one_line
 from sim.session import SessionError, SessionLog, check_event, replay
 
@@ -186,6 +187,14 @@ def test_combinations_that_make_no_sense_are_refused_in_one_line(stubbed, tmp_pa
     assert_refused_in_one_line(status, err, named)
 
 
+@pytest.mark.parametrize("hc", ["0.03", "0.01", "1e-300"])
+@pytest.mark.parametrize("head", [[], ["render"], ["maps", "OUT"]])
+def test_an_hc_below_its_floor_is_refused_in_one_line_naming_it(stubbed, tmp_path, hc, head):
+    status, err = run_main(with_paths([*head, "--hc", hc], tmp_path))
+    assert not stubbed
+    assert_refused_in_one_line(status, err, f"hc={float(hc)!r}", "[1.0, 16.0]")
+
+
 def test_a_window_frost_render_melts_with_no_touch(stubbed):
     status, err = run_main(["render", "--window-frost", "--melt", "10,10@3"])
     assert status == 0 and len(stubbed) == 1, err
@@ -220,7 +229,7 @@ OVERRIDES = {"--hc", "--D", "--humidity", "--water-budget", "--step", "--active-
              "--max-height", "--grid-spacing", "--feature-width", "--feature-height",
              "--neighbor-search", "--replenish", "--grow", "--grains", "--drift", "--tip-hits",
              "--side-hits", "--side-gap", "--long-jumps", "--launch", "--frame-sites",
-             "--pane-sites", "--temperature", "--look"}
+             "--pane-sites", "--temperature", "--touch-water", "--look"}
 HELP_LISTS = {
     "replay": {"--help", "--headless", "--ticks", "--out", "--melt-radius", "--session-dir",
                "--screenshot-dir", "--scale", "--max-seconds", "--background"},
@@ -342,6 +351,132 @@ def test_a_fern_figure_into_a_blocked_folder_is_refused(stubbed, blocked):
     target, named = blocked["file as folder"]
     status, err = run_main(["figure", "fern", str(target)])
     assert_refused_in_one_line(status, err, str(target), named)
+
+
+# Each command's output file, with {} for the path.
+FILE_OUTPUTS = {"render --out": ["render", "--out={}"], "figure8": ["figure8", "{}"],
+                "figure": ["figure", "fern", "{}"],
+                "replay --out": ["replay", "SESSION", "--out={}"]}
+FOLDER_OUTPUTS = {"maps": ["maps", "{}"]}
+# The window's folders: warned of, and the window runs and reports each failed write.
+WINDOW_OUTPUTS = {"--screenshot-dir": ["--screenshot-dir={}"], "--session-dir": ["--session-dir={}"],
+                  "replay --session-dir": ["replay", "SESSION", "--session-dir={}"]}
+
+
+def output_argv(template: list[str], path, folder: Path) -> list[str]:
+    return with_paths([a.replace("{}", str(path)) for a in template], folder)
+
+
+def make_node(kind: str, path: Path) -> None:
+    if kind == "fifo":
+        os.mkfifo(path)
+    elif os.geteuid() != 0:
+        pytest.skip("making a device node needs root")
+    else:  # a copy of /dev/null: the real one is never touched
+        os.mknod(path, stat.S_IFCHR | 0o666, os.makedev(1, 3))
+
+
+@pytest.mark.parametrize("output", list(FILE_OUTPUTS))
+@pytest.mark.parametrize("kind, said", [("fifo", "is a FIFO"),
+                                        ("char device", "is a character device")])
+@pytest.mark.parametrize("through_link", [False, True])
+def test_an_output_that_is_not_a_regular_file_is_refused_before_any_work(
+        stubbed, tmp_path, output, kind, said, through_link):
+    node = tmp_path / "node"
+    make_node(kind, node)
+    path = node
+    if through_link:
+        path = tmp_path / "link.png"
+        path.symlink_to(node)
+    status, err = run_main(output_argv(FILE_OUTPUTS[output], path, tmp_path))
+    assert not stubbed
+    assert_refused_in_one_line(status, err, str(path), said, "not a regular file")
+    assert os.lstat(node).st_mode & 0o170000 == (stat.S_IFIFO if kind == "fifo" else stat.S_IFCHR)
+
+
+def test_a_map_file_that_is_a_fifo_is_refused_before_any_work(stubbed, tmp_path):
+    (tmp_path / "maps").mkdir()
+    os.mkfifo(tmp_path / "maps" / "normal.png")
+    status, err = run_main(["maps", str(tmp_path / "maps")])
+    assert not stubbed
+    assert_refused_in_one_line(status, err, "normal.png: is a FIFO")
+
+
+def test_an_output_symlink_to_a_file_is_accepted(stubbed, tmp_path):
+    (tmp_path / "real.png").write_bytes(b"old")
+    (tmp_path / "link.png").symlink_to(tmp_path / "real.png")
+    status, err = run_main(["render", f"--out={tmp_path / 'link.png'}"])
+    assert status == 0 and stubbed and err == "", err
+
+
+LONG = "n" * 300
+
+
+def refused_or_warned(stubbed, output: str, status, err: str, *words: str) -> None:
+    """An output is refused before any work; a window's folder warned of in one line."""
+    if output in WINDOW_OUTPUTS:
+        assert status == 0 and stubbed, err
+        assert err.count("\n") == 1 and err.startswith("frost: warning: "), err
+        assert all(word in err for word in words), err
+        return
+    assert not stubbed
+    assert_refused_in_one_line(status, err, *words)
+
+
+OUTPUT_TEMPLATES = {**FILE_OUTPUTS, **FOLDER_OUTPUTS, **WINDOW_OUTPUTS}
+
+
+@pytest.mark.parametrize("output", list(OUTPUT_TEMPLATES))
+@pytest.mark.parametrize("where", ["last", "folder"])
+def test_a_name_too_long_is_refused_or_warned_of(stubbed, tmp_path, output, where):
+    path = tmp_path / LONG if where == "last" else tmp_path / LONG / "x"
+    status, err = run_main(output_argv(OUTPUT_TEMPLATES[output], path, tmp_path))
+    refused_or_warned(stubbed, output, status, err, "300 bytes long", str(path))
+
+
+# /proc and /sys take no new files (even from root); only a file made there tells.
+PSEUDO = [p for p in ("/proc", "/sys") if os.path.isdir(p)]
+
+
+@pytest.mark.parametrize("root", PSEUDO)
+@pytest.mark.parametrize("output", list(OUTPUT_TEMPLATES))
+def test_a_folder_that_takes_no_files_is_refused_or_warned_of(stubbed, tmp_path, root,
+                                                             output):
+    path = f"{root}/frost-x.png"
+    status, err = run_main(output_argv(OUTPUT_TEMPLATES[output], path, tmp_path))
+    refused_or_warned(stubbed, output, status, err, path, f"cannot create files in {root}")
+    assert ".tmp" not in err and "frost-probe" not in err
+
+
+def test_the_start_up_check_leaves_no_probe_behind(stubbed, tmp_path):
+    (tmp_path / "out").mkdir()
+    for argv in (["maps", str(tmp_path / "out")], ["--session-dir", str(tmp_path / "new")],
+                 ["render", "--out", str(tmp_path / "out" / "x.png")]):
+        status, err = run_main(argv)
+        assert status == 0 and err == "", err
+    assert len(stubbed) == 3 and [p.name for p in tmp_path.rglob("*")] == ["out"]
+
+
+def test_a_replay_of_a_fifo_is_refused_without_blocking(stubbed, tmp_path):
+    os.mkfifo(tmp_path / "s.json")
+    status, err = run_main(["replay", "--headless", str(tmp_path / "s.json")])
+    assert_refused_in_one_line(status, err, "s.json", "is a FIFO")
+
+
+@pytest.mark.parametrize("argv", [["render"], ["replay", "SESSION", "--headless"],
+                                  ["replay", "SESSION", "--ticks=3"], []])
+def test_the_default_folder_is_checked_when_there_is_no_out(stubbed, tmp_path, monkeypatch, argv):
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.delenv("DISPLAY", raising=False)  # the window renders to PNGs instead
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    argv = with_paths(argv, tmp_path)
+    (tmp_path / "frost-out").write_text("a file in the way")
+    status, err = run_main(argv)
+    assert not stubbed
+    assert_refused_in_one_line(status, err, "frost-out", "is a file, not a folder")
+    (tmp_path / "frost-out").unlink()
+    status, err = run_main(argv)
+    assert status == 0 and stubbed and not (tmp_path / "frost-out").exists(), err
 
 
 def test_a_render_over_a_folder_is_refused(stubbed, tmp_path):
@@ -550,3 +685,155 @@ def test_a_touch_on_the_screen_stays_on_it_once_stored(x, y):
     assert abs(cx - x) <= np.spacing(np.float32(760)) and abs(cy - y) <= np.spacing(np.float32(1280))
     key = sim.grid.keys(np.array([cx]), np.array([cy]))[0]
     assert sim.candidates.count[key] >= 1  # listed in its own, on-screen cell
+
+
+def shown_defaults(described: str) -> dict[str, str]:
+    """'... (default: fern, window 2.5; Table 1 1.0-10.0)' -> {look: value} ('*': every look)."""
+    said = re.search(r"\(default([^()]*)\)", described)[1]
+    if not said.startswith(":"):
+        return {"*": said.strip()}
+    shown = {}
+    for part in said[1:].split(";"):
+        names, value = part.strip().rsplit(" ", 1)
+        shown.update({name: value for name in names.split(", ")})
+    return shown
+
+
+@pytest.mark.parametrize("head", [[], ["render"], ["maps", "OUT"], ["figure", "fern", "OUT/f.png"]])
+def test_each_override_shows_the_value_a_run_without_it_gets(stubbed, tmp_path, head):
+    def got(extra: list[str]) -> Params:
+        status, err = run_main(with_paths([*head, *extra], tmp_path))
+        assert status == 0, err
+        return stubbed.pop()[1]
+
+    def text(value) -> str:
+        return ("on" if value else "off") if isinstance(value, bool) else str(value)
+
+    runs = {"fern": got([]), "window": got(["--window-frost"])}
+    table = [got(["--preset", name]) for name in PRESETS]
+    for option, described in listed_options(help_text(head[:1])).items():
+        if option not in OVERRIDES:
+            continue
+        name = {"--D": "D"}.get(option, option[2:].replace("-", "_"))
+        values = sorted({getattr(p, name) for p in table})
+        want = {look: text(getattr(p, name)) for look, p in runs.items()}
+        want["Table 1"] = "-".join(text(v) for v in (values[0], values[-1])[:len(values)])
+        shown = shown_defaults(described)
+        assert shown == want or set(want.values()) == {shown.get("*")}, described
+
+
+# ---- one rule per quantity --------------------------------------------------------------
+
+
+@pytest.mark.parametrize("scale, ok", [("0.04", False), ("0.05", True), ("1", True), ("4", True),
+                                       ("4.01", False), ("5", False), ("8", False)])
+def test_the_command_line_takes_the_scales_the_window_opens_at(stubbed, scale, ok):
+    from app.window.glfw_setup import WindowError, open_window
+
+    status, err = run_main(["--scale", scale])
+    if ok:
+        assert status == 0 and stubbed, err
+        return
+    assert_refused_in_one_line(status, err, "--scale", "[0.05, 4]")
+    with pytest.raises(WindowError, match=r"\[0\.05, 4\]"):  # refused before GLFW starts
+        open_window(float(scale))
+
+
+def session_with(*events, **entries) -> dict:
+    return {"format": "frost-session", "seed": 0, "params": {}, "steps": 20,
+            "events": list(events), **entries}
+
+
+def loads(data: dict) -> bool:
+    try:
+        SessionLog.from_json(data)
+    except SessionError:
+        return False
+    return True
+
+
+def on_screen(x: float, y: float) -> bool:
+    return 0 <= x < 760 and 0 <= y < 1280  # the phone, by hand (NaN compares False)
+
+
+EDGES = [0.0, -0.0, 759.9999999, 760.0, 760.5, 1279.999, 1280.0, -1.0, -1e-9, 5e-324]
+COORD = st.one_of(st.sampled_from(EDGES), st.floats(-100, 1400), st.floats())
+
+
+@FIXTURE_OK
+@given(x=COORD, y=COORD)
+@example(x=760.0, y=5.0)  # a session took it; the command line refused it
+@example(x=-1.0, y=0.0)  # argparse said "expected one argument"
+def test_a_touch_is_taken_by_the_command_line_iff_by_a_session(stubbed, x, y):
+    stubbed.clear()
+    status, err = run_main(["render", "--touch", f"{x!r},{y!r}"])
+    session = loads(session_with({"kind": "touch", "tick": 0, "x": x, "y": y}))
+    assert (status == 0) == session == on_screen(x, y), err
+    if status:
+        assert_refused_in_one_line(status, err, "--touch", "is off the 760x1280 screen")
+
+
+RADII = st.one_of(st.sampled_from([1e-9, 0.5, 24.0, 10_000.0, 10_000.5, 1e9, 0.0, -1.0]),
+                  st.floats(-10, 20_000), st.floats())
+
+
+@FIXTURE_OK
+@given(x=COORD, y=COORD, r=RADII)
+@example(x=100.0, y=100.0, r=1e9)  # a --melt took it; --melt-radius refused it
+@example(x=900.0, y=100.0, r=10.0)  # a --melt off the screen was taken
+def test_a_melt_is_taken_by_the_command_line_iff_by_a_session(stubbed, tmp_path, x, y, r):
+    stubbed.clear()
+    ok = on_screen(x, y) and 0 < r <= 10_000  # by hand: a finger on the screen, r in range
+    status, err = run_main(["render", "--touch=1,1", f"--melt={x!r},{y!r},{r!r}@3"])
+    assert (status == 0) == ok, err
+    if status:
+        assert_refused_in_one_line(status, err, "--melt")
+    assert loads(session_with({"kind": "melt", "tick": 0, "x": x, "y": y, "r": r})) == ok
+    status, err = run_main(["render", "--touch=1,1", f"--melt-radius={r!r}"])
+    assert (status == 0) == (0 < r <= 10_000), err
+
+
+def test_a_melt_path_point_off_the_screen_is_refused(stubbed):
+    status, err = run_main(["render", "--touch=1,1", "--melt-path", "-5,3:10,10@2"])
+    assert_refused_in_one_line(status, err, "--melt-path", "(-5, 3) is off the 760x1280 screen")
+
+
+@pytest.mark.parametrize("option", ["--melt=5,5@{}", "--melt-path=5,5:9,9@{}"])
+def test_a_melt_after_the_last_tick_is_refused(stubbed, option):
+    status, err = run_main(["render", "--touch=1,1", "--ticks=10", option.format(11)])
+    assert_refused_in_one_line(status, err, "tick 11", "--ticks 10")
+    status, err = run_main(["render", "--touch=1,1", "--ticks=10", option.format(10)])
+    assert status == 0 and stubbed, err
+
+
+def test_a_melt_at_the_last_tick_applies():
+    from sim.session import Timeline, grow, touch_events
+
+    events = touch_events([(380, 640)]) + [{"tick": 10, "kind": "melt", "x": 380.0,
+                                            "y": 640.0, "r": 30.0}]
+    timeline = Timeline(Params.preset("c-2"), 0)
+    assert grow(timeline, 10, events) == 2 and timeline.melts[-1]["tick"] == 10
+
+
+@pytest.mark.parametrize("option, top, entry", [
+    ("--seed", 2**63 - 1, "seed"), ("--ticks", 2**31 - 1, "steps")])
+def test_a_seed_or_tick_count_is_taken_by_the_command_line_iff_by_a_session(
+        stubbed, option, top, entry):
+    for value, ok in ((top, True), (top + 1, False), (-1, False)):
+        stubbed.clear()
+        status, err = run_main(["render", "--touch=1,1", f"{option}={value}"])
+        assert (status == 0) == ok == loads(session_with(**{entry: value})), (value, err)
+        if not ok:
+            assert_refused_in_one_line(status, err, option, str(top))
+
+
+@pytest.mark.parametrize("argv, said", [
+    (["--touch", "-1,0"], "touch (-1, 0) is off the 760x1280 screen"),
+    (["render", "--touch", "1,1", "--melt", "-1,0@2"], "melt (-1, 0) is off"),
+    (["render", "--touch", "1,1", "--melt-path", "-1,0:5,5@2"], "melt path point (-1, 0) is off"),
+    (["--hc", "-1e-5"], "hc=-1e-05 is out of range"), (["--touch", "-.5,3"], "(-0.5, 3) is off"),
+    (["--seed", "-1"], "--seed: '-1' must be a whole number")])
+def test_a_negative_value_is_refused_for_what_is_wrong_with_it(stubbed, argv, said):
+    status, err = run_main(argv)
+    assert "expected one argument" not in err
+    assert_refused_in_one_line(status, err, said)

@@ -25,7 +25,9 @@ from sim.ridges import VERTS_PER_LINK, width_level
 from sim.session import Timeline, grow, touch_events
 
 # sha256 of the H x W x 3 frame, computed on the code before the `look` setting existed
-# (commit 1c14e25), llvmpipe. What each run is: preset, seed, ticks, touches, melts.
+# (1c14e25; "a-1 melt", two touches, again on main at 68e355d, whose one-pass water
+# placement changed it), llvmpipe.
+# What each run is: preset, seed, ticks, touches, melts.
 PAPER_RUNS = {
     "c-2": ("c-2", 0, 150, [(380.0, 640.0)], []),
     "a-1 melt": ("a-1", 3, 120, [(300.0, 500.0), (480.0, 800.0)],
@@ -33,7 +35,7 @@ PAPER_RUNS = {
     "b-1": ("b-1", 1, 100, [(200.0, 300.0)], []),
 }
 PAPER_HASHES = {
-    "a-1 melt": "8b483501cd983eeaf40a0a55fd6f9429125fc4e2fa5840dfb34c013fa106c430",
+    "a-1 melt": "e88fed1045739a24d954194cf9aa3b84151ca9e6cb5b08e49dfc566e297b06f9",
     "b-1": "d2eda0a358e9f99bb1ead7243f934be891cd3ac298e11a63512b92c16d1fdbab",
     "c-2": "5a78f556ac4007493a3524240e01813b2ba20e2fd0583d8d31dd63be47aa0741",
 }

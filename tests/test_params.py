@@ -65,3 +65,20 @@ def test_preset_overrides_and_unknown_names():
 def test_every_parameter_is_described_with_its_name():
     for name, _default, doc in Params.describe():
         assert doc.startswith(name + ":")
+
+
+# hc sizes the hash grid: (w / 2hc) x (h / 2hc) cells. 0.03 asked for 11 GB, 0.01 was a
+# MemoryError and 1e-300 a ValueError from numpy; the floor is 1 px, named in the refusal.
+@pytest.mark.parametrize("hc", [0.999, 0.5, 0.03, 0.01, 1e-300, 5e-324])
+def test_hc_below_its_floor_is_refused_naming_the_floor(hc):
+    with pytest.raises(ValueError, match=rf"hc={hc!r} is out of range \[1\.0, 16\.0\]"):
+        Params(hc=hc, step=hc, D=hc)
+
+
+def test_at_the_hc_floor_the_grid_stays_small():
+    from sim import FrostSim
+
+    sim = FrostSim(Params(hc=1.0, step=1.0, D=1.0), 760, 1280)
+    assert (sim.grid.cols, sim.grid.rows) == (380, 640)  # Eq. 1: 760 / 2, 1280 / 2
+    sim.touch(380, 640)
+    sim.step()

@@ -107,12 +107,12 @@ class FakeFbo:
         return bytes(range(24))
 
 
-def window_standin(tmp_path: Path, shots: Path, sessions: Path):
+def window_standin(tmp_path: Path, shots: Path, sessions: Path, touches=((380.0, 640.0),)):
     """The window's Capture on a real simulation thread, with a stand-in presenter (no GL)."""
     from app.window.capture import Capture
 
     said = []
-    thread = SimThread(PARAMS, 3, [(380.0, 640.0)])
+    thread = SimThread(PARAMS, 3, list(touches))
     presenter = types.SimpleNamespace(renderer=types.SimpleNamespace(view=lambda: dict(VIEW)),
                                       render_phone=lambda: None,
                                       read_phone=lambda: read_image(FakeFbo()))
@@ -180,6 +180,18 @@ def test_failed_screenshots_in_one_second_never_share_a_session_file(tmp_path):
     assert steps == [2, 4]  # the first is not overwritten by the second
     names = [win.capture.fresh_name("") for _ in range(3)]  # e.g. map folders asked for at once
     assert len(set(names)) == 3
+
+
+def test_a_window_run_with_no_event_leaves_no_session_file(tmp_path):
+    sessions = tmp_path / "sessions"
+    win, _ = window_standin(tmp_path, tmp_path / "shots", sessions, touches=())
+    win.latest = ticked(win.thread, 3)[-1]
+    assert win.capture.save_session(win.latest) is None and not sessions.exists()
+    win.thread.send("melt", (100.0, 100.0, 20.0))  # one event: now there is a run to replay
+    win.latest = ticked(win.thread, 2)[-1]
+    saved = win.capture.save_session(win.latest)
+    assert [p.name for p in sessions.iterdir()] == [saved.name]
+    assert [e["kind"] for e in SessionLog.load(saved).events] == ["melt"]
 
 
 # ---- atomic writes -------------------------------------------------------------------
@@ -342,6 +354,13 @@ def test_a_bad_view_in_a_session_file_is_a_clear_error(tmp_path, view, problem):
 
 def headless(monkeypatch, gl_ctx, capsys, argv: list[str]) -> tuple[int, list[str], str]:
     """`frost ARGV` in this process: (status, progress lines, stderr)."""
+    status, out, err = headless_out(monkeypatch, gl_ctx, capsys, argv)
+    return status, [ln for ln in out if ln.startswith("tick ")], err
+
+
+def headless_out(monkeypatch, gl_ctx, capsys, argv: list[str]) -> tuple[int, list[str], str]:
+    """`frost ARGV` in this process, a progress line every tick: (status, stdout's lines,
+    stderr)."""
     from app.cli import main
     from app.tools import progress, render, replay
 
@@ -350,19 +369,54 @@ def headless(monkeypatch, gl_ctx, capsys, argv: list[str]) -> tuple[int, list[st
     monkeypatch.setattr(progress, "PROGRESS_EVERY_S", 0.0)
     status = main(argv)
     out, err = capsys.readouterr()
-    return status, [ln for ln in out.splitlines() if ln.startswith("tick ")], err
+    return status, out.splitlines(), err
 
 
 def test_a_touch_run_shows_progress(monkeypatch, gl_ctx, capsys, tmp_path):
     status, lines, _ = headless(monkeypatch, gl_ctx, capsys, [
         "render", "--touch", "380,640", "--ticks", "6", "--out", str(tmp_path / "x.png")])
-    assert status == 0 and len(lines) == 6 and lines[-1].startswith("tick 6 (6/6)")
+    assert status == 0 and len(lines) == 6 and lines[-1].startswith("tick 6/6, ")
 
 
 def test_the_scripted_demo_counts_against_the_whole_run(monkeypatch, gl_ctx, capsys, tmp_path):
     status, lines, _ = headless(monkeypatch, gl_ctx, capsys, [
         "render", "--ticks", "10", "--out", str(tmp_path / "x.png")])
-    assert status == 0 and [ln.split()[2] for ln in lines] == [f"({i}/10)," for i in range(1, 11)]
+    assert status == 0 and [ln.split()[1] for ln in lines] == [f"{i}/10," for i in range(1, 11)]
+
+
+def test_a_replay_names_the_rebuild_its_tick_counts_from(monkeypatch, capsys):
+    from app.tools import progress
+
+    monkeypatch.setattr(progress, "PROGRESS_EVERY_S", 0.0)
+    # A rebuild at tick 4 and a clear 3 ticks into the new timeline, 12 steps in all: by
+    # hand, the run's ticks 1-4 are the first simulation's, 5-7 ticks 1-3 after rebuild 1,
+    # 8-12 ticks 1-5 after rebuild 2.
+    log_ = SessionLog(0, PARAMS.as_dict(), steps=12, events=[
+        {"tick": 0, "kind": "touch", "x": 380.0, "y": 640.0},
+        {"tick": 4, "kind": "params", "params": PARAMS.replace(humidity=1000).as_dict()},
+        {"tick": 3, "kind": "clear"}])
+    replay(log_, on_tick=progress.Progress(12).step)
+    lines = capsys.readouterr().out.splitlines()
+    want = [f"tick {i}/12, " for i in range(1, 5)] + \
+        [f"tick {4 + i}/12 (tick {i} since rebuild 1), " for i in range(1, 4)] + \
+        [f"tick {7 + i}/12 (tick {i} since rebuild 2), " for i in range(1, 6)]
+    assert len(lines) == len(want)
+    assert all(ln.startswith(w) for ln, w in zip(lines, want, strict=True))
+
+
+def test_figure8_names_the_preset_each_tick_belongs_to(monkeypatch, gl_ctx, capsys, tmp_path):
+    from app.cli import main
+    from app.tools import figure8, progress
+
+    monkeypatch.setattr(figure8, "make_context", lambda: gl_ctx)
+    monkeypatch.setattr(progress, "PROGRESS_EVERY_S", 0.0)
+    assert main(["figure8", str(tmp_path / "f.png"), "--ticks", "2"]) == 0
+    lines = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("tick ")]
+    names = list(figure8.PRESETS)  # nine presets of 2 ticks: the run's tick i is preset
+    want = [f"tick {i}/18 (preset {names[(i - 1) // 2]} at tick {(i - 1) % 2 + 1}), "
+            for i in range(1, 19)]
+    assert len(lines) == 18
+    assert all(ln.startswith(w) for ln, w in zip(lines, want, strict=True))
 
 
 def test_a_replay_shows_progress(monkeypatch, gl_ctx, capsys, tmp_path):
@@ -371,7 +425,61 @@ def test_a_replay_shows_progress(monkeypatch, gl_ctx, capsys, tmp_path):
     path = thread.session(snap.steps, snap.events).save(tmp_path / "s.json")
     status, lines, _ = headless(monkeypatch, gl_ctx, capsys, [
         "replay", str(path), "--out", str(tmp_path / "x.png")])
-    assert status == 0 and [ln.split()[2] for ln in lines] == [f"({i}/4)," for i in range(1, 5)]
+    assert status == 0 and [ln.split()[1] for ln in lines] == [f"{i}/4," for i in range(1, 5)]
+
+
+# ---- what a headless run writes, and says it wrote ----------------------------------
+
+
+@pytest.mark.parametrize("ticks,stops", [(0, [0]), (1, [0, 1]), (2, [0, 2]), (10, [2, 4, 10])])
+def test_the_demo_lists_exactly_the_files_it_writes(monkeypatch, gl_ctx, capsys, tmp_path,
+                                                    ticks, stops):
+    # stops by hand: the demo's touches come at 0, ticks // 5 and 2 * ticks // 5, and it
+    # ends at `ticks`; stages that end on the same tick make one PNG.
+    monkeypatch.chdir(tmp_path)
+    status, out, _ = headless_out(monkeypatch, gl_ctx, capsys, ["render", "--ticks", str(ticks)])
+    files = sorted(p.name for p in (tmp_path / "frost-out").iterdir())
+    assert status == 0 and [int(f[-8:-4]) for f in files] == stops
+    listed = out[-1].split(": ", 1)[1].split(", ")
+    assert out[-1].startswith(f"wrote {len(files)} PNG file") and sorted(listed) == files
+
+
+def test_window_mode_renders_one_png_not_the_demo(monkeypatch, gl_ctx, capsys, tmp_path):
+    # as frost render --help says: the frosted window grows untouched, no scripted demo
+    monkeypatch.chdir(tmp_path)
+    status, out, _ = headless_out(monkeypatch, gl_ctx, capsys,
+                                  ["render", "--window-frost", "--ticks", "2"])
+    (png,) = (tmp_path / "frost-out").iterdir()
+    assert status == 0 and out[-1] == f"wrote {Path('frost-out') / png.name}"
+    assert json.loads(Image.open(png).text["touches"]) == []
+
+
+def test_a_second_demo_overwrites_nothing_of_the_first(monkeypatch, gl_ctx, capsys, tmp_path):
+    monkeypatch.chdir(tmp_path)
+    folder = tmp_path / "frost-out"
+    headless(monkeypatch, gl_ctx, capsys, ["render", "--ticks", "5"])
+    first = {p: p.read_bytes() for p in folder.iterdir()}
+    headless(monkeypatch, gl_ctx, capsys, ["render", "--ticks", "10"])  # (the same second)
+    assert len(first) == 3 and all(p.read_bytes() == b for p, b in first.items())
+    assert len(list(folder.iterdir())) == 6
+
+
+@pytest.mark.parametrize("cmd", [["render", "--touch", "380,640", "--ticks", "2", "--out", "OUT/x.png"],
+                                 ["render", "--ticks", "5", "--out", "OUT/x.png"],
+                                 ["replay", "SESSION", "--out", "OUT/x.png"],
+                                 ["figure8", "OUT/f.png", "--ticks", "1"]])
+def test_each_file_a_headless_run_writes_is_named_on_one_line(tmp_path, cmd):
+    # A subprocess: the log lines (basicConfig on stderr) are what a user sees there.
+    session, out = tmp_path / "s.json", tmp_path / "out"
+    SessionLog(0, PARAMS.as_dict(), steps=2,
+               events=[{"tick": 0, "kind": "touch", "x": 380, "y": 640}]).save(session)
+    argv = [a.replace("OUT", str(out)).replace("SESSION", str(session)) for a in cmd]
+    done = subprocess.run([sys.executable, "-m", "app", *argv], cwd=tmp_path, capture_output=True,
+                          text=True, timeout=120, env={**os.environ, "PYTHONPATH": str(ROOT)})
+    lines = (done.stdout + done.stderr).splitlines()
+    files = [p.name for p in out.iterdir()]
+    assert done.returncode == 0 and files, done.stderr
+    assert all(sum(name in ln for ln in lines) == 1 for name in files), lines
 
 
 def test_a_headless_png_into_an_unwritable_folder_is_one_line_exit_2(monkeypatch, gl_ctx, capsys,

@@ -234,7 +234,7 @@ def test_a_session_file_replants_as_its_version_did(tmp_path, version, ticks):
 
 
 def test_a_session_file_from_a_later_frost_is_refused():
-    data = {"format": "frost-session", "version": 3, "seed": 0, "params": {}, "events": []}
+    data = {"format": "frost-session", "version": 4, "seed": 0, "params": {}, "events": []}
     with pytest.raises(SessionError, match="version"):
         SessionLog.from_json(data)
 

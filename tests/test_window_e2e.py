@@ -99,6 +99,8 @@ def drive(out: Path, mode: str = "session") -> None:
     cmd = [sys.executable, "-m", "app", "--preset", "c-3", "--seed", "1",
            "--screenshot-dir", str(folder / "shots"), "--max-seconds", "60",
            "--session-dir", str(folder / "sessions"), "--melt-radius", str(MELT_RADIUS)]
+    if mode != "session":  # a run with no event (touch, melt, change) writes no session file
+        cmd += ["--touch", "380,640"]
     with open(log, "w") as sink:
         app = subprocess.Popen(cmd, cwd=ROOT, stdout=sink, stderr=subprocess.STDOUT,
                                preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))

@@ -224,8 +224,13 @@ def test_the_app_opens_window_mode_and_its_keys_rebuild_it():
     parse = build_parser().parse_args
     assert params_from(parse(["--window-frost"])) == WINDOW
     assert params_from(parse(["--window-frost", "--temperature", "20"])).temperature == 20.0
-    with pytest.raises(ValueError, match="grains"):
-        params_from(parse(["--window-frost", "--preset", "c-2"]))
+    # on top of a Table 1 preset: its numbers (Table 1's c-2: D 7, hc 7, humidity 3000) and
+    # hit counters (1), window mode, and the grains window mode needs (the help says so)
+    c2 = params_from(parse(["--window-frost", "--preset", "c-2"]))
+    assert (c2.D, c2.hc, c2.humidity, c2.tip_hits) == (7.0, 7.0, 3000, 1)
+    assert c2.window_frost and c2.grains
+    with pytest.raises(ValueError, match="needs grains"):  # unless the user turns them off
+        params_from(parse(["--window-frost", "--preset", "c-2", "--grains", "off"]))
     keys = {b.keys[0]: b for b in BINDINGS}
     assert (keys["W"].action, keys["W"].arg) == ("preset", "window")
     colder = tuning.shifted(WINDOW, *keys["T"].arg)

@@ -9,6 +9,8 @@ import time
 
 import numpy as np
 import pytest
+from hypothesis import example, given
+from hypothesis import strategies as st
 
 from app.simthread import thread as simthread
 from app.simthread.thread import SimThread
@@ -18,7 +20,7 @@ from app.window.record import Recorder
 from app.window.view import cursor_to_phone, fit_scale, letterbox
 from sim import Params
 from sim.gestures import path_points
-from sim.session import Backlog
+from sim.session import Backlog, SessionLog
 
 
 @pytest.fixture(autouse=True)
@@ -90,6 +92,20 @@ def test_cursor_maps_through_hidpi_and_letterbox():
     assert cursor_to_phone((120, 0), (1000, 1280), (1000, 1280)) == (0, 0)
     assert cursor_to_phone((100, 10), (1000, 1280), (1000, 1280)) is None
     assert cursor_to_phone((10, 10), (0, 0), (0, 0)) is None  # minimized
+
+
+@given(cx=st.floats(-100, 1500), cy=st.floats(-100, 1500), w=st.integers(1, 1500),
+       h=st.integers(1, 1500))
+@example(cx=760.0, cy=5.0, w=760, h=1280)  # the right edge: px = 760.0 exactly
+@example(cx=5.0, cy=1280.0, w=760, h=1280)
+def test_a_spot_the_window_gives_is_one_a_session_file_takes(cx, cy, w, h):
+    spot = cursor_to_phone((cx, cy), (w, h), (w, h))
+    if spot is None:
+        return
+    touch = {"kind": "touch", "tick": 0, "x": spot[0], "y": spot[1]}
+    melt = {"kind": "melt", "tick": 0, "x": spot[0], "y": spot[1], "r": 24.0}
+    SessionLog.from_json({"format": "frost-session", "seed": 0, "params": {},
+                          "events": [touch, melt]})  # raises if either is refused
 
 
 def test_drag_path_points_are_evenly_spaced():

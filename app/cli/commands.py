@@ -5,14 +5,17 @@ from __future__ import annotations
 
 import argparse
 import logging
+import re
 import sys
 
-from app.cli.options import WINDOW_DEFAULTS, has_display, params_from, view_from
+from app.backdrops import view_from
+from app.cli.options import WINDOW_DEFAULTS, has_display, params_from
 from app.cli.parser import PROG, build_parser, parser_for
 from app.cli.paths import check_paths
 from sim import Params
 from sim.session import SessionError
 
+NEGATIVE = re.compile(r"-\.?\d")  # -1,0 or -.5@3: a value, not an option
 INTERRUPTED = 130  # the shell's status for a program ended by SIGINT (128 + 2)
 # The mode flags of the one-parser command line before subcommands, and what replaced them.
 MOVED = {"--headless": "frost render", "--replay": "frost replay FILE.json",
@@ -41,7 +44,7 @@ def _parse(argv: list[str]) -> tuple[argparse.Namespace, Params]:
     moved = _moved_option(argv)
     if moved:
         parser.error(moved)
-    args, unknown = parser.parse_known_args(argv)
+    args, unknown = parser.parse_known_args(_joined_negatives(argv, parser))
     command = parser_for(parser, args)
     if unknown:
         command.error(f"unrecognized arguments: {' '.join(unknown)}")
@@ -54,6 +57,32 @@ def _parse(argv: list[str]) -> tuple[argparse.Namespace, Params]:
     for warning in warnings:
         print(f"{PROG}: warning: {warning}", file=sys.stderr)
     return args, params
+
+
+def _joined_negatives(argv: list[str], parser: argparse.ArgumentParser) -> list[str]:
+    """argv with each value that starts like a negative number written onto its option
+    (--touch=-1,0): argparse takes only plain numbers such as -1 for a value, and would say
+    that --touch -1,0 lacks one instead of what is wrong with -1,0."""
+    valued = _valued_options(parser)
+    out: list[str] = []
+    for arg in argv:
+        if out and out[-1] in valued and NEGATIVE.match(arg):
+            out[-1] = f"{out[-1]}={arg}"
+        else:
+            out.append(arg)
+    return out
+
+
+def _valued_options(parser: argparse.ArgumentParser) -> set[str]:
+    """Every option string of `parser` and its subcommands' that takes a value."""
+    found: set[str] = set()
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                found |= _valued_options(sub)
+        elif action.option_strings and action.nargs != 0:
+            found.update(action.option_strings)
+    return found
 
 
 def _moved_option(argv: list[str]) -> str | None:
@@ -78,6 +107,11 @@ def _refuse_nonsense(args: argparse.Namespace, argv: list[str]) -> None:
             and not args.window_mode:  # a frosted window grows untouched; the demo takes none
         raise ValueError("--melt and --melt-path need --touch (or --window-frost): the scripted "
                          "demo takes none")
+    late = [m for m in getattr(args, "melt", []) + getattr(args, "melt_path", [])
+            if m["tick"] > args.ticks]
+    if args.command == "render" and late:  # the last applied is at --ticks, on the final frame
+        raise ValueError(f"a melt at tick {late[0]['tick']} comes after the last tick "
+                         f"(--ticks {args.ticks}) and would never apply")
     if args.command == "replay" and _replay_headless(args):
         window = [f"--{n.replace('_', '-')}" for n, d in WINDOW_DEFAULTS.items()
                   if getattr(args, n) != d]

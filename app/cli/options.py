@@ -10,8 +10,9 @@ import os
 from app.backdrops import BACKDROPS, DEFAULT_BACKDROP
 from app.cli import values
 from app.window.keys import DEFAULT_PRESET
-from sim import Params, all_presets
-from sim.screen import HEIGHT, WIDTH
+from app.window.view import SCALES
+from sim import PRESETS, Params, all_presets
+from sim.screen import HEIGHT, MAX_MELT_RADIUS, WIDTH
 
 DEFAULT_TICKS = 250
 # The window's options and their defaults; a replay told to render headless refuses them.
@@ -29,7 +30,7 @@ def add_preset(p) -> None:
     p.add_argument("--window-frost", dest="window_mode", action="store_true",
                    help="the frosted window: frost nucleates on the screen's frame and a few pane "
                         "sites and grows over the whole pane, no touch needed (preset window, or "
-                        "window mode on top of --preset; default off)")
+                        "window mode on top of --preset, whose grains it turns on; default off)")
 
 
 def add_background(p) -> None:
@@ -39,14 +40,8 @@ def add_background(p) -> None:
                         f"(default {DEFAULT_BACKDROP}; a replay: the session's)")
 
 
-def view_from(args: argparse.Namespace, view: dict | None = None) -> dict | None:
-    """`view` (a session's, or None) with the command line's --background on top."""
-    background = getattr(args, "background", None)
-    return view if background is None else {**(view or {}), "background": background}
-
-
 def add_seed(p) -> None:
-    p.add_argument("--seed", type=values.whole, default=0, metavar="N",
+    p.add_argument("--seed", type=values.seed, default=0, metavar="N",
                    help="random seed, a whole number (default 0)")
 
 
@@ -55,9 +50,11 @@ def add_touch(p, what: str, default: str) -> None:
                    help=f"{what}: X,Y in px, 0 <= X < {WIDTH}, 0 <= Y < {HEIGHT} (default {default})")
 
 
-def add_out(p) -> None:
+def add_out(p, demo: bool = False) -> None:
+    also = ("; the scripted demo writes its stages' PNGs beside it, by default "
+            "frost-out/frost-demo-TIMESTAMP-tickNNNN.png") if demo else ""
     p.add_argument("--out", metavar="FILE.png",
-                   help="write the final frame here (default frost-out/frost-TIMESTAMP.png)")
+                   help=f"write the final frame here (default frost-out/frost-TIMESTAMP.png{also})")
 
 
 def add_ticks(p, default: int | None, what: str) -> None:
@@ -68,7 +65,8 @@ def add_ticks(p, default: int | None, what: str) -> None:
 
 def add_melt_radius(p, what: str) -> None:
     p.add_argument("--melt-radius", type=values.radius, default=WINDOW_DEFAULTS["melt_radius"],
-                   metavar="PX", help=f"radius of the warm finger ({what}), px (default 24)")
+                   metavar="PX", help=f"radius of the warm finger ({what}), px, at most "
+                                      f"{MAX_MELT_RADIUS:g} (default 24)")
 
 
 def add_melts(p) -> None:
@@ -86,31 +84,52 @@ def add_window(p) -> None:
     """The window's folders, size and lifetime."""
     add_melt_radius(p, "right-button drag")
     p.add_argument("--session-dir", default=WINDOW_DEFAULTS["session_dir"], metavar="DIR",
-                   help="folder for the session files written on exit and with each screenshot "
-                        "(default sessions)")
+                   help="folder for the session files written on exit (when there was an "
+                        "event to replay) and with each screenshot (default sessions)")
     p.add_argument("--screenshot-dir", default=WINDOW_DEFAULTS["screenshot_dir"], metavar="DIR",
                    help="folder for screenshots (S, F12) and recordings (R) (default screenshots)")
     p.add_argument("--scale", type=values.scale, metavar="F",
-                   help=f"window size as a fraction of {WIDTH}x{HEIGHT} (default: fit the monitor)")
+                   help=f"window size as a fraction of {WIDTH}x{HEIGHT}, {SCALES[0]:g} to "
+                        f"{SCALES[1]:g} (default: fit the monitor)")
     p.add_argument("--max-seconds", type=values.seconds, metavar="S",
                    help="close by itself after S seconds, exit status 0 (default: stay open)")
 
 
-def add_overrides(p) -> None:
+def add_overrides(p, looks: tuple[str, ...] = (DEFAULT_PRESET, "window")) -> None:
     """One option per simulation parameter (see docs/method.md), kebab-case; dest stays the
-    parameter's name."""
+    parameter's name. Its help gives the value each preset the command can grow (the
+    extra `looks`, then Table 1's) takes when the option is not given."""
     g = p.add_argument_group("parameter overrides (docs/method.md says what each does; "
                              "default: the preset's)")
     for name, default, doc in Params.describe():
         if name in NOT_OVERRIDES:
             continue
         flag = f"--{name.replace('_', '-')}"
+        shown = preset_defaults(name, looks)
         if type(default) is bool:
             g.add_argument(flag, dest=name, type=values.on_off, metavar="on|off",
-                           help=f"{doc} (default {'on' if default else 'off'})")
+                           help=f"{doc} ({shown})")
         else:
             g.add_argument(flag, dest=name, type=type(default), metavar=_metavar(default),
-                           help=f"{doc} (default {default})")
+                           help=f"{doc} ({shown})")
+
+
+def preset_defaults(name: str, looks: tuple[str, ...]) -> str:
+    """'default V' where every preset has parameter `name` at V, else each value and the
+    presets that have it, e.g. 'default: fern, window 2.5; Table 1 1.0-10.0'."""
+    groups: dict[str, list[str]] = {}
+    for look in looks:
+        groups.setdefault(_shown(getattr(Params.preset(look), name)), []).append(look)
+    table = sorted({getattr(Params.preset(n), name) for n in PRESETS})
+    span = _shown(table[0]) + (f"-{_shown(table[-1])}" if len(table) > 1 else "")
+    groups.setdefault(span, []).append("Table 1")
+    if len(groups) == 1 and len(table) == 1:
+        return f"default {span}"
+    return "default: " + "; ".join(f"{', '.join(names)} {v}" for v, names in groups.items())
+
+
+def _shown(value) -> str:
+    return ("on" if value else "off") if type(value) is bool else str(value)
 
 
 def _metavar(default) -> str:
@@ -127,6 +146,7 @@ def params_from(args: argparse.Namespace) -> Params:
     preset = getattr(args, "preset", None)
     if getattr(args, "window_mode", False):
         overrides.setdefault("window_frost", True)
+        overrides.setdefault("grains", True)  # window mode needs them; Table 1 has them off
         return Params.preset(preset or "window", **overrides)
     return Params.preset(preset or DEFAULT_PRESET, **overrides)
 

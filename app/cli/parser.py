@@ -70,9 +70,10 @@ def _window() -> Parser:
                                 "%(prog)s COMMAND [options]   (COMMAND below)", description=_para(
         f"Real-time window frost on a {WIDTH}x{HEIGHT} phone screen. With no COMMAND it opens the "
         "window: click (or drag) to plant seed crystals, drag with the right button to melt "
-        "the ice (a warm finger). Each session is saved (--session-dir) and frost replay "
-        "plays it again bit for bit. With no display it grows the scripted demo offscreen "
-        "and writes PNG files to frost-out/ instead."),
+        "the ice (a warm finger). Each session with a touch, melt or change is saved "
+        "(--session-dir) and frost replay "
+        "plays it again bit for bit. With no display it grows the scripted demo (or the "
+        "frosted window) offscreen and writes PNG files to frost-out/ instead."),
         epilog="keys in the window:\n  " + "\n  ".join(help_lines()))
     options.add_preset(p)
     options.add_seed(p)
@@ -90,13 +91,14 @@ def _window() -> Parser:
 def _render(root: Parser, subs) -> None:
     p = root.command(subs, "render", "grow the frost offscreen (no display needed) and write PNGs",
                      "Grow the frost offscreen (EGL, no display needed) and write a PNG. With no "
-                     "--touch it runs the scripted demo (three touches over the run) and writes "
-                     "a PNG after each stage into the folder of --out (default frost-out/).")
+                     "--touch (and no window mode, which frosts from the frame untouched) it runs "
+                     "the scripted demo (three touches over the run) and writes a PNG after each "
+                     "stage into the folder of --out (default frost-out/), new names each run.")
     options.add_preset(p)
     options.add_seed(p)
-    options.add_touch(p, options.PLANT, "the scripted demo")
+    options.add_touch(p, options.PLANT, "the scripted demo; none in window mode")
     options.add_ticks(p, options.DEFAULT_TICKS, "how long to grow")
-    options.add_out(p)
+    options.add_out(p, demo=True)
     options.add_melts(p)
     options.add_background(p)
     options.add_overrides(p)
@@ -126,7 +128,7 @@ def _figure8(root: Parser, subs) -> None:
     options.add_ticks(p, options.DEFAULT_TICKS, "how long each preset grows")
     options.add_touch(p, "the one touch", "the centre, 380,640")
     options.add_background(p)
-    options.add_overrides(p)
+    options.add_overrides(p, looks=())  # on top of each of Table 1's presets
 
 
 def _figure(root: Parser, subs) -> None:

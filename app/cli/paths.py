@@ -2,9 +2,13 @@
 
 What a run writes at its end (a headless PNG, a figure, the maps) is refused at start-up
 when it cannot be written, before the work it would lose; such files and folders may be
-missing (they are made on writing) but must be creatable. The window's folders only get a
-start-up warning: the window reports each failed write and runs on (a user may never press
-S). The session to replay must be a readable file.
+missing (they are made on writing) but must be creatable: no name in the path longer than
+the file system allows, a file may be created in the folder (a file system such as /proc
+or /sys takes none: a temporary file is made and removed to know), and an output file that
+exists is a regular file (sim.files refuses to replace a device, a FIFO or a socket; a
+symlink is checked where it leads). The window's folders are checked the same way but only
+get a start-up warning: the window reports each failed write and runs on, as the user
+chose (tests/test_window_e2e.py runs it so). The session to replay must be a readable file.
 """
 
 from __future__ import annotations
@@ -13,11 +17,17 @@ import argparse
 import os
 from pathlib import Path
 
-from sim.files import one_line
+from app.cli.options import has_display
+from app.images import DEFAULT_FOLDER
+from sim.files import not_regular, one_line, refusal, temp_file
+from sim.maps import MAP_NAMES
 
 OUTPUT_FILES = ("out",)
 OUTPUT_FOLDERS = ("out_dir",)
+# Files a folder option's command writes under fixed names: checked like an output file.
+FOLDER_FILES = {"out_dir": tuple(f"{name}.png" for name in MAP_NAMES)}
 WINDOW_FOLDERS = ("screenshot_dir", "session_dir")
+NAME_MAX = 255  # bytes in one name, where the file system does not say (Linux's limit)
 
 
 def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> list[str]:
@@ -26,22 +36,40 @@ def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> li
     folders. Folders left at their defaults are the window's to report at run time."""
     warnings = []
     for action in parser._actions:  # this command's own options, not the root's defaults
-        name, value = action.dest, getattr(args, action.dest, None)
-        if name not in OUTPUT_FILES + OUTPUT_FOLDERS + WINDOW_FOLDERS or value is None \
-                or value == action.default:
-            continue
-        problem = _output_problem(Path(value), folder=name not in OUTPUT_FILES)
-        message = f"{_named(action, value)}: {problem}"
-        if problem and name in WINDOW_FOLDERS:
-            warnings.append(f"{message}; the window will say so at each write")
+        problem = _option_problem(args, action)
+        if problem and action.dest in WINDOW_FOLDERS:
+            warnings.append(f"{problem}; the window will say so at each write")
         elif problem:
-            raise ValueError(message)
+            raise ValueError(problem)
+    if _writes_default_folder(args):
+        problem = _output_problem(DEFAULT_FOLDER, folder=True)
+        if problem:
+            raise ValueError(f"{DEFAULT_FOLDER} (the PNGs' folder with no --out): {problem}")
     if getattr(args, "replay", None) is not None:
-        path = Path(args.replay)
-        if not path.is_file() or not os.access(path, os.R_OK):
-            what = "is a folder" if path.is_dir() else "cannot be read" if path.exists() else "no such file"
-            raise ValueError(f"{one_line(args.replay)}: {what}")
+        problem = _replay_problem(Path(args.replay))
+        if problem:
+            raise ValueError(f"{one_line(args.replay)}: {problem}")
     return warnings
+
+
+def _option_problem(args: argparse.Namespace, action: argparse.Action) -> str | None:
+    """Why the path an output option was given cannot be written, naming the option; None
+    if it can, or the option is no output path or was left at its default."""
+    name, value = action.dest, getattr(args, action.dest, None)
+    if name not in OUTPUT_FILES + OUTPUT_FOLDERS + WINDOW_FOLDERS or value is None \
+            or value == action.default:
+        return None
+    problem = _output_problem(Path(value), folder=name not in OUTPUT_FILES) or \
+        _files_problem(Path(value), FOLDER_FILES.get(name, ()))
+    return problem and f"{_named(action, value)}: {problem}"
+
+
+def _writes_default_folder(args: argparse.Namespace) -> bool:
+    """The command renders headless with no --out: render, a replay told to, and the
+    window where no display is named (it renders instead)."""
+    headless = args.command == "render" or args.command == "replay" and (
+        args.headless or args.ticks is not None) or args.command is None and not has_display()
+    return headless and args.out is None
 
 
 def _named(action: argparse.Action, value) -> str:
@@ -49,20 +77,78 @@ def _named(action: argparse.Action, value) -> str:
     return one_line(f"{action.option_strings[0]} {value}" if action.option_strings else value)
 
 
+def _files_problem(folder: Path, files: tuple[str, ...]) -> str | None:
+    """Why one of `files` in `folder` cannot be written, naming it; None if all can."""
+    for file in files:
+        problem = _output_problem(folder / file, folder=False)
+        if problem:
+            return f"{one_line(file)}: {problem}"
+    return None
+
+
+def _replay_problem(path: Path) -> str | None:
+    try:
+        kind = not_regular(path)
+        if kind or not path.exists():
+            return f"is {kind}, not a session file" if kind else "no such file"
+        return None if os.access(path, os.R_OK) else "cannot be read"
+    except OSError as err:  # a name too long, a loop of symlinks
+        return err.strerror or str(err)
+
+
 def _output_problem(path: Path, folder: bool) -> str | None:
     """Why `path` cannot be written (a folder, or a file when not `folder`), or None."""
+    try:
+        return _too_long(path) or _writable_problem(Path(os.path.realpath(path)), folder)
+    except OSError as err:
+        return err.strerror or str(err)
+
+
+def _writable_problem(path: Path, folder: bool) -> str | None:
+    """`path` (symlinks resolved) exists as what it must be and takes new files, or is
+    missing and can be made; else why not."""
     if path.exists():
-        if folder and not path.is_dir():
-            return "is a file, not a folder"
-        if not folder and path.is_dir():
-            return "is a folder, not a file"
+        kind = not_regular(path)
+        if folder and kind != "a folder":
+            return f"is {kind or 'a file'}, not a folder"
+        if not folder and kind:
+            return refusal(kind)  # what the write itself would say, before the work
         writable = os.access(path, os.W_OK | (os.X_OK if folder else 0))
-        return None if writable else "is not writable"
-    parent = path.parent
-    while not parent.exists() and parent != parent.parent:
-        parent = parent.parent
+        return _creates_files(path if folder else path.parent) if writable else "is not writable"
+    parent = _existing(path.parent)
     if not parent.is_dir():
         return f"{parent} is a file, not a folder"
     if not os.access(parent, os.W_OK | os.X_OK):
         return f"cannot create it: {parent} is not writable"
+    return _creates_files(parent)
+
+
+def _existing(path: Path) -> Path:
+    """`path` or the nearest folder above it that exists."""
+    while not path.exists() and path != path.parent:
+        path = path.parent
+    return path
+
+
+def _too_long(path: Path) -> str | None:
+    """A name in `path` longer than its file system allows, said; None if none is."""
+    try:
+        limit = os.pathconf(_existing(path.absolute().parent), "PC_NAME_MAX")
+    except (OSError, ValueError):
+        limit = NAME_MAX
+    longest = max(path.parts, key=lambda part: len(os.fsencode(part)))
+    size = len(os.fsencode(longest))
+    if size > limit:
+        return f"a name in it is {size} bytes long; the file system allows {limit}"
+    return None
+
+
+def _creates_files(folder: Path) -> str | None:
+    """None if a file can be made in `folder` (made and removed to know), else why not."""
+    try:
+        fd, probe = temp_file(folder, "frost-probe")
+    except OSError as err:
+        return f"cannot create files in {folder}: {err.strerror or err}"
+    os.close(fd)
+    os.unlink(probe)
     return None

@@ -7,8 +7,9 @@ from __future__ import annotations
 import argparse
 import math
 
-from sim.screen import touch_problem
-from sim.session import check_event
+from app.window.view import scale_problem
+from sim.screen import MAX_MELT_RADIUS, melt_problem, radius_problem, touch_problem
+from sim.session import MAX_SEED, MAX_TICK
 
 
 def backdrop(text: str) -> str:
@@ -33,61 +34,83 @@ def touch(text: str) -> tuple[float, float]:
     return x, y
 
 
-def positive(text: str, hi: float, what: str, zero: bool = False) -> float:
+def number(text: str) -> float:
+    """`text` as a float; NaN (refused by every range) when it is not a number."""
     try:
-        v = float(text)
+        return float(text)
     except ValueError:
-        v = math.nan
+        return math.nan
+
+
+def positive(text: str, hi: float, what: str, zero: bool = False) -> float:
+    v = number(text)
     if not (0 <= v <= hi if zero else 0 < v <= hi):
         lo = "[0" if zero else "(0"
         raise argparse.ArgumentTypeError(f"{text!r} must be {what} in {lo}, {hi:g}]")
     return v
 
 
-def whole(text: str) -> int:
-    """A tick count or seed: a whole number >= 0."""
+def whole(text: str, hi: int = MAX_TICK) -> int:
+    """A tick count: a whole number in [0, `hi`] (a session's rule for ticks)."""
     try:
         v = int(text)
     except ValueError:
         v = -1
-    if v < 0:
-        raise argparse.ArgumentTypeError(f"{text!r} must be a whole number >= 0")
+    if not 0 <= v <= hi:
+        raise argparse.ArgumentTypeError(f"{text!r} must be a whole number in [0, {hi}]")
     return v
 
 
+def seed(text: str) -> int:
+    """A random seed: what a session file keeps (sim.session.MAX_SEED)."""
+    return whole(text, MAX_SEED)
+
+
 def melt(text: str) -> dict:
-    """X,Y[,R]@TICK -> a melt event (R None: --melt-radius)."""
+    """X,Y[,R]@TICK -> a melt event (R None: --melt-radius); the spot and radius follow
+    sim.screen's rules for melts, the tick a session's."""
     try:
         spot, tick = text.split("@")
         values = [float(v) for v in spot.split(",")]
         if len(values) not in (2, 3):
             raise ValueError
-        event = {"tick": int(tick), "kind": "melt", "x": values[0], "y": values[1],
-                 "r": values[2] if len(values) == 3 else None}
-        check_event({**event, "r": 1.0 if event["r"] is None else event["r"]})  # finite, r > 0
-    except ValueError:  # SessionError is one
+        at = whole(tick)
+    except (ValueError, argparse.ArgumentTypeError):
         raise argparse.ArgumentTypeError(
             f"melt {text!r} must be X,Y[,R]@TICK (px, px, px, tick >= 0), e.g. 380,640,30@100") from None
-    return event
+    x, y, r = values[0], values[1], values[2] if len(values) == 3 else None
+    problem = melt_problem(x, y, MAX_MELT_RADIUS if r is None else r)  # None: --melt-radius's
+    if problem:
+        raise argparse.ArgumentTypeError(problem)
+    return {"tick": at, "kind": "melt", "x": x, "y": y, "r": r}
 
 
 def radius(text: str) -> float:
-    return positive(text, 10_000.0, "a radius in px")
+    """A melt radius in px (sim.screen's rule)."""
+    v = number(text)
+    problem = radius_problem(v)
+    if problem:
+        raise argparse.ArgumentTypeError(problem)
+    return v
 
 
 def melt_path(text: str) -> dict:
-    """X1,Y1:X2,Y2[:...]@TICK -> the path's points and tick."""
+    """X1,Y1:X2,Y2[:...]@TICK -> the path's points and tick; each point is a melt's
+    centre, so on the screen (the path between two of them is too)."""
     try:
         path, tick = text.split("@")
         points = [tuple(float(v) for v in p.split(",")) for p in path.split(":")]
         if len(points) < 2 or any(len(p) != 2 for p in points):
             raise ValueError
-        for x, y in points:
-            check_event({"tick": int(tick), "kind": "melt", "x": x, "y": y, "r": 1.0})
-    except ValueError:
+        at = whole(tick)
+    except (ValueError, argparse.ArgumentTypeError):
         raise argparse.ArgumentTypeError(
             f"melt path {text!r} must be X1,Y1:X2,Y2[:...]@TICK, e.g. 100,600:600,600@150") from None
-    return {"tick": int(tick), "points": points}
+    for x, y in points:
+        problem = touch_problem(x, y, what="melt path point")
+        if problem:
+            raise argparse.ArgumentTypeError(problem)
+    return {"tick": at, "points": points}
 
 
 def on_off(text: str) -> bool:
@@ -107,7 +130,12 @@ def count(text: str) -> int:
 
 
 def scale(text: str) -> float:
-    return positive(text, 8.0, "a scale")
+    """The window's size: the window's own rule (app.window.view.scale_problem)."""
+    v = number(text)
+    problem = scale_problem(v)
+    if problem:
+        raise argparse.ArgumentTypeError(problem)
+    return v
 
 
 def seconds(text: str) -> float:

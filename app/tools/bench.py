@@ -16,7 +16,7 @@ import time
 
 import numpy as np
 
-from app.cli.options import view_from
+from app.backdrops import view_from
 from app.gl.renderer import Renderer
 from app.tools.offscreen import make_context
 from sim import FrostSim, Params

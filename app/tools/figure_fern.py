@@ -14,12 +14,13 @@ from pathlib import Path
 
 import numpy as np
 
-from app.backdrops import DEFAULT_BACKDROP
-from app.cli.options import view_from
+from app.backdrops import DEFAULT_BACKDROP, view_from
 from app.images import save_png
 from app.tools.figure8 import compose_grid
 from app.tools.offscreen import Offscreen, make_context
+from app.tools.progress import Progress
 from sim import Params
+from sim.files import why
 from sim.session import touch_events
 
 TICKS = (25, 50, 125, 250, 500, 750)
@@ -30,9 +31,11 @@ TICKS_PER_SECOND = 25
 
 
 def grow_row(ctx, params: Params, seed: int, touches, ticks=TICKS,
+             progress: Progress | None = None,
              view: dict | None = None) -> list[tuple[str, np.ndarray]]:
     """Frames of one growth at each of `ticks`, with their labels."""
     offscreen = Offscreen(ctx, params, seed, view)
+    offscreen.progress = progress
     offscreen.grow(0, touch_events(touches))
     cells = []
     for tick in ticks:
@@ -45,7 +48,11 @@ def grow_row(ctx, params: Params, seed: int, touches, ticks=TICKS,
 
 
 def make_sheet(ctx, params: Params, seed: int = 0, view: dict | None = None) -> np.ndarray:
-    rows = [grow_row(ctx, params, seed, touches, view=view) for touches in ROWS.values()]
+    progress = Progress(len(ROWS) * TICKS[-1])  # both rows' ticks: a minute or more
+    rows = []
+    for name, touches in ROWS.items():
+        progress.begin(name)
+        rows.append(grow_row(ctx, params, seed, touches, progress=progress, view=view))
     title = (f"fern growth, seed {seed}: row 1 {list(ROWS)[0]}, row 2 {list(ROWS)[1]}; "
              f"ticks {', '.join(map(str, TICKS))}")
     return compose_grid(rows, title, CELL)
@@ -68,7 +75,7 @@ def run(args, params: Params) -> int:
     try:
         out = save_png(sheet, Path(path), meta)
     except OSError as err:
-        print(f"frost: error: cannot write {path}: {err.strerror or err}", file=sys.stderr)
-        return 1
+        print(f"frost: error: cannot write {why(err, path)}", file=sys.stderr)
+        return 2
     print(f"wrote {out}")
     return 0

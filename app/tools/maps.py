@@ -26,10 +26,7 @@ def grow(params: Params, seed: int, touches, ticks: int,
 
 
 def run(args, params: Params) -> int:
-    """`frost maps DIR [--touch X,Y] [--ticks N]`."""
-    if args.ticks < 0:
-        print(f"frost: error: --ticks {args.ticks} must be 0 or more", file=sys.stderr)
-        return 2
+    """`frost maps DIR [--touch X,Y] [--ticks N]` (checked by the command line)."""
     touches = [(0, x, y) for x, y in args.touch] or demo_touches(args.ticks)
     try:
         sim, geometry = grow(params, args.seed, touches, args.ticks, Progress(args.ticks).step)

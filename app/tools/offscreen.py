@@ -12,7 +12,7 @@ from app.images import read_image, save_png
 from app.tools.progress import Progress
 from sim import Params
 from sim.screen import HEIGHT, SIZE, WIDTH
-from sim.session import REGROW_GAP, Applied, Timeline, grow
+from sim.session import VERSION, Applied, Timeline, grow
 
 
 def make_context():
@@ -30,8 +30,8 @@ class Offscreen:
     """A Timeline (simulation, geometry, events) and a renderer fed every delta in order."""
 
     def __init__(self, ctx, params: Params, seed: int, view: dict | None = None,
-                 gap: int = REGROW_GAP):
-        self.timeline = Timeline(params, seed, WIDTH, HEIGHT, gap=gap)
+                 version: int = VERSION):
+        self.timeline = Timeline(params, seed, WIDTH, HEIGHT, version=version)
         self.renderer = Renderer(ctx, params, WIDTH, HEIGHT)
         self.renderer.set_view(view)
         self.fbo = ctx.simple_framebuffer(SIZE, components=4)

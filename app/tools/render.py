@@ -6,8 +6,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from app.cli.options import view_from
-from app.images import timestamped_path
+from app.backdrops import view_from
+from app.images import DEFAULT_FOLDER, timestamped_path
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
 from sim import Params
@@ -15,8 +15,6 @@ from sim.files import why
 from sim.gestures import MELT_SPACING, path_points
 from sim.screen import HEIGHT, WIDTH
 from sim.session import touch_events
-
-DEFAULT_FOLDER = Path("frost-out")
 
 
 def demo_touches(ticks: int) -> list[tuple[int, float, float]]:
@@ -56,23 +54,33 @@ def run(args, params: Params) -> int:
 
 
 def _run_demo(offscreen: Offscreen, args) -> int:
-    """No touches given: a short scripted demo, a PNG after each stage."""
+    """No touches given: a short scripted demo, a PNG after each stage, all under one
+    new name so that no earlier run's files are overwritten."""
     folder = Path(args.out).parent if args.out else DEFAULT_FOLDER
     script = demo_touches(args.ticks)
     stops = [t for t, _, _ in script[1:]] + [args.ticks]
+    stem = demo_stem(folder, stops)
     written = []
     try:
-        for (start, x, y), stop in zip(script, stops, strict=True):
+        for i, ((start, x, y), stop) in enumerate(zip(script, stops, strict=True)):
             offscreen.grow(stop - start, touch_events([(x, y)], start))
-            written.append(offscreen.snapshot(folder / f"frost-demo-tick{stop:04d}.png"))
+            if stop not in stops[i + 1:]:  # stages that end together (short runs) share a PNG
+                written.append(offscreen.snapshot(folder / f"{stem}-tick{stop:04d}.png"))
         if args.out:
             written.append(offscreen.snapshot(Path(args.out)))
     except OSError as err:
         error(f"cannot write {why(err, folder)}")
         return 2
-    print(f"wrote {len(written)} PNG files to {folder.resolve()}: "
+    files = "PNG file" if len(written) == 1 else "PNG files"
+    print(f"wrote {len(written)} {files} to {folder.resolve()}: "
           + ", ".join(p.name for p in written))
     return 0
+
+
+def demo_stem(folder: Path, stops: list[int]) -> str:
+    """frost-demo-TIMESTAMP (-N where needed): no file of the demo's exists under it."""
+    also = [(folder, f"-tick{stop:04d}.png") for stop in stops]
+    return timestamped_path(folder, "frost-demo", "", also).name
 
 
 def write(offscreen: Offscreen, path: Path, done: str) -> int:

@@ -3,6 +3,7 @@ bit for bit, and written as a PNG."""
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 from app.images import timestamped_path
@@ -11,7 +12,7 @@ from app.tools.progress import Progress
 from app.tools.render import DEFAULT_FOLDER, error, write
 from sim import Params
 from sim.screen import HEIGHT, WIDTH
-from sim.session import SessionError, SessionLog, regrow_gap
+from sim.session import SessionError, SessionLog
 
 
 def load_session(path) -> SessionLog:
@@ -28,12 +29,11 @@ def replay_offscreen(ctx, log_: SessionLog, steps: int | None = None,
     """An Offscreen that went through `log_` for `steps` steps (default: as recorded),
     shown with the session's view (and `background` instead of its own, if given)."""
     view = log_.view if background is None else {**(log_.view or {}), "background": background}
-    offscreen = Offscreen(ctx, Params(**log_.params), log_.seed, view,
-                          regrow_gap(log_.version))
+    offscreen = Offscreen(ctx, Params(**log_.params), log_.seed, view, log_.version)
     offscreen.progress = progress
     steps = log_.steps if steps is None else steps
     if offscreen.grow(steps, log_.events) < len(log_.events):
-        print(f"frost: warning: events after step {steps} were not applied")
+        print(f"frost: warning: events after step {steps} were not applied", file=sys.stderr)
     return offscreen
 
 

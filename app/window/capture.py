@@ -28,12 +28,16 @@ class Capture:
         self.screenshots: list[Path] = []
         self.names: set[str] = set()  # stems of screenshots and map folders asked for
 
-    def save_session(self, snap: Snapshot | None, path: Path | None = None) -> Path:
+    def save_session(self, snap: Snapshot | None, path: Path | None = None) -> Path | None:
         """The session up to the frame shown (`snap`) and the view it was shown with, to
         `path` (default: this run's file); replay it with `frost replay FILE`. OSError if it
-        cannot be written (nothing half-written is left)."""
+        cannot be written (nothing half-written is left). This run's file is not written
+        while the session has no event (None): it would replay bare glass."""
         log_ = self.thread.session(snap.steps, snap.events) if snap else self.thread.session(0, 0)
         log_.view = self.presenter.renderer.view()
+        if path is None and not log_.events:
+            log.info("session: no touch, melt or change to replay, so no session file")
+            return None
         if path is None:
             self.session_path = self.session_path or timestamped_path(
                 self.session_dir, "session", ".json")

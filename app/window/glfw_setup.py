@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import glfw
 
-from app.window.view import PHONE, fit_scale
+from app.window.view import PHONE, fit_scale, scale_problem
 
 TITLE = "frost"
 
@@ -27,8 +27,9 @@ def display_problem() -> str | None:
 
 def open_window(scale: float | None) -> tuple:
     """A GLFW window for the phone at `scale` (default: fit the monitor); (window, scale)."""
-    if scale is not None and not 0.05 <= scale <= 4.0:
-        raise WindowError(f"--scale {scale} must be in [0.05, 4]")
+    problem = None if scale is None else scale_problem(scale)
+    if problem:
+        raise WindowError(problem)
     errors: list[str] = []
     glfw.set_error_callback(lambda code, text: errors.append(f"{glfw_text(text)} ({code:#x})"))
     if not glfw.init():

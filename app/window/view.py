@@ -5,9 +5,19 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from sim.screen import SIZE as PHONE
+from sim.screen import touch_problem
 
 # Room left for window decorations and panels when fitting the monitor's work area.
 WORKAREA_MARGIN = 0.95
+# The window's sizes, as a fraction of the phone's 760x1280: from a 38x64 thumbnail to
+# 3040x5120 (four 4K monitors stacked). --scale and the window both take this range.
+SCALES = (0.05, 4.0)
+
+
+def scale_problem(scale: float) -> str | None:
+    """Why the window cannot be `scale` times the phone (NaN too), or None when it can."""
+    lo, hi = SCALES
+    return None if lo <= scale <= hi else f"scale {scale:g} must be in [{lo:g}, {hi:g}]"
 
 
 def fit_scale(workarea: tuple[int, int], phone: tuple[int, int] = PHONE) -> float:
@@ -38,7 +48,7 @@ def cursor_to_phone(cursor: tuple[float, float], window_size: tuple[int, int],
     vx, vy, vw, vh = letterbox(fb_size, phone)
     top = fh - vy - vh
     px, py = (fx - vx) * phone[0] / vw, (fy - top) * phone[1] / vh
-    if not (0 <= px < phone[0] and 0 <= py < phone[1]):
+    if touch_problem(px, py, phone):  # the rule sessions and the command line keep too
         return None
     return px, py
 

@@ -1,0 +1,204 @@
+"""Storms of touches in the looks beyond the paper: placement from cells in one pass for
+every area, bounded per tick, and a touch that brings water to its own seed
+(docs/method.md, 4.3, 5.2, 5.3). Checked by brute force over every crystal, or against a
+run driven step by step."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from sim import FrostSim, Params, frost
+from sim.scribble import play, spread
+from sim.session import SessionLog, Timeline, replay
+
+SMALL = (240, 320)  # a small screen keeps a frosted pane cheap to grow
+
+
+def frosted(name: str, touches: int, ticks: int, seed: int = 0, **over) -> FrostSim:
+    """A small screen under `touches` random touches (one a tick), then quiet ticks."""
+    sim = FrostSim(Params.preset(name, **over), *SMALL, seed=seed)
+    for x, y in np.random.default_rng(seed).uniform((0, 0), SMALL, (touches, 2)):
+        sim.touch(x, y)
+        sim.step()
+    for _ in range(ticks):
+        sim.step()
+    return sim
+
+
+def nearest_slow(sim: FrostSim, pts: np.ndarray) -> np.ndarray:
+    """Each point's distance to the nearest live crystal, over every crystal."""
+    c = sim.crystals[sim.crystal_alive].astype(np.float64)
+    return np.sqrt(((pts[:, None, :] - c[None, :, :]) ** 2).sum(axis=2)).min(axis=1)
+
+
+def free_slow(sim: FrostSim, pts: np.ndarray) -> np.ndarray:
+    """A point's cell lists no crystal: no live crystal's freezing disc (radius hc) meets
+    the cell, by brute force over every crystal and the cell's box."""
+    s, hc = sim.grid.cell, sim.params.hc
+    x0, y0 = np.floor(pts[:, 0] / s) * s, np.floor(pts[:, 1] / s) * s
+    c = sim.crystals[sim.crystal_alive].astype(np.float64)
+    dx = np.clip(c[None, :, 0], x0[:, None], x0[:, None] + s) - c[None, :, 0]
+    dy = np.clip(c[None, :, 1], y0[:, None], y0[:, None] + s) - c[None, :, 1]
+    return ~((dx ** 2 + dy ** 2) <= hc * hc).any(axis=1)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_spots_placed_from_cells_lie_in_their_own_area_on_glass(seed):
+    sim = frosted("fern", 15, 40, seed, active_radius=60.0)
+    areas = np.repeat(np.arange(len(sim.areas)), 300).astype(np.int32)
+    sim._cell_work = len(areas)
+    x, y, ok = sim._cell_spots_all(areas)
+    assert ok.sum() > len(areas) // 4  # a frosted screen still has glass between fronds
+    pts = np.column_stack((x, y)).astype(np.float64)[ok]
+    a = sim.areas[areas[ok]].astype(np.float64)
+    d = np.hypot(pts[:, 0] - a[:, 0], pts[:, 1] - a[:, 1])
+    assert (d <= a[:, 2] + 1e-3).all()  # in its own area's disc
+    # Inside the annulus' hole only where the annulus has no free cell (growth mode).
+    for k in np.unique(areas[ok][d < a[:, 3] - 1e-3]):
+        assert not free_slow(sim, annulus_centres(sim, k)).any()
+    assert ((pts >= 0) & (pts < SMALL)).all()
+    # Outside candidate cells, or (an area all ice) on glass: hc / 2 clear of every crystal.
+    glass = nearest_slow(sim, pts) >= sim.params.hc / 2 - 1e-3
+    assert (free_slow(sim, pts) | glass).all()
+
+
+def test_placement_from_cells_takes_two_passes_whatever_the_number_of_areas(monkeypatch):
+    sim = frosted("fern", 40, 60, active_radius=40.0)
+    assert len(sim.areas) >= 4
+    calls = []
+    real = frost._nearest_d2
+    monkeypatch.setattr(frost, "_nearest_d2", lambda s, p: calls.append(len(p)) or real(s, p))
+    sim._cell_work = 10_000
+    sim._cell_spots_all(np.repeat(np.arange(len(sim.areas)), 50).astype(np.int32))
+    assert 1 <= len(calls) <= 2  # one per round of draws, never one per area
+
+
+def test_a_tick_places_at_most_cell_work_walkers_from_cells(monkeypatch):
+    sim = frosted("fern", 40, 60, active_radius=40.0)
+    placed = []
+    real = FrostSim._cell_spots_all
+    monkeypatch.setattr(FrostSim, "_cell_spots_all",
+                        lambda s, area: placed.append(len(area)) or real(s, area))
+    monkeypatch.setattr(frost, "CELL_WORK", 150)
+    sim.step()  # the budget is renewed at a tick's start
+    totals = []
+    for _ in range(5):
+        placed.clear()
+        sim.step()
+        sim.touch(120.0, 160.0)  # touches between two steps count in the tick they follow
+        sim.touch(60.0, 60.0)
+        totals.append(sum(placed))
+    assert max(totals) == 150  # the demand reached the cap, and went no further
+
+
+def annulus_centres(sim: FrostSim, area: int) -> np.ndarray:
+    """Centres of on-screen cells lying well inside an area's annulus (a cell's width
+    from its rims), by brute force over the cells."""
+    cx, cy, r_out, r_in = (float(v) for v in sim.areas[area, :4])
+    s = sim.grid.cell
+    pts = np.array([((c + 0.5) * s, (r + 0.5) * s) for r in range(sim.grid.rows)
+                    for c in range(sim.grid.cols)])
+    d = np.hypot(pts[:, 0] - cx, pts[:, 1] - cy)
+    inside = (d >= r_in + s) & (d <= r_out - s) & (pts[:, 0] < sim.width) & (pts[:, 1] < sim.height)
+    return pts[inside].reshape(-1, 2)
+
+
+def test_a_full_area_skips_its_disc_draws():
+    sim = frosted("fern", 40, 60, active_radius=40.0)
+    full = sim._annulus_full(np.arange(len(sim.areas)))
+    assert full.any()
+    for a in np.flatnonzero(full):  # brute force: no free cell well inside its annulus
+        assert not free_slow(sim, annulus_centres(sim, a)).any()
+
+
+# ---- a touch brings water to its seed ---------------------------------------------------
+
+
+def test_a_touch_moves_its_areas_water_to_glass_around_its_seed():
+    params = Params.preset("fern")
+    sim = frosted("fern", 3, 80)
+    before = sim.water.copy()
+    n = len(before)
+    area = sim.touch(130.0, 150.0)
+    seed = sim.crystals[-1].astype(np.float64)
+    assert area < len(sim.areas)  # it joined an area that holds water
+    moved = np.flatnonzero((sim.water[:n] != before).any(axis=1))
+    assert 0 < len(moved) <= params.touch_water
+    assert (sim.water_area[moved] == area).all()  # its own area's water, none created
+    pts = sim.water[moved].astype(np.float64)
+    r = np.hypot(*(pts - seed).T)
+    hc = params.hc
+    assert ((r >= hc - 1e-3) & (r <= 2 * hc + 1e-3)).all()
+    near = nearest_slow(sim, pts)
+    assert (near >= hc / 2 - 1e-3).all()  # on glass
+    # No crystal within hc of it (those it could freeze to) is nearer than the seed.
+    assert ((r <= near + 1e-3) | (near >= hc - 1e-3)).all()
+
+
+def test_without_touch_water_a_touch_moves_no_walker():
+    sim = frosted("fern", 3, 80, touch_water=0)
+    before = sim.water.copy()
+    sim.touch(130.0, 150.0)
+    assert (sim.water[:len(before)] == before).all()
+
+
+def test_a_touch_that_opens_an_area_moves_no_walker():
+    sim = FrostSim(Params.preset("fern"), seed=0)
+    sim.touch(100.0, 100.0)
+    before = sim.water.copy()
+    sim.touch(600.0, 1100.0)  # far beyond the first area
+    assert len(sim.areas) == 2
+    assert (sim.water[:len(before)] == before).all()
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2, 3])
+def test_with_touch_water_a_touch_beside_ice_grows_within_a_second(seed):
+    sim = FrostSim(Params.preset("fern"), seed=seed)
+    sim.touch(380.0, 640.0)
+    for _ in range(150):
+        sim.step()
+    rng = np.random.default_rng(seed)
+    glass = [p for p in rng.uniform((180, 440), (580, 840), (400, 2))
+             if 2 * sim.params.hc < nearest_slow(sim, p[None])[0] < 40]
+    area = sim.touch(*glass[0])  # open glass beside the ice, in its area
+    assert area == 0 and len(sim.water_area)
+    s = len(sim.crystals) - 1
+    for _ in range(25):
+        sim.step()
+    assert s in sim.parents, "no child of the seed after 25 ticks"
+
+
+def test_play_counts_each_touchs_wait_as_a_step_by_step_run_sees_it():
+    params = Params.preset("fern")
+    schedule = [*spread(0, 30, SMALL), *([[]] * 20)]
+    waits = play(params, schedule, size=SMALL).first_growth
+    timeline = Timeline(params, 0, *SMALL)
+    planted, born = {}, np.zeros(0, np.int64)
+    for events in schedule:
+        for e in events:
+            planted[len(timeline.sim.crystals)] = timeline.tick
+            timeline.apply([e])
+        timeline.step()
+        born = np.append(born, np.full(len(timeline.sim.crystals) - len(born), timeline.tick))
+    parents = timeline.sim.parents
+    expected = sorted(int(born[parents == s].min(initial=timeline.tick)) - t
+                      for s, t in planted.items())
+    assert len(planted) == 30 and sorted(waits.tolist()) == expected
+
+
+# ---- session files: the placement of their version ---------------------------------------
+
+
+@pytest.mark.parametrize("version, batched", [(2, False), (3, True)])
+def test_a_session_file_places_water_as_its_version_did(version, batched):
+    log = SessionLog(0, Params.preset("fern").as_dict(),
+                     events=[{"tick": 0, "kind": "touch", "x": 380.0, "y": 640.0}],
+                     steps=3, version=version)
+    timeline = replay(SessionLog.from_json(log.as_json()))
+    assert timeline.sim.batched is batched
+    legacy = FrostSim(Params.preset("fern"), seed=0, batched=batched)
+    legacy.touch(380.0, 640.0)
+    for _ in range(3):
+        legacy.step()
+    assert (legacy.crystals == timeline.sim.crystals).all()
