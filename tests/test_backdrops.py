@@ -73,3 +73,20 @@ def test_check_view_takes_old_views_and_refuses_a_bad_background():
     for bad in (3, "", None, ["dusk"]):
         with pytest.raises(ValueError, match="background"):
             check_view({**LIGHT, "background": bad})
+
+
+def test_a_session_whose_background_is_gone_is_refused_before_replaying(tmp_path):
+    # Headless: the one-line error, status 2. Windowed: the same SessionError before the
+    # window opens (the window's set-up is not reached, so no display is needed here).
+    from argparse import Namespace
+
+    from app.cli.commands import _windowed_replay
+    from sim.session import SessionError, SessionLog
+
+    log_ = SessionLog(0, {}, view={**LIGHT, "background": str(tmp_path / "gone.png")})
+    path = log_.save(tmp_path / "s.json")
+    status, err = run_main(["replay", str(path), "--out", str(tmp_path / "o.png")])
+    assert_refused_in_one_line(status, err, "gone.png")
+    with pytest.raises(SessionError, match="gone.png"):
+        _windowed_replay(Namespace(replay=str(path), background=None))
+    assert _windowed_replay(Namespace(replay=str(path), background="dusk")) is not None
