@@ -155,8 +155,7 @@ class Renderer:
             raise ValueError(f"background must be {self.size[1]}x{self.size[0]}x3 uint8, "
                              f"got {image.shape} {image.dtype}")
         tex = self.ctx.texture(self.size, 3, np.ascontiguousarray(image).tobytes())
-        # The background pass fetches texels; the glass look's refraction reads between them.
-        tex.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
         return tex
 
     # ---- drawing ----------------------------------------------------------------
