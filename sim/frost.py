@@ -41,9 +41,10 @@ FREEZE_WORK = 400_000
 # Walkers one tick may place from cells (`_cell_spots_all`, where an area's disc draws
 # failed); the rest find no spot and are dropped, as in an area with no glass left. In an
 # area all ice (a fern look's pane after a storm of touches) nearly every walker hits ice
-# and is placed again each tick: ~3 700 cell placements a tick took the tick past 50 ms.
-# One touch's growth needs at most 173 a tick (fern, seed 0), Table 1's at most 13.
-CELL_WORK = 1000
+# and is placed again each tick: ~3 700 cell placements a tick took the tick past 50 ms
+# (1 000 still ~30). One touch's growth needs at most 173 a tick (fern, seed 0), Table 1's
+# at most 13.
+CELL_WORK = 400
 
 
 @dataclass(frozen=True)
@@ -222,20 +223,17 @@ class FrostSim:
         if len(mine) > self.params.touch_water:
             mine = np.sort(self.rng.choice(mine, self.params.touch_water, replace=False))
         sx, sy = (float(v) for v in self._crystals.raw()[seed])
-        hc, todo = self.params.hc, mine
-        for _ in range(CELL_TRIES):
-            if len(todo) == 0:
-                break
-            u = self.rng.random((2, len(todo)))
-            r = hc * np.sqrt(1.0 + 3.0 * u[0])  # uniform in the ring's area: hc .. 2 hc
-            px = (sx + r * np.cos(TWO_PI * u[1])).astype(np.float32)
-            py = (sy + r * np.sin(TWO_PI * u[1])).astype(np.float32)
-            good = (px >= 0) & (px < self.width) & (py >= 0) & (py < self.height)
-            pts = np.column_stack((px[good], py[good]))
-            d2, own = _nearest_d2(self, pts), (pts[:, 0] - sx) ** 2 + (pts[:, 1] - sy) ** 2
-            good[good] = (d2 >= np.float32(hc / 2) ** 2) & (own <= d2)  # the seed's water
-            self._wx.raw()[todo[good]], self._wy.raw()[todo[good]] = px[good], py[good]
-            todo = todo[~good]
+        hc, k = self.params.hc, len(mine)
+        u = self.rng.random((2, CELL_TRIES * k))  # every try at once: one nearest search
+        r = hc * np.sqrt(1.0 + 3.0 * u[0])  # uniform in the ring's area: hc .. 2 hc
+        px = (sx + r * np.cos(TWO_PI * u[1])).astype(np.float32)
+        py = (sy + r * np.sin(TWO_PI * u[1])).astype(np.float32)
+        good = (px >= 0) & (px < self.width) & (py >= 0) & (py < self.height)
+        pts = np.column_stack((px[good], py[good]))
+        d2, own = _nearest_d2(self, pts), (pts[:, 0] - sx) ** 2 + (pts[:, 1] - sy) ** 2
+        good[good] = (d2 >= np.float32(hc / 2) ** 2) & (own <= d2)  # the seed's water
+        placed, pick = _first_good(good.reshape(CELL_TRIES, k))
+        self._wx.raw()[mine[placed]], self._wy.raw()[mine[placed]] = px[pick], py[pick]
 
     def step(self) -> Added:
         """One tick: walk -> crystallize -> settle (the growth rule) -> link and upsample ->

@@ -34,10 +34,13 @@ class Played:
     walkers_max: int
     crystals: int
     backlog_max: int
-    # Ticks from each touch to its seed's first child (a seed melted first is left out;
-    # one never grown, or replanted by a rebuild first, counts the ticks it waited: a
-    # lower bound).
+    # Ticks from each touch on glass to its seed's first child (a seed melted first is
+    # left out; one never grown, or replanted by a rebuild first, counts the ticks it
+    # waited: a lower bound). A touch on glass lands at least hc from every crystal.
     first_growth: np.ndarray
+    # The same for touches on ice (within hc of a crystal: in its freezing area), which
+    # have little or no glass to grow into.
+    first_growth_on_ice: np.ndarray
 
 
 def stroke(start, end, spacing: float, kind: str, radius: float = MELT_RADIUS) -> list[list[dict]]:
@@ -141,32 +144,43 @@ def play(params: Params, schedule: list[list[dict]], seed: int = 0, tail: int = 
         walkers = max(walkers, len(timeline.sim.water_area))
         waiting = max(waiting, len(backlog))
     return Played(np.array(times), len(timeline.touches), walkers, len(timeline.sim.crystals),
-                  waiting, seeds.waits(timeline.sim.tick))
+                  waiting, *seeds.waits(timeline.sim.tick))
 
 
 class _Seeds:
     """Each touch's seed until its first child: how long a touch waits to grow."""
 
     def __init__(self) -> None:
-        self.planted: dict[int, int] = {}  # seed crystal -> the tick it was planted at
-        self.waited: list[int] = []
+        self.planted: dict[int, tuple[int, bool]] = {}  # seed -> (tick planted, on ice)
+        self.waited: list[tuple[int, bool]] = []
 
     def apply(self, timeline: Timeline, event: dict) -> None:
         sim, n = timeline.sim, len(timeline.sim.crystals)
+        on_ice = event["kind"] == "touch" and _on_ice(sim, event["x"], event["y"])
         timeline.apply([event])
         if timeline.sim is not sim:  # a rebuild replants every touch: stop watching
-            self.waited += [sim.tick - t for t in self.planted.values()]
+            self.waited += [(sim.tick - t, ice) for t, ice in self.planted.values()]
             self.planted = {}
         elif event["kind"] == "touch" and len(sim.crystals) > n:
-            self.planted[n] = sim.tick
+            self.planted[n] = (sim.tick, on_ice)
 
     def stepped(self, sim) -> None:
         if self.planted:
             alive = sim.crystal_alive
             for s in set(sim.parents[sim.added.crystals].tolist()).intersection(self.planted):
-                self.waited.append(sim.tick - self.planted.pop(s))
+                t, ice = self.planted.pop(s)
+                self.waited.append((sim.tick - t, ice))
             for s in [s for s in self.planted if not alive[s]]:
                 del self.planted[s]  # melted before it grew
 
-    def waits(self, tick: int) -> np.ndarray:
-        return np.array(self.waited + [tick - t for t in self.planted.values()], np.int64)
+    def waits(self, tick: int) -> tuple[np.ndarray, np.ndarray]:
+        """Ticks waited by the touches on glass, and by those on ice."""
+        waits = self.waited + [(tick - t, ice) for t, ice in self.planted.values()]
+        glass = np.array([w for w, ice in waits if not ice], np.int64)
+        return glass, np.array([w for w, ice in waits if ice], np.int64)
+
+
+def _on_ice(sim, x: float, y: float) -> bool:
+    """Within hc of a live crystal: in a crystal's freezing area (the cells' lists hold
+    every crystal that near, so this costs the ice around the touch)."""
+    return len(sim._crystals_near(x, y, sim.params.hc)) > 0

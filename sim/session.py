@@ -260,6 +260,11 @@ class Backlog:
             done += 1
         return done
 
+    def take_all(self) -> list:
+        """Every item still waiting, oldest first; the backlog is left empty."""
+        items, self._items = list(self._items), deque()
+        return items
+
     def __len__(self) -> int:
         return len(self._items)
 

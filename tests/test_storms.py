@@ -172,19 +172,23 @@ def test_with_touch_water_a_touch_beside_ice_grows_within_a_second(seed):
 def test_play_counts_each_touchs_wait_as_a_step_by_step_run_sees_it():
     params = Params.preset("fern")
     schedule = [*spread(0, 30, SMALL), *([[]] * 20)]
-    waits = play(params, schedule, size=SMALL).first_growth
+    played = play(params, schedule, size=SMALL)
     timeline = Timeline(params, 0, *SMALL)
     planted, born = {}, np.zeros(0, np.int64)
     for events in schedule:
         for e in events:
-            planted[len(timeline.sim.crystals)] = timeline.tick
+            sim = timeline.sim
+            ice = sim.crystal_alive.any() and nearest_slow(sim, np.array([[e["x"], e["y"]]]))[0] < params.hc
+            planted[len(sim.crystals)] = (timeline.tick, ice)
             timeline.apply([e])
         timeline.step()
         born = np.append(born, np.full(len(timeline.sim.crystals) - len(born), timeline.tick))
     parents = timeline.sim.parents
-    expected = sorted(int(born[parents == s].min(initial=timeline.tick)) - t
-                      for s, t in planted.items())
-    assert len(planted) == 30 and sorted(waits.tolist()) == expected
+    waits = {s: int(born[parents == s].min(initial=timeline.tick)) - t for s, (t, _) in planted.items()}
+    on_ice = {s for s, (_, ice) in planted.items() if ice}
+    assert len(planted) == 30 and 0 < len(on_ice) < 30
+    assert sorted(played.first_growth.tolist()) == sorted(w for s, w in waits.items() if s not in on_ice)
+    assert sorted(played.first_growth_on_ice.tolist()) == sorted(waits[s] for s in on_ice)
 
 
 # ---- session files: the placement of their version ---------------------------------------

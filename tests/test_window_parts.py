@@ -5,20 +5,24 @@ from __future__ import annotations
 
 import logging
 import re
+import threading
 import time
 
 import numpy as np
 import pytest
 from hypothesis import example, given
 from hypothesis import strategies as st
+from PIL import Image
 
 from app.simthread import thread as simthread
 from app.simthread.thread import SimThread
-from app.window import keys, tuning
+from app.window import keys, lost_display, tuning
+from app.window.capture import AUTOSAVE_PERIOD, Capture
 from app.window.keys import BINDINGS, Binding, help_lines, key_table
-from app.window.record import Recorder
+from app.window.record import FRAME_GAP, Recorder
+from app.window.status import IDLE_GAP, DrawRate, Status
 from app.window.view import cursor_to_phone, fit_scale, letterbox
-from sim import Params
+from sim import Params, preset_name
 from sim.gestures import path_points
 from sim.session import Backlog, SessionLog
 
@@ -202,6 +206,26 @@ def test_param_change_rebuilds_and_replays_the_touches_deterministically():
     assert np.array_equal(a.sim.crystals, b.sim.crystals)
 
 
+def test_every_map_export_asked_for_is_written_even_in_one_tick_or_at_stop(tmp_path):
+    """E pressed three times within one tick, then twice more as the window closes: five
+    folders, each with its three maps, and a notice for each; none overwrites another."""
+    thread = SimThread(Params(), 0, [(380, 640)])
+    folders = [tmp_path / f"maps-{i}" for i in range(5)]
+    thread._tick()
+    for folder in folders[:3]:
+        thread.send("export", folder)
+    thread._tick()
+    for folder in folders[3:]:
+        thread.send("export", folder)
+    thread.stop()
+    notices = [text for _, text in simthread._take_all(thread.notices)]
+    for folder in folders:
+        assert sorted(p.name for p in folder.iterdir()) == ["alpha.png", "height.png",
+                                                            "normal.png"]
+        assert sum(str(folder / "height.png") in text for text in notices) == 1
+    assert len(notices) == 5
+
+
 def test_pause_and_single_step():
     thread = SimThread(Params(), 0, [(380, 640)])
     thread.send("pause")
@@ -299,22 +323,214 @@ def test_a_failing_tick_is_reported_not_hung(monkeypatch, caplog):
     assert "simulation thread failed" in caplog.text and "Traceback" in caplog.text
 
 
+# ---- the HUD's figures ----------------------------------------------------------------------
+
+
+def test_the_draw_rate_counts_redraws_while_drawing_and_reads_idle_between():
+    rate = DrawRate()
+    for t in (0.0, 0.04, 0.08, 0.12, 1.0, 1.04):  # 25 fps, a pause, 25 fps again
+        rate.drew(t)
+    assert rate.fps(1.05) == pytest.approx(25.0)  # the 0.88 s gap is not drawing
+    assert rate.fps(1.04 + IDLE_GAP + 0.01) is None  # a still window is idle, not 3.6 fps
+    for k in range(10):  # slow growth: a redraw every 0.3 s
+        rate.drew(10.0 + 0.3 * k)
+    assert rate.fps(12.8) == pytest.approx(1 / 0.3)
+
+
+def test_the_tick_median_is_the_median_of_the_last_ticks_shown():
+    thread = SimThread(Params(), 0, [(380, 640)])
+    for _ in range(70):
+        thread._tick()
+    snaps = thread.drain()
+    last = sorted(s.stats.tick_ms for s in snaps[-simthread.RATE_WINDOW:])
+    middle = simthread.RATE_WINDOW // 2
+    assert snaps[-1].stats.tick_median_ms == pytest.approx((last[middle - 1] + last[middle]) / 2)
+
+
+def test_the_hud_shows_ticks_per_second_fps_while_drawing_and_the_tick_median():
+    stats = simthread.Stats(tick=120, tick_ms=30.0, crystals=5, water=7, rate=24.5, overruns=2,
+                            paused=False, tick_median_ms=3.25)
+    snap = simthread.Snapshot(None, stats, Params(), ())
+    view = type("View", (), {"show_features": True, "show_bumps": False,
+                             "light": (0.0, 0.0, 1.0)})()
+    status = Status()
+    idle = status.lines(0.0, snap, Params(), view, None, 1.5)[:3]
+    assert idle == ["sim 24.5 ticks/s  tick median  3.2 ms  overruns 2",
+                    "drawing idle (nothing changed)  render  1.5 ms",
+                    "tick 120  crystals 5  water 7  preset " + preset_name(Params())]
+    for k in range(5):
+        status.drawing.drew(100.0 + 0.05 * k)
+    status.refresh(100.2, lambda now: status.lines(now, snap, Params(), view, None, 1.5))
+    assert status.stats[1] == "drawing 20.0 fps  render  1.5 ms"
+
+
+# ---- the session kept on disk ---------------------------------------------------------------
+
+
+class FakeRenderer:
+    def __init__(self):
+        self.light = [0.0, 0.0, 1.0]
+
+    def view(self) -> dict:
+        return {"light": list(self.light), "features": True, "bumps": True}
+
+
+def keeper(tmp_path) -> tuple[SimThread, Capture, list[str], FakeRenderer]:
+    thread = SimThread(Params(), 0, [(380, 640)])
+    renderer, said = FakeRenderer(), []
+    presenter = type("FakePresenter", (), {"renderer": renderer})()
+    capture = Capture(thread, presenter, lambda text, *_: said.append(text), tmp_path / "shots",
+                      tmp_path / "sessions")
+    return thread, capture, said, renderer
+
+
+def ticked(thread: SimThread, ticks: int):
+    for _ in range(ticks):
+        thread._tick()
+    return thread.drain()[-1]
+
+
+def test_the_session_file_follows_the_run_at_most_every_autosave_period(tmp_path):
+    """What a process killed at once (SIGKILL, the display gone) leaves: the session as
+    it was at the last save, saved again once it changed and AUTOSAVE_PERIOD passed."""
+    thread, capture, said, renderer = keeper(tmp_path)
+    saved, snap = [], None
+    for now, ticks in ((0.0, 5), (1.0, 5), (AUTOSAVE_PERIOD, 5), (2 * AUTOSAVE_PERIOD, 0)):
+        snap = ticked(thread, ticks) if ticks else snap
+        capture.keep_session(snap, now)
+        capture.wait_kept()
+        saved.append(SessionLog.load(capture.session_path).steps)
+    assert saved == [5, 5, 15, 15]  # too soon at 1 s; unchanged at the end
+    renderer.light = [0.5, 0.0, 0.866]  # the view alone changed: saved with it
+    capture.keep_session(snap, 3 * AUTOSAVE_PERIOD)
+    capture.wait_kept()
+    assert SessionLog.load(capture.session_path).view["light"] == [0.5, 0.0, 0.866]
+    assert said == [] and len(list((tmp_path / "sessions").iterdir())) == 1
+
+
+def test_an_autosave_never_holds_a_frame_nor_outlives_the_last_save(tmp_path, monkeypatch):
+    """A slow disk: keep_session returns while its file is written, starts no second one
+    meanwhile, and the save at exit waits for it, so the file ends with the last state."""
+    thread, capture, _, _ = keeper(tmp_path)
+    gate, save, writes = threading.Event(), SessionLog.save, []
+
+    def slow_save(session, path):
+        writes.append(session.steps)
+        if len(writes) == 1:
+            assert gate.wait(10)
+        return save(session, path)
+
+    monkeypatch.setattr(SessionLog, "save", slow_save)
+    capture.keep_session(ticked(thread, 3), 0.0)  # returns with the write held at the gate
+    capture.keep_session(ticked(thread, 3), 2 * AUTOSAVE_PERIOD)  # still writing: skipped
+    last = ticked(thread, 3)
+    threading.Timer(0.2, gate.set).start()
+    capture.save_session(last)
+    capture.wait_kept()  # (nothing left to wait for)
+    assert writes == [3, 9] and SessionLog.load(capture.session_path).steps == 9
+
+
+def test_a_session_that_cannot_be_kept_is_told_once(tmp_path):
+    thread, capture, said, _ = keeper(tmp_path)
+    (tmp_path / "sessions").write_text("a file where the folder must be")
+    for k in range(3):
+        capture.keep_session(ticked(thread, 1), k * AUTOSAVE_PERIOD)
+        capture.wait_kept()
+    told = [text for _, text in simthread._take_all(thread.notices)]
+    assert len(told) == 1 and told[0].startswith("session NOT saved: ") and said == []
+
+
+def test_the_lost_display_handler_rescues_once_and_never_waits_on_itself():
+    """Xlib may call its handler from the main and the simulation thread, and again from
+    inside the rescue: one rescue; the rescuer returns at once; another thread waits (the
+    process ends when the rescue returns)."""
+    rescues = []
+    handler = lost_display._once(lambda: rescues.append(handler(None)))
+    first = threading.Thread(target=handler, args=(None,), daemon=True)
+    first.start()
+    first.join(5)
+    assert not first.is_alive() and rescues == [0]  # the inner call returned at once
+    other = threading.Thread(target=handler, args=(None,), daemon=True)
+    other.start()
+    other.join(0.3)
+    assert other.is_alive() and rescues == [0]  # waits; no second rescue
+
+
 # ---- recording ----------------------------------------------------------------------------
 
 
-def test_recording_keeps_every_second_frame_and_writes_webp(tmp_path):
-    rec = Recorder(tmp_path)
+class StepClock:
+    """A clock that reads `now`, moved by hand."""
+
+    def __init__(self):
+        self.now = 0.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+def record(tmp_path, times: list[float], end: float) -> tuple[list[int], int]:
+    """Frames offered at `times` (each a different grey), stopped at `end`: the durations
+    (ms) of the WebP written and how many frames were offered."""
+    clock = StepClock()
+    rec = Recorder(tmp_path, clock=clock)
     rec.toggle()
-    frame = np.zeros((1280, 760, 3), np.uint8)
-    for i in range(6):
-        frame[:, :, 0] = 40 * i
-        rec.offer(lambda: frame.copy())
-    assert rec.count == 3
+    for i, t in enumerate(times):
+        clock.now = t
+        rec.offer(lambda i=i: np.full((1280, 760, 3), (7 * i) % 256, np.uint8))
+    clock.now = end
+    rec.toggle()
     rec.close()
     (path,) = tmp_path.glob("*.webp")
-    from PIL import Image
     with Image.open(path) as image:
-        assert image.size == (380, 640) and image.n_frames == 3
+        assert image.size == (380, 640)
+        durations = []
+        for k in range(image.n_frames):
+            image.seek(k)
+            image.load()  # Pillow reads a frame's duration with its pixels
+            durations.append(image.info["duration"])
+    return durations, len(times)
+
+
+def test_a_recording_frame_lasts_until_the_next_one_kept(tmp_path):
+    # Hand-worked: 0.03 and 0.05 come sooner than FRAME_GAP (0.08 s) after 0, 0.52 after
+    # 0.5; the last frame lasts until the stop at 1.0.
+    durations, _ = record(tmp_path, [0.0, 0.03, 0.05, 0.09, 0.2, 0.5, 0.52], end=1.0)
+    assert durations == [90, 110, 300, 500]
+
+
+@pytest.mark.parametrize("fps, seconds", [(21.0, 4.0), (3.6, 10.0), (60.0, 2.0)])
+def test_a_recording_plays_as_long_as_it_was_recorded(tmp_path, fps, seconds):
+    """Drawn at 21 fps for 4 s (it played in 3.44 s), an idle window's 3.6 fps for 10 s
+    (2.8 s), or faster than a recording keeps: it plays for as long as it was made."""
+    times = [100.0 + k / fps for k in range(int(seconds * fps))]
+    durations, offered = record(tmp_path, times, end=100.0 + seconds)
+    assert sum(durations) == round(seconds * 1000)
+    assert min(durations) >= FRAME_GAP * 1000 - 1  # at most 12.5 frames a second kept
+    if fps < 1 / FRAME_GAP:
+        assert len(durations) == offered
+
+
+def test_recordings_stopped_while_another_is_written_get_their_own_files(tmp_path,
+                                                                         monkeypatch):
+    """R toggled fast: each recording's name is new though the writer of the one before
+    has not made its file yet."""
+    from app.window import record as recording
+    gate, write = threading.Event(), recording.write_animation
+    monkeypatch.setattr(recording, "write_animation",
+                        lambda *args: (gate.wait(10), write(*args))[1])
+    rec = Recorder(tmp_path)
+    for grey in (0, 255, 128):
+        rec.toggle()
+        rec.offer(lambda g=grey: np.full((1280, 760, 3), g, np.uint8))
+        rec.toggle()
+    gate.set()
+    rec.close()
+    greys = []
+    for path in tmp_path.glob("*.webp"):
+        with Image.open(path) as image:
+            greys.append(int(np.asarray(image.convert("L")).mean().round()))
+    assert sorted(greys) == [0, 128, 255]
 
 
 # ---- tuning -------------------------------------------------------------------------------

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import logging
 import queue
+import statistics
 import threading
 import time
 from collections import deque
@@ -42,6 +43,7 @@ class Stats:
     overruns: int  # scheduled ticks skipped because a tick ran late
     paused: bool
     handled: int = 0  # commands applied so far (the first `handled` that send() sent)
+    tick_median_ms: float = 0.0  # tick_ms's median over the last RATE_WINDOW ticks
 
 
 @dataclass(frozen=True)
@@ -97,11 +99,13 @@ class SimThread(threading.Thread):
         self.sent = self.handled = 0  # commands sent (main thread), applied (this thread)
         self._stop_event = threading.Event()
         self._stamps: deque[float] = deque(maxlen=RATE_WINDOW)
+        self._tick_times: deque[float] = deque(maxlen=RATE_WINDOW)  # ms, for the median
         self._clicks = Clicks()  # for the latency log
         self._handlers = {"touch": self._touch, "melt": self._melt, "params": self._set_params,
                           "clear": self._clear, "pause": self._pause, "step": self._single,
-                          "export": self._export}
+                          "export": self._ask_export}
         self.backlog = Backlog()  # commands wait here when more arrive than a tick takes
+        self._writers: list[threading.Thread] = []  # map exports being written
         self.timeline = Timeline(params, seed, width, height)
         events = [{"kind": "touch", "x": float(x), "y": float(y)} for x, y in touches]
         self.timeline.apply(events)
@@ -139,9 +143,24 @@ class SimThread(threading.Thread):
         return self.sent
 
     def stop(self, timeout: float = 1.0) -> None:
+        """End the thread, write the map exports still asked for, wait for every writer."""
         self._stop_event.set()
-        if self.is_alive():
+        if self.is_alive() and threading.current_thread() is not self:
             self.join(timeout)
+        self._last_exports()
+        for writer in self._writers:
+            writer.join()
+
+    def _last_exports(self) -> None:
+        """Exports sent but not yet taken by a tick: the maps of the last tick when the
+        thread has ended, else (a tick still running) reported as not written."""
+        waiting = [*self.backlog.take_all(), *_take_all(self.inbox)]
+        for folder in (c.arg for c in waiting if c.kind == "export"):
+            if self.is_alive():
+                self.notify(logging.WARNING, f"frost maps NOT written: {folder}: the "
+                            "simulation did not stop")
+            else:
+                self._export(folder)
 
     def drain(self) -> list[Snapshot]:
         """Every snapshot produced since the last call, oldest first."""
@@ -193,9 +212,10 @@ class SimThread(threading.Thread):
             self._clicks.forget_seeds()
         # A click made while paused shows (and is timed) at the next step.
         step = self._step() if not self.paused or notes.pop("single", False) else Step()
-        if "export" in notes:  # after any step: the arrays of the tick the snapshot shows
-            export_now(notes.pop("export"), self.timeline, self.seed, self.notify)
+        for folder in notes.pop("exports", []):  # after any step: the tick the snapshot shows
+            self._export(folder)
         self.tick_ms = (time.perf_counter() - t0) * 1000.0
+        self._tick_times.append(self.tick_ms)
         self.outbox.put(self._snapshot(step.delta, reset=reset, clicks=step.clicks,
                                        grown=step.grown, message=message,
                                        melts=(*melts, *step.melts)))
@@ -215,8 +235,10 @@ class SimThread(threading.Thread):
     def _stats(self) -> Stats:
         s = self._stamps
         rate = (len(s) - 1) / (s[-1] - s[0]) if len(s) > 1 and s[-1] > s[0] else 0.0
+        median = statistics.median(self._tick_times) if self._tick_times else 0.0
         return Stats(self.sim.tick, self.tick_ms, len(self.sim.crystals),
-                     len(self.sim.water_area), rate, self.overruns, self.paused, self.handled)
+                     len(self.sim.water_area), rate, self.overruns, self.paused, self.handled,
+                     median)
 
     # ---- commands: each takes (arg, notes) and applies at this tick ---------------
 
@@ -237,8 +259,11 @@ class SimThread(threading.Thread):
     def _clear(self, _arg, notes: dict) -> None:
         notes["applied"].append(self.timeline.apply([{"kind": "clear"}]))
 
-    def _export(self, folder, notes: dict) -> None:
-        notes["export"] = folder
+    def _ask_export(self, folder, notes: dict) -> None:
+        notes.setdefault("exports", []).append(folder)
+
+    def _export(self, folder) -> None:
+        self._writers.append(export_now(folder, self.timeline, self.seed, self.notify))
 
     def _pause(self, _arg, _notes: dict) -> None:
         self.paused = not self.paused

@@ -13,6 +13,7 @@ import logging
 import math
 import signal
 import time
+from collections.abc import Callable
 
 import glfw
 import moderngl
@@ -22,6 +23,7 @@ from app.window.actions import Actions
 from app.window.capture import Capture
 from app.window.glfw_setup import WindowError, open_window
 from app.window.keys import help_lines
+from app.window.lost_display import on_lost_display
 from app.window.pointer import Pointer
 from app.window.presenter import Presenter
 from app.window.record import Recorder
@@ -34,7 +36,6 @@ log = logging.getLogger("app.window")
 
 IDLE_WAIT = 0.1  # s to wait for events while minimized or idle
 HELP = help_lines("\t")  # the help overlay, key and description in two columns
-RECORD_CATCHUP = 4  # ticks a slow frame may still add to a recording
 
 
 class FrostWindow:
@@ -56,10 +57,12 @@ class FrostWindow:
         self.pointer = Pointer(window, self.sizes, self.thread, args.melt_radius,
                                lambda: self.actions.params.hc, self.shown_tick, self.status.melted)
         self.latest: Snapshot | None = None
-        self.running, self.interrupted, self.exit_status = True, False, 0
+        self.running, self.exit_status = True, 0
+        self.ended_by: signal.Signals | None = None  # the signal that ended the loop
         self.dirty = self.damaged = True  # render the phone again; present again
         self.iconified, self.snapshots, self.new_ticks = False, 0, 0
         self._connect()
+        self._x_handler = on_lost_display(self.display_lost)  # kept while the window is open
 
     def _connect(self) -> None:
         # Sizes come from callbacks: each GLFW call from Python waits for the GIL, which the
@@ -83,9 +86,13 @@ class FrostWindow:
     def stop(self) -> None:
         self.running = False
 
-    def interrupt(self) -> None:
-        """Ctrl-C: end the loop at the next frame, as Esc does."""
-        self.running, self.interrupted = False, True
+    def end_by(self, signum: int) -> None:
+        """Ctrl-C, SIGTERM or SIGHUP: end the loop at the next frame, as Esc does (the
+        session is saved), and exit as the shell reports that signal: 128 + its number.
+        Once the loop has ended (Esc, a signal, an error) it changes nothing."""
+        if self.running:
+            self.running, self.ended_by = False, signal.Signals(signum)
+            self.exit_status = 128 + signum
 
     def _minimized(self) -> bool:
         return self.iconified or 0 in self.sizes.framebuffer
@@ -98,6 +105,7 @@ class FrostWindow:
         deadline = self.status.started + (self.max_seconds or math.inf)
         while self.running and not glfw.window_should_close(self.window):
             self._drain()
+            self.capture.keep_session(self.latest, time.monotonic())
             if time.monotonic() >= deadline:
                 log.info("window: --max-seconds %.1f reached", self.max_seconds)
                 break
@@ -106,10 +114,26 @@ class FrostWindow:
             else:
                 self._frame()
             glfw.wait_events_timeout(IDLE_WAIT)
+        self.running = False
+        if self.ended_by is not None:
+            log.info("window: %s received: closing", self.ended_by.name)
         return self.exit_status
 
     def close(self) -> None:
         self.thread.stop()
+        self._write_out()
+
+    def display_lost(self) -> None:
+        """The X connection is gone (lost_display): Xlib ends the process with status 1
+        when this returns, so the files are written now, with no GLFW or GL call."""
+        log.error("window: the display connection is lost (X server gone or window killed)")
+        self.thread.wake = lambda: None  # its wake-ups would meet the dead connection
+        self.running, self.exit_status = False, 1
+        self.thread.stop()
+        self._write_out()
+
+    def _write_out(self) -> None:
+        """A running recording, the session and the summary (the thread has stopped)."""
         self.recorder.close()
         self._drain_notices()
         try:
@@ -155,18 +179,16 @@ class FrostWindow:
         self.latest = snap
 
     def _frame(self) -> None:
-        now, t0, presented = time.monotonic(), time.perf_counter(), self.status.frames
-        if self.dirty:
+        now, drawn = time.monotonic(), self.dirty
+        if drawn:
             self.presenter.render_phone()
-        if self.new_ticks and self.recorder.active:
-            # One recorded frame per tick (25 per second), whatever the frame rate.
-            for _ in range(min(self.new_ticks, RECORD_CATCHUP)):
-                self.recorder.offer(self.presenter.read_phone)
+        if self.new_ticks and self.recorder.active:  # each frame lasts until the next
+            self.recorder.offer(self.presenter.read_phone)
         self.new_ticks = 0
         if self.dirty or now >= self.status.hud_next or self.damaged:
             self._present(now)
-        if self.status.frames > presented:
-            self.status.timed(time.perf_counter() - t0)
+        if drawn:
+            self.status.drawing.drew(now)
 
     def _present(self, now: float) -> None:
         self.status.refresh(now, self._stats_lines)
@@ -195,35 +217,51 @@ def run(args, params: Params) -> int:
         return 1
     log.info("window: %dx%d at scale %.2f, framebuffer %dx%d",
              *glfw.get_window_size(window), scale, *glfw.get_framebuffer_size(window))
-    app = None
     try:
         app = FrostWindow(window, args, params)
-        with _ctrl_c_ends(app):
-            status = app.loop()
     except Exception:
         log.exception("window failed")
-        if app is not None:
-            app.exit_status = 1
-        return 1
-    finally:
-        if app is not None:
-            app.close()
         glfw.terminate()
-    if app.interrupted:  # closed and saved; the caller says so and exits 130
+        return 1
+    with _signals_end(app):
+        status = _run(app)
+    if app.ended_by == signal.SIGINT:  # closed and saved; the caller says so and exits 130
         raise KeyboardInterrupt
     return status
 
 
+def _run(app: FrostWindow) -> int:
+    """The frame loop, then the window closed (session saved) whatever ended it."""
+    try:
+        return app.loop()
+    except Exception:
+        log.exception("window failed")
+        app.running, app.exit_status = False, 1
+        return 1
+    finally:
+        app.close()
+        glfw.terminate()
+
+
+# Signals that end the window as Esc does, and the handler each has by default (a signal
+# the parent set to be ignored, as nohup does with SIGHUP, is left alone).
+ENDING_SIGNALS: dict[signal.Signals, Callable | int] = {
+    signal.SIGINT: signal.default_int_handler, signal.SIGTERM: signal.SIG_DFL,
+    signal.SIGHUP: signal.SIG_DFL}
+
+
 @contextlib.contextmanager
-def _ctrl_c_ends(app: FrostWindow):
-    """While the window runs, SIGINT ends the frame loop like Esc (and marks it
-    interrupted) instead of raising KeyboardInterrupt wherever the main thread is, e.g.
-    inside a GLFW callback, where ctypes would swallow it. Left alone when ignored."""
-    if signal.getsignal(signal.SIGINT) is not signal.default_int_handler:
-        yield
-        return
-    signal.signal(signal.SIGINT, lambda *_: app.interrupt())
+def _signals_end(app: FrostWindow):
+    """While the window runs and closes, Ctrl-C, SIGTERM and SIGHUP end the frame loop
+    like Esc, so the session, a running recording and queued exports are written, instead
+    of killing the process at once or raising KeyboardInterrupt wherever the main thread
+    is (inside a GLFW callback ctypes would swallow it). A second one while closing
+    changes nothing: the files are being written."""
+    mine = [s for s, default in ENDING_SIGNALS.items() if signal.getsignal(s) is default]
+    for signum in mine:
+        signal.signal(signum, lambda num, _frame: app.end_by(num))
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, signal.default_int_handler)
+        for signum in mine:
+            signal.signal(signum, ENDING_SIGNALS[signum])

@@ -1,5 +1,7 @@
 """Recording: phone frames, downscaled and thinned, written as an animated WebP on stop.
 
+Each frame lasts in the file as long as it did on the screen (the time to the next frame
+kept), so a recording plays at the speed it was made, whatever the frame rate was.
 Encoding runs on a writer thread so the window keeps drawing; `close` waits for it.
 """
 
@@ -7,59 +9,69 @@ from __future__ import annotations
 
 import logging
 import threading
-from datetime import datetime
+import time
 from pathlib import Path
 
 import numpy as np
 from PIL import Image
 
+from app.images import timestamped_path
 from sim.files import why, write_atomic
 
 log = logging.getLogger("app.window")
 
-# 380x640 and every 2nd phone frame: about 0.7 MB a frame, 12.5 frames a second.
+# 380x640 and at most 12.5 frames a second: about 0.7 MB a frame.
 FRAME_SIZE = (380, 640)
-KEEP_EVERY = 2
-FRAME_MS = 80  # two ticks at 25 ticks/s
-# At most 30 s (about 270 MB); recording stops and writes itself at the cap.
+FRAME_GAP = 0.08  # s: a frame offered sooner after the last one kept is skipped
+# At most 30 s at the full rate (about 270 MB); recording stops and writes itself at the cap.
 MAX_FRAMES = 375
 
 
-def recording_path(folder: str | Path) -> Path:
-    """frost-<time>.webp in `folder`, never an existing name."""
+def recording_path(folder: str | Path, taken=()) -> Path:
+    """frost-<time>.webp in `folder`, never an existing name nor one in `taken` (the
+    recordings of this run, whose writers may not have finished)."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    stem = "frost-" + datetime.now().strftime("%Y%m%d-%H%M%S")
-    path, n = folder / f"{stem}.webp", 1
-    while path.exists():
-        path, n = folder / f"{stem}-{n}.webp", n + 1
-    return path
+    return timestamped_path(folder, suffix=".webp", taken=taken)
 
 
-def write_animation(frames: list[Image.Image], path: Path) -> Path:
-    """Encode `frames` to `path` atomically (a half-written WebP never appears)."""
+def frame_durations(times: list[float], end: float) -> list[int]:
+    """Milliseconds each frame shows: from its time to the next frame's, the last until
+    `end` (at least FRAME_GAP). Rounded on the running total, so they add up to the
+    whole recording's length to the millisecond."""
+    ends = [*times[1:], max(end, times[-1] + FRAME_GAP)]
+    marks = [round((t - times[0]) * 1000.0) for t in (times[0], *ends)]
+    return [b - a for a, b in zip(marks, marks[1:], strict=False)]
+
+
+def write_animation(frames: list[Image.Image], durations: list[int], path: Path) -> Path:
+    """Encode `frames` (each shown its duration, ms) to `path` atomically (a half-written
+    WebP never appears)."""
     write_atomic(path, lambda f: frames[0].save(
-        f, format="WEBP", save_all=True, append_images=frames[1:], duration=FRAME_MS,
+        f, format="WEBP", save_all=True, append_images=frames[1:], duration=durations,
         loop=0, quality=80, method=0))
-    log.info("recording: %d frames written to %s", len(frames), path)
+    log.info("recording: %d frames (%.1f s) written to %s", len(frames), sum(durations) / 1000,
+             path)
     return path
 
 
-def _write_or_report(frames: list[Image.Image], path: Path, report) -> None:
+def _write_or_report(frames: list[Image.Image], durations: list[int], path: Path,
+                     report) -> None:
     """The writer thread: a failure goes to `report`, never kills the app."""
     try:
-        write_animation(frames, path)
+        write_animation(frames, durations, path)
     except OSError as err:
         report(f"recording NOT written: {why(err, path)}")
 
 
 class Recorder:
-    def __init__(self, folder: str | Path, report=None):
-        self.folder = folder
+    def __init__(self, folder: str | Path, report=None, clock=time.monotonic):
+        self.folder, self.clock = folder, clock
         # Where a failed write is told (from any thread): the window's HUD; else the log.
         self.report = report or (lambda text: log.warning("%s", text))
         self.frames: list[Image.Image] | None = None
-        self._offered = 0
+        self.times: list[float] = []  # when each frame kept was offered (clock's seconds)
+        self.names: set[str] = set()  # stems of this run's recordings
         self._writers: list[threading.Thread] = []
 
     @property
@@ -74,18 +86,18 @@ class Recorder:
         self.stop() if self.active else self.start()
 
     def start(self) -> None:
-        self.frames, self._offered = [], 0
+        self.frames, self.times = [], []
         log.info("recording: started")
 
     def offer(self, read) -> None:
-        """A new phone frame exists; `read()` returns it (HxWx3 uint8, top-down)."""
-        if self.frames is None:
-            return
-        self._offered += 1
-        if (self._offered - 1) % KEEP_EVERY:
+        """A new phone frame is on the screen now; `read()` returns it (HxWx3 uint8,
+        top-down)."""
+        now = self.clock()
+        if self.frames is None or (self.times and now - self.times[-1] < FRAME_GAP):
             return
         image: np.ndarray = read()
         self.frames.append(Image.fromarray(image).resize(FRAME_SIZE, Image.Resampling.BILINEAR))
+        self.times.append(now)
         if len(self.frames) >= MAX_FRAMES:
             log.info("recording: %d frames is the cap", MAX_FRAMES)
             self.stop()
@@ -95,13 +107,15 @@ class Recorder:
         if not frames:
             log.info("recording: stopped with no frames")
             return
+        durations = frame_durations(self.times, self.clock())
         try:
-            path = recording_path(self.folder)
+            path = recording_path(self.folder, self.names)
         except OSError as err:
             self.report(f"recording: {len(frames)} frames lost: {why(err, self.folder)}")
             return
-        writer = threading.Thread(target=_write_or_report, args=(frames, path, self.report),
-                                  name="frost-rec")
+        self.names.add(path.stem)
+        writer = threading.Thread(target=_write_or_report, name="frost-rec",
+                                  args=(frames, durations, path, self.report))
         writer.start()
         self._writers.append(writer)
 

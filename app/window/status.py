@@ -6,6 +6,7 @@ from __future__ import annotations
 import logging
 import statistics
 import time
+from collections import deque
 
 from app.simthread.thread import Snapshot, Stats
 from sim import Params, preset_name
@@ -14,7 +15,11 @@ log = logging.getLogger("app.window")
 
 HUD_PERIOD = 0.25  # s between HUD stats refreshes
 LOG_PERIOD = 2.0  # s between stats lines in the log
-FPS_PERIOD = 0.5  # s over which the HUD's fps is counted
+# The window draws the phone only when it changed: its frame rate is counted over the
+# redraws of the last DRAW_WINDOW s, a gap longer than IDLE_GAP (nothing changed) left out,
+# and it reads "idle" once no redraw came for IDLE_GAP.
+DRAW_WINDOW = 2.0
+IDLE_GAP = 0.5
 MESSAGE_SECONDS = 4.0
 # What the two click latencies of the log measure: the first frame showing the seed's
 # frost, and the first frame showing a crystal that froze onto that seed.
@@ -22,20 +27,41 @@ LATENCY_NOTES = {"frost": "seed shown", "growth": "first crystal frozen onto the
 NO_STATS = Stats(0, 0.0, 0, 0, 0.0, 0, False)
 
 
+class DrawRate:
+    """Frames per second while the phone is being redrawn (see DRAW_WINDOW)."""
+
+    def __init__(self):
+        self.times: deque[float] = deque()  # redraws of the last DRAW_WINDOW s
+
+    def drew(self, now: float) -> None:
+        self.times.append(now)
+        while self.times[0] < now - DRAW_WINDOW:
+            self.times.popleft()
+
+    def fps(self, now: float) -> float | None:
+        """None when idle: no redraw in the last IDLE_GAP s."""
+        t = [x for x in self.times if x >= now - DRAW_WINDOW]
+        if not t or now - t[-1] > IDLE_GAP:
+            return None
+        gaps = [b - a for a, b in zip(t, t[1:], strict=False) if b - a <= IDLE_GAP]
+        return len(gaps) / sum(gaps) if gaps and sum(gaps) > 0 else None
+
+
 class Status:
     """Counts frames, times them, and words what the window shows."""
 
     def __init__(self):
         self.started = time.monotonic()
-        self.frames, self.fps = 0, 0.0
-        self.frame_ms = 0.0  # render + present, moving average
+        self.frames = 0
+        self.drawing = DrawRate()
+        self.fps: float | None = None  # while drawing; None: idle
         self.message, self.message_until = "", 0.0
         self.latencies: list[tuple[str, int, float]] = []  # (kind, ticks, ms)
         self.clicks_pending: list[tuple[str, tuple[int, float], int]] = []
         self.drags: list[tuple[int, int, float]] = []  # right drags whose melts are not all shown
         self.drags_shown: list[tuple[int, float, int]] = []  # shown in the frame being made
         self.hud_next, self._log_next = 0.0, self.started + LOG_PERIOD
-        self._fps_mark = self._log_mark = (0, self.started)
+        self._log_mark = self.started
         self.stats: list[str] = []  # the HUD's stats lines, refreshed every HUD_PERIOD
 
     def say(self, text: str, level: int = logging.INFO) -> None:
@@ -62,10 +88,7 @@ class Status:
         """New HUD stats when they are due; `lines(now)` words them."""
         if now < self.hud_next:
             return
-        frames, since = self._fps_mark
-        if now - since >= FPS_PERIOD:
-            self.fps = (self.frames - frames) / (now - since)
-            self._fps_mark = (self.frames, now)
+        self.fps = self.drawing.fps(now)
         self.stats = lines(now)
         self.hud_next = now + HUD_PERIOD
 
@@ -82,14 +105,8 @@ class Status:
             log.info("warm finger: %d melts of radius %g px, all shown at tick %d", melts, radius, tick)
         self.drags_shown = []
         if now >= self._log_next:
-            self._log_next = now + LOG_PERIOD
-            frames, since = self._log_mark
-            self._log_mark = (self.frames, now)
-            log.info("stats: %.1f fps over %.1f s  %s", (self.frames - frames) / (now - since),
-                     now - since, "  ".join(lines(now)[:3]))
-
-    def timed(self, seconds: float) -> None:
-        self.frame_ms = 0.9 * self.frame_ms + 100.0 * seconds
+            self._log_next, since, self._log_mark = now + LOG_PERIOD, self._log_mark, now
+            log.info("stats (%.1f s): %s", now - since, "  ".join(lines(now)[:3]))
 
     def lines(self, now: float, snap: Snapshot | None, params: Params, view, recording: str | None,
               render_ms: float) -> list[str]:
@@ -98,10 +115,12 @@ class Status:
         s = snap.stats if snap else NO_STATS
         p = snap.params if snap else params  # what the frame shows
         state = [w for w in ("PAUSED" if s.paused else None, recording) if w]
+        drawing = "idle (nothing changed)" if self.fps is None else f"{self.fps:4.1f} fps"
         lines = [
-            f"fps {self.fps:5.1f}  frame {self.frame_ms:5.1f} ms  render {render_ms:5.1f} ms",
-            f"tick {s.tick}  {s.tick_ms:5.1f} ms  rate {s.rate:4.1f}/s  overruns {s.overruns}",
-            f"crystals {s.crystals}  water {s.water}  preset {preset_name(p)}",
+            f"sim {s.rate:4.1f} ticks/s  tick median {s.tick_median_ms:4.1f} ms  "
+            f"overruns {s.overruns}",
+            f"drawing {drawing}  render {render_ms:4.1f} ms",
+            f"tick {s.tick}  crystals {s.crystals}  water {s.water}  preset {preset_name(p)}",
             f"hc {p.hc:g}  D {p.D:g}  humidity {p.humidity}  step {p.step:g}  bump {p.bump:g}  "
             f"grow {onoff(p.grow)}",
             f"look {p.look}  features {onoff(view.show_features)}  bumps {onoff(view.show_bumps)}  "
