@@ -90,3 +90,13 @@ def test_a_session_whose_background_is_gone_is_refused_before_replaying(tmp_path
     with pytest.raises(SessionError, match="gone.png"):
         _windowed_replay(Namespace(replay=str(path), background=None))
     assert _windowed_replay(Namespace(replay=str(path), background="dusk")) is not None
+
+
+@pytest.mark.parametrize("argv, look", [(["--preset", "c-2"], "paper"), (["--preset", "fern"], "glass"),
+                                        (["--preset", "c-2", "--look", "glass"], "glass"),
+                                        (["--preset", "window", "--look", "paper"], "paper")])
+def test_the_look_comes_from_the_preset_or_look_and_rides_in_the_png(tmp_path, argv, look):
+    out = tmp_path / "f.png"
+    status, err = run_main(["render", *argv, "--touch", "380,640", "--ticks", "2", "--out", str(out)])
+    assert status == 0, err
+    assert json.loads(Image.open(out).info["parameters"])["look"] == look
