@@ -11,7 +11,7 @@ from setuptools.command.build_py import build_py
 
 HERE = Path(__file__).resolve().parent
 # (folder in the checkout, file pattern) -> app/_data/<folder>/ in the wheel
-DATA = [("shaders", "*"), ("assets", "background.png")]
+DATA = [("shaders", "*"), ("assets", "background.png"), ("assets", "lockscreen.png")]
 
 
 class BuildWithData(build_py):

@@ -56,14 +56,15 @@ def timestamped_path(folder, prefix: str = "frost", suffix: str = ".png", also=(
 
 
 def export_maps(folder, grid: np.ndarray, segments: np.ndarray, params: Params,
-                meta: dict | None = None, width: int = WIDTH, height: int = HEIGHT) -> dict[str, Path]:
+                meta: dict | None = None, width: int = WIDTH, height: int = HEIGHT,
+                triangles: np.ndarray | None = None) -> dict[str, Path]:
     """Write height.png, normal.png and alpha.png into `folder`; returns name -> path.
 
     `grid` is the geometry's height grid (FrostGeometry.heights, or the renderer's
     mirror of it) and `segments` the live skeleton (`sim.maps.live_segments`), both copied
     by the caller if another thread may change them. Each PNG carries `meta`, the
     parameters and what its values mean as text chunks."""
-    images, top = encode(compute_maps(grid, segments, params, width, height))
+    images, top = encode(compute_maps(grid, segments, params, width, height, triangles))
     common = {"parameters": params.as_dict(), **(meta or {}), "height_max_px": top,
               "Software": "frost (app.tools.maps)", "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
     folder = Path(folder)

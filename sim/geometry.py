@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .params import Params
+from .ridges import PipeRidges, top_height, widest
 from .screen import HEIGHT, WIDTH
 
 # Each segment gives 4 triangles of 3 vertices, each vertex x, y, z, nx, ny, nz.
@@ -35,6 +36,8 @@ class GeometryDelta:
     # After a melt: the px box (x0, y0, x1, y1) whose features the renderer must wipe
     # before drawing `features`, which then hold the survivors in that box.
     clear_box: tuple[float, float, float, float] | None = None
+    look: str = "paper"  # how the features are meant to be drawn (Params.look)
+    height_scale: float = 16.0  # px that the feature texture's 8-bit height 1.0 stands for
 
 
 def _feature_points(seg: np.ndarray, width: float, height: float) -> np.ndarray:
@@ -99,24 +102,43 @@ class FrostGeometry:
         reach = math.ceil(params.hc / self.spacing) + 1
         oy, ox = np.mgrid[-reach:reach + 1, -reach:reach + 1]
         self._stencil = (oy.ravel(), ox.ravel())
+        self.ridges = PipeRidges(params) if params.look == "glass" else None
 
     def reset(self) -> GeometryDelta:
         """Flat glass again; the delta tells the renderer to drop everything."""
         self.heights[:] = 0
         self._sum[:] = 0
+        if self.ridges is not None:
+            self.ridges = PipeRidges(self.params)
         empty = np.empty((0, VERTEX_FLOATS), np.float32)
-        return GeometryDelta(0, slice(0, self.rows), self.heights.copy(), empty, reset=True)
+        return self._delta(0, slice(0, self.rows), empty, reset=True)
+
+    def redraw(self, sim) -> GeometryDelta:
+        """The whole live ice drawn anew (after a change of look): a reset delta holding
+        every height row and every live feature. Costs O(ice), once."""
+        self.reset()
+        pts = np.concatenate((sim.crystals[sim.crystal_alive],
+                              sim.upsampled[sim.upsampled_alive]))
+        self._raise(pts)
+        if self.ridges is not None:
+            feats = self.ridges.grow(sim, slice(0, len(sim.crystals)))
+        else:
+            feats = live_features(sim, self.params)
+        return self._delta(sim.tick, slice(0, self.rows), feats, reset=True)
 
     def update(self, sim) -> GeometryDelta:
         """Raise the grid around the tick's new particles and build their features."""
         added = sim.added
         pts = np.concatenate((sim.crystals[added.crystals], sim.upsampled[added.upsampled]))
         rows = self._raise(pts)
+        if self.ridges is not None:
+            feats = self.ridges.grow(sim, added.crystals)
+            return self._delta(added.tick, rows, feats)
         # A segment melted before this update never shows (its bumps are still added:
         # the melt took them back out already, and sums commute).
         segs = sim.segments[added.segments][sim.segments_alive[added.segments]]
         feats = feature_triangles(segs, self.params.feature_width, self.params.feature_height)
-        return GeometryDelta(added.tick, rows, self.heights[rows].copy(), feats)
+        return self._delta(added.tick, rows, feats)
 
     def melt(self, sim, melted) -> GeometryDelta:
         """Take a `sim.melt` result (`Melted`) out of the ice: its particles' bumps are
@@ -124,13 +146,39 @@ class FrostGeometry:
         wiped box are sent again. Costs O(ice near the melt)."""
         pts = np.concatenate((sim.crystals[melted.crystals], sim.upsampled[melted.upsampled]))
         rows = self._raise(pts, -1.0)
+        if self.ridges is not None:
+            return self._melt_ridges(self.ridges, sim, melted, pts, rows)
         width, height = self.params.feature_width, self.params.feature_height
         dead = feature_triangles(sim.segments[melted.segments], width, height)
         box = _bounds(dead[:, :2], pts, self.params.hc)
         feats = np.empty((0, VERTEX_FLOATS), np.float32)
         if box is not None:
             feats = feature_triangles(_segments_in(sim, box, width), width, height)
-        return GeometryDelta(sim.tick, rows, self.heights[rows].copy(), feats, clear_box=box)
+        return self._delta(sim.tick, rows, feats, clear_box=box)
+
+    def _delta(self, tick: int, rows: slice, feats: np.ndarray, **more) -> GeometryDelta:
+        return GeometryDelta(tick, rows, self.heights[rows].copy(), feats, look=self.params.look,
+                             height_scale=feature_scale(self.params), **more)
+
+    def _melt_ridges(self, ridges: PipeRidges, sim, melted, pts: np.ndarray,
+                     rows: slice) -> GeometryDelta:
+        """The glass look's melt: the box holds the cut links (those of the melted
+        crystals and of their children) and the links above them that thinned; every live
+        ridge meeting it is sent again."""
+        thinner = ridges.melt(sim, melted.crystals)
+        c, parents = sim.crystals, sim.parents
+        ends = [melted.orphans, thinner, parents[thinner]]
+        dead = melted.crystals
+        ends.append(parents[dead][parents[dead] >= 0])
+        xy = c[np.concatenate(ends).astype(np.int64)]
+        reach = 2.0 * widest(self.params.hc) + 1.0  # a ridge's cap reaches w past its end
+        box = _bounds(np.vstack((xy - reach, xy + reach)), pts, self.params.hc)
+        feats = np.empty((0, VERTEX_FLOATS), np.float32)
+        if box is not None:
+            links = np.unique(sim.segments_link[sim.segments_near(box, 1.0)])
+            links = links[sim.crystal_alive[links] & (parents[links] >= 0)]
+            feats = ridges.triangles(sim, links)
+        return self._delta(sim.tick, rows, feats, clear_box=box)
 
     def _raise(self, pts: np.ndarray, sign: float = 1.0) -> slice:
         """Add (sign -1: take back) bump * falloff at every vertex within hc of each
@@ -156,6 +204,31 @@ class FrostGeometry:
         h = np.minimum(total, self.params.max_height)
         self.heights[lo:hi] = np.where(h < 1e-6, 0.0, h)
         return slice(lo, hi)
+
+
+def live_features(sim, params: Params) -> np.ndarray:
+    """The feature triangles of all the live ice as `params.look` draws them (what the
+    renderer holds after every delta; the glass look's widths counted afresh), for maps.
+    Leaves every geometry as it is."""
+    if params.look == "glass":
+        return PipeRidges(params).grow(sim, slice(0, len(sim.crystals)))
+    return feature_triangles(sim.segments[sim.segments_alive], params.feature_width,
+                             params.feature_height)
+
+
+def feature_height_bound(params: Params) -> float:
+    """The highest a sharp feature can stand, px: a link is at most about hc + step long
+    (the paper's features stand feature_height x its length), a glass ridge at most
+    ridges.top_height."""
+    if params.look == "glass":
+        return top_height(params)
+    return params.feature_height * (params.hc + params.step)
+
+
+def feature_scale(params: Params) -> float:
+    """The px the feature texture's 8-bit height stores as 1.0: 16 (steps of 0.06 px),
+    more where features can stand higher, so none is clipped."""
+    return max(16.0, float(np.ceil(feature_height_bound(params))))
 
 
 def _bounds(xy: np.ndarray, pts: np.ndarray, reach: float):

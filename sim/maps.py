@@ -23,7 +23,8 @@ from types import MappingProxyType
 import numpy as np
 
 from .frost import FrostSim
-from .material import Material
+from .geometry import live_features
+from .material import Material, film
 from .params import Params
 from .screen import HEIGHT, WIDTH
 
@@ -91,6 +92,45 @@ def _raise_pyramids(out: np.ndarray, seg: np.ndarray, length: np.ndarray, reach:
     np.maximum.at(out, py[hit] * width + px[hit], z[hit].astype(np.float32))
 
 
+def triangle_field(verts: np.ndarray, width: int, height: int) -> np.ndarray:
+    """Highest surface of feature triangles (3 rows of x, y, z, ... each) at every pixel
+    centre, as the renderer's depth test keeps it: H x W float32 (0 off the ice)."""
+    out = np.zeros(width * height, np.float32)
+    tri = np.asarray(verts, np.float64)[:, :3].reshape(-1, 3, 3)
+    lo = np.floor(tri[:, :, :2].min(axis=1) - 0.5).astype(np.int64)
+    size = np.ceil(tri[:, :, :2].max(axis=1) + 0.5).astype(np.int64) - lo
+    reach = size.max(axis=1)
+    for r in np.unique(reach):  # one stencil size per batch
+        pick = np.flatnonzero(reach == r)
+        per = max(1, _BATCH_SAMPLES // int(r * r + 1))
+        for start in range(0, len(pick), per):
+            rows = pick[start:start + per]
+            _raise_triangles(out, tri[rows], lo[rows], int(r), width, height)
+    return out.reshape(height, width)
+
+
+def _raise_triangles(out: np.ndarray, tri: np.ndarray, lo: np.ndarray, reach: int,
+                     width: int, height: int) -> None:
+    """Max the triangles' heights into `out` at the pixel centres of an r x r stencil."""
+    oy, ox = (a.ravel() for a in np.mgrid[0:reach, 0:reach])
+    px, py = lo[:, 0:1] + ox, lo[:, 1:2] + oy
+    x, y = px + 0.5, py + 0.5
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    area = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    ok = np.abs(area) > 1e-12
+    area = np.where(ok, area, 1.0)[:, None]
+
+    def edge(p, q):  # twice the signed area of (p, q, pixel), over the triangle's
+        return ((q[:, 0:1] - p[:, 0:1]) * (y - p[:, 1:2])
+                - (q[:, 1:2] - p[:, 1:2]) * (x - p[:, 0:1])) / area
+
+    wa, wb, wc = edge(b, c), edge(c, a), edge(a, b)
+    inside = ok[:, None] & (wa >= 0) & (wb >= 0) & (wc >= 0)
+    z = wa * a[:, 2:3] + wb * b[:, 2:3] + wc * c[:, 2:3]
+    hit = inside & (px >= 0) & (px < width) & (py >= 0) & (py < height)
+    np.maximum.at(out, py[hit] * width + px[hit], z[hit].astype(np.float32))
+
+
 def normal_map(height: np.ndarray, strength: float = 1.0) -> np.ndarray:
     """Unit tangent-space normals of a height field (px, row 0 at the top): H x W x 3,
     x right, y UP the image (OpenGL / Unity / Blender convention), z out of the glass.
@@ -108,10 +148,18 @@ def alpha_map(height: np.ndarray, material: Material | None = None) -> np.ndarra
 
 
 def compute_maps(grid: np.ndarray, segments: np.ndarray, params: Params,
-                 width: int = WIDTH, height: int = HEIGHT) -> FrostMaps:
-    """The three maps of a frost from its height grid and skeleton segments."""
+                 width: int = WIDTH, height: int = HEIGHT,
+                 triangles: np.ndarray | None = None) -> FrostMaps:
+    """The three maps of a frost from its height grid and skeleton segments, or, where
+    given, the renderer's own feature triangles (sim.geometry.live_features: the glass
+    look's ridges have no closed form over segments)."""
     z = bump_field(grid, params.grid_spacing, width, height)
-    z += feature_field(segments, params.feature_width, params.feature_height, width, height)
+    if params.look == "glass":
+        z = film(z).astype(np.float32)
+    if triangles is not None:
+        z += triangle_field(triangles, width, height)
+    else:
+        z += feature_field(segments, params.feature_width, params.feature_height, width, height)
     return FrostMaps(z, normal_map(z), alpha_map(z))
 
 
@@ -138,3 +186,9 @@ def live_segments(sim: FrostSim) -> np.ndarray:
     """The skeleton segments that have not melted (all of them in a sim without melting)."""
     alive = getattr(sim, "segments_alive", None)
     return sim.segments if alive is None else sim.segments[alive]
+
+
+def map_triangles(sim: FrostSim, params: Params) -> np.ndarray | None:
+    """The renderer's feature triangles where the maps need them (the glass look), else
+    None (the paper's pyramids have a closed form over the segments)."""
+    return live_features(sim, params) if params.look == "glass" else None

@@ -1,12 +1,31 @@
 """How the ice looks: the Phong terms and the thickness-to-opacity law.
 
-Shared data, numpy-free and GL-free: the renderer hands these to its shaders, and the
+Shared data, GL-free: the renderer hands these to its shaders, and the
 exported alpha map (sim.maps) follows the same law, so the two always agree.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from types import MappingProxyType
+
+import numpy as np
+
+# The ice shader's compile-time variant for each look (Params.look; shaders/ice.frag).
+LOOK_DEFINES = MappingProxyType({
+    "paper": (),
+    "glass": ("FILM", "SCATTER", "SPARKLE", "REFRACT"),
+})
+
+
+# The glass look's film (shaders/ice.frag's FILM, the same numbers): the bump surface is
+# clear below FILM_CUT px and rises FILM_GAIN times as fast above it.
+FILM_CUT, FILM_GAIN = 0.8, 1.3
+
+
+def film(bumps):
+    """The bump surface's height (a numpy array) as the glass look shows it."""
+    return np.where(bumps > FILM_CUT, FILM_GAIN * (bumps - FILM_CUT), 0.0)
 
 
 @dataclass(frozen=True)
@@ -21,3 +40,4 @@ class Material:
     opacity: float = 0.88  # very thick ice still lets a little of the view through
     density: float = 0.45  # alpha = opacity * (1 - exp(-density * thickness_px))
     relief: float = 1.6  # exaggerate slopes so px-high ice still catches the light
+    refraction: float = 12.0  # glass look: px the view behind shifts per unit slope

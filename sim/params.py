@@ -12,6 +12,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 NEIGHBOR_SEARCHES = ("candidate", "grid9")
+# How the ice is drawn (sim.material): the paper's per-segment features, or glass ridges.
+LOOKS = ("paper", "glass")
 # Parameters that only mean something with grains on.
 GRAIN_RULES = ("drift", "tip_hits", "side_hits", "side_gap", "order_hits", "max_order")
 # The fern rules: off (at their defaults) in the paper's look.
@@ -79,6 +81,9 @@ class Params:
                                    "x segment length (Sec. 3.5.1)", 0.0, 10.0)
     feature_height: float = _p(0.5, "feature_height: midpoint elevation of a sharp feature, "
                                     "x segment length (Sec. 3.5.1)", 0.0, 10.0)
+    look: str = _p("paper", "look: 'paper' (Fig. 6 features per segment, the paper's shading) or "
+                            "'glass' (a tapered ridge per link, clear-to-white film, glints, the "
+                            "view refracted; docs/method.md)", choices=LOOKS)
     neighbor_search: str = _p("candidate", "neighbor_search: 'candidate' (the paper's freezing "
                                            "candidate areas) or 'grid9' (Fig. 9's baseline)",
                               choices=NEIGHBOR_SEARCHES)
@@ -244,7 +249,8 @@ EXTRA_PRESETS: dict[str, dict[str, Any]] = {
     "fern": {"D": 2.5, "hc": 7.0, "humidity": 3000, "feature_width": 1.0, "feature_height": 0.8,
              "grains": True, "drift": 3.0,
              "tip_hits": 5, "side_hits": 10, "side_gap": 2, "long_jumps": True,
-             "launch": 30.0, "grow": True, "water_budget": 6000, "touch_water": 48},
+             "launch": 30.0, "grow": True, "water_budget": 6000, "touch_water": 48,
+             "look": "glass"},
 }
 # "window": fern frost nucleating on the frame, grown as fronds (README's window section;
 # docs/method.md, section 8). The frond rules at the prototype's values (SPEC section 1):

@@ -196,8 +196,14 @@ def check_view(view: Any) -> dict[str, Any]:
         raise ValueError(f"view {view!r}: 'light' must be 3 numbers, not all 0")
     if not all(isinstance(view.get(k), bool) for k in ("features", "bumps")):
         raise ValueError(f"view {view!r}: 'features' and 'bumps' must be true or false")
-    return {"light": [float(v) for v in light], "features": view["features"],
-            "bumps": view["bumps"]}
+    checked = {"light": [float(v) for v in light], "features": view["features"],
+               "bumps": view["bumps"]}
+    if "background" in view:  # a backdrop's name or an image file (older files: dusk)
+        background = view["background"]
+        if not isinstance(background, str) or not 0 < len(background) <= 4096:
+            raise ValueError(f"view {view!r}: 'background' must be a backdrop's name or a file")
+        checked["background"] = background
+    return checked
 
 
 def check_event(event: Any, size: tuple[int, int] = (WIDTH, HEIGHT)) -> dict[str, Any]:
@@ -365,11 +371,21 @@ class Timeline:
 
     def _params(self, event: dict, notes: dict) -> None:
         params = event["params"]
-        self._rebuild(params if isinstance(params, Params) else Params(**params), notes)
+        params = params if isinstance(params, Params) else Params(**params)
+        old: Params = self.params
+        if params.look != old.look and params.replace(look=old.look) == old:
+            self._relook(params, notes)  # the look alone changed: the same frost, redrawn
+            return
+        self._rebuild(params, notes)
         ticks = [t for t, _x, _y in self.touch_ticks()]
         melts = sum(e["kind"] == "melt" for e in self._pending)
         notes["message"] = (f"rebuilt with {len(ticks)} touches replanted in their order by "
                             f"tick {max(ticks, default=0)} and {melts} melts at their ticks")
+
+    def _relook(self, params: Params, notes: dict) -> None:
+        self.params, self.geometry = params, FrostGeometry(params, *self.size)
+        notes["reset"] = True
+        notes["deltas"][:] = [self.geometry.redraw(self.sim)]
 
     def _clear(self, _event: dict, notes: dict) -> None:
         self.touches, self.melts, self._pending, self._sown = (), [], [], []

@@ -229,14 +229,15 @@ OVERRIDES = {"--hc", "--D", "--humidity", "--water-budget", "--step", "--active-
              "--max-height", "--grid-spacing", "--feature-width", "--feature-height",
              "--neighbor-search", "--replenish", "--grow", "--grains", "--drift", "--tip-hits",
              "--side-hits", "--side-gap", "--long-jumps", "--launch", "--frame-sites",
-             "--pane-sites", "--temperature", "--touch-water"}
+             "--pane-sites", "--temperature", "--touch-water", "--look"}
 HELP_LISTS = {
     "replay": {"--help", "--headless", "--ticks", "--out", "--melt-radius", "--session-dir",
-               "--screenshot-dir", "--scale", "--max-seconds"},
-    "figure8": {"--help", "--seed", "--ticks", "--touch"} | OVERRIDES,
+               "--screenshot-dir", "--scale", "--max-seconds", "--background"},
+    "figure8": {"--help", "--seed", "--ticks", "--touch", "--background"} | OVERRIDES,
     "render": {"--help", "--preset", "--window-frost", "--seed", "--touch", "--ticks", "--out",
-               "--melt", "--melt-path", "--melt-radius"} | OVERRIDES,
-    "bench render": {"--help", "--preset", "--seed", "--frames", "--cover", "--max-ticks"}}
+               "--melt", "--melt-path", "--melt-radius", "--background"} | OVERRIDES,
+    "bench render": {"--help", "--preset", "--seed", "--frames", "--cover", "--max-ticks",
+                     "--background"}}
 
 
 def help_text(argv: list[str]) -> str:

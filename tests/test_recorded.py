@@ -308,7 +308,7 @@ def test_a_replay_with_a_moved_light_and_no_features_matches_the_live_frame(gl_c
     plain.renderer.render(plain.fbo)
     assert not np.array_equal(read_image(live.fbo), read_image(plain.fbo))
     text = Image.open(shot).text
-    assert json.loads(text["view"]) == VIEW
+    assert json.loads(text["view"]) == {**VIEW, "background": "dusk"}
     assert json.loads(text["touches"]) == [[0, 380.0, 640.0], [0, 300.0, 500.0]]
 
 

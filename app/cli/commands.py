@@ -8,10 +8,12 @@ import logging
 import re
 import sys
 
+from app.backdrops import load_backdrop, view_from
 from app.cli.options import WINDOW_DEFAULTS, has_display, params_from
 from app.cli.parser import PROG, build_parser, parser_for
 from app.cli.paths import check_paths
 from sim import Params
+from sim.files import one_line
 from sim.session import SessionError
 
 NEGATIVE = re.compile(r"-\.?\d")  # -1,0 or -.5@3: a value, not an option
@@ -132,6 +134,7 @@ def _window(args: argparse.Namespace, params: Params) -> int:
         from app.tools.render import run
         return run(args, params)
     from app.window.frost_window import run
+    args.view = view_from(args)
     return run(args, params)
 
 
@@ -158,7 +161,14 @@ def _windowed_replay(args: argparse.Namespace) -> Params:
     from app.tools.replay import load_session
 
     log_ = load_session(args.replay)
-    args.seed, args.touch, args.script, args.view = log_.seed, [], log_.events, log_.view
+    args.seed, args.touch, args.script = log_.seed, [], log_.events
+    args.view = view_from(args, log_.view)
+    background = (args.view or {}).get("background")
+    if background is not None:  # a session's own file may have gone since it was saved
+        try:
+            load_backdrop(background)
+        except ValueError as err:
+            raise SessionError(f"{one_line(str(args.replay))}: cannot replay: {err}") from None
     return Params(**log_.params)
 
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 import os
 
+from app.backdrops import BACKDROPS, DEFAULT_BACKDROP
 from app.cli import values
 from app.window.keys import DEFAULT_PRESET
 from app.window.view import SCALES
@@ -30,6 +31,13 @@ def add_preset(p) -> None:
                    help="the frosted window: frost nucleates on the screen's frame and a few pane "
                         "sites and grows over the whole pane, no touch needed (preset window, or "
                         "window mode on top of --preset, whose grains it turns on; default off)")
+
+
+def add_background(p) -> None:
+    p.add_argument("--background", type=values.backdrop, metavar="NAME|FILE",
+                   help=f"the view behind the glass: {' or '.join(BACKDROPS)} (built in), or a PNG "
+                        f"or JPEG file, scaled to cover {WIDTH}x{HEIGHT} and centre-cropped "
+                        f"(default {DEFAULT_BACKDROP}; a replay: the session's)")
 
 
 def add_seed(p) -> None:

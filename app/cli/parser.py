@@ -79,6 +79,7 @@ def _window() -> Parser:
     options.add_seed(p)
     options.add_touch(p, options.PLANT, "none")
     options.add_window(p)
+    options.add_background(p)
     options.add_ticks(p, options.DEFAULT_TICKS,
                       "with no display: how long the PNG render done instead grows")
     options.add_overrides(p)
@@ -99,6 +100,7 @@ def _render(root: Parser, subs) -> None:
     options.add_ticks(p, options.DEFAULT_TICKS, "how long to grow")
     options.add_out(p, demo=True)
     options.add_melts(p)
+    options.add_background(p)
     options.add_overrides(p)
 
 
@@ -109,6 +111,7 @@ def _replay(root: Parser, subs) -> None:
                      "display exists; headless (a PNG after --ticks) with --headless, --out or "
                      "--ticks, or with no display.", "FILE.json [options]")
     p.add_argument("replay", metavar="FILE.json", help="the session file")
+    options.add_background(p)
     g = p.add_argument_group("headless")
     g.add_argument("--headless", action="store_true", help="render offscreen, no window (default off)")
     options.add_ticks(g, None, "how far to replay")
@@ -124,6 +127,7 @@ def _figure8(root: Parser, subs) -> None:
     options.add_seed(p)
     options.add_ticks(p, options.DEFAULT_TICKS, "how long each preset grows")
     options.add_touch(p, "the one touch", "the centre, 380,640")
+    options.add_background(p)
     options.add_overrides(p, looks=())  # on top of each of Table 1's presets
 
 
@@ -135,6 +139,7 @@ def _figure(root: Parser, subs) -> None:
     p.add_argument("out", metavar="FILE.png", help="the sheet to write")
     options.add_preset(p)
     options.add_seed(p)
+    options.add_background(p)
     options.add_overrides(p)
 
 
@@ -173,3 +178,4 @@ def _bench_render(p: Parser) -> None:
                    help="fraction of the screen to frost before timing frames (default 0.5)")
     p.add_argument("--max-ticks", type=values.whole, default=600, metavar="N",
                    help="most ticks to grow toward --cover, ticks (default 600)")
+    options.add_background(p)

@@ -12,6 +12,17 @@ from sim.screen import MAX_MELT_RADIUS, melt_problem, radius_problem, touch_prob
 from sim.session import MAX_SEED, MAX_TICK
 
 
+def backdrop(text: str) -> str:
+    """A built-in backdrop's name or an image file that can be read."""
+    from app.backdrops import load_backdrop  # PIL: only when the option is used
+
+    try:
+        load_backdrop(text)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
+    return text
+
+
 def touch(text: str) -> tuple[float, float]:
     try:
         x, y = (float(v) for v in text.split(","))

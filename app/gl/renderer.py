@@ -22,19 +22,19 @@ import moderngl
 import numpy as np
 from PIL import Image
 
+from app.backdrops import DEFAULT_BACKDROP, load_backdrop
 from app.gl.shaders import load_program
 from app.resources import ASSET_DIR
 from sim.geometry import VERTEX_FLOATS, GeometryDelta
-from sim.material import Material
+from sim.material import LOOK_DEFINES, Material
 from sim.params import Params
 from sim.screen import HEIGHT, WIDTH
 
 log = logging.getLogger(__name__)
 
 BACKGROUND = ASSET_DIR / "background.png"
-# Feature heights are stored in 8 bits as z / FEATURE_HEIGHT_SCALE: 16 px covers a
-# 32 px segment at feature_height 0.5 (links are at most about hc + step long)
-# in steps of 0.06 px.
+# Feature heights are stored in 8 bits as z / height scale: 16 px (steps of 0.06 px)
+# unless features can stand higher (sim.geometry.feature_scale; each delta says).
 FEATURE_HEIGHT_SCALE = 16.0
 MAX_DEPTH = 64.0  # px; features higher than this share the nearest depth
 VERTEX_BYTES = VERTEX_FLOATS * 4
@@ -68,6 +68,8 @@ class Renderer:
         self.material = Material()
         self.show_features = True
         self.show_bumps = True
+        self.look, self.height_scale = params.look, FEATURE_HEIGHT_SCALE
+        self.backdrop = DEFAULT_BACKDROP  # the background's name (or file), for the view
         spacing = params.grid_spacing
         self.grid_size = (width // spacing + 1, height // spacing + 1)
         self._background = self._background_texture(background)
@@ -76,8 +78,8 @@ class Renderer:
         self.features = FeatureLayer(ctx, self.size)
         self._background_prog = load_program(ctx, "fullscreen.vert", "background.frag")
         self._background_pass = ctx.vertex_array(self._background_prog, [])
-        self._ice_prog = load_program(ctx, "tile.vert", "ice.frag")
-        self.tiles = TileSet(ctx, self._ice_prog, self.size, spacing)
+        self._ice_progs: dict[str, moderngl.Program] = {}
+        self.tiles = TileSet(ctx, self.size, spacing)
         self.reset()
 
     # ---- view state: what, besides the frost, decides the picture --------------------
@@ -86,13 +88,31 @@ class Renderer:
         """The light and the toggles as JSON (session files and PNGs carry it, so a
         replay draws the same picture; see sim.session.check_view)."""
         return {"light": [float(v) for v in self.light], "features": bool(self.show_features),
-                "bumps": bool(self.show_bumps)}
+                "bumps": bool(self.show_bumps), "background": self.backdrop}
 
     def set_view(self, view: dict | None) -> None:
-        """Show as `view` (from `view()`) says; None keeps the defaults."""
-        if view is not None:
+        """Show as `view` (from `view()`, or some of its keys) says; None keeps the
+        defaults. A background that cannot be read raises ValueError."""
+        view = view or {}
+        if "light" in view:
             self.light = tuple(float(v) for v in view["light"])
-            self.show_features, self.show_bumps = view["features"], view["bumps"]
+        self.show_features = view.get("features", self.show_features)
+        self.show_bumps = view.get("bumps", self.show_bumps)
+        if view.get("background", self.backdrop) != self.backdrop:
+            self.set_backdrop(view["background"])
+
+    def set_backdrop(self, name: str) -> None:
+        """The view behind the glass: a built-in backdrop's name or an image file."""
+        self.set_background_image(load_backdrop(name, self.size), name)
+
+    def set_background_image(self, image: np.ndarray, name: str) -> None:
+        """The view behind the glass from an H x W x 3 uint8 image (top row first)."""
+        self._background.write(np.ascontiguousarray(image, np.uint8).tobytes())
+        self.backdrop = name
+
+    def heights_grid(self) -> np.ndarray:
+        """A copy of the height grid the renderer holds (vertex (r, c) at px (c, r) x spacing)."""
+        return self._grid.copy()
 
     # ---- uploads ----------------------------------------------------------------
 
@@ -100,6 +120,8 @@ class Renderer:
         """Upload a tick's changes: its dirty height rows and its new feature vertices."""
         if delta.reset:
             self.reset()
+        self.look, self.height_scale = delta.look, delta.height_scale
+        self.features.height_scale = delta.height_scale
         if delta.clear_box is not None:
             self.features.wipe(delta.clear_box)
         if delta.rows.stop > delta.rows.start:
@@ -151,12 +173,20 @@ class Renderer:
             return
         self._heights.use(1)
         self.features.texture.use(2)
-        self._set(self._ice_prog, self._ice_uniforms())
+        prog = self.ice_program(self.look)
+        self._set(prog, self._ice_uniforms())
         # Premultiplied "over": frame = ice + (1 - alpha) * background.
         self.ctx.enable(moderngl.BLEND)
         self.ctx.blend_func = moderngl.ONE, moderngl.ONE_MINUS_SRC_ALPHA
-        self.tiles.render()
+        self.tiles.render(prog)
         self.ctx.disable(moderngl.BLEND)
+
+    def ice_program(self, look: str) -> moderngl.Program:
+        """The ice pass compiled for `look` (its #define variant), made on first use."""
+        if look not in self._ice_progs:
+            self._ice_progs[look] = load_program(self.ctx, "tile.vert", "ice.frag",
+                                                 LOOK_DEFINES[look])
+        return self._ice_progs[look]
 
     def _ice_uniforms(self) -> dict:
         m = self.material
@@ -165,7 +195,8 @@ class Renderer:
             "u_heights": 1, "u_ice": 2, "u_tile": float(TILE),
             "u_screen": self.size, "u_grid_size": self.grid_size,
             "u_spacing": float(self.params.grid_spacing),
-            "u_height_scale": FEATURE_HEIGHT_SCALE,
+            "u_height_scale": self.height_scale, "u_background": 0,
+            "u_refraction": m.refraction,
             "u_show_bumps": float(self.show_bumps), "u_show_features": float(self.show_features),
             "u_light": tuple(light / np.linalg.norm(light)),
             "u_ice_color": m.ice_color, "u_ambient": m.ambient, "u_diffuse": m.diffuse,
@@ -191,6 +222,7 @@ class FeatureLayer:
         self._fbo = ctx.framebuffer([self.texture], ctx.depth_renderbuffer(size))
         self._prog = load_program(ctx, "feature.vert", "feature.frag")
         self._pending = 0  # vertices queued in _vbo, not yet drawn into the texture
+        self.height_scale = FEATURE_HEIGHT_SCALE
         self._vbo = ctx.buffer(reserve=1 << 16, dynamic=True)
         self._array = self._vertex_array(self._vbo)
 
@@ -228,7 +260,7 @@ class FeatureLayer:
         prog = self._prog
         prog["u_screen"].value = self.size
         prog["u_max_depth"].value = MAX_DEPTH
-        prog["u_height_scale"].value = FEATURE_HEIGHT_SCALE
+        prog["u_height_scale"].value = self.height_scale
         self._fbo.use()
         self.ctx.viewport = (0, 0, *self.size)
         self.ctx.disable(moderngl.BLEND)
@@ -257,14 +289,13 @@ class TileSet:
     regrows there. The instance list is re-sent (at most a few kB) on the frames after
     one was added."""
 
-    def __init__(self, ctx: moderngl.Context, prog, size: tuple[int, int], spacing: int):
+    def __init__(self, ctx: moderngl.Context, size: tuple[int, int], spacing: int):
         self.ctx, self.spacing = ctx, spacing
         self.mask = np.zeros((-(-size[1] // TILE), -(-size[0] // TILE)), bool)
         corners = np.array([0, 0, 1, 0, 0, 1, 1, 1], np.float32)
         self._corners = ctx.buffer(corners.tobytes())
         self._instances = ctx.buffer(reserve=self.mask.size * 8)
-        self._vao = ctx.vertex_array(prog, [(self._corners, "2f", "in_corner"),
-                                            (self._instances, "2f/i", "in_tile")])
+        self._vaos: dict[int, moderngl.VertexArray] = {}  # per ice program (look)
         self._count, self._dirty = 0, False
 
     def clear(self) -> None:
@@ -310,11 +341,17 @@ class TileSet:
             self.mask[ty[new], tx[new]] = True
             self._dirty = True
 
-    def render(self) -> None:
+    def render(self, prog: moderngl.Program) -> None:
         if self._dirty:
             self._upload()
         if self._count:
-            self._vao.render(moderngl.TRIANGLE_STRIP, vertices=4, instances=self._count)
+            self._vao(prog).render(moderngl.TRIANGLE_STRIP, vertices=4, instances=self._count)
+
+    def _vao(self, prog: moderngl.Program) -> moderngl.VertexArray:
+        if prog.glo not in self._vaos:
+            self._vaos[prog.glo] = self.ctx.vertex_array(
+                prog, [(self._corners, "2f", "in_corner"), (self._instances, "2f/i", "in_tile")])
+        return self._vaos[prog.glo]
 
     def _upload(self) -> None:
         rows, cols = np.nonzero(self.mask)

@@ -11,14 +11,17 @@ __all__ = ["SHADER_DIR", "HEADER", "load_program", "shader_source"]
 HEADER = "#version 300 es\nprecision highp float;\n"
 
 
-def shader_source(name: str) -> str:
-    """The full source of shaders/`name` with the version and precision header."""
+def shader_source(name: str, defines: tuple[str, ...] = ()) -> str:
+    """The full source of shaders/`name` with the version and precision header, and a
+    `#define` for each of `defines` (a compile-time variant)."""
     path = SHADER_DIR / name
     if not path.is_file():
         raise FileNotFoundError(f"shader {name!r} not found in {SHADER_DIR}")
-    return HEADER + path.read_text()
+    return HEADER + "".join(f"#define {d}\n" for d in defines) + path.read_text()
 
 
-def load_program(ctx, vert: str, frag: str):
-    """A moderngl Program from two shader files of shaders/."""
-    return ctx.program(vertex_shader=shader_source(vert), fragment_shader=shader_source(frag))
+def load_program(ctx, vert: str, frag: str, defines: tuple[str, ...] = ()):
+    """A moderngl Program from two shader files of shaders/, the fragment shader
+    compiled with `defines`."""
+    return ctx.program(vertex_shader=shader_source(vert),
+                       fragment_shader=shader_source(frag, defines))

@@ -10,7 +10,7 @@ from collections.abc import Callable
 
 from app.images import export_maps
 from sim.files import why
-from sim.maps import live_segments
+from sim.maps import live_segments, map_triangles
 from sim.session import Timeline
 
 Notify = Callable[[int, str], None]
@@ -23,16 +23,17 @@ def export_now(folder, timeline: Timeline, seed: int, notify: Notify) -> threadi
     sim = timeline.sim
     grid, segments = timeline.geometry.heights.copy(), live_segments(sim).copy()
     meta = {"seed": str(seed), "touches": json.dumps(timeline.touches), "tick": str(sim.tick)}
-    job = (folder, grid, segments, timeline.params, meta, notify)
+    job = (folder, grid, segments, timeline.params, meta, notify,
+           map_triangles(sim, timeline.params))
     worker = threading.Thread(target=write_maps, args=job, name="frost-maps")
     worker.start()
     return worker
 
 
-def write_maps(folder, grid, segments, params, meta, notify: Notify) -> None:
+def write_maps(folder, grid, segments, params, meta, notify: Notify, triangles=None) -> None:
     """The export worker: success or failure goes to `notify`, nothing dies silently."""
     try:
-        paths = export_maps(folder, grid, segments, params, meta)
+        paths = export_maps(folder, grid, segments, params, meta, triangles=triangles)
     except OSError as err:
         notify(logging.WARNING, f"frost maps NOT written: {why(err, folder)}")
         return

@@ -1,7 +1,9 @@
 """Rendering benchmark: `frost bench render` (headless, 760x1280, about half the screen frosted).
 
-Prints the median frame time (ctx.finish() inside the timing), the median geometry
-update per tick, the median upload per tick, and one JSON line at the end.
+The paper's look and the glass look on the same growing frost in one run (one simulation,
+a geometry and a renderer per look, their frames interleaved): for each, the median frame
+time (ctx.finish() inside the timing), the median geometry update and upload per tick and
+the feature vertices sent; then one JSON line.
 """
 
 from __future__ import annotations
@@ -14,10 +16,12 @@ import time
 
 import numpy as np
 
+from app.backdrops import view_from
 from app.gl.renderer import Renderer
 from app.tools.offscreen import make_context
 from sim import FrostSim, Params
 from sim.geometry import FrostGeometry
+from sim.params import LOOKS
 from sim.screen import HEIGHT, WIDTH
 
 # Seven seeds spread over the screen; at c-2 each frosts a disc of about active_radius.
@@ -28,30 +32,59 @@ def ms(seconds: list[float]) -> float:
     return 1000.0 * statistics.median(seconds) if seconds else 0.0
 
 
-def grow(ctx, params: Params, seed: int, target: float, max_ticks: int):
-    """Grow until `target` of the screen is frosted; time geometry and uploads per tick."""
-    sim = FrostSim(params, WIDTH, HEIGHT, seed)
-    geometry = FrostGeometry(params, WIDTH, HEIGHT)
-    renderer = Renderer(ctx, params, WIDTH, HEIGHT)
-    fbo = ctx.simple_framebuffer((WIDTH, HEIGHT), components=4)
-    for x, y in TOUCHES:
-        sim.touch(x, y)
-    geo_t, up_t = [], []
-    while sim.tick < max_ticks and covered(geometry) < target:
-        sim.step()
+class Look:
+    """One look's geometry and renderer over the shared simulation, and its timings."""
+
+    def __init__(self, ctx, params: Params, look: str, view: dict | None):
+        self.name, self.params = look, params.replace(look=look)
+        self.geometry = FrostGeometry(self.params, WIDTH, HEIGHT)
+        self.renderer = Renderer(ctx, self.params, WIDTH, HEIGHT)
+        self.renderer.set_view(view)
+        self.geo_t: list[float] = []
+        self.up_t: list[float] = []
+        self.frames: list[float] = []
+        self.vertices = 0  # feature vertices sent over the run
+
+    def tick(self, ctx, sim, fbo) -> None:
         t0 = time.perf_counter()
-        delta = geometry.update(sim)
+        delta = self.geometry.update(sim)
         t1 = time.perf_counter()
-        renderer.apply(delta)
+        self.renderer.apply(delta)
         ctx.finish()
-        geo_t.append(t1 - t0)
-        up_t.append(time.perf_counter() - t1)
-        renderer.render(fbo)  # rasterizes the new features once, as the app does
+        self.geo_t.append(t1 - t0)
+        self.up_t.append(time.perf_counter() - t1)
+        self.vertices += len(delta.features)
+        self.renderer.render(fbo)  # rasterizes the new features once, as the app does
         ctx.finish()
+
+    def frame(self, ctx, fbo) -> None:
+        t0 = time.perf_counter()
+        self.renderer.render(fbo)
+        ctx.finish()
+        self.frames.append(time.perf_counter() - t0)
+
+    def result(self) -> dict:
+        return {"frame_ms": round(ms(self.frames), 2),
+                "frame_ms_min": round(1000 * min(self.frames, default=0), 2),
+                "geometry_ms_per_tick": round(ms(self.geo_t), 3),
+                "geometry_ms_max": round(1000 * max(self.geo_t, default=0), 3),
+                "upload_ms_per_tick": round(ms(self.up_t), 3), "feature_vertices": self.vertices}
+
+
+def grow(ctx, params: Params, seed: int, target: float, max_ticks: int, looks: list[Look], fbo):
+    """Grow until `target` of the screen is frosted, every look's geometry fed each tick."""
+    sim = FrostSim(params, WIDTH, HEIGHT, seed)
+    if not params.window_frost:
+        for x, y in TOUCHES:
+            sim.touch(x, y)
+    while sim.tick < max_ticks and covered(looks[0].geometry) < target:
+        sim.step()
+        for look in looks:
+            look.tick(ctx, sim, fbo)
         if sim.tick % 50 == 0:
-            print(f"tick {sim.tick}: {covered(geometry):.0%} frosted, "
+            print(f"tick {sim.tick}: {covered(looks[0].geometry):.0%} frosted, "
                   f"{len(sim.crystals)} crystals", flush=True)
-    return sim, geometry, renderer, fbo, geo_t, up_t
+    return sim
 
 
 def covered(geometry: FrostGeometry) -> float:
@@ -59,49 +92,54 @@ def covered(geometry: FrostGeometry) -> float:
     return float(np.count_nonzero(geometry.heights)) / geometry.heights.size
 
 
-def time_frames(ctx, renderer: Renderer, fbo, frames: int) -> list[float]:
-    renderer.render(fbo)
-    ctx.finish()
-    times = []
+def time_frames(ctx, looks: list[Look], fbo, frames: int) -> None:
+    """`frames` frames of each look, interleaved so that load hits them alike."""
+    for look in looks:
+        look.frame(ctx, fbo)  # warm-up: shaders compiled, queued features drawn
+        look.frames.clear()
     for _ in range(frames):
-        t0 = time.perf_counter()
-        renderer.render(fbo)
-        ctx.finish()
-        times.append(time.perf_counter() - t0)
-    return times
+        for look in looks:
+            look.frame(ctx, fbo)
 
 
 def run(args) -> int:
-    """`frost bench render [--preset NAME] [--seed N] [--frames N] [--cover F] [--max-ticks N]`."""
+    """`frost bench render [--preset NAME] [--seed N] [--frames N] [--cover F] [--max-ticks N]`:
+    the paper's look and the glass look on the same frost, in one run."""
     try:
         ctx = make_context()
     except RuntimeError as err:
         print(f"frost: error: {err}", file=sys.stderr)
         return 1
     params = Params.preset(args.preset)
-    sim, geometry, renderer, fbo, geo_t, up_t = grow(ctx, params, args.seed, args.cover,
-                                                     args.max_ticks)
-    frames = time_frames(ctx, renderer, fbo, args.frames)
-    result = {"preset": args.preset, "ticks": sim.tick, "frosted": round(covered(geometry), 3),
-              "crystals": len(sim.crystals), "segments": len(sim.segments),
-              "frame_ms": round(ms(frames), 2), "frame_ms_min": round(1000 * min(frames), 2),
-              "geometry_ms_per_tick": round(ms(geo_t), 3),
-              "geometry_ms_max": round(1000 * max(geo_t, default=0), 3),
-              "upload_ms_per_tick": round(ms(up_t), 3), "renderer": ctx.info["GL_RENDERER"],
-              "load_average": round(os.getloadavg()[0], 2)}
-    print(f"{sim.tick} ticks, {result['frosted']:.0%} of the screen frosted, "
+    fbo = ctx.simple_framebuffer((WIDTH, HEIGHT), components=4)
+    looks = [Look(ctx, params, name, view_from(args)) for name in LOOKS]
+    sim = grow(ctx, params, args.seed, args.cover, args.max_ticks, looks, fbo)
+    time_frames(ctx, looks, fbo, args.frames)
+    result = {"preset": args.preset, "ticks": sim.tick,
+              "frosted": round(covered(looks[0].geometry), 3), "crystals": len(sim.crystals),
+              "segments": len(sim.segments), **{look.name: look.result() for look in looks},
+              "renderer": ctx.info["GL_RENDERER"], "load_average": round(os.getloadavg()[0], 2)}
+    report(result, args.frames)
+    return 0
+
+
+def report(result: dict, frames: int) -> None:
+    print(f"{result['ticks']} ticks, {result['frosted']:.0%} of the screen frosted, "
           f"{result['crystals']} crystals")
-    print(f"frame: median {result['frame_ms']} ms, best {result['frame_ms_min']} ms over "
-          f"{args.frames} frames ({WIDTH}x{HEIGHT}, ctx.finish() inside)")
-    print(f"geometry update: median {result['geometry_ms_per_tick']} ms/tick "
-          f"(max {result['geometry_ms_max']})")
-    print(f"upload (dirty height rows + new feature vertices): median "
-          f"{result['upload_ms_per_tick']} ms/tick")
+    for name in LOOKS:
+        r = result[name]
+        print(f"{name}: frame median {r['frame_ms']} ms (best {r['frame_ms_min']}) over {frames} "
+              f"frames; geometry median {r['geometry_ms_per_tick']} ms/tick (max "
+              f"{r['geometry_ms_max']}); upload median {r['upload_ms_per_tick']} ms/tick; "
+              f"{r['feature_vertices']} feature vertices sent")
+    paper, glass = result["paper"], result["glass"]
+    print(f"glass / paper: frame {glass['frame_ms'] / max(paper['frame_ms'], 1e-9):.2f}x, "
+          f"feature vertices {glass['feature_vertices'] / max(paper['feature_vertices'], 1):.2f}x "
+          f"({WIDTH}x{HEIGHT}, ctx.finish() inside, frames interleaved)")
     if result["load_average"] > 0.5 * (os.cpu_count() or 1):
         print(f"note: load average {result['load_average']}: other work shares the CPU "
               "that llvmpipe renders on, so timings may be inflated")
     print(json.dumps(result))
-    return 0
 
 
 if __name__ == "__main__":  # the command's old name

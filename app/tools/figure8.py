@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
+from app.backdrops import DEFAULT_BACKDROP, view_from
 from app.images import save_png
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
@@ -80,9 +81,10 @@ def preset_stats(name: str, sim: FrostSim, centre, reach_tick: int | None) -> Pr
 
 
 def grow_preset(ctx, name: str, seed: int, ticks: int, touch, overrides: dict | None = None,
-                progress: Progress | None = None) -> tuple[np.ndarray, PresetStats]:
+                progress: Progress | None = None,
+                view: dict | None = None) -> tuple[np.ndarray, PresetStats]:
     """Grow preset `name` from `touch` for `ticks` ticks: its frame and its numbers."""
-    offscreen = Offscreen(ctx, Params.preset(name, **(overrides or {})), seed)
+    offscreen = Offscreen(ctx, Params.preset(name, **(overrides or {})), seed, view)
     offscreen.progress = progress
     reached: list[int] = []  # the first tick whose new crystals lie GROWTH_MARK px out
 
@@ -130,13 +132,14 @@ def format_table(stats: list[PresetStats]) -> str:
 
 
 def make_figure8(ctx, seed: int = 0, ticks: int = 250, touch=(380.0, 640.0),
-                 overrides: dict | None = None) -> tuple[np.ndarray, list[PresetStats]]:
+                 overrides: dict | None = None,
+                 view: dict | None = None) -> tuple[np.ndarray, list[PresetStats]]:
     """The sheet (H x W x 3 uint8) and every preset's numbers, a-1 ... c-3."""
     frames, stats = {}, []
     progress = Progress(len(PRESETS) * ticks)  # all nine presets' ticks
     for name in PRESETS:
         progress.begin(f"preset {name}")
-        frames[name], s = grow_preset(ctx, name, seed, ticks, touch, overrides, progress)
+        frames[name], s = grow_preset(ctx, name, seed, ticks, touch, overrides, progress, view)
         stats.append(s)
     title = f"Table 1 presets, seed {seed}, {ticks} ticks, touch {touch[0]:g},{touch[1]:g}"
     return compose(frames, title), stats
@@ -150,13 +153,15 @@ def run(args) -> int:
                  if getattr(args, n, None) is not None}
     try:
         ctx = make_context()
-        sheet, stats = make_figure8(ctx, args.seed, args.ticks, touch, overrides)
+        sheet, stats = make_figure8(ctx, args.seed, args.ticks, touch, overrides,
+                                    view_from(args))
     except (RuntimeError, ValueError) as err:
         print(f"frost: error: {err}", file=sys.stderr)
         return 1
     meta = {"presets": {s.name: PRESETS[s.name] for s in stats}, "overrides": overrides,
             "seed": args.seed, "ticks": args.ticks, "touch": list(touch),
             "stats": [s.__dict__ for s in stats], "Software": "frost (frost figure8)",
+            "background": getattr(args, "background", None) or DEFAULT_BACKDROP,
             "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
     try:
         path = save_png(sheet, Path(args.out), meta)

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from app.backdrops import DEFAULT_BACKDROP, view_from
 from app.images import save_png
 from app.tools.figure8 import compose_grid
 from app.tools.offscreen import Offscreen, make_context
@@ -30,9 +31,10 @@ TICKS_PER_SECOND = 25
 
 
 def grow_row(ctx, params: Params, seed: int, touches, ticks=TICKS,
-             progress: Progress | None = None) -> list[tuple[str, np.ndarray]]:
+             progress: Progress | None = None,
+             view: dict | None = None) -> list[tuple[str, np.ndarray]]:
     """Frames of one growth at each of `ticks`, with their labels."""
-    offscreen = Offscreen(ctx, params, seed)
+    offscreen = Offscreen(ctx, params, seed, view)
     offscreen.progress = progress
     offscreen.grow(0, touch_events(touches))
     cells = []
@@ -45,12 +47,12 @@ def grow_row(ctx, params: Params, seed: int, touches, ticks=TICKS,
     return cells
 
 
-def make_sheet(ctx, params: Params, seed: int = 0) -> np.ndarray:
+def make_sheet(ctx, params: Params, seed: int = 0, view: dict | None = None) -> np.ndarray:
     progress = Progress(len(ROWS) * TICKS[-1])  # both rows' ticks: a minute or more
     rows = []
     for name, touches in ROWS.items():
         progress.begin(name)
-        rows.append(grow_row(ctx, params, seed, touches, progress=progress))
+        rows.append(grow_row(ctx, params, seed, touches, progress=progress, view=view))
     title = (f"fern growth, seed {seed}: row 1 {list(ROWS)[0]}, row 2 {list(ROWS)[1]}; "
              f"ticks {', '.join(map(str, TICKS))}")
     return compose_grid(rows, title, CELL)
@@ -61,13 +63,14 @@ def run(args, params: Params) -> int:
     path = args.out
     try:
         ctx = make_context()
-        sheet = make_sheet(ctx, params, args.seed)
+        sheet = make_sheet(ctx, params, args.seed, view_from(args))
     except (RuntimeError, ValueError) as err:
         print(f"frost: error: {err}", file=sys.stderr)
         return 1
     meta = {"parameters": params.as_dict(), "seed": args.seed, "ticks": list(TICKS),
             "rows": {k: [list(t) for t in v] for k, v in ROWS.items()},
             "Software": "frost (frost figure fern)",
+            "background": getattr(args, "background", None) or DEFAULT_BACKDROP,
             "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
     try:
         out = save_png(sheet, Path(path), meta)

@@ -11,7 +11,7 @@ from app.tools.render import demo_touches
 from sim import FrostSim, Params, session
 from sim.files import why
 from sim.geometry import FrostGeometry
-from sim.maps import live_segments
+from sim.maps import live_segments, map_triangles
 from sim.session import Timeline, touch_events
 
 
@@ -35,7 +35,8 @@ def run(args, params: Params) -> int:
         return 2
     meta = {"seed": args.seed, "touches": [list(t) for t in touches], "tick": sim.tick}
     try:
-        paths = export_maps(args.out_dir, geometry.heights, live_segments(sim), params, meta)
+        paths = export_maps(args.out_dir, geometry.heights, live_segments(sim), params, meta,
+                            triangles=map_triangles(sim, params))
     except OSError as err:  # nothing was written: the set appears whole or not at all
         print(f"frost: error: cannot write the maps: {why(err, args.out_dir)}",
               file=sys.stderr)

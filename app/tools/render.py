@@ -6,6 +6,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from app.backdrops import view_from
 from app.images import DEFAULT_FOLDER, timestamped_path
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
@@ -43,7 +44,7 @@ def run(args, params: Params) -> int:
     except RuntimeError as err:
         error(err)
         return 1
-    offscreen = Offscreen(ctx, params, args.seed)
+    offscreen = Offscreen(ctx, params, args.seed, view_from(args))
     offscreen.progress = Progress(args.ticks)
     if args.touch or params.window_frost:  # a window frosts from its frame untouched
         offscreen.grow(args.ticks, touch_events(args.touch) + melt_events(args))

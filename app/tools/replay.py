@@ -25,11 +25,11 @@ def load_session(path) -> SessionLog:
 
 
 def replay_offscreen(ctx, log_: SessionLog, steps: int | None = None,
-                     progress: Progress | None = None) -> Offscreen:
+                     progress: Progress | None = None, background: str | None = None) -> Offscreen:
     """An Offscreen that went through `log_` for `steps` steps (default: as recorded),
-    shown with the session's view."""
-    offscreen = Offscreen(ctx, Params(**log_.params), log_.seed, log_.view,
-                          log_.version)
+    shown with the session's view (and `background` instead of its own, if given)."""
+    view = log_.view if background is None else {**(log_.view or {}), "background": background}
+    offscreen = Offscreen(ctx, Params(**log_.params), log_.seed, view, log_.version)
     offscreen.progress = progress
     steps = log_.steps if steps is None else steps
     if offscreen.grow(steps, log_.events) < len(log_.events):
@@ -47,7 +47,7 @@ def run(args) -> int:
         return 2 if isinstance(err, SessionError) else 1
     progress = Progress(log_.steps if args.ticks is None else args.ticks)
     try:
-        offscreen = replay_offscreen(ctx, log_, args.ticks, progress)
+        offscreen = replay_offscreen(ctx, log_, args.ticks, progress, args.background)
     except ValueError as err:  # an event the simulation refuses
         error(f"{args.replay}: cannot replay: {err}")
         return 2

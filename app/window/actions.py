@@ -9,6 +9,7 @@ from collections.abc import Callable
 
 import glfw
 
+from app.backdrops import next_backdrop
 from app.simthread.thread import SimThread, Snapshot
 from app.window import tuning
 from app.window.capture import Capture
@@ -42,6 +43,8 @@ class Actions:
                  redraw: Callable[[], None], quit_: Callable[[], None]):
         self.params, self.thread, self.presenter = params, thread, presenter
         self.status, self.redraw = status, redraw
+        # The backdrop shown at the start (a --background file joins the X key's cycle).
+        self.own_backdrop: str | None = None
         self.keys = key_table(lambda name: getattr(glfw, f"KEY_{name}"))
         self.table: dict[str, Callable] = {
             "pause": lambda _: thread.send("pause"),
@@ -53,7 +56,9 @@ class Actions:
             "shift": lambda arg: self._tune(tuning.shifted, *arg),
             "preset": lambda name: self._tune(tuning.preset, name),
             "toggle_param": lambda name: self._tune(tuning.toggled, name),
+            "cycle_param": lambda name: self._tune(tuning.cycled, name),
             "toggle_view": self._toggle_view, "light": self._move_light,
+            "backdrop": self._next_backdrop,
             "toggle_hud": lambda _: self._toggle_hud("visible"),
             "toggle_help": lambda _: self._toggle_hud("show_help"),
             "quit": lambda _: quit_()}
@@ -80,6 +85,18 @@ class Actions:
         setattr(renderer, name, not getattr(renderer, name))
         self.redraw()
         self.status.say(f"{name} {onoff(getattr(renderer, name))}")
+
+    def _next_backdrop(self, _arg) -> None:
+        renderer = self.presenter.renderer
+        self.own_backdrop = self.own_backdrop or renderer.backdrop
+        name = next_backdrop(renderer.backdrop, self.own_backdrop)
+        try:
+            renderer.set_backdrop(name)
+        except ValueError as err:  # the file went away since the start
+            self.status.say(f"refused: {err}", logging.WARNING)
+            return
+        self.redraw()
+        self.status.say(f"background {name}")
 
     def _move_light(self, arg) -> None:
         self.presenter.renderer.light = moved_light(self.presenter.renderer.light, *arg)

@@ -123,7 +123,7 @@ class Status:
             f"tick {s.tick}  crystals {s.crystals}  water {s.water}  preset {preset_name(p)}",
             f"hc {p.hc:g}  D {p.D:g}  humidity {p.humidity}  step {p.step:g}  bump {p.bump:g}  "
             f"grow {onoff(p.grow)}",
-            f"features {onoff(view.show_features)}  bumps {onoff(view.show_bumps)}  "
+            f"look {p.look}  features {onoff(view.show_features)}  bumps {onoff(view.show_bumps)}  "
             "light ({:.2f}, {:.2f}, {:.2f})".format(*view.light),
             "  ".join(state) or "running",
         ]

@@ -5,6 +5,8 @@ Each returns a new, validated Params or raises ValueError saying why not.
 
 from __future__ import annotations
 
+from dataclasses import fields
+
 from sim import EXTRA_PRESETS, Params, all_presets
 from sim.params import WINDOW_RULES
 
@@ -30,6 +32,12 @@ def shifted(params: Params, name: str, delta: float) -> Params:
 def toggled(params: Params, name: str) -> Params:
     """A boolean parameter (grow) switched."""
     return changed(params, name, not getattr(params, name))
+
+
+def cycled(params: Params, name: str) -> Params:
+    """A parameter with a list of choices (look) set to its next choice."""
+    choices = next(f.metadata["choices"] for f in fields(Params) if f.name == name)
+    return changed(params, name, choices[(choices.index(getattr(params, name)) + 1) % len(choices)])
 
 
 def preset(params: Params, name: str) -> Params:

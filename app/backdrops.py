@@ -1,0 +1,75 @@
+"""The view behind the glass: the built-in backdrops by name, or any PNG or JPEG file,
+scaled to cover the screen and centre-cropped. Shared by the window, every offline
+command and the command line's check of --background."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+from app.resources import ASSET_DIR
+from sim.files import one_line
+from sim.screen import HEIGHT, WIDTH
+
+# Name -> file in assets/ and the script that draws it.
+BACKDROPS = {"dusk": ("background.png", "make_background.py"),
+             "lockscreen": ("lockscreen.png", "make_lockscreen.py")}
+DEFAULT_BACKDROP = "dusk"
+
+
+def load_backdrop(name: str, size: tuple[int, int] = (WIDTH, HEIGHT)) -> np.ndarray:
+    """Backdrop `name` (built-in, or a file) as H x W x 3 uint8, top row first, covering
+    `size` (width, height); ValueError in one line if it cannot be read."""
+    path = backdrop_path(name)
+    try:
+        with Image.open(path) as im:
+            im.load()
+            image = im.convert("RGB")
+    except (OSError, ValueError, Image.DecompressionBombError) as err:
+        raise ValueError(f"background {one_line(name)}: cannot read it as an image "
+                         f"({one_line(str(err))})") from err
+    return np.asarray(cover(image, size))
+
+
+def backdrop_path(name: str) -> Path:
+    """The file of backdrop `name`: a built-in's PNG in assets/, else `name` as a path."""
+    if name in BACKDROPS:
+        file, script = BACKDROPS[name]
+        path = ASSET_DIR / file
+        if not path.is_file():
+            raise ValueError(f"background image {path} is missing; make it with: "
+                             f"python3 assets/{script}")
+        return path
+    path = Path(name)
+    if not path.is_file():
+        raise ValueError(f"background {one_line(name)}: no such file (built-in: "
+                         f"{', '.join(BACKDROPS)})")
+    return path
+
+
+def cover(image: Image.Image, size: tuple[int, int]) -> Image.Image:
+    """`image` scaled (keeping its aspect) to cover `size`, centre-cropped to it."""
+    w, h = image.size
+    if (w, h) == size:
+        return image
+    scale = max(size[0] / w, size[1] / h)
+    sw, sh = max(size[0], round(w * scale)), max(size[1], round(h * scale))
+    image = image.resize((sw, sh), Image.Resampling.LANCZOS)
+    left, top = (sw - size[0]) // 2, (sh - size[1]) // 2
+    return image.crop((left, top, left + size[0], top + size[1]))
+
+
+def next_backdrop(current: str, extra: str | None = None) -> str:
+    """The backdrop after `current` in the key's cycle: the built-ins, then `extra` (a
+    file given with --background) if any."""
+    cycle = [*BACKDROPS, *([extra] if extra and extra not in BACKDROPS else [])]
+    i = cycle.index(current) if current in cycle else -1
+    return cycle[(i + 1) % len(cycle)]
+
+
+def view_from(args, view: dict | None = None) -> dict | None:
+    """`view` (a session's, or None) with the command line's --background on top."""
+    background = getattr(args, "background", None)
+    return view if background is None else {**(view or {}), "background": background}
