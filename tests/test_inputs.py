@@ -229,7 +229,8 @@ OVERRIDES = {"--hc", "--D", "--humidity", "--water-budget", "--step", "--active-
              "--max-height", "--grid-spacing", "--feature-width", "--feature-height",
              "--neighbor-search", "--replenish", "--grow", "--grains", "--drift", "--tip-hits",
              "--side-hits", "--side-gap", "--long-jumps", "--launch", "--frame-sites",
-             "--pane-sites", "--temperature", "--touch-water", "--look"}
+             "--pane-sites", "--temperature", "--touch-water", "--look", "--order-hits",
+             "--max-order", "--water-far", "--near-water", "--vapour-var", "--frame-chill"}
 HELP_LISTS = {
     "replay": {"--help", "--headless", "--ticks", "--out", "--melt-radius", "--session-dir",
                "--screenshot-dir", "--scale", "--max-seconds", "--background"},
