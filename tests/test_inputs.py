@@ -765,6 +765,7 @@ COORD = st.one_of(st.sampled_from(EDGES), st.floats(-100, 1400), st.floats())
 @given(x=COORD, y=COORD)
 @example(x=760.0, y=5.0)  # a session took it; the command line refused it
 @example(x=-1.0, y=0.0)  # argparse said "expected one argument"
+@example(x=-float("inf"), y=0.0)  # and again for -inf, which the fix first took for an option
 def test_a_touch_is_taken_by_the_command_line_iff_by_a_session(stubbed, x, y):
     stubbed.clear()
     status, err = run_main(["render", "--touch", f"{x!r},{y!r}"])

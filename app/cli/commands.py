@@ -16,7 +16,7 @@ from sim import Params
 from sim.files import one_line
 from sim.session import SessionError
 
-NEGATIVE = re.compile(r"-\.?\d")  # -1,0 or -.5@3: a value, not an option
+NEGATIVE = re.compile(r"-(\.?\d|inf|nan)", re.IGNORECASE)  # -1,0, -.5@3 or -inf,0: a value, not an option
 INTERRUPTED = 130  # the shell's status for a program ended by SIGINT (128 + 2)
 # The mode flags of the one-parser command line before subcommands, and what replaced them.
 MOVED = {"--headless": "frost render", "--replay": "frost replay FILE.json",
