@@ -123,6 +123,7 @@ class PipeRidges:
     def melt(self, sim, dead: np.ndarray) -> np.ndarray:
         """Take the melted crystals out of the counts above them (sim.melt has cut their
         children loose already); the links whose level fell, which must be redrawn."""
+        self._extend(len(sim.crystals))  # a melt may come before any growth was counted
         parents = sim.parents
         up = parents[dead]
         roots = dead[(up >= 0) & ~np.isin(up, dead)]  # melted, with a parent that survived

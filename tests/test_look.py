@@ -110,6 +110,22 @@ def test_carried_counts_follow_growth_and_melts():
     assert {int(c): int(ridges.carried[c]) for c in live} == want
 
 
+def test_a_melt_before_the_geometry_saw_the_ice_counts_right():
+    # A storm's melt can land in the tick a touch planted its seed, before any step: the
+    # counts had no row for it yet (an IndexError in the storm benchmark).
+    events = [{"tick": 0, "kind": "melt", "x": 150.0, "y": 130.0, "r": 5.0},
+              {"tick": 100, "kind": "touch", "x": 60.0, "y": 60.0},
+              {"tick": 100, "kind": "melt", "x": 60.0, "y": 60.0, "r": 4.0},
+              {"tick": 100, "kind": "touch", "x": 240.0, "y": 200.0},
+              {"tick": 140, "kind": "melt", "x": 150.0, "y": 130.0, "r": 15.0}]
+    timeline = Timeline(Params.preset("fern"), 2, 300, 260, touches=[(150.0, 130.0)])
+    grow(timeline, 200, events)
+    sim, ridges = timeline.sim, timeline.geometry.ridges
+    live = np.flatnonzero(sim.crystal_alive)
+    assert len(live) > 50
+    assert {int(c): int(ridges.carried[c]) for c in live} == carried_oracle(sim)
+
+
 def test_a_link_is_sent_again_only_when_it_thickens():
     # Sent once per width level it reached at the end of a tick, by the oracle's counts.
     timeline = grown_glass(0)
