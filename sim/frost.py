@@ -129,6 +129,7 @@ class FrostSim:
         self._plans: dict[int, tuple[np.ndarray, float, bool, bool]] = {}
         self._plans_key: tuple[int, int] | None = None
         self._cell_work = CELL_WORK  # cell placements left in this tick
+        self._full: dict[int, bool] = {}  # areas whose annulus was last seen with no free cell
         self.grid = HashGrid(self.width, self.height, self.params.hc)
         self.tick = 0
         # The ice skeleton: crystals with parent links (-1 for a seed), upsample
@@ -661,12 +662,16 @@ class FrostSim:
                 if len(cells) == 0:
                     cells, glass = flat[disc], True
             self._plans[area] = (cells, r_in, glass, full)
+            self._full[area] = full
         return self._plans[area]
 
     def _annulus_full(self, area: np.ndarray) -> np.ndarray:
-        """Per walker: its area's annulus holds no free cell (see `_area_cells`)."""
+        """Per walker: its area's annulus held no free cell when its cells were last
+        listed (`_area_cells`; at most a tick old). Listing every area's cells for every
+        placement cost ~0.1 ms an area, though few areas ever fill; a stale answer only
+        sends a walker the other way to a valid spot."""
         ua, inv = np.unique(area, return_inverse=True)
-        return np.array([self._area_cells(int(a))[3] for a in ua], bool)[inv]
+        return np.array([self._full.get(int(a), False) for a in ua], bool)[inv]
 
     def _box_cells(self, cx: float, cy: float, r: float):
         """The flat indices of the cells under the disc's bounding box, with the squared

@@ -106,6 +106,8 @@ def annulus_centres(sim: FrostSim, area: int) -> np.ndarray:
 
 def test_a_full_area_skips_its_disc_draws():
     sim = frosted("fern", 40, 60, active_radius=40.0)
+    sim._cell_work = 10_000
+    sim._cell_spots_all(np.arange(len(sim.areas), dtype=np.int32))  # list every area's cells
     full = sim._annulus_full(np.arange(len(sim.areas)))
     assert full.any()
     for a in np.flatnonzero(full):  # brute force: no free cell well inside its annulus
