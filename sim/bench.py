@@ -34,7 +34,7 @@ from . import FrostSim, Params, all_presets
 from .geometry import FrostGeometry
 from .measures import END_GAIN, END_TICKS, frosted_end, pane_measures
 from .morphology import extent, mass_radius_dimension, six_fold_order, turn_shares
-from .scribble import play, scribble, spread, storm
+from .scribble import TICKS_PER_SECOND, play, scribble, spread, storm
 
 CENTRE = (380.0, 640.0)
 
@@ -172,9 +172,9 @@ def abuse(presets, seconds: float, spread_ticks: int = 1200) -> list[dict]:
             kinds.append(("storm+grow", storm(0)))
         for kind, schedule in kinds:
             p = params.replace(grow=True) if kind == "storm+grow" else params
-            played = play(p, schedule, tail=50)
+            played = play(p, schedule, tail=50, drain=True)
             tracemalloc.start()  # a second run for memory: tracing slows every tick
-            play(p, schedule, tail=50)
+            play(p, schedule, tail=50, drain=True)
             peak = tracemalloc.get_traced_memory()[1]
             tracemalloc.stop()
             t = 1e3 * played.tick_s
@@ -183,6 +183,7 @@ def abuse(presets, seconds: float, spread_ticks: int = 1200) -> list[dict]:
                          "max_ms": float(t.max()), "over_40ms": int((t > 40).sum()),
                          "touches": played.touches, "walkers_max": played.walkers_max,
                          "crystals": played.crystals, "backlog_max": played.backlog_max,
+                         "drained_s": played.drained / TICKS_PER_SECOND,
                          "traced_peak_mb": peak / 1e6, **_waits(played.first_growth),
                          "on_ice": len(played.first_growth_on_ice),
                          "on_ice_grown": int((played.first_growth_on_ice < 50).sum())})
@@ -199,12 +200,14 @@ def _waits(ticks: np.ndarray) -> dict:
 def print_abuse(rows: list[dict]) -> None:
     print("\n## Scribble (60 s: drags, warm finger, every tuning change), storm (2 000 "
           "touches and melts in 10 s), spread (a touch a tick all over the screen)")
-    print("look   kind        ticks  median ms  p99 ms  max ms  >40ms  touches  walkers  crystals  "
-          "backlog  traced MB  wait median  wait p95 (ticks, touches on glass)  on ice (grew in 2 s)")
+    print("look   kind        ticks  median ms  p99 ms  max ms  >40ms  touches  walkers  "
+          "crystals  backlog  drained s  traced MB  wait median  wait p95 "
+          "(ticks, touches on glass)  on ice (grew in 2 s)")
     for r in rows:
         print(f"{r['preset']:6} {r['kind']:10} {r['ticks']:6} {r['median_ms']:10.2f} {r['p99_ms']:7.2f} "
               f"{r['max_ms']:7.2f} {r['over_40ms']:6} {r['touches']:8} {r['walkers_max']:8} "
-              f"{r['crystals']:9} {r['backlog_max']:8} {r['traced_peak_mb']:10.1f} "
+              f"{r['crystals']:9} {r['backlog_max']:8} {r['drained_s']:9.1f} "
+              f"{r['traced_peak_mb']:10.1f} "
               f"{r['wait_median']:12.0f} {r['wait_p95']:9.0f} {r['on_ice']:8} ({r['on_ice_grown']})")
     print(f"process peak RSS {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
 

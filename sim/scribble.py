@@ -41,6 +41,9 @@ class Played:
     # The same for touches on ice (within hc of a crystal: in its freezing area), which
     # have little or no glass to grow into.
     first_growth_on_ice: np.ndarray
+    # Ticks after the schedule's last until no input waited (0: none waited at its end;
+    # input still waiting when play stopped: a lower bound).
+    drained: int = 0
 
 
 def stroke(start, end, spacing: float, kind: str, radius: float = MELT_RADIUS) -> list[list[dict]]:
@@ -127,24 +130,46 @@ def spread(seed: int = 0, ticks: int = 1200, size=SIZE) -> list[list[dict]]:
     return [[_event("touch", p, 0.0)] for p in xy]
 
 
+# The most quiet ticks `play` adds to let queued input apply (about 7 minutes).
+DRAIN_LIMIT = 10_000
+
+
 def play(params: Params, schedule: list[list[dict]], seed: int = 0, tail: int = 0,
-         size=SIZE) -> Played:
-    """Run `schedule` (and `tail` quiet ticks after it) through a Timeline, timing each
-    tick's applied events and step together, as the simulation thread's tick_ms does."""
-    timeline, backlog, seeds = Timeline(params, seed, *size), Backlog(), _Seeds()
-    times, walkers, waiting = [], 0, 0
+         size=SIZE, drain: bool = False) -> Played:
+    """Run `schedule` (and `tail` quiet ticks after it; with `drain`, more until no input
+    waits) through a Timeline, timing each tick's applied events and step together, as
+    the simulation thread's tick_ms does; the Backlog learns the step's cost as there."""
+    timeline, backlog, seeds = Timeline(params, seed, *size), Backlog(kind=_kind), _Seeds()
+    times, walkers, waiting, last_waiting = [], 0, 0, -1
     clock = time.perf_counter
-    for events in [*schedule, *([[]] * tail)]:
+    ticks = iter([*schedule, *([[]] * tail)])
+    k = 0
+    while True:
+        events = next(ticks, None)
+        if events is None:
+            if not (drain and len(backlog) and k < len(schedule) + tail + DRAIN_LIMIT):
+                break
+            events = []
         backlog.extend(events)
         t0 = clock()
         backlog.run(lambda event: seeds.apply(timeline, event))
+        s1 = backlog.clock()  # (its own clock: a test may give it a still one)
         timeline.step()
+        backlog.stepped(backlog.clock() - s1)
         times.append(clock() - t0)
         seeds.stepped(timeline.sim)
         walkers = max(walkers, len(timeline.sim.water_area))
         waiting = max(waiting, len(backlog))
+        if len(backlog):
+            last_waiting = k
+        k += 1
     return Played(np.array(times), len(timeline.touches), walkers, len(timeline.sim.crystals),
-                  waiting, *seeds.waits(timeline.sim.tick))
+                  waiting, *seeds.waits(timeline.sim.tick),
+                  drained=max(0, last_waiting + 2 - len(schedule)))
+
+
+def _kind(event: dict) -> str:
+    return event["kind"]
 
 
 class _Seeds:

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import json
 import logging
+import statistics
 import time
 from collections import deque
 from dataclasses import dataclass, field, fields
@@ -47,11 +48,20 @@ REGROW_GAP = 12
 EVENT_FIELDS = {"touch": ("x", "y"), "melt": ("x", "y", "r"), "params": ("params",),
                 "clear": ()}
 REBUILDS = ("params", "clear")  # kinds that start a new timeline at tick 0
-# Time a tick may spend applying input (it applies at least one event): a scribble or a
-# storm of clicks spreads over ticks instead of stalling one. A touch costs up to a pool of
-# walkers, a melt the ice under the finger: about 0.2-2 ms each here, so 10 ms takes the
-# 5-10 events a tick that a fast scribble makes, and leaves the 40 ms tick room to step.
-EVENT_BUDGET_S = 0.010
+# Time a tick may spend in all (input applied, then its step) while input waits: a
+# scribble or a storm of clicks spreads over ticks instead of stalling one. The backlog
+# learns what a step and each kind of input cost here (a touch costs up to a pool of
+# walkers, a melt the ice under the finger: about 0.2-2.5 ms; a tuning change regrows the
+# frost) and takes input while the next one should still fit: a scribble's few events a
+# tick go at once; a storm of hundreds a second queues, and the tick stays short enough
+# to leave the renderer the rest of its 40 ms. It applies at least one input a tick, so
+# input always moves.
+TICK_BUDGET_S = 0.010  # (docs/method.md 5.2: 8-9 ms queued the warm finger in fern)
+# How fast an input kind's learnt cost follows its latest (an exponential mean's weight).
+COST_WEIGHT = 0.25
+# A step's cost is the median of the last few: one slow step (after a rebuild, say) does
+# not starve the input of the ticks after it.
+STEP_SAMPLES = 9
 
 
 class SessionError(ValueError):
@@ -242,23 +252,45 @@ def _coordinate(v: Any) -> bool:
 
 class Backlog:
     """Input waiting to apply, oldest first. `run` applies at least one item, then more
-    while less than `budget_s` has passed; the rest wait for the next tick. (The ticks
-    input lands on are recorded as it applies, so replays stay exact.)"""
+    while the tick's time so far, plus what the next item's kind and the step have lately
+    cost, stays under `budget_s`; the rest wait for the next tick. `kind(item)` names an item's
+    kind; tell the backlog each step's cost with `stepped`. (The ticks input lands on are
+    recorded as it applies, so replays stay exact whatever the clock says.)"""
 
-    def __init__(self, budget_s: float = EVENT_BUDGET_S, clock=time.perf_counter):
-        self.budget_s, self.clock = budget_s, clock
+    def __init__(self, budget_s: float = TICK_BUDGET_S, clock=time.perf_counter,
+                 kind=lambda item: None):
+        self.budget_s, self.clock, self.kind = budget_s, clock, kind
         self._items: deque = deque()
+        self.item_s: dict[Any, float] = {}  # what an item of each kind lately cost, s
+        self._steps: deque = deque(maxlen=STEP_SAMPLES)
+
+    @property
+    def step_s(self) -> float:
+        """What a step lately cost, s: the median of the last STEP_SAMPLES."""
+        return statistics.median(self._steps) if self._steps else 0.0
 
     def extend(self, items) -> None:
         self._items.extend(items)
 
     def run(self, apply) -> int:
         """`apply(item)` for this tick's share of the items; how many went."""
-        start, done = self.clock(), 0
-        while self._items and (done == 0 or self.clock() - start < self.budget_s):
+        start = now = self.clock()
+        done = 0
+        room = self.budget_s - self.step_s
+        while self._items:
+            kind = self.kind(self._items[0])
+            if done and now - start + self.item_s.get(kind, 0.0) >= room:
+                break
             apply(self._items.popleft())
-            done += 1
+            done, was, now = done + 1, now, self.clock()
+            cost = now - was
+            mean = self.item_s.get(kind)
+            self.item_s[kind] = cost if mean is None else mean + COST_WEIGHT * (cost - mean)
         return done
+
+    def stepped(self, seconds: float) -> None:
+        """The step after `run` took `seconds`: the room the next ticks leave for it."""
+        self._steps.append(seconds)
 
     def take_all(self) -> list:
         """Every item still waiting, oldest first; the backlog is left empty."""

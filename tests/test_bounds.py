@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from sim import FrostSim, Params, frost
 from sim.geometry import _segments_in
 from sim.scribble import scribble, storm
-from sim.session import Backlog, Timeline
+from sim.session import STEP_SAMPLES, Backlog, Timeline
 
 
 def grown(params: Params, touches, ticks: int, seed: int = 0) -> FrostSim:
@@ -213,22 +213,74 @@ def test_freezes_that_would_overflow_a_cell_are_dropped_in_walker_order(monkeypa
 # ---- input spread over ticks -------------------------------------------------------------------
 
 
-def test_backlog_applies_one_then_more_while_the_budget_lasts():
+def _timed(now: list[float], cost: float, applied: list):
+    def apply(item):
+        applied.append(item)
+        now[0] += cost
+    return apply
+
+
+# A unit of time (about 1 ms) whose sums are exact in binary floating point.
+MS = 2.0 ** -10
+
+
+def test_backlog_takes_items_while_the_next_one_should_still_fit():
+    now, applied = [0.0], []
+    backlog = Backlog(budget_s=10 * MS, clock=lambda: now[0])
+    backlog.extend(range(10))
+    # 4 units an item: at 0 and at 4 (it ends at 8 < 10); a third would end at 12.
+    assert backlog.run(_timed(now, 4 * MS, applied)) == 2
+    assert applied == [0, 1] and len(backlog) == 8
+    # 1 unit an item, learnt from the start: nine (a tenth would end at the budget, not under).
     now = [0.0]
-    applied = []
+    cheap = Backlog(budget_s=10 * MS, clock=lambda: now[0])
+    cheap.extend(range(20))
+    assert cheap.run(_timed(now, MS, [])) == 9
+
+
+def test_backlog_leaves_room_for_the_median_of_the_last_steps():
+    now = [0.0]
+    backlog = Backlog(budget_s=10 * MS, clock=lambda: now[0])
+    backlog.extend(range(40))
+    backlog.stepped(6 * MS)  # 4 left: 1-unit items go at 0, 1 and 2 (ending under 4)
+    assert backlog.run(_timed(now, MS, [])) == 3
+    backlog.stepped(2 * MS)  # the median of 6 and 2: 4 units, 6 left
+    assert backlog.run(_timed(now, MS, [])) == 5
+    backlog.stepped(20 * MS)  # one slow step (a rebuild's): the median of 6, 2, 20 is 6
+    assert backlog.step_s == 6 * MS and backlog.run(_timed(now, MS, [])) == 3
+    for _ in range(STEP_SAMPLES):
+        backlog.stepped(MS)  # older steps are forgotten
+    assert backlog.step_s == MS
+
+
+def test_backlog_learns_each_kind_of_item_apart():
+    now, applied = [0.0], []
+    costs = {"slow": 8 * MS, "fast": MS}
 
     def apply(item):
         applied.append(item)
-        now[0] += 0.004  # each item takes 4 ms
+        now[0] += costs[item]
 
-    backlog = Backlog(budget_s=0.010, clock=lambda: now[0])
-    backlog.extend(range(10))
-    assert backlog.run(apply) == 3  # at 0, 4 and 8 ms; at 12 ms the budget is spent
-    assert applied == [0, 1, 2] and len(backlog) == 7
+    backlog = Backlog(budget_s=11 * MS, clock=lambda: now[0], kind=lambda item: item)
+    backlog.extend(["slow", "fast", "fast", "fast", "slow", "fast", "fast"])
+    # slow ends at 8; fast, not yet seen, goes (9); fast again ends at 10 < 11; no more
+    assert backlog.run(apply) == 3
+    # fast (1), slow (ends at 9), fast (10): a slow kind does not hold up fast ones
+    assert backlog.run(apply) == 3 and len(backlog) == 1
+    assert backlog.item_s == {"slow": 8 * MS, "fast": MS}
+
+
+def test_backlog_always_applies_one_item():
+    now, applied = [0.0], []
     spent = Backlog(budget_s=0.0, clock=lambda: now[0])
     spent.extend(["a", "b"])
-    assert spent.run(apply) == 1  # one item always goes, however little time is left
-    assert Backlog().run(apply) == 0
+    assert spent.run(_timed(now, 0.004, applied)) == 1  # however little time is left
+    spent.stepped(1.0)  # a step longer than the budget still lets one through
+    assert spent.run(_timed(now, 0.004, applied)) == 1 and applied == ["a", "b"]
+    assert Backlog().run(_timed(now, 0.004, applied)) == 0
+    still = Backlog(budget_s=0.0, clock=lambda: 0.0)  # free items on a still clock
+    still.extend([1, 2])
+    assert still.run(lambda item: None) == 1
 
 
 def test_a_scribble_keeps_walkers_and_cells_bounded_and_replays():

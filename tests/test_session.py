@@ -24,7 +24,7 @@ PARAMS = Params.preset("c-3")
 def input_backlog_on_a_still_clock(monkeypatch):
     """Threads driven tick by tick here apply every command sent before a tick in that
     tick: the backlog's time budget (tested in test_bounds) must not depend on the load."""
-    monkeypatch.setattr(simthread, "Backlog", lambda: Backlog(clock=lambda: 0.0))
+    monkeypatch.setattr(simthread, "Backlog", lambda **kw: Backlog(**kw, clock=lambda: 0.0))
 
 
 

@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 from sim import FrostSim, Params, frost
-from sim.scribble import play, spread
-from sim.session import SessionLog, Timeline, replay
+from sim import scribble as scribble_module
+from sim.scribble import play, spread, storm
+from sim.session import Backlog, SessionLog, Timeline, replay
 
 SMALL = (240, 320)  # a small screen keeps a frosted pane cheap to grow
 
@@ -191,6 +192,19 @@ def test_play_counts_each_touchs_wait_as_a_step_by_step_run_sees_it():
     assert len(planted) == 30 and 0 < len(on_ice) < 30
     assert sorted(played.first_growth.tolist()) == sorted(w for s, w in waits.items() if s not in on_ice)
     assert sorted(played.first_growth_on_ice.tolist()) == sorted(waits[s] for s in on_ice)
+
+
+def test_play_with_drain_applies_every_queued_event_and_counts_the_ticks(monkeypatch):
+    # One event a tick (a budget of 0), 8 arriving a tick for 25 ticks: the 200th applies
+    # at tick 199 (0-based), 175 ticks after the schedule's last (tick 24).
+    monkeypatch.setattr(scribble_module, "Backlog", lambda **kw: Backlog(**kw, budget_s=0.0))
+    schedule = storm(0, events=200, seconds=1.0, size=SMALL)
+    assert len(schedule) == 25 and sum(map(len, schedule)) == 200
+    played = play(Params.preset("fern"), schedule, size=SMALL, drain=True)
+    assert len(played.tick_s) == 200 and played.drained == 175 and played.backlog_max == 200 - 25
+    cut = play(Params.preset("fern"), schedule, size=SMALL, tail=10)
+    # still waiting at its end: a lower bound, the 10 ticks played after the schedule + 1
+    assert len(cut.tick_s) == 35 and cut.drained == 11 and cut.backlog_max == 200 - 25
 
 
 # ---- session files: the placement of their version ---------------------------------------

@@ -3,6 +3,7 @@ mapping, the simulation thread's schedule, snapshots, rebuilds and failures."""
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import re
 import threading
@@ -31,7 +32,7 @@ from sim.session import Backlog, SessionLog
 def input_backlog_on_a_still_clock(monkeypatch):
     """Threads driven tick by tick here apply every command sent before a tick in that
     tick: the backlog's time budget (tested in test_bounds) must not depend on the load."""
-    monkeypatch.setattr(simthread, "Backlog", lambda: Backlog(clock=lambda: 0.0))
+    monkeypatch.setattr(simthread, "Backlog", lambda **kw: Backlog(**kw, clock=lambda: 0.0))
 
 
 # ---- keys ------------------------------------------------------------------------------
@@ -279,7 +280,7 @@ def test_a_right_drag_is_logged_when_a_frame_shows_all_its_melts(monkeypatch, ca
 
     caplog.set_level(logging.INFO, logger="app.window")
     # One command a tick (a spent input budget): the drag's three melts take three ticks.
-    monkeypatch.setattr(simthread, "Backlog", lambda: Backlog(budget_s=0.0, clock=lambda: 0.0))
+    monkeypatch.setattr(simthread, "Backlog", lambda **kw: Backlog(**kw, budget_s=0.0, clock=lambda: 0.0))
     thread, status = SimThread(Params.preset("c-3"), 0, [(380, 640)]), Status()
     sent = [thread.send("melt", (x, 640.0, 20.0)) for x in (360.0, 380.0, 400.0)]
     status.melted(sent[-1], 3, 20.0)
@@ -362,6 +363,11 @@ def test_the_hud_shows_ticks_per_second_fps_while_drawing_and_the_tick_median():
         status.drawing.drew(100.0 + 0.05 * k)
     status.refresh(100.2, lambda now: status.lines(now, snap, Params(), view, None, 1.5))
     assert status.stats[1] == "drawing 20.0 fps  render  1.5 ms"
+    assert status.lines(0.0, snap, Params(), view, None, 1.5)[-2] == "running"
+    queued = simthread.Snapshot(None, dataclasses.replace(stats, waiting=312, paused=True),
+                                Params(), ())
+    assert status.lines(0.0, queued, Params(), view, "REC 4 frames", 1.5)[-2] == \
+        "PAUSED  REC 4 frames  input waiting 312"
 
 
 # ---- the session kept on disk ---------------------------------------------------------------
@@ -562,3 +568,22 @@ def test_growth_mode_toggles_and_keeps_the_rest():
     assert on.grow and tuning.differences(p, on) == {"grow": True}
     assert not tuning.toggled(on, "grow").grow
     assert any(b.keys == ("G",) and b.arg == "grow" for b in BINDINGS)
+
+
+def test_the_thread_tells_its_backlog_what_each_step_cost(monkeypatch):
+    # A clock that moves 3 units a reading: a step, timed by two readings, costs 3.
+    now = [0.0]
+
+    def clock():
+        now[0] += 3.0
+        return now[0]
+
+    monkeypatch.setattr(simthread, "Backlog", lambda **kw: Backlog(**kw, budget_s=100.0, clock=clock))
+    thread = SimThread(Params.preset("c-3"), 0, [(380, 640)])
+    told: list[float] = []
+    thread.backlog.stepped = told.append  # type: ignore[method-assign]
+    thread._tick()
+    assert told == [3.0]
+    thread.paused = True
+    thread._tick()  # no step while paused: nothing to learn
+    assert told == [3.0]

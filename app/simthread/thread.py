@@ -44,6 +44,7 @@ class Stats:
     paused: bool
     handled: int = 0  # commands applied so far (the first `handled` that send() sent)
     tick_median_ms: float = 0.0  # tick_ms's median over the last RATE_WINDOW ticks
+    waiting: int = 0  # commands received and not yet applied (a storm of input queues)
 
 
 @dataclass(frozen=True)
@@ -104,7 +105,8 @@ class SimThread(threading.Thread):
         self._handlers = {"touch": self._touch, "melt": self._melt, "params": self._set_params,
                           "clear": self._clear, "pause": self._pause, "step": self._single,
                           "export": self._ask_export}
-        self.backlog = Backlog()  # commands wait here when more arrive than a tick takes
+        # commands wait here when more arrive than a tick takes
+        self.backlog = Backlog(kind=_command_kind)
         self._writers: list[threading.Thread] = []  # map exports being written
         self.timeline = Timeline(params, seed, width, height)
         events = [{"kind": "touch", "x": float(x), "y": float(y)} for x, y in touches]
@@ -211,7 +213,11 @@ class SimThread(threading.Thread):
         if reset:
             self._clicks.forget_seeds()
         # A click made while paused shows (and is timed) at the next step.
-        step = self._step() if not self.paused or notes.pop("single", False) else Step()
+        stepping = not self.paused or notes.pop("single", False)
+        t1 = self.backlog.clock()
+        step = self._step() if stepping else Step()
+        if stepping:  # the backlog leaves the step its room in the next ticks
+            self.backlog.stepped(self.backlog.clock() - t1)
         for folder in notes.pop("exports", []):  # after any step: the tick the snapshot shows
             self._export(folder)
         self.tick_ms = (time.perf_counter() - t0) * 1000.0
@@ -238,7 +244,7 @@ class SimThread(threading.Thread):
         median = statistics.median(self._tick_times) if self._tick_times else 0.0
         return Stats(self.sim.tick, self.tick_ms, len(self.sim.crystals),
                      len(self.sim.water_area), rate, self.overruns, self.paused, self.handled,
-                     median)
+                     median, len(self.backlog))
 
     # ---- commands: each takes (arg, notes) and applies at this tick ---------------
 
@@ -292,3 +298,7 @@ def _merged(applied: list[Applied]) -> tuple[bool, tuple[GeometryDelta, ...], st
         melts.extend(a.deltas)
         message = a.message or message
     return reset, tuple(melts), message
+
+
+def _command_kind(command: Command) -> str:
+    return command.kind

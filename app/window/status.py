@@ -114,7 +114,8 @@ class Status:
         renderer's `view` switches, `recording` (e.g. "REC 12 frames") when on."""
         s = snap.stats if snap else NO_STATS
         p = snap.params if snap else params  # what the frame shows
-        state = [w for w in ("PAUSED" if s.paused else None, recording) if w]
+        waiting = f"input waiting {s.waiting}" if s.waiting else None
+        state = [w for w in ("PAUSED" if s.paused else None, recording, waiting) if w]
         drawing = "idle (nothing changed)" if self.fps is None else f"{self.fps:4.1f} fps"
         lines = [
             f"sim {s.rate:4.1f} ticks/s  tick median {s.tick_median_ms:4.1f} ms  "
