@@ -115,12 +115,15 @@ class FrostSim:
     """Window frost on a `width` x `height` px screen (docs/method.md)."""
 
     def __init__(self, params: Params | None = None, width: int = WIDTH, height: int = HEIGHT,
-                 seed: int = 0, batched: bool = True):
+                 seed: int = 0, batched: bool = True, wrap: bool = False):
         for name, v in (("width", width), ("height", height)):
             if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 0 < v <= 16384:
                 raise ValueError(f"{name}={v!r} must be a whole number of px in [1, 16384]")
         self.params = params if params is not None else Params()
         self.width, self.height = int(width), int(height)
+        # A tile (sim.periodic): walkers wrap, and the search, clearance and placement see
+        # across the edges; window mode has no frame there (pane sites only).
+        self.wrap = bool(wrap)
         self.seed = seed
         self.rng = np.random.default_rng(seed)
         # Where placement falls back to cells, one pass for all areas (False: one area at

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .params import Params
+from .periodic import wrap_triangles
 from .ridges import PipeRidges, top_height, widest
 from .screen import HEIGHT, WIDTH
 
@@ -87,11 +88,18 @@ def falloff(d: np.ndarray, radius: float) -> np.ndarray:
 class FrostGeometry:
     """The height grid (Fig. 7) and sharp features (Fig. 6) of a growing frost."""
 
-    def __init__(self, params: Params, width: int = WIDTH, height: int = HEIGHT):
+    def __init__(self, params: Params, width: int = WIDTH, height: int = HEIGHT,
+                 wrap: bool = False):
         self.params = params
         self.spacing = int(params.grid_spacing)
         self.rows = height // self.spacing + 1
         self.cols = width // self.spacing + 1
+        # A tile (wrap): the grid is periodic, its last row and column repeat the first,
+        # and a feature crossing an edge is sent again shifted across it.
+        self.wrap, self.size = wrap, (width, height)
+        if wrap and (width % self.spacing or height % self.spacing):
+            raise ValueError(f"a tile's size ({width}x{height}) must be a multiple of "
+                             f"grid_spacing ({self.spacing} px)")
         self.heights = np.zeros((self.rows, self.cols), np.float32)
         # Uncapped sum of the bumps, so that a melt can take a particle's share back
         # out exactly; heights = min(sum, max_height).
@@ -157,6 +165,8 @@ class FrostGeometry:
         return self._delta(sim.tick, rows, feats, clear_box=box)
 
     def _delta(self, tick: int, rows: slice, feats: np.ndarray, **more) -> GeometryDelta:
+        if self.wrap:
+            feats = wrap_triangles(feats, *self.size)
         return GeometryDelta(tick, rows, self.heights[rows].copy(), feats, look=self.params.look,
                              height_scale=feature_scale(self.params), **more)
 
@@ -189,6 +199,8 @@ class FrostGeometry:
         r = np.rint(pts[:, 1:2] / gs).astype(np.int64) + self._stencil[0]
         c = np.rint(pts[:, 0:1] / gs).astype(np.int64) + self._stencil[1]
         d = np.hypot(c * gs - pts[:, 0:1], r * gs - pts[:, 1:2])
+        if self.wrap:
+            return self._raise_wrapped(r, c, d, sign)
         hit = (d < self.params.hc) & (r >= 0) & (r < self.rows) & (c >= 0) & (c < self.cols)
         if not hit.any():
             return slice(0, 0)
@@ -204,6 +216,23 @@ class FrostGeometry:
         h = np.minimum(total, self.params.max_height)
         self.heights[lo:hi] = np.where(h < 1e-6, 0.0, h)
         return slice(lo, hi)
+
+
+    def _raise_wrapped(self, r: np.ndarray, c: np.ndarray, d: np.ndarray, sign: float) -> slice:
+        """A tile's raise: vertices past an edge are the opposite edge's; every row may be
+        dirty (the mirrored last row and column follow the first)."""
+        hit = d < self.params.hc
+        rows, cols = self.rows - 1, self.cols - 1
+        flat = (r[hit] % rows) * cols + c[hit] % cols
+        add = np.bincount(flat, self.params.bump * falloff(d[hit], self.params.hc),
+                          minlength=rows * cols).reshape(rows, cols)
+        total = self._sum
+        total[:rows, :cols] += sign * add
+        total[rows, :] = total[0, :]
+        total[:, cols] = total[:, 0]
+        h = np.minimum(total, self.params.max_height)
+        self.heights[:] = np.where(h < 1e-6, 0.0, h)
+        return slice(0, self.rows)
 
 
 def live_features(sim, params: Params) -> np.ndarray:

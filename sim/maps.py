@@ -57,7 +57,7 @@ def bump_field(grid: np.ndarray, spacing: float, width: int, height: int) -> np.
 
 
 def feature_field(segments: np.ndarray, width_factor: float, height_factor: float,
-                  width: int, height: int) -> np.ndarray:
+                  width: int, height: int, wrap: bool = False) -> np.ndarray:
     """Highest sharp-feature surface at every pixel centre: H x W float32 (0 off the ice)."""
     out = np.zeros(width * height, np.float32)
     seg = np.asarray(segments, np.float64).reshape(-1, 4)
@@ -72,13 +72,14 @@ def feature_field(segments: np.ndarray, width_factor: float, height_factor: floa
         for lo in range(0, len(pick), per):
             rows = pick[lo:lo + per]
             _raise_pyramids(out, seg[rows], length[rows], int(r), width_factor,
-                            height_factor, width, height)
+                            height_factor, width, height, wrap)
     return out.reshape(height, width)
 
 
 def _raise_pyramids(out: np.ndarray, seg: np.ndarray, length: np.ndarray, reach: int,
-                    wf: float, hf: float, width: int, height: int) -> None:
-    """Max the pyramids of `seg` into the flat image `out` over a (2 reach + 1)^2 stencil."""
+                    wf: float, hf: float, width: int, height: int, wrap: bool = False) -> None:
+    """Max the pyramids of `seg` into the flat image `out` over a (2 reach + 1)^2 stencil
+    (`wrap`: a tile, where what leaves one edge comes in at the opposite one)."""
     m = 0.5 * (seg[:, :2] + seg[:, 2:])
     t = (seg[:, 2:] - seg[:, :2]) / length[:, None]  # unit along the segment
     oy, ox = (a.ravel() for a in np.mgrid[-reach:reach + 1, -reach:reach + 1])
@@ -88,11 +89,15 @@ def _raise_pyramids(out: np.ndarray, seg: np.ndarray, length: np.ndarray, reach:
     u = (dx * t[:, 0:1] + dy * t[:, 1:2]) / (0.5 * length[:, None])
     v = (dy * t[:, 0:1] - dx * t[:, 1:2]) / (wf * length[:, None])
     z = hf * length[:, None] * (1.0 - np.abs(u) - np.abs(v))
-    hit = (z > 0) & (px >= 0) & (px < width) & (py >= 0) & (py < height)
+    if wrap:
+        hit = z > 0
+        px, py = px % width, py % height
+    else:
+        hit = (z > 0) & (px >= 0) & (px < width) & (py >= 0) & (py < height)
     np.maximum.at(out, py[hit] * width + px[hit], z[hit].astype(np.float32))
 
 
-def triangle_field(verts: np.ndarray, width: int, height: int) -> np.ndarray:
+def triangle_field(verts: np.ndarray, width: int, height: int, wrap: bool = False) -> np.ndarray:
     """Highest surface of feature triangles (3 rows of x, y, z, ... each) at every pixel
     centre, as the renderer's depth test keeps it: H x W float32 (0 off the ice)."""
     out = np.zeros(width * height, np.float32)
@@ -105,13 +110,22 @@ def triangle_field(verts: np.ndarray, width: int, height: int) -> np.ndarray:
         per = max(1, _BATCH_SAMPLES // int(r * r + 1))
         for start in range(0, len(pick), per):
             rows = pick[start:start + per]
-            _raise_triangles(out, tri[rows], lo[rows], int(r), width, height)
+            _raise_triangles(out, tri[rows], lo[rows], int(r), width, height, wrap)
     return out.reshape(height, width)
 
 
 def _raise_triangles(out: np.ndarray, tri: np.ndarray, lo: np.ndarray, reach: int,
-                     width: int, height: int) -> None:
+                     width: int, height: int, wrap: bool = False) -> None:
     """Max the triangles' heights into `out` at the pixel centres of an r x r stencil."""
+    idx, z = _triangle_pixels(tri, lo, reach, width, height, wrap)
+    np.maximum.at(out, idx, z.astype(np.float32))
+
+
+def _triangle_pixels(tri: np.ndarray, lo: np.ndarray, reach: int, width: int, height: int,
+                     wrap: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """(flat pixel index, height) of every pixel centre of an r x r stencil inside a
+    triangle; off the image it is dropped, or with `wrap` taken across the opposite edge
+    (a tile's surface continues there)."""
     oy, ox = (a.ravel() for a in np.mgrid[0:reach, 0:reach])
     px, py = lo[:, 0:1] + ox, lo[:, 1:2] + oy
     x, y = px + 0.5, py + 0.5
@@ -127,16 +141,42 @@ def _raise_triangles(out: np.ndarray, tri: np.ndarray, lo: np.ndarray, reach: in
     wa, wb, wc = edge(b, c), edge(c, a), edge(a, b)
     inside = ok[:, None] & (wa >= 0) & (wb >= 0) & (wc >= 0)
     z = wa * a[:, 2:3] + wb * b[:, 2:3] + wc * c[:, 2:3]
-    hit = inside & (px >= 0) & (px < width) & (py >= 0) & (py < height)
-    np.maximum.at(out, py[hit] * width + px[hit], z[hit].astype(np.float32))
+    if wrap:
+        hit = inside
+        px, py = px % width, py % height
+    else:
+        hit = inside & (px >= 0) & (px < width) & (py >= 0) & (py < height)
+    return py[hit] * width + px[hit], z[hit]
 
 
-def normal_map(height: np.ndarray, strength: float = 1.0) -> np.ndarray:
+def triangle_hits(verts: np.ndarray, width: int, height: int, wrap: bool = False) -> np.ndarray:
+    """Flat indices of the pixel centres covered (height > 0) by feature triangles (3 rows
+    of x, y, z, ... each), with repeats: the pixels a delta's features make ice."""
+    tri = np.asarray(verts, np.float64)[:, :3].reshape(-1, 3, 3)
+    if len(tri) == 0:
+        return np.empty(0, np.int64)
+    lo = np.floor(tri[:, :, :2].min(axis=1) - 0.5).astype(np.int64)
+    reach = (np.ceil(tri[:, :, :2].max(axis=1) + 0.5).astype(np.int64) - lo).max(axis=1)
+    found = []
+    for r in np.unique(reach):
+        pick = np.flatnonzero(reach == r)
+        idx, z = _triangle_pixels(tri[pick], lo[pick], int(r), width, height, wrap)
+        found.append(idx[z > 0])
+    return np.concatenate(found)
+
+
+def normal_map(height: np.ndarray, strength: float = 1.0, wrap: bool = False) -> np.ndarray:
     """Unit tangent-space normals of a height field (px, row 0 at the top): H x W x 3,
     x right, y UP the image (OpenGL / Unity / Blender convention), z out of the glass.
-    n = normalize(-s dh/dx, +s dh/drow, 1): rows grow downward, so dh/dy_up = -dh/drow."""
+    n = normalize(-s dh/dx, +s dh/drow, 1): rows grow downward, so dh/dy_up = -dh/drow.
+    With `wrap` (a tile) the differences at an edge reach across to the opposite one."""
     h = np.asarray(height, np.float64)
-    d_row, d_col = np.gradient(h) if min(h.shape) > 1 else (np.zeros_like(h), np.zeros_like(h))
+    if wrap:
+        d_row = 0.5 * (np.roll(h, -1, axis=0) - np.roll(h, 1, axis=0))
+        d_col = 0.5 * (np.roll(h, -1, axis=1) - np.roll(h, 1, axis=1))
+    else:
+        d_row, d_col = (np.asarray(g) for g in np.gradient(h)) if min(h.shape) > 1 \
+            else (np.zeros_like(h), np.zeros_like(h))
     n = np.stack((-strength * d_col, strength * d_row, np.ones_like(h)), axis=-1)
     return (n / np.linalg.norm(n, axis=-1, keepdims=True)).astype(np.float32)
 
@@ -149,18 +189,21 @@ def alpha_map(height: np.ndarray, material: Material | None = None) -> np.ndarra
 
 def compute_maps(grid: np.ndarray, segments: np.ndarray, params: Params,
                  width: int = WIDTH, height: int = HEIGHT,
-                 triangles: np.ndarray | None = None) -> FrostMaps:
+                 triangles: np.ndarray | None = None, wrap: bool = False) -> FrostMaps:
     """The three maps of a frost from its height grid and skeleton segments, or, where
     given, the renderer's own feature triangles (sim.geometry.live_features: the glass
-    look's ridges have no closed form over segments)."""
+    look's ridges have no closed form over segments). `wrap`: a tile (its height grid
+    periodic, its last row and column the first's), whose features and slopes continue
+    across each edge."""
     z = bump_field(grid, params.grid_spacing, width, height)
     if params.look == "glass":
         z = film(z).astype(np.float32)
     if triangles is not None:
-        z += triangle_field(triangles, width, height)
+        z += triangle_field(triangles, width, height, wrap)
     else:
-        z += feature_field(segments, params.feature_width, params.feature_height, width, height)
-    return FrostMaps(z, normal_map(z), alpha_map(z))
+        z += feature_field(segments, params.feature_width, params.feature_height, width,
+                           height, wrap)
+    return FrostMaps(z, normal_map(z, wrap=wrap), alpha_map(z))
 
 
 def encode(maps: FrostMaps) -> tuple[dict[str, np.ndarray], float]:

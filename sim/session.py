@@ -314,8 +314,9 @@ class Timeline:
     """A FrostSim and its FrostGeometry driven by events (see the module docstring)."""
 
     def __init__(self, params: Params, seed: int, width: int = WIDTH, height: int = HEIGHT,
-                 touches=(), version: int = VERSION):
+                 touches=(), version: int = VERSION, wrap: bool = False):
         self.seed, self.size, self.version = seed, (width, height), version
+        self.wrap = wrap  # a tile (frost maps --tile): every edge continues at the opposite one
         self.gap = regrow_gap(version)
         self.steps = 0
         # Every touch the frost grows from: planted, or scheduled by a rebuild.
@@ -415,7 +416,7 @@ class Timeline:
                             f"tick {max(ticks, default=0)} and {melts} melts at their ticks")
 
     def _relook(self, params: Params, notes: dict) -> None:
-        self.params, self.geometry = params, FrostGeometry(params, *self.size)
+        self.params, self.geometry = params, FrostGeometry(params, *self.size, wrap=self.wrap)
         notes["reset"] = True
         notes["deltas"][:] = [self.geometry.redraw(self.sim)]
 
@@ -438,8 +439,9 @@ class Timeline:
 
     def _build(self, params: Params) -> None:
         self.params = params
-        self.sim = FrostSim(params, *self.size, seed=self.seed, batched=self.version >= 3)
-        self.geometry = FrostGeometry(params, *self.size)
+        self.sim = FrostSim(params, *self.size, seed=self.seed, batched=self.version >= 3,
+                            wrap=self.wrap)
+        self.geometry = FrostGeometry(params, *self.size, wrap=self.wrap)
         while self._pending and self._pending[0]["tick"] == 0 \
                 and self._pending[0]["kind"] == "touch":  # (melts wait for the step)
             self._sow_due()

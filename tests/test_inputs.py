@@ -238,7 +238,9 @@ HELP_LISTS = {
     "render": {"--help", "--preset", "--window-frost", "--seed", "--touch", "--ticks", "--out",
                "--melt", "--melt-path", "--melt-radius", "--background"} | OVERRIDES,
     "bench render": {"--help", "--preset", "--seed", "--frames", "--cover", "--max-ticks",
-                     "--background"}}
+                     "--background"},
+    "maps": {"--help", "--preset", "--window-frost", "--seed", "--size", "--tile", "--normal-y",
+             "--touch", "--ticks"} | OVERRIDES}
 
 
 def help_text(argv: list[str]) -> str:

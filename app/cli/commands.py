@@ -14,6 +14,7 @@ from app.cli.parser import PROG, build_parser, parser_for
 from app.cli.paths import check_paths
 from sim import Params
 from sim.files import one_line
+from sim.screen import touch_problem
 from sim.session import SessionError
 
 NEGATIVE = re.compile(r"-(\.?\d|inf|nan)", re.IGNORECASE)  # -1,0, -.5@3 or -inf,0: a value, not an option
@@ -102,6 +103,8 @@ def _refuse_nonsense(args: argparse.Namespace, argv: list[str]) -> None:
     if args.command and argv[:1] != [args.command]:
         raise ValueError(f"the window's options do not go before a command: write "
                          f"frost {args.command} [options]")
+    if args.command == "maps":
+        _refuse_maps(args)
     if args.command == "figure8" and len(args.touch) > 1:
         raise ValueError(f"figure8 grows from one --touch; got {len(args.touch)} --touch options")
     if args.command == "render" and (args.melt or args.melt_path) and not args.touch \
@@ -119,6 +122,14 @@ def _refuse_nonsense(args: argparse.Namespace, argv: list[str]) -> None:
         if window:
             raise ValueError(f"{', '.join(window)}: window options, but --headless, --out or "
                              "--ticks make this replay headless")
+
+
+def _refuse_maps(args: argparse.Namespace) -> None:
+    """frost maps: every touch on the maps' --size."""
+    for x, y in args.touch:
+        problem = touch_problem(x, y, tuple(args.size))
+        if problem:
+            raise ValueError(problem)
 
 
 def _replay_headless(args: argparse.Namespace) -> bool:

@@ -45,9 +45,10 @@ def add_seed(p) -> None:
                    help="random seed, a whole number (default 0)")
 
 
-def add_touch(p, what: str, default: str) -> None:
-    p.add_argument("--touch", type=values.touch, action="append", default=[], metavar="X,Y",
-                   help=f"{what}: X,Y in px, 0 <= X < {WIDTH}, 0 <= Y < {HEIGHT} (default {default})")
+def add_touch(p, what: str, default: str, kind=values.touch, where: str = "") -> None:
+    where = where or f"0 <= X < {WIDTH}, 0 <= Y < {HEIGHT}"
+    p.add_argument("--touch", type=kind, action="append", default=[], metavar="X,Y",
+                   help=f"{what}: X,Y in px, {where} (default {default})")
 
 
 def add_out(p, demo: bool = False) -> None:

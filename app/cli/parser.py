@@ -144,14 +144,28 @@ def _figure(root: Parser, subs) -> None:
 
 
 def _maps(root: Parser, subs) -> None:
-    p = root.command(subs, "maps", "height, normal and alpha maps of grown frost for game engines",
-                     "Grow the frost (no display needed) and write height.png (16-bit), normal.png "
-                     "and alpha.png of the final frost to DIR. With no --touch it grows the "
-                     "scripted demo's three touches.", "DIR [options]")
+    p = root.command(subs, "maps", "height, normal, alpha and growth maps of grown frost for game "
+                     "engines", "Grow the frost (no display needed) and write to DIR, for game "
+                     "engines: height.png (16-bit), normal.png, alpha.png, growth.png (16-bit: "
+                     "when each pixel froze, so an engine replays the freeze with one threshold), "
+                     "preview.png and maps.json (what each file and channel holds). With no "
+                     "--touch it grows the scripted demo's three touches (window mode: none).",
+                     "DIR [options]")
     p.add_argument("out_dir", metavar="DIR", help="the folder to write the maps into")
     options.add_preset(p)
     options.add_seed(p)
-    options.add_touch(p, options.PLANT, "the scripted demo")
+    lo, hi = values.MAPS_SIDE
+    p.add_argument("--size", type=values.size, default=(WIDTH, HEIGHT), metavar="WxH",
+                   help=f"the maps' size in px, each side {lo} ... {hi} (default {WIDTH}x{HEIGHT}, "
+                        "the phone screen)")
+    p.add_argument("--tile", action="store_true",
+                   help="seamless in both directions: the frost wraps around every edge (window "
+                        "mode grows from pane sites only; default off)")
+    p.add_argument("--normal-y", choices=("up", "down"), default="up", metavar="up|down",
+                   help="normal.png's green channel: up = OpenGL (Godot, Unity, Blender, glTF), "
+                        "down = DirectX (Unreal) (default up)")
+    options.add_touch(p, options.PLANT, "the scripted demo", kind=values.point,
+                      where="on the maps (0 <= X < W, 0 <= Y < H of --size)")
     options.add_ticks(p, options.DEFAULT_TICKS, "how long to grow")
     options.add_overrides(p)
 

@@ -19,13 +19,13 @@ from pathlib import Path
 
 from app.cli.options import has_display
 from app.images import DEFAULT_FOLDER
+from app.tools.engine_maps import ENGINE_FILES
 from sim.files import not_regular, one_line, refusal, temp_file
-from sim.maps import MAP_NAMES
 
 OUTPUT_FILES = ("out",)
 OUTPUT_FOLDERS = ("out_dir",)
 # Files a folder option's command writes under fixed names: checked like an output file.
-FOLDER_FILES = {"out_dir": tuple(f"{name}.png" for name in MAP_NAMES)}
+FOLDER_FILES = {"out_dir": ENGINE_FILES}
 WINDOW_FOLDERS = ("screenshot_dir", "session_dir")
 NAME_MAX = 255  # bytes in one name, where the file system does not say (Linux's limit)
 

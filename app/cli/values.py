@@ -11,6 +11,8 @@ from app.window.view import scale_problem
 from sim.screen import MAX_MELT_RADIUS, melt_problem, radius_problem, touch_problem
 from sim.session import MAX_SEED, MAX_TICK
 
+MAPS_SIDE = (64, 4096)  # px: the sides frost maps --size takes
+
 
 def backdrop(text: str) -> str:
     """A built-in backdrop's name or an image file that can be read."""
@@ -111,6 +113,29 @@ def melt_path(text: str) -> dict:
         if problem:
             raise argparse.ArgumentTypeError(problem)
     return {"tick": at, "points": points}
+
+
+def size(text: str) -> tuple[int, int]:
+    """WxH in px, each side in [MAPS_SIDE[0], MAPS_SIDE[1]] (frost maps --size)."""
+    lo, hi = MAPS_SIDE
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"size {text!r} must be WxH in px, e.g. 2048x2048") from None
+    if not (lo <= w <= hi and lo <= h <= hi):
+        raise argparse.ArgumentTypeError(f"size {text!r}: each side must be {lo} ... {hi} px")
+    return w, h
+
+
+def point(text: str) -> tuple[float, float]:
+    """X,Y of finite px; where it lands is checked against the size it goes with."""
+    try:
+        x, y = (float(v) for v in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"touch {text!r} must be X,Y in px, e.g. 380,640") from None
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise argparse.ArgumentTypeError(f"touch ({x:g}, {y:g}) must be finite")
+    return x, y
 
 
 def on_off(text: str) -> bool:

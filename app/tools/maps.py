@@ -1,45 +1,64 @@
-"""`frost maps DIR`: grow a frost headless and write its height, normal and alpha
-maps for game engines (computed in sim.maps, written by app.images.export_maps)."""
+"""`frost maps DIR`: grow a frost headless and write the maps a game engine reads: height,
+normal, alpha, growth (when each pixel froze), a preview and maps.json saying what each
+holds (computed in sim.maps and sim.growthmap, written by app.tools.engine_maps)."""
 
 from __future__ import annotations
 
 import sys
 
-from app.images import export_maps
+from app.tools.engine_maps import EngineRun, write_engine_maps
 from app.tools.progress import Progress
 from app.tools.render import demo_touches
 from sim import FrostSim, Params, session
 from sim.files import why
 from sim.geometry import FrostGeometry
-from sim.maps import live_segments, map_triangles
+from sim.growthmap import GrowthClock
+from sim.screen import SIZE
 from sim.session import Timeline, touch_events
 
 
 def grow(params: Params, seed: int, touches, ticks: int,
-         on_tick=None) -> tuple[FrostSim, FrostGeometry]:
-    """The simulation and its geometry (no GL) after `ticks` ticks of touches (tick, x, y),
-    through sim.session.grow; `on_tick(sim)` after every tick (progress)."""
-    timeline = Timeline(params, seed)
+         on_tick=None, size: tuple[int, int] = SIZE, wrap: bool = False,
+         clock: GrowthClock | None = None) -> tuple[FrostSim, FrostGeometry]:
+    """The simulation and its geometry (no GL) after `ticks` ticks of touches (tick, x, y)
+    on a `size` screen (`wrap`: a tile), through sim.session.grow; `on_tick(sim)` after
+    every tick (progress); `clock` is fed every geometry delta."""
+    timeline = Timeline(params, seed, *size, wrap=wrap)
     events = [e for t, x, y in sorted(touches) for e in touch_events([(x, y)], t)]
-    session.grow(timeline, ticks, events, on_tick=on_tick)
+
+    def applied(result) -> None:
+        for delta in result.deltas:
+            clock.apply(delta)  # type: ignore[union-attr]
+
+    session.grow(timeline, ticks, events, on_apply=applied if clock else None,
+                 on_step=clock.apply if clock else None, on_tick=on_tick)
     return timeline.sim, timeline.geometry
 
 
 def run(args, params: Params) -> int:
-    """`frost maps DIR [--touch X,Y] [--ticks N]` (checked by the command line)."""
-    touches = [(0, x, y) for x, y in args.touch] or demo_touches(args.ticks)
+    """`frost maps DIR [--size WxH] [--tile] [--normal-y up|down] [--touch X,Y] [--ticks N]`
+    (checked by the command line)."""
+    size = (int(args.size[0]), int(args.size[1]))
+    touches = [(0, x, y) for x, y in args.touch]
+    if not touches and not params.window_frost:  # a frosted window grows untouched
+        touches = demo_touches(args.ticks, size)
+    clock = GrowthClock(params, *size, args.tile)
     try:
-        sim, geometry = grow(params, args.seed, touches, args.ticks, Progress(args.ticks).step)
+        sim, geometry = grow(params, args.seed, touches, args.ticks, Progress(args.ticks).step,
+                             size, args.tile, clock)
     except ValueError as err:
         print(f"frost: error: {err}", file=sys.stderr)
         return 2
-    meta = {"seed": args.seed, "touches": [list(t) for t in touches], "tick": sim.tick}
+    job = EngineRun(sim, geometry, clock, params, args.seed, touches, args.tile,
+                    args.normal_y, args.ticks)
     try:
-        paths = export_maps(args.out_dir, geometry.heights, live_segments(sim), params, meta,
-                            triangles=map_triangles(sim, params))
+        paths = write_engine_maps(args.out_dir, job)
     except OSError as err:  # nothing was written: the set appears whole or not at all
         print(f"frost: error: cannot write the maps: {why(err, args.out_dir)}",
               file=sys.stderr)
         return 2
-    print("wrote " + ", ".join(str(p) for p in paths.values()))
+    except RuntimeError as err:  # no EGL for the preview: said before any file is written
+        print(f"frost: error: {err}", file=sys.stderr)
+        return 2
+    print("wrote " + ", ".join(str(p) for p in paths))
     return 0

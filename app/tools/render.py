@@ -17,10 +17,12 @@ from sim.screen import HEIGHT, WIDTH
 from sim.session import touch_events
 
 
-def demo_touches(ticks: int) -> list[tuple[int, float, float]]:
-    """The demo with no --touch: (tick, x, y) of touches staggered over the run."""
-    return [(0, WIDTH / 2, HEIGHT / 2), (ticks // 5, WIDTH * 0.25, HEIGHT * 0.25),
-            (2 * ticks // 5, WIDTH * 0.72, HEIGHT * 0.78)]
+def demo_touches(ticks: int, size: tuple[int, int] = (WIDTH, HEIGHT)) -> list[tuple[int, float, float]]:
+    """The demo with no --touch: (tick, x, y) of touches staggered over the run, at the
+    same places on a screen of any `size`."""
+    w, h = size
+    return [(0, w / 2, h / 2), (ticks // 5, w * 0.25, h * 0.25),
+            (2 * ticks // 5, w * 0.72, h * 0.78)]
 
 
 def melt_events(args) -> list[dict]:
