@@ -65,7 +65,6 @@ class GrowthClock:
         # by the bumps alone, before the ridge was cut shorter): it keeps its time.
         bumps = self.bumps.reshape(self.height, self.width)[y0:y1, x0:x1]
         old = np.minimum(img[y0:y1, x0:x1], bumps)
-        img[y0:y1, x0:x1] = NEVER
         idx = triangle_hits(delta.features, self.width, self.height, self.wrap)
         keep = np.full(self.width * self.height, NEVER, np.int32)
         np.minimum.at(keep, idx, np.int32(delta.tick))

@@ -11,7 +11,8 @@ from PIL import Image
 
 from app.cli import main
 from sim import Params
-from sim.growthmap import GROWTH_NONE, GROWTH_TOP, GrowthClock, encode_growth
+from sim.geometry import GeometryDelta
+from sim.growthmap import GROWTH_NONE, GROWTH_TOP, NEVER, GrowthClock, encode_growth
 from sim.maps import compute_maps, live_segments, map_triangles
 from sim.session import Timeline, grow, touch_events
 
@@ -84,6 +85,35 @@ def test_growth_map_orders_the_growth_against_a_run_stopped_halfway():
 def test_encode_growth_by_hand():
     t = np.array([[0, 5, 10, np.iinfo(np.int32).max]])
     assert encode_growth(t, 10).tolist() == [[0, 32767, 65534, 65535]]
+    # tick 1 of 3 is 21 844.67: floored, so growth <= p x 65534 holds at p = 1/3
+    assert encode_growth(np.array([1, 2, 3]), 3).tolist() == [21844, 43689, 65534]
+
+
+def _square(x0: float, y0: float, side: float, z: float = 1.0) -> np.ndarray:
+    """Feature vertices of two flat triangles covering a square (x, y, z, normal)."""
+    corners = [(x0, y0), (x0 + side, y0), (x0 + side, y0 + side), (x0, y0 + side)]
+    rows = [(*corners[i], z, 0.0, 0.0, 1.0) for i in (0, 1, 2, 0, 2, 3)]
+    return np.array(rows, np.float32)
+
+
+def test_a_melt_clears_its_box_and_survivors_keep_their_time():
+    """By hand: two squares freeze at ticks 5 and 7; a melt at tick 9 wipes a box over
+    both and re-sends only the first: it keeps 5, the second is clear until it refreezes."""
+    params = Params.preset("c-2")  # paper look: bumps are ice above 0
+    clock = GrowthClock(params, 64, 64)
+    shape = clock.grid.shape
+    flat = np.zeros((0, shape[1]), np.float32)
+
+    def delta(tick, feats, box=None):
+        return GeometryDelta(tick, slice(0, 0), flat, feats, clear_box=box)
+
+    clock.apply(delta(5, _square(10, 10, 8)))
+    clock.apply(delta(7, _square(30, 10, 8)))
+    clock.apply(delta(9, _square(10, 10, 8), box=(0.0, 0.0, 50.0, 30.0)))
+    t = clock.ticks(np.ones((64, 64), bool))
+    assert t[14, 14] == 5 and t[14, 34] == NEVER and t[40, 40] == NEVER
+    clock.apply(delta(12, _square(30, 10, 8)))
+    assert clock.ticks(np.ones((64, 64), bool))[14, 34] == 12
 
 
 def _maps(tmp_path, name: str, *extra: str) -> dict:
