@@ -26,6 +26,7 @@ import numpy as np
 from .buffers import Growable
 from .fronds import make_fronds
 from .params import Params
+from .periodic import nearest_image, wrap_points
 
 SIXTH = np.pi / 3  # 60 degrees between a crystal's axes
 SLOTS = 6
@@ -127,6 +128,8 @@ class FernGrowth:
         c = sim._crystals.raw()[parents].astype(np.float64)
         dx = sim._wx.raw()[hits] - c[:, 0]
         dy = sim._wy.raw()[hits] - c[:, 1]
+        if sim.grid.period is not None:  # a tile: the walker may be across an edge
+            dx, dy = nearest_image(dx, sim.width), nearest_image(dy, sim.height)
         turn = (np.arctan2(dy, dx) - self.axis.raw()[parents]) / SIXTH
         k = np.rint(turn).astype(np.int64) % SLOTS
         kind = np.where(self.seed.raw()[parents], TIP, SLOT_KIND[k])
@@ -156,8 +159,9 @@ class FernGrowth:
     def _spots(self, sim, parents, angle) -> np.ndarray:
         """One hc from each parent along `angle` (float64 arithmetic, stored float32)."""
         c = sim._crystals.raw()[parents].astype(np.float64)
-        return np.column_stack((c[:, 0] + self.L * np.cos(angle),
-                                c[:, 1] + self.L * np.sin(angle))).astype(np.float32)
+        pts = np.column_stack((c[:, 0] + self.L * np.cos(angle),
+                               c[:, 1] + self.L * np.sin(angle))).astype(np.float32)
+        return wrap_points(pts, sim.grid.period and (sim.width, sim.height))
 
     def _free(self, sim, pts, parents, k) -> np.ndarray:
         """Spots on the screen, at least hc / 2 from the ice of the tick's start, and (side
@@ -214,7 +218,10 @@ def _nearest_d2(sim, pts: np.ndarray) -> np.ndarray:
         return d2
     rows = np.repeat(np.arange(len(pts)), counts)
     c = sim._crystals.raw()[ids]
-    e = (c[:, 0] - pts[rows, 0]) ** 2 + (c[:, 1] - pts[rows, 1]) ** 2
+    dx, dy = c[:, 0] - pts[rows, 0], c[:, 1] - pts[rows, 1]
+    if sim.grid.period is not None:  # a tile: over the wrap
+        dx, dy = nearest_image(dx, sim.grid.period[0]), nearest_image(dy, sim.grid.period[1])
+    e = dx ** 2 + dy ** 2
     starts = (np.cumsum(counts) - counts)[some]
     d2[some] = np.minimum.reduceat(e, starts)
     return d2

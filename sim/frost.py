@@ -18,6 +18,7 @@ from .fern import _nearest_d2, make_growth
 from .grid import HashGrid
 from .pane import chill, glass_spots, make_pane
 from .params import Params
+from .periodic import image_near, nearest_image, wrap_into
 from .screen import HEIGHT, WIDTH, touch_problem
 from .search import make_search
 
@@ -133,7 +134,7 @@ class FrostSim:
         self._plans_key: tuple[int, int] | None = None
         self._cell_work = CELL_WORK  # cell placements left in this tick
         self._full: dict[int, bool] = {}  # areas whose annulus was last seen with no free cell
-        self.grid = HashGrid(self.width, self.height, self.params.hc)
+        self.grid = HashGrid(self.width, self.height, self.params.hc, self.wrap)
         self.tick = 0
         # The ice skeleton: crystals with parent links (-1 for a seed), upsample
         # particles and the chain segments between consecutive skeleton nodes.
@@ -232,6 +233,8 @@ class FrostSim:
         r = hc * np.sqrt(1.0 + 3.0 * u[0])  # uniform in the ring's area: hc .. 2 hc
         px = (sx + r * np.cos(TWO_PI * u[1])).astype(np.float32)
         py = (sy + r * np.sin(TWO_PI * u[1])).astype(np.float32)
+        if self.wrap:
+            px, py = wrap_into(px, self.width), wrap_into(py, self.height)
         good = (px >= 0) & (px < self.width) & (py >= 0) & (py < self.height)
         pts = np.column_stack((px[good], py[good]))
         d2, own = _nearest_d2(self, pts), (pts[:, 0] - sx) ** 2 + (pts[:, 1] - sy) ** 2
@@ -378,6 +381,8 @@ class FrostSim:
         dx, dy = walk_displacements(self.rng, m, self.params.step, self._clearance(x, y))
         x += dx
         y += dy
+        if self.wrap:  # a tile: a walker leaving one edge comes in at the opposite one
+            x[:], y[:] = wrap_into(x, self.width), wrap_into(y, self.height)
         lost = self._relocate(np.flatnonzero(self._outside(x, y)))
         self._forget_water(_NONE, lost)
 
@@ -434,7 +439,11 @@ class FrostSim:
     def _link(self, frozen: np.ndarray, parents: np.ndarray, pts: np.ndarray) -> slice:
         """Frozen walkers become crystals at `pts` linked to their parents; links are upsampled."""
         new = self._add_crystals(pts, parents, self._ice_area(frozen, parents))
-        ups, ups_link, segs, segs_link = upsample(self._crystals.raw()[parents], pts, self.params.D)
+        # On a tile the link runs to the parent's image beside its child (across an edge
+        # its segments and upsample particles lie off the tile; the geometry wraps them).
+        size = (self.width, self.height) if self.wrap else None
+        tail = image_near(self._crystals.raw()[parents], pts, size)
+        ups, ups_link, segs, segs_link = upsample(tail, pts, self.params.D)
         self._seg_range.append(_ranges(segs_link, len(frozen), self._segs.n))
         self._ups_range.append(_ranges(ups_link, len(frozen), self._ups.n))
         self._ups.append(ups)
@@ -444,7 +453,7 @@ class FrostSim:
         self._segs.append(segs)
         self._segs_link.append(segs_link.astype(np.int32) + new.start)
         if len(frozen):
-            d = pts - self._crystals.raw()[parents]
+            d = pts - tail
             self._longest_link = max(self._longest_link, float(np.hypot(d[:, 0], d[:, 1]).max()))
         return new
 
@@ -504,6 +513,8 @@ class FrostSim:
         """Walkers off the screen or outside their own active area."""
         cx, cy, r = self._area_columns()
         ox, oy = x - cx, y - cy
+        if self.wrap:  # a tile: an area reaches across the edges
+            ox, oy = nearest_image(ox, self.width), nearest_image(oy, self.height)
         off = (x < 0) | (x >= self.width) | (y < 0) | (y >= self.height)
         return off | (ox * ox + oy * oy > r * r)
 
@@ -547,7 +558,10 @@ class FrostSim:
         inner, outer = self._shell(a)
         r = np.sqrt(inner ** 2 + u[0] * (outer ** 2 - inner ** 2))
         th = u[1] * TWO_PI
-        return a[:, 0] + r * np.cos(th), a[:, 1] + r * np.sin(th)
+        x, y = a[:, 0] + r * np.cos(th), a[:, 1] + r * np.sin(th)
+        if self.wrap:
+            return wrap_into(x, self.width), wrap_into(y, self.height)
+        return x, y
 
     def _shell(self, a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Inner and outer radius water is placed between, for area rows `a`. With a

@@ -17,8 +17,13 @@ _OFF_Y = np.array([0, 0, 0, 1, 1, 1, 2, 2, 2])
 class HashGrid:
     """Cells of side 2*hc covering a w x h screen (Eq. 1, rounded up)."""
 
-    def __init__(self, width: int, height: int, hc: float):
+    def __init__(self, width: int, height: int, hc: float, wrap: bool = False):
         self.cell = 2.0 * hc
+        # A tile: distances are taken over the wrap, and a crystal is also listed in the
+        # cells its disc reaches across an edge (its images one size over).
+        self.period = (np.float32(width), np.float32(height)) if wrap else None
+        self._images = np.array([(sx, sy) for sx in (0, -width, width) for sy in (0, -height, height)]
+                                if wrap else [(0, 0)], np.float64)
         self.cols = math.ceil(width / self.cell)   # N, Eq. 1a
         self.rows = math.ceil(height / self.cell)  # M, Eq. 1b
         self.size = self.cols * self.rows
@@ -41,6 +46,8 @@ class HashGrid:
         around each point (at most 3x3 with the margin), owner indexing `pts`.
         Pairs come point-major, so each cell sees its owners in ascending order."""
         p = pts.astype(np.float64)
+        if len(self._images) > 1:  # each point's images, point-major (ascending owners kept)
+            p = (p[:, None, :] + self._images[None]).reshape(-1, 2)
         r = radius + CELL_MARGIN
         s = self.cell
         lo = np.floor((p - r) / s).astype(np.int64)
@@ -51,6 +58,6 @@ class HashGrid:
         gap_y = np.maximum(np.maximum(cand_y * s - p[:, 1, None], 0), p[:, 1, None] - (cand_y + 1) * s)
         ok = (gap_x * gap_x + gap_y * gap_y < r * r)
         ok &= (cand_x >= 0) & (cand_x < self.cols) & (cand_y >= 0) & (cand_y < self.rows)
-        owner = np.repeat(np.arange(len(p)), 9).reshape(-1, 9)
+        owner = np.repeat(np.arange(len(p)) // len(self._images), 9).reshape(-1, 9)
         cells = (cand_y * self.cols + cand_x)[ok].astype(np.int32)
         return cells, owner[ok]

@@ -19,9 +19,26 @@ def wrap_into(v: np.ndarray, size: float) -> np.ndarray:
     return np.where(out >= np.float32(size), np.float32(0), out).astype(np.float32)
 
 
-def nearest_image(d: np.ndarray, size: float) -> np.ndarray:
+def nearest_image(d: np.ndarray, size) -> np.ndarray:
     """An offset (one axis) as the shortest over the wrap: in [-size/2, size/2]."""
     return d - size * np.round(d / size)
+
+
+def image_near(p: np.ndarray, q: np.ndarray, size: tuple[int, int] | None) -> np.ndarray:
+    """Points p (n x 2) moved to their image nearest q (n x 2), e.g. a parent beside its
+    child across an edge, so the link between them is short; p itself without a size."""
+    if size is None:
+        return p
+    period = np.array(size, np.float64)
+    d = np.asarray(q, np.float64) - np.asarray(p, np.float64)
+    return (np.asarray(q, np.float64) - nearest_image(d, period)).astype(p.dtype)
+
+
+def wrap_points(pts: np.ndarray, size: tuple[int, int] | None) -> np.ndarray:
+    """n x 2 float32 points taken onto the tile (unchanged without a size)."""
+    if size is None:
+        return pts
+    return np.column_stack((wrap_into(pts[:, 0], size[0]), wrap_into(pts[:, 1], size[1])))
 
 
 def wrap_triangles(verts: np.ndarray, width: int, height: int) -> np.ndarray:

@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .params import Params
+from .periodic import image_near
 
 VERTS_PER_LINK = 24  # 8 triangles: two body faces and a cap on each side at each end
 MIN_HALF_WIDTH = 0.9  # px: the feature texture has no anti-aliasing; thinner breaks into dots
@@ -138,7 +139,9 @@ class PipeRidges:
         self.drawn[links] = level
         w = half_width(level, self.params.hc)
         c = sim.crystals
-        return ridge_triangles(c[sim.parents[links]], c[links], w, self.slope, links)
+        size = (sim.width, sim.height) if getattr(sim, "wrap", False) else None
+        tail = image_near(c[sim.parents[links]], c[links], size)  # a tile: beside the child
+        return ridge_triangles(tail, c[links], w, self.slope, links)
 
     def _extend(self, n: int) -> None:
         if n > len(self.carried):

@@ -18,6 +18,7 @@ import numpy as np
 
 from .buffers import CellLists
 from .grid import HashGrid
+from .periodic import nearest_image
 
 # grid9 queries walkers in chunks of this many to bound the gather matrix.
 _GRID9_CHUNK = 4096
@@ -51,16 +52,20 @@ def make_search(kind: str, grid: HashGrid, candidates: CellLists, hc: float) -> 
 
 
 def nearest_listed(crystals: np.ndarray, hc2: np.float32, w: np.ndarray, counts: np.ndarray,
-                   ids: np.ndarray, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                   ids: np.ndarray, x: np.ndarray, y: np.ndarray,
+                   period=None) -> tuple[np.ndarray, np.ndarray]:
     """Of walkers `w`, each with `counts[i] > 0` crystal ids listed back to back in `ids`,
     those within sqrt(hc2) of one, and the nearest (lowest index among equals). Both
-    searches end here, so their distances are the same floats."""
+    searches end here, so their distances are the same floats. `period` (a tile's size):
+    offsets are taken over the wrap."""
     if len(w) == 0:
         return w, np.empty(0, np.int32)
     starts = np.cumsum(counts) - counts
     rows = np.repeat(np.arange(len(w)), counts)
     dx = crystals[ids, 0] - x[w][rows]
     dy = crystals[ids, 1] - y[w][rows]
+    if period is not None:
+        dx, dy = nearest_image(dx, period[0]), nearest_image(dy, period[1])
     d2 = dx * dx + dy * dy
     dmin = np.minimum.reduceat(d2, starts)
     tied = np.where(d2 == dmin[rows], ids, np.iinfo(np.int32).max)
@@ -87,7 +92,7 @@ class CandidateSearch:
         keys = self.grid.keys(x, y)
         w = np.flatnonzero(self.candidates.count[keys] > 0)
         counts, ids = self.candidates.gather_flat(keys[w])
-        return nearest_listed(crystals, self._hc2, w, counts, ids, x, y)
+        return nearest_listed(crystals, self._hc2, w, counts, ids, x, y, self.grid.period)
 
     def nbytes(self) -> int:
         return 0  # the candidate cells are FrostSim's, counted there
@@ -116,7 +121,8 @@ class Grid9Search:
             per_walker = counts.reshape(-1, 9).sum(axis=1)
             some = per_walker > 0
             w = lo + np.flatnonzero(some)
-            h, p = nearest_listed(crystals, self._hc2, w, per_walker[some], ids, x, y)
+            h, p = nearest_listed(crystals, self._hc2, w, per_walker[some], ids, x, y,
+                                  self.grid.period)
             hits.append(h)
             parents.append(p)
         return np.concatenate(hits), np.concatenate(parents)
@@ -129,5 +135,7 @@ class Grid9Search:
         cols, rows = self.grid.cols, self.grid.rows
         nx = (keys % cols)[:, None] + _AROUND_X
         ny = (keys // cols)[:, None] + _AROUND_Y
+        if self.grid.period is not None:  # a tile: the cells across an edge are neighbours
+            nx, ny = nx % cols, ny % rows
         inside = (nx >= 0) & (nx < cols) & (ny >= 0) & (ny < rows)
         return np.where(inside, ny * cols + nx, self.grid.size).ravel()

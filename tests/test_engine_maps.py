@@ -45,7 +45,7 @@ def run_and_oracle():
         first[now & ~was] = sim.tick
         first[~now] = -1
         was = now
-    
+
     def applied(result):
         for delta in result.deltas:
             clock.apply(delta)

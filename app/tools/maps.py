@@ -35,10 +35,21 @@ def grow(params: Params, seed: int, touches, ticks: int,
     return timeline.sim, timeline.geometry
 
 
+def tile_window(params: Params, size: tuple[int, int], sites_given: bool) -> Params:
+    """Window mode on a tile: no frame, so no frame sites and no chill by it; its nuclei
+    become pane sites (as many as the frame would have had, unless --pane-sites says)."""
+    sites = params.pane_sites
+    if not sites_given:
+        sites += round(params.frame_sites * 2 * (size[0] + size[1]) / 100)
+    return params.replace(frame_sites=0.0, frame_chill=0.0, pane_sites=min(sites, 1000))
+
+
 def run(args, params: Params) -> int:
     """`frost maps DIR [--size WxH] [--tile] [--normal-y up|down] [--touch X,Y] [--ticks N]`
     (checked by the command line)."""
     size = (int(args.size[0]), int(args.size[1]))
+    if args.tile and params.window_frost:
+        params = tile_window(params, size, args.pane_sites is not None)
     touches = [(0, x, y) for x, y in args.touch]
     if not touches and not params.window_frost:  # a frosted window grows untouched
         touches = demo_touches(args.ticks, size)
