@@ -1,0 +1,147 @@
+"""Tiles (frost maps --tile): the periodic neighbour search against brute force across the
+edges, and seams in the maps and the 2x2 preview."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from app.cli import main
+from sim import FrostSim, Params
+from sim.fern import _nearest_d2
+
+TILE = (96, 80)
+
+
+def _brute_nearest(crystals: np.ndarray, x: np.ndarray, y: np.ndarray, hc: float, size):
+    """Each walker's nearest crystal over the wrap (the nine images, float64), and whether
+    it lies within hc: the obvious version."""
+    best = np.full(len(x), np.inf)
+    parent = np.full(len(x), -1)
+    for i, (cx, cy) in enumerate(crystals.astype(np.float64)):
+        for sx in (-size[0], 0, size[0]):
+            for sy in (-size[1], 0, size[1]):
+                d2 = (cx + sx - x) ** 2 + (cy + sy - y) ** 2
+                closer = d2 < best
+                best[closer], parent[closer] = d2[closer], i
+    return best, parent, best < hc * hc
+
+
+def _tile_sim(search: str, seed: int) -> FrostSim:
+    params = Params.preset("c-2", neighbor_search=search)
+    sim = FrostSim(params, *TILE, seed=seed, wrap=True)
+    rng = np.random.default_rng(seed)
+    # Seeds hugging the edges and corners, and a few inside.
+    edge = np.array([[0.5, 40.0], [95.3, 12.0], [48.0, 0.2], [30.0, 79.6], [0.1, 0.1],
+                     [95.9, 79.9], [2.0, 77.0]])
+    sim.plant(np.vstack((edge, rng.uniform([0, 0], TILE, (6, 2)))), water=False)
+    return sim
+
+
+@pytest.mark.parametrize("search", ["candidate", "grid9"])
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_periodic_nearest_crystal_matches_brute_force(search, seed):
+    sim = _tile_sim(search, seed)
+    rng = np.random.default_rng(100 + seed)
+    n = 4000
+    near_edge = rng.uniform(-6, 6, (n // 2, 2)) % np.array(TILE, np.float64)
+    x, y = (np.vstack((near_edge, rng.uniform([0, 0], TILE, (n // 2, 2)))).astype(np.float32).T)
+    walkers, parents = sim.search.nearest(sim.crystals, x, y)
+    best, parent, within = _brute_nearest(sim.crystals, x, y, sim.params.hc, TILE)
+    sure = np.abs(best - sim.params.hc ** 2) > 1e-3  # float32 rounding decides the rest
+    hit = np.zeros(n, bool)
+    hit[walkers] = True
+    assert np.array_equal(hit[sure], within[sure])
+    across = within & ((x < 7) | (x > TILE[0] - 7) | (y < 7) | (y > TILE[1] - 7))
+    assert across.sum() > 100  # the edges are what this is about
+    assert np.array_equal(parents, parent[walkers])
+    d2 = _nearest_d2(sim, np.column_stack((x, y)))
+    assert np.allclose(d2[within], best[within], atol=1e-3)
+
+
+def _steps(img: np.ndarray, axis: int) -> np.ndarray:
+    """Mean |step| between each line (along `axis`) and the next, the last one's step
+    being the one across the wrap-around edge to the first."""
+    a = np.moveaxis(img.astype(np.float64), axis, 0)
+    return np.abs(np.diff(np.concatenate((a, a[:1])), axis=0)).reshape(len(a), -1).mean(axis=1)
+
+
+def _seam_ok(steps: np.ndarray, at: int) -> tuple[bool, tuple]:
+    """The step across the seam after line `at - 1` is no larger than a typical step inside:
+    1.25 x the larger of the median step and the mean of the two steps on each side of
+    it (a ridge may run along the seam, where the steps beside it are large too). Maps
+    grown without wrapping fail it by 2-10x (measured on a 160x128 window frost)."""
+    seam = steps[at - 1]
+    beside = steps[[at - 3, at - 2, at % len(steps), (at + 1) % len(steps)]].mean()
+    typical = max(float(np.median(steps)), float(beside))
+    return bool(seam <= 1.25 * typical), (seam, beside, np.median(steps))
+
+
+@pytest.fixture(scope="module")
+def tiled(tmp_path_factory):
+    out = tmp_path_factory.mktemp("tile") / "maps"
+    assert main(["maps", str(out), "--preset", "window", "--size", "160x128", "--tile",
+                 "--ticks", "250", "--seed", "4"]) == 0
+    return {p.name: np.asarray(Image.open(p)) for p in out.glob("*.png")} | {
+        "json": json.loads((out / "maps.json").read_text())}
+
+
+@pytest.mark.parametrize("name", ["height.png", "normal.png", "alpha.png", "growth.png"])
+def test_maps_have_no_seam(tiled, name):
+    """Across the wrap-around edge the step is like a step inside, in both directions."""
+    img = tiled[name]
+    assert (img != img.flat[0]).mean() > 0.2  # frost, not a flat map
+    for axis in (0, 1):
+        ok, said = _seam_ok(_steps(img, axis), img.shape[axis])
+        assert ok, (axis, said)
+
+
+def test_the_2x2_preview_shows_no_seam(tiled):
+    four, one = tiled["preview-2x2.png"], tiled["preview.png"]
+    assert four.shape == (2 * one.shape[0], 2 * one.shape[1], 3)
+    assert np.array_equal(four[:one.shape[0], :one.shape[1]], one)
+    grey = four.astype(np.float64).mean(axis=-1)
+    for axis in (0, 1):
+        ok, said = _seam_ok(_steps(grey, axis), one.shape[axis])
+        assert ok, (axis, said)
+
+
+def test_an_unwrapped_frost_fails_the_seam_measure(tmp_path):
+    """The measure's control: the same frost grown without --tile has seams."""
+    out = tmp_path / "flat"
+    assert main(["maps", str(out), "--preset", "window", "--size", "160x128", "--ticks",
+                 "250", "--seed", "4"]) == 0
+    for name in ("height.png", "alpha.png", "growth.png"):
+        img = np.asarray(Image.open(out / name))
+        assert not any(_seam_ok(_steps(img, axis), img.shape[axis])[0] for axis in (0, 1)), name
+
+
+def test_a_window_tile_has_no_frame(tiled):
+    info = tiled["json"]
+    assert info["tiling"] == "both directions"
+    assert info["parameters"]["frame_sites"] == 0 and info["parameters"]["frame_chill"] == 0
+    # The frame's nuclei became pane sites: 4 + 3 per 100 px of the border.
+    assert info["parameters"]["pane_sites"] == 4 + round(3 * 2 * (160 + 128) / 100)
+
+
+def test_links_cross_the_edges_short():
+    """On a tile a crystal grows from ice across the edge: its link runs to the parent's
+    image beside it (as short as any link), never across the whole tile."""
+    params = Params.preset("fern")
+    sim = FrostSim(params, *TILE, seed=2, wrap=True)
+    sim.plant([(1.0, 40.0), (48.0, 79.0)])
+    for _ in range(80):
+        sim.step()
+    seg = sim.segments.astype(np.float64)
+    length = np.hypot(seg[:, 2] - seg[:, 0], seg[:, 3] - seg[:, 1])
+    assert length.max() <= params.hc + params.step
+    xs, ys = seg[:, [0, 2]], seg[:, [1, 3]]
+    off = (xs < 0) | (xs >= TILE[0]) | (ys < 0) | (ys >= TILE[1])
+    assert off.any(axis=1).sum() >= 3  # links that cross an edge
+    c = sim.crystals
+    assert ((c >= 0) & (c < np.array(TILE, np.float32))).all()  # crystals stay on the tile
+    w = sim.water
+    assert ((w >= 0) & (w < np.array(TILE, np.float32))).all()
