@@ -145,3 +145,35 @@ def test_links_cross_the_edges_short():
     assert ((c >= 0) & (c < np.array(TILE, np.float32))).all()  # crystals stay on the tile
     w = sim.water
     assert ((w >= 0) & (w < np.array(TILE, np.float32))).all()
+
+
+def _crossing_triangle(size) -> np.ndarray:
+    """A flat triangle (x, y, z, normal rows) reaching 6 px past the right edge."""
+    w = size[0]
+    rows = [(w - 6.0, 10.0, 2.0), (w + 6.0, 10.0, 2.0), (w, 22.0, 2.0)]
+    return np.array([(*r, 0.0, 0.0, 1.0) for r in rows], np.float32)
+
+
+def test_a_ridge_crossing_an_edge_is_drawn_on_both_sides_of_the_maps():
+    """By hand: a triangle from x = W - 6 to W + 6 raises pixels at both edges of the map."""
+    from sim.maps import feature_field, triangle_field
+
+    tri = _crossing_triangle(TILE)
+    wrapped = triangle_field(tri, *TILE, wrap=True)
+    flat = triangle_field(tri, *TILE)
+    assert wrapped[11, TILE[0] - 3] == 2.0 and wrapped[11, 2] == 2.0
+    assert flat[11, TILE[0] - 3] == 2.0 and flat[11, 2] == 0.0
+    assert wrapped[:, 8:TILE[0] - 8].max() == 0.0  # nothing in between
+    seg = np.array([[TILE[0] - 3.0, 40.0, TILE[0] + 3.0, 40.0]])  # the paper's pyramids
+    assert feature_field(seg, 1.0, 0.8, *TILE, wrap=True)[40, 1] > 0
+    assert feature_field(seg, 1.0, 0.8, *TILE)[40, 1] == 0
+
+
+def test_the_geometry_sends_a_copy_across_the_edge_for_the_renderer():
+    from sim.geometry import FrostGeometry
+
+    geometry = FrostGeometry(Params.preset("fern"), *TILE, wrap=True)
+    tri = _crossing_triangle(TILE)
+    sent = geometry._delta(1, slice(0, 0), tri).features
+    assert len(sent) == 6
+    assert np.allclose(sent[3:, 0], tri[:, 0] - TILE[0]) and np.allclose(sent[3:, 1:], tri[:, 1:])
