@@ -44,6 +44,10 @@ class NeighborSearch(Protocol):
 
 def make_search(kind: str, grid: HashGrid, candidates: CellLists, hc: float) -> NeighborSearch:
     """The search `Params.neighbor_search` names ("candidate" or "grid9")."""
+    if kind == "grid9" and grid.period is not None:
+        # The grid's last column and row may be cells narrower than hc, so the 3 x 3 cells
+        # around a walker would miss ice across the edge; the candidate cells list it.
+        raise ValueError("neighbor_search='grid9' cannot wrap: a tile needs 'candidate'")
     if kind == "grid9":
         return Grid9Search(grid, hc)
     if kind == "candidate":
@@ -121,8 +125,7 @@ class Grid9Search:
             per_walker = counts.reshape(-1, 9).sum(axis=1)
             some = per_walker > 0
             w = lo + np.flatnonzero(some)
-            h, p = nearest_listed(crystals, self._hc2, w, per_walker[some], ids, x, y,
-                                  self.grid.period)
+            h, p = nearest_listed(crystals, self._hc2, w, per_walker[some], ids, x, y)
             hits.append(h)
             parents.append(p)
         return np.concatenate(hits), np.concatenate(parents)
@@ -135,7 +138,5 @@ class Grid9Search:
         cols, rows = self.grid.cols, self.grid.rows
         nx = (keys % cols)[:, None] + _AROUND_X
         ny = (keys // cols)[:, None] + _AROUND_Y
-        if self.grid.period is not None:  # a tile: the cells across an edge are neighbours
-            nx, ny = nx % cols, ny % rows
         inside = (nx >= 0) & (nx < cols) & (ny >= 0) & (ny < rows)
         return np.where(inside, ny * cols + nx, self.grid.size).ravel()
