@@ -219,20 +219,27 @@ class FrostGeometry:
 
 
     def _raise_wrapped(self, r: np.ndarray, c: np.ndarray, d: np.ndarray, sign: float) -> slice:
-        """A tile's raise: vertices past an edge are the opposite edge's; every row may be
-        dirty (the mirrored last row and column follow the first)."""
+        """A tile's raise: vertices past an edge are the opposite edge's, and the last row
+        and column mirror the first. Only the vertices touched are summed and capped (new
+        ice lands all over a tile, so the dirty rows are most of the grid every tick)."""
         hit = d < self.params.hc
         rows, cols = self.rows - 1, self.cols - 1
-        flat = (r[hit] % rows) * cols + c[hit] % cols
-        add = np.bincount(flat, self.params.bump * falloff(d[hit], self.params.hc),
-                          minlength=rows * cols).reshape(rows, cols)
-        total = self._sum
-        total[:rows, :cols] += sign * add
-        total[rows, :] = total[0, :]
-        total[:, cols] = total[:, 0]
-        h = np.minimum(total, self.params.max_height)
-        self.heights[:] = np.where(h < 1e-6, 0.0, h)
-        return slice(0, self.rows)
+        rr, cc = r[hit] % rows, c[hit] % cols
+        if len(rr) == 0:
+            return slice(0, 0)
+        touched, inv = np.unique(rr * self.cols + cc, return_inverse=True)
+        add = np.bincount(inv.ravel(), self.params.bump * falloff(d[hit], self.params.hc))
+        ty, tx = np.divmod(touched, self.cols)
+        # The mirrors: a vertex in row 0 is also the last row, one in column 0 the last column.
+        top, left = ty == 0, tx == 0
+        corner = top & left
+        ty = np.concatenate((ty, np.full(int(top.sum()), rows), ty[left], np.full(int(corner.sum()), rows)))
+        tx = np.concatenate((tx, tx[top], np.full(int(left.sum()), cols), np.full(int(corner.sum()), cols)))
+        add = np.concatenate((add, add[top], add[left], add[corner]))
+        self._sum[ty, tx] += sign * add
+        h = np.minimum(self._sum[ty, tx], self.params.max_height)
+        self.heights[ty, tx] = np.where(h < 1e-6, 0.0, h)
+        return slice(int(ty.min()), int(ty.max()) + 1)
 
 
 def live_features(sim, params: Params) -> np.ndarray:

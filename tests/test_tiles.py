@@ -188,3 +188,26 @@ def test_grid9_is_refused_on_a_tile(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.startswith("frost: error: ") and err.count("\n") == 1
     assert not (tmp_path / "m").exists()
+
+
+def test_a_tiles_height_grid_wraps_against_the_obvious_sum():
+    """Each vertex holds bump x falloff of every particle within hc over the wrap (the
+    obvious double loop), capped; the last row and column repeat the first."""
+    from sim.geometry import FrostGeometry, falloff
+
+    params = Params.preset("fern")
+    geometry = FrostGeometry(params, *TILE, wrap=True)
+    rng = np.random.default_rng(7)
+    pts = np.vstack((rng.uniform([0, 0], TILE, (40, 2)),
+                     [[0.5, 0.5], [95.5, 3.0], [10.0, 79.5]])).astype(np.float32)
+    geometry._raise(pts[:30])
+    geometry._raise(pts[30:])
+    gs = params.grid_spacing
+    want = np.zeros_like(geometry.heights, np.float64)
+    for r in range(geometry.rows):
+        for c in range(geometry.cols):
+            dx = (c * gs - pts[:, 0] + TILE[0] / 2) % TILE[0] - TILE[0] / 2
+            dy = (r * gs - pts[:, 1] + TILE[1] / 2) % TILE[1] - TILE[1] / 2
+            want[r, c] = (params.bump * falloff(np.hypot(dx, dy), params.hc)).sum()
+    assert np.allclose(geometry.heights, np.minimum(want, params.max_height), atol=1e-5)
+    assert (want[0] > 0).any() and (want[:, 0] > 0).any()

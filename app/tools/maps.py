@@ -13,7 +13,7 @@ from sim import FrostSim, Params, session
 from sim.files import why
 from sim.geometry import FrostGeometry
 from sim.growthmap import GrowthClock
-from sim.screen import SIZE
+from sim.screen import HEIGHT, SIZE, WIDTH
 from sim.session import Timeline, touch_events
 
 
@@ -35,13 +35,18 @@ def grow(params: Params, seed: int, touches, ticks: int,
     return timeline.sim, timeline.geometry
 
 
-def tile_window(params: Params, size: tuple[int, int], sites_given: bool) -> Params:
+def tile_window(params: Params, size: tuple[int, int], given=frozenset()) -> Params:
     """Window mode on a tile: no frame, so no frame sites and no chill by it; its nuclei
-    become pane sites (as many as the frame would have had, unless --pane-sites says)."""
-    sites = params.pane_sites
-    if not sites_given:
-        sites += round(params.frame_sites * 2 * (size[0] + size[1]) / 100)
-    return params.replace(frame_sites=0.0, frame_chill=0.0, pane_sites=min(sites, 1000))
+    become pane sites (as many as the frame would have had), and the pane's water scales
+    with its area against the phone's (the pool and budget were sized for 760 x 1280),
+    each within its range; a parameter in `given` (set on the command line) is kept."""
+    area = size[0] * size[1] / (WIDTH * HEIGHT)
+    scaled = {"pane_sites": params.pane_sites + round(params.frame_sites * 2 * sum(size) / 100),
+              "humidity": round(params.humidity * max(area, 1.0)),
+              "water_budget": round(params.water_budget * max(area, 1.0))}
+    top = {"pane_sites": 1000, "humidity": 100_000, "water_budget": 30_000}
+    changes = {k: min(v, top[k]) for k, v in scaled.items() if k not in given}
+    return params.replace(frame_sites=0.0, frame_chill=0.0, **changes)
 
 
 def run(args, params: Params) -> int:
@@ -49,7 +54,8 @@ def run(args, params: Params) -> int:
     (checked by the command line)."""
     size = (int(args.size[0]), int(args.size[1]))
     if args.tile and params.window_frost:
-        params = tile_window(params, size, args.pane_sites is not None)
+        params = tile_window(params, size, {n for n in ("pane_sites", "humidity", "water_budget")
+                                            if getattr(args, n, None) is not None})
     touches = [(0, x, y) for x, y in args.touch]
     if not touches and not params.window_frost:  # a frosted window grows untouched
         touches = demo_touches(args.ticks, size)

@@ -58,7 +58,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--out", help="write the maps here (default a temporary folder)")
     args = p.parse_args(argv)
     size = (args.size, args.size)
-    params = tile_window(Params.preset("window"), size, sites_given=False)
+    params = tile_window(Params.preset("window"), size)
     t0 = time.perf_counter()
     timeline, clock, end = grow_to_end(params, size, args.max_ticks)
     grown = time.perf_counter() - t0
