@@ -211,3 +211,17 @@ def test_a_tiles_height_grid_wraps_against_the_obvious_sum():
             want[r, c] = (params.bump * falloff(np.hypot(dx, dy), params.hc)).sum()
     assert np.allclose(geometry.heights, np.minimum(want, params.max_height), atol=1e-5)
     assert (want[0] > 0).any() and (want[:, 0] > 0).any()
+
+
+def test_a_window_tiles_sites_and_water_follow_its_size():
+    """By hand, 2048 x 2048 (4.31 x the phone's 760 x 1280): 4 + 3 x 81.92 sites; the pool
+    4 000 x 4.31; the budget 10 000 x 4.31, capped at 30 000; a value given is kept."""
+    from app.tools.maps import tile_window
+
+    p = tile_window(Params.preset("window"), (2048, 2048))
+    area = 2048 * 2048 / (760 * 1280)
+    assert (p.frame_sites, p.frame_chill) == (0.0, 0.0)
+    assert p.pane_sites == 4 + round(3 * 4 * 2048 / 100)
+    assert p.humidity == round(4000 * area) and p.water_budget == 30_000
+    kept = tile_window(Params.preset("window", humidity=500), (2048, 2048), {"humidity"})
+    assert kept.humidity == 500 and kept.water_budget == 30_000
