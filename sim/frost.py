@@ -531,7 +531,7 @@ class FrostSim:
             for a in np.unique(area[todo]):
                 mine = todo[area[todo] == a]
                 x[mine], y[mine], ok[mine] = self._cell_spots(int(a), len(mine))
-        elif self.batched:
+        elif self.batched and (len(todo) or direct.any()):
             todo = np.union1d(todo, np.flatnonzero(direct))[:self._cell_work]
             self._cell_work -= len(todo)
             x[todo], y[todo], ok[todo] = self._cell_spots_all(area[todo])
@@ -670,6 +670,8 @@ class FrostSim:
         listed (`_area_cells`; at most a tick old). Listing every area's cells for every
         placement cost ~0.1 ms an area, though few areas ever fill; a stale answer only
         sends a walker the other way to a valid spot."""
+        if not any(self._full.values()):  # (the usual case: no area has filled)
+            return np.zeros(len(area), bool)
         ua, inv = np.unique(area, return_inverse=True)
         return np.array([self._full.get(int(a), False) for a in ua], bool)[inv]
 
