@@ -38,10 +38,11 @@ from .screen import HEIGHT, WIDTH, melt_problem, touch_problem
 log = logging.getLogger(__name__)
 
 FORMAT = "frost-session"
-# 3: where an area's disc draws fail, walkers are placed from all areas' cells in one
-# pass (sim/frost.py, CELL_WORK); 2: a rebuild replants the touches at their own pace
-# (1: all at tick 0). Older files replay as frost did when they were written.
-VERSION = 3
+# 4: the window's water draws its later tries in one batch (sim/openglass.py); 3: where
+# an area's disc draws fail, walkers are placed from all areas' cells in one pass
+# (sim/frost.py, CELL_WORK); 2: a rebuild replants the touches at their own pace (1: all
+# at tick 0). Older files replay as frost did when they were written.
+VERSION = 4
 # Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
 REGROW_GAP = 12
 # The keys each event kind needs besides "tick" and "kind".
@@ -438,7 +439,8 @@ class Timeline:
 
     def _build(self, params: Params) -> None:
         self.params = params
-        self.sim = FrostSim(params, *self.size, seed=self.seed, batched=self.version >= 3)
+        self.sim = FrostSim(params, *self.size, seed=self.seed, batched=self.version >= 3,
+                            tries_at_once=self.version >= 4)
         self.geometry = FrostGeometry(params, *self.size)
         while self._pending and self._pending[0]["tick"] == 0 \
                 and self._pending[0]["kind"] == "touch":  # (melts wait for the step)

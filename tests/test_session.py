@@ -14,7 +14,17 @@ import pytest
 from app.simthread import thread as simthread
 from app.simthread.thread import SimThread
 from sim import Params
-from sim.session import Backlog, SessionError, SessionLog, Timeline, grow, regrow, replay, touch_events
+from sim.session import (
+    VERSION,
+    Backlog,
+    SessionError,
+    SessionLog,
+    Timeline,
+    grow,
+    regrow,
+    replay,
+    touch_events,
+)
 
 ROOT = Path(__file__).resolve().parent.parent
 PARAMS = Params.preset("c-3")
@@ -234,7 +244,7 @@ def test_a_session_file_replants_as_its_version_did(tmp_path, version, ticks):
 
 
 def test_a_session_file_from_a_later_frost_is_refused():
-    data = {"format": "frost-session", "version": 4, "seed": 0, "params": {}, "events": []}
+    data = {"format": "frost-session", "version": VERSION + 1, "seed": 0, "params": {}, "events": []}
     with pytest.raises(SessionError, match="version"):
         SessionLog.from_json(data)
 
