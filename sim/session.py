@@ -60,6 +60,9 @@ REBUILDS = ("params", "clear")  # kinds that start a new timeline at tick 0
 TICK_BUDGET_S = 0.010  # (docs/method.md 5.2: 8-9 ms queued the warm finger in fern)
 # How fast an input kind's learnt cost follows its latest (an exponential mean's weight).
 COST_WEIGHT = 0.25
+# Input's least share of a tick, whatever the step costs: a step over the budget (a
+# frosted screen of Table 1, a loaded machine) would otherwise leave one input a tick.
+MIN_INPUT_S = 0.003
 # A step's cost is the median of the last few: one slow step (after a rebuild, say) does
 # not starve the input of the ticks after it.
 STEP_SAMPLES = 9
@@ -256,9 +259,13 @@ class Backlog:
     while the tick's time so far, plus what the next item's kind and the step have lately
     cost, stays under `budget_s`; the rest wait for the next tick. `kind(item)` names an item's
     kind; tell the backlog each step's cost with `stepped`. (The ticks input lands on are
-    recorded as it applies, so replays stay exact whatever the clock says.)"""
+    recorded as it applies, so replays stay exact whatever the clock says.) The clock is
+    the calling thread's CPU time: the work a tick does, not the time it waited for the
+    other threads (the window's renderer holds the interpreter's lock while llvmpipe
+    draws; counted in wall time, a loaded machine's steps left no room for input, and a
+    tuning key waited behind hundreds of melts)."""
 
-    def __init__(self, budget_s: float = TICK_BUDGET_S, clock=time.perf_counter,
+    def __init__(self, budget_s: float = TICK_BUDGET_S, clock=time.thread_time,
                  kind=lambda item: None):
         self.budget_s, self.clock, self.kind = budget_s, clock, kind
         self._items: deque = deque()
@@ -277,7 +284,7 @@ class Backlog:
         """`apply(item)` for this tick's share of the items; how many went."""
         start = now = self.clock()
         done = 0
-        room = self.budget_s - self.step_s
+        room = max(self.budget_s - self.step_s, min(MIN_INPUT_S, self.budget_s))
         while self._items:
             kind = self.kind(self._items[0])
             if done and now - start + self.item_s.get(kind, 0.0) >= room:

@@ -587,3 +587,17 @@ def test_the_thread_tells_its_backlog_what_each_step_cost(monkeypatch):
     thread.paused = True
     thread._tick()  # no step while paused: nothing to learn
     assert told == [3.0]
+
+
+def test_input_still_waiting_at_exit_is_reported_by_kind():
+    thread = SimThread(Params.preset("c-3"), 0, [(380, 640)])
+    for x in (100.0, 200.0):
+        thread.send("touch", ((x, 300.0), None))
+    thread.send("melt", (380.0, 640.0, 20.0))
+    thread.send("params", Params.preset("c-2"))
+    thread.send("pause")  # not a change of the frost: not counted
+    thread.stop()  # never started: nothing applied
+    notices = [thread.notices.get() for _ in range(thread.notices.qsize())]
+    assert notices == [(logging.WARNING, "input still waiting at exit, never applied (not in the "
+                        "session): 2 touches, 1 melts, 1 parameter changes")]
+    assert thread.session().events == [{"kind": "touch", "x": 380.0, "y": 640.0, "tick": 0}]
