@@ -8,8 +8,7 @@ import pytest
 
 from app.cli.options import params_from
 from app.cli.parser import build_parser
-from app.window import tuning
-from sim import PRESETS, FrostSim, Params, preset_name
+from sim import PRESETS, FrostSim, Params, preset_name, tuning
 from sim.fern import SIXTH
 from sim.morphology import link_angles
 
