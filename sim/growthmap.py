@@ -110,10 +110,10 @@ class GrowthClock:
         return (a * (1 - wy) + b * wy).astype(np.float32)
 
     def ticks(self, ice: np.ndarray) -> np.ndarray:
-        """H x W int64 tick at which each pixel of the final `ice` mask froze (NEVER where
+        """H x W int32 tick at which each pixel of the final `ice` mask froze (NEVER where
         it is not ice)."""
         t = np.minimum(self.features, self.bumps).reshape(self.height, self.width)
-        return np.where(ice, t, NEVER).astype(np.int64)
+        return np.where(ice, t, NEVER)
 
 
 def _axis(i: np.ndarray, spacing: int, size: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -126,5 +126,6 @@ def _axis(i: np.ndarray, spacing: int, size: int) -> tuple[np.ndarray, np.ndarra
 def encode_growth(ticks: np.ndarray, total: int) -> np.ndarray:
     """uint16 growth map: tick t of a `total`-tick run as floor(t x 65534 / total), so
     `growth <= progress x 65534` is the ice at that share of the run; 65535 where no ice."""
-    scaled = np.minimum(ticks, max(total, 1)) * GROWTH_TOP // max(total, 1)
-    return np.where(ticks == NEVER, GROWTH_NONE, scaled).astype(np.uint16)
+    total = max(int(total), 1)
+    table = (np.arange(total + 1, dtype=np.int64) * GROWTH_TOP // total).astype(np.uint16)
+    return np.where(ticks == NEVER, np.uint16(GROWTH_NONE), table[np.minimum(ticks, total)])

@@ -30,7 +30,9 @@ from .screen import HEIGHT, WIDTH
 
 MAP_NAMES = ("height", "normal", "alpha")
 # Feature pyramids are rasterized in batches of about this many pixel samples.
-_BATCH_SAMPLES = 1 << 22
+_BATCH_SAMPLES = 1 << 20
+# normal_map works on bands of this many rows (bounded float64 temporaries).
+NORMAL_ROWS = 256
 
 
 @dataclass(frozen=True)
@@ -169,15 +171,30 @@ def normal_map(height: np.ndarray, strength: float = 1.0, wrap: bool = False) ->
     """Unit tangent-space normals of a height field (px, row 0 at the top): H x W x 3,
     x right, y UP the image (OpenGL / Unity / Blender convention), z out of the glass.
     n = normalize(-s dh/dx, +s dh/drow, 1): rows grow downward, so dh/dy_up = -dh/drow.
-    With `wrap` (a tile) the differences at an edge reach across to the opposite one."""
-    h = np.asarray(height, np.float64)
+    With `wrap` (a tile) the differences at an edge reach across to the opposite one.
+    Computed NORMAL_ROWS rows at a time (a 4096 px map's float64 temporaries were over a
+    GB), each band with its neighbouring rows, so the result is the whole map's."""
+    h = np.asarray(height)
+    out = np.empty((*h.shape, 3), np.float32)
+    for a in range(0, h.shape[0], NORMAL_ROWS):
+        b = min(a + NORMAL_ROWS, h.shape[0])
+        out[a:b] = _normal_band(h, a, b, strength, wrap)
+    return out
+
+
+def _normal_band(h: np.ndarray, a: int, b: int, strength: float, wrap: bool) -> np.ndarray:
+    """normal_map's rows a..b-1, from rows a-1..b of `h` (over the wrap, or clipped)."""
     if wrap:
-        d_row = 0.5 * (np.roll(h, -1, axis=0) - np.roll(h, 1, axis=0))
-        d_col = 0.5 * (np.roll(h, -1, axis=1) - np.roll(h, 1, axis=1))
+        band = np.asarray(h[np.arange(a - 1, b + 1) % h.shape[0]], np.float64)
+        d_row = 0.5 * (band[2:] - band[:-2])
+        d_col = 0.5 * (np.roll(band[1:-1], -1, axis=1) - np.roll(band[1:-1], 1, axis=1))
+    elif min(h.shape) > 1:
+        lo, hi = max(a - 1, 0), min(b + 1, h.shape[0])
+        g_row, g_col = (np.asarray(g) for g in np.gradient(np.asarray(h[lo:hi], np.float64)))
+        d_row, d_col = g_row[a - lo:b - lo], g_col[a - lo:b - lo]
     else:
-        d_row, d_col = (np.asarray(g) for g in np.gradient(h)) if min(h.shape) > 1 \
-            else (np.zeros_like(h), np.zeros_like(h))
-    n = np.stack((-strength * d_col, strength * d_row, np.ones_like(h)), axis=-1)
+        d_row = d_col = np.zeros((b - a, h.shape[1]))
+    n = np.stack((-strength * d_col, strength * d_row, np.ones_like(d_row)), axis=-1)
     return (n / np.linalg.norm(n, axis=-1, keepdims=True)).astype(np.float32)
 
 

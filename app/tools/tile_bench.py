@@ -62,6 +62,7 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     timeline, clock, end = grow_to_end(params, size, args.max_ticks)
     grown = time.perf_counter() - t0
+    print(f"peak RSS after growing: {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
     job = EngineRun(timeline.sim, timeline.geometry, clock, params, 0, [], True, "up",
                     timeline.tick)
     with tempfile.TemporaryDirectory() as tmp:
