@@ -174,3 +174,21 @@ def test_a_touch_in_a_large_maps_pixels_is_taken(tmp_path, capsys):
     assert main(["maps", str(tmp_path / "m"), "--preset", "fern", "--size", "1000x64",
                  "--touch", "900,30", "--ticks", "5"]) == 0
     assert json.loads((tmp_path / "m" / "maps.json").read_text())["touches"] == [[0, 900.0, 30.0]]
+
+
+@pytest.mark.parametrize("wrap", [False, True])
+def test_normals_in_bands_are_the_whole_maps(wrap):
+    """Over several 256-row bands, the normals equal the obvious whole-map formula:
+    central differences (np.gradient, or over the wrap with np.roll), normalized."""
+    from sim.maps import normal_map
+
+    h = np.random.default_rng(1).random((600, 70)).astype(np.float32) * 5
+    g = h.astype(np.float64)
+    if wrap:
+        d_row = 0.5 * (np.roll(g, -1, 0) - np.roll(g, 1, 0))
+        d_col = 0.5 * (np.roll(g, -1, 1) - np.roll(g, 1, 1))
+    else:
+        d_row, d_col = np.gradient(g)
+    n = np.stack((-d_col, d_row, np.ones_like(g)), axis=-1)
+    want = (n / np.linalg.norm(n, axis=-1, keepdims=True)).astype(np.float32)
+    assert np.array_equal(normal_map(h, wrap=wrap), want)
