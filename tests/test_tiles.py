@@ -225,3 +225,22 @@ def test_a_window_tiles_sites_and_water_follow_its_size():
     assert p.humidity == round(4000 * area) and p.water_budget == 30_000
     kept = tile_window(Params.preset("window", humidity=500), (2048, 2048), {"humidity"})
     assert kept.humidity == 500 and kept.water_budget == 30_000
+
+
+def test_walkers_leaving_an_edge_come_in_at_the_opposite_one():
+    """One walk of a window tile's pool against Eq. 2 done by hand with the same random
+    draws, each position taken modulo the size: none is re-placed, some cross an edge."""
+    import copy
+
+    from sim.frost import walk_displacements
+    from sim.periodic import wrap_into
+
+    sim = FrostSim(Params.preset("window", frame_sites=0.0), *TILE, seed=3, wrap=True)
+    x0, y0 = sim._wx.view().copy(), sim._wy.view().copy()
+    rng = copy.deepcopy(sim.rng)
+    dx, dy = walk_displacements(rng, len(x0), sim.params.step, sim._clearance(x0, y0))
+    sim._walk()
+    assert np.array_equal(sim._wx.view(), wrap_into(x0 + dx, TILE[0]))
+    assert np.array_equal(sim._wy.view(), wrap_into(y0 + dy, TILE[1]))
+    crossed = (x0 + dx < 0) | (x0 + dx >= TILE[0]) | (y0 + dy < 0) | (y0 + dy >= TILE[1])
+    assert crossed.sum() >= 5
