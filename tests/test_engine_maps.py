@@ -192,3 +192,11 @@ def test_normals_in_bands_are_the_whole_maps(wrap):
     n = np.stack((-d_col, d_row, np.ones_like(g)), axis=-1)
     want = (n / np.linalg.norm(n, axis=-1, keepdims=True)).astype(np.float32)
     assert np.array_equal(normal_map(h, wrap=wrap), want)
+
+
+def test_a_tile_off_the_height_grid_is_refused_in_one_line(tmp_path, capsys):
+    """A tile's grid must close on itself: each side a multiple of grid_spacing (4 px)."""
+    assert main(["maps", str(tmp_path / "m"), "--tile", "--size", "66x64", "--ticks", "3"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("frost: error: ") and err.count("\n") == 1 and "grid_spacing" in err
+    assert not (tmp_path / "m").exists()
