@@ -280,9 +280,11 @@ def test_glass_ridges_are_thicker_by_the_seed_than_at_a_leaf(fern_glass):
 
 
 def test_glass_ridges_follow_the_pipe_model(fern_glass):
-    # Half-width ~ n^(1/3) and a ridge's cross-section ~ width^2: mass ~ n^(2/3).
+    # Half-width ~ n^(1/3) and a ridge's cross-section ~ width^2: mass ~ n^(2/3). Pixels
+    # weigh the thinnest ridges up (a 2 px ridge's crest and edge pixels), so the measure
+    # reads about 0.85 x the exponent: 2/3 reads 0.58, a square root (1) 0.84, n^(1/4) 0.42.
     run, _, thick = fern_glass
-    assert abs(checks.width_law(thick[1], run.sim, 0.75 * run.sim.params.hc) - 2 / 3) < 0.1
+    assert 0.5 < checks.width_law(thick[1], run.sim, 0.75 * run.sim.params.hc) < 0.75
 
 
 def test_glass_ice_is_tinted_when_thin_and_white_when_thick(fern_glass):
