@@ -17,13 +17,13 @@ from PIL import Image
 
 from app.simthread import thread as simthread
 from app.simthread.thread import SimThread
-from app.window import keys, lost_display, tuning
+from app.window import keys, lost_display
 from app.window.capture import AUTOSAVE_PERIOD, Capture
 from app.window.keys import BINDINGS, Binding, help_lines, key_table
 from app.window.record import FRAME_GAP, Recorder
 from app.window.status import IDLE_GAP, DrawRate, Status
 from app.window.view import cursor_to_phone, fit_scale, letterbox
-from sim import Params, preset_name
+from sim import Params, preset_name, tuning
 from sim.gestures import path_points
 from sim.session import Backlog, SessionLog
 
@@ -587,3 +587,58 @@ def test_the_thread_tells_its_backlog_what_each_step_cost(monkeypatch):
     thread.paused = True
     thread._tick()  # no step while paused: nothing to learn
     assert told == [3.0]
+
+
+def test_input_still_waiting_at_exit_is_reported_by_kind():
+    thread = SimThread(Params.preset("c-3"), 0, [(380, 640)])
+    for x in (100.0, 200.0):
+        thread.send("touch", ((x, 300.0), None))
+    thread.send("melt", (380.0, 640.0, 20.0))
+    thread.send("params", Params.preset("c-2"))
+    thread.send("pause")  # not a change of the frost: not counted
+    thread.stop()  # never started: nothing applied
+    notices = [thread.notices.get() for _ in range(thread.notices.qsize())]
+    assert notices == [(logging.WARNING, "input still waiting at exit, never applied (not in the "
+                        "session): 2 touches, 1 melts, 1 parameter changes")]
+    assert thread.session().events == [{"kind": "touch", "x": 380.0, "y": 640.0, "tick": 0}]
+
+
+def test_a_session_saved_after_the_thread_ticked_past_the_frame_shown_replays_that_frame(tmp_path):
+    """The window saves the frame it shows while the thread has gone on: a touch, a melt
+    and a tuning change (a rebuild) applied after that frame must not reach its file."""
+    from sim.session import replay
+
+    thread, capture, _, _ = keeper(tmp_path)
+    thread.send("touch", ((200.0, 300.0), None))
+    shown = ticked(thread, 30)
+    frozen = {k: getattr(thread.sim, k).copy() for k in ("crystals", "parents", "crystal_alive")}
+    thread.send("touch", ((500.0, 900.0), None))
+    thread.send("melt", (380.0, 640.0, 25.0))
+    thread.send("params", Params(humidity=4000))
+    ticked(thread, 12)
+    assert len(thread.timeline.events) == 5 and thread.timeline.steps == shown.steps + 12
+    path = capture.save_session(shown, tmp_path / "shown.json")
+    log = SessionLog.load(path)
+    assert (log.steps, [e["kind"] for e in log.events]) == (shown.steps, ["touch", "touch"])
+    again = replay(log).sim
+    assert again.tick == shown.stats.tick
+    for name, value in frozen.items():
+        assert np.array_equal(getattr(again, name), value), name
+
+
+@pytest.mark.parametrize("start", ["fern", "window", "c-2"])
+def test_the_scripted_scribble_presses_the_windows_own_tuning_keys(start):
+    """sim.scribble's tuning changes are what the window's key table does, key by key
+    (from fern, key 1 is Table 1's a-1 with the fern rules off, as in the window)."""
+    from sim.scribble import tuning_changes
+
+    by_label = {b.label: b for b in BINDINGS}
+    act = {"scale": lambda p, a: tuning.scaled(p, *a), "shift": lambda p, a: tuning.shifted(p, *a),
+           "toggle_param": tuning.toggled, "preset": tuning.preset}
+    pressed, p = [], Params.preset(start)
+    for label in ["=", "-", "]", "[", "'", ";", "P", "O", "L", "K", "G", "G", *"123456789"]:
+        b = by_label[label]
+        p = act[b.action](p, b.arg)
+        pressed.append(p)
+    assert tuning_changes(Params.preset(start)) == pressed
+    assert pressed[-9] == Params.preset("a-1")  # the paper's a-1, whatever look it left
