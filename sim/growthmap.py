@@ -35,6 +35,7 @@ class GrowthClock:
         self.width, self.height, self.wrap = width, height, wrap
         self.spacing = int(params.grid_spacing)
         self.threshold = FILM_CUT if params.look == "glass" else 0.0
+        self.edge_aa = params.look == "glass"  # the maps' features, as sim.maps draws them
         self.features = np.full(width * height, NEVER, np.int32)
         self.bumps = np.full(width * height, NEVER, np.int32)
         # The heights as the deltas left them (sim.geometry's grid: a vertex every spacing px).
@@ -53,7 +54,7 @@ class GrowthClock:
 
     def _cover(self, verts: np.ndarray, tick: int) -> None:
         """Pixels under `verts`' triangles that had no ice take `tick`."""
-        idx = triangle_hits(verts, self.width, self.height, self.wrap)
+        idx = triangle_hits(verts, self.width, self.height, self.edge_aa, self.wrap)
         np.minimum.at(self.features, idx, np.int32(tick))
 
     def _clear(self, box, delta: GeometryDelta) -> None:
@@ -65,7 +66,7 @@ class GrowthClock:
         # by the bumps alone, before the ridge was cut shorter): it keeps its time.
         bumps = self.bumps.reshape(self.height, self.width)[y0:y1, x0:x1]
         old = np.minimum(img[y0:y1, x0:x1], bumps)
-        idx = triangle_hits(delta.features, self.width, self.height, self.wrap)
+        idx = triangle_hits(delta.features, self.width, self.height, self.edge_aa, self.wrap)
         keep = np.full(self.width * self.height, NEVER, np.int32)
         np.minimum.at(keep, idx, np.int32(delta.tick))
         keep = keep.reshape(self.height, self.width)[y0:y1, x0:x1]

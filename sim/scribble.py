@@ -18,14 +18,12 @@ import numpy as np
 from . import tuning
 from .gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
 from .params import PRESETS, Params
-from .screen import SIZE
+from .screen import MELT_RADIUS, SIZE, TICKS_PER_SECOND
 from .session import Backlog, Timeline
 from .tuning import BUMP_STEP, HUMIDITY_FACTOR, LENGTH_STEP
 
-TICKS_PER_SECOND = 25
 FINGER_SPEED = 800.0  # px per second: a brisk drag across a phone
 STROKE_GAP = 5  # ticks between the strokes of a scribble (the finger lifts)
-MELT_RADIUS = 24.0  # px, the window's default warm finger
 
 
 @dataclass(frozen=True)
