@@ -57,9 +57,19 @@ class Clearance:
             return
         cy, cx = np.divmod(np.unique(cells), self.grid.cols)
         tx, ty = cx[:, None] + self._ox, cy[:, None] + self._oy
-        ok = (tx >= 0) & (tx < self.grid.cols) & (ty >= 0) & (ty < self.grid.rows)
         ring = np.broadcast_to(self._ring, tx.shape)
+        if self.grid.period is not None:  # a tile: the rings go on across the edges
+            tx, ty, ring = self._wrapped(tx, ty, ring)
+        ok = (tx >= 0) & (tx < self.grid.cols) & (ty >= 0) & (ty < self.grid.rows)
         np.minimum.at(self.rings, (ty * self.grid.cols + tx)[ok], ring[ok])
+
+    def _wrapped(self, tx, ty, ring):
+        """Cells past an edge are the opposite edge's. The grid's last column and row may
+        be narrower than a cell, so a ring counted across an edge may be up to a cell too
+        far: each crossing counts one ring less (still a lower bound)."""
+        cols, rows = self.grid.cols, self.grid.rows
+        crossings = np.abs(np.floor_divide(tx, cols)) + np.abs(np.floor_divide(ty, rows))
+        return tx % cols, ty % rows, np.maximum(ring - crossings, 0).astype(np.int16)
 
     def radii(self, x: np.ndarray, y: np.ndarray, rim: np.ndarray) -> np.ndarray:
         """Each walker's clearance rho in px (0 in and next to candidate cells), given its
@@ -70,6 +80,8 @@ class Clearance:
         border = np.minimum(np.minimum(fx, s - fx), np.minimum(fy, s - fy))
         k = self.rings[ky * self.grid.cols + kx]
         rho = np.where(k >= 1, (k - 1).astype(np.float32) * s + border, np.float32(0))
+        if self.grid.period is not None:  # a tile has no edge: the rings wrap instead
+            return np.minimum(rho, rim) - MARGIN
         w, h = self.size
         edge = np.minimum(np.minimum(x, w - x), np.minimum(y, h - y))
         return np.minimum(np.minimum(rho, rim), edge) - MARGIN

@@ -30,8 +30,8 @@ def _brute_nearest(crystals: np.ndarray, x: np.ndarray, y: np.ndarray, hc: float
     return best, parent, best < hc * hc
 
 
-def _tile_sim(search: str, seed: int, hc: float = 7.0) -> FrostSim:
-    params = Params.preset("c-2", neighbor_search=search, hc=hc, step=min(hc, 5.0))
+def _tile_sim(search: str, seed: int, hc: float = 7.0, **more) -> FrostSim:
+    params = Params.preset("c-2", neighbor_search=search, hc=hc, step=min(hc, 5.0), **more)
     sim = FrostSim(params, *TILE, seed=seed, wrap=True)
     rng = np.random.default_rng(seed)
     # Seeds hugging the edges and corners, and a few inside.
@@ -243,3 +243,19 @@ def test_walkers_leaving_an_edge_come_in_at_the_opposite_one():
     assert np.array_equal(sim._wy.view(), wrap_into(y0 + dy, TILE[1]))
     crossed = (x0 + dx < 0) | (x0 + dx >= TILE[0]) | (y0 + dy < 0) | (y0 + dy >= TILE[1])
     assert crossed.sum() >= 5
+
+
+@pytest.mark.parametrize("hc", [7.0, 9.0])
+def test_long_jumps_on_a_tile_never_reach_ice_across_an_edge(hc):
+    """The clearance of every point (how far a walker may jump) is at most its distance
+    over the wrap to the nearest freezing disc (brute force over the nine images), and
+    points far from ice near an edge still jump (a tile has no edge to stop at)."""
+    sim = _tile_sim("candidate", 5, hc, long_jumps=True)
+    rng = np.random.default_rng(9)
+    pts = rng.uniform([0, 0], TILE, (6000, 2)).astype(np.float32)
+    rho = sim.clearance.radii(pts[:, 0], pts[:, 1], np.full(len(pts), np.float32(1e9)))
+    best, _, _ = _brute_nearest(sim.crystals, pts[:, 0], pts[:, 1], hc, TILE)
+    room = np.maximum(np.sqrt(best) - hc, 0.0)  # inside a disc: no jump
+    assert (rho <= room + 1e-3).all(), float((rho - room).max())
+    near_edge = (pts[:, 0] < 2) | (pts[:, 0] > TILE[0] - 2)
+    assert (rho[near_edge] > sim.params.step).any()
