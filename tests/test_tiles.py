@@ -257,5 +257,10 @@ def test_long_jumps_on_a_tile_never_reach_ice_across_an_edge(hc):
     best, _, _ = _brute_nearest(sim.crystals, pts[:, 0], pts[:, 1], hc, TILE)
     room = np.maximum(np.sqrt(best) - hc, 0.0)  # inside a disc: no jump
     assert (rho <= room + 1e-3).all(), float((rho - room).max())
-    near_edge = (pts[:, 0] < 2) | (pts[:, 0] > TILE[0] - 2)
-    assert (rho[near_edge] > sim.params.step).any()
+    # Far from ice, a point by an edge jumps as far as one inside (no edge to stop at).
+    lone = FrostSim(Params.preset("c-2", hc=hc, long_jumps=True), 160, 128, seed=1, wrap=True)
+    lone.plant([(80.0, 64.0)], water=False)
+    x = np.float32([0.5, 159.5, 30.0, 130.0])
+    y = np.float32([64.0, 64.0, 64.0, 64.0])
+    rho = lone.clearance.radii(x, y, np.full(4, np.float32(1e9)))
+    assert (rho[:2] > 2 * lone.params.step).all()  # an edge used to cap them at 0.5 px
