@@ -250,13 +250,18 @@ def test_long_jumps_on_a_tile_never_reach_ice_across_an_edge(hc):
     """The clearance of every point (how far a walker may jump) is at most its distance
     over the wrap to the nearest freezing disc (brute force over the nine images), and
     points far from ice near an edge still jump (a tile has no edge to stop at)."""
-    sim = _tile_sim("candidate", 5, hc, long_jumps=True)
-    rng = np.random.default_rng(9)
-    pts = rng.uniform([0, 0], TILE, (6000, 2)).astype(np.float32)
-    rho = sim.clearance.radii(pts[:, 0], pts[:, 1], np.full(len(pts), np.float32(1e9)))
-    best, _, _ = _brute_nearest(sim.crystals, pts[:, 0], pts[:, 1], hc, TILE)
-    room = np.maximum(np.sqrt(best) - hc, 0.0)  # inside a disc: no jump
-    assert (rho <= room + 1e-3).all(), float((rho - room).max())
+    sims = [_tile_sim("candidate", 5, hc, long_jumps=True)]
+    for seed in range(6):  # a few seeds anywhere: far jumps toward ice across an edge
+        rng = np.random.default_rng(seed)
+        sims.append(FrostSim(Params.preset("c-2", hc=hc, long_jumps=True), *TILE, seed=seed,
+                             wrap=True))
+        sims[-1].plant(rng.uniform([0, 0], TILE, (rng.integers(1, 5), 2)), water=False)
+    for sim in sims:
+        pts = np.random.default_rng(9).uniform([0, 0], TILE, (3000, 2)).astype(np.float32)
+        rho = sim.clearance.radii(pts[:, 0], pts[:, 1], np.full(len(pts), np.float32(1e9)))
+        best, _, _ = _brute_nearest(sim.crystals, pts[:, 0], pts[:, 1], hc, TILE)
+        room = np.maximum(np.sqrt(best) - hc, 0.0)  # inside a disc: no jump
+        assert (rho <= room + 1e-3).all(), float((rho - room).max())
     # Far from ice, a point by an edge jumps as far as one inside (no edge to stop at).
     lone = FrostSim(Params.preset("c-2", hc=hc, long_jumps=True), 160, 128, seed=1, wrap=True)
     lone.plant([(80.0, 64.0)], water=False)
