@@ -35,6 +35,8 @@ GROUPS: dict[str, tuple[str, ...]] = {
     "rendering": ("look", "bump", "max_height", "feature_width", "feature_height",
                   "grid_spacing"),
 }
+# The switches other parameters need while they are away from their defaults.
+LEANING = {"grains": (*GRAIN_RULES, "window_frost"), "window_frost": WINDOW_RULES}
 # Buttons: (label, action of the window's dispatch table).
 BUTTONS = (("Pause", "pause"), ("One tick", "single_step"), ("Clear", "clear"),
            ("Screenshot", "screenshot"), ("Record", "record"), ("Export maps", "export_maps"))
@@ -82,6 +84,11 @@ def why_off(params: Params, name: str) -> str | None:
         return "needs window_frost on"
     if name in ("near_water", "vapour_var") and not params.water_far:
         return "needs water_far > 0"
+    if name == "window_frost" and not params.grains:
+        return "needs grains on"
+    users = [n for n in LEANING.get(name, ()) if getattr(params, n) != getattr(Params, n)]
+    if getattr(params, name) is True and users:
+        return f"{', '.join(users)} need(s) it: pick a preset to turn it off"
     return None
 
 
