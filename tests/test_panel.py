@@ -15,7 +15,7 @@ from app.cli import main
 from app.simthread.thread import SimThread
 from app.window import tuning
 from app.window.actions import Actions
-from app.window.panel import FIELDS, GROUPS, SPECS, TuningPanel, why_off
+from app.window.panel import FIELDS, GROUPS, SPECS, TuningPanel, tooltip, why_off
 from app.window.view import cursor_to_phone
 from sim import Params
 from sim.params import _validate
@@ -43,6 +43,21 @@ def test_a_sliders_ends_are_values_params_accepts_and_its_range_is_the_fields(na
     assert s.hi == meta["hi"]
     assert s.lo == meta["lo"] if not meta["lo_open"] else meta["lo"] < s.lo < meta["hi"] / 100
     assert s.whole == isinstance(f.default, int)
+
+
+@pytest.mark.parametrize("name", list(FIELDS))
+def test_a_tooltip_is_the_fields_help_its_range_and_the_presets_value(name):
+    f = FIELDS[name]
+    text = tooltip(f, "window")
+    assert text.startswith(f.metadata["doc"] + "\n")
+    value = getattr(Params.preset("window"), name)
+    if SPECS[name].kind == "slider":
+        assert f"{f.metadata['lo']:g}, {f.metadata['hi']:g}]" in text
+        assert text.endswith(f"preset window: {value}")
+    elif SPECS[name].kind == "toggle":
+        assert text.endswith(f"on or off; preset window: {'on' if value else 'off'}")
+    else:
+        assert all(str(c) in text for c in f.metadata["choices"]) and text.endswith(str(value))
 
 
 def other_values(name: str, params: Params) -> list:

@@ -45,6 +45,7 @@ LOG_RATIO = 100.0
 # An open lower end (hc > 0) starts the slider this fraction of the range above it.
 OPEN_END = 1e-3
 DEFAULT_SET = "frost-params.json"
+TOOLTIP_WIDTH = 360  # px
 COSTS_KEPT = 240  # the panel's frame costs kept for the median
 
 
@@ -104,9 +105,13 @@ def tooltip(f: dataclasses.Field, preset: str) -> str:
     if s.kind == "slider":
         left = "(" if meta["lo_open"] else "["
         extent = f"range {left}{meta['lo']:g}, {meta['hi']:g}]"
+    elif s.kind == "toggle":
+        extent = "on or off"
     else:
         extent = "one of " + ", ".join(map(str, s.choices))
-    return f"{meta['doc']}\n{extent}; preset {preset}: {getattr(preset_params(preset), f.name)}"
+    value = getattr(preset_params(preset), f.name)
+    shown = ("on" if value else "off") if s.kind == "toggle" else value
+    return f"{meta['doc']}\n{extent}; preset {preset}: {shown}"
 
 
 FIELDS = {f.name: f for f in dataclasses.fields(Params)}
@@ -194,7 +199,7 @@ class TuningPanel:
         self._remember(name)
         imgui.end_disabled()
         if imgui.is_item_hovered(imgui.HoveredFlags_.allow_when_disabled):
-            imgui.set_tooltip(tooltip(f, self.actions.preset) + (f"\n(off: {off})" if off else ""))
+            _wrapped_tooltip(tooltip(f, self.actions.preset) + (f"\n(off: {off})" if off else ""))
         self._commit(name, value)
         self._reset_button(params, name, off)
 
@@ -235,6 +240,15 @@ class TuningPanel:
         imgui.end_disabled()
         if imgui.is_item_hovered(imgui.HoveredFlags_.allow_when_disabled):
             imgui.set_tooltip(f"reset {name} to preset {self.actions.preset}'s {want}")
+
+
+def _wrapped_tooltip(text: str) -> None:
+    """A tooltip no wider than the panel, so it stays beside the phone."""
+    imgui.begin_tooltip()
+    imgui.push_text_wrap_pos(TOOLTIP_WIDTH)
+    imgui.text_unformatted(text)
+    imgui.pop_text_wrap_pos()
+    imgui.end_tooltip()
 
 
 def _rounded(value):
