@@ -3,7 +3,7 @@
 One session (about 15 s) runs this file as a script on an Xvfb server of its own: it
 starts the window with the panel's widget positions logged, shows the panel (M), clicks
 on the panel where no widget is, drags the hc slider, saves the parameter set, changes hc
-with a key, loads the set back, takes a screenshot and presses Esc. The tests then read
+with a key, loads the set back, takes a screenshot with the panel's button and presses Esc. The tests then read
 its log, its session file, the saved set and the screenshot.
 """
 
@@ -106,7 +106,8 @@ def session(app: subprocess.Popen, log: Path) -> dict:
     click(wid, load[0] + load[2] / 2, load[1] + load[3] / 2)
     wait_for(log, r"params: hc=", 3)
     time.sleep(1.0)
-    xdo("key", "s")
+    shoot = widget(log, "screenshot")
+    click(wid, shoot[0] + shoot[2] / 2, shoot[1] + shoot[3] / 2)  # the button, not S
     wait_for(log, r"screenshot: ")
     xdo("key", "Escape")
     return {"status": app.wait(timeout=15), "hc_box": hc}
