@@ -8,13 +8,17 @@ STAMP   := $(VENV)/.installed
 SETUP_LOG := $(VENV)/setup.log
 APT_PKGS := xvfb xauth xdotool libegl1 libgles2 libgl1 glslang-tools
 
-.PHONY: run test bench bench-sim bench-render lint system clean
+.PHONY: run test test-deep bench bench-sim bench-render lint system clean
 
 run: $(STAMP)
 	$(PY) -m app $(ARGS)
 
 test: $(STAMP)
 	$(PY) -m pytest $(PYTEST_ARGS)
+
+# The suite plus its validation runs (DLA dimension, full-screen wipe, long brute force).
+test-deep: $(STAMP)
+	$(PY) -m pytest --deep $(PYTEST_ARGS)
 
 bench: bench-sim bench-render
 

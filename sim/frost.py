@@ -17,6 +17,7 @@ from .clearance import make_clearance
 from .fern import _nearest_d2, make_growth
 from .grid import HashGrid
 from .pane import chill, glass_spots, make_pane
+from .pane import first_good as _first_good
 from .params import Params
 from .screen import HEIGHT, WIDTH, touch_problem
 from .search import make_search
@@ -115,7 +116,7 @@ class FrostSim:
     """Window frost on a `width` x `height` px screen (docs/method.md)."""
 
     def __init__(self, params: Params | None = None, width: int = WIDTH, height: int = HEIGHT,
-                 seed: int = 0, batched: bool = True):
+                 seed: int = 0, batched: bool = True, tries_at_once: bool = True):
         for name, v in (("width", width), ("height", height)):
             if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 0 < v <= 16384:
                 raise ValueError(f"{name}={v!r} must be a whole number of px in [1, 16384]")
@@ -126,6 +127,9 @@ class FrostSim:
         # Where placement falls back to cells, one pass for all areas (False: one area at
         # a time, as frost did before session version 3; replays of those files need it).
         self.batched = batched
+        # Window water's later tries drawn in one batch (session files of version 4 on;
+        # docs/method.md 8): the same spots in law, fewer passes over the ice.
+        self.tries_at_once = tries_at_once
         self._plans: dict[int, tuple[np.ndarray, float, bool, bool]] = {}
         self._plans_key: tuple[int, int] | None = None
         self._cell_work = CELL_WORK  # cell placements left in this tick
@@ -531,7 +535,7 @@ class FrostSim:
             for a in np.unique(area[todo]):
                 mine = todo[area[todo] == a]
                 x[mine], y[mine], ok[mine] = self._cell_spots(int(a), len(mine))
-        elif self.batched:
+        elif self.batched and (len(todo) or direct.any()):
             todo = np.union1d(todo, np.flatnonzero(direct))[:self._cell_work]
             self._cell_work -= len(todo)
             x[todo], y[todo], ok[todo] = self._cell_spots_all(area[todo])
@@ -670,6 +674,8 @@ class FrostSim:
         listed (`_area_cells`; at most a tick old). Listing every area's cells for every
         placement cost ~0.1 ms an area, though few areas ever fill; a stale answer only
         sends a walker the other way to a valid spot."""
+        if not any(self._full.values()):  # (the usual case: no area has filled)
+            return np.zeros(len(area), bool)
         ua, inv = np.unique(area, return_inverse=True)
         return np.array([self._full.get(int(a), False) for a in ua], bool)[inv]
 
@@ -850,11 +856,3 @@ def _level(counts: np.ndarray, need: int, floor: int) -> int:
         else:
             hi = mid - 1
     return lo
-
-
-def _first_good(good: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """For tries x k flags: which of the k have a good try, and the flat index (into the
-    tries x k draws) of the first good try of each of those."""
-    placed = np.any(good, axis=0)  # (an array for mypy, where good.any may be a scalar)
-    pick = good.argmax(axis=0)[placed] * good.shape[1] + np.flatnonzero(placed)
-    return placed, pick

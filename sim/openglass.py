@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .fronds import FRAME_PX, edge_distance
-from .pane import REFERENCE_C, TRIES, Pane, _glass
+from .pane import REFERENCE_C, TRIES, Pane, _glass, first_good
 
 # Walkers per far cell of glass. At 2.5 (the band's density before the fronds) a 40 px
 # wipe was 38 % back after 300 ticks (SPEC section 1); 8 refroze it.
@@ -74,22 +74,46 @@ class OpenGlass(Pane):
         return int(self.supply * min(humidity, FAR_DENSITY * self._area))
 
     def place(self, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """n spots of glass in cells drawn by weight; `ok` False where TRIES draws found none."""
+        """n spots of glass in cells drawn by weight; `ok` False where TRIES draws found
+        none. The first try of every walker is drawn and checked at once; then (from
+        session version 4) all the later tries of those left, in one batch: each walker
+        takes its first good try, as if drawn one round at a time, for two passes over the
+        ice instead of up to TRIES (half the window's tick was these passes)."""
         self._update()
-        sim = self.sim
         x, y, ok = np.zeros(n, np.float32), np.zeros(n, np.float32), np.zeros(n, bool)
-        todo = np.arange(n)
-        for _ in range(TRIES if len(self._cells) else 0):
+        if not len(self._cells):
+            return x, y, ok
+        if not self.sim.tries_at_once:
+            return self._place_by_rounds(x, y, ok)
+        px, py = self._draw(n)
+        good = _glass(self.sim, px, py)
+        x[good], y[good], ok[good] = px[good], py[good], True
+        todo = np.flatnonzero(~good)
+        if len(todo) and TRIES > 1:
+            px, py = self._draw((TRIES - 1) * len(todo))
+            placed, pick = first_good(_glass(self.sim, px, py).reshape(TRIES - 1, len(todo)))
+            x[todo[placed]], y[todo[placed]], ok[todo[placed]] = px[pick], py[pick], True
+        return x, y, ok
+
+    def _draw(self, k: int) -> tuple[np.ndarray, np.ndarray]:
+        """k points, each uniform in a cell drawn by weight."""
+        sim = self.sim
+        u = sim.rng.random((3, k))
+        pick = np.minimum(np.searchsorted(self._cum, u[0] * self._cum[-1], side="right"),
+                          len(self._cells) - 1)
+        cell = self._cells[pick]
+        s = sim.grid.cell
+        return (((cell % sim.grid.cols + u[1]) * s).astype(np.float32),
+                ((cell // sim.grid.cols + u[2]) * s).astype(np.float32))
+
+    def _place_by_rounds(self, x, y, ok) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Session files before version 4: TRIES rounds, one try each of those left."""
+        todo = np.arange(len(x))
+        for _ in range(TRIES):
             if len(todo) == 0:
                 break
-            u = sim.rng.random((3, len(todo)))
-            pick = np.minimum(np.searchsorted(self._cum, u[0] * self._cum[-1], side="right"),
-                              len(self._cells) - 1)
-            cell = self._cells[pick]
-            s = sim.grid.cell
-            px = ((cell % sim.grid.cols + u[1]) * s).astype(np.float32)
-            py = ((cell // sim.grid.cols + u[2]) * s).astype(np.float32)
-            good = _glass(sim, px, py)
+            px, py = self._draw(len(todo))
+            good = _glass(self.sim, px, py)
             x[todo[good]], y[todo[good]], ok[todo[good]] = px[good], py[good], True
             todo = todo[~good]
         return x, y, ok

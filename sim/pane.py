@@ -187,3 +187,11 @@ def make_pane(sim):
         from .openglass import OpenGlass
         return OpenGlass(sim)
     return Pane(sim) if sim.params.window_frost else NoPane()
+
+
+def first_good(good: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For tries x k flags: which of the k have a good try, and the flat index (into the
+    tries x k draws) of the first good try of each of those."""
+    placed = np.any(good, axis=0)  # (an array for mypy, where good.any may be a scalar)
+    pick = good.argmax(axis=0)[placed] * good.shape[1] + np.flatnonzero(placed)
+    return placed, pick

@@ -59,3 +59,25 @@ def checkout_stays_clean():
     yield
     added = sorted(checkout_files() - before)
     assert not added, f"the tests wrote into the checkout: {added[:10]}"
+
+
+# ---- validation runs: long statistical checks, run with --deep (make test-deep) -------------
+
+def pytest_addoption(parser):
+    parser.addoption("--deep", action="store_true",
+                     help="also run the validation runs (marked `validation`: minutes)")
+
+
+def pytest_collection_modifyitems(config, items):
+    if config.getoption("--deep"):
+        return
+    skip = pytest.mark.skip(reason="a validation run: `make test-deep` (pytest --deep) runs it")
+    for item in items:
+        if "validation" in item.keywords:
+            item.add_marker(skip)
+
+
+@pytest.fixture(scope="session")
+def deep(request) -> bool:
+    """True under --deep: tests that scale their run (ticks, seeds) take the long one."""
+    return bool(request.config.getoption("--deep"))

@@ -1,7 +1,8 @@
 """Scripted runs whose final state is hashed, to pin looks that must not change.
 
 `python -m tests.frozen_runs` prints the hashes; tests/data/frozen_runs.json holds those
-computed on the code before the frond rules (issue 20), and test_fronds.py checks them.
+computed on the code before the frond rules (issue 20; "window-v3" on the code before the
+window's tries were drawn at once), and test_fronds.py checks them.
 """
 
 from __future__ import annotations
@@ -21,6 +22,9 @@ RUNS = [("default", None, {}, 160)] + [
 ] + [("fern", "fern", {}, 300), ("fern-nogrow", "fern", {"grow": False}, 200)]
 # The window preset with every frond rule off: the window look before issue 20.
 WINDOW_OLD = ("window-old", "window", None, 400)
+# The window preset with its frond rules as a session file of version 3 places its water
+# (TRIES rounds of one try each), before the tries were drawn at once.
+WINDOW_V3 = ("window-v3", "window", {}, 400)
 
 
 def state_hash(sim: FrostSim) -> str:
@@ -32,9 +36,9 @@ def state_hash(sim: FrostSim) -> str:
     return h.hexdigest()
 
 
-def run(preset: str | None, overrides: dict, ticks: int, seed: int = 3) -> FrostSim:
+def run(preset: str | None, overrides: dict, ticks: int, seed: int = 3, **how) -> FrostSim:
     params = Params(**overrides) if preset is None else Params.preset(preset, **overrides)
-    sim = FrostSim(params, seed=seed)
+    sim = FrostSim(params, seed=seed, **how)
     if not params.window_frost:
         sim.touch(380.0, 640.0)
         sim.touch(520.0, 400.0)
@@ -51,6 +55,8 @@ def hashes(window_off: dict) -> dict[str, str]:
     out = {name: state_hash(run(p, o, t)) for name, p, o, t in RUNS}
     name, p, _, t = WINDOW_OLD
     out[name] = state_hash(run(p, window_off, t))
+    name, p, o, t = WINDOW_V3
+    out[name] = state_hash(run(p, o, t, tries_at_once=False))
     return out
 
 

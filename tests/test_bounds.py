@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from sim import FrostSim, Params, frost
 from sim.geometry import _segments_in
 from sim.scribble import scribble, storm
-from sim.session import STEP_SAMPLES, Backlog, Timeline
+from sim.session import MIN_INPUT_S, STEP_SAMPLES, Backlog, Timeline
 
 
 def grown(params: Params, touches, ticks: int, seed: int = 0) -> FrostSim:
@@ -251,6 +251,15 @@ def test_backlog_leaves_room_for_the_median_of_the_last_steps():
     for _ in range(STEP_SAMPLES):
         backlog.stepped(MS)  # older steps are forgotten
     assert backlog.step_s == MS
+
+
+def test_input_keeps_its_least_share_beside_a_long_step():
+    now = [0.0]
+    backlog = Backlog(budget_s=10 * MS, clock=lambda: now[0])
+    backlog.extend(range(40))
+    backlog.stepped(30 * MS)  # a step three times the budget: MIN_INPUT_S is left
+    assert MIN_INPUT_S == 0.003  # 3.07 units: 1-unit items end at 1, 2 and 3 units
+    assert backlog.run(_timed(now, MS, [])) == 3
 
 
 def test_backlog_learns_each_kind_of_item_apart():

@@ -225,6 +225,7 @@ def gyration_dimension(c: np.ndarray) -> float:
     return float(np.polyfit(np.log(rg), np.log(ks), 1)[0])
 
 
+@pytest.mark.validation
 def test_sparse_growth_with_long_jumps_is_off_lattice_dla():
     """Few walkers in flight (20), launched 10 px beyond the ice, jumping far from it:
     the mass-radius dimension of six 3 000-crystal clusters averages DLA's 1.71."""

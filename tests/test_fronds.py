@@ -313,9 +313,10 @@ def tree_of(sim, root):
 def test_a_touch_in_window_mode_grows_a_frond():
     """A touch on open glass, then 400 ticks: its tree's stems, against the same touch on
     the window of before the fronds (the rules off), are longer and more of its ice lies
-    on main stems."""
-    def grown(params):
-        sim = FrostSim(params, seed=7)
+    on main stems; medians of three seeds (one tree is a small sample: a single seed's
+    main_frac ranged 0.23-0.58 with the rules on, 0-0.25 off)."""
+    def grown(params, seed):
+        sim = FrostSim(params, seed=seed)
         for _ in range(150):
             sim.step()
         root = len(sim.crystals)
@@ -323,9 +324,13 @@ def test_a_touch_in_window_mode_grows_a_frond():
         for _ in range(400):
             sim.step()
         mine = tree_of(sim, root)
-        return skeleton_measures(sim.crystals, sim.parents, mine), mine.sum()
-    fronds, n = grown(WINDOW)
-    before, _ = grown(Params.preset("window", **OLD_WINDOW))
-    assert n > 30
+        return {**skeleton_measures(sim.crystals, sim.parents, mine), "n": mine.sum()}
+
+    def medians(params):
+        runs = [grown(params, seed) for seed in (5, 6, 7)]
+        return {k: float(np.median([r[k] for r in runs])) for k in runs[0]}
+    fronds = medians(WINDOW)
+    before = medians(Params.preset("window", **OLD_WINDOW))
+    assert fronds["n"] > 30
     assert fronds["stem_lw"] > before["stem_lw"], (fronds, before)
     assert fronds["main_frac"] > before["main_frac"], (fronds, before)

@@ -14,7 +14,17 @@ import pytest
 from app.simthread import thread as simthread
 from app.simthread.thread import SimThread
 from sim import Params
-from sim.session import Backlog, SessionError, SessionLog, Timeline, grow, regrow, replay, touch_events
+from sim.session import (
+    VERSION,
+    Backlog,
+    SessionError,
+    SessionLog,
+    Timeline,
+    grow,
+    regrow,
+    replay,
+    touch_events,
+)
 
 ROOT = Path(__file__).resolve().parent.parent
 PARAMS = Params.preset("c-3")
@@ -234,7 +244,7 @@ def test_a_session_file_replants_as_its_version_did(tmp_path, version, ticks):
 
 
 def test_a_session_file_from_a_later_frost_is_refused():
-    data = {"format": "frost-session", "version": 4, "seed": 0, "params": {}, "events": []}
+    data = {"format": "frost-session", "version": VERSION + 1, "seed": 0, "params": {}, "events": []}
     with pytest.raises(SessionError, match="version"):
         SessionLog.from_json(data)
 
@@ -249,3 +259,21 @@ def test_events_due_after_the_last_step_still_apply():
     assert timeline.steps == 3 and timeline.tick == 3
     assert timeline.touches == ((380.0, 640.0), (100.0, 200.0))
     assert len(timeline.events) == 3 and not timeline.sim.crystal_alive[0]  # the seed melted
+
+
+@pytest.mark.parametrize("order", [("melt", "params"), ("params", "melt")])
+def test_a_melt_and_a_rebuild_in_one_tick_replay_bit_for_bit(tmp_path, order):
+    """Both orders in one tick: the melt before the rebuild is melted again at its tick
+    by the rebuilt frost; the one after it melts the rebuilt frost at once."""
+    thread = SimThread(PARAMS, 4, [(380.0, 640.0)])
+    for _ in range(25):
+        thread._tick()
+    for kind in order:
+        thread.send(kind, (380.0, 640.0, 30.0) if kind == "melt" else PARAMS.replace(humidity=4000))
+    for _ in range(30):  # the rebuilt frost passes tick 25 again
+        thread._tick()
+    snaps = thread.drain()
+    log = thread.session(snaps[-1].steps, snaps[-1].events)
+    assert [e["kind"] for e in log.events] == ["touch", *order]
+    same_frost(replay(SessionLog.load(log.save(tmp_path / "s.json"))).sim, thread.sim)
+    assert thread.sim.crystal_alive.sum() < len(thread.sim.crystals)  # the melt took ice

@@ -210,15 +210,18 @@ def test_play_with_drain_applies_every_queued_event_and_counts_the_ticks(monkeyp
 # ---- session files: the placement of their version ---------------------------------------
 
 
-@pytest.mark.parametrize("version, batched", [(2, False), (3, True)])
-def test_a_session_file_places_water_as_its_version_did(version, batched):
-    log = SessionLog(0, Params.preset("fern").as_dict(),
+@pytest.mark.parametrize("version, batched, at_once", [(2, False, False), (3, True, False),
+                                                       (4, True, True)])
+@pytest.mark.parametrize("preset", ["fern", "window"])
+def test_a_session_file_places_water_as_its_version_did(version, batched, at_once, preset):
+    log = SessionLog(0, Params.preset(preset).as_dict(),
                      events=[{"tick": 0, "kind": "touch", "x": 380.0, "y": 640.0}],
-                     steps=3, version=version)
+                     steps=30, version=version)
     timeline = replay(SessionLog.from_json(log.as_json()))
-    assert timeline.sim.batched is batched
-    legacy = FrostSim(Params.preset("fern"), seed=0, batched=batched)
+    assert (timeline.sim.batched, timeline.sim.tries_at_once) == (batched, at_once)
+    legacy = FrostSim(Params.preset(preset), seed=0, batched=batched, tries_at_once=at_once)
     legacy.touch(380.0, 640.0)
-    for _ in range(3):
+    for _ in range(30):
         legacy.step()
+    assert len(legacy.crystals) > 1
     assert (legacy.crystals == timeline.sim.crystals).all()

@@ -587,3 +587,40 @@ def test_the_thread_tells_its_backlog_what_each_step_cost(monkeypatch):
     thread.paused = True
     thread._tick()  # no step while paused: nothing to learn
     assert told == [3.0]
+
+
+def test_input_still_waiting_at_exit_is_reported_by_kind():
+    thread = SimThread(Params.preset("c-3"), 0, [(380, 640)])
+    for x in (100.0, 200.0):
+        thread.send("touch", ((x, 300.0), None))
+    thread.send("melt", (380.0, 640.0, 20.0))
+    thread.send("params", Params.preset("c-2"))
+    thread.send("pause")  # not a change of the frost: not counted
+    thread.stop()  # never started: nothing applied
+    notices = [thread.notices.get() for _ in range(thread.notices.qsize())]
+    assert notices == [(logging.WARNING, "input still waiting at exit, never applied (not in the "
+                        "session): 2 touches, 1 melts, 1 parameter changes")]
+    assert thread.session().events == [{"kind": "touch", "x": 380.0, "y": 640.0, "tick": 0}]
+
+
+def test_a_session_saved_after_the_thread_ticked_past_the_frame_shown_replays_that_frame(tmp_path):
+    """The window saves the frame it shows while the thread has gone on: a touch, a melt
+    and a tuning change (a rebuild) applied after that frame must not reach its file."""
+    from sim.session import replay
+
+    thread, capture, _, _ = keeper(tmp_path)
+    thread.send("touch", ((200.0, 300.0), None))
+    shown = ticked(thread, 30)
+    frozen = {k: getattr(thread.sim, k).copy() for k in ("crystals", "parents", "crystal_alive")}
+    thread.send("touch", ((500.0, 900.0), None))
+    thread.send("melt", (380.0, 640.0, 25.0))
+    thread.send("params", Params(humidity=4000))
+    ticked(thread, 12)
+    assert len(thread.timeline.events) == 5 and thread.timeline.steps == shown.steps + 12
+    path = capture.save_session(shown, tmp_path / "shown.json")
+    log = SessionLog.load(path)
+    assert (log.steps, [e["kind"] for e in log.events]) == (shown.steps, ["touch", "touch"])
+    again = replay(log).sim
+    assert again.tick == shown.stats.tick
+    for name, value in frozen.items():
+        assert np.array_equal(getattr(again, name), value), name

@@ -14,7 +14,7 @@ import queue
 import statistics
 import threading
 import time
-from collections import deque
+from collections import Counter, deque
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -45,6 +45,11 @@ class Stats:
     handled: int = 0  # commands applied so far (the first `handled` that send() sent)
     tick_median_ms: float = 0.0  # tick_ms's median over the last RATE_WINDOW ticks
     waiting: int = 0  # commands received and not yet applied (a storm of input queues)
+
+
+# Commands that change the frost, by the name a report gives them.
+INPUT_NAMES = {"touch": "touches", "melt": "melts", "params": "parameter changes",
+               "clear": "clears"}
 
 
 @dataclass(frozen=True)
@@ -155,8 +160,14 @@ class SimThread(threading.Thread):
 
     def _last_exports(self) -> None:
         """Exports sent but not yet taken by a tick: the maps of the last tick when the
-        thread has ended, else (a tick still running) reported as not written."""
+        thread has ended, else (a tick still running) reported as not written. Other input
+        still waiting (a storm of clicks, then Esc) is reported: it never applied, so the
+        frame and the session do not hold it."""
         waiting = [*self.backlog.take_all(), *_take_all(self.inbox)]
+        lost = Counter(INPUT_NAMES[c.kind] for c in waiting if c.kind in INPUT_NAMES)
+        if lost:
+            self.notify(logging.WARNING, "input still waiting at exit, never applied (not in "
+                        "the session): " + ", ".join(f"{n} {k}" for k, n in lost.items()))
         for folder in (c.arg for c in waiting if c.kind == "export"):
             if self.is_alive():
                 self.notify(logging.WARNING, f"frost maps NOT written: {folder}: the "
