@@ -3,8 +3,8 @@
 One session (about 15 s) runs this file as a script on an Xvfb server of its own: it
 starts the window with the panel's widget positions logged, shows the panel (M), clicks
 on the panel where no widget is, drags the hc slider, saves the parameter set, changes hc
-with a key, loads the set back, takes a screenshot with the panel's button and presses Esc. The tests then read
-its log, its session file, the saved set and the screenshot.
+with a key, loads the set back, takes a screenshot with the panel's button and presses
+Esc. The tests then read its log, its session file, the saved set and the screenshot.
 """
 
 from __future__ import annotations
