@@ -15,7 +15,7 @@ from app.cli import main
 from app.simthread.thread import SimThread
 from app.window import tuning
 from app.window.actions import Actions
-from app.window.panel import FIELDS, GROUPS, SPECS, TuningPanel, tooltip, why_off
+from app.window.panel import BUTTONS, FIELDS, GROUPS, SPECS, TuningPanel, tooltip, why_off
 from app.window.view import cursor_to_phone
 from sim import Params
 from sim.params import _validate
@@ -88,6 +88,14 @@ def test_a_widget_is_off_exactly_where_params_refuses_every_change(look):
             assert why_off(params, name)
             continue
         assert (why_off(params, name) is None) == accepted(params, name), name
+
+
+def test_every_button_and_list_of_the_panel_is_an_action_of_the_window():
+    actions = Actions(Params(), *[None] * 8)
+    used = {action for _, action in BUTTONS} | {"preset", "set_backdrop", "set_param",
+                                                "save_params", "load_params"}
+    assert used <= set(actions.table)
+    assert {"pause", "single_step", "clear", "screenshot", "record", "export_maps"} <= used
 
 
 # ---- a slider dragged: one change, when let go ------------------------------------------
