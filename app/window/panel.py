@@ -156,7 +156,8 @@ class TuningPanel:
         chosen = self._combo("preset", self.actions.preset, tuple(all_presets()))
         if chosen is not None:
             self.actions.run("preset", chosen)
-        backdrops = tuple(dict.fromkeys((*BACKDROPS, self.actions.backdrop())))
+        own = getattr(self.actions, "own_backdrop", None)  # a --background file stays listed
+        backdrops = tuple(b for b in dict.fromkeys((*BACKDROPS, own, self.actions.backdrop())) if b)
         chosen = self._combo("backdrop", self.actions.backdrop(), backdrops)
         if chosen is not None:
             self.actions.run("set_backdrop", chosen)
