@@ -34,7 +34,8 @@ from . import FrostSim, Params, all_presets
 from .geometry import FrostGeometry
 from .measures import END_GAIN, END_TICKS, frosted_end, pane_measures
 from .morphology import extent, mass_radius_dimension, six_fold_order, turn_shares
-from .scribble import TICKS_PER_SECOND, play, scribble, spread, storm
+from .screen import TICKS_PER_SECOND
+from .scribble import play, scribble, spread, storm
 
 CENTRE = (380.0, 640.0)
 

@@ -354,6 +354,20 @@ class FrostSim:
     def water_area(self) -> np.ndarray:
         return self._warea.view()
 
+    def set_water(self, xy, area=0) -> None:
+        """Replace every walker by walkers at `xy` (n x 2 px) in active area(s) `area` (one
+        index for all, or one each): exact water for a test or a tool to start a tick
+        from. The areas must exist (a touch opens one)."""
+        xy = np.asarray(xy, np.float32).reshape(-1, 2)
+        area = np.broadcast_to(np.asarray(area, np.int32), (len(xy),))
+        if len(area) and not (area.min() >= 0 and area.max() < self._areas.n):
+            raise ValueError(f"set_water: area {int(area.max())} does not exist "
+                             f"({self._areas.n} areas)")
+        self._keep_water(np.zeros(self._wx.n, bool))
+        self._wx.append(np.ascontiguousarray(xy[:, 0]))
+        self._wy.append(np.ascontiguousarray(xy[:, 1]))
+        self._warea.append(np.ascontiguousarray(area))
+
     @property
     def areas(self) -> np.ndarray:
         """a x 5 float32 active areas: centre x, centre y, outer radius, inner radius

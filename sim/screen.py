@@ -1,4 +1,5 @@
-"""The phone screen every part of frost draws on: its size, and which points lie on it.
+"""The phone screen every part of frost draws on: its size, which points lie on it, its
+tick rate and the warm finger's default radius.
 
 One place for both, so the simulation, the window, the offline tools and the command
 line agree on what "on the screen" means (no GL here)."""
@@ -13,6 +14,10 @@ SIZE = (WIDTH, HEIGHT)
 # so one melt can clear it all; the window's --melt-radius, a --melt's R and a session's
 # melts all keep to it.
 MAX_MELT_RADIUS = 10_000.0
+# The warm finger's radius when none is given (the window's right button), px.
+MELT_RADIUS = 24.0
+# The simulation's fixed rate: ticks a second, live and in every scripted run.
+TICKS_PER_SECOND = 25
 
 
 def touch_problem(x: float, y: float, size: tuple[int, int] = SIZE, what: str = "touch") -> str | None:

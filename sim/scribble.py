@@ -10,19 +10,20 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
+from . import tuning
 from .gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
 from .params import PRESETS, Params
-from .screen import SIZE
+from .screen import MELT_RADIUS, SIZE, TICKS_PER_SECOND
 from .session import Backlog, Timeline
+from .tuning import BUMP_STEP, HUMIDITY_FACTOR, LENGTH_STEP
 
-TICKS_PER_SECOND = 25
 FINGER_SPEED = 800.0  # px per second: a brisk drag across a phone
 STROKE_GAP = 5  # ticks between the strokes of a scribble (the finger lifts)
-MELT_RADIUS = 24.0  # px, the window's default warm finger
 
 
 @dataclass(frozen=True)
@@ -91,24 +92,23 @@ def scribble(params: Params, seed: int = 0, seconds: float = 60.0, size=SIZE) ->
 
 
 def tuning_changes(params: Params) -> list[Params]:
-    """Each change the window's tuning keys make, applied one after another: every
-    length and humidity step up and down, growth mode on and off, every Table 1 preset."""
-    steps = [("humidity", 1.5), ("humidity", 1 / 1.5), ("hc", 0.5), ("hc", -0.5),
-             ("D", 0.5), ("D", -0.5), ("step", -0.5), ("step", 0.5), ("bump", 0.25),
-             ("bump", -0.25), ("grow", None), ("grow", None)]
+    """Each change the window's tuning keys make (sim/tuning.py, as the keys do), applied
+    one after another: every length and humidity step up and down, growth mode on and off,
+    every Table 1 preset."""
+    def shift(name: str, by: float) -> Callable[[Params], Params]:
+        return lambda p: tuning.shifted(p, name, by)
+    changes: list[Callable[[Params], Params]] = [
+        lambda p: tuning.scaled(p, "humidity", HUMIDITY_FACTOR),
+        lambda p: tuning.scaled(p, "humidity", 1 / HUMIDITY_FACTOR),
+        *(shift(name, sign * LENGTH_STEP) for name in ("hc", "D", "step") for sign in (1, -1)),
+        shift("bump", BUMP_STEP), shift("bump", -BUMP_STEP),
+        lambda p: tuning.toggled(p, "grow"), lambda p: tuning.toggled(p, "grow"),
+        *((lambda p, name=name: tuning.preset(p, name)) for name in PRESETS)]
     out, p = [], params
-    for name, amount in steps:
-        value = getattr(p, name)
-        if amount is None:
-            value = not value
-        elif name == "humidity":
-            value = max(1, round(value * amount))
-        else:
-            value = round(value + amount, 6)
-        p = p.replace(**{name: value})
+    for change in changes:
+        p = change(p)
         out.append(p)
-    keep = {k: v for k, v in p.as_dict().items() if k not in ("D", "hc", "humidity", "step")}
-    return out + [Params.preset(name, **keep) for name in PRESETS]
+    return out
 
 
 def storm(seed: int = 0, events: int = 2000, seconds: float = 10.0, size=SIZE,

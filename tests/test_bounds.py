@@ -197,13 +197,8 @@ def test_freezes_that_would_overflow_a_cell_are_dropped_in_walker_order(monkeypa
     monkeypatch.setattr(frost, "CELL_CAP", 3)
     sim = FrostSim(Params(hc=7.0, step=1e-6), seed=0)
     sim.touch(100.0, 100.0)  # listed in its cells: count 1 there
-    sim._wx.keep(np.zeros(sim._wx.n, bool))
-    sim._wy.keep(np.zeros(sim._wy.n, bool))
-    sim._warea.keep(np.zeros(sim._warea.n, bool))
-    for x in (103.0, 104.0, 105.0, 102.0):  # all within hc of the seed, in its cell
-        sim._wx.append(np.array([x], np.float32))
-        sim._wy.append(np.array([100.0], np.float32))
-        sim._warea.append(np.array([0], np.int32))
+    # all within hc of the seed, in its cell
+    sim.set_water([(x, 100.0) for x in (103.0, 104.0, 105.0, 102.0)])
     sim.step()
     # cap 3, one listed: the first two walkers freeze, the other two are dropped.
     np.testing.assert_allclose(sim.crystals[1:], [[103.0, 100.0], [104.0, 100.0]], atol=1e-4)
@@ -321,12 +316,8 @@ def test_freezes_beyond_the_tick_s_work_wait_as_water(monkeypatch):
     assert per_crystal == 1 * (2 * (2 + 1) + 1) ** 2  # D = hc: one segment; 7x7 stencil at 4 px
     monkeypatch.setattr(frost, "FREEZE_WORK", 2 * per_crystal + 1)  # room for two a tick
     sim.touch(100.0, 100.0)
-    for buf in (sim._wx, sim._wy, sim._warea):
-        buf.keep(np.zeros(buf.n, bool))
     xs = [103.0, 97.0, 100.0, 104.0]
-    sim._wx.append(np.array(xs, np.float32))
-    sim._wy.append(np.array([104.0, 104.0, 95.0, 96.0], np.float32))
-    sim._warea.append(np.zeros(4, np.int32))
+    sim.set_water(list(zip(xs, [104.0, 104.0, 95.0, 96.0], strict=True)))
     sim.step()
     assert len(sim.crystals) == 3 and sim.crystals[1:, 0].tolist() == pytest.approx(xs[:2], abs=1e-4)
     assert len(sim.water_area) == 2  # the other two are still water, not dropped

@@ -19,11 +19,7 @@ def placed(seeds, walkers, hc: float, search: str = "candidate") -> FrostSim:
     sim = FrostSim(Params(hc=hc, step=min(5.0, hc), humidity=1, neighbor_search=search), seed=0)
     for x, y in seeds:
         sim.touch(x, y)
-    sim._keep_water(np.zeros(sim._wx.n, bool))
-    w = np.asarray(walkers, np.float32).reshape(-1, 2)
-    sim._wx.append(w[:, 0])
-    sim._wy.append(w[:, 1])
-    sim._warea.append(np.zeros(len(w), np.int32))
+    sim.set_water(walkers)
     return sim
 
 

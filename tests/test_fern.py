@@ -8,8 +8,7 @@ import pytest
 
 from app.cli.options import params_from
 from app.cli.parser import build_parser
-from app.window import tuning
-from sim import PRESETS, FrostSim, Params, preset_name
+from sim import PRESETS, FrostSim, Params, preset_name, tuning
 from sim.fern import SIXTH
 from sim.morphology import link_angles
 
@@ -127,11 +126,7 @@ def test_with_a_launch_circle_each_area_follows_its_own_ice():
 def hand_hits(sim, crystal, angle, n):
     """Replace all water by n walkers 3 px from `crystal` in direction `angle`, one step."""
     c = sim.crystals[crystal].astype(np.float64)
-    for buf in (sim._wx, sim._wy, sim._warea):
-        buf.n = 0
-    sim._wx.append(np.full(n, c[0] + 3 * math.cos(angle), np.float32))
-    sim._wy.append(np.full(n, c[1] + 3 * math.sin(angle), np.float32))
-    sim._warea.append(np.zeros(n, np.int32))
+    sim.set_water(np.tile([c[0] + 3 * math.cos(angle), c[1] + 3 * math.sin(angle)], (n, 1)))
     sim.step()
 
 

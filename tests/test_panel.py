@@ -13,11 +13,10 @@ from imgui_bundle import imgui
 
 from app.cli import main
 from app.simthread.thread import SimThread
-from app.window import tuning
 from app.window.actions import Actions
 from app.window.panel import BUTTONS, FIELDS, GROUPS, SPECS, TuningPanel, tooltip, why_off
 from app.window.view import cursor_to_phone
-from sim import Params
+from sim import Params, tuning
 from sim.params import _validate
 from sim.paramsets import ParamsFileError, load_params, save_params
 from sim.session import SessionLog

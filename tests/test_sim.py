@@ -417,3 +417,16 @@ def test_melt_is_identical_in_both_neighbour_searches_and_rejects_bad_input():
         runs[0].melt(10, 10, -1.0)
     with pytest.raises(ValueError, match="radius"):
         runs[0].melt(math.nan, 10, 5.0)
+
+
+def test_set_water_replaces_every_walker_and_refuses_an_area_that_does_not_exist():
+    sim = FrostSim(Params.preset("c-2"), seed=0)
+    sim.touch(380.0, 640.0)
+    sim.touch(100.0, 200.0)  # outside the first area: a second one
+    sim.set_water([(1.0, 2.0), (3.0, 4.0), (5.0, 6.0)], [1, 0, 1])
+    assert sim.water.tolist() == [[1.0, 2.0], [3.0, 4.0], [5.0, 6.0]]
+    assert sim.water_area.tolist() == [1, 0, 1]
+    sim.set_water(np.zeros((0, 2)))
+    assert len(sim.water) == 0 and len(sim.water_area) == 0
+    with pytest.raises(ValueError, match="area 2 does not exist"):
+        sim.set_water([(1.0, 2.0)], 2)

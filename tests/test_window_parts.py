@@ -17,13 +17,13 @@ from PIL import Image
 
 from app.simthread import thread as simthread
 from app.simthread.thread import SimThread
-from app.window import keys, lost_display, tuning
+from app.window import keys, lost_display
 from app.window.capture import AUTOSAVE_PERIOD, Capture
 from app.window.keys import BINDINGS, Binding, help_lines, key_table
 from app.window.record import FRAME_GAP, Recorder
 from app.window.status import IDLE_GAP, DrawRate, Status
 from app.window.view import cursor_to_phone, fit_scale, letterbox
-from sim import Params, preset_name
+from sim import Params, preset_name, tuning
 from sim.gestures import path_points
 from sim.session import Backlog, SessionLog
 
@@ -366,8 +366,9 @@ def test_the_hud_shows_ticks_per_second_fps_while_drawing_and_the_tick_median():
     assert status.lines(0.0, snap, Params(), view, None, 1.5)[-2] == "running"
     queued = simthread.Snapshot(None, dataclasses.replace(stats, waiting=312, paused=True),
                                 Params(), ())
-    assert status.lines(0.0, queued, Params(), view, "REC 4 frames", 1.5)[-2] == \
-        "PAUSED  REC 4 frames  input waiting 312"
+    lines = status.lines(0.0, queued, Params(), view, "REC 4 frames", 1.5)
+    assert lines[0].endswith("overruns 2  input waiting 312")  # (the log's stats line too)
+    assert lines[-2] == "PAUSED  REC 4 frames"
 
 
 # ---- the session kept on disk ---------------------------------------------------------------
@@ -624,3 +625,21 @@ def test_a_session_saved_after_the_thread_ticked_past_the_frame_shown_replays_th
     assert again.tick == shown.stats.tick
     for name, value in frozen.items():
         assert np.array_equal(getattr(again, name), value), name
+
+
+@pytest.mark.parametrize("start", ["fern", "window", "c-2"])
+def test_the_scripted_scribble_presses_the_windows_own_tuning_keys(start):
+    """sim.scribble's tuning changes are what the window's key table does, key by key
+    (from fern, key 1 is Table 1's a-1 with the fern rules off, as in the window)."""
+    from sim.scribble import tuning_changes
+
+    by_label = {b.label: b for b in BINDINGS}
+    act = {"scale": lambda p, a: tuning.scaled(p, *a), "shift": lambda p, a: tuning.shifted(p, *a),
+           "toggle_param": tuning.toggled, "preset": tuning.preset}
+    pressed, p = [], Params.preset(start)
+    for label in ["=", "-", "]", "[", "'", ";", "P", "O", "L", "K", "G", "G", *"123456789"]:
+        b = by_label[label]
+        p = act[b.action](p, b.arg)
+        pressed.append(p)
+    assert tuning_changes(Params.preset(start)) == pressed
+    assert pressed[-9] == Params.preset("a-1")  # the paper's a-1, whatever look it left

@@ -13,11 +13,11 @@ from app.window.keys import DEFAULT_PRESET
 from app.window.view import SCALES
 from sim import PRESETS, Params, all_presets
 from sim.paramsets import load_params
-from sim.screen import HEIGHT, MAX_MELT_RADIUS, WIDTH
+from sim.screen import HEIGHT, MAX_MELT_RADIUS, MELT_RADIUS, WIDTH
 
 DEFAULT_TICKS = 250
 # The window's options and their defaults; a replay told to render headless refuses them.
-WINDOW_DEFAULTS = {"melt_radius": 24.0, "session_dir": "sessions", "screenshot_dir": "screenshots",
+WINDOW_DEFAULTS = {"melt_radius": MELT_RADIUS, "session_dir": "sessions", "screenshot_dir": "screenshots",
                    "scale": None, "max_seconds": None}
 # `--window-frost` turns the window preset on; an override of the same name would shadow it.
 NOT_OVERRIDES = ("window_frost",)

@@ -23,12 +23,11 @@ from app.simthread.clicks import Click, Clicks
 from app.simthread.export import export_now
 from sim import Params
 from sim.geometry import GeometryDelta
-from sim.screen import HEIGHT, WIDTH
+from sim.screen import HEIGHT, TICKS_PER_SECOND, WIDTH
 from sim.session import Applied, Backlog, SessionLog, Timeline, apply_due
 
 log = logging.getLogger(__name__)
 
-TICKS_PER_SECOND = 25.0
 # The achieved tick rate is measured over this many recent ticks (2 s).
 RATE_WINDOW = 50
 

@@ -21,13 +21,13 @@ from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
 from sim import Params
 from sim.files import why
+from sim.screen import TICKS_PER_SECOND
 from sim.session import touch_events
 
 TICKS = (25, 50, 125, 250, 500, 750)
 ROWS = {"one touch": [(380.0, 640.0)],
         "three touches": [(250.0, 400.0), (520.0, 560.0), (330.0, 930.0)]}
 CELL = (190, 320)  # a frame scaled by 1/4, px
-TICKS_PER_SECOND = 25
 
 
 def grow_row(ctx, params: Params, seed: int, touches, ticks=TICKS,

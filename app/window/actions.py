@@ -11,13 +11,12 @@ import glfw
 
 from app.backdrops import next_backdrop
 from app.simthread.thread import SimThread, Snapshot
-from app.window import tuning
 from app.window.capture import Capture
 from app.window.keys import DEFAULT_PRESET, key_table
 from app.window.presenter import Presenter
 from app.window.record import Recorder
 from app.window.status import Status, onoff
-from sim import Params, preset_name
+from sim import Params, preset_name, tuning
 from sim.files import why
 from sim.paramsets import load_params, save_params
 

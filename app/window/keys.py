@@ -12,6 +12,7 @@ from typing import Any
 
 from sim import PRESETS
 from sim.screen import HEIGHT, WIDTH
+from sim.tuning import BUMP_STEP, HUMIDITY_FACTOR, LENGTH_STEP, TEMPERATURE_STEP
 
 
 @dataclass(frozen=True)
@@ -23,14 +24,8 @@ class Binding:
     arg: Any = None
 
 
-# Parameter steps: humidity scales (it spans 500 to 30000), lengths move in px, the
-# window's temperature in degrees C.
-HUMIDITY_FACTOR = 1.5
-LENGTH_STEP = 0.5
-BUMP_STEP = 0.25
 # The light's direction moves this far on the screen plane per key press.
 LIGHT_STEP = 0.1
-TEMPERATURE_STEP = 2.0
 
 
 # The demo's default look (window frost's fronds, docs/method.md), one key from Table 1.

@@ -114,12 +114,11 @@ class Status:
         renderer's `view` switches, `recording` (e.g. "REC 12 frames") when on."""
         s = snap.stats if snap else NO_STATS
         p = snap.params if snap else params  # what the frame shows
-        waiting = f"input waiting {s.waiting}" if s.waiting else None
-        state = [w for w in ("PAUSED" if s.paused else None, recording, waiting) if w]
+        state = [w for w in ("PAUSED" if s.paused else None, recording) if w]
         drawing = "idle (nothing changed)" if self.fps is None else f"{self.fps:4.1f} fps"
         lines = [
             f"sim {s.rate:4.1f} ticks/s  tick median {s.tick_median_ms:4.1f} ms  "
-            f"overruns {s.overruns}",
+            f"overruns {s.overruns}" + (f"  input waiting {s.waiting}" if s.waiting else ""),
             f"drawing {drawing}  render {render_ms:4.1f} ms",
             f"tick {s.tick}  crystals {s.crystals}  water {s.water}  preset {preset_name(p)}",
             f"hc {p.hc:g}  D {p.D:g}  humidity {p.humidity}  step {p.step:g}  bump {p.bump:g}  "

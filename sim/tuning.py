@@ -1,4 +1,6 @@
-"""What the tuning keys do to the parameters: pure functions, no window needed.
+"""What the tuning keys do to the parameters: pure functions, no window needed. The
+window's keys and the scripted scribbles (sim/scribble.py) both use them, so a benchmark's
+key presses are a user's.
 
 Each returns a new, validated Params or raises ValueError saying why not.
 """
@@ -7,8 +9,14 @@ from __future__ import annotations
 
 from dataclasses import fields
 
-from sim import EXTRA_PRESETS, Params, all_presets
-from sim.params import WINDOW_RULES
+from .params import EXTRA_PRESETS, WINDOW_RULES, Params, all_presets
+
+# Parameter steps a key makes: humidity scales (it spans 500 to 30000), lengths move in
+# px, the window's temperature in degrees C.
+HUMIDITY_FACTOR = 1.5
+LENGTH_STEP = 0.5
+BUMP_STEP = 0.25
+TEMPERATURE_STEP = 2.0
 
 
 def changed(params: Params, name: str, value) -> Params:
