@@ -2,9 +2,10 @@
 
 One session (about 15 s) runs this file as a script on an Xvfb server of its own: it
 starts the window with the panel's widget positions logged, shows the panel (M), clicks
-on the panel where no widget is, drags the hc slider, saves the parameter set, changes hc
-with a key, loads the set back, takes a screenshot with the panel's button and presses
-Esc. The tests then read its log, its session file, the saved set and the screenshot.
+on the panel where no widget is, drags the hc slider, types a file name and saves the
+parameter set, changes hc with a key, loads the set back, takes a screenshot with the
+panel's button and presses Esc. The tests then read its log, its session file, the saved
+set and the screenshot.
 """
 
 from __future__ import annotations
@@ -33,7 +34,9 @@ APP = ("import logging, sys; logging.getLogger('app.window.panel').setLevel(logg
        "from app.__main__ import main; sys.exit(main(sys.argv[1:]))")
 PANEL_X = 760  # the panel's left edge once the window has widened, window px
 EMPTY = (900, 1250)  # on the panel, below its last widget (phone px 700,1250 if it were not)
-SET = "frost-params.json"  # the panel's file name (its default), in the app's folder
+# The set's file name, typed into the panel's field over its default: C and S are keys of
+# the window too (clear, screenshot), which must not fire while the field is typed into.
+SET = "sc-set.json"
 
 
 def widget(log: Path, name: str) -> tuple[float, float, float, float]:
@@ -96,6 +99,12 @@ def session(app: subprocess.Popen, log: Path) -> dict:
     click(wid, *EMPTY)  # on the panel: no seed
     drag_slider(wid, hc)
     wait_for(log, r"params: hc=", 1)
+    field = widget(log, "file")
+    click(wid, field[0] + 40, field[1] + field[3] / 2)
+    time.sleep(0.3)
+    xdo("key", "ctrl+a")
+    xdo("type", "--delay", "30", SET)
+    time.sleep(0.3)
     save = widget(log, "save_params")
     click(wid, save[0] + save[2] / 2, save[1] + save[3] / 2)
     wait_for(log, r"params saved: ")
@@ -156,6 +165,12 @@ def test_a_dragged_slider_is_one_change_recorded_with_its_tick(run):
 
 def test_a_click_on_the_panel_plants_no_seed(run):
     assert [e for e in run["session"].events if e["kind"] == "touch"] == []
+
+
+def test_keys_typed_into_the_panel_are_not_the_windows_keys(run):
+    assert "cleared" not in run["log"]  # C
+    assert len(re.findall(r"screenshot: ", run["log"])) == 1  # S: only the button's
+    assert re.search(rf"params saved: {re.escape(SET)}$", run["log"], re.M)
 
 
 def test_the_saved_set_is_the_dragged_parameters_and_loads_back(run):
