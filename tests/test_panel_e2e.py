@@ -101,8 +101,7 @@ def session(app: subprocess.Popen, log: Path) -> dict:
     wait_for(log, r"params: hc=", 1)
     field = widget(log, "file")
     click(wid, field[0] + 40, field[1] + field[3] / 2)
-    time.sleep(0.3)
-    xdo("key", "ctrl+a")
+    time.sleep(0.3)  # the click selected the whole name: typing replaces it
     xdo("type", "--delay", "30", SET)
     time.sleep(0.3)
     save = widget(log, "save_params")

@@ -182,7 +182,8 @@ class TuningPanel:
             self._remember(action)
 
     def _param_sets(self) -> None:
-        self.path = imgui.input_text("file", self.path)[1]
+        # A click selects the whole name, so typing replaces it.
+        self.path = imgui.input_text("file", self.path, imgui.InputTextFlags_.auto_select_all)[1]
         self._remember("file")
         for label, action in (("Save set", "save_params"), ("Load set", "load_params")):
             if label == "Load set":
