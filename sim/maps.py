@@ -5,10 +5,10 @@ the maps are exact (no 8-bit feature heights, no half floats), need no context, 
 be computed on any thread that holds a copy of the arrays:
 - the bumpy surface (Fig. 7): the geometry grid, bilinear at each pixel's centre, as
   the renderer samples its height texture;
-- the sharp features (Fig. 6): each segment's four triangles form a pyramid over the
-  rhombus (p, s1, q, s2) with apex m, so its height has the closed form
-  feature_height*L * max(0, 1 - |u| - |v|), u along the segment (1 at p and q), v across
-  it (1 at s1 and s2); where features overlap the highest wins (the renderer's depth test);
+- the sharp features: the renderer's own triangles (sim.geometry: Fig. 6's per segment,
+  or the glass look's ridges), their height at each pixel centre, the highest winning
+  where they overlap (the renderer's depth test); the glass look's edges anti-aliased
+  as its feature pass does them (shaders/feature.frag, EDGE_AA);
 - as in the renderer's ice pass, the two surfaces add: z = bumps + features;
 - alpha is the renderer's thickness law (sim.material), opacity * (1 - exp(-density * z));
 - normals come from the height gradient (central differences, px per px).
@@ -23,13 +23,13 @@ from types import MappingProxyType
 import numpy as np
 
 from .frost import FrostSim
-from .geometry import live_features
+from .geometry import feature_triangles, live_features
 from .material import Material, film
 from .params import Params
 from .screen import HEIGHT, WIDTH
 
 MAP_NAMES = ("height", "normal", "alpha")
-# Feature pyramids are rasterized in batches of about this many pixel samples.
+# Feature triangles are rasterized in batches of about this many pixel samples.
 _BATCH_SAMPLES = 1 << 22
 
 
@@ -56,45 +56,11 @@ def bump_field(grid: np.ndarray, spacing: float, width: int, height: int) -> np.
     return (rows[y0] * (1 - wy)[:, None] + rows[y1] * wy[:, None]).astype(np.float32)
 
 
-def feature_field(segments: np.ndarray, width_factor: float, height_factor: float,
-                  width: int, height: int) -> np.ndarray:
-    """Highest sharp-feature surface at every pixel centre: H x W float32 (0 off the ice)."""
-    out = np.zeros(width * height, np.float32)
-    seg = np.asarray(segments, np.float64).reshape(-1, 4)
-    length = np.hypot(seg[:, 2] - seg[:, 0], seg[:, 3] - seg[:, 1])
-    seg, length = seg[length > 0], length[length > 0]
-    if width_factor <= 0 or height_factor <= 0 or len(seg) == 0:
-        return out.reshape(height, width)
-    reach = np.ceil(np.maximum(0.5, width_factor) * length).astype(np.int64) + 1
-    for r in np.unique(reach):  # one stencil size per batch
-        pick = np.flatnonzero(reach == r)
-        per = max(1, _BATCH_SAMPLES // (2 * r + 1) ** 2)
-        for lo in range(0, len(pick), per):
-            rows = pick[lo:lo + per]
-            _raise_pyramids(out, seg[rows], length[rows], int(r), width_factor,
-                            height_factor, width, height)
-    return out.reshape(height, width)
-
-
-def _raise_pyramids(out: np.ndarray, seg: np.ndarray, length: np.ndarray, reach: int,
-                    wf: float, hf: float, width: int, height: int) -> None:
-    """Max the pyramids of `seg` into the flat image `out` over a (2 reach + 1)^2 stencil."""
-    m = 0.5 * (seg[:, :2] + seg[:, 2:])
-    t = (seg[:, 2:] - seg[:, :2]) / length[:, None]  # unit along the segment
-    oy, ox = (a.ravel() for a in np.mgrid[-reach:reach + 1, -reach:reach + 1])
-    px = np.floor(m[:, 0:1]).astype(np.int64) + ox
-    py = np.floor(m[:, 1:2]).astype(np.int64) + oy
-    dx, dy = px + 0.5 - m[:, 0:1], py + 0.5 - m[:, 1:2]
-    u = (dx * t[:, 0:1] + dy * t[:, 1:2]) / (0.5 * length[:, None])
-    v = (dy * t[:, 0:1] - dx * t[:, 1:2]) / (wf * length[:, None])
-    z = hf * length[:, None] * (1.0 - np.abs(u) - np.abs(v))
-    hit = (z > 0) & (px >= 0) & (px < width) & (py >= 0) & (py < height)
-    np.maximum.at(out, py[hit] * width + px[hit], z[hit].astype(np.float32))
-
-
-def triangle_field(verts: np.ndarray, width: int, height: int) -> np.ndarray:
+def triangle_field(verts: np.ndarray, width: int, height: int,
+                   edge_aa: bool = False) -> np.ndarray:
     """Highest surface of feature triangles (3 rows of x, y, z, ... each) at every pixel
-    centre, as the renderer's depth test keeps it: H x W float32 (0 off the ice)."""
+    centre, as the renderer's depth test keeps it: H x W float32 (0 off the ice); with
+    `edge_aa`, each pixel's mean height within half a px of where a face meets the glass."""
     out = np.zeros(width * height, np.float32)
     tri = np.asarray(verts, np.float64)[:, :3].reshape(-1, 3, 3)
     lo = np.floor(tri[:, :, :2].min(axis=1) - 0.5).astype(np.int64)
@@ -105,12 +71,12 @@ def triangle_field(verts: np.ndarray, width: int, height: int) -> np.ndarray:
         per = max(1, _BATCH_SAMPLES // int(r * r + 1))
         for start in range(0, len(pick), per):
             rows = pick[start:start + per]
-            _raise_triangles(out, tri[rows], lo[rows], int(r), width, height)
+            _raise_triangles(out, tri[rows], lo[rows], int(r), width, height, edge_aa)
     return out.reshape(height, width)
 
 
 def _raise_triangles(out: np.ndarray, tri: np.ndarray, lo: np.ndarray, reach: int,
-                     width: int, height: int) -> None:
+                     width: int, height: int, edge_aa: bool) -> None:
     """Max the triangles' heights into `out` at the pixel centres of an r x r stencil."""
     oy, ox = (a.ravel() for a in np.mgrid[0:reach, 0:reach])
     px, py = lo[:, 0:1] + ox, lo[:, 1:2] + oy
@@ -127,8 +93,22 @@ def _raise_triangles(out: np.ndarray, tri: np.ndarray, lo: np.ndarray, reach: in
     wa, wb, wc = edge(b, c), edge(c, a), edge(a, b)
     inside = ok[:, None] & (wa >= 0) & (wb >= 0) & (wc >= 0)
     z = wa * a[:, 2:3] + wb * b[:, 2:3] + wc * c[:, 2:3]
+    if edge_aa:
+        z = _edge_mean(z, tri, area)
     hit = inside & (px >= 0) & (px < width) & (py >= 0) & (py < height)
     np.maximum.at(out, py[hit] * width + px[hit], z[hit].astype(np.float32))
+
+
+def _edge_mean(z: np.ndarray, tri: np.ndarray, area: np.ndarray) -> np.ndarray:
+    """The feature pass's EDGE_AA: where a face's height z at a pixel centre is within
+    half the L1 slope of the glass, the pixel's coverage times its mean height."""
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    db, dc = b[:, 2:3] - a[:, 2:3], c[:, 2:3] - a[:, 2:3]
+    gx = (db * (c[:, 1:2] - a[:, 1:2]) - dc * (b[:, 1:2] - a[:, 1:2])) / area
+    gy = (dc * (b[:, 0:1] - a[:, 0:1]) - db * (c[:, 0:1] - a[:, 0:1])) / area
+    ramp = np.maximum(np.abs(gx) + np.abs(gy), 1e-6)
+    cover = np.clip(z / ramp + 0.5, 0.0, 1.0)
+    return np.where(z < 0.5 * ramp, 0.5 * ramp * cover * cover, z)
 
 
 def normal_map(height: np.ndarray, strength: float = 1.0) -> np.ndarray:
@@ -150,16 +130,17 @@ def alpha_map(height: np.ndarray, material: Material | None = None) -> np.ndarra
 def compute_maps(grid: np.ndarray, segments: np.ndarray, params: Params,
                  width: int = WIDTH, height: int = HEIGHT,
                  triangles: np.ndarray | None = None) -> FrostMaps:
-    """The three maps of a frost from its height grid and skeleton segments, or, where
-    given, the renderer's own feature triangles (sim.geometry.live_features: the glass
-    look's ridges have no closed form over segments)."""
+    """The three maps of a frost from its height grid and the renderer's feature
+    triangles (sim.geometry.live_features, `map_triangles`); without them, the paper's
+    triangles of the live skeleton `segments` (the glass look's ridges need the sim)."""
     z = bump_field(grid, params.grid_spacing, width, height)
     if params.look == "glass":
         z = film(z).astype(np.float32)
-    if triangles is not None:
-        z += triangle_field(triangles, width, height)
-    else:
-        z += feature_field(segments, params.feature_width, params.feature_height, width, height)
+    if triangles is None:
+        if params.look == "glass":
+            raise ValueError("the glass look's maps need its ridges (sim.maps.map_triangles)")
+        triangles = feature_triangles(segments, params.feature_width, params.feature_height)
+    z += triangle_field(triangles, width, height, edge_aa=params.look == "glass")
     return FrostMaps(z, normal_map(z), alpha_map(z))
 
 
@@ -188,7 +169,7 @@ def live_segments(sim: FrostSim) -> np.ndarray:
     return sim.segments if alive is None else sim.segments[alive]
 
 
-def map_triangles(sim: FrostSim, params: Params) -> np.ndarray | None:
-    """The renderer's feature triangles where the maps need them (the glass look), else
-    None (the paper's pyramids have a closed form over the segments)."""
-    return live_features(sim, params) if params.look == "glass" else None
+def map_triangles(sim: FrostSim, params: Params) -> np.ndarray:
+    """The renderer's feature triangles of the live ice, in either look: what the maps
+    rasterize, so that they hold what is drawn."""
+    return live_features(sim, params)

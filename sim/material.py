@@ -16,6 +16,10 @@ LOOK_DEFINES = MappingProxyType({
     "paper": (),
     "glass": ("FILM", "SCATTER", "SPARKLE", "REFRACT"),
 })
+# The feature pass's variant (shaders/feature.*): the glass look's ridges anti-alias their
+# edges (EDGE_AA: coverage and mean height within half a px of an edge; sim.maps does the
+# same arithmetic); the paper's features are drawn as the paper's frames were, pixel for pixel.
+FEATURE_DEFINES = MappingProxyType({"paper": (), "glass": ("EDGE_AA",)})
 
 
 # The glass look's film (shaders/ice.frag's FILM, the same numbers): the bump surface is

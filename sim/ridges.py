@@ -16,7 +16,11 @@ import numpy as np
 from .params import Params
 
 VERTS_PER_LINK = 24  # 8 triangles: two body faces and a cap on each side at each end
-MIN_HALF_WIDTH = 0.9  # px: the feature texture has no anti-aliasing; thinner breaks into dots
+MIN_HALF_WIDTH = 0.9  # px: a tip's ridge is about 2 px wide
+# px the faces run on past a ridge's edge, below the glass: the feature pass anti-aliases
+# the edge over the pixels it crosses (shaders/feature.frag, EDGE_AA), and a pixel whose
+# centre lies within half its diagonal (0.71 px) of the edge is one of them.
+EDGE_PAD = 0.75
 MAX_HALF_WIDTH = 0.7  # x hc: a trunk never swells over its neighbours' freezing areas
 LEVELS_PER_DOUBLING = 2  # width levels per doubling of the carried count (+12 % width each)
 TILT = 0.18  # spread of the random tilt per ridge face (sparkle), normal x and y
@@ -64,7 +68,8 @@ FACE_N = np.array([1, 1, -1, -1, 1, -1, 1, -1], np.float32)[None, :, None]
 def ridge_triangles(p: np.ndarray, q: np.ndarray, w: np.ndarray, slope: float,
                     ids: np.ndarray) -> np.ndarray:
     """(24 k) x 6 float32 vertices (x, y, z, nx, ny, nz) of ridges from p to q (k x 2),
-    half-width w; each face's normal tilted a little at random (seeded by `ids`)."""
+    half-width w; each face's normal tilted a little at random (seeded by `ids`). The
+    faces reach EDGE_PAD past the edge, on the same planes (below the glass there)."""
     p, q = p.astype(np.float32), q.astype(np.float32)
     w = w.astype(np.float32)[:, None]
     d = q - p
@@ -72,8 +77,8 @@ def ridge_triangles(p: np.ndarray, q: np.ndarray, w: np.ndarray, slope: float,
     t = np.where(length > 0, d / np.where(length > 0, length, 1.0),
                  np.array([1.0, 0.0], np.float32))
     n = np.column_stack((-t[:, 1], t[:, 0]))
-    wt, wn = w * t, w * n
-    pts = np.zeros((len(p), 8, 3), np.float32)
+    wt, wn = (w + EDGE_PAD) * t, (w + EDGE_PAD) * n
+    pts = np.full((len(p), 8, 3), -slope * EDGE_PAD, np.float32)
     for i, corner in enumerate((p, q, q + wn, p + wn, q - wn, p - wn, q + wt, p - wt)):
         pts[:, i, :2] = corner
     pts[:, :2, 2] = slope * w

@@ -29,7 +29,8 @@ from app.tools.figure8 import (
 )
 from app.tools.maps import grow
 from sim import PRESETS, Params
-from sim.maps import alpha_map, bump_field, compute_maps, encode, feature_field, live_segments, normal_map
+from sim.geometry import feature_triangles
+from sim.maps import alpha_map, bump_field, compute_maps, encode, live_segments, normal_map, triangle_field
 
 ROOT = Path(__file__).resolve().parent.parent
 TOUCH = (380.0, 640.0)
@@ -96,7 +97,7 @@ def _triangle_oracle(seg, width, height, w, h):
 @pytest.mark.parametrize("seg", [(10.2, 12.7, 18.9, 15.1), (20.0, 8.0, 13.5, 21.0), (5.0, 5.0, 5.0, 5.0)])
 def test_feature_pyramids_match_the_triangles(seg):
     seg = np.array(seg)
-    z = feature_field(seg[None], 1.5, 0.5, 32, 30)
+    z = triangle_field(feature_triangles(seg[None], 1.5, 0.5), 32, 30)
     assert np.allclose(z, _triangle_oracle(seg, 1.5, 0.5, 32, 30), atol=1e-4)
 
 

@@ -26,7 +26,7 @@ from app.backdrops import DEFAULT_BACKDROP, load_backdrop
 from app.gl.shaders import load_program
 from app.resources import ASSET_DIR
 from sim.geometry import VERTEX_FLOATS, GeometryDelta
-from sim.material import LOOK_DEFINES, Material
+from sim.material import FEATURE_DEFINES, LOOK_DEFINES, Material
 from sim.params import Params
 from sim.screen import HEIGHT, WIDTH
 
@@ -121,7 +121,7 @@ class Renderer:
         if delta.reset:
             self.reset()
         self.look, self.height_scale = delta.look, delta.height_scale
-        self.features.height_scale = delta.height_scale
+        self.features.height_scale, self.features.look = delta.height_scale, delta.look
         if delta.clear_box is not None:
             self.features.wipe(delta.clear_box)
         if delta.rows.stop > delta.rows.start:
@@ -220,11 +220,11 @@ class FeatureLayer:
         self.ctx, self.size = ctx, size
         self.texture = ctx.texture(size, 4)
         self._fbo = ctx.framebuffer([self.texture], ctx.depth_renderbuffer(size))
-        self._prog = load_program(ctx, "feature.vert", "feature.frag")
         self._pending = 0  # vertices queued in _vbo, not yet drawn into the texture
-        self.height_scale = FEATURE_HEIGHT_SCALE
+        self.height_scale, self.look = FEATURE_HEIGHT_SCALE, "paper"
+        self._progs: dict[str, moderngl.Program] = {}  # per look (FEATURE_DEFINES)
+        self._arrays: dict[str, moderngl.VertexArray] = {}  # per look, over _vbo
         self._vbo = ctx.buffer(reserve=1 << 16, dynamic=True)
-        self._array = self._vertex_array(self._vbo)
 
     def clear(self) -> None:
         """No features, nothing queued."""
@@ -257,16 +257,15 @@ class FeatureLayer:
         """Rasterize the queued triangles into the texture."""
         if self._pending == 0:
             return
-        prog = self._prog
-        prog["u_screen"].value = self.size
-        prog["u_max_depth"].value = MAX_DEPTH
-        prog["u_height_scale"].value = self.height_scale
+        prog, array = self._program(self.look)
+        Renderer._set(prog, {"u_screen": self.size, "u_max_depth": MAX_DEPTH,
+                             "u_height_scale": self.height_scale})
         self._fbo.use()
         self.ctx.viewport = (0, 0, *self.size)
         self.ctx.disable(moderngl.BLEND)
         self.ctx.enable(moderngl.DEPTH_TEST)
         self.ctx.depth_func = "<"
-        self._array.render(moderngl.TRIANGLES, vertices=self._pending)
+        array.render(moderngl.TRIANGLES, vertices=self._pending)
         self.ctx.disable(moderngl.DEPTH_TEST)
         self._pending = 0
 
@@ -275,11 +274,19 @@ class FeatureLayer:
         vbo = self.ctx.buffer(reserve=size, dynamic=True)
         self.ctx.copy_buffer(vbo, self._vbo, self._pending * VERTEX_BYTES)
         self._vbo.release()
-        self._array.release()
-        self._vbo, self._array = vbo, self._vertex_array(vbo)
+        for array in self._arrays.values():
+            array.release()
+        self._vbo, self._arrays = vbo, {}
 
-    def _vertex_array(self, vbo: moderngl.Buffer) -> moderngl.VertexArray:
-        return self.ctx.vertex_array(self._prog, [(vbo, "3f 3f", "in_position", "in_normal")])
+    def _program(self, look: str) -> tuple[moderngl.Program, moderngl.VertexArray]:
+        """The feature pass compiled for `look` and its vertex array, made on first use."""
+        if look not in self._progs:
+            self._progs[look] = load_program(self.ctx, "feature.vert", "feature.frag",
+                                             FEATURE_DEFINES[look])
+        if look not in self._arrays:
+            self._arrays[look] = self.ctx.vertex_array(
+                self._progs[look], [(self._vbo, "3f 3f", "in_position", "in_normal")])
+        return self._progs[look], self._arrays[look]
 
 
 class TileSet:

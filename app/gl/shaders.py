@@ -21,7 +21,7 @@ def shader_source(name: str, defines: tuple[str, ...] = ()) -> str:
 
 
 def load_program(ctx, vert: str, frag: str, defines: tuple[str, ...] = ()):
-    """A moderngl Program from two shader files of shaders/, the fragment shader
-    compiled with `defines`."""
-    return ctx.program(vertex_shader=shader_source(vert),
+    """A moderngl Program from two shader files of shaders/, both compiled with
+    `defines`."""
+    return ctx.program(vertex_shader=shader_source(vert, defines),
                        fragment_shader=shader_source(frag, defines))

@@ -1,9 +1,10 @@
 """Rendering benchmark: `frost bench render` (headless, 760x1280, about half the screen frosted).
 
 The paper's look and the glass look on the same growing frost in one run (one simulation,
-a geometry and a renderer per look, their frames interleaved): for each, the median frame
-time (ctx.finish() inside the timing), the median geometry update and upload per tick and
-the feature vertices sent; then one JSON line.
+a geometry and a renderer per look, their frames interleaved): for each, the median and
+99th percentile frame time (ctx.finish() inside the timing), the geometry update per tick
+(median, p99, and median of the last ticks), the median upload per tick and the feature
+vertices sent; then one JSON line.
 """
 
 from __future__ import annotations
@@ -28,8 +29,16 @@ from sim.screen import HEIGHT, WIDTH
 TOUCHES = [(190, 200), (570, 330), (380, 640), (160, 760), (600, 930), (250, 1120), (560, 150)]
 
 
+LAST = 300  # ticks: the geometry's cost at the end of the growth, where the most ice is
+
+
 def ms(seconds: list[float]) -> float:
     return 1000.0 * statistics.median(seconds) if seconds else 0.0
+
+
+def p99(seconds: list[float]) -> float:
+    """The 99th percentile, ms (linear between samples)."""
+    return 1000.0 * float(np.percentile(seconds, 99)) if seconds else 0.0
 
 
 class Look:
@@ -66,7 +75,10 @@ class Look:
     def result(self) -> dict:
         return {"frame_ms": round(ms(self.frames), 2),
                 "frame_ms_min": round(1000 * min(self.frames, default=0), 2),
+                "frame_ms_p99": round(p99(self.frames), 2),
                 "geometry_ms_per_tick": round(ms(self.geo_t), 3),
+                "geometry_ms_p99": round(p99(self.geo_t), 3),
+                "geometry_ms_last": round(ms(self.geo_t[-LAST:]), 3),
                 "geometry_ms_max": round(1000 * max(self.geo_t, default=0), 3),
                 "upload_ms_per_tick": round(ms(self.up_t), 3), "feature_vertices": self.vertices}
 
@@ -128,9 +140,11 @@ def report(result: dict, frames: int) -> None:
           f"{result['crystals']} crystals")
     for name in LOOKS:
         r = result[name]
-        print(f"{name}: frame median {r['frame_ms']} ms (best {r['frame_ms_min']}) over {frames} "
-              f"frames; geometry median {r['geometry_ms_per_tick']} ms/tick (max "
-              f"{r['geometry_ms_max']}); upload median {r['upload_ms_per_tick']} ms/tick; "
+        print(f"{name}: frame median {r['frame_ms']} ms (best {r['frame_ms_min']}, p99 "
+              f"{r['frame_ms_p99']}) over {frames} frames; geometry median "
+              f"{r['geometry_ms_per_tick']} ms/tick (p99 {r['geometry_ms_p99']}, max "
+              f"{r['geometry_ms_max']}; last {LAST} ticks {r['geometry_ms_last']}); upload "
+              f"median {r['upload_ms_per_tick']} ms/tick; "
               f"{r['feature_vertices']} feature vertices sent")
     paper, glass = result["paper"], result["glass"]
     print(f"glass / paper: frame {glass['frame_ms'] / max(paper['frame_ms'], 1e-9):.2f}x, "
