@@ -238,7 +238,7 @@ HELP_LISTS = {
     "replay": {"--help", "--headless", "--ticks", "--out", "--melt-radius", "--session-dir",
                "--screenshot-dir", "--scale", "--max-seconds", "--background"},
     "figure8": {"--help", "--seed", "--ticks", "--touch", "--background"} | OVERRIDES,
-    "render": {"--help", "--preset", "--window-frost", "--seed", "--touch", "--ticks", "--out",
+    "render": {"--help", "--preset", "--window-frost", "--params", "--seed", "--touch", "--ticks", "--out",
                "--melt", "--melt-path", "--melt-radius", "--background"} | OVERRIDES,
     "bench render": {"--help", "--preset", "--seed", "--frames", "--cover", "--max-ticks",
                      "--background"}}
