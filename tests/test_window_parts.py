@@ -643,3 +643,13 @@ def test_the_scripted_scribble_presses_the_windows_own_tuning_keys(start):
         pressed.append(p)
     assert tuning_changes(Params.preset(start)) == pressed
     assert pressed[-9] == Params.preset("a-1")  # the paper's a-1, whatever look it left
+
+
+def test_without_imgui_the_panel_key_says_why_and_input_stays_the_windows():
+    from app.window.no_panel import WHY, NoPanel
+
+    said: list[str] = []
+    panel = NoPanel(said.append)
+    panel.toggle()
+    assert said == [WHY] and "Python 3.11" in WHY
+    assert not panel.on_key(0, 1) and not panel.on_button(0, 1) and not panel.needs_frame()

@@ -24,7 +24,12 @@ from app.window.capture import Capture
 from app.window.glfw_setup import WindowError, open_window
 from app.window.keys import help_lines
 from app.window.lost_display import on_lost_display
-from app.window.panel_host import PanelHost
+from app.window.no_panel import NoPanel
+
+try:  # imgui-bundle has wheels for Python 3.11 on only (README, Dependencies)
+    from app.window.panel_host import PanelHost
+except ImportError:
+    PanelHost = None  # type: ignore[assignment,misc]
 from app.window.pointer import Pointer
 from app.window.presenter import Presenter
 from app.window.record import Recorder
@@ -57,7 +62,8 @@ class FrostWindow:
                                self.recorder, lambda: self.latest, self.redraw, self.stop)
         self.pointer = Pointer(window, self.sizes, self.thread, args.melt_radius,
                                lambda: self.actions.params.hc, self.shown_tick, self.status.melted)
-        self.panel = PanelHost(window, self.presenter.ctx, self.sizes, self.actions)
+        self.panel = PanelHost(window, self.presenter.ctx, self.sizes, self.actions) \
+            if PanelHost is not None else NoPanel(self.status.say)
         self.actions.toggle_panel = self.panel.toggle
         self.latest: Snapshot | None = None
         self.running, self.exit_status = True, 0
