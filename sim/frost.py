@@ -1,7 +1,10 @@
 """The frost simulation of Sec. 3.3-3.4: water walks, freezes near crystals, and grows a skeleton.
 
-A tick is a short list of phases (see `FrostSim.step`):
-walk -> crystallize -> link and upsample -> update candidate cells.
+A tick is a short list of phases (see `FrostSim.step`): walk -> drop water in full cells ->
+crystallize (within the tick's geometry budget) -> settle (the growth rule: Table 1's keeps
+every freeze, the fern rule's slots and hits) -> link and upsample -> register the new
+crystals (candidate cells, search) -> follow the ice (growth mode) -> place again the
+walkers whose hits only counted -> refill the pools (replenish, growth mode, the pane).
 Everything is plain numpy data; rendering reads the arrays and the per-tick `added` slices.
 """
 

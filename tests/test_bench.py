@@ -8,7 +8,7 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from app import cli
-from sim import bench
+from app.tools import bench_sim as bench
 from sim.params import Params
 
 

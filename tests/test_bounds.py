@@ -9,9 +9,9 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from app.tools.scribble import scribble, storm
 from sim import FrostSim, Params, frost
 from sim.geometry import _segments_in
-from sim.scribble import scribble, storm
 from sim.session import MIN_INPUT_S, STEP_SAMPLES, Backlog, Timeline
 
 

@@ -1,5 +1,5 @@
 """The frond rules (docs/method.md, section 8; sim/fronds.py, sim/openglass.py) and the pane's
-measures (sim/measures.py), against stored pre-change hashes, hand-worked cases and
+measures (app/tools/measures.py), against stored pre-change hashes, hand-worked cases and
 brute-force oracles."""
 
 import json
@@ -9,10 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sim import FrostSim, Params
-from sim.fern import SIDE, SLOT_KIND
-from sim.fronds import FRAME_PX, Fronds
-from sim.measures import (
+from app.tools.measures import (
     END_GAIN,
     END_TICKS,
     clear_boxes,
@@ -21,6 +18,9 @@ from sim.measures import (
     side_spacing,
     skeleton_measures,
 )
+from sim import FrostSim, Params
+from sim.fern import SIDE, SLOT_KIND
+from sim.fronds import FRAME_PX, Fronds
 from sim.openglass import OpenGlass, ring_distance
 from sim.params import FROND_RULES
 from tests import frozen_runs

@@ -147,6 +147,9 @@ def with_paths(argv: list[str], folder: Path) -> list[str]:
 @example(argv=["render", "--melt=1e308,1e308,1e308@0", "--touch=1,1"])  # x + r overflowed in melt
 @example(argv=["render", "--melt-path=nan,0:1,1@2", "--touch=1,1"])
 @example(argv=["render", "--melt=1,2,0@3", "--touch=1,1"])  # a zero radius
+@example(argv=["--melt-radius=0"])  # zero radius, scale: refused by name, never a crash
+@example(argv=["--scale=0"])
+@example(argv=["render", "--melt-radius=-0", "--touch=1,1"])
 @example(argv=["figure8", "OUT/f.png", "--touch=1,1", "--touch=2,2"])
 @example(argv=["bench", "render", "--frames=0"])
 def test_any_command_line_runs_or_is_refused_in_one_line(stubbed, tmp_path, argv):
@@ -235,7 +238,7 @@ HELP_LISTS = {
     "replay": {"--help", "--headless", "--ticks", "--out", "--melt-radius", "--session-dir",
                "--screenshot-dir", "--scale", "--max-seconds", "--background"},
     "figure8": {"--help", "--seed", "--ticks", "--touch", "--background"} | OVERRIDES,
-    "render": {"--help", "--preset", "--window-frost", "--seed", "--touch", "--ticks", "--out",
+    "render": {"--help", "--preset", "--window-frost", "--params", "--seed", "--touch", "--ticks", "--out",
                "--melt", "--melt-path", "--melt-radius", "--background"} | OVERRIDES,
     "bench render": {"--help", "--preset", "--seed", "--frames", "--cover", "--max-ticks",
                      "--background"},

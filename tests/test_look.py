@@ -293,6 +293,37 @@ def test_glass_ice_is_tinted_when_thin_and_white_when_thick(fern_glass):
     assert thin > deep + 0.08
 
 
+def speck_hash(height: int, width: int) -> np.ndarray:
+    """shaders/ice.frag's per-pixel speck number at each pixel (rows top down), float32 as
+    the GPU computes it: interleaved gradient noise of gl_FragCoord's whole part."""
+    yy, xx = np.mgrid[0:height, 0:width]
+    fx, fy = xx.astype(np.float32), (height - 1 - yy).astype(np.float32)
+    dot = fx * np.float32(0.06711056) + fy * np.float32(0.00583715)
+    inner = np.float32(52.9829189) * (dot - np.floor(dot))
+    return inner - np.floor(inner)
+
+
+def test_sparkle_breaks_the_glints_into_one_pixel_specks(fern_glass, monkeypatch):
+    """With the variant off the same frost shines evenly; with it each pixel's glint is
+    dimmed or brightened as its speck number says (>= 0.55: brighter)."""
+    import app.gl.renderer as renderer_module
+
+    run, frames, thick = fern_glass
+    monkeypatch.setattr(renderer_module, "LOOK_DEFINES", {
+        **LOOK_DEFINES, "glass": tuple(d for d in LOOK_DEFINES["glass"] if d != "SPARKLE")})
+    cached = run.renderer._ice_progs.pop("glass")
+    try:
+        run.renderer.set_background_image(np.zeros((1280, 760, 3), np.uint8), "black")
+        even = run.frame().astype(np.float64).mean(axis=2)
+    finally:
+        run.renderer._ice_progs["glass"] = cached
+    sparkled = frames["black"].mean(axis=2)
+    changed = (sum(thick) > 1.0) & (np.abs(sparkled - even) > 3)
+    assert changed.sum() > 500
+    brighter = (sparkled > even)[changed]
+    assert (brighter == (speck_hash(*even.shape) >= 0.55)[changed]).all()
+
+
 def test_glass_displaces_the_view_and_leaves_clear_glass_exact(fern_glass):
     run, frames, thick = fern_glass
     seen = checks.view_through(frames, sum(thick))

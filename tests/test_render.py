@@ -21,7 +21,7 @@ from sim.geometry import GeometryDelta, feature_triangles
 ROOT = Path(__file__).resolve().parent.parent
 W, H = 160, 128
 PROGRAMS = [("fullscreen.vert", "background.frag"), ("tile.vert", "ice.frag"),
-            ("feature.vert", "feature.frag")]
+            ("feature.vert", "feature.frag"), ("imgui.vert", "imgui.frag")]
 SHADERS = sorted(p.name for p in SHADER_DIR.iterdir() if p.suffix in (".vert", ".frag"))
 NO_FEATURES = np.empty((0, 6), np.float32)
 

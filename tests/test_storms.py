@@ -8,9 +8,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from app.tools import scribble as scribble_module
+from app.tools.scribble import play, spread, storm
 from sim import FrostSim, Params, frost
-from sim import scribble as scribble_module
-from sim.scribble import play, spread, storm
 from sim.session import Backlog, SessionLog, Timeline, replay
 
 SMALL = (240, 320)  # a small screen keeps a frosted pane cheap to grow

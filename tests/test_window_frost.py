@@ -4,9 +4,9 @@ path that refreezes from its edges, against brute-force oracles."""
 import numpy as np
 import pytest
 
+from app.tools.measures import frosted_end
 from sim import FrostSim, Params, preset_name
 from sim.grid import CELL_MARGIN
-from sim.measures import frosted_end
 from sim.pane import BAND
 from sim.params import FROND_RULES
 
@@ -179,7 +179,7 @@ def test_a_wiped_path_is_clear_then_refreezes_from_its_edges(mode):
         sim.touch(x, y)
     cells = path_cells(sim)
     cover: list[float] = []
-    for _ in range(2500):  # to the frosted end (sim/measures.py), or full coverage
+    for _ in range(2500):  # to the frosted end (app/tools/measures.py), or full coverage
         sim.step()
         cover.append(coverage(sim, np.arange(sim.grid.size)))
         if cover[-1] >= 0.95 or frosted_end(cover) is not None:

@@ -629,9 +629,9 @@ def test_a_session_saved_after_the_thread_ticked_past_the_frame_shown_replays_th
 
 @pytest.mark.parametrize("start", ["fern", "window", "c-2"])
 def test_the_scripted_scribble_presses_the_windows_own_tuning_keys(start):
-    """sim.scribble's tuning changes are what the window's key table does, key by key
+    """app.tools.scribble's tuning changes are what the window's key table does, key by key
     (from fern, key 1 is Table 1's a-1 with the fern rules off, as in the window)."""
-    from sim.scribble import tuning_changes
+    from app.tools.scribble import tuning_changes
 
     by_label = {b.label: b for b in BINDINGS}
     act = {"scale": lambda p, a: tuning.scaled(p, *a), "shift": lambda p, a: tuning.shifted(p, *a),
@@ -643,3 +643,13 @@ def test_the_scripted_scribble_presses_the_windows_own_tuning_keys(start):
         pressed.append(p)
     assert tuning_changes(Params.preset(start)) == pressed
     assert pressed[-9] == Params.preset("a-1")  # the paper's a-1, whatever look it left
+
+
+def test_without_imgui_the_panel_key_says_why_and_input_stays_the_windows():
+    from app.window.no_panel import WHY, NoPanel
+
+    said: list[str] = []
+    panel = NoPanel(said.append)
+    panel.toggle()
+    assert said == [WHY] and "Python 3.11" in WHY
+    assert not panel.on_key(0, 1) and not panel.on_button(0, 1) and not panel.needs_frame()

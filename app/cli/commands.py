@@ -29,8 +29,8 @@ def main(argv: list[str] | None = None) -> int:
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
     argv = sys.argv[1:] if argv is None else list(argv)
     try:
-        if argv[:2] == ["bench", "sim"]:  # its arguments are sim.bench's to parse
-            from sim.bench import main as bench_sim
+        if argv[:2] == ["bench", "sim"]:  # its arguments are bench_sim's to parse
+            from app.tools.bench_sim import main as bench_sim
             return bench_sim(argv[2:], prog="frost bench sim")
         args, params = _parse(argv)
         return RUN[args.command](args, params)

@@ -12,6 +12,7 @@ from app.cli import values
 from app.window.keys import DEFAULT_PRESET
 from app.window.view import SCALES
 from sim import PRESETS, Params, all_presets
+from sim.paramsets import load_params
 from sim.screen import HEIGHT, MAX_MELT_RADIUS, MELT_RADIUS, WIDTH
 
 DEFAULT_TICKS = 250
@@ -31,6 +32,10 @@ def add_preset(p) -> None:
                    help="the frosted window: frost nucleates on the screen's frame and a few pane "
                         "sites and grows over the whole pane, no touch needed (preset window, or "
                         "window mode on top of --preset, whose grains it turns on; default off)")
+    p.add_argument("--params", dest="params_file", metavar="FILE.json",
+                   help="a parameter set instead of a preset: a JSON file saved from the window's "
+                        "panel (or a session file: its first parameters); the overrides below "
+                        "apply on top (default none)")
 
 
 def add_background(p) -> None:
@@ -142,14 +147,28 @@ def params_from(args: argparse.Namespace) -> Params:
     none); a bad value raises ValueError naming it."""
     overrides = {n: getattr(args, n) for n, _, _ in Params.describe()
                  if getattr(args, n, None) is not None}
+    preset = getattr(args, "preset", None)
+    if getattr(args, "params_file", None):
+        return _from_file(args, preset, overrides)
     if "step" not in overrides and "hc" in overrides and overrides["hc"] > 0:
         overrides["step"] = min(Params.step, overrides["hc"])  # a smaller hc takes step with it
-    preset = getattr(args, "preset", None)
     if getattr(args, "window_mode", False):
         overrides.setdefault("window_frost", True)
         overrides.setdefault("grains", True)  # window mode needs them; Table 1 has them off
         return Params.preset(preset or "window", **overrides)
     return Params.preset(preset or DEFAULT_PRESET, **overrides)
+
+
+def _from_file(args: argparse.Namespace, preset: str | None, overrides: dict) -> Params:
+    """The parameter set of --params with the overrides on top; it replaces the preset, so
+    naming one too is refused (as is --window-frost, a preset of its own)."""
+    if preset or getattr(args, "window_mode", False):
+        raise ValueError("--params replaces the preset: give --params or --preset/--window-frost, "
+                         "not both")
+    base = load_params(args.params_file)
+    if "step" not in overrides and "hc" in overrides and overrides["hc"] > 0:
+        overrides["step"] = min(base.step, overrides["hc"])  # a smaller hc takes step with it
+    return base.replace(**overrides)
 
 
 def has_display() -> bool:

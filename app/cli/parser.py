@@ -174,10 +174,10 @@ def _bench(root: Parser, subs) -> None:
     p = root.command(subs, "bench", "benchmarks: the simulation (sim) or the renderer (render)",
                      usage="WHAT [options]")
     kinds = p.add_subparsers(dest="bench", title="benchmarks", metavar="WHAT", required=True)
-    # Never parsed here (app.cli.commands hands its arguments to sim.bench, as argparse
+    # Never parsed here (app.cli.commands hands its arguments to app.tools.bench_sim, as argparse
     # cannot pass on options it does not know); listed so that frost bench --help names it.
     p.command(kinds, "sim", "the simulation's benchmark: every argument, --help too, goes to "
-              "python -m sim.bench", usage="[ARGS ...]", add_help=False)
+              "python -m app.tools.bench_sim", usage="[ARGS ...]", add_help=False)
     _bench_render(p.command(kinds, "render", "the renderer's benchmark: frame, geometry and "
                             f"upload times at about half the screen frosted (headless, {WIDTH}x{HEIGHT})"))
 

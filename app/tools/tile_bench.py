@@ -1,6 +1,6 @@
 """The tile figures of the README: a window-preset tile grown to its frosted end (the share
 of hash cells holding a crystal gains less than END_GAIN over END_TICKS ticks,
-sim.measures), timed as `frost maps --tile` grows it (simulation, geometry, growth clock),
+app.tools.measures), timed as `frost maps --tile` grows it (simulation, geometry, growth clock),
 then its maps computed and written, with the peak memory of the process.
 
 python -m app.tools.tile_bench [SIZE] [--max-ticks N] [--out DIR]
@@ -17,9 +17,9 @@ import numpy as np
 
 from app.tools.engine_maps import EngineRun, write_engine_maps
 from app.tools.maps import tile_window
+from app.tools.measures import frosted_end
 from sim import Params
 from sim.growthmap import GrowthClock
-from sim.measures import frosted_end
 from sim.session import Timeline
 
 

@@ -12,11 +12,13 @@ import glfw
 from app.backdrops import next_backdrop
 from app.simthread.thread import SimThread, Snapshot
 from app.window.capture import Capture
-from app.window.keys import key_table
+from app.window.keys import DEFAULT_PRESET, key_table
 from app.window.presenter import Presenter
 from app.window.record import Recorder
 from app.window.status import Status, onoff
-from sim import Params, tuning
+from sim import Params, preset_name, tuning
+from sim.files import why
+from sim.paramsets import load_params, save_params
 
 # Actions that repeat while their key is held.
 REPEATING = {"single_step", "scale", "shift", "light"}
@@ -45,6 +47,8 @@ class Actions:
         # The backdrop shown at the start (a --background file joins the X key's cycle).
         self.own_backdrop: str | None = None
         self.keys = key_table(lambda name: getattr(glfw, f"KEY_{name}"))
+        self.preset = first_preset(params)  # the last chosen: the panel's reset goes to it
+        self.toggle_panel: Callable[[], None] = lambda: None  # the window sets it
         self.table: dict[str, Callable] = {
             "pause": lambda _: thread.send("pause"),
             "single_step": lambda _: thread.send("step"),
@@ -53,7 +57,10 @@ class Actions:
             "export_maps": lambda _: capture.export_maps(),
             "scale": lambda arg: self._tune(tuning.scaled, *arg),
             "shift": lambda arg: self._tune(tuning.shifted, *arg),
-            "preset": lambda name: self._tune(tuning.preset, name),
+            "preset": self._preset,
+            "set_param": lambda arg: self._tune(tuning.changed, *arg),
+            "set_backdrop": self._set_backdrop, "save_params": self._save_params,
+            "load_params": self._load_params, "toggle_panel": lambda _: self.toggle_panel(),
             "toggle_param": lambda name: self._tune(tuning.toggled, name),
             "cycle_param": lambda name: self._tune(tuning.cycled, name),
             "toggle_view": self._toggle_view, "light": self._move_light,
@@ -61,6 +68,14 @@ class Actions:
             "toggle_hud": lambda _: self._toggle_hud("visible"),
             "toggle_help": lambda _: self._toggle_hud("show_help"),
             "quit": lambda _: quit_()}
+
+    def run(self, action: str, arg=None) -> None:
+        """Action `action` of the table, as its key does it (the panel's way in)."""
+        self.table[action](arg)
+        self.status.hud_next = 0.0
+
+    def backdrop(self) -> str:
+        return self.presenter.renderer.backdrop
 
     def on_key(self, _window, key, _scancode, action, _mods) -> None:
         binding = self.keys.get(key)
@@ -88,7 +103,11 @@ class Actions:
     def _next_backdrop(self, _arg) -> None:
         renderer = self.presenter.renderer
         self.own_backdrop = self.own_backdrop or renderer.backdrop
-        name = next_backdrop(renderer.backdrop, self.own_backdrop)
+        self._set_backdrop(next_backdrop(renderer.backdrop, self.own_backdrop))
+
+    def _set_backdrop(self, name: str) -> None:
+        renderer = self.presenter.renderer
+        self.own_backdrop = self.own_backdrop or renderer.backdrop
         try:
             renderer.set_backdrop(name)
         except ValueError as err:  # the file went away since the start
@@ -96,6 +115,31 @@ class Actions:
             return
         self.redraw()
         self.status.say(f"background {name}")
+
+    def _preset(self, name: str) -> None:
+        self.preset = name
+        self._tune(tuning.preset, name)
+
+    def _save_params(self, path: str) -> None:
+        try:
+            written = save_params(path, self.params)
+        except OSError as err:
+            self.status.say(f"params NOT saved: {why(err, path)}", logging.WARNING)
+            return
+        self.status.say(f"params saved: {written}")
+
+    def _load_params(self, path: str) -> None:
+        """A parameter set, applied as one change (its grid_spacing aside: the session's
+        height grid keeps its own)."""
+        try:
+            loaded = load_params(path)
+        except ValueError as err:
+            self.status.say(f"params NOT loaded: {err}", logging.WARNING)
+            return
+        keep = self.params.grid_spacing
+        if loaded.grid_spacing != keep:
+            self.status.say(f"params: grid_spacing stays {keep} (set at start)", logging.WARNING)
+        self._tune(lambda p: loaded.replace(grid_spacing=keep))
 
     def _move_light(self, arg) -> None:
         self.presenter.renderer.light = moved_light(self.presenter.renderer.light, *arg)
@@ -114,6 +158,12 @@ class Actions:
         self.params = params
         self.thread.send("params", params)
         self.status.say("params: " + " ".join(f"{k}={_number(v)}" for k, v in changed.items()))
+
+
+def first_preset(params: Params) -> str:
+    """The preset `params` follows (the first of Table 1's twins), else the default look."""
+    name = preset_name(params).split("/")[0]
+    return DEFAULT_PRESET if name == "custom" else name
 
 
 def _number(v) -> str:

@@ -24,6 +24,12 @@ from app.window.capture import Capture
 from app.window.glfw_setup import WindowError, open_window
 from app.window.keys import help_lines
 from app.window.lost_display import on_lost_display
+from app.window.no_panel import NoPanel
+
+try:  # imgui-bundle has wheels for Python 3.11 on only (README, Dependencies)
+    from app.window.panel_host import PanelHost
+except ImportError:
+    PanelHost = None  # type: ignore[assignment,misc]
 from app.window.pointer import Pointer
 from app.window.presenter import Presenter
 from app.window.record import Recorder
@@ -56,6 +62,9 @@ class FrostWindow:
                                self.recorder, lambda: self.latest, self.redraw, self.stop)
         self.pointer = Pointer(window, self.sizes, self.thread, args.melt_radius,
                                lambda: self.actions.params.hc, self.shown_tick, self.status.melted)
+        self.panel = PanelHost(window, self.presenter.ctx, self.sizes, self.actions) \
+            if PanelHost is not None else NoPanel(self.status.say)
+        self.actions.toggle_panel = self.panel.toggle
         self.latest: Snapshot | None = None
         self.running, self.exit_status = True, 0
         self.ended_by: signal.Signals | None = None  # the signal that ended the loop
@@ -67,18 +76,39 @@ class FrostWindow:
     def _connect(self) -> None:
         # Sizes come from callbacks: each GLFW call from Python waits for the GIL, which the
         # simulation thread may hold for a few ms, so the frame loop makes as few as it can.
-        w = self.window
-        glfw.set_key_callback(w, self.actions.on_key)
-        glfw.set_mouse_button_callback(w, self.pointer.on_button)
-        glfw.set_cursor_pos_callback(w, self.pointer.on_cursor)
+        w, panel = self.window, self.panel
+        glfw.set_key_callback(w, self._on_key)
+        glfw.set_char_callback(w, lambda _w, c: panel.on_char(c))
+        glfw.set_scroll_callback(w, lambda _w, dx, dy: panel.on_scroll(dx, dy))
+        glfw.set_mouse_button_callback(w, self._on_button)
+        glfw.set_cursor_pos_callback(w, self._on_cursor)
         glfw.set_framebuffer_size_callback(w, self._on_framebuffer)
-        glfw.set_window_size_callback(w, lambda _w, *size: setattr(self.sizes, "window", size))
+        glfw.set_window_size_callback(w, self._on_window_size)
         glfw.set_window_iconify_callback(w, lambda _w, on: setattr(self, "iconified", bool(on)))
         glfw.set_window_refresh_callback(w, lambda *_: setattr(self, "damaged", True))
 
     def _on_framebuffer(self, _window, w: int, h: int) -> None:
         self.sizes.framebuffer = (w, h)
+        self.panel.on_resize()
         self.damaged = True
+
+    def _on_window_size(self, _window, w: int, h: int) -> None:
+        self.sizes.window = (w, h)
+        self.panel.on_resize()
+
+    # The panel sees input first: a click on it or a key typed into its text field goes
+    # no further; the phone and the keys get the rest as before.
+    def _on_key(self, window, key, scancode, action, mods) -> None:
+        if not self.panel.on_key(key, action):
+            self.actions.on_key(window, key, scancode, action, mods)
+
+    def _on_button(self, window, button, action, mods) -> None:
+        if not self.panel.on_button(button, action):
+            self.pointer.on_button(window, button, action, mods)
+
+    def _on_cursor(self, window, x, y) -> None:
+        self.panel.on_cursor(x, y)
+        self.pointer.on_cursor(window, x, y)
 
     def redraw(self) -> None:
         self.dirty = True
@@ -122,6 +152,7 @@ class FrostWindow:
     def close(self) -> None:
         self.thread.stop()
         self._write_out()
+        self.panel.close()
 
     def display_lost(self) -> None:
         """The X connection is gone (lost_display): Xlib ends the process with status 1
@@ -185,14 +216,15 @@ class FrostWindow:
         if self.new_ticks and self.recorder.active:  # each frame lasts until the next
             self.recorder.offer(self.presenter.read_phone)
         self.new_ticks = 0
-        if self.dirty or now >= self.status.hud_next or self.damaged:
+        if self.dirty or now >= self.status.hud_next or self.damaged or self.panel.needs_frame():
             self._present(now)
         if drawn:
             self.status.drawing.drew(now)
 
     def _present(self, now: float) -> None:
         self.status.refresh(now, self._stats_lines)
-        self.presenter.present(self.sizes.framebuffer, self.status.stats, HELP)
+        self.presenter.present(self.sizes.framebuffer, self.status.stats, HELP, self.sizes.panel)
+        self.panel.draw()
         glfw.swap_buffers(self.window)
         self.dirty = self.damaged = False
         self.status.presented(now, self._stats_lines)

@@ -15,12 +15,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import tuning
-from .gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
-from .params import PRESETS, Params
-from .screen import MELT_RADIUS, SIZE, TICKS_PER_SECOND
-from .session import Backlog, Timeline
-from .tuning import BUMP_STEP, HUMIDITY_FACTOR, LENGTH_STEP
+from sim import tuning
+from sim.gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
+from sim.params import PRESETS, Params
+from sim.screen import MELT_RADIUS, SIZE, TICKS_PER_SECOND
+from sim.session import Backlog, Timeline
+from sim.tuning import BUMP_STEP, HUMIDITY_FACTOR, LENGTH_STEP
 
 FINGER_SPEED = 800.0  # px per second: a brisk drag across a phone
 STROKE_GAP = 5  # ticks between the strokes of a scribble (the finger lifts)

@@ -1,4 +1,5 @@
-"""Simulation benchmark: `python -m sim.bench` (or `make bench-sim`). Prints figures; asserts nothing.
+"""Simulation benchmark: `python -m app.tools.bench_sim` (or `make bench-sim`). Prints figures;
+asserts nothing.
 
 1. Fig. 9: time per tick of the paper's candidate areas vs the general 9-cell hash grid over
    a full growth (one touch until 90 % of the water is frozen, or 5 000 ticks), at c-1..c-3.
@@ -30,12 +31,12 @@ import tracemalloc
 
 import numpy as np
 
-from . import FrostSim, Params, all_presets
-from .geometry import FrostGeometry
-from .measures import END_GAIN, END_TICKS, frosted_end, pane_measures
-from .morphology import extent, mass_radius_dimension, six_fold_order, turn_shares
-from .screen import TICKS_PER_SECOND
-from .scribble import play, scribble, spread, storm
+from app.tools.measures import END_GAIN, END_TICKS, frosted_end, pane_measures
+from app.tools.morphology import extent, mass_radius_dimension, six_fold_order, turn_shares
+from app.tools.scribble import play, scribble, spread, storm
+from sim import FrostSim, Params, all_presets
+from sim.geometry import FrostGeometry
+from sim.screen import TICKS_PER_SECOND
 
 CENTRE = (380.0, 640.0)
 
@@ -310,7 +311,7 @@ FERN_SEEDS = (0, 3, 11)
 def window_run(seed: int, ticks: tuple[int, ...], trace: bool = False) -> dict:
     """The window preset from its start to tick ticks[-1]: the pane's measures at each of
     `ticks` with the median and p99 of the tick times since the previous one, the frosted
-    end (sim.measures.frosted_end) and the memory."""
+    end (app.tools.measures.frosted_end) and the memory."""
     if trace:
         tracemalloc.start()
     sim = FrostSim(Params.preset("window"), seed=seed)
@@ -481,7 +482,7 @@ SECTIONS = {"fig9": section_fig9, "busy": section_busy, "growth": section_growth
             "window": lambda args: {"window": window_section(*_window_sizes(args))}}
 
 
-def main(argv: list[str] | None = None, prog: str = "python -m sim.bench") -> int:
+def main(argv: list[str] | None = None, prog: str = "python -m app.tools.bench_sim") -> int:
     ap = _Parser(prog=prog, description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=_count, default=3, metavar="N",
                     help="full growths per search and preset, runs (default 3)")

@@ -1,0 +1,48 @@
+"""The window without its tuning panel: where imgui-bundle cannot be installed (it has no
+wheel for Python 3.10), key M says why and the keys tune everything as before."""
+
+from __future__ import annotations
+
+import logging
+
+log = logging.getLogger("app.window")
+
+WHY = ("the tuning panel needs imgui-bundle, which needs Python 3.11 or later "
+       "(pip install imgui-bundle==1.93.0); the keys still tune every parameter (H)")
+
+
+class NoPanel:
+    """PanelHost's interface, doing nothing: input is never the panel's."""
+
+    def __init__(self, say=None):
+        self.say = say or (lambda text: log.warning("%s", text))
+
+    def toggle(self) -> None:
+        self.say(WHY)
+
+    def on_resize(self) -> None:
+        pass
+
+    def needs_frame(self) -> bool:
+        return False
+
+    def on_cursor(self, x: float, y: float) -> None:
+        pass
+
+    def on_button(self, button: int, action: int) -> bool:
+        return False
+
+    def on_scroll(self, dx: float, dy: float) -> None:
+        pass
+
+    def on_char(self, codepoint: int) -> None:
+        pass
+
+    def on_key(self, key: int, action: int) -> bool:
+        return False
+
+    def draw(self) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
