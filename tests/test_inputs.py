@@ -242,7 +242,7 @@ HELP_LISTS = {
                "--melt", "--melt-path", "--melt-radius", "--background"} | OVERRIDES,
     "bench render": {"--help", "--preset", "--seed", "--frames", "--cover", "--max-ticks",
                      "--background"},
-    "maps": {"--help", "--preset", "--window-frost", "--seed", "--size", "--tile", "--normal-y",
+    "maps": {"--help", "--preset", "--window-frost", "--params", "--seed", "--size", "--tile", "--normal-y",
              "--touch", "--ticks"} | OVERRIDES}
 
 
