@@ -200,3 +200,21 @@ def test_a_tile_off_the_height_grid_is_refused_in_one_line(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.startswith("frost: error: ") and err.count("\n") == 1 and "grid_spacing" in err
     assert not (tmp_path / "m").exists()
+
+
+def test_the_readmes_engine_shader_is_glsl_es_300(tmp_path):
+    """The fragment shader README.md gives engine users compiles as GLSL ES 3.00."""
+    import shutil
+    import subprocess
+    from pathlib import Path
+
+    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text()
+    start = readme.index("```glsl\n", readme.index("### Using the maps in an engine")) + 8
+    source = readme[start:readme.index("```", start)]
+    assert "u_growth" in source and "u_progress" in source
+    exe = shutil.which("glslangValidator")
+    assert exe, "glslangValidator is missing: apt-get install glslang-tools (`make test` does)"
+    path = tmp_path / "engine.frag"
+    path.write_text("#version 300 es\nprecision highp float;\n" + source)
+    run = subprocess.run([exe, str(path)], capture_output=True, text=True)
+    assert run.returncode == 0, run.stdout + run.stderr
