@@ -26,6 +26,21 @@ def read_image(fbo) -> np.ndarray:
     return data.reshape(h, w, 3)[::-1].copy()
 
 
+def frost_meta(software: str, params: Params | None, seed: int, tick: int, touches,
+               **more) -> dict:
+    """The text every PNG frost writes (screenshots, renders, maps, sheets), one schema:
+    `parameters` (as session files encode them; None for a sheet of several presets, whose
+    own keys say which), `seed`, `tick`, `touches` as [tick, x, y] each, `Software`
+    naming the command that wrote it, `Creation Time`; then `more` (view, session, map,
+    encoding, ...)."""
+    meta = {"parameters": params.as_dict() if params is not None else None, "seed": int(seed),
+            "tick": int(tick), "touches": [[int(t), float(x), float(y)] for t, x, y in touches],
+            "Software": f"frost ({software})", "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
+    if params is None:
+        del meta["parameters"]
+    return {**meta, **more}
+
+
 def png_writer(image: np.ndarray, meta: dict):
     """A writer (see sim.files) of `image` as PNG; each meta entry becomes a text chunk
     (JSON unless a str)."""
@@ -56,17 +71,16 @@ def timestamped_path(folder, prefix: str = "frost", suffix: str = ".png", also=(
 
 
 def export_maps(folder, grid: np.ndarray, segments: np.ndarray, params: Params,
-                meta: dict | None = None, width: int = WIDTH, height: int = HEIGHT,
+                meta: dict, width: int = WIDTH, height: int = HEIGHT,
                 triangles: np.ndarray | None = None) -> dict[str, Path]:
     """Write height.png, normal.png and alpha.png into `folder`; returns name -> path.
 
     `grid` is the geometry's height grid (FrostGeometry.heights, or the renderer's
     mirror of it) and `segments` the live skeleton (`sim.maps.live_segments`), both copied
-    by the caller if another thread may change them. Each PNG carries `meta`, the
-    parameters and what its values mean as text chunks."""
+    by the caller if another thread may change them. Each PNG carries `meta`
+    (`frost_meta`) and what its values mean as text chunks."""
     images, top = encode(compute_maps(grid, segments, params, width, height, triangles))
-    common = {"parameters": params.as_dict(), **(meta or {}), "height_max_px": top,
-              "Software": "frost (app.tools.maps)", "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
+    common = {**meta, "height_max_px": top}
     folder = Path(folder)
     paths = {name: folder / f"{name}.png" for name in MAP_NAMES}
     # All three or none: a full disk or an unwritable folder leaves no half set.

@@ -14,7 +14,7 @@ from oracles import feature_vertices
 from PIL import Image
 
 from app.cli import main
-from app.images import export_maps
+from app.images import export_maps, frost_meta
 from app.tools.figure8 import (
     CELL,
     COLS,
@@ -113,7 +113,8 @@ def grown():
 
 def test_export_maps_sizes_modes_and_values(grown, tmp_path):
     params, sim, geometry = grown
-    paths = export_maps(tmp_path, geometry.heights, sim.segments, params, {"seed": 0})
+    paths = export_maps(tmp_path, geometry.heights, sim.segments, params,
+                        frost_meta("a test", params, 0, 40, [(0, *TOUCH)]))
     images = {name: Image.open(p) for name, p in paths.items()}
     assert {n: (im.mode, im.size) for n, im in images.items()} == {
         "height": ("I;16", (760, 1280)), "normal": ("RGB", (760, 1280)), "alpha": ("L", (760, 1280))}
@@ -220,5 +221,18 @@ def test_cli_figure8_writes_a_sheet_with_metadata(tmp_path):
     assert run.returncode == 0, run.stderr  # no OpenGL fails here: EGL is a dependency
     assert f"wrote {out}" in run.stdout and "c-3  D=7 hc=7 H=5000" in run.stdout
     im = Image.open(out)
-    assert im.size == sheet_size() and json.loads(im.text["ticks"]) == 20
-    assert json.loads(im.text["touch"]) == [380, 640]
+    assert im.size == sheet_size() and json.loads(im.text["tick"]) == 20
+    assert json.loads(im.text["touches"]) == [[0, 380.0, 640.0]]
+    assert im.text["Software"] == "frost (frost figure8)" and "parameters" not in im.text
+
+
+def test_every_png_states_itself_in_one_schema():
+    """app.images.frost_meta: the keys every screenshot, render, map and sheet carries."""
+    meta = frost_meta("frost render", Params.preset("c-2"), 3, 40, [(0, 380, 640), (7, 1.5, 2)],
+                      view={"light": [0, 0, 1]})
+    assert set(meta) == {"parameters", "seed", "tick", "touches", "Software", "Creation Time",
+                         "view"}
+    assert meta["parameters"] == Params.preset("c-2").as_dict() and meta["seed"] == 3
+    assert meta["tick"] == 40 and meta["touches"] == [[0, 380.0, 640.0], [7, 1.5, 2.0]]
+    assert meta["Software"] == "frost (frost render)"
+    assert "parameters" not in frost_meta("frost figure8", None, 0, 20, [])

@@ -183,7 +183,8 @@ def test_the_screenshot_is_the_phone_and_replays_bit_for_bit(run, tmp_path):
     shot = run["out"] / re.findall(r"screenshot: (\S+\.png)", run["log"])[-1]
     image = Image.open(shot)
     assert image.size == (760, 1280)
-    assert json.loads(image.text["params"]) == changes(run)[-1]["params"]
+    assert json.loads(image.text["parameters"]) == changes(run)[-1]["params"]
+    assert image.text["Software"] == "frost (window, key S)"
     session = run["out"] / image.text["session"]  # the app's folder, unless absolute
     out = tmp_path / "replay.png"
     subprocess.run([sys.executable, "-m", "app", "replay", str(session), "--headless",

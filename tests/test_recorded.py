@@ -87,12 +87,14 @@ def test_an_export_states_the_tick_touches_and_params_of_its_arrays(tmp_path):
     level, text = thread.notices.get(timeout=30)
     assert level == logging.INFO and "frost maps written" in text
     oracle = export_maps(tmp_path / "oracle", thread.geometry.heights,
-                         live_segments(thread.sim), thread.params)
+                         live_segments(thread.sim), thread.params, {})
     for name, path in oracle.items():
         live = Image.open(tmp_path / "live" / path.name)
         np.testing.assert_array_equal(np.asarray(live), np.asarray(Image.open(path)), name)
         assert live.text["tick"] == str(snap.stats.tick) and live.text["seed"] == "1"
-        assert json.loads(live.text["touches"]) == [list(t) for t in snap.touches]
+        # (the second touch applied at tick 12, before the tick's export)
+        assert json.loads(live.text["touches"]) == [[0, 380.0, 640.0], [12, 200.0, 300.0]]
+        assert live.text["Software"] == "frost (window, key E)"
         assert json.loads(live.text["parameters"]) == snap.params.as_dict()
     assert len(snap.touches) == 2
 
@@ -133,7 +135,7 @@ def test_a_screenshot_states_the_snapshot_shown_not_a_key_pressed_since(tmp_path
     take_shot(win)
     (shot,) = win.capture.screenshots
     text = Image.open(shot).text
-    assert json.loads(text["params"]) == PARAMS.as_dict()
+    assert json.loads(text["parameters"]) == PARAMS.as_dict()
     assert text["tick"] == "5" and json.loads(text["view"]) == VIEW
     log_ = SessionLog.load(text["session"])
     assert replay(log_).params == PARAMS and log_.view == VIEW and log_.steps == 5
@@ -236,7 +238,7 @@ def test_every_writer_raises_oserror_on_an_unwritable_folder(tmp_path):
     with pytest.raises(NotADirectoryError):
         save_png(np.zeros((2, 2, 3), np.uint8), nowhere / "x.png", {})
     with pytest.raises(NotADirectoryError):
-        export_maps(nowhere, np.zeros((3, 3), np.float32), np.zeros((0, 4)), PARAMS,
+        export_maps(nowhere, np.zeros((3, 3), np.float32), np.zeros((0, 4)), PARAMS, {},
                     width=8, height=8)
 
 
@@ -252,7 +254,7 @@ def test_a_map_set_that_fails_half_way_leaves_no_maps(tmp_path, monkeypatch):
 
     monkeypatch.setattr(images, "png_writer", disk_full_at_alpha)
     with pytest.raises(OSError):
-        export_maps(tmp_path, np.ones((3, 3), np.float32), np.zeros((0, 4)), PARAMS,
+        export_maps(tmp_path, np.ones((3, 3), np.float32), np.zeros((0, 4)), PARAMS, {},
                     width=8, height=8)
     assert list(tmp_path.iterdir()) == []
 

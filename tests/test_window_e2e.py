@@ -287,9 +287,10 @@ def test_screenshots_are_phone_sized_pngs_with_their_recipe(run):
     for path, hc in zip(run["shots"], (7.0, 7.0, 7.5, 7.5), strict=False):
         image = Image.open(path)
         assert image.size == (760, 1280)
-        assert json.loads(image.text["params"])["hc"] == hc
+        assert json.loads(image.text["parameters"])["hc"] == hc
+        assert image.text["Software"] == "frost (window, key S)"
         assert image.text["seed"] == "1"
-    assert json.loads(Image.open(run["shots"][1]).text["touches"]) == [list(CLICK)]
+    assert [t[1:] for t in json.loads(Image.open(run["shots"][1]).text["touches"])] == [list(CLICK)]
 
 
 def test_click_grows_frost_there_and_nowhere_far(run):
@@ -322,7 +323,7 @@ def test_a_screenshots_session_replays_headless_to_the_same_frame(run, tmp_path,
     assert np.array_equal(replayed, live)  # bit for bit, window (GLX) and EGL alike
     text, again = Image.open(shot).text, Image.open(out).text
     assert json.loads(text["view"]) == json.loads(again["view"])
-    assert [t[1:] for t in json.loads(again["touches"])] == json.loads(text["touches"])
+    assert json.loads(again["touches"]) == json.loads(text["touches"])  # ticks too
 
 
 def test_a_screenshot_states_the_frame_not_a_key_pressed_with_it(run):
@@ -330,7 +331,7 @@ def test_a_screenshot_states_the_frame_not_a_key_pressed_with_it(run):
 
     text = Image.open(run["shots"][4]).text
     shown = replay(SessionLog.load(text["session"])).params.as_dict()
-    assert json.loads(text["params"]) == shown
+    assert json.loads(text["parameters"]) == shown
     view = json.loads(text["view"])
     assert view["features"] is False and view["bumps"] is True and view["light"][0] < -0.35
     assert "frost maps NOT" not in run["log"] and "Traceback" not in run["log"]

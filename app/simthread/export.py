@@ -3,12 +3,11 @@ snapshot shows, the PNGs written by a worker so the thread's schedule does not s
 
 from __future__ import annotations
 
-import json
 import logging
 import threading
 from collections.abc import Callable
 
-from app.images import export_maps
+from app.images import export_maps, frost_meta
 from sim.files import why
 from sim.maps import live_segments, map_triangles
 from sim.session import Timeline
@@ -22,7 +21,7 @@ def export_now(folder, timeline: Timeline, seed: int, notify: Notify) -> threadi
     `notify(level, text)`. Returns the (started) worker."""
     sim = timeline.sim
     grid, segments = timeline.geometry.heights.copy(), live_segments(sim).copy()
-    meta = {"seed": str(seed), "touches": json.dumps(timeline.touches), "tick": str(sim.tick)}
+    meta = frost_meta("window, key E", timeline.params, seed, sim.tick, timeline.touch_ticks())
     job = (folder, grid, segments, timeline.params, meta, notify,
            map_triangles(sim, timeline.params))
     worker = threading.Thread(target=write_maps, args=job, name="frost-maps")

@@ -7,13 +7,12 @@ says what every file and channel holds."""
 from __future__ import annotations
 
 import json
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from app.images import png_writer
+from app.images import frost_meta, png_writer
 from sim import FrostSim, Params
 from sim.files import write_all_atomic
 from sim.geometry import FrostGeometry
@@ -86,9 +85,8 @@ def write_engine_maps(folder, job: EngineRun) -> list[Path]:
     previews = render_previews(job)
     images, top = engine_images(job)
     folder = Path(folder)
-    meta = {"parameters": job.params.as_dict(), "seed": job.seed, "tick": job.sim.tick,
-            "touches": [list(t) for t in job.touches], "height_max_px": top,
-            "Software": "frost (frost maps)", "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
+    meta = frost_meta("frost maps", job.params, job.seed, job.sim.tick, job.touches,
+                      height_max_px=top)
     meaning = {**MEANING, "growth": GROWTH_MEANING}
     if job.normal_y == "down":
         meaning["normal"] = meaning["normal"].replace("y up (OpenGL)", "y down (DirectX)")

@@ -9,7 +9,6 @@ denser at the centre) so the claims can be checked in numbers.
 from __future__ import annotations
 
 import sys
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -17,7 +16,7 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
 from app.backdrops import DEFAULT_BACKDROP, view_from
-from app.images import save_png
+from app.images import frost_meta, save_png
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
 from sim import PRESETS, FrostSim, Params
@@ -158,11 +157,10 @@ def run(args) -> int:
     except (RuntimeError, ValueError) as err:
         print(f"frost: error: {err}", file=sys.stderr)
         return 1
-    meta = {"presets": {s.name: PRESETS[s.name] for s in stats}, "overrides": overrides,
-            "seed": args.seed, "ticks": args.ticks, "touch": list(touch),
-            "stats": [s.__dict__ for s in stats], "Software": "frost (frost figure8)",
-            "background": getattr(args, "background", None) or DEFAULT_BACKDROP,
-            "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
+    meta = frost_meta("frost figure8", None, args.seed, args.ticks, [(0, *touch)],
+                      presets={s.name: PRESETS[s.name] for s in stats}, overrides=overrides,
+                      stats=[s.__dict__ for s in stats],
+                      background=getattr(args, "background", None) or DEFAULT_BACKDROP)
     try:
         path = save_png(sheet, Path(args.out), meta)
     except OSError as err:

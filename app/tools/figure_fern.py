@@ -9,13 +9,12 @@ and crystal count. The layout is Fig. 8's (app.tools.figure8).
 from __future__ import annotations
 
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
 from app.backdrops import DEFAULT_BACKDROP, view_from
-from app.images import save_png
+from app.images import frost_meta, save_png
 from app.tools.figure8 import compose_grid
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
@@ -67,11 +66,9 @@ def run(args, params: Params) -> int:
     except (RuntimeError, ValueError) as err:
         print(f"frost: error: {err}", file=sys.stderr)
         return 1
-    meta = {"parameters": params.as_dict(), "seed": args.seed, "ticks": list(TICKS),
-            "rows": {k: [list(t) for t in v] for k, v in ROWS.items()},
-            "Software": "frost (frost figure fern)",
-            "background": getattr(args, "background", None) or DEFAULT_BACKDROP,
-            "Creation Time": time.strftime("%Y-%m-%dT%H:%M:%S")}
+    meta = frost_meta("frost figure fern", params, args.seed, max(TICKS), [], ticks=list(TICKS),
+                      rows={k: [list(t) for t in v] for k, v in ROWS.items()},
+                      background=getattr(args, "background", None) or DEFAULT_BACKDROP)
     try:
         out = save_png(sheet, Path(path), meta)
     except OSError as err:

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from app.gl.renderer import Renderer
-from app.images import read_image, save_png
+from app.images import frost_meta, read_image, save_png
 from app.tools.progress import Progress
 from sim import Params
 from sim.screen import HEIGHT, SIZE, WIDTH
@@ -69,9 +69,8 @@ class Offscreen:
         return self.timeline.touch_ticks()
 
     def snapshot(self, path: Path, software: str = "frost render") -> Path:
-        meta = {"parameters": self.sim.params.as_dict(), "seed": self.sim.seed,
-                "touches": [list(t) for t in self.touches()], "tick": self.sim.tick,
-                "view": self.renderer.view(), "Software": f"frost ({software})", **self.meta}
+        meta = frost_meta(software, self.sim.params, self.sim.seed, self.sim.tick,
+                          self.touches(), view=self.renderer.view(), **self.meta)
         return save_png(self.frame(), path, meta)
 
     def release(self) -> None:

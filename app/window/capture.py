@@ -3,13 +3,12 @@ exit, and requests for frost-map exports; every name new, every failure reported
 
 from __future__ import annotations
 
-import json
 import logging
 import threading
 from collections.abc import Callable
 from pathlib import Path
 
-from app.images import save_png, timestamped_path
+from app.images import frost_meta, save_png, timestamped_path
 from app.simthread.thread import SimThread, Snapshot
 from app.window.presenter import Presenter
 from sim import Params
@@ -102,14 +101,23 @@ class Capture:
                                                                   ".json")
         return self.session_path
 
+    def _touch_ticks(self, snap: Snapshot | None) -> list:
+        """(tick, x, y) of the touches the shown frame grows from: the timeline's, as long
+        as no rebuild has replaced them since the frame (then the frame's, tick unknown: -1)."""
+        if snap is None:
+            return []
+        now = self.thread.timeline.touch_ticks()[:len(snap.touches)]
+        if [(x, y) for _t, x, y in now] == [tuple(t) for t in snap.touches]:
+            return now
+        return [(-1, x, y) for x, y in snap.touches]
+
     def screenshot(self, snap: Snapshot | None, params: Params) -> None:
         """The frame shown, as a PNG stating what made it (all from the snapshot shown and
         the renderer's view), and its own session file: replaying it ends on this frame."""
         self.presenter.render_phone()
-        meta = {"params": json.dumps((snap.params if snap else params).as_dict()),
-                "seed": str(self.thread.seed), "touches": json.dumps(snap.touches if snap else []),
-                "tick": str(snap.stats.tick if snap else 0),
-                "view": json.dumps(self.presenter.renderer.view())}
+        meta = frost_meta("window, key S", snap.params if snap else params, self.thread.seed,
+                          snap.stats.tick if snap else 0, self._touch_ticks(snap),
+                          view=self.presenter.renderer.view())
         path = self.fresh_name(".png")
         try:
             meta["session"] = str(self.save_session(snap, self.session_dir / f"{path.stem}.json"))
