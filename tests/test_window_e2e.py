@@ -447,7 +447,7 @@ def test_recording_is_written_when_stopped_and_plays_as_long_as_it_ran(run):
 
 
 def test_letterboxed_window_maps_clicks_and_drags_and_ignores_the_bars(run):
-    touches = json.loads(Image.open(run["shots"][2]).text["touches"])
+    touches = [t[1:] for t in json.loads(Image.open(run["shots"][2]).text["touches"])]
     drag = [(x, DRAG[0][1]) for x in range(DRAG[0][0], DRAG[1][0] + 1, 30)]
     assert touches[0] == list(CLICK)
     assert np.allclose(touches[1:], drag, atol=0.01)
