@@ -18,7 +18,7 @@ import numpy as np
 
 from .params import Params
 
-# Decay length of the frame's chill, px: the prototype's 150 (SPEC section 1).
+# Decay length of the frame's chill, px: a prototype's 150.
 FRAME_PX = 150.0
 
 

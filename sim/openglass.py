@@ -21,7 +21,7 @@ from .fronds import FRAME_PX, edge_distance
 from .pane import REFERENCE_C, TRIES, Pane, _glass, first_good
 
 # Walkers per far cell of glass. At 2.5 (the band's density before the fronds) a 40 px
-# wipe was 38 % back after 300 ticks (SPEC section 1); 8 refroze it.
+# wipe was 38 % back after 300 ticks in a prototype; 8 refroze it.
 FAR_DENSITY = 8.0
 # Where the frame's chill is this share of its most or more (within 150 ln(1 / 0.7) = 53 px
 # of the edge), water lands beside the ice. At 0.5 (104 px) the frame's short dense stems

@@ -253,7 +253,7 @@ EXTRA_PRESETS: dict[str, dict[str, Any]] = {
              "look": "glass"},
 }
 # "window": fern frost nucleating on the frame, grown as fronds (README's window section;
-# docs/method.md, section 8). The frond rules at the prototype's values (SPEC section 1):
+# docs/method.md, section 8). The frond rules at the values a prototype of them found:
 # hit counts 1 / 3 at -10 C, x 3 per branch order, no side branches from order 3; water on
 # glass 2 cell rings from the ice, a humidity field of log-variance 1, a frame chill of 3.
 # The pool of 4 000 follows the temperature (x 2 at -20 C): the budget leaves it room.
