@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import json
 import os
 import stat
 import tempfile
@@ -88,6 +89,17 @@ def refusal(kind: str) -> str:
     if kind == "a folder":
         return "is a folder, not a file"
     return f"is {kind}, not a regular file; frost writes only regular files"
+
+
+def read_json(path, error: type[Exception]):
+    """The JSON held by the file at `path`; `error` (one line naming the file) when it
+    cannot be read or is not JSON."""
+    try:
+        return json.loads(Path(path).read_text())
+    except OSError as err:
+        raise error(f"{path}: cannot read: {err.strerror or err}") from None
+    except (json.JSONDecodeError, UnicodeDecodeError, RecursionError) as err:
+        raise error(f"{path}: not JSON: {err}") from None
 
 
 def one_line(text: str) -> str:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from .files import write_atomic
+from .files import read_json, write_atomic
 from .params import Params
 from .session import SessionError, _params
 
@@ -32,12 +32,7 @@ def save_params(path, params: Params) -> Path:
 def load_params(path) -> Params:
     """The Params in `path` (a parameter set or a session file); ParamsFileError naming the
     file and the first problem: unreadable, not JSON, no params, a bad or unknown value."""
-    try:
-        data = json.loads(Path(path).read_text())
-    except OSError as err:
-        raise ParamsFileError(f"{path}: cannot read: {err.strerror or err}") from None
-    except (json.JSONDecodeError, UnicodeDecodeError, RecursionError) as err:
-        raise ParamsFileError(f"{path}: not JSON: {err}") from None
+    data = read_json(path, ParamsFileError)
     if not isinstance(data, dict) or "params" not in data:
         raise ParamsFileError(f"{path}: not a parameter set: no 'params' entry")
     try:

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from .files import one_line, write_atomic
+from .files import one_line, read_json, write_atomic
 from .frost import FrostSim
 from .geometry import FrostGeometry, GeometryDelta
 from .params import Params
@@ -105,12 +105,7 @@ class SessionLog:
     @classmethod
     def load(cls, path) -> SessionLog:
         """The session in `path`; SessionError naming the file and the problem."""
-        try:
-            data = json.loads(Path(path).read_text())
-        except OSError as err:
-            raise SessionError(f"{path}: cannot read: {err.strerror or err}") from None
-        except (json.JSONDecodeError, UnicodeDecodeError, RecursionError) as err:
-            raise SessionError(f"{path}: not JSON: {err}") from None
+        data = read_json(path, SessionError)
         try:
             return cls.from_json(data)
         except SessionError as err:
