@@ -126,7 +126,7 @@ class OpenGlass(Pane):
     def _update(self) -> None:
         """Far and near cells and their cumulative weights, when the ice changed."""
         sim = self.sim
-        key = (sim.tick, sim._crystals.n, sim.water_melted)
+        key = (sim._crystals.n, sim.water_melted)  # (what the cells follow: the ice)
         if key == self._key:
             return
         self._key = key

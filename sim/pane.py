@@ -108,9 +108,9 @@ class Pane:
 
     def band(self) -> np.ndarray:
         """Cells within BAND rings of a candidate cell that hold no crystal of their own;
-        recomputed only when the ice changed (a tick, a touch or a melt)."""
+        recomputed only when the ice changed (a crystal added or melted)."""
         sim = self.sim
-        key = (sim.tick, sim._crystals.n, sim.water_melted)
+        key = (sim._crystals.n, sim.water_melted)  # (what the band follows: the ice)
         if key != self._band_key:
             new = np.arange(self._seen, sim._crystals.n)
             c = sim._crystals.raw()[new[sim._calive.raw()[new]]]
