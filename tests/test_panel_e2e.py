@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
-from test_window_e2e import ROOT, wait_for, xdo, xvfb
+from test_window_e2e import ROOT, finish, played, wait_for, window_id, xdo
 
 from sim import Params
 from sim.paramsets import load_params
@@ -84,13 +84,11 @@ def drive(out: Path) -> None:
     except TimeoutError as err:  # what the app never did, for the tests to say
         result = {"error": str(err)}
     finally:
-        if app.poll() is None:
-            app.kill()
-        (out / "result.json").write_text(json.dumps(result))
+        finish(app, out, result)
 
 
 def session(app: subprocess.Popen, log: Path) -> dict:
-    wid = xdo("search", "--sync", "--onlyvisible", "--name", "^frost$").split()[0]
+    wid = window_id()
     wait_for(log, r"stats \(")
     xdo("mousemove", "--window", wid, "5", "5")
     xdo("key", "m")
@@ -131,9 +129,7 @@ if __name__ == "__main__":
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
     out = tmp_path_factory.mktemp("panel")
-    xvfb([sys.executable, __file__, str(out)], cwd=ROOT, timeout=150)
-    log = (out / "app.log").read_text()
-    result = json.loads((out / "result.json").read_text())
+    log, result = played(__file__, out, timeout=150)
     assert "error" not in result, f"{result['error']}; the app's log ends: {log[-1500:]}"
     session = SessionLog.load(out / re.findall(r"session: (\S+\.json)", log)[-1])
     return {"log": log, "result": result, "out": out, "session": session}

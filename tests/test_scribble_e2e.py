@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_window_e2e import ROOT, wait_for, xdo, xvfb
+from test_window_e2e import ROOT, finish, played, wait_for, window_id, xdo
 
 STROKES_LEFT, STROKES_RIGHT = 12, 6
 SPEED = 800.0  # px per second, a brisk human drag
@@ -53,8 +53,7 @@ def drive(out: Path) -> None:
         app = subprocess.Popen(cmd, cwd=ROOT, stdout=sink, stderr=subprocess.STDOUT)
     result: dict = {}
     try:
-        wid = subprocess.run(["xdotool", "search", "--sync", "--onlyvisible", "--name", "^frost$"],
-                             capture_output=True, text=True, timeout=60).stdout.split()[0]
+        wid = window_id()
         wait_for(log, r"stats \(")
         rng = np.random.default_rng(0)
         started = time.monotonic()
@@ -73,17 +72,13 @@ def drive(out: Path) -> None:
         result["status"] = app.wait(timeout=30)
         result["exit_seconds"] = time.monotonic() - pressed
     finally:
-        if app.poll() is None:
-            app.kill()
-        (out / "result.json").write_text(json.dumps(result))
+        finish(app, out, result)
 
 
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
     out = tmp_path_factory.mktemp("scribble")
-    xvfb([sys.executable, __file__, str(out)], cwd=ROOT, timeout=300)
-    log = (out / "app.log").read_text()
-    result = json.loads((out / "result.json").read_text())
+    log, result = played(__file__, out, timeout=300)
     stats = [(math.nan if fps == "idle" else float(fps), float(ms), float(water))
              for ms, fps, water in re.findall(r"stats \([\d.]+ s\): .*?tick median +([\d.]+) ms"
                                               r".*?drawing +(idle|[\d.]+).*?water (\d+)", log)]

@@ -80,6 +80,27 @@ def xdo(*args: str) -> str:
                           timeout=30).stdout
 
 
+def window_id(timeout: float = 60) -> str:
+    """The app's window (waits up to `timeout` s until it is mapped)."""
+    return subprocess.run(["xdotool", "search", "--sync", "--onlyvisible", "--name", "^frost$"],
+                          check=True, capture_output=True, text=True,
+                          timeout=timeout).stdout.split()[0]
+
+
+def finish(app: subprocess.Popen, out: Path, result: dict) -> None:
+    """A driver's last step, whatever happened: the app ended, what it saw in result.json."""
+    if app.poll() is None:
+        app.kill()
+    (out / "result.json").write_text(json.dumps(result))
+
+
+def played(script: str, out: Path, *args: str, timeout: float = 120) -> tuple[str, dict]:
+    """Run the driver `script` (a test file run as a script) on an Xvfb server of its own
+    with output folder `out`: the app's log and the driver's result."""
+    xvfb([sys.executable, script, str(out), *args], cwd=ROOT, timeout=timeout)
+    return (out / "app.log").read_text(), json.loads((out / "result.json").read_text())
+
+
 def wait_for(log: Path, pattern: str, count: int = 1, timeout: float = 20.0) -> list[str]:
     """The first `count` matches of `pattern` in the log, waiting up to `timeout` s."""
     end = time.monotonic() + timeout
@@ -111,13 +132,11 @@ def drive(out: Path, mode: str = "session") -> None:
     try:
         result = DRIVES[mode](app, log)
     finally:
-        if app.poll() is None:
-            app.kill()
-        (out / "result.json").write_text(json.dumps(result))
+        finish(app, out, result)
 
 
 def session(app: subprocess.Popen, log: Path) -> dict:
-    wid = xdo("search", "--sync", "--onlyvisible", "--name", "^frost$").split()[0]
+    wid = window_id()
     scale = float(wait_for(log, r"at scale ([\d.]+)")[0])
     wait_for(log, r"stats \(")  # frames are flowing
     xdo("mousemove", "--window", wid, "5", "5")
@@ -167,7 +186,7 @@ def viewed(log: Path) -> None:
 
 def unwritable(app: subprocess.Popen, log: Path) -> dict:
     """S, R twice, E and Esc with nowhere to write: warnings, no crash, status 0."""
-    xdo("search", "--sync", "--onlyvisible", "--name", "^frost$")
+    window_id()
     wait_for(log, r"stats \(")
     for keys, warning in ((["s"], r"screenshot NOT saved"), (["r"], r"recording: started"),
                           (["r"], r"frames lost"), (["e"], r"frost maps NOT written")):
@@ -183,7 +202,7 @@ def unwritable(app: subprocess.Popen, log: Path) -> dict:
 def interrupt(app: subprocess.Popen, log: Path, signum: int = signal.SIGINT) -> dict:
     """A click, R and a screenshot, then E and at once Ctrl-C (SIGINT, or `signum`) while
     the frost grows."""
-    wid = xdo("search", "--sync", "--onlyvisible", "--name", "^frost$").split()[0]
+    wid = window_id()
     wait_for(log, r"stats \(")
     xdo("mousemove", "--window", wid, "200", "300")
     xdo("click", "1")
@@ -198,7 +217,7 @@ def interrupt(app: subprocess.Popen, log: Path, signum: int = signal.SIGINT) -> 
 def lost(app: subprocess.Popen, log: Path, how: str) -> dict:
     """A click and R, then (with E) the window killed at the X server (`xdotool windowkill`)
     or the process killed at once (SIGKILL) after the session was last kept on disk."""
-    wid = xdo("search", "--sync", "--onlyvisible", "--name", "^frost$").split()[0]
+    wid = window_id()
     wait_for(log, r"stats \(")
     xdo("mousemove", "--window", wid, "200", "300")
     xdo("click", "1")
@@ -258,9 +277,7 @@ def warm_finger(wid: str, log: Path) -> None:
 
 
 def driven(out: Path, mode: str) -> dict:
-    xvfb([sys.executable, __file__, str(out), mode], cwd=ROOT, timeout=120)
-    log = (out / "app.log").read_text()
-    result = json.loads((out / "result.json").read_text())
+    log, result = played(__file__, out, mode)
     shots = re.findall(r"screenshot: (\S+\.png)", log)
     return {"log": log, "result": result, "shots": [Path(s) for s in shots], "out": out}
 
