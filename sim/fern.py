@@ -15,6 +15,11 @@ written: every one freezes where it is. `FernGrowth` adds grains and hit counter
   side slot) within `side_gap` - 1 links of a side branch on the same side of its stem is
   blocked; the hit still counts and the next one tries again.
 - Walkers whose hit only counted are not frozen: the simulation places them again.
+- (Session version 5 on, `pooled_first`.) Until a seed has its first child, its hits
+  count together, whatever their slots: the hit that brings the seed's count to its
+  tip need grows its own slot. A touch's ring of water spread its hits over six slots,
+  and a seed near older ice, whose ring that ice cut, often never reached the need on
+  any one of them (docs/method.md, 5.3).
 
 Per-crystal state lives in arrays parallel to the simulation's crystals.
 """
@@ -57,8 +62,9 @@ class PaperGrowth:
 class FernGrowth:
     """Grains and hit counters (see module doc) over per-crystal arrays."""
 
-    def __init__(self, params: Params, rng: np.random.Generator):
+    def __init__(self, params: Params, rng: np.random.Generator, pooled_first: bool = True):
         self.rng = rng
+        self.pooled_first = pooled_first
         self.L = float(params.hc)
         self.drift = np.deg2rad(params.drift)
         self.gap = params.side_gap
@@ -141,8 +147,12 @@ class FernGrowth:
     def _count(self, parents, k, need) -> np.ndarray:
         """Count the hits on open, empty slots in walker order; True for the hit that
         reaches the slot's need (or the first, once an earlier attempt was blocked)."""
-        open_ = (need > 0) & (self.child.raw()[parents, k] < 0)
-        key = np.where(open_, parents * SLOTS + k, -1)
+        child = self.child.raw()
+        open_ = (need > 0) & (child[parents, k] < 0)
+        slot = k
+        if self.pooled_first:  # a seed's hits count together (in slot 0) until it grows
+            slot = np.where(self._fresh(parents), 0, k)
+        key = np.where(open_, parents * SLOTS + slot, -1)
         order = np.argsort(key, kind="stable")
         skey = key[order]
         start = np.concatenate(([0], np.flatnonzero(skey[1:] != skey[:-1]) + 1))
@@ -187,9 +197,16 @@ class FernGrowth:
                 clear &= ~((ring >= 0) & (child[np.maximum(ring, 0), k] >= 0))
         return clear
 
+    def _fresh(self, crystals) -> np.ndarray:
+        """Seeds with no child yet."""
+        return self.seed.raw()[crystals] & (self.child.raw()[crystals] < 0).all(axis=1)
+
     def _adopt(self, first: int, parents, k, angle) -> None:
         """The growing slots take the new crystals first, first + 1, ...; each child's axis
-        turns from its link by the drift draw."""
+        turns from its link by the drift draw. A seed's first child clears the count its
+        hits kept together."""
+        if self.pooled_first:
+            self.hits.raw()[parents[self._fresh(parents)]] = 0
         self.child.raw()[parents, k] = np.arange(first, first + len(parents), dtype=np.int32)
         turn = self.rng.standard_normal(len(parents)) * self.drift
         side = (SLOT_KIND[k] == SIDE) & ~self.seed.raw()[parents]
@@ -241,5 +258,5 @@ def _first_apart(pts: np.ndarray, gap: float) -> np.ndarray:
     return keep
 
 
-def make_growth(params: Params, rng: np.random.Generator):
-    return FernGrowth(params, rng) if params.grains else PaperGrowth()
+def make_growth(params: Params, rng: np.random.Generator, pooled_first: bool = True):
+    return FernGrowth(params, rng, pooled_first) if params.grains else PaperGrowth()

@@ -27,9 +27,16 @@ from .screen import HEIGHT, WIDTH, touch_problem
 from .search import make_search
 
 TWO_PI = np.float32(2.0 * np.pi)
+# The newest rules (what a session file's "version" names; sim/session.py lists what each
+# changed). Older versions replay as frost grew them then.
+VERSION = 5
 # A water particle that found no spot in its area's free cells after this many draws is
 # dropped: an area filled with ice has no free spot left (its frost is complete).
 CELL_TRIES = 8
+# Draws for each walker a touch brings to its ring (`_water_seed`): a seed tucked in
+# beside older ice is the nearest crystal to a sliver of its ring, where 8 draws placed 4
+# of 48 walkers.
+TOUCH_TRIES = 32
 _NONE = np.empty(0, np.int64)
 # Most crystals one hash cell may list. The paper's rule lets ice pile up without end
 # where water keeps arriving (replenish, growth mode, touch after touch on one spot), and
@@ -120,8 +127,7 @@ class FrostSim:
     """Window frost on a `width` x `height` px screen (docs/method.md)."""
 
     def __init__(self, params: Params | None = None, width: int = WIDTH, height: int = HEIGHT,
-                 seed: int = 0, batched: bool = True, tries_at_once: bool = True,
-                 wrap: bool = False):
+                 seed: int = 0, version: int = VERSION, wrap: bool = False):
         for name, v in (("width", width), ("height", height)):
             if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 0 < v <= 16384:
                 raise ValueError(f"{name}={v!r} must be a whole number of px in [1, 16384]")
@@ -132,12 +138,20 @@ class FrostSim:
         self.wrap = bool(wrap)
         self.seed = seed
         self.rng = np.random.default_rng(seed)
-        # Where placement falls back to cells, one pass for all areas (False: one area at
-        # a time, as frost did before session version 3; replays of those files need it).
-        self.batched = batched
-        # Window water's later tries drawn in one batch (session files of version 4 on;
-        # docs/method.md 8): the same spots in law, fewer passes over the ice.
-        self.tries_at_once = tries_at_once
+        # The rules of `version` (a session file's replays as frost grew it when written):
+        if isinstance(version, bool) or not isinstance(version, (int, np.integer)) \
+                or not 1 <= version <= VERSION:
+            raise ValueError(f"version={version!r} must be a whole number in [1, {VERSION}]")
+        self.version = int(version)
+        # 3: where placement falls back to cells, one pass for all areas (before: one
+        # area at a time).
+        self.batched = version >= 3
+        # 4: window water's later tries drawn in one batch (docs/method.md 8): the same
+        # spots in law, fewer passes over the ice.
+        self.tries_at_once = version >= 4
+        # 5: a touch whose area's pool is short brings new walkers (`_water_seed`), and a
+        # seed's hits count together until its first child (sim/fern.py).
+        self.touch_creates = version >= 5
         self._plans: dict[int, tuple[np.ndarray, float, bool, bool]] = {}
         self._plans_key: tuple[int, int] | None = None
         self._cell_work = CELL_WORK  # cell placements left in this tick
@@ -175,7 +189,8 @@ class FrostSim:
         self.candidates = CellLists(self.grid.size)  # Fig. 3d: state = count > 0
         self.search = make_search(self.params.neighbor_search, self.grid, self.candidates, self.params.hc)
         # Beyond the paper (fern rules): where hits grow, and how far walkers may jump.
-        self.growth = make_growth(chill(self.params), self.rng)  # window mode: temperature
+        # (window mode: chilled by temperature)
+        self.growth = make_growth(chill(self.params), self.rng, pooled_first=version >= 5)
         self.clearance = make_clearance(self.grid, self.width, self.height,
                                         self.params.long_jumps or self.params.window_frost)
         self.water_created = 0
@@ -224,20 +239,31 @@ class FrostSim:
         return area
 
     def _water_seed(self, seed: int, area: int) -> None:
-        """A touch into an area that holds water brings `touch_water` of that area's
-        walkers (drawn at random: a drag's next touch must not take the same ones back)
-        to glass around its seed: uniform in the ring from hc to 2 hc, on the screen, at
-        least hc / 2 from every live crystal, and where no crystal within hc (one it could
-        freeze to) is nearer than the seed; those with no such
-        spot in TRIES draws stay where they were. Nothing is created, so the pool and the
-        budget hold. Without it a seed in an area whose water rides a far ice front
-        waited seconds for its first hit (docs/method.md, 5.3)."""
+        """A touch into an area brings `touch_water` walkers to glass around its seed:
+        uniform in the ring from hc to 2 hc, on the screen, at least hc / 2 from every
+        live crystal, and where no crystal within hc (one it could freeze to) is nearer
+        than the seed; those with no such spot in TOUCH_TRIES draws (CELL_TRIES before
+        version 5) are not brought. Up to version 4 they were all the area's own walkers
+        (drawn at random), so nothing was created; but a drained pool (an area whose
+        launch circle lies on ice or off the screen finds no spot for its water) had
+        nothing to bring, and a drag's next touch took back the last one's ring. From
+        version 5, while the area's pool is short of `humidity` and `water_budget` has
+        room, the touch brings new walkers of the area, and moves the area's own for the
+        rest (docs/method.md, 5.3)."""
+        want = self.params.touch_water
         mine = np.flatnonzero(self._warea.raw() == area)
-        if len(mine) > self.params.touch_water:
-            mine = np.sort(self.rng.choice(mine, self.params.touch_water, replace=False))
+        new = 0
+        if self.touch_creates:  # a pool short of `humidity` brings new ones, in the budget
+            short = self.pane.pool(self.params.humidity) - len(mine)
+            new = max(0, min(want, short, self.params.water_budget - self._wx.n))
+        if len(mine) > want - new:
+            mine = np.sort(self.rng.choice(mine, want - new, replace=False))
         sx, sy = (float(v) for v in self._crystals.raw()[seed])
-        hc, k = self.params.hc, len(mine)
-        u = self.rng.random((2, CELL_TRIES * k))  # every try at once: one nearest search
+        hc, k = self.params.hc, len(mine) + new
+        if k == 0:
+            return
+        tries = TOUCH_TRIES if self.touch_creates else CELL_TRIES
+        u = self.rng.random((2, tries * k))  # every try at once: one nearest search
         r = hc * np.sqrt(1.0 + 3.0 * u[0])  # uniform in the ring's area: hc .. 2 hc
         px = (sx + r * np.cos(TWO_PI * u[1])).astype(np.float32)
         py = (sy + r * np.sin(TWO_PI * u[1])).astype(np.float32)
@@ -247,8 +273,17 @@ class FrostSim:
         pts = np.column_stack((px[good], py[good]))
         d2, own = _nearest_d2(self, pts), (pts[:, 0] - sx) ** 2 + (pts[:, 1] - sy) ** 2
         good[good] = (d2 >= np.float32(hc / 2) ** 2) & (own <= d2)  # the seed's water
-        placed, pick = _first_good(good.reshape(CELL_TRIES, k))
-        self._wx.raw()[mine[placed]], self._wy.raw()[mine[placed]] = px[pick], py[pick]
+        placed, pick = _first_good(good.reshape(tries, k))
+        which = np.flatnonzero(placed)
+        moved = which < len(mine)  # the pool's walkers first, then the new ones
+        self._wx.raw()[mine[which[moved]]] = px[pick[moved]]
+        self._wy.raw()[mine[which[moved]]] = py[pick[moved]]
+        born = pick[~moved]
+        if len(born):
+            self._wx.append(px[born])
+            self._wy.append(py[born])
+            self._warea.append(np.full(len(born), area, np.int32))
+            self.water_created += len(born)
 
     def step(self) -> Added:
         """One tick: walk -> crystallize -> settle (the growth rule) -> link and upsample ->

@@ -30,6 +30,7 @@ from pathlib import Path
 from typing import Any
 
 from .files import one_line, read_json, write_atomic
+from .frost import VERSION as FROST_VERSION
 from .frost import FrostSim
 from .geometry import FrostGeometry, GeometryDelta
 from .params import Params
@@ -38,11 +39,13 @@ from .screen import HEIGHT, WIDTH, melt_problem, touch_problem
 log = logging.getLogger(__name__)
 
 FORMAT = "frost-session"
-# 4: the window's water draws its later tries in one batch (sim/openglass.py); 3: where
-# an area's disc draws fail, walkers are placed from all areas' cells in one pass
+# 5: a touch into an area whose pool is short brings new walkers, and a seed's hits count
+# together until its first child (sim/frost.py `_water_seed`, sim/fern.py); 4: the
+# window's water draws its later tries in one batch (sim/openglass.py); 3: where an
+# area's disc draws fail, walkers are placed from all areas' cells in one pass
 # (sim/frost.py, CELL_WORK); 2: a rebuild replants the touches at their own pace (1: all
 # at tick 0). Older files replay as frost did when they were written.
-VERSION = 4
+VERSION = FROST_VERSION
 # Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
 REGROW_GAP = 12
 # The keys each event kind needs besides "tick" and "kind".
@@ -442,8 +445,8 @@ class Timeline:
 
     def _build(self, params: Params) -> None:
         self.params = params
-        self.sim = FrostSim(params, *self.size, seed=self.seed, batched=self.version >= 3,
-                            tries_at_once=self.version >= 4, wrap=self.wrap)
+        self.sim = FrostSim(params, *self.size, seed=self.seed, version=self.version,
+                            wrap=self.wrap)
         self.geometry = FrostGeometry(params, *self.size, wrap=self.wrap)
         while self._pending and self._pending[0]["tick"] == 0 \
                 and self._pending[0]["kind"] == "touch":  # (melts wait for the step)

@@ -16,9 +16,10 @@ from sim.session import Backlog, SessionLog, Timeline, replay
 SMALL = (240, 320)  # a small screen keeps a frosted pane cheap to grow
 
 
-def frosted(name: str, touches: int, ticks: int, seed: int = 0, **over) -> FrostSim:
+def frosted(name: str, touches: int, ticks: int, seed: int = 0, version: int = frost.VERSION,
+            **over) -> FrostSim:
     """A small screen under `touches` random touches (one a tick), then quiet ticks."""
-    sim = FrostSim(Params.preset(name, **over), *SMALL, seed=seed)
+    sim = FrostSim(Params.preset(name, **over), *SMALL, seed=seed, version=version)
     for x, y in np.random.default_rng(seed).uniform((0, 0), SMALL, (touches, 2)):
         sim.touch(x, y)
         sim.step()
@@ -118,18 +119,22 @@ def test_a_full_area_skips_its_disc_draws():
 # ---- a touch brings water to its seed ---------------------------------------------------
 
 
-def test_a_touch_moves_its_areas_water_to_glass_around_its_seed():
+@pytest.mark.parametrize("version", [4, 5])
+def test_a_touch_brings_water_to_glass_around_its_seed(version):
     params = Params.preset("fern")
-    sim = frosted("fern", 3, 80)
+    sim = frosted("fern", 3, 80, version=version)
     before = sim.water.copy()
     n = len(before)
     area = sim.touch(130.0, 150.0)
     seed = sim.crystals[-1].astype(np.float64)
     assert area < len(sim.areas)  # it joined an area that holds water
     moved = np.flatnonzero((sim.water[:n] != before).any(axis=1))
+    # Its top-up filled the pool (the new walkers are that), so the touch moved its own.
+    assert (sim.water_area == area).sum() == params.humidity
     assert 0 < len(moved) <= params.touch_water
-    assert (sim.water_area[moved] == area).all()  # its own area's water, none created
-    pts = sim.water[moved].astype(np.float64)
+    brought = moved
+    assert (sim.water_area[brought] == area).all()
+    pts = sim.water[brought].astype(np.float64)
     r = np.hypot(*(pts - seed).T)
     hc = params.hc
     assert ((r >= hc - 1e-3) & (r <= 2 * hc + 1e-3)).all()
@@ -137,6 +142,128 @@ def test_a_touch_moves_its_areas_water_to_glass_around_its_seed():
     assert (near >= hc / 2 - 1e-3).all()  # on glass
     # No crystal within hc of it (those it could freeze to) is nearer than the seed.
     assert ((r <= near + 1e-3) | (near >= hc - 1e-3)).all()
+
+
+def ring(sim: FrostSim, x: float, y: float) -> int:
+    """Walkers within 2 hc of (x, y)."""
+    return int((np.hypot(sim.water[:, 0] - x, sim.water[:, 1] - y) <= 2 * sim.params.hc).sum())
+
+
+def drained(version: int, keep: int = 0, **over) -> FrostSim:
+    """A 60 x 60 px screen whose one area's launch circle lies off the screen, so its
+    water is placed from cells, at most CELL_WORK a tick: the touch that opens it spends
+    them all, and the tick's later top-ups place nothing. Its pool is then cut to its
+    first `keep` walkers: an area whose water finds no spot, as in a long scribble."""
+    sim = FrostSim(Params.preset("fern", launch=100.0, **over), 60, 60, seed=0,
+                   version=version)
+    sim.touch(30.0, 30.0)
+    assert len(sim.water) == frost.CELL_WORK
+    sim.set_water(sim.water[:keep])
+    return sim
+
+
+@pytest.mark.parametrize("version", [4, 5])
+def test_a_touch_into_a_drained_area_brings_new_walkers_and_leaves_the_last_ring(version):
+    sim = drained(version)
+    created = sim.water_created
+    sim.touch(30.0, 45.0)
+    sim.touch(30.0, 15.0)  # a drag's next touch, 30 px on: the rings do not overlap
+    if version == 4:  # nothing to move: neither seed gets water
+        assert len(sim.water) == 0
+        return
+    assert ring(sim, 30.0, 45.0) == ring(sim, 30.0, 15.0) == 48
+    assert len(sim.water) == 96 and sim.water_created - created == 96
+
+
+def test_a_touch_brings_new_walkers_only_while_the_budget_has_room():
+    sim = drained(5, keep=388, water_budget=400)
+    created, before = sim.water_created, sim.water.copy()
+    sim.touch(30.0, 45.0)  # room for 12: it creates 12 and moves 36 of the pool
+    assert len(sim.water) == 400 and sim.water_created - created == 12
+    moved = np.flatnonzero((sim.water[:388] != before).any(axis=1))
+    assert len(moved) == 36
+    r = np.hypot(*(sim.water[np.r_[moved, 388:400]].astype(np.float64) - (30.0, 45.0)).T)
+    assert ((r >= 7.0 - 1e-3) & (r <= 14.0 + 1e-3)).all()
+
+
+def test_a_touch_into_a_full_pool_creates_nothing():
+    sim = FrostSim(Params.preset("fern"), seed=0)
+    sim.touch(380.0, 640.0)
+    created, n = sim.water_created, len(sim.water)
+    sim.touch(380.0, 700.0)
+    assert sim.water_created == created and len(sim.water) == n == sim.params.humidity
+    assert ring(sim, 380.0, 700.0) == 48
+
+
+def listed_nearest_slow(sim: FrostSim, pts: np.ndarray) -> np.ndarray:
+    """Each point's distance to the nearest live crystal listed in its cell (whose freezing
+    disc, radius hc, meets the cell; inf if none), by brute force over every crystal."""
+    s, hc = sim.grid.cell, sim.params.hc
+    x0, y0 = np.floor(pts[:, 0] / s) * s, np.floor(pts[:, 1] / s) * s
+    c = sim.crystals[sim.crystal_alive].astype(np.float64)
+    dx = np.clip(c[None, :, 0], x0[:, None], x0[:, None] + s) - c[None, :, 0]
+    dy = np.clip(c[None, :, 1], y0[:, None], y0[:, None] + s) - c[None, :, 1]
+    listed = (dx ** 2 + dy ** 2) <= hc * hc
+    d = np.hypot(pts[:, None, 0] - c[None, :, 0], pts[:, None, 1] - c[None, :, 1])
+    return np.where(listed, d, np.inf).min(axis=1)
+
+
+def test_a_seed_ringed_by_ice_fills_the_sliver_of_its_ring_it_is_nearest():
+    # Twelve crystals 14.2 px around the spot: the seed is the nearest crystal only in a
+    # thin band of its ring. Each walker the touch brings takes the first of TOUCH_TRIES
+    # uniform draws in the ring at least hc/2 from ice where the seed is the nearest
+    # crystal its cell lists, so the number placed is binomial with
+    # p = 1 - (1 - f) ** TOUCH_TRIES, f that band's share of the ring (measured here by
+    # brute force over 100 000 draws).
+    sim = FrostSim(Params.preset("fern"), seed=0)
+    sim.touch(380.0, 640.0)
+    sim.step()
+    ang = np.deg2rad(30.0 * np.arange(12) + 5.0)
+    sim.plant(np.column_stack((300.0 + 14.2 * np.cos(ang), 600.0 + 14.2 * np.sin(ang))),
+              water=False)
+    before = sim.water.copy()
+    sim.touch(300.0, 600.0)
+    moved = (sim.water[:len(before)] != before).any(axis=1).sum()
+    hc, rng = sim.params.hc, np.random.default_rng(1)
+    u = rng.random((2, 100_000))
+    r, th = hc * np.sqrt(1.0 + 3.0 * u[0]), 2 * np.pi * u[1]
+    p = np.column_stack((300.0 + r * np.cos(th), 600.0 + r * np.sin(th)))
+    d = listed_nearest_slow(sim, p)  # (the seed is listed where it is within reach)
+    f = ((d >= hc / 2) & (r <= d + 1e-6)).mean()
+    assert 0.005 < f < 0.05  # a sliver
+    q = 1 - (1 - f) ** frost.TOUCH_TRIES
+    mean, sd = 48 * q, np.sqrt(48 * q * (1 - q))
+    assert abs(moved - mean) < 4 * sd, (moved, mean, sd, f)
+
+
+@pytest.mark.parametrize("version", [4, 5])
+def test_a_seeds_hits_count_together_until_its_first_child(version):
+    # Five walkers just inside hc of a lone seed, 60 degrees apart: one hit on each of
+    # five slots. A fern tip slot grows on its 5th hit: from version 5 the seed's hits
+    # count together, so it grows one child (in the slot of the hit that made five).
+    params = Params.preset("fern", step=0.01, long_jumps=False, drift=0.0)
+    sim = FrostSim(params, seed=0, version=version)
+    sim.touch(380.0, 640.0)
+    hc = params.hc
+    theta = np.deg2rad(10.0 + 60.0 * np.arange(5))
+    sim.set_water(np.column_stack((380.0 + 0.8 * hc * np.cos(theta),
+                                   640.0 + 0.8 * hc * np.sin(theta))))
+    sim.step()
+    grown = np.flatnonzero(sim.parents == 0)
+    if version == 4:
+        assert len(grown) == 0
+        return
+    assert len(grown) == 1
+    d = sim.crystals[grown[0]].astype(np.float64) - (380.0, 640.0)
+    assert np.hypot(*d) == pytest.approx(hc, abs=1e-3)
+    # its slot is the axis nearest the last walker's direction: within 30 degrees of it
+    turn = (np.arctan2(d[1], d[0]) - theta[-1] + np.pi) % (2 * np.pi) - np.pi
+    assert abs(np.rad2deg(turn)) <= 30.0 + 1e-6
+    six = np.deg2rad(10.0 + 60.0 * np.arange(6))
+    sim.set_water(np.column_stack((380.0 + 0.8 * hc * np.cos(six),
+                                   640.0 + 0.8 * hc * np.sin(six))))
+    sim.step()  # with a child, each slot counts its own again: one hit each grows nothing
+    assert len(np.flatnonzero(sim.parents == 0)) == 1
 
 
 def test_without_touch_water_a_touch_moves_no_walker():
@@ -211,7 +338,7 @@ def test_play_with_drain_applies_every_queued_event_and_counts_the_ticks(monkeyp
 
 
 @pytest.mark.parametrize("version, batched, at_once", [(2, False, False), (3, True, False),
-                                                       (4, True, True)])
+                                                       (4, True, True), (5, True, True)])
 @pytest.mark.parametrize("preset", ["fern", "window"])
 def test_a_session_file_places_water_as_its_version_did(version, batched, at_once, preset):
     log = SessionLog(0, Params.preset(preset).as_dict(),
@@ -219,7 +346,7 @@ def test_a_session_file_places_water_as_its_version_did(version, batched, at_onc
                      steps=30, version=version)
     timeline = replay(SessionLog.from_json(log.as_json()))
     assert (timeline.sim.batched, timeline.sim.tries_at_once) == (batched, at_once)
-    legacy = FrostSim(Params.preset(preset), seed=0, batched=batched, tries_at_once=at_once)
+    legacy = FrostSim(Params.preset(preset), seed=0, version=version)
     legacy.touch(380.0, 640.0)
     for _ in range(30):
         legacy.step()
