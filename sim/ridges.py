@@ -25,6 +25,7 @@ EDGE_PAD = 0.75
 MAX_HALF_WIDTH = 0.7  # x hc: a trunk never swells over its neighbours' freezing areas
 LEVELS_PER_DOUBLING = 2  # width levels per doubling of the carried count (+12 % width each)
 TILT = 0.18  # spread of the random tilt per ridge face (sparkle), normal x and y
+PRUNE_EVERY = 8  # levels a climb goes between droppings of the paths that ended
 
 
 def width_level(carried: np.ndarray, hc: float) -> np.ndarray:
@@ -149,30 +150,35 @@ class PipeRidges:
         return ridge_triangles(tail, c[links], w, self.slope, links)
 
     def _extend(self, n: int) -> None:
-        if n > len(self.carried):
-            grow = n - len(self.carried)
+        """Room for `n` crystals and the sentinel slot after them (`_propagate`)."""
+        if n >= len(self.carried):
+            grow = n + 1 - len(self.carried)
             self.carried = np.concatenate((self.carried, np.zeros(max(grow, n), np.int64)))
             self.drawn = np.concatenate((self.drawn, np.full(max(grow, n), -1, np.int32)))
 
     def _propagate(self, parents: np.ndarray, start: np.ndarray, amount) -> np.ndarray:
-        """Add `amount` (per start) to the count of every crystal from `start` up to its
-        root; the crystals changed (unique)."""
-        if np.isscalar(amount):  # growth: the same amount all the way up, fewer calls
-            f = start[start >= 0]
-            touched = [f]
-            while len(f):
-                np.add.at(self.carried, f, amount)
-                f = parents[f]
-                f = f[f >= 0]
-                touched.append(f)
-            return np.unique(np.concatenate(touched))
+        """Add `amount` (a number, or one per start) to the count of every crystal from
+        `start` up to its root; the crystals changed (unique). A climb takes one numpy
+        pass per level of the deepest path (fronds run hundreds deep), so each level does
+        the least: the roots step up to a sentinel slot past the last crystal, whose
+        count is thrown away, instead of being filtered out at every level."""
+        n = len(parents)
+        up = np.append(np.where(parents >= 0, parents, n), n)
+        carried = self.carried  # (_extend keeps a free slot past the last crystal)
         keep = start >= 0
-        f, a = start[keep], amount[keep]
+        f = start[keep]
+        a = amount if np.isscalar(amount) else amount[keep]
         touched = [f]
+        level = 0
         while len(f):
-            np.add.at(self.carried, f, a)
+            np.add.at(carried, f, a)
+            f = up[f]
             touched.append(f)
-            up = parents[f]
-            keep = up >= 0
-            f, a = up[keep], a[keep]
-        return np.unique(np.concatenate(touched))
+            level += 1
+            if level % PRUNE_EVERY == 0:  # drop the climbs that reached the sentinel
+                going = f != n
+                f = f[going]
+                a = a if np.isscalar(a) else a[going]
+        carried[n] = 0
+        out = np.unique(np.concatenate(touched))
+        return out[:np.searchsorted(out, n)]

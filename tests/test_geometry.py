@@ -106,3 +106,26 @@ def test_melt_takes_the_ice_back_exactly():
     # The survivors re-sent are exactly the live segments near the melt.
     live = sim.segments[sim.segments_alive]
     assert len(delta.features) % 12 == 0 and 0 < len(delta.features) <= 12 * len(live)
+
+
+def test_ice_far_apart_raises_and_melts_back_as_the_oracle_says():
+    # Seeds in the top and bottom rows: the raise spans the rows between them, most of
+    # the grid, so only the vertices it touches are summed (and capped: a seed's bump of 1
+    # is over max_height); a melt over everything takes them all back to clear glass.
+    params = Params.preset("a-2", active_radius=50.0, max_height=0.5)
+    sim = FrostSim(params, 120, 600, seed=2)
+    geo = FrostGeometry(params, 120, 600)
+    for x, y in ((60, 40), (30, 300), (90, 560)):
+        sim.touch(x, y)
+    sim.step()  # (a tick's update raises the seeds planted before it)
+    delta = geo.update(sim)
+    pts = np.concatenate((sim.crystals, sim.upsampled))
+    oracle = bump_heights(pts, geo.rows, geo.cols, params.grid_spacing, params.hc,
+                          params.bump, params.max_height)
+    assert oracle.max() == 0.5
+    np.testing.assert_allclose(geo.heights, oracle, atol=1e-6)
+    changed = np.flatnonzero(geo.heights.any(axis=1))
+    assert delta.rows.start <= changed.min() and changed.max() < delta.rows.stop
+    geo.melt(sim, sim.melt(60.0, 300.0, 400.0))
+    assert not sim.crystal_alive.any()
+    assert not geo.heights.any()
