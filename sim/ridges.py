@@ -167,7 +167,8 @@ class PipeRidges:
         carried = self.carried  # (_extend keeps a free slot past the last crystal)
         keep = start >= 0
         f = start[keep]
-        a = amount if np.isscalar(amount) else amount[keep]
+        a = np.asarray(amount)  # one number for all, or one per start
+        a = a if a.ndim == 0 else a[keep]
         touched = [f]
         level = 0
         while len(f):
@@ -178,7 +179,7 @@ class PipeRidges:
             if level % PRUNE_EVERY == 0:  # drop the climbs that reached the sentinel
                 going = f != n
                 f = f[going]
-                a = a if np.isscalar(a) else a[going]
+                a = a if a.ndim == 0 else a[going]
         carried[n] = 0
         out = np.unique(np.concatenate(touched))
         return out[:np.searchsorted(out, n)]
