@@ -15,7 +15,6 @@ from app.cli import main
 from app.simthread.thread import SimThread
 from app.window.actions import Actions
 from app.window.panel import BUTTONS, FIELDS, GROUPS, SPECS, TuningPanel, tooltip, why_off
-from app.window.view import cursor_to_phone
 from sim import Params, tuning
 from sim.params import _validate
 from sim.paramsets import ParamsFileError, load_params, save_params
@@ -212,26 +211,6 @@ def test_loading_a_set_keeps_the_sessions_grid_spacing(tmp_path):
     actions.run("load_params", str(tmp_path / "missing.json"))
     assert said.lines[-1].startswith("params NOT loaded: ") and "\n" not in said.lines[-1]
     assert actions.params == wanted.replace(grid_spacing=4)
-
-
-# ---- where the phone is when the panel is shown -----------------------------------------
-
-
-@pytest.mark.parametrize("panel, cursor, want", [
-    (400, (380, 640), (380.0, 640.0)),  # 760 + 400 px wide: the phone at the left edge
-    (400, (759, 0), (759.0, 0.0)),
-    (400, (760, 640), None),  # the panel's first column
-    (400, (1100, 100), None),
-    (0, (580, 640), (380.0, 640.0)),  # the same window with no panel: letterboxed, centred
-])
-def test_a_click_maps_to_the_phone_left_of_the_panel_and_never_on_it(panel, cursor, want):
-    assert cursor_to_phone(cursor, (1160, 1280), (1160, 1280), panel=panel) == want
-
-
-def test_on_a_hidpi_screen_the_panel_is_counted_in_framebuffer_px():
-    # Window 580x640 (half the framebuffer), panel 400 framebuffer px: phone 760 fb px wide.
-    assert cursor_to_phone((190, 320), (580, 640), (1160, 1280), panel=400) == (380.0, 640.0)
-    assert cursor_to_phone((385, 320), (580, 640), (1160, 1280), panel=400) is None
 
 
 # ---- parameter sets --------------------------------------------------------------------
