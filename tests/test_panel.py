@@ -7,9 +7,12 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import types
 
+import numpy as np
 import pytest
 from imgui_bundle import imgui
+from PIL import Image
 
 from app.cli import main
 from app.simthread.thread import SimThread
@@ -252,7 +255,9 @@ def test_a_bad_set_is_one_line_naming_the_file_and_the_problem(tmp_path, case):
     assert why in str(err.value) and "\n" not in str(err.value) and "set.json" in str(err.value)
 
 
-@pytest.mark.parametrize("command", [["render"], ["maps", "MAPS"], ["figure", "fern", "F.png"], []])
+@pytest.mark.parametrize("command", [["render"], ["maps", "MAPS"], ["figure", "fern", "F.png"], [],
+                                     ["figure8", "F.png"], ["bench", "render"],
+                                     ["replay", "S.json"]])
 def test_params_on_the_command_line_refuses_a_bad_file_in_one_line(tmp_path, capsys, command):
     bad = tmp_path / "bad.json"
     bad.write_text('{"params": {"hc": 0.5}}')
@@ -276,3 +281,92 @@ def test_params_with_overrides_on_top(tmp_path, monkeypatch):
     with pytest.raises(SystemExit) as stop:
         main(["render", "--params", str(path), "--preset", "c-2"])
     assert stop.value.code == 2
+
+
+# ---- --params on the offline commands ------------------------------------------------------
+
+TABLE1 = ("a-1", "a-2", "a-3", "b-1", "b-2", "b-3", "c-1", "c-2", "c-3")
+A_SET = Params.preset("fern", bump=2.0, drift=4.0, humidity=5000, water_budget=7000)
+
+
+class Stop(Exception):
+    pass
+
+
+def test_figure8_grows_each_preset_under_the_sets_other_fields(tmp_path, monkeypatch):
+    from app.tools import figure8
+
+    path = save_params(tmp_path / "set.json", A_SET)
+    got = {}
+
+    def grown(ctx, seed, ticks, touch, overrides, view):
+        got.update(overrides)
+        raise RuntimeError("stopped here")  # run reports it: status 1
+
+    monkeypatch.setattr(figure8, "make_context", lambda: None)
+    monkeypatch.setattr(figure8, "make_figure8", grown)
+    assert main(["figure8", str(tmp_path / "f.png"), "--params", str(path), "--tip-hits", "7"]) == 1
+    for name in TABLE1:  # by hand: Table 1's three, step fitted to hc, the set's rest
+        table = Params.preset(name)
+        want = {**A_SET.as_dict(), "D": table.D, "hc": table.hc, "humidity": table.humidity,
+                "step": min(Params.step, table.hc), "tip_hits": 7}
+        assert Params.preset(name, **got).as_dict() == want
+
+
+@pytest.mark.parametrize("argv, want", [
+    ([], Params.preset("c-2")),  # its own default, not the window's
+    (["--preset", "b-1"], Params.preset("b-1")),
+    (["--params", "SET"], A_SET),
+])
+def test_bench_render_grows_the_set_or_its_preset(tmp_path, monkeypatch, argv, want):
+    from app.tools import bench
+
+    path = save_params(tmp_path / "set.json", A_SET)
+    seen = []
+
+    def look(ctx, params, name, view):
+        seen.append(params)
+        raise Stop
+
+    ctx = types.SimpleNamespace(simple_framebuffer=lambda *_, **__: None)
+    monkeypatch.setattr(bench, "make_context", lambda: ctx)
+    monkeypatch.setattr(bench, "Look", look)
+    with pytest.raises(Stop):
+        main(["bench", "render", *[str(path) if a == "SET" else a for a in argv]])
+    assert seen == [want]
+
+
+def test_a_what_if_replay_is_the_session_under_the_set(tmp_path, monkeypatch):
+    from app.tools.replay import under
+
+    looked = A_SET.replace(hc=5.0, step=5.0).as_dict()
+    events = [{"tick": 3, "kind": "touch", "x": 100.0, "y": 200.0},
+              {"tick": 9, "kind": "params", "params": Params.preset("c-2").as_dict()},
+              {"tick": 4, "kind": "params", "params": Params.preset("c-2", look="paper").as_dict()},
+              {"tick": 6, "kind": "clear"}]
+    log = SessionLog(4, Params.preset("c-1", look="paper").as_dict(), events=events, steps=20)
+    what_if = under(log, A_SET, "set.json")
+    assert what_if.params == A_SET.replace(look="paper").as_dict() != looked
+    assert what_if.events[1]["params"] == A_SET.replace(look=Params.look).as_dict()
+    assert what_if.events[2]["params"] == A_SET.replace(look="paper").as_dict()
+    assert [e for i, e in enumerate(what_if.events) if i in (0, 3)] == [events[0], events[3]]
+    assert (what_if.seed, what_if.steps) == (4, 20)
+
+
+def test_a_what_if_replay_draws_what_a_session_run_with_the_set_draws(tmp_path):
+    """The oracle: the same session written by hand with the set's parameters (the look
+    the session's)."""
+    events = [{"tick": 2, "kind": "touch", "x": 380.0, "y": 640.0}]
+    session = SessionLog(1, Params.preset("c-2").as_dict(), events=events, steps=40)
+    twin = SessionLog(1, A_SET.replace(look="paper").as_dict(), events=events, steps=40)
+    path = save_params(tmp_path / "set.json", A_SET)
+    outs = []
+    for name, log, extra in (("s", session, ["--params", str(path)]), ("t", twin, [])):
+        out = tmp_path / f"{name}.png"
+        assert main(["replay", str(log.save(tmp_path / f"{name}.json")), "--headless",
+                     "--out", str(out), *extra]) == 0
+        outs.append(np.asarray(Image.open(out).convert("RGB")))
+    plain = tmp_path / "plain.png"
+    assert main(["replay", str(tmp_path / "s.json"), "--headless", "--out", str(plain)]) == 0
+    assert np.array_equal(outs[0], outs[1])
+    assert not np.array_equal(outs[0], np.asarray(Image.open(plain).convert("RGB")))
