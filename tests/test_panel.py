@@ -216,6 +216,63 @@ def test_loading_a_set_keeps_the_sessions_grid_spacing(tmp_path):
     assert actions.params == wanted.replace(grid_spacing=4)
 
 
+# ---- the panel's window: when it redraws, what its cost reads ---------------------------
+
+
+class Backdrop(FakeActions):
+    def __init__(self, params: Params):
+        super().__init__(params)
+        self.shown = "dusk"
+
+    def backdrop(self) -> str:
+        return self.shown
+
+
+@pytest.fixture
+def host():
+    from app.window.panel_host import PanelHost
+
+    made = PanelHost(None, Backdrop(Params.preset("fern")))  # no window: nothing drawn
+    yield made
+    imgui.destroy_context(made.context)
+
+
+def test_the_panel_redraws_on_input_or_a_change_and_not_otherwise(host):
+    actions = host.actions
+    assert not host.due(host._state())  # hidden
+    host.visible, host.wanted = True, 0
+    host.drawn_state = host._state()
+    assert not host.due(host._state())  # idle: its pixels stay
+    for change in (lambda: setattr(actions, "params", actions.params.replace(hc=8.0, step=5.0)),
+                   lambda: setattr(actions, "preset", "c-2"),
+                   lambda: setattr(actions, "shown", "lockscreen")):
+        change()
+        assert host.due(host._state())
+        host.drawn_state = host._state()
+        assert not host.due(host._state())
+    host._mouse_moved(10.0, 20.0)
+    assert host.due(host._state()) and host.wanted == 3
+
+
+def test_the_panels_cost_is_its_recent_redraws_shared_among_the_phones_frames(host):
+    import time
+
+    from app.window.status import Status
+
+    now = time.perf_counter()
+    host._add_cost(now - 3.0, 100.0)
+    assert host.readout(20) is None  # hidden: no cost shown
+    host.visible = True
+    assert host.readout(20) == "panel 0.00 ms/frame (0 redraws)"  # idle for over 2 s
+    for age, ms in ((1.5, 6.0), (0.5, 4.0)):
+        host._add_cost(now - age, ms)
+    text = host.readout(20)
+    assert text == "panel 0.50 ms/frame (2 redraws, 5.0 ms each)"  # (6 + 4) / 20 by hand
+    lines = Status().lines(now, None, Params(), types.SimpleNamespace(
+        show_features=True, show_bumps=True, light=(0.0, 0.0, 1.0)), None, 3.0, text)
+    assert lines[1].endswith("  " + text)  # the second line: in the log's stats lines too
+
+
 # ---- parameter sets --------------------------------------------------------------------
 
 

@@ -205,6 +205,10 @@ class PanelHost:
         """What the panel shows that can change without input to it."""
         return self.actions.params, self.actions.preset, self.actions.backdrop()
 
+    def due(self, state: tuple) -> bool:
+        """Redraw now: an input settling, or `state` is not what the last redraw showed."""
+        return self.visible and (self.wanted > 0 or state != self.drawn_state)
+
     def frame(self, phone_drawn: bool) -> None:
         """The panel redrawn in its window if something changed, timed (GL finished and
         the buffers swapped, the switches between the two contexts included)."""
@@ -212,7 +216,7 @@ class PanelHost:
             return
         self.phone_frames += phone_drawn
         state = self._state()
-        if self.wanted <= 0 and state == self.drawn_state:
+        if not self.due(state):
             return
         t0 = time.perf_counter()
         glfw.make_context_current(self.window)
