@@ -9,6 +9,7 @@ import dataclasses
 import json
 import types
 
+import glfw
 import numpy as np
 import pytest
 from imgui_bundle import imgui
@@ -237,21 +238,28 @@ def host():
     imgui.destroy_context(made.context)
 
 
-def test_the_panel_redraws_on_input_or_a_change_and_not_otherwise(host):
-    actions = host.actions
-    assert not host.due(host._state())  # hidden
+def test_the_panel_redraws_on_input_or_a_change_and_not_otherwise(host, monkeypatch):
+    monkeypatch.setattr(glfw, "get_window_attrib", lambda *_: True)  # focused; no window here
+    actions, t = host.actions, 100.0
+    assert not host.due(host._state(), t)  # hidden
     host.visible, host.wanted = True, 0
-    host.drawn_state = host._state()
-    assert not host.due(host._state())  # idle: its pixels stay
+    host.drawn_state, host.drawn_at = host._state(), t
+    assert not host.due(host._state(), t + 5)  # idle: its pixels stay
     for change in (lambda: setattr(actions, "params", actions.params.replace(hc=8.0, step=5.0)),
                    lambda: setattr(actions, "preset", "c-2"),
                    lambda: setattr(actions, "shown", "lockscreen")):
         change()
-        assert host.due(host._state())
+        assert host.due(host._state(), t)
         host.drawn_state = host._state()
-        assert not host.due(host._state())
-    host._mouse_moved(10.0, 20.0)
-    assert host.due(host._state()) and host.wanted == 3
+        assert not host.due(host._state(), t + 5)
+    host._mouse_moved(10.0, 20.0)  # a hover: once, not sooner than 0.1 s after the last
+    assert host.wanted == 1 and not host.due(host._state(), t + 0.05)
+    assert host.due(host._state(), t + 0.11)
+    host._button(glfw.MOUSE_BUTTON_LEFT, glfw.PRESS)  # a click: at once, and the drag after it
+    assert host.wanted == 3 and host.due(host._state(), t + 0.01)
+    host.hurry, host.wanted = False, 0
+    host._mouse_moved(12.0, 20.0)
+    assert host.wanted == 3 and host.due(host._state(), t + 0.01)
 
 
 def test_the_panels_cost_is_its_recent_redraws_shared_among_the_phones_frames(host):

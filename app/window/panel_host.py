@@ -35,6 +35,10 @@ TITLE = "frost tuning (M hides)"
 BACKGROUND = (0.11, 0.11, 0.13)
 # ImGui settles in a frame or two after an input (hover, open a list, let go of a slider).
 FRAMES_AFTER_INPUT = 3
+# The pointer moving over the panel with no button held redraws it (hover highlights,
+# tooltips) at most this often: on llvmpipe a redraw is ~6-8 ms, and a pointer crossing
+# the panel otherwise redrew it every phone frame (~10 ms a frame, measured).
+HOVER_PERIOD = 0.1  # s
 COST_WINDOW = 2.0  # s of redraws the stats line's cost a frame is counted over
 MOUSE_BUTTONS = {glfw.MOUSE_BUTTON_LEFT: 0, glfw.MOUSE_BUTTON_RIGHT: 1, glfw.MOUSE_BUTTON_MIDDLE: 2}
 # The keys a text field needs (the file name), GLFW's to ImGui's.
@@ -91,6 +95,9 @@ class PanelHost:
         self.ctx: moderngl.Context | None = None
         self.renderer: ImGuiRenderer | None = None
         self.visible, self.wanted = False, 0
+        self.hurry = False  # a click, key or scroll: redraw at once, not at HOVER_PERIOD
+        self.held = 0  # mouse buttons held down (bits): a drag redraws at once
+        self.drawn_at = -HOVER_PERIOD  # perf_counter of the last redraw
         self.drawn_state: tuple | None = None  # what the last redraw showed
         self.last = time.monotonic()
         self.logged: tuple[int, int] | None = None  # the window size the rects were logged at
@@ -157,11 +164,14 @@ class PanelHost:
     # ---- input to the panel's window ---------------------------------------------------
 
     def _want(self) -> None:
-        self.wanted = FRAMES_AFTER_INPUT
+        self.wanted, self.hurry = FRAMES_AFTER_INPUT, True
 
     def _mouse_moved(self, x: float, y: float) -> None:
         imgui.get_io().add_mouse_pos_event(x, y)
-        self._want()
+        if self.held:
+            self._want()
+        else:  # a hover: one redraw, within HOVER_PERIOD
+            self.wanted = max(self.wanted, 1)
 
     def _entered(self, entered: int) -> None:
         if not entered:  # nothing stays hovered once the pointer has left
@@ -173,6 +183,8 @@ class PanelHost:
             glfw.focus_window(self.window)  # keys to its text field, with or without a WM
         if button in MOUSE_BUTTONS:
             imgui.get_io().add_mouse_button_event(MOUSE_BUTTONS[button], action == glfw.PRESS)
+            bit = 1 << MOUSE_BUTTONS[button]
+            self.held = self.held | bit if action == glfw.PRESS else self.held & ~bit
             self._want()
 
     def _scrolled(self, dx: float, dy: float) -> None:
@@ -205,9 +217,15 @@ class PanelHost:
         """What the panel shows that can change without input to it."""
         return self.actions.params, self.actions.preset, self.actions.backdrop()
 
-    def due(self, state: tuple) -> bool:
-        """Redraw now: an input settling, or `state` is not what the last redraw showed."""
-        return self.visible and (self.wanted > 0 or state != self.drawn_state)
+    def due(self, state: tuple, now: float) -> bool:
+        """Redraw at `now` (perf_counter): `state` is not what the last redraw showed, or an
+        input is settling (a hover's at most every HOVER_PERIOD)."""
+        if not self.visible:
+            return False
+        if state != self.drawn_state:
+            return True
+        soon = self.hurry or self.held or now - self.drawn_at >= HOVER_PERIOD
+        return self.wanted > 0 and bool(soon)
 
     def frame(self, phone_drawn: bool) -> None:
         """The panel redrawn in its window if something changed, timed (GL finished and
@@ -216,9 +234,9 @@ class PanelHost:
             return
         self.phone_frames += phone_drawn
         state = self._state()
-        if not self.due(state):
-            return
         t0 = time.perf_counter()
+        if not self.due(state, t0):
+            return
         glfw.make_context_current(self.window)
         try:
             self._draw()
@@ -228,7 +246,8 @@ class PanelHost:
             glfw.make_context_current(self.phone)
         now = time.perf_counter()
         self._add_cost(now, 1000.0 * (now - t0))
-        self.wanted, self.drawn_state = max(0, self.wanted - 1), state
+        self.wanted, self.drawn_state, self.drawn_at = max(0, self.wanted - 1), state, now
+        self.hurry = self.hurry and self.wanted > 0
         self.deferred.flush()
 
     def _draw(self) -> None:
