@@ -104,6 +104,7 @@ class PanelHost:
         self.recent: deque[tuple[float, float]] = deque()  # (when, ms) of recent redraws
         self.phone_frames = 0  # phone frames drawn while the panel was shown
         self.total_ms = 0.0  # all its redraws
+        self.shown_s, self.shown_at = 0.0, 0.0  # s shown in all; when last shown
 
     # ---- showing and hiding ----------------------------------------------------------
 
@@ -111,6 +112,11 @@ class PanelHost:
         if self.window is None and not self._open():
             return
         self.visible = not self.visible
+        now = time.monotonic()
+        if self.visible:
+            self.shown_at = now
+        else:
+            self.shown_s += now - self.shown_at
         if self.visible:
             x, y = self._beside_phone()
             glfw.set_window_pos(self.window, x, y)
@@ -303,10 +309,11 @@ class PanelHost:
 
     def close(self) -> None:
         costs = self.panel.costs
+        shown = self.shown_s + (time.monotonic() - self.shown_at if self.visible else 0.0)
         if costs:
-            log.info("panel: %d redraws, median %.2f ms, max %.2f ms (GL finished); "
-                     "%.2f ms a phone frame over %d frames while shown", len(costs),
-                     statistics.median(costs), max(costs),
+            log.info("panel: %d redraws, median %.2f ms, max %.2f ms (GL finished); shown "
+                     "%.1f s: %.1f ms a second, %.2f ms a phone frame over %d frames", len(costs),
+                     statistics.median(costs), max(costs), shown, self.total_ms / max(shown, 1e-9),
                      self.total_ms / max(1, self.phone_frames), self.phone_frames)
         if self.window is not None:
             glfw.make_context_current(self.window)
