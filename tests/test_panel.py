@@ -252,8 +252,8 @@ def test_the_panel_redraws_on_input_or_a_change_and_not_otherwise(host, monkeypa
         assert host.due(host._state(), t)
         host.drawn_state = host._state()
         assert not host.due(host._state(), t + 5)
-    host._mouse_moved(10.0, 20.0)  # a hover: once, not sooner than 0.1 s after the last
-    assert host.wanted == 1 and not host.due(host._state(), t + 0.05)
+    host._mouse_moved(10.0, 20.0)  # a hover: twice, not sooner than 0.1 s after the last
+    assert host.wanted == 2 and not host.due(host._state(), t + 0.05)
     assert host.due(host._state(), t + 0.11)
     host._button(glfw.MOUSE_BUTTON_LEFT, glfw.PRESS)  # a click: at once, and the drag after it
     assert host.wanted == 3 and host.due(host._state(), t + 0.01)

@@ -36,8 +36,8 @@ def under(log_: SessionLog, params: Params, name: str) -> SessionLog:
     events = [{**e, "params": _with_look(params, e["params"])} if e["kind"] == "params" else e
               for e in log_.events]
     changes = sum(e["kind"] == "params" for e in events)
-    log.info("replay: what if: under %s's parameters, not the session's (its first and its %d "
-             "changes; the looks are the session's)", name, changes)
+    log.info("replay: what if: the session's input under %s's parameters, not its own (its "
+             "first parameters and %d later changes replaced; its looks kept)", name, changes)
     return dataclasses.replace(log_, params=_with_look(params, log_.params), events=events)
 
 

@@ -39,6 +39,7 @@ FRAMES_AFTER_INPUT = 3
 # tooltips) at most this often: on llvmpipe a redraw is ~6-8 ms, and a pointer crossing
 # the panel otherwise redrew it every phone frame (~10 ms a frame, measured).
 HOVER_PERIOD = 0.1  # s
+HOVER_FRAMES = 2  # ImGui shows a new tooltip one frame after it is first asked for
 COST_WINDOW = 2.0  # s of redraws the stats line's cost a frame is counted over
 MOUSE_BUTTONS = {glfw.MOUSE_BUTTON_LEFT: 0, glfw.MOUSE_BUTTON_RIGHT: 1, glfw.MOUSE_BUTTON_MIDDLE: 2}
 # The keys a text field needs (the file name), GLFW's to ImGui's.
@@ -176,8 +177,8 @@ class PanelHost:
         imgui.get_io().add_mouse_pos_event(x, y)
         if self.held:
             self._want()
-        else:  # a hover: one redraw, within HOVER_PERIOD
-            self.wanted = max(self.wanted, 1)
+        else:  # a hover: two redraws (a tooltip shows on the second), HOVER_PERIOD apart
+            self.wanted = max(self.wanted, HOVER_FRAMES)
 
     def _entered(self, entered: int) -> None:
         if not entered:  # nothing stays hovered once the pointer has left
