@@ -169,7 +169,7 @@ def _replay(args: argparse.Namespace, params: Params) -> int:
     return frost_window.run(args, params)
 
 
-def _windowed_replay(args: argparse.Namespace, what_if: Params | None) -> Params:
+def _windowed_replay(args: argparse.Namespace, what_if: Params | None = None) -> Params:
     """Load the replay's session into args (seed, events) for the window; its parameters
     (those of `what_if` if given, see replay.under)."""
     from app.tools.replay import load_session, under
