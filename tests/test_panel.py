@@ -262,6 +262,16 @@ def test_the_panel_redraws_on_input_or_a_change_and_not_otherwise(host, monkeypa
     assert host.wanted == 3 and host.due(host._state(), t + 0.01)
 
 
+def test_closing_the_panels_window_hides_it_and_keeps_it_for_later(host, monkeypatch):
+    calls = []
+    for name in ("set_window_should_close", "hide_window"):
+        monkeypatch.setattr(glfw, name, lambda *a, name=name: calls.append((name, *a[1:])))
+    host.window, host.visible = "the panel's window", True
+    host._closed()  # GLFW's close callback
+    assert not host.visible and host.window is not None  # hidden, not destroyed: M shows it
+    assert calls == [("set_window_should_close", False), ("hide_window",)]
+
+
 def test_the_panels_cost_is_its_recent_redraws_shared_among_the_phones_frames(host):
     import time
 
