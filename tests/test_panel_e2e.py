@@ -10,6 +10,8 @@ its log, its session file, the saved set and the screenshot.
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import json
 import os
 import re
@@ -70,6 +72,34 @@ def drag_slider(wid: str, box: tuple[float, float, float, float]) -> None:
     xdo("mouseup", "1")
 
 
+class ClientMessage(ctypes.Structure):
+    """Xlib's XClientMessageEvent, padded to the size of an XEvent (24 longs)."""
+
+    _fields_ = [("type", ctypes.c_int), ("serial", ctypes.c_ulong), ("send_event", ctypes.c_int),
+                ("display", ctypes.c_void_p), ("window", ctypes.c_ulong),
+                ("message_type", ctypes.c_ulong), ("format", ctypes.c_int),
+                ("l", ctypes.c_long * 5), ("pad", ctypes.c_long * 24)]
+
+
+def close_window(wid: str) -> None:
+    """Ask window `wid` to close as a window manager's close button does (a WM_DELETE_WINDOW
+    message; this xdotool, 3.2016, has no windowquit)."""
+    x11 = ctypes.CDLL(ctypes.util.find_library("X11"))
+    x11.XOpenDisplay.restype, x11.XOpenDisplay.argtypes = ctypes.c_void_p, [ctypes.c_char_p]
+    x11.XInternAtom.restype = ctypes.c_ulong
+    x11.XInternAtom.argtypes = [ctypes.c_void_p, ctypes.c_char_p, ctypes.c_int]
+    x11.XSendEvent.argtypes = [ctypes.c_void_p, ctypes.c_ulong, ctypes.c_int, ctypes.c_long,
+                               ctypes.c_void_p]
+    x11.XFlush.argtypes = x11.XCloseDisplay.argtypes = [ctypes.c_void_p]
+    display = x11.XOpenDisplay(None)
+    event = ClientMessage(type=33, window=int(wid), format=32,  # 33: ClientMessage
+                          message_type=x11.XInternAtom(display, b"WM_PROTOCOLS", 0))
+    event.l[0] = x11.XInternAtom(display, b"WM_DELETE_WINDOW", 0)
+    x11.XSendEvent(display, int(wid), 0, 0, ctypes.byref(event))
+    x11.XFlush(display)
+    x11.XCloseDisplay(display)
+
+
 def drive(out: Path) -> None:
     log = out / "app.log"
     cmd = [sys.executable, "-c", APP, "--preset", "fern", "--seed", "2",
@@ -116,7 +146,15 @@ def session(app: subprocess.Popen, log: Path) -> dict:
     click(wid, shoot[0] + shoot[2] / 2, shoot[1] + shoot[3] / 2)  # the button, not S
     wait_for(log, r"screenshot: ")
     place, phone_place = xdo("getwindowgeometry", wid), xdo("getwindowgeometry", phone)
-    xdo("key", "Escape")  # over the panel: the window's key (the field is not typed into)
+    xdo("mousemove", "--window", wid, *map(str, EMPTY))
+    xdo("key", "m")  # over the panel: the window's key (the field is not typed into)
+    wait_for(log, r"panel: hidden")
+    xdo("mousemove", "--window", phone, "5", "5")
+    xdo("key", "m")
+    wait_for(log, r"panel: shown", 2)
+    close_window(window_id(name=PANEL))
+    wait_for(log, r"panel: hidden", 2)  # closed: hidden, the app goes on
+    xdo("key", "Escape")
     return {"status": app.wait(timeout=15), "hc_box": hc, "panel_at": place,
             "phone_at": phone_place}
 
@@ -168,6 +206,11 @@ def test_a_dragged_slider_is_one_change_recorded_with_its_tick(run):
     assert all(isinstance(e["tick"], int) and e["tick"] >= 0 for e in (drag, key, load))
     first = Params(**run["session"].params)
     assert Params(**drag["params"]) == first.replace(hc=said[0], step=first.step)
+
+
+def test_m_over_the_panel_hides_it_and_closing_its_window_does_too(run):
+    said = re.findall(r"panel: (shown|hidden)", run["log"])
+    assert said == ["shown", "hidden", "shown", "hidden"], run["log"][-2000:]
 
 
 def test_a_click_on_the_panel_plants_no_seed(run):
