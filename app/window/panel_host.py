@@ -113,12 +113,8 @@ class PanelHost:
         if self.window is None and not self._open():
             return
         self.visible = not self.visible
-        now = time.monotonic()
         if self.visible:
-            self.shown_at = now
-        else:
-            self.shown_s += now - self.shown_at
-        if self.visible:
+            self.shown_at = time.monotonic()
             x, y = self._beside_phone()
             glfw.set_window_pos(self.window, x, y)
             glfw.show_window(self.window)
@@ -126,6 +122,7 @@ class PanelHost:
             log.info("panel: shown (its own window, %dx%d at %d,%d)",
                      *glfw.get_window_size(self.window), x, y)
         else:
+            self.shown_s += time.monotonic() - self.shown_at
             glfw.hide_window(self.window)
             log.info("panel: hidden")
 
@@ -134,7 +131,7 @@ class PanelHost:
         window = open_side_window((WIDTH, height), TITLE)
         if window is None:
             glfw.make_context_current(self.phone)
-            log.warning("panel: its window could not open (see GLFW's error above)")
+            log.warning("panel: its window could not open")
             return False
         try:
             self.ctx = moderngl.create_context()
