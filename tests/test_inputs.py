@@ -235,12 +235,12 @@ OVERRIDES = {"--hc", "--D", "--humidity", "--water-budget", "--step", "--active-
              "--pane-sites", "--temperature", "--touch-water", "--look", "--order-hits",
              "--max-order", "--water-far", "--near-water", "--vapour-var", "--frame-chill"}
 HELP_LISTS = {
-    "replay": {"--help", "--headless", "--ticks", "--out", "--melt-radius", "--session-dir",
+    "replay": {"--help", "--params", "--headless", "--ticks", "--out", "--melt-radius", "--session-dir",
                "--screenshot-dir", "--scale", "--max-seconds", "--background"},
-    "figure8": {"--help", "--seed", "--ticks", "--touch", "--background"} | OVERRIDES,
+    "figure8": {"--help", "--params", "--seed", "--ticks", "--touch", "--background"} | OVERRIDES,
     "render": {"--help", "--preset", "--window-frost", "--params", "--seed", "--touch", "--ticks", "--out",
                "--melt", "--melt-path", "--melt-radius", "--background"} | OVERRIDES,
-    "bench render": {"--help", "--preset", "--seed", "--frames", "--cover", "--max-ticks",
+    "bench render": {"--help", "--preset", "--params", "--seed", "--frames", "--cover", "--max-ticks",
                      "--background"},
     "maps": {"--help", "--preset", "--window-frost", "--params", "--seed", "--size", "--tile", "--normal-y",
              "--touch", "--ticks"} | OVERRIDES}

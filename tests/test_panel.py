@@ -7,15 +7,18 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import types
 
+import glfw
+import numpy as np
 import pytest
 from imgui_bundle import imgui
+from PIL import Image
 
 from app.cli import main
 from app.simthread.thread import SimThread
 from app.window.actions import Actions
 from app.window.panel import BUTTONS, FIELDS, GROUPS, SPECS, TuningPanel, tooltip, why_off
-from app.window.view import cursor_to_phone
 from sim import Params, tuning
 from sim.params import _validate
 from sim.paramsets import ParamsFileError, load_params, save_params
@@ -214,24 +217,78 @@ def test_loading_a_set_keeps_the_sessions_grid_spacing(tmp_path):
     assert actions.params == wanted.replace(grid_spacing=4)
 
 
-# ---- where the phone is when the panel is shown -----------------------------------------
+# ---- the panel's window: when it redraws, what its cost reads ---------------------------
 
 
-@pytest.mark.parametrize("panel, cursor, want", [
-    (400, (380, 640), (380.0, 640.0)),  # 760 + 400 px wide: the phone at the left edge
-    (400, (759, 0), (759.0, 0.0)),
-    (400, (760, 640), None),  # the panel's first column
-    (400, (1100, 100), None),
-    (0, (580, 640), (380.0, 640.0)),  # the same window with no panel: letterboxed, centred
-])
-def test_a_click_maps_to_the_phone_left_of_the_panel_and_never_on_it(panel, cursor, want):
-    assert cursor_to_phone(cursor, (1160, 1280), (1160, 1280), panel=panel) == want
+class Backdrop(FakeActions):
+    def __init__(self, params: Params):
+        super().__init__(params)
+        self.shown = "dusk"
+
+    def backdrop(self) -> str:
+        return self.shown
 
 
-def test_on_a_hidpi_screen_the_panel_is_counted_in_framebuffer_px():
-    # Window 580x640 (half the framebuffer), panel 400 framebuffer px: phone 760 fb px wide.
-    assert cursor_to_phone((190, 320), (580, 640), (1160, 1280), panel=400) == (380.0, 640.0)
-    assert cursor_to_phone((385, 320), (580, 640), (1160, 1280), panel=400) is None
+@pytest.fixture
+def host():
+    from app.window.panel_host import PanelHost
+
+    made = PanelHost(None, Backdrop(Params.preset("fern")))  # no window: nothing drawn
+    yield made
+    imgui.destroy_context(made.context)
+
+
+def test_the_panel_redraws_on_input_or_a_change_and_not_otherwise(host, monkeypatch):
+    monkeypatch.setattr(glfw, "get_window_attrib", lambda *_: True)  # focused; no window here
+    actions, t = host.actions, 100.0
+    assert not host.due(host._state(), t)  # hidden
+    host.visible, host.wanted = True, 0
+    host.drawn_state, host.drawn_at = host._state(), t
+    assert not host.due(host._state(), t + 5)  # idle: its pixels stay
+    for change in (lambda: setattr(actions, "params", actions.params.replace(hc=8.0, step=5.0)),
+                   lambda: setattr(actions, "preset", "c-2"),
+                   lambda: setattr(actions, "shown", "lockscreen")):
+        change()
+        assert host.due(host._state(), t)
+        host.drawn_state = host._state()
+        assert not host.due(host._state(), t + 5)
+    host._mouse_moved(10.0, 20.0)  # a hover: twice, not sooner than 0.1 s after the last
+    assert host.wanted == 2 and not host.due(host._state(), t + 0.05)
+    assert host.due(host._state(), t + 0.11)
+    host._button(glfw.MOUSE_BUTTON_LEFT, glfw.PRESS)  # a click: at once, and the drag after it
+    assert host.wanted == 3 and host.due(host._state(), t + 0.01)
+    host.hurry, host.wanted = False, 0
+    host._mouse_moved(12.0, 20.0)
+    assert host.wanted == 3 and host.due(host._state(), t + 0.01)
+
+
+def test_closing_the_panels_window_hides_it_and_keeps_it_for_later(host, monkeypatch):
+    calls = []
+    for name in ("set_window_should_close", "hide_window"):
+        monkeypatch.setattr(glfw, name, lambda *a, name=name: calls.append((name, *a[1:])))
+    host.window, host.visible = "the panel's window", True
+    host._closed()  # GLFW's close callback
+    assert not host.visible and host.window is not None  # hidden, not destroyed: M shows it
+    assert calls == [("set_window_should_close", False), ("hide_window",)]
+
+
+def test_the_panels_cost_is_its_recent_redraws_shared_among_the_phones_frames(host):
+    import time
+
+    from app.window.status import Status
+
+    now = time.perf_counter()
+    host._add_cost(now - 3.0, 100.0)
+    assert host.readout(20) is None  # hidden: no cost shown
+    host.visible = True
+    assert host.readout(20) == "panel 0.00 ms/frame (0 redraws)"  # idle for over 2 s
+    for age, ms in ((1.5, 6.0), (0.5, 4.0)):
+        host._add_cost(now - age, ms)
+    text = host.readout(20)
+    assert text == "panel 0.50 ms/frame (2 redraws, 5.0 ms each)"  # (6 + 4) / 20 by hand
+    lines = Status().lines(now, None, Params(), types.SimpleNamespace(
+        show_features=True, show_bumps=True, light=(0.0, 0.0, 1.0)), None, 3.0, text)
+    assert lines[1].endswith("  " + text)  # the second line: in the log's stats lines too
 
 
 # ---- parameter sets --------------------------------------------------------------------
@@ -273,7 +330,9 @@ def test_a_bad_set_is_one_line_naming_the_file_and_the_problem(tmp_path, case):
     assert why in str(err.value) and "\n" not in str(err.value) and "set.json" in str(err.value)
 
 
-@pytest.mark.parametrize("command", [["render"], ["maps", "MAPS"], ["figure", "fern", "F.png"], []])
+@pytest.mark.parametrize("command", [["render"], ["maps", "MAPS"], ["figure", "fern", "F.png"], [],
+                                     ["figure8", "F.png"], ["bench", "render"],
+                                     ["replay", "S.json"]])
 def test_params_on_the_command_line_refuses_a_bad_file_in_one_line(tmp_path, capsys, command):
     bad = tmp_path / "bad.json"
     bad.write_text('{"params": {"hc": 0.5}}')
@@ -297,3 +356,92 @@ def test_params_with_overrides_on_top(tmp_path, monkeypatch):
     with pytest.raises(SystemExit) as stop:
         main(["render", "--params", str(path), "--preset", "c-2"])
     assert stop.value.code == 2
+
+
+# ---- --params on the offline commands ------------------------------------------------------
+
+TABLE1 = ("a-1", "a-2", "a-3", "b-1", "b-2", "b-3", "c-1", "c-2", "c-3")
+A_SET = Params.preset("fern", bump=2.0, drift=4.0, humidity=5000, water_budget=7000)
+
+
+class Stop(Exception):
+    pass
+
+
+def test_figure8_grows_each_preset_under_the_sets_other_fields(tmp_path, monkeypatch):
+    from app.tools import figure8
+
+    path = save_params(tmp_path / "set.json", A_SET)
+    got = {}
+
+    def grown(ctx, seed, ticks, touch, overrides, view):
+        got.update(overrides)
+        raise RuntimeError("stopped here")  # run reports it: status 1
+
+    monkeypatch.setattr(figure8, "make_context", lambda: None)
+    monkeypatch.setattr(figure8, "make_figure8", grown)
+    assert main(["figure8", str(tmp_path / "f.png"), "--params", str(path), "--tip-hits", "7"]) == 1
+    for name in TABLE1:  # by hand: Table 1's three, step fitted to hc, the set's rest
+        table = Params.preset(name)
+        want = {**A_SET.as_dict(), "D": table.D, "hc": table.hc, "humidity": table.humidity,
+                "step": min(Params.step, table.hc), "tip_hits": 7}
+        assert Params.preset(name, **got).as_dict() == want
+
+
+@pytest.mark.parametrize("argv, want", [
+    ([], Params.preset("c-2")),  # its own default, not the window's
+    (["--preset", "b-1"], Params.preset("b-1")),
+    (["--params", "SET"], A_SET),
+])
+def test_bench_render_grows_the_set_or_its_preset(tmp_path, monkeypatch, argv, want):
+    from app.tools import bench
+
+    path = save_params(tmp_path / "set.json", A_SET)
+    seen = []
+
+    def look(ctx, params, name, view):
+        seen.append(params)
+        raise Stop
+
+    ctx = types.SimpleNamespace(simple_framebuffer=lambda *_, **__: None)
+    monkeypatch.setattr(bench, "make_context", lambda: ctx)
+    monkeypatch.setattr(bench, "Look", look)
+    with pytest.raises(Stop):
+        main(["bench", "render", *[str(path) if a == "SET" else a for a in argv]])
+    assert seen == [want]
+
+
+def test_a_what_if_replay_is_the_session_under_the_set(tmp_path, monkeypatch):
+    from app.tools.replay import under
+
+    looked = A_SET.replace(hc=5.0, step=5.0).as_dict()
+    events = [{"tick": 3, "kind": "touch", "x": 100.0, "y": 200.0},
+              {"tick": 9, "kind": "params", "params": Params.preset("c-2").as_dict()},
+              {"tick": 4, "kind": "params", "params": Params.preset("c-2", look="paper").as_dict()},
+              {"tick": 6, "kind": "clear"}]
+    log = SessionLog(4, Params.preset("c-1", look="paper").as_dict(), events=events, steps=20)
+    what_if = under(log, A_SET, "set.json")
+    assert what_if.params == A_SET.replace(look="paper").as_dict() != looked
+    assert what_if.events[1]["params"] == A_SET.replace(look=Params.look).as_dict()
+    assert what_if.events[2]["params"] == A_SET.replace(look="paper").as_dict()
+    assert [e for i, e in enumerate(what_if.events) if i in (0, 3)] == [events[0], events[3]]
+    assert (what_if.seed, what_if.steps) == (4, 20)
+
+
+def test_a_what_if_replay_draws_what_a_session_run_with_the_set_draws(tmp_path):
+    """The oracle: the same session written by hand with the set's parameters (the look
+    the session's)."""
+    events = [{"tick": 2, "kind": "touch", "x": 380.0, "y": 640.0}]
+    session = SessionLog(1, Params.preset("c-2").as_dict(), events=events, steps=40)
+    twin = SessionLog(1, A_SET.replace(look="paper").as_dict(), events=events, steps=40)
+    path = save_params(tmp_path / "set.json", A_SET)
+    outs = []
+    for name, log, extra in (("s", session, ["--params", str(path)]), ("t", twin, [])):
+        out = tmp_path / f"{name}.png"
+        assert main(["replay", str(log.save(tmp_path / f"{name}.json")), "--headless",
+                     "--out", str(out), *extra]) == 0
+        outs.append(np.asarray(Image.open(out).convert("RGB")))
+    plain = tmp_path / "plain.png"
+    assert main(["replay", str(tmp_path / "s.json"), "--headless", "--out", str(plain)]) == 0
+    assert np.array_equal(outs[0], outs[1])
+    assert not np.array_equal(outs[0], np.asarray(Image.open(plain).convert("RGB")))

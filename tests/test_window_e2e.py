@@ -80,9 +80,9 @@ def xdo(*args: str) -> str:
                           timeout=30).stdout
 
 
-def window_id(timeout: float = 60) -> str:
-    """The app's window (waits up to `timeout` s until it is mapped)."""
-    return subprocess.run(["xdotool", "search", "--sync", "--onlyvisible", "--name", "^frost$"],
+def window_id(timeout: float = 60, name: str = "^frost$") -> str:
+    """The app's window titled `name` (waits up to `timeout` s until it is mapped)."""
+    return subprocess.run(["xdotool", "search", "--sync", "--onlyvisible", "--name", name],
                           check=True, capture_output=True, text=True,
                           timeout=timeout).stdout.split()[0]
 

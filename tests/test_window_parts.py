@@ -645,11 +645,16 @@ def test_the_scripted_scribble_presses_the_windows_own_tuning_keys(start):
     assert pressed[-9] == Params.preset("a-1")  # the paper's a-1, whatever look it left
 
 
-def test_without_imgui_the_panel_key_says_why_and_input_stays_the_windows():
+def test_without_imgui_the_panel_key_says_why_and_the_panel_costs_nothing():
     from app.window.no_panel import WHY, NoPanel
 
     said: list[str] = []
     panel = NoPanel(said.append)
     panel.toggle()
     assert said == [WHY] and "Python 3.11" in WHY
-    assert not panel.on_key(0, 1) and not panel.on_button(0, 1) and not panel.needs_frame()
+    panel.frame(True)
+    assert not panel.needs_frame() and panel.readout(25) is None  # no cost on the stats line
+    host = pytest.importorskip("app.window.panel_host").PanelHost
+    used = {"toggle", "needs_frame", "frame", "readout", "close"}  # what FrostWindow calls
+    assert used <= {n for n in dir(host) if not n.startswith("_")}
+    assert used <= {n for n in dir(NoPanel) if not n.startswith("_")}

@@ -155,11 +155,13 @@ def _render(args: argparse.Namespace, params: Params) -> int:
 
 
 def _replay(args: argparse.Namespace, params: Params) -> int:
+    """The session's parameters, or with --params a what-if replay under `params`."""
+    what_if = params if args.params_file else None
     if _replay_headless(args) or display_problem():
         from app.tools import replay
-        return replay.run(args)  # the session file sets the parameters
+        return replay.run(args, what_if)
     try:
-        params = _windowed_replay(args)
+        params = _windowed_replay(args, what_if)
     except SessionError as err:
         print(f"{PROG}: error: {err}", file=sys.stderr)
         return 2
@@ -167,11 +169,14 @@ def _replay(args: argparse.Namespace, params: Params) -> int:
     return frost_window.run(args, params)
 
 
-def _windowed_replay(args: argparse.Namespace) -> Params:
-    """Load the replay's session into args (seed, events) for the window; its parameters."""
-    from app.tools.replay import load_session
+def _windowed_replay(args: argparse.Namespace, what_if: Params | None = None) -> Params:
+    """Load the replay's session into args (seed, events) for the window; its parameters
+    (those of `what_if` if given, see replay.under)."""
+    from app.tools.replay import load_session, under
 
     log_ = load_session(args.replay)
+    if what_if is not None:
+        log_ = under(log_, what_if, args.params_file)
     args.seed, args.touch, args.script = log_.seed, [], log_.events
     args.view = view_from(args, log_.view)
     background = (args.view or {}).get("background")
@@ -185,7 +190,7 @@ def _windowed_replay(args: argparse.Namespace) -> Params:
 
 def _figure8(args: argparse.Namespace, params: Params) -> int:
     from app.tools.figure8 import run
-    return run(args)
+    return run(args, params if args.params_file else None)
 
 
 def _figure(args: argparse.Namespace, params: Params) -> int:
@@ -200,7 +205,7 @@ def _maps(args: argparse.Namespace, params: Params) -> int:
 
 def _bench_render(args: argparse.Namespace, params: Params) -> int:
     from app.tools.bench import run
-    return run(args)
+    return run(args, params)
 
 
 RUN = {None: _window, "render": _render, "replay": _replay, "figure8": _figure8,

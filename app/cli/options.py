@@ -32,10 +32,24 @@ def add_preset(p) -> None:
                    help="the frosted window: frost nucleates on the screen's frame and a few pane "
                         "sites and grows over the whole pane, no touch needed (preset window, or "
                         "window mode on top of --preset, whose grains it turns on; default off)")
+    add_params(p, "used instead of a preset")
+
+
+# What each command does with --params FILE (a set saved from the panel, or a session).
+SET_FILE = ("a parameter set, a JSON file saved from the window's panel (or a session file: "
+            "its first parameters)")
+FIGURE8_SET = ("its fields other than Table 1's D, hc and humidity (and step, which each preset "
+               "fits to its hc) apply on top of each of the nine presets: Fig. 8 under the "
+               "set's walkers, rules and look")
+REPLAY_SET = ("a what-if replay: the session's touches, melts and clears under the set's "
+              "parameters; each parameter change of the session becomes the set again (with the "
+              "change's look), so its rebuilds fall where they fell; the log says so")
+
+
+def add_params(p, what: str, overrides: bool = True) -> None:
+    on_top = "; the overrides apply on top" if overrides else ""
     p.add_argument("--params", dest="params_file", metavar="FILE.json",
-                   help="a parameter set instead of a preset: a JSON file saved from the window's "
-                        "panel (or a session file: its first parameters); the overrides below "
-                        "apply on top (default none)")
+                   help=f"{SET_FILE}: {what}{on_top} (default none)")
 
 
 def add_background(p) -> None:
@@ -156,7 +170,8 @@ def params_from(args: argparse.Namespace) -> Params:
         overrides.setdefault("window_frost", True)
         overrides.setdefault("grains", True)  # window mode needs them; Table 1 has them off
         return Params.preset(preset or "window", **overrides)
-    return Params.preset(preset or DEFAULT_PRESET, **overrides)
+    default: str = getattr(args, "default_preset", DEFAULT_PRESET)  # bench render: c-2
+    return Params.preset(preset or default, **overrides)
 
 
 def _from_file(args: argparse.Namespace, preset: str | None, overrides: dict) -> Params:

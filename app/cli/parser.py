@@ -17,6 +17,7 @@ from sim.screen import HEIGHT, WIDTH
 
 PROG = "frost"
 FIGURES = ("fern",)
+BENCH_PRESET = "c-2"  # the renderer's benchmark grows Table 1's c-2 unless told otherwise
 
 
 class Parser(argparse.ArgumentParser):
@@ -111,6 +112,7 @@ def _replay(root: Parser, subs) -> None:
                      "display exists; headless (a PNG after --ticks) with --headless, --out or "
                      "--ticks, or with no display.", "FILE.json [options]")
     p.add_argument("replay", metavar="FILE.json", help="the session file")
+    options.add_params(p, options.REPLAY_SET, overrides=False)
     options.add_background(p)
     g = p.add_argument_group("headless")
     g.add_argument("--headless", action="store_true", help="render offscreen, no window (default off)")
@@ -124,6 +126,7 @@ def _figure8(root: Parser, subs) -> None:
                      "Render the nine Table 1 presets (a-1 ... c-3) from one touch into a 3x3 "
                      "sheet (Fig. 8), print each preset's numbers, and exit.", "FILE.png [options]")
     p.add_argument("out", metavar="FILE.png", help="the sheet to write")
+    options.add_params(p, options.FIGURE8_SET)
     options.add_seed(p)
     options.add_ticks(p, options.DEFAULT_TICKS, "how long each preset grows")
     options.add_touch(p, "the one touch", "the centre, 380,640")
@@ -183,8 +186,10 @@ def _bench(root: Parser, subs) -> None:
 
 
 def _bench_render(p: Parser) -> None:
-    p.add_argument("--preset", choices=list(all_presets()), default="c-2", metavar="NAME",
-                   help="parameter set to grow (default c-2)")
+    p.add_argument("--preset", choices=list(all_presets()), metavar="NAME",
+                   help=f"parameter set to grow (default {BENCH_PRESET})")
+    options.add_params(p, "grown and rendered (in each look) instead of a preset")
+    p.set_defaults(default_preset=BENCH_PRESET)
     options.add_seed(p)
     p.add_argument("--frames", type=values.count, default=60, metavar="N",
                    help="frames to time, frames (default 60)")

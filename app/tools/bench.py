@@ -124,20 +124,21 @@ def time_frames(ctx, looks: list[Look], fbo, frames: int) -> None:
             look.frame(ctx, fbo)
 
 
-def run(args) -> int:
-    """`frost bench render [--preset NAME] [--seed N] [--frames N] [--cover F] [--max-ticks N]`:
-    the paper's look and the glass look on the same frost, in one run."""
+def run(args, params: Params) -> int:
+    """`frost bench render [--preset NAME | --params FILE] [--seed N] [--frames N] [--cover F]
+    [--max-ticks N]`: the paper's look and the glass look on the same frost (`params`, the
+    command line's), in one run."""
     try:
         ctx = make_context()
     except RuntimeError as err:
         print(f"frost: error: {err}", file=sys.stderr)
         return 1
-    params = Params.preset(args.preset)
     fbo = ctx.simple_framebuffer((WIDTH, HEIGHT), components=4)
     looks = [Look(ctx, params, name, view_from(args)) for name in LOOKS]
     sim = grow(ctx, params, args.seed, args.cover, args.max_ticks, looks, fbo)
     time_frames(ctx, looks, fbo, args.frames)
-    result = {"preset": args.preset, "ticks": sim.tick,
+    grown = args.params_file or args.preset or args.default_preset
+    result = {"preset": grown, "ticks": sim.tick,
               "frosted": round(covered(looks[0].geometry), 3), "crystals": len(sim.crystals),
               "segments": len(sim.segments), **{look.name: look.result() for look in looks},
               "renderer": ctx.info["GL_RENDERER"], "load_average": round(os.getloadavg()[0], 2)}

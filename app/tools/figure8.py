@@ -31,6 +31,8 @@ TITLE_H = 22  # band at the top of the sheet, px
 ROWS, COLS = "abc", "123"
 CORE_RADIUS = 25.0  # px around the touch in which the centre density is counted
 GROWTH_MARK = 100.0  # px of extent whose first tick measures the growth speed
+# A --params set's fields that Fig. 8 leaves to each preset: Table 1's, and step (at most hc).
+SET_SKIPS = ("D", "hc", "humidity", "step")
 
 
 @dataclass(frozen=True)
@@ -144,12 +146,21 @@ def make_figure8(ctx, seed: int = 0, ticks: int = 250, touch=(380.0, 640.0),
     return compose(frames, title), stats
 
 
-def run(args) -> int:
-    """`frost figure8 FILE.png [--seed N] [--ticks N] [--touch X,Y]` (checked by the
-    command line: one touch at most, on the screen)."""
+def set_overrides(params: Params) -> dict:
+    """What a parameter set changes in each Table 1 preset: every field but those Table 1
+    sets (and step, which a preset fits to its own hc)."""
+    return {k: v for k, v in params.as_dict().items() if k not in SET_SKIPS}
+
+
+def run(args, on_top: Params | None = None) -> int:
+    """`frost figure8 FILE.png [--params FILE] [--seed N] [--ticks N] [--touch X,Y]` (checked
+    by the command line: one touch at most, on the screen). `on_top`: the --params set,
+    whose fields but Table 1's (SET_SKIPS) apply to every preset, the overrides after."""
     touch = args.touch[0] if args.touch else (WIDTH / 2, HEIGHT / 2)
     overrides = {n: getattr(args, n) for n, _, _ in Params.describe()
                  if getattr(args, n, None) is not None}
+    if on_top is not None:
+        overrides = {**set_overrides(on_top), **overrides}
     try:
         ctx = make_context()
         sheet, stats = make_figure8(ctx, args.seed, args.ticks, touch, overrides,

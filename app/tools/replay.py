@@ -3,6 +3,8 @@ bit for bit, and written as a PNG."""
 
 from __future__ import annotations
 
+import dataclasses
+import logging
 import sys
 from pathlib import Path
 
@@ -14,6 +16,8 @@ from sim import Params
 from sim.screen import HEIGHT, WIDTH
 from sim.session import SessionError, SessionLog
 
+log = logging.getLogger("app.replay")
+
 
 def load_session(path) -> SessionLog:
     """The session file `path` for this 760x1280 screen; SessionError saying why not."""
@@ -22,6 +26,23 @@ def load_session(path) -> SessionLog:
         raise SessionError(f"{path}: a {log_.width}x{log_.height} session; this app renders "
                            f"{WIDTH}x{HEIGHT}")
     return log_
+
+
+def under(log_: SessionLog, params: Params, name: str) -> SessionLog:
+    """The session `log_` as if run with `params` (the set in file `name`): its first
+    parameters and each of its parameter changes become `params` with the look the session
+    had there, so every change still rebuilds (or only redraws, a change of look) where it
+    did, and touches, melts and clears keep their ticks. Logged: it is not the session."""
+    events = [{**e, "params": _with_look(params, e["params"])} if e["kind"] == "params" else e
+              for e in log_.events]
+    changes = sum(e["kind"] == "params" for e in events)
+    log.info("replay: what if: the session's input under %s's parameters, not its own (its "
+             "first parameters and %d later changes replaced; its looks kept)", name, changes)
+    return dataclasses.replace(log_, params=_with_look(params, log_.params), events=events)
+
+
+def _with_look(params: Params, recorded: dict) -> dict:
+    return params.replace(look=recorded.get("look", Params.look)).as_dict()
 
 
 def replay_offscreen(ctx, log_: SessionLog, steps: int | None = None,
@@ -37,10 +58,13 @@ def replay_offscreen(ctx, log_: SessionLog, steps: int | None = None,
     return offscreen
 
 
-def run(args) -> int:
-    """`frost replay FILE.json` when headless; returns the exit status."""
+def run(args, what_if: Params | None = None) -> int:
+    """`frost replay FILE.json` when headless (under `what_if`'s parameters if given, see
+    `under`); returns the exit status."""
     try:
         log_ = load_session(args.replay)
+        if what_if is not None:
+            log_ = under(log_, what_if, args.params_file)
         ctx = make_context()
     except (SessionError, RuntimeError) as err:
         error(err)
@@ -53,6 +77,8 @@ def run(args) -> int:
         return 2
     timeline = offscreen.timeline
     offscreen.meta = {"session": str(args.replay), "replayed_steps": timeline.steps}
+    if what_if is not None:
+        offscreen.meta["what_if_params"] = str(args.params_file)
     path = Path(args.out) if args.out else timestamped_path(DEFAULT_FOLDER)
     return write(offscreen, path, f"replayed {args.replay}: {timeline.steps} steps, "
                                   f"{len(timeline.events)} events; wrote {{}}")

@@ -41,6 +41,7 @@ from sim.files import why
 log = logging.getLogger("app.window")
 
 IDLE_WAIT = 0.1  # s to wait for events while minimized or idle
+PANEL_WAIT = 0.02  # s, while the panel settles after an input (a few redraws)
 HELP = help_lines("\t")  # the help overlay, key and description in two columns
 
 
@@ -62,8 +63,8 @@ class FrostWindow:
                                self.recorder, lambda: self.latest, self.redraw, self.stop)
         self.pointer = Pointer(window, self.sizes, self.thread, args.melt_radius,
                                lambda: self.actions.params.hc, self.shown_tick, self.status.melted)
-        self.panel = PanelHost(window, self.presenter.ctx, self.sizes, self.actions) \
-            if PanelHost is not None else NoPanel(self.status.say)
+        self.panel = PanelHost(window, self.actions) if PanelHost is not None \
+            else NoPanel(self.status.say)
         self.actions.toggle_panel = self.panel.toggle
         self.latest: Snapshot | None = None
         self.running, self.exit_status = True, 0
@@ -76,12 +77,10 @@ class FrostWindow:
     def _connect(self) -> None:
         # Sizes come from callbacks: each GLFW call from Python waits for the GIL, which the
         # simulation thread may hold for a few ms, so the frame loop makes as few as it can.
-        w, panel = self.window, self.panel
-        glfw.set_key_callback(w, self._on_key)
-        glfw.set_char_callback(w, lambda _w, c: panel.on_char(c))
-        glfw.set_scroll_callback(w, lambda _w, dx, dy: panel.on_scroll(dx, dy))
-        glfw.set_mouse_button_callback(w, self._on_button)
-        glfw.set_cursor_pos_callback(w, self._on_cursor)
+        w = self.window
+        glfw.set_key_callback(w, self.actions.on_key)
+        glfw.set_mouse_button_callback(w, self.pointer.on_button)
+        glfw.set_cursor_pos_callback(w, self.pointer.on_cursor)
         glfw.set_framebuffer_size_callback(w, self._on_framebuffer)
         glfw.set_window_size_callback(w, self._on_window_size)
         glfw.set_window_iconify_callback(w, lambda _w, on: setattr(self, "iconified", bool(on)))
@@ -89,26 +88,10 @@ class FrostWindow:
 
     def _on_framebuffer(self, _window, w: int, h: int) -> None:
         self.sizes.framebuffer = (w, h)
-        self.panel.on_resize()
         self.damaged = True
 
     def _on_window_size(self, _window, w: int, h: int) -> None:
         self.sizes.window = (w, h)
-        self.panel.on_resize()
-
-    # The panel sees input first: a click on it or a key typed into its text field goes
-    # no further; the phone and the keys get the rest as before.
-    def _on_key(self, window, key, scancode, action, mods) -> None:
-        if not self.panel.on_key(key, action):
-            self.actions.on_key(window, key, scancode, action, mods)
-
-    def _on_button(self, window, button, action, mods) -> None:
-        if not self.panel.on_button(button, action):
-            self.pointer.on_button(window, button, action, mods)
-
-    def _on_cursor(self, window, x, y) -> None:
-        self.panel.on_cursor(x, y)
-        self.pointer.on_cursor(window, x, y)
 
     def redraw(self) -> None:
         self.dirty = True
@@ -143,7 +126,7 @@ class FrostWindow:
                 self.new_ticks = 0  # nothing to record while nothing is shown
             else:
                 self._frame()
-            glfw.wait_events_timeout(IDLE_WAIT)
+            glfw.wait_events_timeout(PANEL_WAIT if self.panel.needs_frame() else IDLE_WAIT)
         self.running = False
         if self.ended_by is not None:
             log.info("window: %s received: closing", self.ended_by.name)
@@ -216,15 +199,15 @@ class FrostWindow:
         if self.new_ticks and self.recorder.active:  # each frame lasts until the next
             self.recorder.offer(self.presenter.read_phone)
         self.new_ticks = 0
-        if self.dirty or now >= self.status.hud_next or self.damaged or self.panel.needs_frame():
+        if self.dirty or now >= self.status.hud_next or self.damaged:
             self._present(now)
         if drawn:
             self.status.drawing.drew(now)
+        self.panel.frame(drawn)
 
     def _present(self, now: float) -> None:
         self.status.refresh(now, self._stats_lines)
-        self.presenter.present(self.sizes.framebuffer, self.status.stats, HELP, self.sizes.panel)
-        self.panel.draw()
+        self.presenter.present(self.sizes.framebuffer, self.status.stats, HELP)
         glfw.swap_buffers(self.window)
         self.dirty = self.damaged = False
         self.status.presented(now, self._stats_lines)
@@ -233,7 +216,8 @@ class FrostWindow:
         rec = self.recorder
         return self.status.lines(now, self.latest, self.actions.params, self.presenter.renderer,
                                  f"REC {rec.count} frames" if rec.active else None,
-                                 self.presenter.render_ms)
+                                 self.presenter.render_ms,
+                                 self.panel.readout(len(self.status.drawing.times)))
 
 
 def _changes(delta) -> bool:

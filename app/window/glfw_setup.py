@@ -48,6 +48,21 @@ def open_window(scale: float | None) -> tuple:
     return window, scale
 
 
+def open_side_window(size: tuple[int, int], title: str):
+    """A second window with an OpenGL context of its own, hidden until shown, that does
+    not take the keyboard from the phone when shown; None if it cannot open. Its context
+    is left current (the caller makes the phone's current again)."""
+    _window_hints()
+    glfw.window_hint(glfw.VISIBLE, False)
+    glfw.window_hint(glfw.FOCUS_ON_SHOW, False)
+    window = glfw.create_window(*size, title, None, None)
+    glfw.default_window_hints()
+    if window:
+        glfw.make_context_current(window)
+        glfw.swap_interval(0)  # the phone's swap waits for the screen; one wait a frame
+    return window or None
+
+
 def _window_hints() -> None:
     """Every GLFW hint in one place: OpenGL 3.3 core (runs the GLSL ES 3.00 shaders)."""
     glfw.default_window_hints()

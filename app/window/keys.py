@@ -75,8 +75,8 @@ BINDINGS: tuple[Binding, ...] = (
     Binding(("RIGHT",), "Right", "light from further right", "light", (LIGHT_STEP, 0.0)),
     Binding(("UP",), "Up", "light from further up", "light", (0.0, -LIGHT_STEP)),
     Binding(("DOWN",), "Down", "light from further down", "light", (0.0, LIGHT_STEP)),
-    Binding(("M", "F1"), "M F1", "tuning panel on / off (sliders, presets, sets; off at start)",
-            "toggle_panel"),
+    Binding(("M", "F1"), "M F1", "tuning panel on / off, a window beside the phone (sliders, "
+            "presets, sets; off at start)", "toggle_panel"),
     Binding(("TAB", "U"), "Tab U", "HUD on / off", "toggle_hud"),
     Binding(("H",), "H", "this help on / off", "toggle_help"),
     Binding(("ESCAPE",), "Esc", "quit", "quit"),

@@ -20,29 +20,14 @@ class NoPanel:
     def toggle(self) -> None:
         self.say(WHY)
 
-    def on_resize(self) -> None:
-        pass
-
     def needs_frame(self) -> bool:
         return False
 
-    def on_cursor(self, x: float, y: float) -> None:
+    def frame(self, phone_drawn: bool) -> None:
         pass
 
-    def on_button(self, button: int, action: int) -> bool:
-        return False
-
-    def on_scroll(self, dx: float, dy: float) -> None:
-        pass
-
-    def on_char(self, codepoint: int) -> None:
-        pass
-
-    def on_key(self, key: int, action: int) -> bool:
-        return False
-
-    def draw(self) -> None:
-        pass
+    def readout(self, phone_frames: int) -> str | None:
+        return None
 
     def close(self) -> None:
         pass

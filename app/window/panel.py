@@ -46,7 +46,7 @@ LOG_RATIO = 100.0
 OPEN_END = 1e-3
 DEFAULT_SET = "frost-params.json"
 TOOLTIP_WIDTH = 360  # px
-COSTS_KEPT = 240  # the panel's frame costs kept for the median
+COSTS_KEPT = 240  # the panel's redraw costs kept for the median
 
 
 @dataclass(frozen=True)
@@ -121,13 +121,13 @@ SPECS = {name: spec(f) for name, f in FIELDS.items()}
 class TuningPanel:
     """Draws the widgets each frame (between imgui.new_frame and imgui.render). `actions`
     is the window's Actions: `params` (what was asked for last), `preset` (the last preset
-    chosen), `backdrop()` and `run(action, arg)`; `costs` are the panel's frame times."""
+    chosen), `backdrop()` and `run(action, arg)`; `costs` are the times of its redraws."""
 
     def __init__(self, actions):
         self.actions = actions
         self.editing: dict[str, Any] = {}  # a slider's value while it is dragged
         self.path = DEFAULT_SET
-        self.costs: list[float] = []  # ms a frame, the last COSTS_KEPT
+        self.costs: list[float] = []  # ms a redraw, the last COSTS_KEPT
         self.rects: dict[str, tuple[float, float, float, float]] = {}  # widget boxes, window px
 
     def draw(self) -> None:
@@ -140,7 +140,7 @@ class TuningPanel:
                 for name in names:
                     self._param(params, name)
         if self.costs:
-            imgui.text_disabled(f"panel {statistics.median(self.costs):.2f} ms a frame (median)")
+            imgui.text_disabled(f"panel {statistics.median(self.costs):.2f} ms a redraw (median)")
 
     def add_cost(self, ms: float) -> None:
         self.costs = [*self.costs[-COSTS_KEPT + 1:], ms]

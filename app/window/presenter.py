@@ -12,7 +12,7 @@ from app.gl.renderer import Renderer
 from app.gl.shaders import load_program
 from app.images import read_image
 from app.window.hud import Hud
-from app.window.view import PHONE, letterbox, phone_area
+from app.window.view import PHONE, letterbox
 from sim import Params
 
 BACKDROP = (0.08, 0.08, 0.09)  # the letterbox bars
@@ -47,16 +47,15 @@ class Presenter:
         """The phone frame last rendered, H x W x 3 uint8, top row first."""
         return read_image(self.phone)
 
-    def present(self, fb_size: tuple[int, int], stats: list[str], help_lines: list[str],
-                panel: int = 0) -> None:
-        """The phone letterboxed into the window's framebuffer (but the `panel` px on its
-        right), the HUD over it (the caller swaps buffers)."""
+    def present(self, fb_size: tuple[int, int], stats: list[str], help_lines: list[str]) -> None:
+        """The phone letterboxed into the window's framebuffer, the HUD over it (the caller
+        swaps buffers)."""
         ctx = self.ctx
         ctx.screen.use()
         ctx.viewport = (0, 0, *fb_size)
         ctx.screen.clear(*BACKDROP)
         ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND | moderngl.CULL_FACE)
-        ctx.viewport = letterbox(phone_area(fb_size, panel))
+        ctx.viewport = letterbox(fb_size)
         self.texture.use(0)
         self.quad.render(moderngl.TRIANGLE_STRIP, vertices=4)
         ctx.viewport = (0, 0, *fb_size)

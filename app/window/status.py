@@ -109,9 +109,10 @@ class Status:
             log.info("stats (%.1f s): %s", now - since, "  ".join(lines(now)[:3]))
 
     def lines(self, now: float, snap: Snapshot | None, params: Params, view, recording: str | None,
-              render_ms: float) -> list[str]:
+              render_ms: float, panel: str | None = None) -> list[str]:
         """The HUD's stats: `params` and the stats of the snapshot shown (else `params`), the
-        renderer's `view` switches, `recording` (e.g. "REC 12 frames") when on."""
+        renderer's `view` switches, `recording` (e.g. "REC 12 frames") when on, the tuning
+        panel's cost while it is shown (on the second line, which the log's lines keep)."""
         s = snap.stats if snap else NO_STATS
         p = snap.params if snap else params  # what the frame shows
         state = [w for w in ("PAUSED" if s.paused else None, recording) if w]
@@ -119,7 +120,7 @@ class Status:
         lines = [
             f"sim {s.rate:4.1f} ticks/s  tick median {s.tick_median_ms:4.1f} ms  "
             f"overruns {s.overruns}" + (f"  input waiting {s.waiting}" if s.waiting else ""),
-            f"drawing {drawing}  render {render_ms:4.1f} ms",
+            f"drawing {drawing}  render {render_ms:4.1f} ms" + (f"  {panel}" if panel else ""),
             f"tick {s.tick}  crystals {s.crystals}  water {s.water}  preset {preset_name(p)}",
             f"hc {p.hc:g}  D {p.D:g}  humidity {p.humidity}  step {p.step:g}  bump {p.bump:g}  "
             f"grow {onoff(p.grow)}",

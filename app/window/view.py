@@ -36,22 +36,16 @@ def letterbox(fb_size: tuple[int, int], phone: tuple[int, int] = PHONE) -> tuple
     return (fw - w) // 2, (fh - h) // 2, w, h
 
 
-def phone_area(fb_size: tuple[int, int], panel: int = 0) -> tuple[int, int]:
-    """The part of the framebuffer the phone is letterboxed into: all of it but the
-    `panel` px on the right that the tuning panel takes (at least 1 px wide)."""
-    return max(1, fb_size[0] - panel), fb_size[1]
-
-
 def cursor_to_phone(cursor: tuple[float, float], window_size: tuple[int, int],
-                    fb_size: tuple[int, int], phone: tuple[int, int] = PHONE, panel: int = 0):
+                    fb_size: tuple[int, int], phone: tuple[int, int] = PHONE):
     """Phone px (x, y from the top) under a cursor given in window coordinates (y from
     the top, as GLFW reports it), or None outside the phone. Window and framebuffer
-    sizes differ on HiDPI screens; `panel` framebuffer px on the right hold the panel."""
+    sizes differ on HiDPI screens."""
     (cx, cy), (ww, wh), (fw, fh) = cursor, window_size, fb_size
     if min(ww, wh, fw, fh) <= 0:
         return None
     fx, fy = cx * fw / ww, cy * fh / wh
-    vx, vy, vw, vh = letterbox(phone_area(fb_size, panel), phone)
+    vx, vy, vw, vh = letterbox(fb_size, phone)
     top = fh - vy - vh
     px, py = (fx - vx) * phone[0] / vw, (fy - top) * phone[1] / vh
     if touch_problem(px, py, phone):  # the rule sessions and the command line keep too
@@ -66,8 +60,7 @@ class Sizes:
 
     window: tuple[int, int]
     framebuffer: tuple[int, int]
-    panel: int = 0  # framebuffer px on the right that the tuning panel takes (0: hidden)
 
     def phone_at(self, cursor: tuple[float, float]):
         """Phone px under a cursor in window coordinates, or None outside the phone."""
-        return cursor_to_phone(cursor, self.window, self.framebuffer, panel=self.panel)
+        return cursor_to_phone(cursor, self.window, self.framebuffer)
