@@ -440,6 +440,14 @@ def test_a_name_too_long_is_refused_or_warned_of(stubbed, tmp_path, output, wher
     refused_or_warned(stubbed, output, status, err, "300 bytes long", str(path))
 
 
+@pytest.mark.parametrize("output", list(FOLDER_OUTPUTS) + list(WINDOW_OUTPUTS))
+def test_the_current_folder_is_a_folder_to_write_in(stubbed, tmp_path, monkeypatch, output):
+    # "." has no parts to measure: it crashed the length check ("max() arg is empty")
+    monkeypatch.chdir(tmp_path)
+    status, err = run_main(output_argv(OUTPUT_TEMPLATES[output], ".", tmp_path))
+    assert status == 0 and stubbed and err == "", err
+
+
 # /proc and /sys take no new files (even from root); only a file made there tells.
 PSEUDO = [p for p in ("/proc", "/sys") if os.path.isdir(p)]
 

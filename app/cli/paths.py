@@ -136,7 +136,7 @@ def _too_long(path: Path) -> str | None:
         limit = os.pathconf(_existing(path.absolute().parent), "PC_NAME_MAX")
     except (OSError, ValueError):
         limit = NAME_MAX
-    longest = max(path.parts, key=lambda part: len(os.fsencode(part)))
+    longest = max(path.parts, key=lambda part: len(os.fsencode(part)), default="")  # ("." has none)
     size = len(os.fsencode(longest))
     if size > limit:
         return f"a name in it is {size} bytes long; the file system allows {limit}"
