@@ -111,7 +111,7 @@ def test_no_two_crystals_closer_than_half_a_link_and_one_child_per_slot():
 
 def test_with_a_launch_circle_each_area_follows_its_own_ice():
     sim = grown(touches=((200, 300), (560, 980)), ticks=500, seed=2)
-    area, p = sim._carea.view(), sim.parents
+    area, p = sim.crystal_area, sim.parents
     child = np.flatnonzero(p >= 0)
     assert np.array_equal(area[child], area[p[child]])  # a tree's ice stays in its area
     c = sim.crystals.astype(np.float64)
@@ -164,7 +164,7 @@ def test_a_slot_grows_exactly_on_its_mth_hit():
 def record_jumps(sim, ticks):
     """Per tick: walkers before the walk, their chosen clearance, after the walk, areas,
     and the crystals at the tick's start."""
-    log, real_walk, real_radii = [], sim._walk, sim.clearance.radii
+    log, real_walk, real_radii = [], sim.walk, sim.clearance.radii
     seen = {}
 
     def radii(*a):
@@ -179,7 +179,7 @@ def record_jumps(sim, ticks):
         log.append((before, area, seen.get("rho"), sim.water.astype(np.float64),
                     sim.areas.astype(np.float64).copy(), live))
 
-    sim._walk, sim.clearance.radii = walk, radii
+    sim.walk, sim.clearance.radii = walk, radii
     for _ in range(ticks):
         sim.step()
     return log

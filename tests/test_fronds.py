@@ -100,7 +100,7 @@ def test_order_rises_only_on_side_branches_and_resets_at_a_melts_edge_which_keep
     before, seeds = order.copy(), sim.growth.seed.view().copy()
     sim.melt(150.0, 200.0, 30.0)
     c = sim.crystals.astype(np.float64)
-    edge = sim.crystal_alive & (np.hypot(c[:, 0] - 150, c[:, 1] - 200) < 30 + sim._longest_link + 1)
+    edge = sim.crystal_alive & (np.hypot(c[:, 0] - 150, c[:, 1] - 200) < 30 + sim.ice.longest_link + 1)
     assert edge.sum() > 3 and (before[edge] > 0).any()
     after = sim.growth.order.view()
     assert (after[edge] == 0).all() and (after[~edge] == before[~edge]).all()

@@ -11,7 +11,6 @@ from PIL import Image
 
 from app.cli import main
 from sim import FrostSim, Params
-from sim.fern import _nearest_d2
 
 TILE = (96, 80)
 
@@ -58,7 +57,7 @@ def test_periodic_nearest_crystal_matches_brute_force(seed, hc):
     across = within & ((x < 7) | (x > TILE[0] - 7) | (y < 7) | (y > TILE[1] - 7))
     assert across.sum() > 100  # the edges are what this is about
     assert np.array_equal(parents, parent[walkers])
-    d2 = _nearest_d2(sim, np.column_stack((x, y)))
+    d2 = sim.index.nearest_d2(np.column_stack((x, y)))
     assert np.allclose(d2[within], best[within], atol=1e-3)
 
 
@@ -235,12 +234,12 @@ def test_walkers_leaving_an_edge_come_in_at_the_opposite_one():
     from sim.periodic import wrap_into
 
     sim = FrostSim(Params.preset("window", frame_sites=0.0), *TILE, seed=3, wrap=True)
-    x0, y0 = sim._wx.view().copy(), sim._wy.view().copy()
+    x0, y0 = sim.water[:, 0], sim.water[:, 1]
     rng = copy.deepcopy(sim.rng)
-    dx, dy = walk_displacements(rng, len(x0), sim.params.step, sim._clearance(x0, y0))
-    sim._walk()
-    assert np.array_equal(sim._wx.view(), wrap_into(x0 + dx, TILE[0]))
-    assert np.array_equal(sim._wy.view(), wrap_into(y0 + dy, TILE[1]))
+    dx, dy = walk_displacements(rng, len(x0), sim.params.step, sim.jumps(x0, y0))
+    sim.walk()
+    assert np.array_equal(sim.water[:, 0], wrap_into(x0 + dx, TILE[0]))
+    assert np.array_equal(sim.water[:, 1], wrap_into(y0 + dy, TILE[1]))
     crossed = (x0 + dx < 0) | (x0 + dx >= TILE[0]) | (y0 + dy < 0) | (y0 + dy >= TILE[1])
     assert crossed.sum() >= 5
 

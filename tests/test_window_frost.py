@@ -216,7 +216,7 @@ def test_a_wipe_opens_all_six_slots_of_the_ice_at_its_edge():
     for _ in range(500):  # the pane is frosted
         sim.step()
     seeds_before = sim.growth.seed.view().copy()
-    reach = R + sim._longest_link + 1.0
+    reach = R + sim.ice.longest_link + 1.0
     sim.melt(30.0, 200.0, R)
     c = sim.crystals.astype(np.float64)
     d = np.hypot(c[:, 0] - 30.0, c[:, 1] - 200.0)

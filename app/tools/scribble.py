@@ -208,4 +208,4 @@ class _Seeds:
 def _on_ice(sim, x: float, y: float) -> bool:
     """Within hc of a live crystal: in a crystal's freezing area (the cells' lists hold
     every crystal that near, so this costs the ice around the touch)."""
-    return len(sim._crystals_near(x, y, sim.params.hc)) > 0
+    return len(sim.index.crystals_near(x, y, sim.params.hc)) > 0
