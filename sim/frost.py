@@ -12,22 +12,21 @@ Everything is plain numpy data; rendering reads the arrays and the per-tick `add
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from .core import budget, placement
 from .core.areas import Areas
-from .core.budget import CELL_CAP, FREEZE_WORK, within_cap
-from .core.placement import CELL_TRIES, CELL_WORK, TWO_PI, Placer
-from .core.skeleton import Skeleton, upsample
+from .core.budget import CELL_CAP, FREEZE_WORK
+from .core.placement import CELL_TRIES, CELL_WORK, Placer
+from .core.skeleton import Added, Melted, Skeleton, upsample
 from .core.supply import TOUCH_TRIES, Supply
+from .core.walk import on_screen_f32, outside, walk_displacements
 from .core.water import Water
 from .fern import make_growth
 from .index.freezing import FreezingIndex
 from .pane import chill, make_pane
 from .params import Params
-from .periodic import image_near, nearest_image, wrap_into
+from .periodic import image_near, wrap_into
 from .screen import HEIGHT, WIDTH, touch_problem
 
 __all__ = ["Added", "CELL_CAP", "CELL_TRIES", "CELL_WORK", "FREEZE_WORK", "FrostSim", "Melted",
@@ -38,47 +37,6 @@ __all__ = ["Added", "CELL_CAP", "CELL_TRIES", "CELL_WORK", "FREEZE_WORK", "Frost
 VERSION = 5
 _NONE = np.empty(0, np.int64)
 _PANE = np.zeros(1, np.int32)  # the pane's one area
-
-
-@dataclass(frozen=True)
-class Added:
-    """Index ranges appended since the previous tick (touches included)."""
-
-    tick: int
-    crystals: slice
-    upsampled: slice
-    segments: slice
-    frozen: int  # water particles that froze in this tick
-
-
-@dataclass(frozen=True)
-class Melted:
-    """What one `melt` removed (indices into crystals, upsampled, segments) and the
-    crystals that lost their parent and became roots of their own trees."""
-
-    crystals: np.ndarray
-    upsampled: np.ndarray
-    segments: np.ndarray
-    orphans: np.ndarray
-
-
-def walk_displacements(rng: np.random.Generator, m: int, step: float,
-                       jump: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Eq. 2: each walker moves a*(cos t, sin t), a ~ U[0, step], t ~ U[0, 2 pi).
-    A walker whose clearance `jump[i]` exceeds the step jumps that far instead (long jumps)."""
-    u = rng.random((2, m), dtype=np.float32)
-    a = u[0] * np.float32(step)
-    if jump is not None:
-        a = np.where(jump > step, jump, a)
-    theta = u[1] * TWO_PI
-    return a * np.cos(theta), a * np.sin(theta)
-
-
-def _on_screen_f32(pts: np.ndarray, width: int, height: int) -> np.ndarray:
-    """On-screen float64 points as float32, still on the screen: x = 759.99999999 would
-    round up to 760.0, off a 760 px screen, so it becomes the largest float32 below 760."""
-    edge = np.nextafter(np.array([width, height], np.float32), np.float32(0))
-    return np.minimum(pts.astype(np.float32), edge)
 
 
 def _check(name: str, v, low: int, high: int, what: str) -> None:
@@ -148,7 +106,7 @@ class FrostSim:
             problem = touch_problem(x, y, (self.width, self.height))
             if problem:
                 raise ValueError(problem)
-        pts32 = _on_screen_f32(pts, self.width, self.height)
+        pts32 = on_screen_f32(pts, self.width, self.height)
         opened = self._areas.n
         area = self._areas.areas_for(pts32, self.params.active_radius)
         seeds = self._add_crystals(pts32, np.full(len(pts), -1, np.int32), area)
@@ -289,8 +247,9 @@ class FrostSim:
         y += dy
         if self.wrap:  # a tile: a walker leaving one edge comes in at the opposite one
             x[:], y[:] = wrap_into(x, self.width), wrap_into(y, self.height)
-        self.supply.spent(_NONE, self.supply.relocate(np.flatnonzero(self._outside(x, y)),
-                                                      self.ice_state()))
+        left = outside(x, y, self._areas.columns(self._water.area.raw()),
+                       (self.width, self.height), self.wrap)
+        self.supply.spent(_NONE, self.supply.relocate(np.flatnonzero(left), self.ice_state()))
 
     def jumps(self, x: np.ndarray, y: np.ndarray) -> np.ndarray | None:
         """Long jumps: the clearance of walkers at (x, y), each in its own area (None
@@ -299,15 +258,6 @@ class FrostSim:
             return None
         cx, cy, r = self._areas.columns(self._water.area.raw())
         return self.index.clearance.radii(x, y, r - np.hypot(x - cx, y - cy))
-
-    def _outside(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        """Walkers off the screen or outside their own active area."""
-        cx, cy, r = self._areas.columns(self._water.area.raw())
-        ox, oy = x - cx, y - cy
-        if self.wrap:  # a tile: an area reaches across the edges
-            ox, oy = nearest_image(ox, self.width), nearest_image(oy, self.height)
-        off = (x < 0) | (x >= self.width) | (y < 0) | (y >= self.height)
-        return off | (ox * ox + oy * oy > r * r)
 
     def _drop_in_full_cells(self) -> None:
         """Water in a cell that lists CELL_CAP crystals has arrived at finished ice."""
@@ -324,25 +274,14 @@ class FrostSim:
         return self.index.nearest(self._water.x.raw(), self._water.y.raw())
 
     def _admit(self, frozen: np.ndarray, parents: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The freezes this tick takes: within FREEZE_WORK (the rest wait a tick), then
-        those whose cells all stay within CELL_CAP (the rest of the water is dropped). In
-        walker order, so both neighbour searches admit the same."""
-        most = max(1, budget.FREEZE_WORK // self.work_per_crystal)
-        frozen, parents = frozen[:most], parents[:most]
-        count = self.candidates.count
-        if count.max(initial=0) + len(frozen) <= budget.CELL_CAP:
-            return frozen, parents  # no cell can fill up this tick (cheap: one pass, no cells)
-        cells, owner = self.grid.disc_cells(self._water.at(frozen), self.params.hc)
-        if len(cells) == 0 or count[cells].max() + len(frozen) <= budget.CELL_CAP:
-            return frozen, parents
-        ok = within_cap(count, cells, owner, len(frozen))
-        if not ok.all():
-            self.supply.dropped += int((~ok).sum())
-            keep = np.ones(self._water.n, bool)
-            keep[frozen[~ok]] = False
-            self._water.keep(keep)
-            # The kept walkers move down; frozen ones keep their order.
-            frozen, parents = np.searchsorted(np.flatnonzero(keep), frozen[ok]), parents[ok]
+        """The freezes this tick takes (`budget.admit`); the water of those over the
+        cells' cap is dropped, and the kept walkers move down."""
+        frozen, parents, over = budget.admit(frozen, parents, self.candidates.count, self.grid,
+                                             self._water.at, self.params.hc,
+                                             self.work_per_crystal)
+        if len(over):
+            self.supply.dropped += len(over)
+            frozen = self._water.drop_before(over, frozen)
         return frozen, parents
 
     def _link(self, frozen: np.ndarray, parents: np.ndarray, pts: np.ndarray) -> slice:

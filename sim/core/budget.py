@@ -29,6 +29,25 @@ def work_per_crystal(hc: float, grid_spacing: float, spacing: float) -> int:
     return per_link * (2 * reach + 1) ** 2
 
 
+def admit(frozen: np.ndarray, parents: np.ndarray, count: np.ndarray, grid, at, hc: float,
+          work: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The freezes (walkers `frozen`, crystals `parents`) a tick takes: within FREEZE_WORK
+    at `work` a crystal (the rest wait a tick), then those whose cells (`count` crystals
+    listed; `at(frozen)`: the walkers' positions) all stay within CELL_CAP. In walker
+    order, so both neighbour searches admit the same. Returns (frozen, parents, over):
+    `over` the walkers whose freeze would overflow a cell."""
+    most = max(1, FREEZE_WORK // work)
+    frozen, parents = frozen[:most], parents[:most]
+    none = frozen[:0]
+    if count.max(initial=0) + len(frozen) <= CELL_CAP:
+        return frozen, parents, none  # no cell can fill up this tick (cheap: one pass, no cells)
+    cells, owner = grid.disc_cells(at(frozen), hc)
+    if len(cells) == 0 or count[cells].max() + len(frozen) <= CELL_CAP:
+        return frozen, parents, none
+    ok = within_cap(count, cells, owner, len(frozen))
+    return frozen[ok], parents[ok], frozen[~ok]
+
+
 def within_cap(count: np.ndarray, cells: np.ndarray, owner: np.ndarray, n: int) -> np.ndarray:
     """Per freeze (n, in walker order): whether every cell its disc lists it in (`cells`,
     `owner`) stays within CELL_CAP after the earlier freezes."""

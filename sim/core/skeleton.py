@@ -7,9 +7,33 @@ scanning the whole skeleton.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ..buffers import Growable
+
+
+@dataclass(frozen=True)
+class Added:
+    """Index ranges appended since the previous tick (touches included)."""
+
+    tick: int
+    crystals: slice
+    upsampled: slice
+    segments: slice
+    frozen: int  # water particles that froze in this tick
+
+
+@dataclass(frozen=True)
+class Melted:
+    """What one `melt` removed (indices into crystals, upsampled, segments) and the
+    crystals that lost their parent and became roots of their own trees."""
+
+    crystals: np.ndarray
+    upsampled: np.ndarray
+    segments: np.ndarray
+    orphans: np.ndarray
 
 
 class Skeleton:

@@ -36,6 +36,13 @@ class Water:
             keep[i] = False
         self.keep(keep)
 
+    def drop_before(self, drop: np.ndarray, idx: np.ndarray) -> np.ndarray:
+        """Remove walkers `drop`; returns the new indices of walkers `idx` (kept ones)."""
+        keep = np.ones(self.x.n, bool)
+        keep[drop] = False
+        self.keep(keep)
+        return np.searchsorted(np.flatnonzero(keep), idx)
+
     def set(self, xy: np.ndarray, area: np.ndarray) -> None:
         """Replace every walker by walkers at `xy` (n x 2) in `area` (n)."""
         self.keep(np.zeros(self.x.n, bool))
