@@ -10,10 +10,10 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from app.tools.scribble import scribble, storm
-from sim import FrostSim, Params, frost
-from sim.core import budget
-from sim.geometry import _segments_in
-from sim.session import MIN_INPUT_S, STEP_SAMPLES, Backlog, Timeline
+from sim import FrostSim, Params
+from sim.core import budget, frost
+from sim.io.session import MIN_INPUT_S, STEP_SAMPLES, Backlog, Timeline
+from sim.look.geometry import _segments_in
 
 
 def grown(params: Params, touches, ticks: int, seed: int = 0) -> FrostSim:

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from sim import FrostSim, Params
-from sim.geometry import FrostGeometry
+from sim.look.geometry import FrostGeometry
 
 SEARCHES = ["candidate", "grid9"]
 

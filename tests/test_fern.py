@@ -10,7 +10,7 @@ from app.cli.options import params_from
 from app.cli.parser import build_parser
 from app.tools.morphology import link_angles
 from sim import PRESETS, FrostSim, Params, preset_name, tuning
-from sim.fern import SIXTH
+from sim.rules.fern import SIXTH
 
 CENTRE = (380.0, 640.0)
 FERN = Params.preset("fern")

@@ -1,4 +1,4 @@
-"""The frond rules (docs/method.md, section 8; sim/fronds.py, sim/openglass.py) and the pane's
+"""The frond rules (docs/method.md, section 8; sim/rules/fronds.py, sim/rules/openglass.py) and the pane's
 measures (app/tools/measures.py), against stored pre-change hashes, hand-worked cases and
 brute-force oracles."""
 
@@ -19,10 +19,10 @@ from app.tools.measures import (
     skeleton_measures,
 )
 from sim import FrostSim, Params
-from sim.fern import SIDE, SLOT_KIND
-from sim.fronds import FRAME_PX, Fronds
-from sim.openglass import OpenGlass, ring_distance
 from sim.params import FROND_RULES
+from sim.rules.fern import SIDE, SLOT_KIND
+from sim.rules.fronds import FRAME_PX, Fronds
+from sim.rules.openglass import OpenGlass, ring_distance
 from tests import frozen_runs
 
 WINDOW = Params.preset("window")
@@ -55,7 +55,7 @@ def test_the_frond_rules_are_off_by_default_and_on_in_window_only():
 
 
 def test_an_old_window_session_replays_the_old_window():
-    from sim.session import FORMAT, SessionLog
+    from sim.io.session import FORMAT, SessionLog
     old = {k: v for k, v in Params.preset("window", **OLD_WINDOW).as_dict().items()
            if k not in FROND_RULES}
     log = SessionLog.from_json({"format": FORMAT, "seed": 3, "params": old, "events": [],

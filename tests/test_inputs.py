@@ -26,8 +26,8 @@ from app.tools import bench, figure8, figure_fern, maps, render
 from app.tools import replay as replay_tool
 from app.window import frost_window as window
 from sim import PRESETS, FrostSim, Params
-from sim.files import one_line
-from sim.session import SessionError, SessionLog, check_event, replay
+from sim.io.files import one_line
+from sim.io.session import SessionError, SessionLog, check_event, replay
 
 FIXTURE_OK = settings(suppress_health_check=[HealthCheck.function_scoped_fixture])
 
@@ -814,7 +814,7 @@ def test_a_melt_after_the_last_tick_is_refused(stubbed, option):
 
 
 def test_a_melt_at_the_last_tick_applies():
-    from sim.session import Timeline, grow, touch_events
+    from sim.io.session import Timeline, grow, touch_events
 
     events = touch_events([(380, 640)]) + [{"tick": 10, "kind": "melt", "x": 380.0,
                                             "y": 640.0, "r": 30.0}]

@@ -14,7 +14,7 @@ import pytest
 from app.simthread import thread as simthread
 from app.simthread.thread import SimThread
 from sim import Params
-from sim.session import (
+from sim.io.session import (
     VERSION,
     Backlog,
     SessionError,
@@ -203,7 +203,7 @@ def test_a_rebuild_regrows_a_scribble_as_it_grew_live():
     # parameters must give back the very frost the scribble grew (the touches once went
     # all at tick 0, and the water split over every area at once left sparse twigs).
     from app.tools.scribble import STROKE_GAP, stroke
-    from sim.gestures import DRAG_SPACING_HC
+    from sim.io.gestures import DRAG_SPACING_HC
 
     params = Params.preset("fern")
     schedule = []

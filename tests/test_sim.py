@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from sim import FrostSim, Params, upsample, walk_displacements
-from sim.grid import CELL_MARGIN, HashGrid
+from sim.index.grid import CELL_MARGIN, HashGrid
 
 W, H = 760, 1280
 

@@ -10,9 +10,9 @@ import pytest
 
 from app.tools import scribble as scribble_module
 from app.tools.scribble import play, spread, storm
-from sim import FrostSim, Params, frost
-from sim.core import placement
-from sim.session import Backlog, SessionLog, Timeline, replay
+from sim import FrostSim, Params
+from sim.core import frost, placement
+from sim.io.session import Backlog, SessionLog, Timeline, replay
 
 SMALL = (240, 320)  # a small screen keeps a frosted pane cheap to grow
 

@@ -11,8 +11,8 @@ from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
 from app.tools.render import DEFAULT_FOLDER, error, write
 from sim import Params
+from sim.io.session import SessionError, SessionLog
 from sim.screen import HEIGHT, WIDTH
-from sim.session import SessionError, SessionLog
 
 
 def load_session(path) -> SessionLog:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..buffers import Growable
+from .buffers import Growable
 
 
 class Areas:

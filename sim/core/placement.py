@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..periodic import wrap_into
+from ..index.periodic import wrap_into
 from .areas import shell
 
 TWO_PI = np.float32(2.0 * np.pi)

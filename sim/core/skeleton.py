@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..buffers import Growable
+from .buffers import Growable
 
 
 @dataclass(frozen=True)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..periodic import wrap_into
+from ..index.periodic import wrap_into
 from . import budget
 from .placement import CELL_TRIES, first_good, ring_spots
 

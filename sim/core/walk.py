@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..periodic import nearest_image
+from ..index.periodic import nearest_image
 from .placement import TWO_PI
 
 

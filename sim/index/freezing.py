@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..buffers import CellLists, Growable
-from ..clearance import make_clearance
-from ..grid import HashGrid
-from ..periodic import nearest_image
-from ..search import make_search
+from ..core.buffers import CellLists, Growable
+from .clearance import make_clearance
+from .grid import HashGrid
+from .periodic import nearest_image
+from .search import make_search
 
 
 class FreezingIndex:

@@ -17,10 +17,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .core.placement import first_good
+from ..core.placement import first_good
+from ..params import Params
 from .fronds import FRAME_PX, edge_distance
 from .pane import REFERENCE_C, TRIES, Pane
-from .params import Params
 
 # Walkers per far cell of glass. At 2.5 (the band's density before the fronds) a 40 px
 # wipe was 38 % back after 300 ticks in a prototype; 8 refroze it.

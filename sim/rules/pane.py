@@ -19,8 +19,8 @@ import math
 
 import numpy as np
 
-from .core.placement import GLASS_TRIES, glass_spots
-from .params import Params
+from ..core.placement import GLASS_TRIES, glass_spots
+from ..params import Params
 
 # Temperature at which the preset's hit counts apply unchanged, degrees C below freezing.
 REFERENCE_C = 10.0

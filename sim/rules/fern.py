@@ -29,10 +29,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .buffers import Growable
+from ..core.buffers import Growable
+from ..index.periodic import nearest_image, wrap_points
+from ..params import Params
 from .fronds import make_fronds
-from .params import Params
-from .periodic import nearest_image, wrap_points
 
 SIXTH = np.pi / 3  # 60 degrees between a crystal's axes
 SLOTS = 6

@@ -14,25 +14,25 @@ from __future__ import annotations
 
 import numpy as np
 
-from .core import budget, placement
-from .core.areas import Areas
-from .core.budget import CELL_CAP, FREEZE_WORK
-from .core.placement import CELL_TRIES, CELL_WORK, Placer
-from .core.skeleton import Added, Melted, Skeleton, upsample
-from .core.supply import TOUCH_TRIES, Supply
-from .core.walk import on_screen_f32, outside, walk_displacements
-from .core.water import Water
-from .fern import make_growth
-from .index.freezing import FreezingIndex
-from .pane import chill, make_pane
-from .params import Params
-from .periodic import image_near, wrap_into
-from .screen import HEIGHT, WIDTH, touch_problem
+from ..index.freezing import FreezingIndex
+from ..index.periodic import image_near, wrap_into
+from ..params import Params
+from ..rules.fern import make_growth
+from ..rules.pane import chill, make_pane
+from ..screen import HEIGHT, WIDTH, touch_problem
+from . import budget, placement
+from .areas import Areas
+from .budget import CELL_CAP, FREEZE_WORK
+from .placement import CELL_TRIES, CELL_WORK, Placer
+from .skeleton import Added, Melted, Skeleton, upsample
+from .supply import TOUCH_TRIES, Supply
+from .walk import on_screen_f32, outside, walk_displacements
+from .water import Water
 
 __all__ = ["Added", "CELL_CAP", "CELL_TRIES", "CELL_WORK", "FREEZE_WORK", "FrostSim", "Melted",
            "TOUCH_TRIES", "VERSION", "upsample", "walk_displacements"]
 
-# The newest rules (what a session file's "version" names; sim/session.py lists what each
+# The newest rules (what a session file's "version" names; sim/io/session.py lists what each
 # changed). Older versions replay as frost grew them then.
 VERSION = 5
 _NONE = np.empty(0, np.int64)
@@ -49,7 +49,7 @@ class FrostSim:
     VERSION) picks the rules a session file of that version replays with: 3 batches the
     cell placement of all areas, 4 draws window water's later tries at once, 5 lets a
     touch into a short pool bring new walkers and pools a seed's first hits. `wrap`: a
-    tile (sim.periodic), whose walkers, search, clearance and placement see across edges."""
+    tile (sim.index.periodic), whose walkers, search, clearance and placement see across edges."""
 
     def __init__(self, params: Params | None = None, width: int = WIDTH, height: int = HEIGHT,
                  seed: int = 0, version: int = VERSION, wrap: bool = False):
