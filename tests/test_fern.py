@@ -10,7 +10,7 @@ from app.cli.options import params_from
 from app.cli.parser import build_parser
 from app.tools.morphology import link_angles
 from sim import PRESETS, FrostSim, Params, preset_name, tuning
-from sim.rules.fern import SIXTH
+from sim.rules.fern import SIXTH, FernGrowth
 
 CENTRE = (380.0, 640.0)
 FERN = Params.preset("fern")
@@ -309,3 +309,36 @@ def test_figure_names_other_than_fern_are_refused(tmp_path, capsys):
     assert stop.value.code == 2
     assert "invalid choice: 'snow' (choose from 'fern')" in capsys.readouterr().err
     assert not (tmp_path / "x.png").exists()
+
+
+# ---- side_gap on a hand-made stem ----------------------------------------------------------
+
+def stem_growth(gap: int) -> tuple[FernGrowth, np.ndarray]:
+    """A seed 0 with a stem 0 -> 1 -> 2 -> 3 -> 4 -> 5 (each in its parent's slot 0), a side
+    branch 6 in slot 1 of crystal 2, and 7 straight on from 6; returns (rule, parents)."""
+    g = FernGrowth(Params.preset("fern", side_gap=gap), np.random.default_rng(0))
+    parent = np.array([-1, 0, 1, 2, 3, 4, 2, 6])
+    slot = np.array([-1, 0, 0, 0, 0, 0, 1, 0], np.int8)
+    g.slot.append(slot)
+    g.seed.append(parent < 0)
+    g.child.append(np.full((len(parent), 6), -1, np.int32))
+    for c, (p, k) in enumerate(zip(parent, slot, strict=True)):
+        if p >= 0:
+            g.child.raw()[p, k] = c
+    return g, parent
+
+
+def test_side_gap_blocks_a_side_slot_within_gap_minus_one_links_of_a_same_side_branch():
+    # gap 3: two links up or down the stem. Crystal 2 holds a side branch in slot 1:
+    # 1 (one down), 3 (one up) and 4 (two up) are blocked on that side, 5 (three up) is
+    # not; slot 5 (the other side) is clear everywhere; 6, a side branch itself, does not
+    # climb back into the stem it grew from (its slot is not 0), so it is clear too.
+    g, parent = stem_growth(3)
+    crystals = np.array([1, 3, 4, 5, 6])
+    assert g.gap_clear(crystals, np.full(5, 1), parent).tolist() == [False, False, False, True,
+                                                                    True]
+    assert g.gap_clear(crystals, np.full(5, 5), parent).all()
+    # gap 2: one link; only the stem's neighbours of crystal 2 are blocked.
+    g, parent = stem_growth(2)
+    assert g.gap_clear(crystals, np.full(5, 1), parent).tolist() == [False, False, True, True,
+                                                                    True]

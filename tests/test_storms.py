@@ -11,7 +11,7 @@ import pytest
 from app.tools import scribble as scribble_module
 from app.tools.scribble import play, spread, storm
 from sim import FrostSim, Params
-from sim.core import frost, placement
+from sim.core import budget, frost, placement
 from sim.io.session import Backlog, SessionLog, Timeline, replay
 
 SMALL = (240, 320)  # a small screen keeps a frosted pane cheap to grow
@@ -355,3 +355,21 @@ def test_a_session_file_places_water_as_its_version_did(version, batched, at_onc
         legacy.step()
     assert len(legacy.crystals) > 1
     assert (legacy.crystals == timeline.sim.crystals).all()
+
+
+# ---- the budget's trim, worked by hand -----------------------------------------------------
+
+@pytest.mark.parametrize("need, level", [(5, 5), (6, 5), (7, 4), (8, 4), (9, 4), (100, 4)])
+def test_trim_cuts_the_largest_pools_to_one_level_no_lower_than_the_share(need, level):
+    # Pools of 10, 6 and 3 walkers, area 2 being topped up (never cut), a fair share of 4.
+    # Cutting the others to 5 frees 5 + 1 = 6, to 4 frees 6 + 2 = 8: the highest level
+    # that frees `need` (6 frees exactly 6: still 5), never below the share (100: 4).
+    counts = np.array([10, 6, 3])
+    owner = np.array([0, 1, 2, 0, 0, 1, 0, 2, 0, 0, 1, 0, 1, 0, 0, 2, 1, 0, 1])
+    keep = budget.trim(counts, np.array([2]), need, 4, owner)
+    kept = [int(keep[owner == a].sum()) for a in range(3)]
+    assert kept == [level, level, 3]
+    for a in range(3):  # each area keeps its oldest walkers, in array order
+        mine = keep[owner == a]
+        assert mine[:kept[a]].all() and not mine[kept[a]:].any()
+    assert budget.trim(counts, np.array([2]), 0, 4, owner) is None  # nothing needed: no cut

@@ -342,6 +342,11 @@ class Timeline:
     def tick(self) -> int:
         return self.sim.tick
 
+    @property
+    def pending(self) -> list[dict[str, Any]]:
+        """The touches and melts a rebuild scheduled that have not happened yet (a copy)."""
+        return list(self._pending)
+
     def apply(self, events) -> Applied:
         """Apply `events` (all at this tick), in order."""
         notes: dict[str, Any] = {"reset": False, "deltas": [], "message": None}
