@@ -90,7 +90,7 @@ class FreezingIndex:
         return np.unique(ids[valid])
 
     def crystals_near(self, x: float, y: float, radius: float) -> np.ndarray:
-        """Ascending indices of live crystals within `radius` of (x, y)."""
+        """Ascending indices of live crystals closer than `radius` to (x, y)."""
         ids = self.crystals_in_box(x - radius, y - radius, x + radius, y + radius)
         c = self.crystals.raw()[ids].astype(np.float64)
         return ids[np.hypot(c[:, 0] - x, c[:, 1] - y) < radius]
