@@ -241,6 +241,7 @@ def grown_to(params, share, limit=3000):
     return sim
 
 
+@pytest.mark.validation  # a statistical comparison of looks, seconds: `make test-deep`
 def test_colder_is_faster_and_its_side_branches_closer():
     """-20, -10, -4 C to 40 % of the cells: fewer ticks, and side branches closer together
     along the main stems (at the same coverage)."""
@@ -317,6 +318,7 @@ def tree_of(sim, root):
     return mine & sim.crystal_alive
 
 
+@pytest.mark.validation  # a statistical comparison of looks, seconds: `make test-deep`
 def test_a_touch_in_window_mode_grows_a_frond():
     """A touch on open glass, then 400 ticks: its tree's stems, against the same touch on
     the window of before the fronds (the rules off), are longer and more of its ice lies
