@@ -26,6 +26,7 @@ from .budget import CELL_CAP, FREEZE_WORK
 from .placement import CELL_TRIES, CELL_WORK, Placer
 from .skeleton import Added, Melted, Skeleton, upsample
 from .supply import TOUCH_TRIES, Supply
+from .views import Holdings
 from .walk import on_screen_f32, outside, walk_displacements
 from .water import Water
 
@@ -44,7 +45,7 @@ def _check(name: str, v, low: int, high: int, what: str) -> None:
         raise ValueError(f"{name}={v!r} must be a whole number{what} in [{low}, {high}]")
 
 
-class FrostSim:
+class FrostSim(Holdings):
     """Window frost on a `width` x `height` px screen (docs/method.md). `version` (1 ..
     VERSION) picks the rules a session file of that version replays with: 3 batches the
     cell placement of all areas, 4 draws window water's later tries at once, 5 lets a
@@ -165,70 +166,6 @@ class FrostSim:
         self._areas.count_ice(dead_area, -1)
         self.supply.returned(dead_area, self.ice_state())
         return Melted(dead, ups, segs, orphans)
-
-    def segments_near(self, box: tuple[float, float, float, float], reach: float) -> np.ndarray:
-        """Indices of live segments whose points may lie within `reach` x their length
-        beside them of the px box (x0, y0, x1, y1): those of the links of the crystals
-        near the box. A superset; callers test the exact extent."""
-        pad = self.ice.longest_link * (1.0 + reach) + 1.0
-        x0, y0, x1, y1 = box
-        return self.ice.live_segments(self.index.crystals_in_box(x0 - pad, y0 - pad,
-                                                                 x1 + pad, y1 + pad))
-
-    def set_water(self, xy, area=0) -> None:
-        """Replace every walker by walkers at `xy` (n x 2 px) in active area(s) `area` (one
-        index for all, or one each): exact water for a test or a tool to start a tick
-        from. The areas must exist (a touch opens one)."""
-        xy = np.asarray(xy, np.float32).reshape(-1, 2)
-        area = np.broadcast_to(np.asarray(area, np.int32), (len(xy),))
-        if len(area) and not (area.min() >= 0 and area.max() < self._areas.n):
-            raise ValueError(f"set_water: area {int(area.max())} does not exist "
-                             f"({self._areas.n} areas)")
-        self._water.set(xy, area)
-
-    def place(self, area: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(x, y, ok): spots for new walkers of areas `area` where a tick would place them
-        (`ok` False: no free spot); nothing is added."""
-        return self.placer.place(area, self.ice_state())
-
-    # ---- what the simulation holds (views; copies where noted) ---------------------
-
-    crystals = property(lambda self: self.ice.crystals.view(),
-                        doc="n x 2 float32 positions of crystal particles, seeds included.")
-    parents = property(lambda self: self.ice.parents.view(),
-                       doc="n int32: each crystal's parent crystal, -1 for a seed.")
-    crystal_alive = property(lambda self: self.ice.calive.view(),
-                             doc="n bool: False for melted crystals (rows stay: stable indices).")
-    crystal_area = property(lambda self: self.ice.area.view(),
-                            doc="n int32: the active area whose water became each crystal.")
-    upsampled = property(lambda self: self.ice.ups.view(),
-                         doc="k x 2 float32 upsample particles (skeleton nodes, not crystals).")
-    upsampled_link = property(lambda self: self.ice.ups_link.view(),
-                              doc="k int32: the crystal whose parent link holds each particle.")
-    upsampled_alive = property(lambda self: self.ice.ualive.view())
-    segments = property(lambda self: self.ice.segs.view(),
-                        doc="s x 4 float32 (x0, y0, x1, y1): consecutive nodes along each chain.")
-    segments_link = property(lambda self: self.ice.segs_link.view(),
-                             doc="s int32: the crystal whose parent link each segment belongs to.")
-    segments_alive = property(lambda self: self.ice.salive.view())
-    water_area = property(lambda self: self._water.area.view())
-    areas = property(lambda self: self._areas.rows.view(),
-                     doc="a x 5 float32 active areas: centre x, centre y, outer radius, inner "
-                         "radius (water lies between them), reach of the area's ice.")
-    water_created = property(lambda self: self.supply.created)
-    water_frozen = property(lambda self: self.supply.frozen)
-    water_dropped = property(lambda self: self.supply.dropped)
-
-    @property
-    def water(self) -> np.ndarray:
-        """m x 2 float32 water particle positions (a fresh copy)."""
-        return np.column_stack((self._water.x.view(), self._water.y.view()))
-
-    def nbytes(self) -> int:
-        """Bytes held by the simulation's arrays (capacity, not just the filled rows)."""
-        bufs = (*self.ice.buffers(), *self._water.buffers(), self._areas.rows, self._areas.ice,
-                self.index, self.growth)
-        return sum(b.nbytes() for b in bufs)
 
     # ---- phases ---------------------------------------------------------------------
 
