@@ -10,7 +10,7 @@ import numpy as np
 from PIL import Image
 
 from app.resources import ASSET_DIR
-from sim.files import one_line
+from sim.io.files import one_line
 from sim.screen import HEIGHT, WIDTH
 
 # Name -> file in assets/ and the script that draws it.

@@ -1,5 +1,5 @@
 """PNGs that carry how the frost was made: screenshots (read from a framebuffer) and the
-height / normal / alpha maps (computed by sim.maps). PIL and numpy only, no GL, so the
+height / normal / alpha maps (computed by sim.look.maps). PIL and numpy only, no GL, so the
 simulation thread can write maps and the GL tools can write screenshots alike."""
 
 from __future__ import annotations
@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 from PIL import Image, PngImagePlugin
 
-from sim.files import write_all_atomic, write_atomic
-from sim.maps import MAP_NAMES, MEANING, compute_maps, encode
+from sim.io.files import write_all_atomic, write_atomic
+from sim.look.maps import MAP_NAMES, MEANING, compute_maps, encode
 from sim.params import Params
 from sim.screen import HEIGHT, WIDTH
 
@@ -42,7 +42,7 @@ def frost_meta(software: str, params: Params | None, seed: int, tick: int, touch
 
 
 def png_writer(image: np.ndarray, meta: dict):
-    """A writer (see sim.files) of `image` as PNG; each meta entry becomes a text chunk
+    """A writer (see sim.io.files) of `image` as PNG; each meta entry becomes a text chunk
     (JSON unless a str)."""
     info = PngImagePlugin.PngInfo()
     for key, value in meta.items():
@@ -76,7 +76,7 @@ def export_maps(folder, grid: np.ndarray, segments: np.ndarray, params: Params,
     """Write height.png, normal.png and alpha.png into `folder`; returns name -> path.
 
     `grid` is the geometry's height grid (FrostGeometry.heights, or the renderer's
-    mirror of it) and `segments` the live skeleton (`sim.maps.live_segments`), both copied
+    mirror of it) and `segments` the live skeleton (`sim.look.maps.live_segments`), both copied
     by the caller if another thread may change them. Each PNG carries `meta`
     (`frost_meta`) and what its values mean as text chunks."""
     images, top = encode(compute_maps(grid, segments, params, width, height, triangles))

@@ -12,13 +12,13 @@ from dataclasses import dataclass, field
 from typing import Any
 
 NEIGHBOR_SEARCHES = ("candidate", "grid9")
-# How the ice is drawn (sim.material): the paper's per-segment features, or glass ridges.
+# How the ice is drawn (sim.look.material): the paper's per-segment features, or glass ridges.
 LOOKS = ("paper", "glass")
 # Parameters that only mean something with grains on.
 GRAIN_RULES = ("drift", "tip_hits", "side_hits", "side_gap", "order_hits", "max_order")
 # The fern rules: off (at their defaults) in the paper's look.
 FERN_RULES = ("grains", *GRAIN_RULES, "long_jumps", "launch")
-# Parameters that only mean something in window mode (sim/pane.py).
+# Parameters that only mean something in window mode (sim/rules/pane.py).
 WINDOW_RULES = ("frame_sites", "pane_sites", "temperature", "water_far", "near_water",
                 "vapour_var", "frame_chill")
 # The frond rules (docs/method.md, section 8): off at their defaults; the window preset
@@ -120,7 +120,7 @@ class Params:
                              "moves from that area's pool onto the glass within 2 hc of its "
                              "seed, walkers (0: none, the paper)", 0, 1000)
 
-    # Beyond the paper: the frosted window (sim/pane.py). Off by default.
+    # Beyond the paper: the frosted window (sim/rules/pane.py). Off by default.
     window_frost: bool = _p(False, "window_frost: frost nucleates on the screen's border and on a few "
                                    "pane sites and grows over the whole pane from one pool of "
                                    "humidity walkers (needs grains)", choices=(False, True))
@@ -132,7 +132,7 @@ class Params:
                                   "per slot, so frost grows faster and denser (with window_frost)",
                             0.0, 40.0, lo_open=True)
 
-    # Beyond the paper: fronds (docs/method.md, section 8; sim/fronds.py). Off by default.
+    # Beyond the paper: fronds (docs/method.md, section 8; sim/rules/fronds.py). Off by default.
     order_hits: float = _p(1.0, "order_hits: a slot needs its hits x order_hits^order, order "
                                 "counting side branchings from the stem (1: every order alike; "
                                 "with grains; frond rule 1)", 1.0, 10.0)

@@ -5,6 +5,11 @@ computed on the code before the frond rules (issue 20; "window-v3" on the code b
 window's tries were drawn at once), and test_fronds.py checks them. Each run asks for the
 rules of the version they were computed under (4; "window-v3" 3): later versions change
 how a touch's water and a seed's first hits go.
+
+The "v5/..." entries pin the newest rules (version 5) as the code grew them before
+FrostSim was split into its parts (issue 22): every preset, the paper's modes (replenish,
+growth, long jumps, launch circle), a rebuild's replant, a wrap tile and a scribble's
+touches into existing areas (`python -m tests.frozen_runs` prints both sets).
 """
 
 from __future__ import annotations
@@ -53,6 +58,60 @@ def run(preset: str | None, overrides: dict, ticks: int, seed: int = 3, **how) -
     return sim
 
 
+def replant(ticks: int = 120) -> FrostSim:
+    """A rebuild: forty touches planted at once (a spiral), then growth, a melt, regrowth."""
+    sim = FrostSim(Params.preset("fern"), seed=5)
+    t = np.arange(40)
+    sim.plant(np.column_stack((380 + 6 * t * np.cos(t), 640 + 6 * t * np.sin(t))))
+    for _ in range(ticks):
+        sim.step()
+        if sim.tick == ticks // 2:
+            sim.melt(380.0, 640.0, 60.0)
+    return sim
+
+
+def tile(ticks: int = 200) -> FrostSim:
+    """A wrap tile: touches by the edges and a corner, so growth, walks and a melt cross them."""
+    sim = FrostSim(Params.preset("fern", long_jumps=True), 256, 192, seed=2, wrap=True)
+    sim.plant([(2.0, 96.0), (250.0, 3.0), (128.0, 190.0)])
+    for _ in range(ticks):
+        sim.step()
+        if sim.tick == ticks // 2:
+            sim.melt(1.0, 96.0, 20.0)
+    return sim
+
+
+def scribble(ticks: int = 150) -> FrostSim:
+    """A drag: a touch every 5 ticks along a stroke, each into the area the first opened
+    (touch_water brings each its ring), then a wipe across half of it."""
+    sim = FrostSim(Params.preset("fern", touch_water=48), seed=7)
+    for k in range(ticks):
+        if k < 100 and k % 5 == 0:
+            sim.touch(300.0 + 4.0 * k, 600.0 + 2.0 * k)
+        if k == 110:
+            sim.melt(400.0, 650.0, 35.0)
+        sim.step()
+    return sim
+
+
+# Version 5 runs: (name, preset, overrides, ticks) through `run`; then the three above.
+RUNS_V5 = [(name, name, {}, 160) for name in ("a-1", "a-2", "a-3", "b-1", "b-3", "c-1", "c-2",
+                                              "c-3")] + [
+    ("default", None, {}, 160), ("replenish", "b-2", {"replenish": True}, 160),
+    ("grow", "c-2", {"grow": True}, 160),
+    ("jumps-launch", "c-2", {"long_jumps": True, "launch": 30.0, "grow": True}, 160),
+    ("search-grid", "a-2", {"neighbor_search": "grid9"}, 120),
+    ("fern", "fern", {}, 300), ("fern-nogrow", "fern", {"grow": False}, 200),
+    ("window", "window", {}, 400)]
+
+
+def hashes_v5() -> dict[str, str]:
+    out = {f"v5/{name}": state_hash(run(p, o, t)) for name, p, o, t in RUNS_V5}
+    for f in (replant, tile, scribble):
+        out[f"v5/{f.__name__}"] = state_hash(f())
+    return out
+
+
 def hashes(window_off: dict) -> dict[str, str]:
     out = {name: state_hash(run(p, o, t, version=4)) for name, p, o, t in RUNS}
     name, p, _, t = WINDOW_OLD
@@ -63,5 +122,5 @@ def hashes(window_off: dict) -> dict[str, str]:
 
 
 if __name__ == "__main__":
-    json.dump(hashes({}), sys.stdout, indent=1)
+    json.dump({**hashes({}), **hashes_v5()}, sys.stdout, indent=1)
     print()

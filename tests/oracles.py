@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sim.geometry import falloff
+from sim.look.geometry import falloff
 
 
 def bump_heights(points: np.ndarray, rows: int, cols: int, spacing: int,

@@ -11,7 +11,7 @@ from PIL import Image
 from test_inputs import assert_refused_in_one_line, run_main
 
 from app.backdrops import BACKDROPS, load_backdrop, next_backdrop
-from sim.session import check_view
+from sim.io.session import check_view
 
 LIGHT = {"light": [0.0, 0.0, 1.0], "features": True, "bumps": True}
 
@@ -81,7 +81,7 @@ def test_a_session_whose_background_is_gone_is_refused_before_replaying(tmp_path
     from argparse import Namespace
 
     from app.cli.commands import _windowed_replay
-    from sim.session import SessionError, SessionLog
+    from sim.io.session import SessionError, SessionLog
 
     log_ = SessionLog(0, {}, view={**LIGHT, "background": str(tmp_path / "gone.png")})
     path = log_.save(tmp_path / "s.json")

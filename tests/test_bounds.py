@@ -10,9 +10,10 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from app.tools.scribble import scribble, storm
-from sim import FrostSim, Params, frost
-from sim.geometry import _segments_in
-from sim.session import MIN_INPUT_S, STEP_SAMPLES, Backlog, Timeline
+from sim import FrostSim, Params
+from sim.core import budget, frost
+from sim.io.session import MIN_INPUT_S, STEP_SAMPLES, Backlog, Timeline
+from sim.look.geometry import _segments_in
 
 
 def grown(params: Params, touches, ticks: int, seed: int = 0) -> FrostSim:
@@ -162,7 +163,7 @@ def test_melted_water_never_takes_a_pool_above_humidity():
 def test_an_area_with_all_its_ice_melted_keeps_no_water():
     sim = grown(Params.preset("c-1"), [(380, 640), (380, 200)], 60)
     sim.melt(380, 640, 250)  # every crystal of the first area
-    assert not sim.crystal_alive[sim._carea.view() == 0].any()
+    assert not sim.crystal_alive[sim.crystal_area == 0].any()
     assert (sim.water_area != 0).all()
     assert (sim.water_area == 1).sum() > 0
 
@@ -187,14 +188,14 @@ def test_no_cell_ever_lists_more_than_the_cap():
 @pytest.mark.parametrize("preset", ["a-1", "c-3"])
 def test_the_cap_leaves_table_1_frost_unchanged(preset, monkeypatch):
     capped = grown(Params.preset(preset), [(380, 640)], 200)
-    monkeypatch.setattr(frost, "CELL_CAP", 10**9)
+    monkeypatch.setattr(budget, "CELL_CAP", 10**9)
     free = grown(Params.preset(preset), [(380, 640)], 200)
     assert np.array_equal(capped.crystals, free.crystals)
     assert np.array_equal(capped.parents, free.parents)
 
 
 def test_freezes_that_would_overflow_a_cell_are_dropped_in_walker_order(monkeypatch):
-    monkeypatch.setattr(frost, "CELL_CAP", 3)
+    monkeypatch.setattr(budget, "CELL_CAP", 3)
     sim = FrostSim(Params(hc=7.0, step=1e-6), seed=0)
     sim.touch(100.0, 100.0)  # listed in its cells: count 1 there
     # all within hc of the seed, in its cell
@@ -312,9 +313,9 @@ def test_a_storm_has_the_asked_number_of_touches_and_melts():
 def test_freezes_beyond_the_tick_s_work_wait_as_water(monkeypatch):
     params = Params(hc=7.0, step=1e-6)
     sim = FrostSim(params, seed=0)
-    per_crystal = sim._work_per_crystal
+    per_crystal = sim.work_per_crystal
     assert per_crystal == 1 * (2 * (2 + 1) + 1) ** 2  # D = hc: one segment; 7x7 stencil at 4 px
-    monkeypatch.setattr(frost, "FREEZE_WORK", 2 * per_crystal + 1)  # room for two a tick
+    monkeypatch.setattr(budget, "FREEZE_WORK", 2 * per_crystal + 1)  # room for two a tick
     sim.touch(100.0, 100.0)
     xs = [103.0, 97.0, 100.0, 104.0]
     sim.set_water(list(zip(xs, [104.0, 104.0, 95.0, 96.0], strict=True)))

@@ -11,10 +11,10 @@ from PIL import Image
 
 from app.cli import main
 from sim import Params
-from sim.geometry import GeometryDelta
-from sim.growthmap import GROWTH_NONE, GROWTH_TOP, NEVER, GrowthClock, encode_growth
-from sim.maps import compute_maps, live_segments, map_triangles
-from sim.session import Timeline, grow, touch_events
+from sim.io.session import Timeline, grow, touch_events
+from sim.look.geometry import GeometryDelta
+from sim.look.growthmap import GROWTH_NONE, GROWTH_TOP, NEVER, GrowthClock, encode_growth
+from sim.look.maps import compute_maps, live_segments, map_triangles
 
 SIZE = (160, 128)
 TICKS = 60
@@ -180,7 +180,7 @@ def test_a_touch_in_a_large_maps_pixels_is_taken(tmp_path, capsys):
 def test_normals_in_bands_are_the_whole_maps(wrap):
     """Over several 256-row bands, the normals equal the obvious whole-map formula:
     central differences (np.gradient, or over the wrap with np.roll), normalized."""
-    from sim.maps import normal_map
+    from sim.look.maps import normal_map
 
     h = np.random.default_rng(1).random((600, 70)).astype(np.float32) * 5
     g = h.astype(np.float64)

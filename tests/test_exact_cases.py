@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from sim import FrostSim, Params
-from sim.geometry import FrostGeometry
+from sim.look.geometry import FrostGeometry
 
 SEARCHES = ["candidate", "grid9"]
 
@@ -25,7 +25,7 @@ def placed(seeds, walkers, hc: float, search: str = "candidate") -> FrostSim:
 
 def frozen_to(sim: FrostSim) -> dict[int, int]:
     """walker -> parent crystal of one crystallization (no walk)."""
-    frozen, parents = sim._crystallize()
+    frozen, parents = sim.crystallize()
     return dict(zip(frozen.tolist(), parents.tolist(), strict=True))
 
 
@@ -44,7 +44,7 @@ def test_a_tie_goes_to_the_lowest_crystal_index(search, seeds, parent):
     sim = placed(seeds, [(107, 100)], 8.0, search)
     assert frozen_to(sim) == {0: parent}
     sim = placed(seeds, [(107, 100)], 8.0, search)
-    sim._walk = lambda: None  # the whole tick, walker kept in place
+    sim.walk = lambda: None  # the whole tick, walker kept in place
     sim.step()
     assert sim.crystals[-1].tolist() == [107, 100] and sim.parents[-1] == parent
 

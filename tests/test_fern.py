@@ -10,7 +10,7 @@ from app.cli.options import params_from
 from app.cli.parser import build_parser
 from app.tools.morphology import link_angles
 from sim import PRESETS, FrostSim, Params, preset_name, tuning
-from sim.fern import SIXTH
+from sim.rules.fern import SIXTH, FernGrowth
 
 CENTRE = (380.0, 640.0)
 FERN = Params.preset("fern")
@@ -111,7 +111,7 @@ def test_no_two_crystals_closer_than_half_a_link_and_one_child_per_slot():
 
 def test_with_a_launch_circle_each_area_follows_its_own_ice():
     sim = grown(touches=((200, 300), (560, 980)), ticks=500, seed=2)
-    area, p = sim._carea.view(), sim.parents
+    area, p = sim.crystal_area, sim.parents
     child = np.flatnonzero(p >= 0)
     assert np.array_equal(area[child], area[p[child]])  # a tree's ice stays in its area
     c = sim.crystals.astype(np.float64)
@@ -164,7 +164,7 @@ def test_a_slot_grows_exactly_on_its_mth_hit():
 def record_jumps(sim, ticks):
     """Per tick: walkers before the walk, their chosen clearance, after the walk, areas,
     and the crystals at the tick's start."""
-    log, real_walk, real_radii = [], sim._walk, sim.clearance.radii
+    log, real_walk, real_radii = [], sim.walk, sim.clearance.radii
     seen = {}
 
     def radii(*a):
@@ -179,7 +179,7 @@ def record_jumps(sim, ticks):
         log.append((before, area, seen.get("rho"), sim.water.astype(np.float64),
                     sim.areas.astype(np.float64).copy(), live))
 
-    sim._walk, sim.clearance.radii = walk, radii
+    sim.walk, sim.clearance.radii = walk, radii
     for _ in range(ticks):
         sim.step()
     return log
@@ -309,3 +309,36 @@ def test_figure_names_other_than_fern_are_refused(tmp_path, capsys):
     assert stop.value.code == 2
     assert "invalid choice: 'snow' (choose from 'fern')" in capsys.readouterr().err
     assert not (tmp_path / "x.png").exists()
+
+
+# ---- side_gap on a hand-made stem ----------------------------------------------------------
+
+def stem_growth(gap: int) -> tuple[FernGrowth, np.ndarray]:
+    """A seed 0 with a stem 0 -> 1 -> 2 -> 3 -> 4 -> 5 (each in its parent's slot 0), a side
+    branch 6 in slot 1 of crystal 2, and 7 straight on from 6; returns (rule, parents)."""
+    g = FernGrowth(Params.preset("fern", side_gap=gap), np.random.default_rng(0))
+    parent = np.array([-1, 0, 1, 2, 3, 4, 2, 6])
+    slot = np.array([-1, 0, 0, 0, 0, 0, 1, 0], np.int8)
+    g.slot.append(slot)
+    g.seed.append(parent < 0)
+    g.child.append(np.full((len(parent), 6), -1, np.int32))
+    for c, (p, k) in enumerate(zip(parent, slot, strict=True)):
+        if p >= 0:
+            g.child.raw()[p, k] = c
+    return g, parent
+
+
+def test_side_gap_blocks_a_side_slot_within_gap_minus_one_links_of_a_same_side_branch():
+    # gap 3: two links up or down the stem. Crystal 2 holds a side branch in slot 1:
+    # 1 (one down), 3 (one up) and 4 (two up) are blocked on that side, 5 (three up) is
+    # not; slot 5 (the other side) is clear everywhere; 6, a side branch itself, does not
+    # climb back into the stem it grew from (its slot is not 0), so it is clear too.
+    g, parent = stem_growth(3)
+    crystals = np.array([1, 3, 4, 5, 6])
+    assert g.gap_clear(crystals, np.full(5, 1), parent).tolist() == [False, False, False, True,
+                                                                    True]
+    assert g.gap_clear(crystals, np.full(5, 5), parent).all()
+    # gap 2: one link; only the stem's neighbours of crystal 2 are blocked.
+    g, parent = stem_growth(2)
+    assert g.gap_clear(crystals, np.full(5, 1), parent).tolist() == [False, False, True, True,
+                                                                    True]

@@ -29,8 +29,16 @@ from app.tools.figure8 import (
 )
 from app.tools.maps import grow
 from sim import PRESETS, Params
-from sim.geometry import feature_triangles
-from sim.maps import alpha_map, bump_field, compute_maps, encode, live_segments, normal_map, triangle_field
+from sim.look.geometry import feature_triangles
+from sim.look.maps import (
+    alpha_map,
+    bump_field,
+    compute_maps,
+    encode,
+    live_segments,
+    normal_map,
+    triangle_field,
+)
 
 ROOT = Path(__file__).resolve().parent.parent
 TOUCH = (380.0, 640.0)

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from sim.files import not_regular, why, write_all_atomic, write_atomic
+from sim.io.files import not_regular, why, write_all_atomic, write_atomic
 
 
 def new(f) -> None:

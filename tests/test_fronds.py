@@ -1,4 +1,4 @@
-"""The frond rules (docs/method.md, section 8; sim/fronds.py, sim/openglass.py) and the pane's
+"""The frond rules (docs/method.md, section 8; sim/rules/fronds.py, sim/rules/openglass.py) and the pane's
 measures (app/tools/measures.py), against stored pre-change hashes, hand-worked cases and
 brute-force oracles."""
 
@@ -19,10 +19,10 @@ from app.tools.measures import (
     skeleton_measures,
 )
 from sim import FrostSim, Params
-from sim.fern import SIDE, SLOT_KIND
-from sim.fronds import FRAME_PX, Fronds
-from sim.openglass import OpenGlass, ring_distance
 from sim.params import FROND_RULES
+from sim.rules.fern import SIDE, SLOT_KIND
+from sim.rules.fronds import FRAME_PX, Fronds
+from sim.rules.openglass import OpenGlass, ring_distance
 from tests import frozen_runs
 
 WINDOW = Params.preset("window")
@@ -37,7 +37,14 @@ W, H = 300, 400  # a small pane: a few hundred ticks frost it
 def test_params_table1_fern_and_the_old_window_grow_bit_identical_frost():
     """Hashes of scripted runs computed on the code before the frond rules."""
     stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text())
-    assert frozen_runs.hashes(OLD_WINDOW) == stored
+    assert frozen_runs.hashes(OLD_WINDOW) == {k: v for k, v in stored.items() if "/" not in k}
+
+
+def test_the_newest_rules_grow_the_frost_they_grew_before_the_split():
+    """Version 5 hashes computed on FrostSim before it was split into parts (issue 22):
+    every preset, the paper's modes, a replant, a wrap tile, a scribble."""
+    stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text())
+    assert frozen_runs.hashes_v5() == {k: v for k, v in stored.items() if k.startswith("v5/")}
 
 
 def test_the_frond_rules_are_off_by_default_and_on_in_window_only():
@@ -48,7 +55,7 @@ def test_the_frond_rules_are_off_by_default_and_on_in_window_only():
 
 
 def test_an_old_window_session_replays_the_old_window():
-    from sim.session import FORMAT, SessionLog
+    from sim.io.session import FORMAT, SessionLog
     old = {k: v for k, v in Params.preset("window", **OLD_WINDOW).as_dict().items()
            if k not in FROND_RULES}
     log = SessionLog.from_json({"format": FORMAT, "seed": 3, "params": old, "events": [],
@@ -93,7 +100,7 @@ def test_order_rises_only_on_side_branches_and_resets_at_a_melts_edge_which_keep
     before, seeds = order.copy(), sim.growth.seed.view().copy()
     sim.melt(150.0, 200.0, 30.0)
     c = sim.crystals.astype(np.float64)
-    edge = sim.crystal_alive & (np.hypot(c[:, 0] - 150, c[:, 1] - 200) < 30 + sim._longest_link + 1)
+    edge = sim.crystal_alive & (np.hypot(c[:, 0] - 150, c[:, 1] - 200) < 30 + sim.ice.longest_link + 1)
     assert edge.sum() > 3 and (before[edge] > 0).any()
     after = sim.growth.order.view()
     assert (after[edge] == 0).all() and (after[~edge] == before[~edge]).all()
@@ -234,6 +241,7 @@ def grown_to(params, share, limit=3000):
     return sim
 
 
+@pytest.mark.validation  # a statistical comparison of looks, seconds: `make test-deep`
 def test_colder_is_faster_and_its_side_branches_closer():
     """-20, -10, -4 C to 40 % of the cells: fewer ticks, and side branches closer together
     along the main stems (at the same coverage)."""
@@ -310,6 +318,7 @@ def tree_of(sim, root):
     return mine & sim.crystal_alive
 
 
+@pytest.mark.validation  # a statistical comparison of looks, seconds: `make test-deep`
 def test_a_touch_in_window_mode_grows_a_frond():
     """A touch on open glass, then 400 ticks: its tree's stems, against the same touch on
     the window of before the fronds (the rules off), are longer and more of its ice lies

@@ -7,7 +7,7 @@ import pytest
 from oracles import bump_heights, feature_vertices
 
 from sim import FrostSim, Params
-from sim.geometry import FrostGeometry, falloff, feature_triangles
+from sim.look.geometry import FrostGeometry, falloff, feature_triangles
 
 
 def test_single_segment_points_by_hand():

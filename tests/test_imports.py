@@ -34,18 +34,19 @@ def under(loaded: set[str], *packages: str) -> set[str]:
 
 
 def modules_of(package) -> list[str]:
-    return [f"{package.__name__}.{m.name}" for m in pkgutil.iter_modules(package.__path__)]
+    """Every module of `package`, its sub-packages' included."""
+    return [m.name for m in pkgutil.walk_packages(package.__path__, package.__name__ + ".")]
 
 
 def test_the_simulation_thread_loads_no_gl_no_window_and_no_tools():
     loaded = loaded_by("app.simthread.thread")
-    assert "app.simthread.thread" in loaded and "sim.maps" in loaded  # it did import
+    assert "app.simthread.thread" in loaded and "sim.look.maps" in loaded  # it did import
     assert under(loaded, *GL_AND_WINDOW, "app.tools", "app.gl", "app.window") == set()
 
 
 def test_sim_loads_nothing_of_the_app_nor_gl_nor_images():
     names = modules_of(sim)
-    assert "sim.maps" in names and "sim.material" in names
+    assert "sim.look.maps" in names and "sim.look.material" in names
     loaded = loaded_by(*names)
     assert under(loaded, *GL_AND_WINDOW, "app", "PIL") == set()
 

@@ -26,8 +26,8 @@ from app.tools import bench, figure8, figure_fern, maps, render
 from app.tools import replay as replay_tool
 from app.window import frost_window as window
 from sim import PRESETS, FrostSim, Params
-from sim.files import one_line
-from sim.session import SessionError, SessionLog, check_event, replay
+from sim.io.files import one_line
+from sim.io.session import SessionError, SessionLog, check_event, replay
 
 FIXTURE_OK = settings(suppress_health_check=[HealthCheck.function_scoped_fixture])
 
@@ -822,7 +822,7 @@ def test_a_melt_after_the_last_tick_is_refused(stubbed, option):
 
 
 def test_a_melt_at_the_last_tick_applies():
-    from sim.session import Timeline, grow, touch_events
+    from sim.io.session import Timeline, grow, touch_events
 
     events = touch_events([(380, 640)]) + [{"tick": 10, "kind": "melt", "x": 380.0,
                                             "y": 640.0, "r": 30.0}]
@@ -852,3 +852,39 @@ def test_a_negative_value_is_refused_for_what_is_wrong_with_it(stubbed, argv, sa
     status, err = run_main(argv)
     assert "expected one argument" not in err
     assert_refused_in_one_line(status, err, said)
+
+
+# ---- zero-valued radius, scale and fraction options ----------------------------------------
+
+@pytest.mark.parametrize("argv, named", [
+    (["--melt-radius", "0"], "--melt-radius"),
+    (["render", "--touch", "1,1", "--melt-radius", "0"], "--melt-radius"),
+    (["render", "--touch", "100,100", "--melt", "100,100,0@5"], "--melt"),
+    (["--scale", "0"], "--scale"), (["bench", "render", "--cover", "0"], "--cover"),
+    (["render", "--touch", "1,1", "--active-radius", "0"], "active_radius=0.0"),
+    (["render", "--touch", "1,1", "--hc", "0"], "hc=0.0"),
+    (["render", "--touch", "1,1", "--step", "0"], "step=0.0"),
+    (["render", "--touch", "1,1", "--max-height", "0"], "max_height=0.0")])
+def test_a_zero_radius_scale_or_fraction_is_refused_in_one_line_naming_it(stubbed, tmp_path,
+                                                                          argv, named):
+    status, err = run_main(with_paths(argv, tmp_path))
+    assert not stubbed
+    assert_refused_in_one_line(status, err, named)
+
+
+@pytest.mark.parametrize("option", ["launch", "drift", "frame_chill", "bump", "feature_width",
+                                    "feature_height", "vapour_var"])
+def test_a_zero_that_means_off_or_flat_is_taken_and_grows(stubbed, option):
+    """Each of these documents 0 as its off (or flat) value: taken as given, and a short run
+    with it grows and draws."""
+    from sim.look.geometry import FrostGeometry
+    status, err = run_main(["render", "--touch", "380,640", f"--{option.replace('_', '-')}", "0"])
+    assert status == 0 and err == "", err
+    params = stubbed[0][1]
+    assert getattr(params, option) == 0
+    sim, geometry = FrostSim(params, seed=0), FrostGeometry(params)
+    sim.touch(380.0, 640.0)
+    for _ in range(30):
+        sim.step()
+    geometry.update(sim)
+    assert len(sim.crystals) > 1

@@ -17,12 +17,12 @@ from app.images import read_image
 from app.tools import glass_checks as checks
 from app.tools.offscreen import Offscreen
 from sim import Params
-from sim.geometry import FrostGeometry, feature_scale
-from sim.maps import compute_maps, live_segments, map_triangles
-from sim.material import FEATURE_DEFINES, LOOK_DEFINES
+from sim.io.session import Timeline, grow, touch_events
+from sim.look.geometry import FrostGeometry, feature_scale
+from sim.look.maps import compute_maps, live_segments, map_triangles
+from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES
+from sim.look.ridges import VERTS_PER_LINK, ridge_triangles, width_level
 from sim.params import LOOKS
-from sim.ridges import VERTS_PER_LINK, ridge_triangles, width_level
-from sim.session import Timeline, grow, touch_events
 
 # sha256 of the H x W x 3 frame, computed on the code before the `look` setting existed
 # (1c14e25; "a-1 melt", two touches, again on main at 68e355d, whose one-pass water

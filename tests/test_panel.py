@@ -20,9 +20,9 @@ from app.simthread.thread import SimThread
 from app.window.actions import Actions
 from app.window.panel import BUTTONS, FIELDS, GROUPS, SPECS, TuningPanel, tooltip, why_off
 from sim import Params, tuning
+from sim.io.paramsets import ParamsFileError, load_params, save_params
+from sim.io.session import SessionLog
 from sim.params import _validate
-from sim.paramsets import ParamsFileError, load_params, save_params
-from sim.session import SessionLog
 
 LOOKS = {"paper": Params(), "fern": Params.preset("fern"), "window": Params.preset("window"),
          "c-2": Params.preset("c-2")}

@@ -26,8 +26,8 @@ from PIL import Image
 from test_window_e2e import ROOT, finish, played, wait_for, window_id, xdo
 
 from sim import Params
-from sim.paramsets import load_params
-from sim.session import SessionLog
+from sim.io.paramsets import load_params
+from sim.io.session import SessionLog
 
 pytestmark = pytest.mark.window
 

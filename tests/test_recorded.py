@@ -24,9 +24,9 @@ from app.simthread import export
 from app.simthread.thread import SimThread
 from app.window.record import Recorder
 from sim import Params
-from sim.files import write_all_atomic, write_atomic
-from sim.maps import live_segments
-from sim.session import SessionLog, replay
+from sim.io.files import write_all_atomic, write_atomic
+from sim.io.session import SessionLog, replay
+from sim.look.maps import live_segments
 
 ROOT = Path(__file__).resolve().parent.parent
 PARAMS = Params.preset("c-3")
@@ -315,7 +315,7 @@ def test_a_replay_with_a_moved_light_and_no_features_matches_the_live_frame(gl_c
 
 
 def test_replayed_touches_follow_clears_and_rebuilds():
-    from sim.session import Timeline, grow
+    from sim.io.session import Timeline, grow
 
     events = [{"tick": 0, "kind": "touch", "x": 1.0, "y": 2.0},
               {"tick": 3, "kind": "touch", "x": 900.0, "y": 2.0},  # off the screen
@@ -340,7 +340,7 @@ def test_replayed_touches_follow_clears_and_rebuilds():
     ([1, 2, 3], "light"),
 ])
 def test_a_bad_view_in_a_session_file_is_a_clear_error(tmp_path, view, problem):
-    from sim.session import SessionError
+    from sim.io.session import SessionError
 
     data = {**SessionLog(0, {}).as_json(), "view": view}
     path = tmp_path / "s.json"

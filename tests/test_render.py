@@ -16,7 +16,7 @@ from app.gl.renderer import Renderer
 from app.gl.shaders import SHADER_DIR, load_program, shader_source
 from app.images import read_image, save_png, timestamped_path
 from sim import Params
-from sim.geometry import GeometryDelta, feature_triangles
+from sim.look.geometry import GeometryDelta, feature_triangles
 
 ROOT = Path(__file__).resolve().parent.parent
 W, H = 160, 128
@@ -178,7 +178,7 @@ def test_no_opengl_is_a_clear_message(monkeypatch, capsys):
 def grown_on_renderer(gl_ctx, params, seed, touch, ticks):
     """(sim, geometry, renderer) after `ticks` ticks from one touch, every delta applied."""
     from sim import FrostSim
-    from sim.geometry import FrostGeometry
+    from sim.look.geometry import FrostGeometry
 
     sim, geo = FrostSim(params, W, H, seed=seed), FrostGeometry(params, W, H)
     renderer = Renderer(gl_ctx, params, W, H, background=background())

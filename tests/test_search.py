@@ -5,9 +5,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from sim.buffers import CellLists
-from sim.grid import HashGrid
-from sim.search import CandidateSearch, Grid9Search, make_search
+from sim.core.buffers import CellLists
+from sim.index.grid import HashGrid
+from sim.index.search import CandidateSearch, Grid9Search, make_search
 
 # Positions on a quarter-px lattice: equal distances (ties) and walkers exactly hc away
 # from a crystal come up often, and both must be decided as the brute force decides them.

@@ -14,7 +14,7 @@ import pytest
 from app.simthread import thread as simthread
 from app.simthread.thread import SimThread
 from sim import Params
-from sim.session import (
+from sim.io.session import (
     VERSION,
     Backlog,
     SessionError,
@@ -169,7 +169,7 @@ def test_a_recording_that_ends_where_a_rebuilt_melt_is_due_replays_the_same(paus
             thread.send(*plan[k])
         thread._tick()
     snap = thread.drain()[-1]
-    assert thread.sim.tick == 20 and thread.timeline._pending  # the melt waits for a step
+    assert thread.sim.tick == 20 and thread.timeline.pending  # the melt waits for a step
     same_frost(replay(thread.session(snap.steps, snap.events)).sim, thread.sim)
 
 
@@ -179,9 +179,9 @@ def test_clear_forgets_the_melts_a_rebuild_scheduled():
         timeline.step()
     timeline.apply([{"kind": "melt", "x": 380.0, "y": 640.0, "r": 30.0}])
     timeline.apply([{"kind": "params", "params": PARAMS.replace(humidity=4000)}])
-    assert len(timeline._pending) == 1
+    assert len(timeline.pending) == 1
     timeline.apply([{"kind": "clear"}, {"kind": "touch", "x": 100.0, "y": 100.0}])
-    assert timeline._pending == [] and timeline.touches == ((100.0, 100.0),)
+    assert timeline.pending == [] and timeline.touches == ((100.0, 100.0),)
 
 
 def test_regrow_keeps_the_touches_order_and_shortens_only_long_pauses():
@@ -203,7 +203,7 @@ def test_a_rebuild_regrows_a_scribble_as_it_grew_live():
     # parameters must give back the very frost the scribble grew (the touches once went
     # all at tick 0, and the water split over every area at once left sparse twigs).
     from app.tools.scribble import STROKE_GAP, stroke
-    from sim.gestures import DRAG_SPACING_HC
+    from sim.io.gestures import DRAG_SPACING_HC
 
     params = Params.preset("fern")
     schedule = []
@@ -277,3 +277,33 @@ def test_a_melt_and_a_rebuild_in_one_tick_replay_bit_for_bit(tmp_path, order):
     assert [e["kind"] for e in log.events] == ["touch", *order]
     same_frost(replay(SessionLog.load(log.save(tmp_path / "s.json"))).sim, thread.sim)
     assert thread.sim.crystal_alive.sum() < len(thread.sim.crystals)  # the melt took ice
+
+
+@pytest.mark.parametrize("order", [("melt", "params"), ("params", "melt")])
+def test_a_melt_and_a_rebuild_in_one_tick_grow_what_the_new_parameters_grow_from_the_start(order):
+    """The oracle is a timeline that had the new parameters from the start: the melt
+    before the rebuild comes again at its tick (25) in the rebuilt frost; the one after
+    it melts the rebuilt frost at once (tick 0, the seed alone)."""
+    new = PARAMS.replace(humidity=4000)
+    melt = {"kind": "melt", "x": 380.0, "y": 640.0, "r": 30.0}
+    timeline = Timeline(PARAMS, 4, touches=[(380.0, 640.0)])
+    for _ in range(25):
+        timeline.step()
+    applied = timeline.apply([melt if k == "melt" else {"kind": "params", "params": new}
+                              for k in order])
+    assert applied.reset and timeline.tick == 0  # rebuilt: back to tick 0 either way
+    oracle = Timeline(new, 4, touches=[(380.0, 640.0)])
+    for _ in range(25 if order[0] == "melt" else 0):
+        oracle.step()
+    oracle.apply([melt])
+    while oracle.tick < 55:
+        oracle.step()
+    while timeline.tick < 55:
+        timeline.step()
+    assert [m["tick"] for m in timeline.melts] == [25 if order[0] == "melt" else 0]
+    for a, b in ((timeline.sim.crystals, oracle.sim.crystals),
+                 (timeline.sim.parents, oracle.sim.parents),
+                 (timeline.sim.crystal_alive, oracle.sim.crystal_alive),
+                 (timeline.sim.water, oracle.sim.water)):
+        assert np.array_equal(a, b)
+    assert not timeline.sim.crystal_alive.all()  # the melt took ice

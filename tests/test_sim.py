@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from sim import FrostSim, Params, upsample, walk_displacements
-from sim.grid import CELL_MARGIN, HashGrid
+from sim.index.grid import CELL_MARGIN, HashGrid
 
 W, H = 760, 1280
 
@@ -24,7 +24,7 @@ def record_ticks(sim, ticks):
     """Run `ticks` ticks, capturing for each the walkers after the walk, the crystals at
     the tick's start, and which walkers froze to which parents."""
     log = []
-    real = sim._crystallize
+    real = sim.crystallize
 
     def spy():
         frozen, parents = real()
@@ -32,7 +32,7 @@ def record_ticks(sim, ticks):
                     frozen.copy(), parents.copy()))
         return frozen, parents
 
-    sim._crystallize = spy
+    sim.crystallize = spy
     for _ in range(ticks):
         sim.step()
     return log
@@ -101,7 +101,7 @@ def test_walk_moves_each_walker_by_eq2():
     u = rng.random((2, len(before)), dtype=np.float32).astype(np.float64)
     a, theta = u[0] * sim.params.step, u[1] * 2 * np.pi  # Eq. 2, worked out in float64
     ex, ey = a * np.cos(theta), a * np.sin(theta)
-    sim._walk()
+    sim.walk()
     after = sim.water
     stayed = np.hypot(*(after - before).T) <= sim.params.step + 1e-4  # not respawned
     assert stayed.sum() > 0.9 * len(before)
@@ -227,10 +227,10 @@ def test_respawned_water_is_inside_its_area_and_outside_candidate_cells():
     sim.touch(30, 30)   # the area pokes off the screen
     sim.touch(60, 40)
     placed = []
-    real = sim._place
+    real = sim.placer.place
 
-    def spy(area):
-        x, y, ok = real(area)
+    def spy(area, ice):
+        x, y, ok = real(area, ice)
         px, py, c = x[ok], y[ok], sim.areas[area[ok]]
         assert np.all(np.hypot(px - c[:, 0], py - c[:, 1]) <= c[:, 2] + 1e-3)
         assert np.all((px >= 0) & (px < W) & (py >= 0) & (py < H))
@@ -238,7 +238,7 @@ def test_respawned_water_is_inside_its_area_and_outside_candidate_cells():
         placed.append(len(px))
         return x, y, ok
 
-    sim._place = spy
+    sim.placer.place = spy
     for _ in range(100):
         sim.step()
     assert sum(placed) > 100
@@ -262,7 +262,7 @@ def test_filled_active_area_gives_up_placement_without_hanging():
     # The disc of radius 25 is covered by candidate cells: water can no longer be placed.
     assert len(sim.water) == 0
     assert sim.water_dropped > 0
-    x, y, ok = sim._place(np.zeros(100, np.int32))
+    x, y, ok = sim.place(np.zeros(100, np.int32))
     assert not ok.any()
 
 
@@ -350,7 +350,7 @@ def test_growth_mode_places_water_on_the_annulus_near_the_ice():
         sim.step()
     cx, cy, outer, inner, _ = sim.areas[0]
     assert inner > 0
-    x, y, ok = sim._place(np.zeros(2000, np.int32))
+    x, y, ok = sim.place(np.zeros(2000, np.int32))
     r = np.hypot(x[ok] - cx, y[ok] - cy)
     assert ok.sum() > 500
     assert r.min() >= inner - 1e-3 and r.max() <= outer + 1e-3

@@ -10,8 +10,9 @@ import pytest
 
 from app.tools import scribble as scribble_module
 from app.tools.scribble import play, spread, storm
-from sim import FrostSim, Params, frost
-from sim.session import Backlog, SessionLog, Timeline, replay
+from sim import FrostSim, Params
+from sim.core import budget, frost, placement
+from sim.io.session import Backlog, SessionLog, Timeline, replay
 
 SMALL = (240, 320)  # a small screen keeps a frosted pane cheap to grow
 
@@ -49,8 +50,8 @@ def free_slow(sim: FrostSim, pts: np.ndarray) -> np.ndarray:
 def test_spots_placed_from_cells_lie_in_their_own_area_on_glass(seed):
     sim = frosted("fern", 15, 40, seed, active_radius=60.0)
     areas = np.repeat(np.arange(len(sim.areas)), 300).astype(np.int32)
-    sim._cell_work = len(areas)
-    x, y, ok = sim._cell_spots_all(areas)
+    sim.placer.cell_work = len(areas)
+    x, y, ok = sim.placer.cell_spots_all(areas, sim.ice_state())
     assert ok.sum() > len(areas) // 4  # a frosted screen still has glass between fronds
     pts = np.column_stack((x, y)).astype(np.float64)[ok]
     a = sim.areas[areas[ok]].astype(np.float64)
@@ -69,20 +70,21 @@ def test_placement_from_cells_takes_two_passes_whatever_the_number_of_areas(monk
     sim = frosted("fern", 40, 60, active_radius=40.0)
     assert len(sim.areas) >= 4
     calls = []
-    real = frost._nearest_d2
-    monkeypatch.setattr(frost, "_nearest_d2", lambda s, p: calls.append(len(p)) or real(s, p))
-    sim._cell_work = 10_000
-    sim._cell_spots_all(np.repeat(np.arange(len(sim.areas)), 50).astype(np.int32))
+    real = sim.index.nearest_d2
+    monkeypatch.setattr(sim.index, "nearest_d2", lambda p: calls.append(len(p)) or real(p))
+    sim.placer.cell_work = 10_000
+    sim.placer.cell_spots_all(np.repeat(np.arange(len(sim.areas)), 50).astype(np.int32),
+                              sim.ice_state())
     assert 1 <= len(calls) <= 2  # one per round of draws, never one per area
 
 
 def test_a_tick_places_at_most_cell_work_walkers_from_cells(monkeypatch):
     sim = frosted("fern", 40, 60, active_radius=40.0)
     placed = []
-    real = FrostSim._cell_spots_all
-    monkeypatch.setattr(FrostSim, "_cell_spots_all",
-                        lambda s, area: placed.append(len(area)) or real(s, area))
-    monkeypatch.setattr(frost, "CELL_WORK", 150)
+    real = sim.placer.cell_spots_all
+    monkeypatch.setattr(sim.placer, "cell_spots_all",
+                        lambda area, ice: placed.append(len(area)) or real(area, ice))
+    monkeypatch.setattr(placement, "CELL_WORK", 150)
     sim.step()  # the budget is renewed at a tick's start
     totals = []
     for _ in range(5):
@@ -108,9 +110,10 @@ def annulus_centres(sim: FrostSim, area: int) -> np.ndarray:
 
 def test_a_full_area_skips_its_disc_draws():
     sim = frosted("fern", 40, 60, active_radius=40.0)
-    sim._cell_work = 10_000
-    sim._cell_spots_all(np.arange(len(sim.areas), dtype=np.int32))  # list every area's cells
-    full = sim._annulus_full(np.arange(len(sim.areas)))
+    sim.placer.cell_work = 10_000
+    sim.placer.cell_spots_all(np.arange(len(sim.areas), dtype=np.int32),  # list every area's cells
+                              sim.ice_state())
+    full = sim.placer.annulus_full(np.arange(len(sim.areas)))
     assert full.any()
     for a in np.flatnonzero(full):  # brute force: no free cell well inside its annulus
         assert not free_slow(sim, annulus_centres(sim, a)).any()
@@ -352,3 +355,21 @@ def test_a_session_file_places_water_as_its_version_did(version, batched, at_onc
         legacy.step()
     assert len(legacy.crystals) > 1
     assert (legacy.crystals == timeline.sim.crystals).all()
+
+
+# ---- the budget's trim, worked by hand -----------------------------------------------------
+
+@pytest.mark.parametrize("need, level", [(5, 5), (6, 5), (7, 4), (8, 4), (9, 4), (100, 4)])
+def test_trim_cuts_the_largest_pools_to_one_level_no_lower_than_the_share(need, level):
+    # Pools of 10, 6 and 3 walkers, area 2 being topped up (never cut), a fair share of 4.
+    # Cutting the others to 5 frees 5 + 1 = 6, to 4 frees 6 + 2 = 8: the highest level
+    # that frees `need` (6 frees exactly 6: still 5), never below the share (100: 4).
+    counts = np.array([10, 6, 3])
+    owner = np.array([0, 1, 2, 0, 0, 1, 0, 2, 0, 0, 1, 0, 1, 0, 0, 2, 1, 0, 1])
+    keep = budget.trim(counts, np.array([2]), need, 4, owner)
+    kept = [int(keep[owner == a].sum()) for a in range(3)]
+    assert kept == [level, level, 3]
+    for a in range(3):  # each area keeps its oldest walkers, in array order
+        mine = keep[owner == a]
+        assert mine[:kept[a]].all() and not mine[kept[a]:].any()
+    assert budget.trim(counts, np.array([2]), 0, 4, owner) is None  # nothing needed: no cut

@@ -11,7 +11,6 @@ from PIL import Image
 
 from app.cli import main
 from sim import FrostSim, Params
-from sim.fern import _nearest_d2
 
 TILE = (96, 80)
 
@@ -58,7 +57,7 @@ def test_periodic_nearest_crystal_matches_brute_force(seed, hc):
     across = within & ((x < 7) | (x > TILE[0] - 7) | (y < 7) | (y > TILE[1] - 7))
     assert across.sum() > 100  # the edges are what this is about
     assert np.array_equal(parents, parent[walkers])
-    d2 = _nearest_d2(sim, np.column_stack((x, y)))
+    d2 = sim.index.nearest_d2(np.column_stack((x, y)))
     assert np.allclose(d2[within], best[within], atol=1e-3)
 
 
@@ -156,7 +155,7 @@ def _crossing_triangle(size) -> np.ndarray:
 
 def test_a_ridge_crossing_an_edge_is_drawn_on_both_sides_of_the_maps():
     """By hand: a triangle from x = W - 6 to W + 6 raises pixels at both edges of the map."""
-    from sim.maps import triangle_field
+    from sim.look.maps import triangle_field
 
     tri = _crossing_triangle(TILE)
     wrapped = triangle_field(tri, *TILE, wrap=True)
@@ -169,7 +168,7 @@ def test_a_ridge_crossing_an_edge_is_drawn_on_both_sides_of_the_maps():
 
 
 def test_the_geometry_sends_a_copy_across_the_edge_for_the_renderer():
-    from sim.geometry import FrostGeometry
+    from sim.look.geometry import FrostGeometry
 
     geometry = FrostGeometry(Params.preset("fern"), *TILE, wrap=True)
     tri = _crossing_triangle(TILE)
@@ -192,7 +191,7 @@ def test_grid9_is_refused_on_a_tile(tmp_path, capsys):
 def test_a_tiles_height_grid_wraps_against_the_obvious_sum():
     """Each vertex holds bump x falloff of every particle within hc over the wrap (the
     obvious double loop), capped; the last row and column repeat the first."""
-    from sim.geometry import FrostGeometry, falloff
+    from sim.look.geometry import FrostGeometry, falloff
 
     params = Params.preset("fern")
     geometry = FrostGeometry(params, *TILE, wrap=True)
@@ -231,16 +230,16 @@ def test_walkers_leaving_an_edge_come_in_at_the_opposite_one():
     draws, each position taken modulo the size: none is re-placed, some cross an edge."""
     import copy
 
-    from sim.frost import walk_displacements
-    from sim.periodic import wrap_into
+    from sim.core.frost import walk_displacements
+    from sim.index.periodic import wrap_into
 
     sim = FrostSim(Params.preset("window", frame_sites=0.0), *TILE, seed=3, wrap=True)
-    x0, y0 = sim._wx.view().copy(), sim._wy.view().copy()
+    x0, y0 = sim.water[:, 0], sim.water[:, 1]
     rng = copy.deepcopy(sim.rng)
-    dx, dy = walk_displacements(rng, len(x0), sim.params.step, sim._clearance(x0, y0))
-    sim._walk()
-    assert np.array_equal(sim._wx.view(), wrap_into(x0 + dx, TILE[0]))
-    assert np.array_equal(sim._wy.view(), wrap_into(y0 + dy, TILE[1]))
+    dx, dy = walk_displacements(rng, len(x0), sim.params.step, sim.jumps(x0, y0))
+    sim.walk()
+    assert np.array_equal(sim.water[:, 0], wrap_into(x0 + dx, TILE[0]))
+    assert np.array_equal(sim.water[:, 1], wrap_into(y0 + dy, TILE[1]))
     crossed = (x0 + dx < 0) | (x0 + dx >= TILE[0]) | (y0 + dy < 0) | (y0 + dy >= TILE[1])
     assert crossed.sum() >= 5
 

@@ -24,7 +24,7 @@ import pytest
 from PIL import Image
 
 from app.window.capture import AUTOSAVE_PERIOD
-from sim.session import SessionLog
+from sim.io.session import SessionLog
 
 ROOT = Path(__file__).resolve().parent.parent
 SCREEN = "-screen 0 1280x1400x24"  # taller than the 1280 px phone
@@ -344,7 +344,7 @@ def test_a_screenshots_session_replays_headless_to_the_same_frame(run, tmp_path,
 
 
 def test_a_screenshot_states_the_frame_not_a_key_pressed_with_it(run):
-    from sim.session import SessionLog, replay
+    from sim.io.session import SessionLog, replay
 
     text = Image.open(run["shots"][4]).text
     shown = replay(SessionLog.load(text["session"])).params.as_dict()
@@ -474,7 +474,7 @@ def test_letterboxed_window_maps_clicks_and_drags_and_ignores_the_bars(run):
 # The geometry fails on its 10th tick; the app must log it and exit non-zero, not hang.
 FAIL_AT_TICK_10 = """
 import sys
-import sim.geometry as g
+import sim.look.geometry as g
 from app.__main__ import main
 update = g.FrostGeometry.update
 def failing(self, sim):

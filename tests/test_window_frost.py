@@ -1,4 +1,4 @@
-"""Window mode (sim/pane.py): seeds on the frame, one pane-wide pool, temperature, and a wiped
+"""Window mode (sim/rules/pane.py): seeds on the frame, one pane-wide pool, temperature, and a wiped
 path that refreezes from its edges, against brute-force oracles."""
 
 import numpy as np
@@ -6,9 +6,9 @@ import pytest
 
 from app.tools.measures import frosted_end
 from sim import FrostSim, Params, preset_name
-from sim.grid import CELL_MARGIN
-from sim.pane import BAND
+from sim.index.grid import CELL_MARGIN
 from sim.params import FROND_RULES
+from sim.rules.pane import BAND
 
 WINDOW = Params.preset("window")
 W, H = 300, 400  # a small pane keeps full coverage within a few hundred ticks
@@ -216,7 +216,7 @@ def test_a_wipe_opens_all_six_slots_of_the_ice_at_its_edge():
     for _ in range(500):  # the pane is frosted
         sim.step()
     seeds_before = sim.growth.seed.view().copy()
-    reach = R + sim._longest_link + 1.0
+    reach = R + sim.ice.longest_link + 1.0
     sim.melt(30.0, 200.0, R)
     c = sim.crystals.astype(np.float64)
     d = np.hypot(c[:, 0] - 30.0, c[:, 1] - 200.0)
@@ -251,3 +251,18 @@ def test_the_app_opens_window_mode_and_its_keys_rebuild_it():
     # back to fern (key 0) from a tuned window: window mode and its tunables go
     assert tuning.preset(colder, "fern") == Params.preset("fern")
     assert tuning.preset(Params.preset("fern"), "window") == WINDOW
+
+
+def test_the_band_reaches_band_rings_beyond_the_candidate_cells_and_skips_held_cells():
+    # A 140 px pane (10 x 10 cells of 14 px) with one touch at (70, 70): its disc lists it
+    # in the 2 x 2 cells around that corner (rows, cols 4-5). BAND = 3 rings beyond them is
+    # rows and cols 1-8; the outer ring (4 away) is not in it, nor the touch's own cell
+    # (5, 5). The pool is DENSITY a band cell: int(2.5 x 63) = 157, at most humidity.
+    p = Params.preset("window", frame_sites=0, pane_sites=0, water_far=0, vapour_var=0.0)
+    sim = FrostSim(p, 140, 140, seed=0)
+    sim.touch(70.0, 70.0)
+    assert sim.grid.cell == 14 and BAND == 3
+    assert np.flatnonzero(sim.candidates.count).tolist() == [44, 45, 54, 55]
+    expected = {r * 10 + c for r in range(1, 9) for c in range(1, 9)} - {55}
+    assert set(sim.pane.band().tolist()) == expected
+    assert sim.pane.pool(3000) == 157 and sim.pane.pool(100) == 100

@@ -24,8 +24,8 @@ from app.window.record import FRAME_GAP, Recorder
 from app.window.status import IDLE_GAP, DrawRate, Status
 from app.window.view import cursor_to_phone, fit_scale, letterbox
 from sim import Params, preset_name, tuning
-from sim.gestures import path_points
-from sim.session import Backlog, SessionLog
+from sim.io.gestures import path_points
+from sim.io.session import Backlog, SessionLog
 
 
 @pytest.fixture(autouse=True)
@@ -607,7 +607,7 @@ def test_input_still_waiting_at_exit_is_reported_by_kind():
 def test_a_session_saved_after_the_thread_ticked_past_the_frame_shown_replays_that_frame(tmp_path):
     """The window saves the frame it shows while the thread has gone on: a touch, a melt
     and a tuning change (a rebuild) applied after that frame must not reach its file."""
-    from sim.session import replay
+    from sim.io.session import replay
 
     thread, capture, _, _ = keeper(tmp_path)
     thread.send("touch", ((200.0, 300.0), None))

@@ -13,9 +13,9 @@ from app.cli.options import WINDOW_DEFAULTS, has_display, params_from
 from app.cli.parser import PROG, build_parser, parser_for
 from app.cli.paths import check_paths
 from sim import Params
-from sim.files import one_line
+from sim.io.files import one_line
+from sim.io.session import SessionError
 from sim.screen import touch_problem
-from sim.session import SessionError
 
 NEGATIVE = re.compile(r"-(\.?\d|inf|nan)", re.IGNORECASE)  # -1,0, -.5@3 or -inf,0: a value, not an option
 INTERRUPTED = 130  # the shell's status for a program ended by SIGINT (128 + 2)

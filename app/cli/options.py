@@ -12,7 +12,7 @@ from app.cli import values
 from app.window.keys import DEFAULT_PRESET
 from app.window.view import SCALES
 from sim import PRESETS, Params, all_presets
-from sim.paramsets import load_params
+from sim.io.paramsets import load_params
 from sim.screen import HEIGHT, MAX_MELT_RADIUS, MELT_RADIUS, WIDTH
 
 DEFAULT_TICKS = 250

@@ -12,7 +12,7 @@ import textwrap
 from app.cli import options, values
 from app.window.keys import help_lines
 from sim import all_presets
-from sim.files import one_line
+from sim.io.files import one_line
 from sim.screen import HEIGHT, WIDTH
 
 PROG = "frost"

@@ -5,7 +5,7 @@ when it cannot be written, before the work it would lose; such files and folders
 missing (they are made on writing) but must be creatable: no name in the path longer than
 the file system allows, a file may be created in the folder (a file system such as /proc
 or /sys takes none: a temporary file is made and removed to know), and an output file that
-exists is a regular file (sim.files refuses to replace a device, a FIFO or a socket; a
+exists is a regular file (sim.io.files refuses to replace a device, a FIFO or a socket; a
 symlink is checked where it leads). The window's folders are checked the same way but only
 get a start-up warning: the window reports each failed write and runs on, as the user
 chose (tests/test_window_e2e.py runs it so). The session to replay must be a readable file.
@@ -20,7 +20,7 @@ from pathlib import Path
 from app.cli.options import has_display
 from app.images import DEFAULT_FOLDER
 from app.tools.engine_maps import ENGINE_FILES
-from sim.files import not_regular, one_line, refusal, temp_file
+from sim.io.files import not_regular, one_line, refusal, temp_file
 
 OUTPUT_FILES = ("out",)
 OUTPUT_FOLDERS = ("out_dir",)

@@ -8,8 +8,8 @@ import argparse
 import math
 
 from app.window.view import scale_problem
+from sim.io.session import MAX_SEED, MAX_TICK
 from sim.screen import MAX_MELT_RADIUS, melt_problem, radius_problem, touch_problem
-from sim.session import MAX_SEED, MAX_TICK
 
 MAPS_SIDE = (64, 4096)  # px: the sides frost maps --size takes
 
@@ -64,7 +64,7 @@ def whole(text: str, hi: int = MAX_TICK) -> int:
 
 
 def seed(text: str) -> int:
-    """A random seed: what a session file keeps (sim.session.MAX_SEED)."""
+    """A random seed: what a session file keeps (sim.io.session.MAX_SEED)."""
     return whole(text, MAX_SEED)
 
 

@@ -25,8 +25,8 @@ from PIL import Image
 from app.backdrops import DEFAULT_BACKDROP, load_backdrop
 from app.gl.shaders import load_program
 from app.resources import ASSET_DIR
-from sim.geometry import VERTEX_FLOATS, GeometryDelta
-from sim.material import FEATURE_DEFINES, LOOK_DEFINES, Material
+from sim.look.geometry import VERTEX_FLOATS, GeometryDelta
+from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, Material
 from sim.params import Params
 from sim.screen import HEIGHT, WIDTH
 
@@ -34,7 +34,7 @@ log = logging.getLogger(__name__)
 
 BACKGROUND = ASSET_DIR / "background.png"
 # Feature heights are stored in 8 bits as z / height scale: 16 px (steps of 0.06 px)
-# unless features can stand higher (sim.geometry.feature_scale; each delta says).
+# unless features can stand higher (sim.look.geometry.feature_scale; each delta says).
 FEATURE_HEIGHT_SCALE = 16.0
 MAX_DEPTH = 64.0  # px; features higher than this share the nearest depth
 VERTEX_BYTES = VERTEX_FLOATS * 4
@@ -86,7 +86,7 @@ class Renderer:
 
     def view(self) -> dict:
         """The light and the toggles as JSON (session files and PNGs carry it, so a
-        replay draws the same picture; see sim.session.check_view)."""
+        replay draws the same picture; see sim.io.session.check_view)."""
         return {"light": [float(v) for v in self.light], "features": bool(self.show_features),
                 "bumps": bool(self.show_bumps), "background": self.backdrop}
 

@@ -8,9 +8,9 @@ import threading
 from collections.abc import Callable
 
 from app.images import export_maps, frost_meta
-from sim.files import why
-from sim.maps import live_segments, map_triangles
-from sim.session import Timeline
+from sim.io.files import why
+from sim.io.session import Timeline
+from sim.look.maps import live_segments, map_triangles
 
 Notify = Callable[[int, str], None]
 

@@ -1,7 +1,7 @@
 """The simulation thread: FrostSim + FrostGeometry at a fixed 25 ticks per second.
 
 Input (touches, melts, parameter changes, clear, pause, single step) arrives on `inbox`
-and applies at the next tick; the simulation's events go through `sim.session.Timeline`
+and applies at the next tick; the simulation's events go through `sim.io.session.Timeline`
 (the same code headless runs and replays use), which records them with their ticks.
 After each tick an immutable `Snapshot` goes on `outbox`; the main thread applies every
 snapshot's geometry deltas in order. No GL here.
@@ -22,9 +22,9 @@ from typing import Any
 from app.simthread.clicks import Click, Clicks
 from app.simthread.export import export_now
 from sim import Params
-from sim.geometry import GeometryDelta
+from sim.io.session import Applied, Backlog, SessionLog, Timeline, apply_due
+from sim.look.geometry import GeometryDelta
 from sim.screen import HEIGHT, TICKS_PER_SECOND, WIDTH
-from sim.session import Applied, Backlog, SessionLog, Timeline, apply_due
 
 log = logging.getLogger(__name__)
 

@@ -26,7 +26,7 @@ from app.backdrops import view_from
 from app.gl.renderer import Renderer
 from app.tools.offscreen import make_context
 from sim import FrostSim, Params
-from sim.geometry import FrostGeometry
+from sim.look.geometry import FrostGeometry
 from sim.params import LOOKS
 from sim.screen import HEIGHT, WIDTH
 

@@ -15,7 +15,7 @@ asserts nothing.
    seed's first child.
 6. Fern growth (docs/method.md, section 6): shape measures and tick costs of paper c-2 vs fern
    (`--section fern` runs only this).
-7. Window mode (sim/pane.py, the frond rules): the pane's measures (sim/measures.py) per seed at
+7. Window mode (sim/rules/pane.py, the frond rules): the pane's measures (app/tools/measures.py) per seed at
    ticks 500 / 1000 / 1500 / 2250 with the median and p99 tick times, the frosted end, the
    one-touch fern tick and the memory (`--section window` runs only this).
 """
@@ -35,7 +35,7 @@ from app.tools.measures import END_GAIN, END_TICKS, frosted_end, pane_measures
 from app.tools.morphology import extent, mass_radius_dimension, six_fold_order, turn_shares
 from app.tools.scribble import play, scribble, spread, storm
 from sim import FrostSim, Params, all_presets
-from sim.geometry import FrostGeometry
+from sim.look.geometry import FrostGeometry
 from sim.screen import TICKS_PER_SECOND
 
 CENTRE = (380.0, 640.0)
@@ -365,7 +365,7 @@ def wipe_regrowth(sim) -> list[float]:
 
 def window_section(seeds: int, ticks: tuple[int, ...]) -> dict:
     print(f"\n## Window mode (preset window, default temperature): the pane's measures "
-          f"(sim/measures.py) and tick ms since the row before; seeds 0..{seeds - 1}")
+          f"(app/tools/measures.py) and tick ms since the row before; seeds 0..{seeds - 1}")
     print("seed  tick  stem_lw  main_frac  pinnate  order  clear21  frame/mid  cells  "
           "median ms  p99 ms")
     runs = [window_run(s, ticks) for s in range(seeds)]

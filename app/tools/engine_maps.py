@@ -14,10 +14,10 @@ import numpy as np
 
 from app.images import frost_meta, png_writer
 from sim import FrostSim, Params
-from sim.files import write_all_atomic
-from sim.geometry import FrostGeometry
-from sim.growthmap import GROWTH_NONE, GROWTH_TOP, GrowthClock, encode_growth
-from sim.maps import MEANING, FrostMaps, compute_maps, encode, live_segments, map_triangles
+from sim.io.files import write_all_atomic
+from sim.look.geometry import FrostGeometry
+from sim.look.growthmap import GROWTH_NONE, GROWTH_TOP, GrowthClock, encode_growth
+from sim.look.maps import MEANING, FrostMaps, compute_maps, encode, live_segments, map_triangles
 
 # What the growth map's values stand for (maps.json and the PNG's text chunk).
 GROWTH_MEANING = (f"16-bit grey: when the pixel's ice last appeared, tick x {GROWTH_TOP} / ticks "

@@ -20,9 +20,9 @@ from app.images import frost_meta, save_png
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
 from sim import PRESETS, FrostSim, Params
-from sim.files import why
+from sim.io.files import why
+from sim.io.session import touch_events
 from sim.screen import HEIGHT, WIDTH
-from sim.session import touch_events
 
 CELL = (253, 427)  # a frame scaled by 1/3, px (width, height)
 LABEL_H = 16  # band above each cell holding its label, px

@@ -19,9 +19,9 @@ from app.tools.figure8 import compose_grid
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
 from sim import Params
-from sim.files import why
+from sim.io.files import why
+from sim.io.session import touch_events
 from sim.screen import TICKS_PER_SECOND
-from sim.session import touch_events
 
 TICKS = (25, 50, 125, 250, 500, 750)
 ROWS = {"one touch": [(380.0, 640.0)],

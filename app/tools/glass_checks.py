@@ -11,10 +11,10 @@ import numpy as np
 from app.gl.renderer import Renderer
 from app.tools.offscreen import Offscreen
 from sim import Params
-from sim.maps import bump_field
-from sim.material import film
+from sim.io.session import touch_events
+from sim.look.maps import bump_field
+from sim.look.material import film
 from sim.screen import HEIGHT, WIDTH
-from sim.session import touch_events
 
 CENTRE = (WIDTH / 2, HEIGHT / 2)
 TICKS = 750

@@ -1,6 +1,6 @@
 """`frost maps DIR`: grow a frost headless and write the maps a game engine reads: height,
 normal, alpha, growth (when each pixel froze), a preview and maps.json saying what each
-holds (computed in sim.maps and sim.growthmap, written by app.tools.engine_maps)."""
+holds (computed in sim.look.maps and sim.look.growthmap, written by app.tools.engine_maps)."""
 
 from __future__ import annotations
 
@@ -9,19 +9,20 @@ import sys
 from app.tools.engine_maps import EngineRun, write_engine_maps
 from app.tools.progress import Progress
 from app.tools.render import demo_touches
-from sim import FrostSim, Params, session
-from sim.files import why
-from sim.geometry import FrostGeometry
-from sim.growthmap import GrowthClock
+from sim import FrostSim, Params
+from sim.io import session
+from sim.io.files import why
+from sim.io.session import Timeline, touch_events
+from sim.look.geometry import FrostGeometry
+from sim.look.growthmap import GrowthClock
 from sim.screen import HEIGHT, SIZE, WIDTH
-from sim.session import Timeline, touch_events
 
 
 def grow(params: Params, seed: int, touches, ticks: int,
          on_tick=None, size: tuple[int, int] = SIZE, wrap: bool = False,
          clock: GrowthClock | None = None) -> tuple[FrostSim, FrostGeometry]:
     """The simulation and its geometry (no GL) after `ticks` ticks of touches (tick, x, y)
-    on a `size` screen (`wrap`: a tile), through sim.session.grow; `on_tick(sim)` after
+    on a `size` screen (`wrap`: a tile), through sim.io.session.grow; `on_tick(sim)` after
     every tick (progress); `clock` is fed every geometry delta."""
     timeline = Timeline(params, seed, *size, wrap=wrap)
     events = [e for t, x, y in sorted(touches) for e in touch_events([(x, y)], t)]

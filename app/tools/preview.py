@@ -9,7 +9,7 @@ from app.gl.renderer import Renderer
 from app.images import read_image
 from app.tools.offscreen import make_context
 from sim import FrostSim, Params
-from sim.geometry import FrostGeometry
+from sim.look.geometry import FrostGeometry
 
 
 def draw_preview(sim: FrostSim, params: Params, wrap: bool,

@@ -11,10 +11,10 @@ from app.images import DEFAULT_FOLDER, timestamped_path
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
 from sim import Params
-from sim.files import why
-from sim.gestures import MELT_SPACING, path_points
+from sim.io.files import why
+from sim.io.gestures import MELT_SPACING, path_points
+from sim.io.session import touch_events
 from sim.screen import HEIGHT, WIDTH
-from sim.session import touch_events
 
 
 def demo_touches(ticks: int, size: tuple[int, int] = (WIDTH, HEIGHT)) -> list[tuple[int, float, float]]:

@@ -13,8 +13,8 @@ from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
 from app.tools.render import DEFAULT_FOLDER, error, write
 from sim import Params
+from sim.io.session import SessionError, SessionLog
 from sim.screen import HEIGHT, WIDTH
-from sim.session import SessionError, SessionLog
 
 log = logging.getLogger("app.replay")
 

@@ -16,10 +16,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from sim import tuning
-from sim.gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
+from sim.io.gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
+from sim.io.session import Backlog, Timeline
 from sim.params import PRESETS, Params
 from sim.screen import MELT_RADIUS, SIZE, TICKS_PER_SECOND
-from sim.session import Backlog, Timeline
 from sim.tuning import BUMP_STEP, HUMIDITY_FACTOR, LENGTH_STEP
 
 FINGER_SPEED = 800.0  # px per second: a brisk drag across a phone
@@ -208,4 +208,4 @@ class _Seeds:
 def _on_ice(sim, x: float, y: float) -> bool:
     """Within hc of a live crystal: in a crystal's freezing area (the cells' lists hold
     every crystal that near, so this costs the ice around the touch)."""
-    return len(sim._crystals_near(x, y, sim.params.hc)) > 0
+    return len(sim.index.crystals_near(x, y, sim.params.hc)) > 0

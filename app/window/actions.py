@@ -17,8 +17,8 @@ from app.window.presenter import Presenter
 from app.window.record import Recorder
 from app.window.status import Status, onoff
 from sim import Params, preset_name, tuning
-from sim.files import why
-from sim.paramsets import load_params, save_params
+from sim.io.files import why
+from sim.io.paramsets import load_params, save_params
 
 # Actions that repeat while their key is held.
 REPEATING = {"single_step", "scale", "shift", "light"}

@@ -12,8 +12,8 @@ from app.images import frost_meta, save_png, timestamped_path
 from app.simthread.thread import SimThread, Snapshot
 from app.window.presenter import Presenter
 from sim import Params
-from sim.files import why
-from sim.session import SessionLog
+from sim.io.files import why
+from sim.io.session import SessionLog
 
 log = logging.getLogger("app.window")
 

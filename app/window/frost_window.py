@@ -36,7 +36,7 @@ from app.window.record import Recorder
 from app.window.status import Status
 from app.window.view import PHONE, Sizes
 from sim import Params
-from sim.files import why
+from sim.io.files import why
 
 log = logging.getLogger("app.window")
 

@@ -11,7 +11,7 @@ import glfw
 
 from app.simthread.thread import SimThread
 from app.window.view import Sizes
-from sim.gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
+from sim.io.gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
 
 
 class Pointer:

@@ -16,7 +16,7 @@ import numpy as np
 from PIL import Image
 
 from app.images import timestamped_path
-from sim.files import why, write_atomic
+from sim.io.files import why, write_atomic
 
 log = logging.getLogger("app.window")
 

@@ -16,7 +16,7 @@ from typing import Protocol
 
 import numpy as np
 
-from .buffers import CellLists
+from ..core.buffers import CellLists
 from .grid import HashGrid
 from .periodic import nearest_image
 

@@ -29,21 +29,21 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
+from ..core.frost import VERSION as FROST_VERSION
+from ..core.frost import FrostSim
+from ..look.geometry import FrostGeometry, GeometryDelta
+from ..params import Params
+from ..screen import HEIGHT, WIDTH, melt_problem, touch_problem
 from .files import one_line, read_json, write_atomic
-from .frost import VERSION as FROST_VERSION
-from .frost import FrostSim
-from .geometry import FrostGeometry, GeometryDelta
-from .params import Params
-from .screen import HEIGHT, WIDTH, melt_problem, touch_problem
 
 log = logging.getLogger(__name__)
 
 FORMAT = "frost-session"
 # 5: a touch into an area whose pool is short brings new walkers, and a seed's hits count
-# together until its first child (sim/frost.py `_water_seed`, sim/fern.py); 4: the
-# window's water draws its later tries in one batch (sim/openglass.py); 3: where an
+# together until its first child (sim/core/supply.py `Supply.water_seed`, sim/rules/fern.py); 4: the
+# window's water draws its later tries in one batch (sim/rules/openglass.py); 3: where an
 # area's disc draws fail, walkers are placed from all areas' cells in one pass
-# (sim/frost.py, CELL_WORK); 2: a rebuild replants the touches at their own pace (1: all
+# (sim/core/frost.py, CELL_WORK); 2: a rebuild replants the touches at their own pace (1: all
 # at tick 0). Older files replay as frost did when they were written.
 VERSION = FROST_VERSION
 # Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
@@ -341,6 +341,11 @@ class Timeline:
     @property
     def tick(self) -> int:
         return self.sim.tick
+
+    @property
+    def pending(self) -> list[dict[str, Any]]:
+        """The touches and melts a rebuild scheduled that have not happened yet (a copy)."""
+        return list(self._pending)
 
     def apply(self, events) -> Applied:
         """Apply `events` (all at this tick), in order."""

@@ -1,7 +1,7 @@
 """How the ice looks: the Phong terms and the thickness-to-opacity law.
 
 Shared data, GL-free: the renderer hands these to its shaders, and the
-exported alpha map (sim.maps) follows the same law, so the two always agree.
+exported alpha map (sim.look.maps) follows the same law, so the two always agree.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ LOOK_DEFINES = MappingProxyType({
     "glass": ("FILM", "SCATTER", "SPARKLE", "REFRACT"),
 })
 # The feature pass's variant (shaders/feature.*): the glass look's ridges anti-alias their
-# edges (EDGE_AA: coverage and mean height within half a px of an edge; sim.maps does the
+# edges (EDGE_AA: coverage and mean height within half a px of an edge; sim.look.maps does the
 # same arithmetic); the paper's features are drawn as the paper's frames were, pixel for pixel.
 FEATURE_DEFINES = MappingProxyType({"paper": (), "glass": ("EDGE_AA",)})
 

@@ -5,12 +5,12 @@ the maps are exact (no 8-bit feature heights, no half floats), need no context, 
 be computed on any thread that holds a copy of the arrays:
 - the bumpy surface (Fig. 7): the geometry grid, bilinear at each pixel's centre, as
   the renderer samples its height texture;
-- the sharp features: the renderer's own triangles (sim.geometry: Fig. 6's per segment,
+- the sharp features: the renderer's own triangles (sim.look.geometry: Fig. 6's per segment,
   or the glass look's ridges), their height at each pixel centre, the highest winning
   where they overlap (the renderer's depth test); the glass look's edges anti-aliased
   as its feature pass does them (shaders/feature.frag, EDGE_AA);
 - as in the renderer's ice pass, the two surfaces add: z = bumps + features;
-- alpha is the renderer's thickness law (sim.material), opacity * (1 - exp(-density * z));
+- alpha is the renderer's thickness law (sim.look.material), opacity * (1 - exp(-density * z));
 - normals come from the height gradient (central differences, px per px).
 `encode` turns them into the integer images that app.images.export_maps writes as PNGs.
 """
@@ -22,11 +22,11 @@ from types import MappingProxyType
 
 import numpy as np
 
-from .frost import FrostSim
+from ..core.frost import FrostSim
+from ..params import Params
+from ..screen import HEIGHT, WIDTH
 from .geometry import feature_triangles, live_features
 from .material import Material, film
-from .params import Params
-from .screen import HEIGHT, WIDTH
 
 MAP_NAMES = ("height", "normal", "alpha")
 # Feature triangles are rasterized in batches of about this many pixel samples.
@@ -186,7 +186,7 @@ def compute_maps(grid: np.ndarray, segments: np.ndarray, params: Params,
                  width: int = WIDTH, height: int = HEIGHT,
                  triangles: np.ndarray | None = None, wrap: bool = False) -> FrostMaps:
     """The three maps of a frost from its height grid and the renderer's feature
-    triangles (sim.geometry.live_features, `map_triangles`); without them, the paper's
+    triangles (sim.look.geometry.live_features, `map_triangles`); without them, the paper's
     triangles of the live skeleton `segments` (the glass look's ridges need the sim).
     `wrap`: a tile (its height grid periodic, its last row and column the first's), whose
     features and slopes continue across each edge."""
@@ -195,7 +195,7 @@ def compute_maps(grid: np.ndarray, segments: np.ndarray, params: Params,
         z = film(z).astype(np.float32)
     if triangles is None:
         if params.look == "glass":
-            raise ValueError("the glass look's maps need its ridges (sim.maps.map_triangles)")
+            raise ValueError("the glass look's maps need its ridges (sim.look.maps.map_triangles)")
         triangles = feature_triangles(segments, params.feature_width, params.feature_height)
     z += triangle_field(triangles, width, height, edge_aa=params.look == "glass", wrap=wrap)
     return FrostMaps(z, normal_map(z, wrap=wrap), alpha_map(z))

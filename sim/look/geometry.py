@@ -15,10 +15,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .params import Params
-from .periodic import wrap_triangles
+from ..index.periodic import wrap_triangles
+from ..params import Params
+from ..screen import HEIGHT, WIDTH
 from .ridges import PipeRidges, top_height, widest
-from .screen import HEIGHT, WIDTH
 
 # Each segment gives 4 triangles of 3 vertices, each vertex x, y, z, nx, ny, nz.
 VERTS_PER_SEGMENT = 12

@@ -17,8 +17,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.placement import first_good
+from ..params import Params
 from .fronds import FRAME_PX, edge_distance
-from .pane import REFERENCE_C, TRIES, Pane, _glass, first_good
+from .pane import REFERENCE_C, TRIES, Pane
 
 # Walkers per far cell of glass. At 2.5 (the band's density before the fronds) a 40 px
 # wipe was 38 % back after 300 ticks in a prototype; 8 refroze it.
@@ -35,39 +37,40 @@ BLOB_PX = 200.0
 class OpenGlass(Pane):
     """The pane's pool placed on open glass (see module doc)."""
 
-    def __init__(self, sim):
-        super().__init__(sim)
-        p = sim.params
+    def __init__(self, params: Params, rng: np.random.Generator, index, ice,
+                 tries_at_once: bool):
+        super().__init__(params, rng, index, ice)
+        self.tries_at_once = tries_at_once
+        p, grid = params, index.grid
         self.far_rings, self.near_weight = p.water_far, float(p.near_water)
-        self.vapour = np.ones(sim.grid.size)
-        self.chill = np.ones(sim.grid.size)
-        self.rings = np.full(sim.grid.size, p.water_far)  # far enough, per cell
+        self.vapour = np.ones(grid.size)
+        self.chill = np.ones(grid.size)
+        self.rings = np.full(grid.size, p.water_far)  # far enough, per cell
         # Colder glass takes more vapour: the supply follows the temperature, so colder is
         # faster as well as denser (with the hits at their floor of 1 it was not).
         self.supply = p.temperature / REFERENCE_C
-        self._key = None
+        self._key: tuple[int, int] | None = None
         self._cells = np.empty(0, np.int64)
         self._cum = np.empty(0)
         self._area = 0.0
-        self.wet = np.zeros(sim.grid.size, bool)
+        self.wet = np.zeros(grid.size, bool)
 
-    def start(self) -> None:
-        sim = self.sim
-        if sim.params.vapour_var:
-            self.vapour = humidity_field(sim.rng, sim.grid.rows, sim.grid.cols,
-                                         sim.grid.cell, sim.params.vapour_var)
-        if sim.params.frame_chill:
-            self.chill = frame_weight(sim.grid, sim.width, sim.height, sim.params.frame_chill)
+    def start(self) -> tuple[np.ndarray, np.ndarray] | None:
+        p, grid = self.params, self.index.grid
+        if p.vapour_var:
+            self.vapour = humidity_field(self.rng, grid.rows, grid.cols, grid.cell, p.vapour_var)
+        if p.frame_chill:
+            self.chill = frame_weight(grid, self.index.width, self.index.height, p.frame_chill)
             # By the colder frame water freezes beside the ice (as before the fronds).
-            near_frame = (self.chill - 1.0) / sim.params.frame_chill >= FRAME_NEAR
+            near_frame = (self.chill - 1.0) / p.frame_chill >= FRAME_NEAR
             self.rings = np.where(near_frame, 0, self.far_rings).astype(np.int16)
-        super().start()
+        return super().start()
 
     def melted(self, dead: np.ndarray) -> None:
         """The cells whose crystals melted stay wet until they hold a crystal again."""
         super().melted(dead)
-        c = self.sim._crystals.raw()[dead]
-        self.wet[self.sim.grid.keys(c[:, 0], c[:, 1])] = True
+        c = self.ice.crystals.raw()[dead]
+        self.wet[self.index.grid.keys(c[:, 0], c[:, 1])] = True
 
     def pool(self, humidity: int) -> int:
         self._update()
@@ -83,28 +86,28 @@ class OpenGlass(Pane):
         x, y, ok = np.zeros(n, np.float32), np.zeros(n, np.float32), np.zeros(n, bool)
         if not len(self._cells):
             return x, y, ok
-        if not self.sim.tries_at_once:
+        if not self.tries_at_once:
             return self._place_by_rounds(x, y, ok)
         px, py = self._draw(n)
-        good = _glass(self.sim, px, py)
+        good = self.index.glass(px, py)
         x[good], y[good], ok[good] = px[good], py[good], True
         todo = np.flatnonzero(~good)
         if len(todo) and TRIES > 1:
             px, py = self._draw((TRIES - 1) * len(todo))
-            placed, pick = first_good(_glass(self.sim, px, py).reshape(TRIES - 1, len(todo)))
+            placed, pick = first_good(self.index.glass(px, py).reshape(TRIES - 1, len(todo)))
             x[todo[placed]], y[todo[placed]], ok[todo[placed]] = px[pick], py[pick], True
         return x, y, ok
 
     def _draw(self, k: int) -> tuple[np.ndarray, np.ndarray]:
         """k points, each uniform in a cell drawn by weight."""
-        sim = self.sim
-        u = sim.rng.random((3, k))
+        grid = self.index.grid
+        u = self.rng.random((3, k))
         pick = np.minimum(np.searchsorted(self._cum, u[0] * self._cum[-1], side="right"),
                           len(self._cells) - 1)
         cell = self._cells[pick]
-        s = sim.grid.cell
-        return (((cell % sim.grid.cols + u[1]) * s).astype(np.float32),
-                ((cell // sim.grid.cols + u[2]) * s).astype(np.float32))
+        s = grid.cell
+        return (((cell % grid.cols + u[1]) * s).astype(np.float32),
+                ((cell // grid.cols + u[2]) * s).astype(np.float32))
 
     def _place_by_rounds(self, x, y, ok) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Session files before version 4: TRIES rounds, one try each of those left."""
@@ -113,7 +116,7 @@ class OpenGlass(Pane):
             if len(todo) == 0:
                 break
             px, py = self._draw(len(todo))
-            good = _glass(self.sim, px, py)
+            good = self.index.glass(px, py)
             x[todo[good]], y[todo[good]], ok[todo[good]] = px[good], py[good], True
             todo = todo[~good]
         return x, y, ok
@@ -125,12 +128,12 @@ class OpenGlass(Pane):
 
     def _update(self) -> None:
         """Far and near cells and their cumulative weights, when the ice changed."""
-        sim = self.sim
-        key = (sim._crystals.n, sim.water_melted)  # (what the cells follow: the ice)
+        key = self.ice_key()  # (what the cells follow: the ice)
         if key == self._key:
             return
         self._key = key
-        dist = ring_distance(sim.candidates.count > 0, sim.grid.rows, sim.grid.cols,
+        grid = self.index.grid
+        dist = ring_distance(self.index.candidates.count > 0, grid.rows, grid.cols,
                              self.far_rings)
         far = (dist >= self.rings) & ((dist > 0) | (self._own_counts() == 0))
         near = (dist > 0) & ~far

@@ -19,8 +19,8 @@ import math
 
 import numpy as np
 
-from .fern import _nearest_d2
-from .params import Params
+from ..core.placement import GLASS_TRIES, glass_spots
+from ..params import Params
 
 # Temperature at which the preset's hit counts apply unchanged, degrees C below freezing.
 REFERENCE_C = 10.0
@@ -33,7 +33,7 @@ BAND = 3
 # band holds about 1 300 cells: the full `humidity` of 3 000.
 DENSITY = 2.5
 # Draws per walker among the band's cells before it is dropped.
-TRIES = 8
+TRIES = GLASS_TRIES
 
 
 def chill(params: Params) -> Params:
@@ -50,8 +50,8 @@ class NoPane:
 
     on = False
 
-    def start(self) -> None:
-        pass
+    def start(self) -> tuple[np.ndarray, np.ndarray] | None:
+        return None
 
     def melted(self, dead: np.ndarray) -> None:
         pass
@@ -59,100 +59,66 @@ class NoPane:
     def pool(self, humidity: int) -> int:
         return humidity
 
-    def refill(self) -> None:
-        pass
+    def place(self, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        raise NotImplementedError  # (touch mode places water in its areas)
 
 
 class Pane:
-    """The pane's seeds and its one pool of water (see module doc)."""
+    """The pane's seeds and its one pool of water (see module doc). It reads the ice (the
+    skeleton's positions and alive flags, the freezing index) and answers where water goes
+    and how much; the simulation opens its area, plants its seeds and keeps its pool full."""
 
     on = True
 
-    def __init__(self, sim):
-        self.sim = sim
+    def __init__(self, params: Params, rng: np.random.Generator, index, ice):
+        self.params, self.rng, self.index, self.ice = params, rng, index, ice
         self._band = np.empty(0, np.int64)
-        self._band_key = None
+        self._band_key: tuple[int, int] | None = None
         # Crystals whose own cell each cell is (live ones among the first `_seen`).
-        self._own = np.zeros(sim.grid.size, np.int32)
+        self._own = np.zeros(index.grid.size, np.int32)
         self._seen = 0
+        self._melted = 0  # crystals melted so far (the ice's state, with its count)
 
-    def start(self) -> None:
-        """Open the pane-wide area, then plant the frame's and the glass's seeds."""
-        sim = self.sim
-        w, h = sim.width, sim.height
-        row = np.array([[w / 2, h / 2, math.hypot(w, h) / 2 + 1.0, 0.0, 0.0]], np.float32)
-        sim._areas.append(row)
-        sim._area_ice.append(np.zeros(1, np.int32))
-        sites = np.vstack((frame_sites(sim.rng, w, h, sim.params.frame_sites),
-                           pane_sites(sim.rng, w, h, sim.params.pane_sites)))
-        if len(sites):
-            sim.plant(sites, water=False)  # the pane's own seeds: its pool is theirs
+    def start(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """The pane-wide area's row, and the frame's and the glass's seeds."""
+        w, h = self.index.width, self.index.height
+        row = np.array([w / 2, h / 2, math.hypot(w, h) / 2 + 1.0, 0.0, 0.0], np.float32)
+        sites = np.vstack((frame_sites(self.rng, w, h, self.params.frame_sites),
+                           pane_sites(self.rng, w, h, self.params.pane_sites)))
+        return row, sites
 
     def melted(self, dead: np.ndarray) -> None:
         """Melted crystals leave their cells' counts (those counted so far)."""
+        self._melted += len(dead)
         seen = dead[dead < self._seen]
-        c = self.sim._crystals.raw()[seen]
-        np.subtract.at(self._own, self.sim.grid.keys(c[:, 0], c[:, 1]), 1)
+        c = self.ice.crystals.raw()[seen]
+        np.subtract.at(self._own, self.index.grid.keys(c[:, 0], c[:, 1]), 1)
+
+    def ice_key(self) -> tuple[int, int]:
+        """What the band follows: crystals added and melted."""
+        return (self.ice.crystals.n, self._melted)
 
     def pool(self, humidity: int) -> int:
         """The pool's size: `humidity`, or less where little glass lies near the ice."""
         return min(humidity, int(DENSITY * len(self.band())))
 
-    def refill(self) -> None:
-        """Keep the pool full: frozen water and water dropped for want of glass return."""
-        self.sim._fill(np.zeros(1, np.int32))
-
     def place(self, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """n spots of glass in the band's cells (see `glass_spots`)."""
-        return glass_spots(self.sim, self.band(), n)
+        return glass_spots(self.rng, self.index, self.band(), n, TRIES)
 
     def band(self) -> np.ndarray:
         """Cells within BAND rings of a candidate cell that hold no crystal of their own;
         recomputed only when the ice changed (a crystal added or melted)."""
-        sim = self.sim
-        key = (sim._crystals.n, sim.water_melted)  # (what the band follows: the ice)
+        key = self.ice_key()
         if key != self._band_key:
-            new = np.arange(self._seen, sim._crystals.n)
-            c = sim._crystals.raw()[new[sim._calive.raw()[new]]]
-            np.add.at(self._own, sim.grid.keys(c[:, 0], c[:, 1]), 1)
-            self._seen = sim._crystals.n
-            near = (sim.clearance.rings <= BAND) & (self._own == 0)
+            n = self.ice.crystals.n
+            new = np.arange(self._seen, n)
+            c = self.ice.crystals.raw()[new[self.ice.calive.raw()[new]]]
+            np.add.at(self._own, self.index.grid.keys(c[:, 0], c[:, 1]), 1)
+            self._seen = n
+            near = (self.index.clearance.rings <= BAND) & (self._own == 0)
             self._band, self._band_key = np.flatnonzero(near), key
         return self._band
-
-
-def glass_spots(sim, cells: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """n uniform spots of glass (on screen, at least hc / 2 from every live crystal) in
-    uniformly drawn `cells`; `ok` False where TRIES draws found none. hc / 2 is the fern
-    rule's least crystal spacing: water placed only beyond hc (outside candidate cells)
-    left a frosted pane with about 20 % of its cells holding no crystal, every point of
-    them within hc of a neighbour's, and a wiped path half refrozen."""
-    x, y, ok = np.zeros(n, np.float32), np.zeros(n, np.float32), np.zeros(n, bool)
-    todo = np.arange(n)
-    for _ in range(TRIES if len(cells) else 0):
-        if len(todo) == 0:
-            break
-        px, py = _draw(sim, cells, len(todo))
-        good = _glass(sim, px, py)
-        x[todo[good]], y[todo[good]], ok[todo[good]] = px[good], py[good], True
-        todo = todo[~good]
-    return x, y, ok
-
-
-def _draw(sim, cells: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
-    """k uniform points of uniformly drawn `cells`."""
-    u = sim.rng.random((3, k), dtype=np.float32)
-    cell = cells[np.minimum((u[0] * len(cells)).astype(np.int64), len(cells) - 1)]
-    s = np.float32(sim.grid.cell)
-    return (cell % sim.grid.cols + u[1]) * s, (cell // sim.grid.cols + u[2]) * s
-
-
-def _glass(sim, px: np.ndarray, py: np.ndarray) -> np.ndarray:
-    """On the screen and at least hc / 2 from every live crystal."""
-    good = (px < sim.width) & (py < sim.height)
-    d2 = _nearest_d2(sim, np.column_stack((px[good], py[good])))
-    good[good] = d2 >= np.float32(sim.params.hc / 2) ** 2
-    return good
 
 
 def frame_sites(rng: np.random.Generator, width: int, height: int, per_100: float) -> np.ndarray:
@@ -182,16 +148,9 @@ def pane_sites(rng: np.random.Generator, width: int, height: int, n: int) -> np.
     return rng.random((n, 2)) * np.array([width, height])
 
 
-def make_pane(sim):
-    if sim.params.water_far:  # (frond rules 2 and 3)
+def make_pane(params: Params, rng: np.random.Generator, index, ice, tries_at_once: bool):
+    """The pane of window mode (`window_frost`; open glass with `water_far`), else none."""
+    if params.water_far:  # (frond rules 2 and 3)
         from .openglass import OpenGlass
-        return OpenGlass(sim)
-    return Pane(sim) if sim.params.window_frost else NoPane()
-
-
-def first_good(good: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """For tries x k flags: which of the k have a good try, and the flat index (into the
-    tries x k draws) of the first good try of each of those."""
-    placed = np.any(good, axis=0)  # (an array for mypy, where good.any may be a scalar)
-    pick = good.argmax(axis=0)[placed] * good.shape[1] + np.flatnonzero(placed)
-    return placed, pick
+        return OpenGlass(params, rng, index, ice, tries_at_once)
+    return Pane(params, rng, index, ice) if params.window_frost else NoPane()

@@ -1,7 +1,8 @@
 """Growth rules: where a walker that reached ice leaves its crystal (docs/method.md, fern rules 1-2).
 
 `FrostSim` asks its growth rule, once per tick, which of the walkers within hc of ice
-become crystals, where, and which go back to the pool. `PaperGrowth` is Sec. 3.4.3 as
+become crystals, where, and which go back to the pool; it hands the rule the walkers'
+positions, the ice skeleton (read only) and the freezing index, nothing else. `PaperGrowth` is Sec. 3.4.3 as
 written: every one freezes where it is. `FernGrowth` adds grains and hit counters:
 
 - Each seed draws an orientation in [0, 60) degrees; a crystal has six slots, its axis
@@ -28,10 +29,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .buffers import Growable
+from ..core.buffers import Growable
+from ..index.periodic import nearest_image, wrap_points
+from ..params import Params
 from .fronds import make_fronds
-from .params import Params
-from .periodic import nearest_image, wrap_points
 
 SIXTH = np.pi / 3  # 60 degrees between a crystal's axes
 SLOTS = 6
@@ -46,10 +47,10 @@ class PaperGrowth:
     def add_seeds(self, n: int) -> None:
         pass
 
-    def settle(self, sim, hits: np.ndarray, parents: np.ndarray):
-        """(growing walkers, their parents, new crystal positions, walkers to place again)."""
-        pts = np.column_stack((sim._wx.raw()[hits], sim._wy.raw()[hits]))
-        return hits, parents, pts, hits[:0]
+    def settle(self, walkers: np.ndarray, hits: np.ndarray, parents: np.ndarray, ice, index):
+        """(growing walkers, their parents, new crystal positions, walkers to place again)
+        for walkers `hits` at `walkers` (len(hits) x 2) within hc of crystals `parents`."""
+        return hits, parents, walkers, hits[:0]
 
     def melted(self, dead: np.ndarray, parents: np.ndarray, orphans: np.ndarray,
                edge: np.ndarray) -> None:
@@ -84,20 +85,22 @@ class FernGrowth:
         """New seeds: each draws its grain's orientation in [0, 60) degrees."""
         self._append(self.rng.random(n) * SIXTH, np.full(n, -1, np.int8), np.ones(n, bool))
 
-    def settle(self, sim, hits: np.ndarray, parents: np.ndarray):
-        """(growing walkers, their parents, new crystal positions, walkers to place again)."""
+    def settle(self, walkers: np.ndarray, hits: np.ndarray, parents: np.ndarray, ice, index):
+        """(growing walkers, their parents, new crystal positions, walkers to place again)
+        for walkers `hits` at `walkers` within hc of crystals `parents` of the skeleton
+        `ice` (read only); `index` answers where the ice is."""
         if len(hits) == 0:
             return hits, parents, np.empty((0, 2), np.float32), hits
-        k, need = self._slots(sim, hits, parents)
+        k, need = self._slots(walkers, ice.crystals.raw()[parents], parents, index)
         cand = np.flatnonzero(self._count(parents, k, need))
         if len(cand) == 0:  # most ticks: every hit only counts
             return hits[:0], parents[:0], np.empty((0, 2), np.float32), hits
         angle = self.axis.raw()[parents[cand]] + k[cand] * SIXTH
-        pts = self._spots(sim, parents[cand], angle)
-        ok = self._free(sim, pts, parents[cand], k[cand])
+        pts = self._spots(ice.crystals.raw()[parents[cand]], angle, index)
+        ok = self._free(pts, parents[cand], k[cand], ice.parents.raw(), index)
         ok[ok] = _first_apart(pts[ok], self.L / 2)
         grow = cand[ok]
-        self._adopt(sim._crystals.n, parents[grow], k[grow], angle[ok])
+        self._adopt(ice.crystals.n, parents[grow], k[grow], angle[ok])
         counted = np.ones(len(hits), bool)
         counted[grow] = False
         return hits[grow], parents[grow], pts[ok], hits[counted]
@@ -129,19 +132,20 @@ class FernGrowth:
 
     # ---- steps of settle ------------------------------------------------------------
 
-    def _slots(self, sim, hits, parents):
-        """Each hit's slot (nearest axis to the walker's direction) and the hits it needs."""
-        c = sim._crystals.raw()[parents].astype(np.float64)
-        dx = sim._wx.raw()[hits] - c[:, 0]
-        dy = sim._wy.raw()[hits] - c[:, 1]
-        if sim.grid.period is not None:  # a tile: the walker may be across an edge
-            dx, dy = nearest_image(dx, sim.width), nearest_image(dy, sim.height)
+    def _slots(self, walkers, at, parents, index):
+        """Each hit's slot (nearest axis to the walker's direction from its crystal, at
+        `at`) and the hits it needs."""
+        c = at.astype(np.float64)
+        dx = walkers[:, 0] - c[:, 0]
+        dy = walkers[:, 1] - c[:, 1]
+        if index.grid.period is not None:  # a tile: the walker may be across an edge
+            dx, dy = nearest_image(dx, index.width), nearest_image(dy, index.height)
         turn = (np.arctan2(dy, dx) - self.axis.raw()[parents]) / SIXTH
         k = np.rint(turn).astype(np.int64) % SLOTS
         kind = np.where(self.seed.raw()[parents], TIP, SLOT_KIND[k])
         if not self.fronds.on:
             return k, self.need[kind]
-        return k, self.fronds.need((sim.width, sim.height), self.order.raw()[parents],
+        return k, self.fronds.need((index.width, index.height), self.order.raw()[parents],
                                    kind == SIDE, self.need[kind], c)
 
     def _count(self, parents, k, need) -> np.ndarray:
@@ -166,28 +170,30 @@ class FernGrowth:
         flat[slots] = np.minimum(flat[slots] + hits, 1 << 20)
         return due
 
-    def _spots(self, sim, parents, angle) -> np.ndarray:
-        """One hc from each parent along `angle` (float64 arithmetic, stored float32)."""
-        c = sim._crystals.raw()[parents].astype(np.float64)
+    def _spots(self, at, angle, index) -> np.ndarray:
+        """One hc from each parent (at `at`) along `angle` (float64 arithmetic, stored
+        float32)."""
+        c = at.astype(np.float64)
         pts = np.column_stack((c[:, 0] + self.L * np.cos(angle),
                                c[:, 1] + self.L * np.sin(angle))).astype(np.float32)
-        return wrap_points(pts, sim.grid.period and (sim.width, sim.height))
+        return wrap_points(pts, index.grid.period and (index.width, index.height))
 
-    def _free(self, sim, pts, parents, k) -> np.ndarray:
+    def _free(self, pts, parents, k, parent, index) -> np.ndarray:
         """Spots on the screen, at least hc / 2 from the ice of the tick's start, and (side
-        slots) clear of same-side branches along the stem."""
+        slots) clear of same-side branches along the stem (`parent`: every crystal's)."""
         x, y = pts[:, 0], pts[:, 1]
-        ok = (x >= 0) & (x < sim.width) & (y >= 0) & (y < sim.height)
-        ok[ok] = _nearest_d2(sim, pts[ok]) >= np.float32(self.L / 2) ** 2
+        ok = (x >= 0) & (x < index.width) & (y >= 0) & (y < index.height)
+        ok[ok] = index.nearest_d2(pts[ok]) >= np.float32(self.L / 2) ** 2
         side = ok & (SLOT_KIND[k] == SIDE) & ~self.seed.raw()[parents]
         if self.gap > 1 and side.any():
-            ok[side] = self._gap_clear(sim, parents[side], k[side])
+            ok[side] = self.gap_clear(parents[side], k[side], parent)
         return ok
 
-    def _gap_clear(self, sim, crystals, k) -> np.ndarray:
-        """No side child in slot k within side_gap - 1 links up or down the stem."""
+    def gap_clear(self, crystals, k, parent) -> np.ndarray:
+        """No side child in slot k within side_gap - 1 links up or down the stem of each
+        of `crystals` (`parent`: every crystal's parent)."""
         clear = np.ones(len(crystals), bool)
-        child, slot, parent = self.child.raw(), self.slot.raw(), sim._parents.raw()
+        child, slot = self.child.raw(), self.slot.raw()
         up, down = crystals.copy(), crystals.copy()
         for _ in range(self.gap - 1):
             stem = (up >= 0) & (slot[np.maximum(up, 0)] == 0)
@@ -221,27 +227,6 @@ class FernGrowth:
         self.seed.append(seed)
         self.child.append(np.full((len(axis), SLOTS), -1, np.int32))
         self.hits.append(np.zeros((len(axis), SLOTS), np.int32))
-
-
-def _nearest_d2(sim, pts: np.ndarray) -> np.ndarray:
-    """Squared distance from each point to the nearest live crystal listed in its cell
-    (inf if none). Any crystal within hc of a point is listed in the point's cell."""
-    d2 = np.full(len(pts), np.inf, np.float32)
-    if len(pts) == 0:
-        return d2
-    counts, ids = sim.candidates.gather_flat(sim.grid.keys(pts[:, 0], pts[:, 1]))
-    some = counts > 0
-    if not some.any():
-        return d2
-    rows = np.repeat(np.arange(len(pts)), counts)
-    c = sim._crystals.raw()[ids]
-    dx, dy = c[:, 0] - pts[rows, 0], c[:, 1] - pts[rows, 1]
-    if sim.grid.period is not None:  # a tile: over the wrap
-        dx, dy = nearest_image(dx, sim.grid.period[0]), nearest_image(dy, sim.grid.period[1])
-    e = dx ** 2 + dy ** 2
-    starts = (np.cumsum(counts) - counts)[some]
-    d2[some] = np.minimum.reduceat(e, starts)
-    return d2
 
 
 def _first_apart(pts: np.ndarray, gap: float) -> np.ndarray:

@@ -18,10 +18,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..params import Params
 from .geometry import GeometryDelta
 from .maps import triangle_hits
 from .material import FILM_CUT
-from .params import Params
 
 NEVER = np.iinfo(np.int32).max  # no ice (yet)
 GROWTH_TOP = 65534  # the run's last tick; 65535 is kept for pixels with no ice
@@ -35,10 +35,10 @@ class GrowthClock:
         self.width, self.height, self.wrap = width, height, wrap
         self.spacing = int(params.grid_spacing)
         self.threshold = FILM_CUT if params.look == "glass" else 0.0
-        self.edge_aa = params.look == "glass"  # the maps' features, as sim.maps draws them
+        self.edge_aa = params.look == "glass"  # the maps' features, as sim.look.maps draws them
         self.features = np.full(width * height, NEVER, np.int32)
         self.bumps = np.full(width * height, NEVER, np.int32)
-        # The heights as the deltas left them (sim.geometry's grid: a vertex every spacing px).
+        # The heights as the deltas left them (sim.look.geometry's grid: a vertex every spacing px).
         self.grid = np.zeros((height // self.spacing + 1, width // self.spacing + 1), np.float32)
 
     def apply(self, delta: GeometryDelta) -> None:
@@ -74,7 +74,7 @@ class GrowthClock:
 
     def _bumps(self, delta: GeometryDelta) -> None:
         """Pixels in the grid cells around the vertices that changed: ice from the bumps
-        (bilinear, as sim.maps.bump_field samples them) takes the tick, clear loses it."""
+        (bilinear, as sim.look.maps.bump_field samples them) takes the tick, clear loses it."""
         rows = delta.rows
         if rows.stop <= rows.start:
             return
@@ -102,7 +102,7 @@ class GrowthClock:
         return flat // self.width, flat % self.width
 
     def _bilinear(self, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
-        """The bump height at pixel centres, float32 as sim.maps.bump_field computes it."""
+        """The bump height at pixel centres, float32 as sim.look.maps.bump_field computes it."""
         x0, x1, wx = _axis(xs, self.spacing, self.grid.shape[1])
         y0, y1, wy = _axis(ys, self.spacing, self.grid.shape[0])
         g = self.grid
@@ -118,7 +118,7 @@ class GrowthClock:
 
 
 def _axis(i: np.ndarray, spacing: int, size: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """sim.maps.bump_field's sampling of pixel index `i` on one axis: vertices and weight."""
+    """sim.look.maps.bump_field's sampling of pixel index `i` on one axis: vertices and weight."""
     t = np.clip((i + 0.5) / spacing, 0, size - 1)
     i0 = np.minimum(np.floor(t).astype(np.int64), size - 1)
     return i0, np.minimum(i0 + 1, size - 1), (t - i0).astype(np.float32)

@@ -10,8 +10,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from ..params import Params
 from .files import read_json, write_atomic
-from .params import Params
 from .session import SessionError, _params
 
 FORMAT = "frost-params"

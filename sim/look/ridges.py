@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .params import Params
-from .periodic import image_near
+from ..index.periodic import image_near
+from ..params import Params
 
 VERTS_PER_LINK = 24  # 8 triangles: two body faces and a cap on each side at each end
 MIN_HALF_WIDTH = 0.9  # px: a tip's ridge is about 2 px wide

@@ -9,14 +9,14 @@
   crystal's distance to the screen's edge: a denser, more granular band along the frame.
 
 Either way the count is rounded and at least 1. Rules 2 and 3 (where water lands) are in
-sim/openglass.py.
+sim/rules/openglass.py.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .params import Params
+from ..params import Params
 
 # Decay length of the frame's chill, px: a prototype's 150.
 FRAME_PX = 150.0

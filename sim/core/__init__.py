@@ -1,0 +1,1 @@
+"""The simulation's core: `FrostSim` (the orchestrator) and the parts it runs a tick over."""

@@ -1,0 +1,259 @@
+"""The frost simulation of Sec. 3.3-3.4: water walks, freezes near crystals, and grows a skeleton.
+
+`FrostSim` runs a tick over its parts (sim/core, sim/index): the ice skeleton, the freezing
+index over it, the walkers, the active areas, their placement and supply. A tick
+(`FrostSim.step`) is: walk -> drop water in full cells -> crystallize and admit (within
+the tick's geometry budget and the cells' cap) -> settle (the growth rule: Table 1's keeps
+every freeze, the fern rule's slots and hits) -> link and upsample -> register the new
+crystals in the index -> follow the ice (growth mode, launch circle) -> place again the
+walkers whose hits only counted -> refill the pools (replenish, growth mode, the pane).
+Everything is plain numpy data; rendering reads the arrays and the per-tick `added` slices.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..index.freezing import FreezingIndex
+from ..index.periodic import image_near, wrap_into
+from ..params import Params
+from ..rules.fern import make_growth
+from ..rules.pane import chill, make_pane
+from ..screen import HEIGHT, WIDTH, touch_problem
+from . import budget, placement
+from .areas import Areas
+from .budget import CELL_CAP, FREEZE_WORK
+from .placement import CELL_TRIES, CELL_WORK, Placer
+from .skeleton import Added, Melted, Skeleton, upsample
+from .supply import TOUCH_TRIES, Supply
+from .views import Holdings
+from .walk import on_screen_f32, outside, walk_displacements
+from .water import Water
+
+__all__ = ["Added", "CELL_CAP", "CELL_TRIES", "CELL_WORK", "FREEZE_WORK", "FrostSim", "Melted",
+           "TOUCH_TRIES", "VERSION", "upsample", "walk_displacements"]
+
+# The newest rules (what a session file's "version" names; sim/io/session.py lists what each
+# changed). Older versions replay as frost grew them then.
+VERSION = 5
+_NONE = np.empty(0, np.int64)
+_PANE = np.zeros(1, np.int32)  # the pane's one area
+
+
+def _check(name: str, v, low: int, high: int, what: str) -> None:
+    if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not low <= v <= high:
+        raise ValueError(f"{name}={v!r} must be a whole number{what} in [{low}, {high}]")
+
+
+class FrostSim(Holdings):
+    """Window frost on a `width` x `height` px screen (docs/method.md). `version` (1 ..
+    VERSION) picks the rules a session file of that version replays with: 3 batches the
+    cell placement of all areas, 4 draws window water's later tries at once, 5 lets a
+    touch into a short pool bring new walkers and pools a seed's first hits. `wrap`: a
+    tile (sim.index.periodic), whose walkers, search, clearance and placement see across edges."""
+
+    def __init__(self, params: Params | None = None, width: int = WIDTH, height: int = HEIGHT,
+                 seed: int = 0, version: int = VERSION, wrap: bool = False):
+        _check("width", width, 1, 16384, " of px")
+        _check("height", height, 1, 16384, " of px")
+        _check("version", version, 1, VERSION, "")
+        p = self.params = params if params is not None else Params()
+        self.width, self.height, self.wrap = int(width), int(height), bool(wrap)
+        self.seed, self.version, self.rng = seed, int(version), np.random.default_rng(seed)
+        self.batched, self.tries_at_once = version >= 3, version >= 4
+        self.touch_creates = version >= 5
+        self.tick, self.water_melted, self._mark = 0, 0, (0, 0, 0)
+        self.ice, self._water, self._areas = Skeleton(), Water(p.humidity), Areas()
+        self.index = FreezingIndex(self.ice.crystals, self.width, self.height, p.hc,
+                                   p.neighbor_search, self.wrap, p.long_jumps or p.window_frost)
+        self.grid, self.candidates = self.index.grid, self.index.candidates
+        self.search, self.clearance = self.index.search, self.index.clearance
+        self.work_per_crystal = budget.work_per_crystal(p.hc, p.grid_spacing, p.D)
+        # Beyond the paper (fern rules; window mode chills them by its temperature).
+        self.growth = make_growth(chill(p), self.rng, pooled_first=version >= 5)
+        self.pane = make_pane(p, self.rng, self.index, self.ice, self.tries_at_once)
+        self.placer = Placer(self.rng, self.index, self._areas, self.pane, p, self.batched)
+        self.supply = Supply(p, self.rng, self._water, self._areas, self.placer, self.pane,
+                             self.index, self.touch_creates)
+        self.added = Added(0, slice(0, 0), slice(0, 0), slice(0, 0), 0)
+        self._start_pane()
+
+    def _start_pane(self) -> None:
+        """Window mode: the pane-wide area, then the frame's and the glass's own seeds."""
+        start = self.pane.start()
+        if start is not None:
+            self._areas.open(start[0])
+            if len(start[1]):
+                self.plant(start[1], water=False)  # the pane's own seeds: its pool is theirs
+
+    # ---- public API -------------------------------------------------------------
+
+    def touch(self, x: float, y: float) -> int:
+        """Plant a seed crystal at (x, y); returns the index of its active area.
+
+        A touch inside an existing active area joins that area (the nearest, by its
+        centre) and tops its pool up to `humidity`; elsewhere it opens a new area with
+        its own pool. Either way the screen's walkers stay within `water_budget`, so a
+        drag that plants a trail of touches costs what a few touches cost."""
+        return int(self.plant([(x, y)])[0])
+
+    def plant(self, points, water: bool = True) -> np.ndarray:
+        """Touches at every (x, y) of `points` at once (a run's first touches, or those a
+        rebuild replants together): the seeds, then one top-up of each area they touched,
+        then (`water`, with `touch_water`) the water each seed that joined an area brings
+        (`Supply.water_seed`). Returns each seed's area."""
+        pts = np.array(points, np.float64).reshape(-1, 2)
+        for x, y in pts:
+            problem = touch_problem(x, y, (self.width, self.height))
+            if problem:
+                raise ValueError(problem)
+        pts32 = on_screen_f32(pts, self.width, self.height)
+        opened = self._areas.n
+        area = self._areas.areas_for(pts32, self.params.active_radius)
+        seeds = self._add_crystals(pts32, np.full(len(pts), -1, np.int32), area)
+        self.growth.add_seeds(len(pts))
+        self.ice.no_links(len(pts))
+        self.index.register(seeds)
+        self._follow_ice(seeds)  # a seed joining an area may lie beyond its ice
+        self.supply.fill(np.unique(area), self.ice_state())
+        if water and self.params.touch_water:
+            for seed in np.flatnonzero(area < opened):
+                sx, sy = self.ice.crystals.raw()[seeds.start + int(seed)]
+                self.supply.water_seed((float(sx), float(sy)), int(area[seed]))
+        return area
+
+    def step(self) -> Added:
+        """One tick: the phases of the module doc, in order."""
+        self.placer.cell_work = placement.CELL_WORK
+        self.walk()
+        self._drop_in_full_cells()
+        hits, parents = self._admit(*self.crystallize())
+        frozen, parents, pts, bounced = self.growth.settle(self._water.at(hits), hits, parents,
+                                                           self.ice, self.index)
+        new = self._link(frozen, parents, pts)
+        self.index.register(new)
+        self._follow_ice(new)
+        lost = self.supply.relocate(bounced, self.ice_state())  # hits that only counted
+        if (self.params.replenish or self.params.grow) and not self.pane.on:  # (pane: refill)
+            self.supply.spawn(self._water.area.raw()[frozen], self.ice_state())
+        self.supply.spent(frozen, lost)
+        if self.pane.on:  # the pane keeps its pool full
+            self.supply.fill(_PANE, self.ice_state())
+        self.tick += 1
+        return self._close_tick(len(frozen))
+
+    def melt(self, x: float, y: float, radius: float) -> Melted:
+        """A warm finger at (x, y): crystals within `radius` px melt and their water returns
+        to its area's pool (never above `humidity`; an area left with no ice loses its
+        water); their links (and those of their children, which become roots) leave the
+        skeleton; the cleared cells stop being candidate cells. Costs O(local ice)."""
+        if not (np.isfinite(x) and np.isfinite(y) and np.isfinite(radius) and radius > 0):
+            raise ValueError(f"melt at ({x!r}, {y!r}) with radius {radius!r}: need finite values, "
+                             "radius > 0")
+        dead = self.index.crystals_near(x, y, radius)
+        self.ice.calive.raw()[dead] = False
+        self.pane.melted(dead)
+        self.index.remove(dead)
+        # A child lies within one link of its parent: look no further than that.
+        near = self.index.crystals_near(x, y, radius + self.ice.longest_link + 1.0)
+        parents = self.ice.parents.raw()
+        orphans = near[np.isin(parents[near], dead)]
+        self.growth.melted(dead, parents, orphans, near if len(dead) else dead)
+        parents[orphans] = -1
+        segs, ups = self.ice.cut(np.concatenate([dead, orphans]))
+        self.water_melted += len(dead)
+        dead_area = self.ice.area.raw()[dead]
+        self._areas.count_ice(dead_area, -1)
+        self.supply.returned(dead_area, self.ice_state())
+        return Melted(dead, ups, segs, orphans)
+
+    # ---- phases ---------------------------------------------------------------------
+
+    def ice_state(self) -> tuple[int, int]:
+        """What changes when the ice does: crystals added, crystals melted."""
+        return (self.ice.crystals.n, self.water_melted)
+
+    def walk(self) -> None:
+        """Eq. 2 for every walker; leavers are recreated inside their area (Sec. 3.4.2)."""
+        m = self._water.n
+        if m == 0:
+            return
+        x, y = self._water.x.raw(), self._water.y.raw()
+        dx, dy = walk_displacements(self.rng, m, self.params.step, self.jumps(x, y))
+        x += dx
+        y += dy
+        if self.wrap:  # a tile: a walker leaving one edge comes in at the opposite one
+            x[:], y[:] = wrap_into(x, self.width), wrap_into(y, self.height)
+        left = outside(x, y, self._areas.columns(self._water.area.raw()),
+                       (self.width, self.height), self.wrap)
+        self.supply.spent(_NONE, self.supply.relocate(np.flatnonzero(left), self.ice_state()))
+
+    def jumps(self, x: np.ndarray, y: np.ndarray) -> np.ndarray | None:
+        """Long jumps: the clearance of walkers at (x, y), each in its own area (None
+        without long jumps)."""
+        if not self.params.long_jumps:
+            return None
+        cx, cy, r = self._areas.columns(self._water.area.raw())
+        return self.index.clearance.radii(x, y, r - np.hypot(x - cx, y - cy))
+
+    def _drop_in_full_cells(self) -> None:
+        """Water in a cell that lists CELL_CAP crystals has arrived at finished ice."""
+        full = self.candidates.count[self.grid.keys(self._water.x.raw(), self._water.y.raw())] \
+            >= budget.CELL_CAP
+        if full.any():
+            self.supply.dropped += int(full.sum())
+            self._water.keep(~full)
+
+    def crystallize(self) -> tuple[np.ndarray, np.ndarray]:
+        """Sec. 3.4.3: the walkers within hc of a crystal, and their nearest crystal."""
+        if self._water.n == 0:
+            return np.empty(0, np.int64), np.empty(0, np.int32)
+        return self.index.nearest(self._water.x.raw(), self._water.y.raw())
+
+    def _admit(self, frozen: np.ndarray, parents: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The freezes this tick takes (`budget.admit`); the water of those over the
+        cells' cap is dropped, and the kept walkers move down."""
+        frozen, parents, over = budget.admit(frozen, parents, self.candidates.count, self.grid,
+                                             self._water.at, self.params.hc,
+                                             self.work_per_crystal)
+        if len(over):
+            self.supply.dropped += len(over)
+            frozen = self._water.drop_before(over, frozen)
+        return frozen, parents
+
+    def _link(self, frozen: np.ndarray, parents: np.ndarray, pts: np.ndarray) -> slice:
+        """Frozen walkers become crystals at `pts` linked to their parents; links are
+        upsampled. With a launch circle a crystal belongs to the area of the ice it grew
+        on (so each area's reach follows its own frost), else to its water's."""
+        area = (self.ice.area.raw()[parents] if self.params.launch
+                else self._water.area.raw()[frozen])
+        new = self._add_crystals(pts, parents, area)
+        # On a tile the link runs to the parent's image beside its child (across an edge
+        # its segments and upsample particles lie off the tile; the geometry wraps them).
+        size = (self.width, self.height) if self.wrap else None
+        tail = image_near(self.ice.crystals.raw()[parents], pts, size)
+        self.ice.link(new.start, tail, pts, self.params.D)
+        return new
+
+    def _add_crystals(self, pts: np.ndarray, parents: np.ndarray, area: np.ndarray) -> slice:
+        new = self.ice.add(pts, parents, area)
+        self._areas.count_ice(area, 1)
+        return new
+
+    def _follow_ice(self, new: slice) -> None:
+        """Growth mode: each area's annulus rides on its ice front (`Areas.ride`); a launch
+        circle needs the reach too. Costs O(new crystals). Without growth mode the areas
+        keep their size, and the pane's one area (window mode) always covers the screen."""
+        area = self.ice.area.raw()[new]
+        if len(area) == 0 or self.pane.on or not (self.params.grow or self.params.launch):
+            return
+        touched = self._areas.reach_to(area, self.ice.crystals.raw()[new])
+        if self.params.grow:
+            self._areas.ride(touched, self.params.active_radius)
+
+    def _close_tick(self, frozen: int) -> Added:
+        now = (self.ice.crystals.n, self.ice.ups.n, self.ice.segs.n)
+        c, u, s = (slice(a, b) for a, b in zip(self._mark, now, strict=True))
+        self._mark = now
+        self.added = Added(self.tick, c, u, s, frozen)
+        return self.added

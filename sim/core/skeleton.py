@@ -1,0 +1,145 @@
+"""The ice skeleton: crystals with parent links, upsample particles and chain segments.
+
+Rows are only appended; a melt marks them dead, so indices stay stable. Each crystal keeps
+its own link's rows as (first, count) ranges, so a melt finds what it cuts without
+scanning the whole skeleton.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .buffers import Growable
+
+
+@dataclass(frozen=True)
+class Added:
+    """Index ranges appended since the previous tick (touches included)."""
+
+    tick: int
+    crystals: slice
+    upsampled: slice
+    segments: slice
+    frozen: int  # water particles that froze in this tick
+
+
+@dataclass(frozen=True)
+class Melted:
+    """What one `melt` removed (indices into crystals, upsampled, segments) and the
+    crystals that lost their parent and became roots of their own trees."""
+
+    crystals: np.ndarray
+    upsampled: np.ndarray
+    segments: np.ndarray
+    orphans: np.ndarray
+
+
+class Skeleton:
+    """Crystals (positions, parents, alive flags, the area whose water became each) and
+    their links' upsample particles and segments, with per-crystal row ranges."""
+
+    def __init__(self) -> None:
+        self.crystals = Growable(np.float32, (2,))
+        self.parents = Growable(np.int32)  # -1 for a seed
+        self.area = Growable(np.int32)  # the area whose water became each crystal
+        self.calive = Growable(bool)
+        self.ups = Growable(np.float32, (2,))
+        self.ups_link = Growable(np.int32)
+        self.ualive = Growable(bool)
+        self.segs = Growable(np.float32, (4,))
+        self.segs_link = Growable(np.int32)
+        self.salive = Growable(bool)
+        self.seg_range = Growable(np.int32, (2,))
+        self.ups_range = Growable(np.int32, (2,))
+        self.longest_link = 0.0  # a crystal's children lie within this of it
+
+    def add(self, pts: np.ndarray, parents: np.ndarray, area: np.ndarray) -> slice:
+        """Append live crystals with their parents and areas."""
+        new = self.crystals.append(pts)
+        self.parents.append(parents)
+        self.area.append(area)
+        self.calive.append(np.ones(len(pts), bool))
+        return new
+
+    def no_links(self, n: int) -> None:
+        """Seeds: n crystals whose links hold no rows."""
+        for ranges, buf in ((self.seg_range, self.segs), (self.ups_range, self.ups)):
+            ranges.append(np.column_stack((np.full(n, buf.n), np.zeros(n))))
+
+    def link(self, first: int, tail: np.ndarray, pts: np.ndarray, spacing: float) -> None:
+        """The links tail[i] -> pts[i] of crystals first, first + 1, ..., upsampled."""
+        ups, ups_link, segs, segs_link = upsample(tail, pts, spacing)
+        self.seg_range.append(ranges(segs_link, len(pts), self.segs.n))
+        self.ups_range.append(ranges(ups_link, len(pts), self.ups.n))
+        self.ups.append(ups)
+        self.ualive.append(np.ones(len(ups), bool))
+        self.salive.append(np.ones(len(segs), bool))
+        self.ups_link.append(ups_link.astype(np.int32) + first)
+        self.segs.append(segs)
+        self.segs_link.append(segs_link.astype(np.int32) + first)
+        if len(pts):
+            d = pts - tail
+            self.longest_link = max(self.longest_link, float(np.hypot(d[:, 0], d[:, 1]).max()))
+
+    def cut(self, crystals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Kill the live segments and upsample particles of the links of `crystals`;
+        returns (segments, upsample particles) killed."""
+        segs = rows(self.seg_range.raw()[crystals])
+        ups = rows(self.ups_range.raw()[crystals])
+        segs, ups = segs[self.salive.raw()[segs]], ups[self.ualive.raw()[ups]]
+        self.salive.raw()[segs] = False
+        self.ualive.raw()[ups] = False
+        return segs, ups
+
+    def live_segments(self, crystals: np.ndarray) -> np.ndarray:
+        """The live segments of the links of `crystals`."""
+        segs = rows(self.seg_range.raw()[crystals])
+        return segs[self.salive.raw()[segs]]
+
+    def buffers(self) -> tuple[Growable, ...]:
+        return (self.crystals, self.parents, self.ups, self.ups_link, self.segs,
+                self.segs_link, self.area, self.calive, self.ualive, self.salive,
+                self.seg_range, self.ups_range)
+
+
+def upsample(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, ...]:
+    """Eq. 3-4 for links p[i] -> q[i]: Nu = floor(|q - p| / D); if Nu >= 2 the Nu - 1
+    points p + (k / Nu)(q - p), k = 1..Nu-1, split the link into a chain of Nu segments.
+
+    Returns (points, point_link, segments, segment_link): points k x 2, segments
+    s x 4 (x0, y0, x1, y1) in chain order, and the link index of each."""
+    p64, d = p.astype(np.float64), q.astype(np.float64) - p.astype(np.float64)
+    nu = np.floor(np.hypot(d[:, 0], d[:, 1]) / spacing).astype(np.int64)
+    if not (nu >= 2).any():  # no link long enough: each is one segment (the common case at c-2)
+        links = np.arange(len(p))
+        return np.empty((0, 2), np.float32), links[:0], np.hstack([p, q]).astype(np.float32), links
+    nseg = np.where(nu >= 2, nu, 1)
+    seg_link = np.repeat(np.arange(len(p)), nseg)
+    j = np.arange(len(seg_link)) - np.repeat(np.cumsum(nseg) - nseg, nseg)
+    t0 = (j / nseg[seg_link])[:, None]
+    t1 = ((j + 1) / nseg[seg_link])[:, None]
+    a = p64[seg_link] + t0 * d[seg_link]
+    b = p64[seg_link] + t1 * d[seg_link]
+    segments = np.hstack([a, b]).astype(np.float32)
+    inner = j > 0  # a chain's inner nodes are the upsample particles
+    return a[inner].astype(np.float32), seg_link[inner], segments, seg_link
+
+
+def ranges(link: np.ndarray, n: int, offset: int) -> np.ndarray:
+    """n x 2 (first row, count) of each link's rows, given the ascending link index of
+    rows appended at `offset`."""
+    count = np.bincount(link, minlength=n).astype(np.int32)
+    first = offset + np.cumsum(count) - count
+    return np.column_stack((first, count)).astype(np.int32)
+
+
+def rows(ranges: np.ndarray) -> np.ndarray:
+    """The row indices of (first, count) ranges, back to back."""
+    first, count = ranges[:, 0].astype(np.int64), ranges[:, 1].astype(np.int64)
+    total = int(count.sum())
+    if total == 0:
+        return np.empty(0, np.int64)
+    starts = np.repeat(first - (np.cumsum(count) - count), count)
+    return starts + np.arange(total)

@@ -1,0 +1,131 @@
+"""The water supply: walkers placed, topped up within the budget, returned by melts, spent
+by freezes, and the water a touch brings (Sec. 3.4.2; docs/method.md 5)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..index.periodic import wrap_into
+from . import budget
+from .placement import CELL_TRIES, first_good, ring_spots
+
+# Draws for each walker a touch brings to its ring (`Supply.water_seed`): a seed tucked in
+# beside older ice is the nearest crystal to a sliver of its ring, where 8 draws placed 4
+# of 48 walkers.
+TOUCH_TRIES = 32
+_NONE = np.empty(0, np.int64)
+
+
+class Supply:
+    """Keeps the walkers (`water`) of the areas (`areas`) supplied through `placer`; counts
+    the water created, frozen and dropped."""
+
+    def __init__(self, params, rng: np.random.Generator, water, areas, placer, pane,
+                 index, touch_creates: bool):
+        self.params, self.rng, self.water, self.areas = params, rng, water, areas
+        self.placer, self.pane, self.index = placer, pane, index
+        self.touch_creates = touch_creates
+        self.created = self.frozen = self.dropped = 0
+
+    def spawn(self, area: np.ndarray, ice: tuple[int, int]) -> None:
+        """Create water for `area[i]`; those with no free spot are dropped."""
+        x, y, ok = self.placer.place(area, ice)
+        self.water.append(x[ok], y[ok], area[ok])
+        self.created += int(ok.sum())
+        self.dropped += int((~ok).sum())
+
+    def relocate(self, idx: np.ndarray, ice: tuple[int, int]) -> np.ndarray:
+        """Place walkers `idx` again in their areas; returns those with no free spot."""
+        if len(idx) == 0:
+            return idx
+        nx, ny, ok = self.placer.place(self.water.area.raw()[idx], ice)
+        self.water.move(idx[ok], nx[ok], ny[ok])
+        return idx[~ok]
+
+    def fill(self, areas: np.ndarray, ice: tuple[int, int]) -> None:
+        """Top the pools of `areas` up to `humidity` within `water_budget`; when the budget
+        is spent, the areas holding more than a fair share give theirs up first."""
+        counts = np.bincount(self.water.area.raw(), minlength=self.areas.n)
+        room = self.params.water_budget - self.water.n
+        pool = self.pane.pool(self.params.humidity)
+        want, share = budget.wanted(counts, areas, pool, self.params.water_budget, room)
+        if share is not None:
+            keep = budget.trim(counts, areas, int(want.sum()) - room, share,
+                               self.water.area.raw())
+            if keep is not None:
+                self.water.keep(keep)
+                room += int((~keep).sum())
+        self.spawn(np.repeat(areas.astype(np.int32), budget.given(want, room)), ice)
+
+    def returned(self, area: np.ndarray, ice: tuple[int, int]) -> None:
+        """Melted crystals' water goes back to their areas, never above `humidity` nor
+        the budget; an area with no ice left has nothing to grow on and loses its pool.
+        A kept pool (replenish, growth, the pane) is topped up: in a frosted area it had
+        drained for want of glass, and the melt made glass."""
+        empty = self.areas.ice.raw() == 0
+        if empty.any():
+            self.water.keep(~empty[self.water.area.raw()])
+        if self.params.replenish or self.params.grow or self.pane.on:
+            self.fill(np.unique(area[~empty[area]]), ice)
+            return
+        counts = np.bincount(self.water.area.raw(), minlength=self.areas.n)
+        back = np.bincount(area[~empty[area]], minlength=self.areas.n)
+        back = np.minimum(back, np.maximum(0, self.pane.pool(self.params.humidity) - counts))
+        room = max(0, self.params.water_budget - self.water.n)
+        self.spawn(np.repeat(np.arange(len(back), dtype=np.int32), back)[:room], ice)
+
+    def spent(self, frozen: np.ndarray, dropped: np.ndarray = _NONE) -> None:
+        """Frozen water is spent (the pool shrinks as ice grows); `dropped` water found no
+        free spot to be placed again."""
+        if len(frozen) == 0 and len(dropped) == 0:
+            return
+        self.frozen += len(frozen)
+        self.dropped += len(dropped)
+        self.water.drop(frozen, dropped)
+
+    def water_seed(self, seed: tuple[float, float], area: int) -> None:
+        """A touch into an area brings `touch_water` walkers to glass around its seed (at
+        `seed`): uniform in the ring from hc to 2 hc, on the screen, at least hc / 2 from
+        every live crystal, and where no crystal within hc (one it could freeze to) is
+        nearer than the seed; those with no such spot in TOUCH_TRIES draws (CELL_TRIES
+        before version 5) are not brought. Up to version 4 they were all the area's own
+        walkers (drawn at random), so nothing was created; but a drained pool (an area
+        whose launch circle lies on ice or off the screen finds no spot for its water) had
+        nothing to bring, and a drag's next touch took back the last one's ring. From
+        version 5, while the area's pool is short of `humidity` and `water_budget` has
+        room, the touch brings new walkers of the area, and moves the area's own for the
+        rest (docs/method.md, 5.3)."""
+        want = self.params.touch_water
+        mine = np.flatnonzero(self.water.area.raw() == area)
+        new = 0
+        if self.touch_creates:  # a pool short of `humidity` brings new ones, in the budget
+            short = self.pane.pool(self.params.humidity) - len(mine)
+            new = max(0, min(want, short, self.params.water_budget - self.water.n))
+        if len(mine) > want - new:
+            mine = np.sort(self.rng.choice(mine, want - new, replace=False))
+        k = len(mine) + new
+        if k == 0:
+            return
+        tries = TOUCH_TRIES if self.touch_creates else CELL_TRIES
+        px, py = ring_spots(self.rng, seed, self.params.hc, tries * k)  # every try at once
+        placed, pick = first_good(self._beside(seed, px, py).reshape(tries, k))
+        which = np.flatnonzero(placed)
+        moved = which < len(mine)  # the pool's walkers first, then the new ones
+        self.water.move(mine[which[moved]], px[pick[moved]], py[pick[moved]])
+        born = pick[~moved]
+        if len(born):
+            self.water.append(px[born], py[born], np.full(len(born), area, np.int32))
+            self.created += len(born)
+
+    def _beside(self, seed: tuple[float, float], px: np.ndarray, py: np.ndarray) -> np.ndarray:
+        """Spots (wrapped onto a tile in place) on the screen, at least hc / 2 from every
+        live crystal and no nearer to any crystal than to the seed at `seed`."""
+        index = self.index
+        if index.grid.period is not None:
+            px[:], py[:] = wrap_into(px, index.width), wrap_into(py, index.height)
+        good = (px >= 0) & (px < index.width) & (py >= 0) & (py < index.height)
+        pts = np.column_stack((px[good], py[good]))
+        d2 = index.nearest_d2(pts)
+        own = (pts[:, 0] - seed[0]) ** 2 + (pts[:, 1] - seed[1]) ** 2
+        good[good] = (d2 >= np.float32(self.params.hc / 2) ** 2) & (own <= d2)  # the seed's water
+        return good

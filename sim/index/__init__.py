@@ -1,0 +1,1 @@
+"""Where crystals are: the hash grid, candidate cells, neighbour search and clearance."""

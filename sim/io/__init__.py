@@ -1,0 +1,1 @@
+"""Files and gestures: session logs, parameter sets, JSON and atomic writes."""

@@ -1,0 +1,1 @@
+"""How the frost looks: the surface geometry, ridges, material, maps."""

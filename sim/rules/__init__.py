@@ -1,0 +1,1 @@
+"""Growth rules and the pane: where walkers freeze and where water lands."""

@@ -1,0 +1,84 @@
+"""FrostSim's parts (sim/core, sim/index) at their boundaries, worked by hand: each case
+sits exactly on a comparison the code makes (a rim, a half-hc gap, a screen edge)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from sim import FrostSim, Params, walk_displacements
+from sim.core.areas import shell
+from sim.core.walk import outside
+
+SMALL = Params(hc=8.0, active_radius=60.0, humidity=200, water_budget=400)
+
+
+def test_a_touch_on_an_areas_rim_joins_it():
+    sim = FrostSim(SMALL, 400, 400, seed=0)
+    assert sim.touch(100.0, 100.0) == 0
+    assert sim.touch(160.0, 100.0) == 0  # exactly 60 px from the centre: on the disc
+    assert sim.touch(160.5, 100.0) == 1 and len(sim.areas) == 2
+
+
+def test_a_launch_circle_on_the_areas_rim_is_not_used():
+    # Reach 70 + launch 30 = 100, the outer radius: the circle is not inside the area, so
+    # water goes back to the annulus (20 .. 100); 29 puts it inside (99 .. 99).
+    rows = np.array([[0.0, 0.0, 100.0, 20.0, 70.0]], np.float32)
+    assert [v.tolist() for v in shell(rows, 30.0)] == [[20.0], [100.0]]
+    assert [v.tolist() for v in shell(rows, 29.0)] == [[99.0], [99.0]]
+
+
+def test_glass_starts_exactly_half_hc_from_a_crystal_and_at_the_screens_zero_edges():
+    sim = FrostSim(SMALL, 400, 400, seed=0)
+    sim.touch(100.0, 100.0)
+    x, y = np.float32([104.0, 103.5, 0.0]), np.float32([100.0, 100.0, 300.0])
+    assert sim.index.glass(x, y).tolist() == [True, False, True]  # 4 px = hc / 2 is glass
+    assert sim.index.free(np.float32([0.0, 300.0]), np.float32([300.0, 0.0])).all()
+
+
+def test_a_crystal_exactly_radius_away_is_not_near():
+    sim = FrostSim(SMALL, 400, 400, seed=0)
+    sim.touch(100.0, 100.0)
+    assert sim.index.crystals_near(103.0, 104.0, 5.0).tolist() == []  # 3-4-5: exactly 5 away
+    assert sim.index.crystals_near(103.0, 104.0, 5.001).tolist() == [0]
+
+
+def test_a_walker_on_its_areas_rim_is_inside_and_one_on_the_screen_edge_is_off():
+    x, y = np.float32([160.0, 160.5]), np.float32([100.0, 100.0])
+    assert outside(x, y, (100.0, 100.0, 60.0), (400, 400), False).tolist() == [False, True]
+    x, y = np.float32([0.0, 400.0, 100.0]), np.float32([100.0, 100.0, 0.0])
+    assert outside(x, y, (100.0, 100.0, 200.0), (400, 400), False).tolist() == [False, True,
+                                                                                False]
+
+
+def test_a_clearance_equal_to_the_step_is_no_jump():
+    step = 5.0
+    plain = walk_displacements(np.random.default_rng(1), 50, step)
+    same = walk_displacements(np.random.default_rng(1), 50, step, np.full(50, step, np.float32))
+    longer = walk_displacements(np.random.default_rng(1), 50, step, np.full(50, 6.0, np.float32))
+    assert all(np.array_equal(a, b) for a, b in zip(plain, same, strict=True))
+    assert np.allclose(np.hypot(*longer), 6.0)
+
+
+def test_a_new_area_takes_its_whole_pool_when_it_exactly_fills_the_budget():
+    # 200 walkers left in area 0, a budget of 500, humidity 300: a far touch wants 300 =
+    # the room left, so it gets them all and nobody gives any up (the fair share, 250,
+    # plays no part: the budget is not short).
+    p = SMALL.replace(humidity=300, water_budget=500)
+    sim = FrostSim(p, 400, 400, seed=0)
+    sim.touch(100.0, 100.0)
+    sim.set_water(np.column_stack((np.full(200, 150.0), np.linspace(60.0, 140.0, 200))), 0)
+    sim.touch(300.0, 300.0)
+    assert np.bincount(sim.water_area).tolist() == [200, 300]
+
+
+def test_a_second_melt_reports_only_what_it_cut():
+    sim = FrostSim(Params.preset("c-2"), seed=3)
+    sim.touch(380.0, 640.0)
+    for _ in range(120):
+        sim.step()
+    first = sim.melt(380.0, 640.0, 20.0)
+    alive = sim.segments_alive.copy()
+    second = sim.melt(380.0, 640.0, 40.0)
+    assert len(first.segments) and len(second.segments)
+    assert alive[second.segments].all()  # none of them was dead already
+    assert not np.intersect1d(first.segments, second.segments).size
