@@ -9,7 +9,11 @@ how a touch's water and a seed's first hits go.
 The "v5/..." entries pin the newest rules (version 5) as the code grew them before
 FrostSim was split into its parts (issue 22): every preset, the paper's modes (replenish,
 growth, long jumps, launch circle), a rebuild's replant, a wrap tile and a scribble's
-touches into existing areas (`python -m tests.frozen_runs` prints both sets).
+touches into existing areas (`python -m tests.frozen_runs` prints both sets; its
+"window-old" uses no overrides, the test the old window's). Six of them (fern, fern-nogrow,
+window, replant, tile, scribble) were computed again once, after the split, when version
+5's pooled first hits were narrowed to the seeds a touch brings a ring of water; the
+others stayed as they were.
 """
 
 from __future__ import annotations

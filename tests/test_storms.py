@@ -239,34 +239,44 @@ def test_a_seed_ringed_by_ice_fills_the_sliver_of_its_ring_it_is_nearest():
     assert abs(moved - mean) < 4 * sd, (moved, mean, sd, f)
 
 
-@pytest.mark.parametrize("version", [4, 5])
-def test_a_seeds_hits_count_together_until_its_first_child(version):
-    # Five walkers just inside hc of a lone seed, 60 degrees apart: one hit on each of
-    # five slots. A fern tip slot grows on its 5th hit: from version 5 the seed's hits
-    # count together, so it grows one child (in the slot of the hit that made five).
+# (how the seed at (480, 640) came, version, whether its first hits count together)
+SEEDS = [("joined", 5, True), ("joined", 4, False), ("opened", 5, False),
+         ("without water", 5, False)]
+
+
+@pytest.mark.parametrize("how, version, pooled", SEEDS)
+def test_a_ringed_seeds_hits_count_together_until_its_first_child(how, version, pooled):
+    # Five walkers just inside hc of a seed, 60 degrees apart: one hit on each of five
+    # slots. A fern tip slot grows on its 5th hit. From version 5 the hits of a seed a
+    # touch brought a ring of water (it joined an area) count together, so it grows one
+    # child, in the slot of the hit that made five; a touch that opens an area and the
+    # pane's seeds (planted without water) count slot by slot, as before.
     params = Params.preset("fern", step=0.01, long_jumps=False, drift=0.0)
     sim = FrostSim(params, seed=0, version=version)
-    sim.touch(380.0, 640.0)
+    if how != "opened":
+        sim.touch(380.0, 640.0)  # opens the area the seed joins
+    sim.plant([(480.0, 640.0)], water=how != "without water")
+    seed = len(sim.crystals) - 1
     hc = params.hc
     theta = np.deg2rad(10.0 + 60.0 * np.arange(5))
-    sim.set_water(np.column_stack((380.0 + 0.8 * hc * np.cos(theta),
+    sim.set_water(np.column_stack((480.0 + 0.8 * hc * np.cos(theta),
                                    640.0 + 0.8 * hc * np.sin(theta))))
     sim.step()
-    grown = np.flatnonzero(sim.parents == 0)
-    if version == 4:
+    grown = np.flatnonzero(sim.parents == seed)
+    if not pooled:
         assert len(grown) == 0
         return
     assert len(grown) == 1
-    d = sim.crystals[grown[0]].astype(np.float64) - (380.0, 640.0)
+    d = sim.crystals[grown[0]].astype(np.float64) - (480.0, 640.0)
     assert np.hypot(*d) == pytest.approx(hc, abs=1e-3)
     # its slot is the axis nearest the last walker's direction: within 30 degrees of it
     turn = (np.arctan2(d[1], d[0]) - theta[-1] + np.pi) % (2 * np.pi) - np.pi
     assert abs(np.rad2deg(turn)) <= 30.0 + 1e-6
     six = np.deg2rad(10.0 + 60.0 * np.arange(6))
-    sim.set_water(np.column_stack((380.0 + 0.8 * hc * np.cos(six),
+    sim.set_water(np.column_stack((480.0 + 0.8 * hc * np.cos(six),
                                    640.0 + 0.8 * hc * np.sin(six))))
     sim.step()  # with a child, each slot counts its own again: one hit each grows nothing
-    assert len(np.flatnonzero(sim.parents == 0)) == 1
+    assert len(np.flatnonzero(sim.parents == seed)) == 1
 
 
 def test_without_touch_water_a_touch_moves_no_walker():

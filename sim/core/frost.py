@@ -111,15 +111,15 @@ class FrostSim(Holdings):
         opened = self._areas.n
         area = self._areas.areas_for(pts32, self.params.active_radius)
         seeds = self._add_crystals(pts32, np.full(len(pts), -1, np.int32), area)
-        self.growth.add_seeds(len(pts))
+        ringed = area < opened if water and self.params.touch_water else np.zeros(len(pts), bool)
+        self.growth.add_seeds(len(pts), ringed)
         self.ice.no_links(len(pts))
         self.index.register(seeds)
         self._follow_ice(seeds)  # a seed joining an area may lie beyond its ice
         self.supply.fill(np.unique(area), self.ice_state())
-        if water and self.params.touch_water:
-            for seed in np.flatnonzero(area < opened):
-                sx, sy = self.ice.crystals.raw()[seeds.start + int(seed)]
-                self.supply.water_seed((float(sx), float(sy)), int(area[seed]))
+        for seed in np.flatnonzero(ringed):  # (`water`, with `touch_water`, joined)
+            sx, sy = self.ice.crystals.raw()[seeds.start + int(seed)]
+            self.supply.water_seed((float(sx), float(sy)), int(area[seed]))
         return area
 
     def step(self) -> Added:
