@@ -13,12 +13,16 @@ APT_PKGS := xvfb xauth xdotool libegl1 libgles2 libgl1 glslang-tools
 run: $(STAMP)
 	$(PY) -m app $(ARGS)
 
+# Two workers (pytest-xdist): CI's machine has two cores, and half the suite waits on
+# subprocesses (the window under Xvfb, the CLI), so two halve the wall time.
+WORKERS ?= 2
+
 test: $(STAMP)
-	$(PY) -m pytest $(PYTEST_ARGS)
+	$(PY) -m pytest -n $(WORKERS) $(PYTEST_ARGS)
 
 # The suite plus its validation runs (DLA dimension, full-screen wipe, long brute force).
 test-deep: $(STAMP)
-	$(PY) -m pytest --deep $(PYTEST_ARGS)
+	$(PY) -m pytest -n $(WORKERS) --deep $(PYTEST_ARGS)
 
 bench: bench-sim bench-render
 
