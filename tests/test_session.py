@@ -13,7 +13,8 @@ import pytest
 
 from app.simthread import thread as simthread
 from app.simthread.thread import SimThread
-from sim import Params
+from sim import FrostSim, Params
+from sim.io import session
 from sim.io.session import (
     VERSION,
     Backlog,
@@ -77,7 +78,10 @@ def test_a_recorded_session_replays_bit_for_bit_through_a_json_file(tmp_path):
 def test_melt_through_the_thread_sends_a_delta_that_clears_ice():
     thread, snaps = live_session(32)
     melt = snaps[30].melts
-    assert len(melt) == 2 and all(d.clear_box is not None for d in melt)
+    # the drag's two melts of tick 30 arrived together: one melt, one delta over both
+    assert len(melt) == 1 and melt[0].clear_box is not None
+    x0, y0, x1, y1 = melt[0].clear_box
+    assert x0 <= 380.0 - 20 and x1 >= 395.0 + 20 and y0 <= 640.0 - 20 and y1 >= 640.0 + 20
     rows = melt[0].rows
     assert rows.stop > rows.start and melt[0].heights.min() >= 0
     assert not thread.sim.crystal_alive.all()
@@ -307,3 +311,61 @@ def test_a_melt_and_a_rebuild_in_one_tick_grow_what_the_new_parameters_grow_from
                  (timeline.sim.water, oracle.sim.water)):
         assert np.array_equal(a, b)
     assert not timeline.sim.crystal_alive.all()  # the melt took ice
+
+
+def test_a_ticks_melts_sent_together_are_recorded_as_one_group_and_replay_so():
+    thread, snaps = live_session()
+    melts = [e for e in thread.session(snaps[-1].steps, snaps[-1].events).events
+             if e["kind"] == "melt"]
+    groups = [(e["tick"], e["group"]) for e in melts]
+    # tick 30's two melts came together: one group; the others each their own
+    assert groups[0][1] == groups[1][1] and len({g for _t, g in groups}) == 3
+
+
+def test_group_melts_groups_runs_of_melts_up_to_its_cap():
+    items = ["t", *["m"] * (session.MELT_GROUP + 3), "p", "m", "m", "t"]
+    out = session.group_melts(items, lambda i: i == "m", tuple)
+    cap = session.MELT_GROUP
+    assert out == ["t", ("m",) * cap, ("m",) * 3, "p", ("m", "m"), "t"]
+
+
+@pytest.mark.parametrize("version", [5, 6])
+def test_melts_at_one_tick_apply_one_by_one_before_version_6_and_as_one_from_it(version):
+    discs = [(380.0, 640.0, 20.0), (400.0, 650.0, 20.0), (420.0, 640.0, 20.0)]
+    timeline = Timeline(Params.preset("fern"), 0, version=version)
+    timeline.apply([{"kind": "touch", "x": 400.0, "y": 640.0}])
+    for _ in range(60):
+        timeline.step()
+    sim = FrostSim(Params.preset("fern"), seed=0, version=version)
+    sim.touch(400.0, 640.0)
+    for _ in range(60):
+        sim.step()
+    applied = timeline.apply([{"kind": "melt", "x": x, "y": y, "r": r} for x, y, r in discs])
+    if version == 5:
+        for d in discs:
+            sim.melt(*d)
+    else:
+        sim.melt_many(discs)
+    assert len(applied.deltas) == (3 if version == 5 else 1)
+    same_frost(timeline.sim, sim)
+
+
+def test_melts_sent_at_one_paused_tick_but_apart_replay_as_they_applied(tmp_path):
+    # Paused, the tick stays while the thread runs on: two melts sent a thread tick
+    # apart apply as two groups at the same tick; the replay keeps them apart.
+    thread = SimThread(PARAMS, 4, [(380.0, 640.0)])
+    for _ in range(40):
+        thread._tick()
+    thread.send("pause")
+    thread._tick()
+    for x in (370.0, 395.0):
+        thread.send("melt", (x, 640.0, 20.0))
+        thread._tick()
+    thread.send("pause")
+    for _ in range(20):
+        thread._tick()
+    snaps = thread.drain()
+    log = thread.session(snaps[-1].steps, snaps[-1].events)
+    melts = [e for e in log.events if e["kind"] == "melt"]
+    assert [e["tick"] for e in melts] == [40, 40] and melts[0]["group"] != melts[1]["group"]
+    same_frost(replay(SessionLog.load(log.save(tmp_path / "s.json"))).sim, thread.sim)

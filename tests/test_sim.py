@@ -430,3 +430,25 @@ def test_set_water_replaces_every_walker_and_refuses_an_area_that_does_not_exist
     assert len(sim.water) == 0 and len(sim.water_area) == 0
     with pytest.raises(ValueError, match="area 2 does not exist"):
         sim.set_water([(1.0, 2.0)], 2)
+
+
+def test_one_melt_of_several_discs_takes_the_ice_in_any_of_them():
+    sim = FrostSim(Params.preset("fern"), seed=2)
+    sim.touch(380.0, 640.0)
+    for _ in range(120):
+        sim.step()
+    discs = [(600.0, 100.0, 30.0), (370.0, 630.0, 15.0), (395.0, 640.0, 15.0)]  # one on glass
+    c = sim.crystals.astype(np.float64)
+    alive, parents = sim.crystal_alive.copy(), sim.parents.copy()
+    inside = np.zeros(len(c), bool)
+    for x, y, r in discs:  # brute force over every crystal
+        inside |= np.hypot(c[:, 0] - x, c[:, 1] - y) < r
+    melted = sim.melt_many(discs)
+    expected_dead = np.flatnonzero(inside & alive)
+    assert len(expected_dead) > 10 and np.array_equal(np.sort(melted.crystals), expected_dead)
+    assert not sim.crystal_alive[expected_dead].any()
+    orphans = np.flatnonzero(alive & ~inside & np.isin(parents, expected_dead))
+    assert len(orphans) > 0 and np.array_equal(np.sort(melted.orphans), orphans)
+    assert (sim.parents[orphans] == -1).all()
+    kept = alive & ~inside & ~np.isin(np.arange(len(c)), orphans)
+    assert np.array_equal(sim.parents[kept], parents[kept])

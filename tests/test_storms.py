@@ -12,6 +12,7 @@ from app.tools import scribble as scribble_module
 from app.tools.scribble import play, spread, storm
 from sim import FrostSim, Params
 from sim.core import budget, frost, placement
+from sim.io import session
 from sim.io.session import Backlog, SessionLog, Timeline, replay
 
 SMALL = (240, 320)  # a small screen keeps a frosted pane cheap to grow
@@ -338,13 +339,26 @@ def test_play_with_drain_applies_every_queued_event_and_counts_the_ticks(monkeyp
     # One event a tick (a budget of 0), 8 arriving a tick for 25 ticks: the 200th applies
     # at tick 199 (0-based), 175 ticks after the schedule's last (tick 24).
     monkeypatch.setattr(scribble_module, "Backlog", lambda **kw: Backlog(**kw, budget_s=0.0))
-    schedule = storm(0, events=200, seconds=1.0, size=SMALL)
+    schedule = [[{"kind": "touch", "x": e["x"], "y": e["y"]} for e in tick]  # (no melts)
+                for tick in storm(0, events=200, seconds=1.0, size=SMALL)]
     assert len(schedule) == 25 and sum(map(len, schedule)) == 200
     played = play(Params.preset("fern"), schedule, size=SMALL, drain=True)
     assert len(played.tick_s) == 200 and played.drained == 175 and played.backlog_max == 200 - 25
     cut = play(Params.preset("fern"), schedule, size=SMALL, tail=10)
     # still waiting at its end: a lower bound, the 10 ticks played after the schedule + 1
     assert len(cut.tick_s) == 35 and cut.drained == 11 and cut.backlog_max == 200 - 25
+
+
+def test_play_applies_a_ticks_melts_as_one_group_as_the_window_does(monkeypatch):
+    # One item a tick (a budget of 0) and 8 melts arriving a tick: one by one they would
+    # queue 175 behind; grouped (at most MELT_GROUP) each tick's 8 apply in that tick.
+    monkeypatch.setattr(scribble_module, "Backlog", lambda **kw: Backlog(**kw, budget_s=0.0))
+    xs = np.linspace(20.0, 220.0, 8)
+    schedule = [[{"kind": "melt", "x": float(x), "y": 10.0 + 12 * t, "r": 12.0} for x in xs]
+                for t in range(25)]
+    played = play(Params.preset("fern"), schedule, size=SMALL, drain=True)
+    assert session.MELT_GROUP >= 8
+    assert len(played.tick_s) == 25 and played.drained == 0 and played.backlog_max == 0
 
 
 # ---- session files: the placement of their version ---------------------------------------

@@ -275,24 +275,31 @@ def test_a_rebuild_forgets_the_seeds_it_renumbered():
     assert (thread.sim.parents == 0).any() and grown == []
 
 
-def test_a_right_drag_is_logged_when_a_frame_shows_all_its_melts(monkeypatch, caplog):
+@pytest.mark.parametrize("together", [False, True])
+def test_a_right_drag_is_logged_when_a_frame_shows_all_its_melts(monkeypatch, caplog, together):
     from app.window.status import Status
 
     caplog.set_level(logging.INFO, logger="app.window")
-    # One command a tick (a spent input budget): the drag's three melts take three ticks.
+    # One command a tick (a spent input budget). Melts arriving one a tick take three
+    # ticks; arriving together (a fast drag) they are one group, applied in the first.
     monkeypatch.setattr(simthread, "Backlog", lambda **kw: Backlog(**kw, budget_s=0.0, clock=lambda: 0.0))
     thread, status = SimThread(Params.preset("c-3"), 0, [(380, 640)]), Status()
-    sent = [thread.send("melt", (x, 640.0, 20.0)) for x in (360.0, 380.0, 400.0)]
-    status.melted(sent[-1], 3, 20.0)
+    xs = [360.0, 380.0, 400.0]
+    sent = [thread.send("melt", (x, 640.0, 20.0)) for x in xs] if together else []
+    status.melted(3, 3, 20.0)
     logged = []
-    for _ in range(3):
+    for k in range(3):
+        if not together:
+            sent.append(thread.send("melt", (xs[k], 640.0, 20.0)))
         thread._tick()
         for snap in thread.drain():
             status.shown(snap)
         status.presented(time.monotonic(), lambda now: [])
         logged.append(caplog.text.count("all shown"))
-    assert sent == [1, 2, 3] and logged == [0, 0, 1]
-    assert "warm finger: 3 melts of radius 20 px, all shown at tick 3" in caplog.text
+    assert sent == [1, 2, 3] and logged == ([1, 1, 1] if together else [0, 0, 1])
+    tick = 1 if together else 3
+    assert f"warm finger: 3 melts of radius 20 px, all shown at tick {tick}" in caplog.text
+    assert thread.handled == 3 and len(thread.sim.crystal_alive) >= 1
 
 
 def test_the_summary_gives_each_latency_kind_its_count_median_and_worst():

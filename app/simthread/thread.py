@@ -22,7 +22,7 @@ from typing import Any
 from app.simthread.clicks import Click, Clicks
 from app.simthread.export import export_now
 from sim import Params
-from sim.io.session import Applied, Backlog, SessionLog, Timeline, apply_due
+from sim.io.session import Applied, Backlog, SessionLog, Timeline, apply_due, group_melts
 from sim.look.geometry import GeometryDelta
 from sim.screen import HEIGHT, TICKS_PER_SECOND, WIDTH
 
@@ -47,8 +47,8 @@ class Stats:
 
 
 # Commands that change the frost, by the name a report gives them.
-INPUT_NAMES = {"touch": "touches", "melt": "melts", "params": "parameter changes",
-               "clear": "clears"}
+INPUT_NAMES = {"touch": "touches", "melt": "melts", "melts": "melts",
+               "params": "parameter changes", "clear": "clears"}
 
 
 @dataclass(frozen=True)
@@ -106,7 +106,8 @@ class SimThread(threading.Thread):
         self._stamps: deque[float] = deque(maxlen=RATE_WINDOW)
         self._tick_times: deque[float] = deque(maxlen=RATE_WINDOW)  # ms, for the median
         self._clicks = Clicks()  # for the latency log
-        self._handlers = {"touch": self._touch, "melt": self._melt, "params": self._set_params,
+        self._handlers = {"touch": self._touch, "melt": self._melt, "melts": self._melts,
+                          "params": self._set_params,
                           "clear": self._clear, "pause": self._pause, "step": self._single,
                           "export": self._ask_export}
         # commands wait here when more arrive than a tick takes
@@ -163,7 +164,10 @@ class SimThread(threading.Thread):
         still waiting (a storm of clicks, then Esc) is reported: it never applied, so the
         frame and the session do not hold it."""
         waiting = [*self.backlog.take_all(), *_take_all(self.inbox)]
-        lost = Counter(INPUT_NAMES[c.kind] for c in waiting if c.kind in INPUT_NAMES)
+        lost: Counter = Counter()
+        for c in waiting:
+            if c.kind in INPUT_NAMES:
+                lost[INPUT_NAMES[c.kind]] += _inputs(c)
         if lost:
             self.notify(logging.WARNING, "input still waiting at exit, never applied (not in "
                         "the session): " + ", ".join(f"{n} {k}" for k, n in lost.items()))
@@ -217,8 +221,9 @@ class SimThread(threading.Thread):
         notes: dict[str, Any] = {"applied": []}
         self._script_at = apply_due(self.timeline, self.script, self._script_at,
                                     notes["applied"].append)
-        self.backlog.extend(_take_all(self.inbox))
-        self.handled += self.backlog.run(lambda cmd: self._handlers[cmd.kind](cmd.arg, notes))
+        self.backlog.extend(group_melts(_take_all(self.inbox), _is_melt, _melts))
+        done = self.backlog.run(lambda cmd: self._handlers[cmd.kind](cmd.arg, notes))
+        self.handled += done  # (a group of melts added the rest of its commands)
         reset, melts, message = _merged(notes["applied"])
         if reset:
             self._clicks.forget_seeds()
@@ -254,7 +259,7 @@ class SimThread(threading.Thread):
         median = statistics.median(self._tick_times) if self._tick_times else 0.0
         return Stats(self.sim.tick, self.tick_ms, len(self.sim.crystals),
                      len(self.sim.water_area), rate, self.overruns, self.paused, self.handled,
-                     median, len(self.backlog))
+                     median, sum(map(_inputs, self.backlog)))
 
     # ---- commands: each takes (arg, notes) and applies at this tick ---------------
 
@@ -268,6 +273,13 @@ class SimThread(threading.Thread):
     def _melt(self, arg, notes: dict) -> None:
         x, y, r = arg
         notes["applied"].append(self.timeline.apply([{"kind": "melt", "x": x, "y": y, "r": r}]))
+
+    def _melts(self, discs, notes: dict) -> None:
+        """A fast drag's melts of one tick (`group_melts`): applied as one melt. (The
+        group stands for that many commands sent: `handled` counts them all.)"""
+        self.handled += len(discs) - 1
+        notes["applied"].append(self.timeline.apply(
+            [{"kind": "melt", "x": x, "y": y, "r": r} for x, y, r in discs]))
 
     def _set_params(self, params: Params, notes: dict) -> None:
         notes["applied"].append(self.timeline.apply([{"kind": "params", "params": params}]))
@@ -286,6 +298,20 @@ class SimThread(threading.Thread):
 
     def _single(self, _arg, notes: dict) -> None:
         notes["single"] = True
+
+
+def _inputs(command: Command) -> int:
+    """The commands sent that `command` stands for (a group of melts: each)."""
+    return len(command.arg) if command.kind == "melts" else 1
+
+
+def _is_melt(command: Command) -> bool:
+    return command.kind == "melt"
+
+
+def _melts(commands: list[Command]) -> Command:
+    """One command for a run of melts (`group_melts`)."""
+    return Command("melts", tuple(c.arg for c in commands))
 
 
 def _take_all(q: queue.Queue) -> list:

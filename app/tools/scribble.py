@@ -17,7 +17,7 @@ import numpy as np
 
 from sim import tuning
 from sim.io.gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
-from sim.io.session import Backlog, Timeline
+from sim.io.session import Backlog, Timeline, group_melts
 from sim.params import PRESETS, Params
 from sim.screen import MELT_RADIUS, SIZE, TICKS_PER_SECOND
 from sim.tuning import BUMP_STEP, HUMIDITY_FACTOR, LENGTH_STEP
@@ -150,7 +150,7 @@ def play(params: Params, schedule: list[list[dict]], seed: int = 0, tail: int = 
             if not (drain and len(backlog) and k < len(schedule) + tail + DRAIN_LIMIT):
                 break
             events = []
-        backlog.extend(events)
+        backlog.extend(group_melts(events, _is_melt, _melts))  # as the window's thread
         t0 = clock()
         backlog.run(lambda event: seeds.apply(timeline, event))
         s1 = backlog.clock()  # (its own clock: a test may give it a still one)
@@ -172,6 +172,14 @@ def _kind(event: dict) -> str:
     return event["kind"]
 
 
+def _is_melt(event: dict) -> bool:
+    return event["kind"] == "melt"
+
+
+def _melts(events: list[dict]) -> dict:
+    return {"kind": "melts", "events": events}
+
+
 class _Seeds:
     """Each touch's seed until its first child: how long a touch waits to grow."""
 
@@ -180,6 +188,9 @@ class _Seeds:
         self.waited: list[tuple[int, bool]] = []
 
     def apply(self, timeline: Timeline, event: dict) -> None:
+        if event["kind"] == "melts":  # a run of melts, applied as one
+            timeline.apply(event["events"])
+            return
         sim, n = timeline.sim, len(timeline.sim.crystals)
         on_ice = event["kind"] == "touch" and _on_ice(sim, event["x"], event["y"])
         timeline.apply([event])

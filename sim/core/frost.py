@@ -35,7 +35,7 @@ __all__ = ["Added", "CELL_CAP", "CELL_TRIES", "CELL_WORK", "FREEZE_WORK", "Frost
 
 # The newest rules (what a session file's "version" names; sim/io/session.py lists what each
 # changed). Older versions replay as frost grew them then.
-VERSION = 5
+VERSION = 6
 _NONE = np.empty(0, np.int64)
 _PANE = np.zeros(1, np.int32)  # the pane's one area
 
@@ -147,15 +147,23 @@ class FrostSim(Holdings):
         to its area's pool (never above `humidity`; an area left with no ice loses its
         water); their links (and those of their children, which become roots) leave the
         skeleton; the cleared cells stop being candidate cells. Costs O(local ice)."""
-        if not (np.isfinite(x) and np.isfinite(y) and np.isfinite(radius) and radius > 0):
-            raise ValueError(f"melt at ({x!r}, {y!r}) with radius {radius!r}: need finite values, "
-                             "radius > 0")
-        dead = self.index.crystals_near(x, y, radius)
+        return self.melt_many([(x, y, radius)])
+
+    def melt_many(self, discs) -> Melted:
+        """One melt of the crystals within any of `discs` ((x, y, radius) each): as `melt`,
+        in one pass over the ice they cover, one return of their water."""
+        for x, y, radius in discs:
+            if not (np.isfinite(x) and np.isfinite(y) and np.isfinite(radius) and radius > 0):
+                raise ValueError(f"melt at ({x!r}, {y!r}) with radius {radius!r}: need finite "
+                                 "values, radius > 0")
+        discs = [(float(x), float(y), float(r)) for x, y, r in discs]
+        dead = _union([self.index.crystals_near(x, y, r) for x, y, r in discs])
         self.ice.calive.raw()[dead] = False
         self.pane.melted(dead)
         self.index.remove(dead)
         # A child lies within one link of its parent: look no further than that.
-        near = self.index.crystals_near(x, y, radius + self.ice.longest_link + 1.0)
+        reach = self.ice.longest_link + 1.0
+        near = _union([self.index.crystals_near(x, y, r + reach) for x, y, r in discs])
         parents = self.ice.parents.raw()
         orphans = near[np.isin(parents[near], dead)]
         self.growth.melted(dead, parents, orphans, near if len(dead) else dead)
@@ -257,3 +265,8 @@ class FrostSim(Holdings):
         self._mark = now
         self.added = Added(self.tick, c, u, s, frozen)
         return self.added
+
+
+def _union(ids: list[np.ndarray]) -> np.ndarray:
+    """Ascending indices in any of `ids` (each ascending): one disc's own, as it is."""
+    return ids[0] if len(ids) == 1 else np.unique(np.concatenate(ids))
