@@ -322,11 +322,14 @@ def test_a_ticks_melts_sent_together_are_recorded_as_one_group_and_replay_so():
     assert groups[0][1] == groups[1][1] and len({g for _t, g in groups}) == 3
 
 
-def test_group_melts_groups_runs_of_melts_up_to_its_cap():
-    items = ["t", *["m"] * (session.MELT_GROUP + 3), "p", "m", "m", "t"]
-    out = session.group_melts(items, lambda i: i == "m", tuple)
+def test_group_melts_groups_runs_of_overlapping_melts_up_to_its_cap():
     cap = session.MELT_GROUP
-    assert out == ["t", ("m",) * cap, ("m",) * 3, "p", ("m", "m"), "t"]
+    drag = [("m", 10.0 * k, 0.0) for k in range(cap + 3)]  # 10 px apart, radius 6: overlapping
+    far = [("m", 500.0, 500.0), ("m", 0.0, 900.0)]  # apart from each other and the drag
+    items = ["t", *drag, "p", *far, "t"]
+    out = session.group_melts(items, lambda i: (i[1], i[2], 6.0) if i[0] == "m" else None,
+                              tuple)
+    assert out == ["t", tuple(drag[:cap]), tuple(drag[cap:]), "p", far[0], far[1], "t"]
 
 
 @pytest.mark.parametrize("version", [5, 6])

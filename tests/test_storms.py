@@ -350,10 +350,11 @@ def test_play_with_drain_applies_every_queued_event_and_counts_the_ticks(monkeyp
 
 
 def test_play_applies_a_ticks_melts_as_one_group_as_the_window_does(monkeypatch):
-    # One item a tick (a budget of 0) and 8 melts arriving a tick: one by one they would
-    # queue 175 behind; grouped (at most MELT_GROUP) each tick's 8 apply in that tick.
+    # One item a tick (a budget of 0) and a drag's 8 melts arriving a tick (12 px apart,
+    # radius 12: overlapping): one by one they would queue 175 behind; grouped (at most
+    # MELT_GROUP) each tick's 8 apply in that tick.
     monkeypatch.setattr(scribble_module, "Backlog", lambda **kw: Backlog(**kw, budget_s=0.0))
-    xs = np.linspace(20.0, 220.0, 8)
+    xs = 20.0 + 12.0 * np.arange(8)
     schedule = [[{"kind": "melt", "x": float(x), "y": 10.0 + 12 * t, "r": 12.0} for x in xs]
                 for t in range(25)]
     played = play(Params.preset("fern"), schedule, size=SMALL, drain=True)

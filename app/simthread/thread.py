@@ -221,7 +221,7 @@ class SimThread(threading.Thread):
         notes: dict[str, Any] = {"applied": []}
         self._script_at = apply_due(self.timeline, self.script, self._script_at,
                                     notes["applied"].append)
-        self.backlog.extend(group_melts(_take_all(self.inbox), _is_melt, _melts))
+        self.backlog.extend(group_melts(_take_all(self.inbox), _disc, _melts))
         done = self.backlog.run(lambda cmd: self._handlers[cmd.kind](cmd.arg, notes))
         self.handled += done  # (a group of melts added the rest of its commands)
         reset, melts, message = _merged(notes["applied"])
@@ -305,8 +305,9 @@ def _inputs(command: Command) -> int:
     return len(command.arg) if command.kind == "melts" else 1
 
 
-def _is_melt(command: Command) -> bool:
-    return command.kind == "melt"
+def _disc(command: Command):
+    """A melt command's (x, y, r); None for other commands."""
+    return command.arg if command.kind == "melt" else None
 
 
 def _melts(commands: list[Command]) -> Command:

@@ -150,7 +150,7 @@ def play(params: Params, schedule: list[list[dict]], seed: int = 0, tail: int = 
             if not (drain and len(backlog) and k < len(schedule) + tail + DRAIN_LIMIT):
                 break
             events = []
-        backlog.extend(group_melts(events, _is_melt, _melts))  # as the window's thread
+        backlog.extend(group_melts(events, _disc, _melts))  # as the window's thread
         t0 = clock()
         backlog.run(lambda event: seeds.apply(timeline, event))
         s1 = backlog.clock()  # (its own clock: a test may give it a still one)
@@ -172,8 +172,8 @@ def _kind(event: dict) -> str:
     return event["kind"]
 
 
-def _is_melt(event: dict) -> bool:
-    return event["kind"] == "melt"
+def _disc(event: dict):
+    return (event["x"], event["y"], event["r"]) if event["kind"] == "melt" else None
 
 
 def _melts(events: list[dict]) -> dict:

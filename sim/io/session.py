@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import json
 import logging
+import math
 import statistics
 import time
 from collections import deque
@@ -51,8 +52,7 @@ FORMAT = "frost-session"
 VERSION = FROST_VERSION
 # The version from which a tick's melts given together apply as one (`Timeline.apply`).
 GROUPED_MELTS = 6
-# Most melts one group takes (`group_melts`): a fast drag sends about 9 a tick; a group of
-# 16 costs about what 3 single melts did.
+# Most melts one group takes (`group_melts`): a fast drag sends about 9 a tick.
 MELT_GROUP = 16
 # Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
 REGROW_GAP = 12
@@ -501,26 +501,30 @@ class Timeline:
             self._sow_due()
 
 
-def group_melts(items: list, is_melt: Callable[[Any], bool],
-                group: Callable[[list], Any]) -> list:
-    """`items` (input in arrival order) with each run of consecutive melts replaced by
-    `group(run)`, at most MELT_GROUP melts to a group: a fast drag's melts then apply as
-    one (`Timeline.apply`) instead of one melt after another."""
+def group_melts(items: list, disc: Callable[[Any], Any], group: Callable[[list], Any]) -> list:
+    """`items` (input in arrival order) with each run of consecutive melts that overlap
+    the one before (a drag's: `disc(item)` gives a melt's (x, y, r), None for other
+    input) replaced by `group(run)`, at most MELT_GROUP to a group: a fast drag's melts
+    then apply as one (`Timeline.apply`). Melts apart (a storm of clicks all over) stay
+    single: one melt over discs all over the screen would redraw the whole screen's ice."""
     out: list = []
     run: list = []
     for item in items:
-        if is_melt(item):
-            run.append(item)
-            if len(run) < MELT_GROUP:
-                continue
-        if run:
-            out.append(group(run))
+        d = disc(item)
+        if run and not (d is not None and len(run) < MELT_GROUP and _overlap(disc(run[-1]), d)):
+            out.append(group(run) if len(run) > 1 else run[0])
             run = []
-        if not is_melt(item):
+        if d is None:
             out.append(item)
+        else:
+            run.append(item)
     if run:
-        out.append(group(run))
+        out.append(group(run) if len(run) > 1 else run[0])
     return out
+
+
+def _overlap(a, b) -> bool:
+    return math.hypot(a[0] - b[0], a[1] - b[1]) <= a[2] + b[2]
 
 
 def touch_events(points, tick: int = 0) -> list[dict[str, Any]]:
