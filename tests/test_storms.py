@@ -366,7 +366,8 @@ def test_play_applies_a_ticks_melts_as_one_group_as_the_window_does(monkeypatch)
 
 
 @pytest.mark.parametrize("version, batched, at_once", [(2, False, False), (3, True, False),
-                                                       (4, True, True), (5, True, True)])
+                                                       (4, True, True), (5, True, True),
+                                                       (6, True, True)])
 @pytest.mark.parametrize("preset", ["fern", "window"])
 def test_a_session_file_places_water_as_its_version_did(version, batched, at_once, preset):
     log = SessionLog(0, Params.preset(preset).as_dict(),
