@@ -67,21 +67,22 @@ def replant(ticks: int = 120) -> FrostSim:
     sim = FrostSim(Params.preset("fern"), seed=5)
     t = np.arange(40)
     sim.plant(np.column_stack((380 + 6 * t * np.cos(t), 640 + 6 * t * np.sin(t))))
-    for _ in range(ticks):
-        sim.step()
-        if sim.tick == ticks // 2:
-            sim.melt(380.0, 640.0, 60.0)
-    return sim
+    return grown(sim, ticks, (380.0, 640.0, 60.0))
 
 
 def tile(ticks: int = 200) -> FrostSim:
     """A wrap tile: touches by the edges and a corner, so growth, walks and a melt cross them."""
     sim = FrostSim(Params.preset("fern", long_jumps=True), 256, 192, seed=2, wrap=True)
     sim.plant([(2.0, 96.0), (250.0, 3.0), (128.0, 190.0)])
+    return grown(sim, ticks, (1.0, 96.0, 20.0))
+
+
+def grown(sim: FrostSim, ticks: int, melt: tuple[float, float, float]) -> FrostSim:
+    """`sim` stepped `ticks` times, with `melt` (x, y, r) half way."""
     for _ in range(ticks):
         sim.step()
         if sim.tick == ticks // 2:
-            sim.melt(1.0, 96.0, 20.0)
+            sim.melt(*melt)
     return sim
 
 
