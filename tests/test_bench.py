@@ -85,3 +85,19 @@ def test_frost_bench_sim_runs_or_is_refused_in_one_line(monkeypatch, argv):
         message = err.getvalue()
         assert status == 2, message
         assert message.count("\n") == 1 and message.startswith("frost bench sim: error: "), message
+
+
+@pytest.mark.parametrize("preset", ["c-2", "fern"])
+def test_the_phase_profiles_time_every_phase_a_tick_calls(preset):
+    """Each phase the profiles name is one the simulation has and calls in a tick (the
+    sections timed methods that a refactor had renamed, and crashed)."""
+    sim = bench.FrostSim(Params.preset(preset), seed=0)
+    sim.touch(*bench.CENTRE)
+    spent = bench.time_phases(sim, more=True)
+    for _ in range(30):
+        sim.step()
+    called = {name for name, s in spent.items() if s > 0}
+    # Table 1's presets keep no pool topped up: nothing spawns water in a tick.
+    idle = {"spawn"} if preset == "c-2" else set()
+    assert called == set(spent) - idle
+    assert {"walk", "crystallize", "link", "register", "settle", "relocate"} <= called

@@ -71,22 +71,37 @@ def fig9(presets: list[str], repeats: int) -> list[dict]:
     return rows
 
 
-PHASES = ("_walk", "_crystallize", "_link", "_register", "_forget_water")
+def phases(sim: FrostSim, more: bool = False) -> list[tuple[object, str, str]]:
+    """(owner, method, name) of a tick's phases, in the order a tick calls them (`more`:
+    also the fern tick's admission, settling, relocation and growth-mode follow-up)."""
+    main = [(sim, "walk", "walk"), (sim, "crystallize", "crystallize"), (sim, "_link", "link"),
+            (sim.index, "register", "register"), (sim.supply, "spent", "forget_water")]
+    extra = [(sim, "_admit", "admit"), (sim.growth, "settle", "settle"),
+             (sim.supply, "relocate", "relocate"), (sim.supply, "spawn", "spawn"),
+             (sim, "_follow_ice", "follow_ice")]
+    return main + extra if more else main
+
+
+def time_phases(sim: FrostSim, more: bool = False) -> dict[str, float]:
+    """Wrap `sim`'s phases (`phases`) to add their seconds to the returned dict."""
+    spent: dict[str, float] = {}
+    for owner, method, name in phases(sim, more):
+        spent[name] = 0.0
+        setattr(owner, method, _timed(getattr(owner, method), spent, name))
+    return spent
 
 
 def phase_profile(preset: str, mode: str, repeats: int) -> dict[str, float]:
     """Seconds per full growth spent in each phase of a tick (median over `repeats`)."""
-    runs: dict[str, list[float]] = {p.strip("_"): [] for p in PHASES}
+    runs: dict[str, list[float]] = {}
     for r in range(repeats):
         sim = FrostSim(Params.preset(preset, neighbor_search=mode), seed=r)
-        spent = dict.fromkeys(runs, 0.0)
-        for phase in PHASES:
-            setattr(sim, phase, _timed(getattr(sim, phase), spent, phase.strip("_")))
+        spent = time_phases(sim)
         sim.touch(*CENTRE)
         while sim.tick < 5000 and sim.water_frozen < 0.9 * sim.water_created and len(sim.water_area):
             sim.step()
         for k, v in spent.items():
-            runs[k].append(v)
+            runs.setdefault(k, []).append(v)
     return {k: float(np.median(v)) for k, v in runs.items()}
 
 
@@ -263,12 +278,8 @@ def fern_costs(name: str, touches: int, ticks: int) -> tuple[float, float]:
 def fern_profile(ticks: int) -> dict[str, float]:
     """Mean ms per tick spent in each phase of one fern touch's first `ticks` ticks."""
     sim = FrostSim(Params.preset("fern"), seed=0)
-    phases = (*PHASES, "_admit", "_relocate", "_follow_ice")
-    spent = dict.fromkeys([p.strip("_") for p in phases] + ["settle"], 0.0)
-    for phase in phases:
-        setattr(sim, phase, _timed(getattr(sim, phase), spent, phase.strip("_")))
-    sim.growth.settle = _timed(sim.growth.settle, spent, "settle")
     sim.touch(*CENTRE)
+    spent = time_phases(sim, more=True)
     for _ in range(ticks):
         sim.step()
     return {k: 1e3 * v / ticks for k, v in spent.items()}
@@ -298,7 +309,7 @@ def fern_section(seeds: int, ticks: int) -> dict:
         print(f"{name:10} " + "  ".join(f"{a:5.2f} + {b:5.2f}" for a, b in cells))
     prof = fern_profile(ticks)
     print("\nwhere a fern tick goes (one touch, mean ms; walk includes its respawns, relocate "
-          "counts them again): " + ", ".join(f"{k} {v:.3f}" for k, v in prof.items()))
+          "which relocate counts again): " + ", ".join(f"{k} {v:.3f}" for k, v in prof.items()))
     out["fern_profile"] = prof
     return out
 
