@@ -308,8 +308,8 @@ def fern_section(seeds: int, ticks: int) -> dict:
         out[name]["ms"] = cells
         print(f"{name:10} " + "  ".join(f"{a:5.2f} + {b:5.2f}" for a, b in cells))
     prof = fern_profile(ticks)
-    print("\nwhere a fern tick goes (one touch, mean ms; walk includes its respawns, relocate "
-          "which relocate counts again): " + ", ".join(f"{k} {v:.3f}" for k, v in prof.items()))
+    print("\nwhere a fern tick goes (one touch, mean ms; walk includes the relocation of its "
+          "leavers, which relocate counts again): " + ", ".join(f"{k} {v:.3f}" for k, v in prof.items()))
     out["fern_profile"] = prof
     return out
 
