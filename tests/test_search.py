@@ -5,7 +5,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from sim.core.buffers import CellLists
+from sim.core.buffers import CellLists, runs
 from sim.index.grid import HashGrid
 from sim.index.search import CandidateSearch, Grid9Search, make_search
 
@@ -83,3 +83,31 @@ def test_make_search_picks_the_named_search():
         assert type(make_search(kind, grid, CellLists(grid.size), 5.0)) is cls
     with pytest.raises(ValueError, match="octree"):
         make_search("octree", grid, CellLists(grid.size), 5.0)
+
+
+@given(st.lists(st.integers(-3, 6), max_size=40))
+def test_runs_of_a_sorted_array_match_a_loop(values):
+    s = np.sort(np.array(values, np.int64))
+    first, last, rank = runs(s)
+    n = len(s)
+    assert first.tolist() == [i == 0 or s[i] != s[i - 1] for i in range(n)]
+    assert last.tolist() == [i == n - 1 or s[i] != s[i + 1] for i in range(n)]
+    assert rank.tolist() == [sum(1 for j in range(i) if s[j] == s[i]) for i in range(n)]
+
+
+@given(st.lists(st.tuples(st.integers(0, 7), st.integers(0, 10**6)), max_size=60),
+       st.integers(1, 4))
+def test_cell_lists_hold_each_cells_ids_in_the_order_given(pairs, batches):
+    """Inserting in batches lists each cell's ids in ascending order with the right count,
+    as a dict of lists does (ids of one cell ascend across and within the batches)."""
+    pairs = sorted(pairs, key=lambda p: p[1])
+    lists, slow = CellLists(8, width=2), {c: [] for c in range(8)}
+    for part in np.array_split(np.arange(len(pairs)), batches):
+        cells = np.array([pairs[i][0] for i in part], np.int64)
+        ids = np.array([pairs[i][1] for i in part], np.int32)
+        lists.insert(cells, ids)
+        for c, i in zip(cells, ids, strict=True):
+            slow[int(c)].append(int(i))
+    assert lists.count.tolist() == [len(slow[c]) for c in range(8)]
+    counts, flat = lists.gather_flat(np.arange(8))
+    assert flat.tolist() == [i for c in range(8) for i in slow[c]]

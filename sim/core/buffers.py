@@ -5,6 +5,20 @@ from __future__ import annotations
 import numpy as np
 
 
+def runs(s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(first, last, rank) of the runs of equal values of a sorted array: flags for the
+    first and the last element of each run, and each element's place in its run. A few
+    numpy passes, none of them a Python-level helper (np.diff with `append` or
+    np.unique cost more than the rest of a small tick's counting)."""
+    n = len(s)
+    first, last = np.empty(n, bool), np.empty(n, bool)
+    first[:1] = last[-1:] = True
+    np.not_equal(s[1:], s[:-1], out=first[1:])
+    last[:-1] = first[1:]
+    at = np.arange(n)
+    return first, last, at - np.maximum.accumulate(np.where(first, at, 0))
+
+
 class Growable:
     """An append-only array of rows with amortised O(1) appends.
 
@@ -68,13 +82,11 @@ class CellLists:
             return
         order = np.argsort(cells, kind="stable")
         c, i = cells[order], ids[order]
-        first = np.concatenate(([0], np.flatnonzero(c[1:] != c[:-1]) + 1))
-        sizes = np.diff(first, append=len(c))
-        rank = np.arange(len(c)) - np.repeat(first, sizes)
+        _, last, rank = runs(c)
         slot = self.count[c] + rank
         self._widen(int(slot.max()) + 1)
         self.items[c, slot] = i
-        self.count += np.bincount(c, minlength=len(self.count)).astype(np.int32)
+        self.count[c[last]] = slot[last] + 1
 
     def remove(self, cells: np.ndarray, ids_to_drop: np.ndarray) -> None:
         """Remove every id in `ids_to_drop` from the lists of `cells` (order kept)."""
@@ -100,7 +112,7 @@ class CellLists:
         """(counts, ids): the lists of `cells` back to back, without padding."""
         counts = self.count[cells]
         rows = np.repeat(np.arange(len(cells)), counts)
-        slot = np.arange(len(rows)) - np.repeat(np.cumsum(counts) - counts, counts)
+        slot = np.arange(len(rows)) - (np.cumsum(counts) - counts)[rows]
         return counts, self.items[cells[rows], slot]
 
     def nbytes(self) -> int:

@@ -31,8 +31,8 @@ def first_good(good: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """For tries x k flags: which of the k have a good try, and the flat index (into the
     tries x k draws) of the first good try of each of those."""
     placed = np.any(good, axis=0)  # (an array for mypy, where good.any may be a scalar)
-    pick = good.argmax(axis=0)[placed] * good.shape[1] + np.flatnonzero(placed)
-    return placed, pick
+    which = placed.nonzero()[0]
+    return placed, good.argmax(axis=0)[which] * good.shape[1] + which
 
 
 def disc_spots(rng: np.random.Generator, a: np.ndarray, launch: float,
@@ -90,24 +90,26 @@ class Placer:
         n = len(area)
         x, y, ok = np.zeros(n, np.float32), np.zeros(n, np.float32), np.zeros(n, bool)
         # An area whose annulus has no free cell cannot place by disc draws: to its cells.
-        direct = self.annulus_full(area) if self.batched else np.zeros(n, bool)
-        todo = np.flatnonzero(~direct)
+        direct = self.annulus_full(area) if self.batched else None
+        todo = np.arange(n) if direct is None else np.flatnonzero(~direct)
         # A launch circle may cross other areas' ice: give it more tries before the cells.
         for tries in ((1, 2) if n > 1024 else (4,)) + ((16,) if self.launch else ()):
             if len(todo) == 0:
                 break
-            rows = self.areas.rows.raw()[np.tile(area[todo], tries)]
+            rows = self.areas.rows.raw()[np.concatenate((area[todo],) * tries)]
             px, py = disc_spots(self.rng, rows, self.launch, self.wrap)
             placed, pick = first_good(self.index.free(px, py).reshape(tries, len(todo)))
-            x[todo[placed]], y[todo[placed]] = px[pick], py[pick]
-            ok[todo[placed]] = True
+            there = todo[placed]
+            x[there], y[there], ok[there] = px[pick], py[pick], True
             todo = todo[~placed]
         if len(todo) and not self.batched:  # session files before version 3
             for a in np.unique(area[todo]):
                 mine = todo[area[todo] == a]
                 x[mine], y[mine], ok[mine] = self.cell_spots(int(a), len(mine))
-        elif self.batched and (len(todo) or direct.any()):
-            todo = np.union1d(todo, np.flatnonzero(direct))[:self.cell_work]
+        elif self.batched and (len(todo) or (direct is not None and direct.any())):
+            if direct is not None:
+                todo = np.union1d(todo, np.flatnonzero(direct))
+            todo = todo[:self.cell_work]
             self.cell_work -= len(todo)
             x[todo], y[todo], ok[todo] = self.cell_spots_all(area[todo], ice)
         return x, y, ok
@@ -204,13 +206,13 @@ class Placer:
             self._full[area] = full
         return self._plans[area]
 
-    def annulus_full(self, area: np.ndarray) -> np.ndarray:
+    def annulus_full(self, area: np.ndarray) -> np.ndarray | None:
         """Per walker: its area's annulus held no free cell when its cells were last
-        listed (`area_cells`; at most a tick old). Listing every area's cells for every
-        placement cost ~0.1 ms an area, though few areas ever fill; a stale answer only
-        sends a walker the other way to a valid spot."""
+        listed (`area_cells`; at most a tick old); None where no area's was. Listing every
+        area's cells for every placement cost ~0.1 ms an area, though few areas ever
+        fill; a stale answer only sends a walker the other way to a valid spot."""
         if not any(self._full.values()):  # (the usual case: no area has filled)
-            return np.zeros(len(area), bool)
+            return None
         ua, inv = np.unique(area, return_inverse=True)
         return np.array([self._full.get(int(a), False) for a in ua], bool)[inv]
 

@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.buffers import Growable
+from ..core.buffers import Growable, runs
 from ..index.periodic import nearest_image, wrap_points
 from ..params import Params
 from .fronds import make_fronds
@@ -167,13 +167,14 @@ class FernGrowth:
         key = np.where(open_, parents * SLOTS + slot, -1)
         order = np.argsort(key, kind="stable")
         skey = key[order]
-        start = np.concatenate(([0], np.flatnonzero(skey[1:] != skey[:-1]) + 1))
+        _, last, in_run = runs(skey)
         rank = np.empty(len(key), np.int64)
-        rank[order] = np.arange(len(key)) - np.repeat(start, np.diff(start, append=len(key)))
+        rank[order] = in_run
         flat = self.hits.raw().reshape(-1)
         before = flat[key.clip(0)]
         due = open_ & (rank == np.maximum(need - before - 1, 0))
-        slots, hits = np.unique(key[open_], return_counts=True)
+        last &= skey >= 0  # each open slot hit: its key (ascending) and its hits
+        slots, hits = skey[last], in_run[last] + 1
         # A blocked slot keeps counting: cap the count so it never overflows.
         flat[slots] = np.minimum(flat[slots] + hits, 1 << 20)
         return due
