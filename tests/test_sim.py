@@ -26,8 +26,8 @@ def record_ticks(sim, ticks):
     log = []
     real = sim.crystallize
 
-    def spy():
-        frozen, parents = real()
+    def spy(keys=None):
+        frozen, parents = real(keys)
         log.append((sim.water.astype(np.float64), sim.crystals.astype(np.float64).copy(),
                     frozen.copy(), parents.copy()))
         return frozen, parents

@@ -110,10 +110,16 @@ class CellLists:
 
     def gather_flat(self, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(counts, ids): the lists of `cells` back to back, without padding."""
+        counts, _, _, ids = self.listed(cells)
+        return counts, ids
+
+    def listed(self, cells: np.ndarray) -> tuple[np.ndarray, ...]:
+        """(counts, starts, rows, ids): the lists of `cells` back to back (`ids`), where
+        each starts in `ids`, and the index into `cells` of each id."""
         counts = self.count[cells]
         rows = np.repeat(np.arange(len(cells)), counts)
-        slot = np.arange(len(rows)) - (np.cumsum(counts) - counts)[rows]
-        return counts, self.items[cells[rows], slot]
+        starts = np.cumsum(counts) - counts
+        return counts, starts, rows, self.items[cells[rows], np.arange(len(rows)) - starts[rows]]
 
     def nbytes(self) -> int:
         return self.count.nbytes + self.items.nbytes

@@ -126,8 +126,7 @@ class FrostSim(Holdings):
         """One tick: the phases of the module doc, in order."""
         self.placer.cell_work = placement.CELL_WORK
         self.walk()
-        self._drop_in_full_cells()
-        hits, parents = self._admit(*self.crystallize())
+        hits, parents = self._admit(*self.crystallize(self._drop_in_full_cells()))
         frozen, parents, pts, bounced = self.growth.settle(self._water.at(hits), hits, parents,
                                                            self.ice, self.index)
         new = self._link(frozen, parents, pts)
@@ -187,36 +186,40 @@ class FrostSim(Holdings):
         if m == 0:
             return
         x, y = self._water.x.raw(), self._water.y.raw()
-        dx, dy = walk_displacements(self.rng, m, self.params.step, self.jumps(x, y))
+        columns = self._areas.columns(self._water.area.raw())
+        dx, dy = walk_displacements(self.rng, m, self.params.step, self.jumps(x, y, columns))
         x += dx
         y += dy
         if self.wrap:  # a tile: a walker leaving one edge comes in at the opposite one
             x[:], y[:] = wrap_into(x, self.width), wrap_into(y, self.height)
-        left = outside(x, y, self._areas.columns(self._water.area.raw()),
-                       (self.width, self.height), self.wrap)
+        left = outside(x, y, columns, (self.width, self.height), self.wrap)
         self.supply.spent(_NONE, self.supply.relocate(np.flatnonzero(left), self.ice_state()))
 
-    def jumps(self, x: np.ndarray, y: np.ndarray) -> np.ndarray | None:
+    def jumps(self, x: np.ndarray, y: np.ndarray, columns=None) -> np.ndarray | None:
         """Long jumps: the clearance of walkers at (x, y), each in its own area (None
-        without long jumps)."""
+        without long jumps); `columns`: `Areas.columns` of the walkers, where known."""
         if not self.params.long_jumps:
             return None
-        cx, cy, r = self._areas.columns(self._water.area.raw())
+        cx, cy, r = self._areas.columns(self._water.area.raw()) if columns is None else columns
         return self.index.clearance.radii(x, y, r - np.hypot(x - cx, y - cy))
 
-    def _drop_in_full_cells(self) -> None:
-        """Water in a cell that lists CELL_CAP crystals has arrived at finished ice."""
-        full = self.candidates.count[self.grid.keys(self._water.x.raw(), self._water.y.raw())] \
-            >= budget.CELL_CAP
+    def _drop_in_full_cells(self) -> np.ndarray:
+        """Water in a cell that lists CELL_CAP crystals has arrived at finished ice.
+        Returns the cells of the walkers kept."""
+        keys = self.grid.keys(self._water.x.raw(), self._water.y.raw())
+        full = self.candidates.count[keys] >= budget.CELL_CAP
         if full.any():
             self.supply.dropped += int(full.sum())
             self._water.keep(~full)
+            keys = keys[~full]
+        return keys
 
-    def crystallize(self) -> tuple[np.ndarray, np.ndarray]:
-        """Sec. 3.4.3: the walkers within hc of a crystal, and their nearest crystal."""
+    def crystallize(self, keys: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Sec. 3.4.3: the walkers within hc of a crystal, and their nearest crystal
+        (`keys`: the walkers' cells, where known)."""
         if self._water.n == 0:
             return np.empty(0, np.int64), np.empty(0, np.int32)
-        return self.index.nearest(self._water.x.raw(), self._water.y.raw())
+        return self.index.nearest(self._water.x.raw(), self._water.y.raw(), keys)
 
     def _admit(self, frozen: np.ndarray, parents: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The freezes this tick takes (`budget.admit`); the water of those over the

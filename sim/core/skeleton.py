@@ -117,12 +117,14 @@ def upsample(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, 
         return np.empty((0, 2), np.float32), links[:0], np.hstack([p, q]).astype(np.float32), links
     nseg = np.where(nu >= 2, nu, 1)
     seg_link = np.repeat(np.arange(len(p)), nseg)
-    j = np.arange(len(seg_link)) - np.repeat(np.cumsum(nseg) - nseg, nseg)
-    t0 = (j / nseg[seg_link])[:, None]
-    t1 = ((j + 1) / nseg[seg_link])[:, None]
-    a = p64[seg_link] + t0 * d[seg_link]
-    b = p64[seg_link] + t1 * d[seg_link]
-    segments = np.hstack([a, b]).astype(np.float32)
+    j = np.arange(len(seg_link)) - (np.cumsum(nseg) - nseg)[seg_link]
+    per = nseg[seg_link]
+    t0 = (j / per)[:, None]
+    t1 = ((j + 1) / per)[:, None]
+    p_s, d_s = p64[seg_link], d[seg_link]
+    a = p_s + t0 * d_s
+    b = p_s + t1 * d_s
+    segments = np.concatenate((a, b), axis=1).astype(np.float32)
     inner = j > 0  # a chain's inner nodes are the upsample particles
     return a[inner].astype(np.float32), seg_link[inner], segments, seg_link
 
@@ -130,9 +132,11 @@ def upsample(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, 
 def ranges(link: np.ndarray, n: int, offset: int) -> np.ndarray:
     """n x 2 (first row, count) of each link's rows, given the ascending link index of
     rows appended at `offset`."""
-    count = np.bincount(link, minlength=n).astype(np.int32)
-    first = offset + np.cumsum(count) - count
-    return np.column_stack((first, count)).astype(np.int32)
+    out = np.empty((n, 2), np.int32)
+    count = np.bincount(link, minlength=n)
+    out[:, 1] = count
+    out[:, 0] = offset + count.cumsum() - count
+    return out
 
 
 def rows(ranges: np.ndarray) -> np.ndarray:

@@ -43,9 +43,11 @@ class FreezingIndex:
         self.candidates.remove(cells, dead)
         self.search.remove(pts, dead)
 
-    def nearest(self, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Sec. 3.4.3: the walkers at (x, y) within hc of a crystal, and their nearest crystal."""
-        return self.search.nearest(self.crystals.raw(), x, y)
+    def nearest(self, x: np.ndarray, y: np.ndarray,
+                keys: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Sec. 3.4.3: the walkers at (x, y) within hc of a crystal, and their nearest
+        crystal (`keys`: the walkers' cells, where known)."""
+        return self.search.nearest(self.crystals.raw(), x, y, keys)
 
     def nearest_d2(self, pts: np.ndarray) -> np.ndarray:
         """Squared distance from each point to the nearest live crystal listed in its cell
@@ -53,19 +55,17 @@ class FreezingIndex:
         d2 = np.full(len(pts), np.inf, np.float32)
         if len(pts) == 0:
             return d2
-        counts, ids = self.candidates.gather_flat(self.grid.keys(pts[:, 0], pts[:, 1]))
-        some = counts > 0
-        if not some.any():
+        counts, starts, rows, ids = self.candidates.listed(self.grid.keys(pts[:, 0], pts[:, 1]))
+        if len(ids) == 0:
             return d2
-        rows = np.repeat(np.arange(len(pts)), counts)
+        some = counts > 0
         c = self.crystals.raw()[ids]
         dx, dy = c[:, 0] - pts[rows, 0], c[:, 1] - pts[rows, 1]
         period = self.grid.period
         if period is not None:  # a tile: over the wrap
             dx, dy = nearest_image(dx, period[0]), nearest_image(dy, period[1])
         e = dx ** 2 + dy ** 2
-        starts = (np.cumsum(counts) - counts)[some]
-        d2[some] = np.minimum.reduceat(e, starts)
+        d2[some] = np.minimum.reduceat(e, starts[some])
         return d2
 
     def glass(self, px: np.ndarray, py: np.ndarray) -> np.ndarray:

@@ -33,10 +33,11 @@ class NeighborSearch(Protocol):
 
     def remove(self, pts: np.ndarray, ids: np.ndarray) -> None: ...
 
-    def nearest(self, crystals: np.ndarray, x: np.ndarray,
-                y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def nearest(self, crystals: np.ndarray, x: np.ndarray, y: np.ndarray,
+                keys: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(walkers, parents): the on-screen walkers (x[i], y[i]) within hc of a listed
-        crystal, ascending, and the nearest one of each (lowest index among equals)."""
+        crystal, ascending, and the nearest one of each (lowest index among equals).
+        `keys`: the walkers' cells (`HashGrid.keys`), where the caller has them."""
         ...
 
     def nbytes(self) -> int: ...
@@ -56,16 +57,18 @@ def make_search(kind: str, grid: HashGrid, candidates: CellLists, hc: float) -> 
 
 
 def nearest_listed(crystals: np.ndarray, hc2: np.float32, w: np.ndarray, counts: np.ndarray,
-                   ids: np.ndarray, x: np.ndarray, y: np.ndarray,
-                   period=None) -> tuple[np.ndarray, np.ndarray]:
+                   ids: np.ndarray, x: np.ndarray, y: np.ndarray, period=None,
+                   starts=None, rows=None) -> tuple[np.ndarray, np.ndarray]:
     """Of walkers `w`, each with `counts[i] > 0` crystal ids listed back to back in `ids`,
     those within sqrt(hc2) of one, and the nearest (lowest index among equals). Both
     searches end here, so their distances are the same floats. `period` (a tile's size):
-    offsets are taken over the wrap."""
+    offsets are taken over the wrap. `starts` and `rows` (`CellLists.listed`'s), where
+    the caller has them."""
     if len(w) == 0:
         return w, np.empty(0, np.int32)
-    starts = np.cumsum(counts) - counts
-    rows = np.repeat(np.arange(len(w)), counts)
+    if starts is None or rows is None:
+        starts = np.cumsum(counts) - counts
+        rows = np.repeat(np.arange(len(w)), counts)
     dx = crystals[ids, 0] - x[w][rows]
     dy = crystals[ids, 1] - y[w][rows]
     if period is not None:
@@ -91,12 +94,13 @@ class CandidateSearch:
     def remove(self, pts: np.ndarray, ids: np.ndarray) -> None:
         """Nothing to do: FrostSim takes melted crystals out of the candidate cells itself."""
 
-    def nearest(self, crystals: np.ndarray, x: np.ndarray,
-                y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        keys = self.grid.keys(x, y)
+    def nearest(self, crystals: np.ndarray, x: np.ndarray, y: np.ndarray,
+                keys: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        keys = self.grid.keys(x, y) if keys is None else keys
         w = np.flatnonzero(self.candidates.count[keys] > 0)
-        counts, ids = self.candidates.gather_flat(keys[w])
-        return nearest_listed(crystals, self._hc2, w, counts, ids, x, y, self.grid.period)
+        counts, starts, rows, ids = self.candidates.listed(keys[w])
+        return nearest_listed(crystals, self._hc2, w, counts, ids, x, y, self.grid.period,
+                              starts, rows)
 
     def nbytes(self) -> int:
         return 0  # the candidate cells are FrostSim's, counted there
@@ -116,9 +120,9 @@ class Grid9Search:
     def remove(self, pts: np.ndarray, ids: np.ndarray) -> None:
         self._own.remove(self.grid.keys(pts[:, 0], pts[:, 1]), ids)
 
-    def nearest(self, crystals: np.ndarray, x: np.ndarray,
-                y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        keys = self.grid.keys(x, y)
+    def nearest(self, crystals: np.ndarray, x: np.ndarray, y: np.ndarray,
+                keys: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        keys = self.grid.keys(x, y) if keys is None else keys
         hits, parents = [np.empty(0, np.int64)], [np.empty(0, np.int32)]
         for lo in range(0, len(keys), _GRID9_CHUNK):
             counts, ids = self._own.gather_flat(self._around(keys[lo:lo + _GRID9_CHUNK]))

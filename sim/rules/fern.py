@@ -81,6 +81,7 @@ class FernGrowth:
         self.child = Growable(np.int32, (SLOTS,))  # each slot's child, -1 if empty
         self.hits = Growable(np.int32, (SLOTS,))
         self.order = Growable(np.int8)  # branch order (frond rule 1)
+        self._any_ringed = False  # a ringed seed was ever added (else none is fresh)
         self.fronds = make_fronds(params)
 
     # ---- hooks called by FrostSim ---------------------------------------------------
@@ -90,6 +91,7 @@ class FernGrowth:
         flag each; default none) marks the seeds a touch brought a ring of water, whose
         first hits count together (with `pooled_first`)."""
         ringed = np.zeros(n, bool) if ringed is None else np.asarray(ringed, bool)
+        self._any_ringed |= bool(ringed.any())
         self._append(self.rng.random(n) * SIXTH, np.full(n, -1, np.int8), np.ones(n, bool),
                      ringed=ringed)
 
@@ -162,7 +164,7 @@ class FernGrowth:
         child = self.child.raw()
         open_ = (need > 0) & (child[parents, k] < 0)
         slot = k
-        if self.pooled_first:  # a seed's hits count together (in slot 0) until it grows
+        if self.pooled_first and self._any_ringed:  # a seed's hits count together until it grows
             slot = np.where(self._fresh(parents), 0, k)
         key = np.where(open_, parents * SLOTS + slot, -1)
         order = np.argsort(key, kind="stable")
@@ -220,7 +222,7 @@ class FernGrowth:
         """The growing slots take the new crystals first, first + 1, ...; each child's axis
         turns from its link by the drift draw. A seed's first child clears the count its
         hits kept together."""
-        if self.pooled_first:
+        if self.pooled_first and self._any_ringed:
             self.hits.raw()[parents[self._fresh(parents)]] = 0
         self.child.raw()[parents, k] = np.arange(first, first + len(parents), dtype=np.int32)
         turn = self.rng.standard_normal(len(parents)) * self.drift
