@@ -19,6 +19,15 @@ def runs(s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return first, last, at - np.maximum.accumulate(np.where(first, at, 0))
 
 
+def distinct(a: np.ndarray) -> np.ndarray:
+    """The distinct values of `a`, ascending (np.unique's answer, without its overhead)."""
+    s = np.sort(a)
+    keep = np.empty(len(s), bool)
+    keep[:1] = True
+    np.not_equal(s[1:], s[:-1], out=keep[1:])
+    return s[keep]
+
+
 class Growable:
     """An append-only array of rows with amortised O(1) appends.
 
@@ -35,6 +44,13 @@ class Growable:
         k = len(rows)
         self._reserve(self.n + k)
         self._data[self.n:self.n + k] = rows
+        self.n += k
+        return slice(self.n - k, self.n)
+
+    def append_fill(self, k: int, value) -> slice:
+        """Append k rows that each hold `value`; returns their slice."""
+        self._reserve(self.n + k)
+        self._data[self.n:self.n + k] = value
         self.n += k
         return slice(self.n - k, self.n)
 
@@ -80,7 +96,7 @@ class CellLists:
         """Add `ids[j]` to cell `cells[j]`; ids of one cell must come in ascending order."""
         if len(cells) == 0:
             return
-        order = np.argsort(cells, kind="stable")
+        order = cells.argsort(kind="stable")
         c, i = cells[order], ids[order]
         _, last, rank = runs(c)
         slot = self.count[c] + rank
@@ -117,8 +133,8 @@ class CellLists:
         """(counts, starts, rows, ids): the lists of `cells` back to back (`ids`), where
         each starts in `ids`, and the index into `cells` of each id."""
         counts = self.count[cells]
-        rows = np.repeat(np.arange(len(cells)), counts)
-        starts = np.cumsum(counts) - counts
+        rows = np.arange(len(cells)).repeat(counts)
+        starts = counts.cumsum() - counts
         return counts, starts, rows, self.items[cells[rows], np.arange(len(rows)) - starts[rows]]
 
     def nbytes(self) -> int:

@@ -193,7 +193,7 @@ class FrostSim(Holdings):
         if self.wrap:  # a tile: a walker leaving one edge comes in at the opposite one
             x[:], y[:] = wrap_into(x, self.width), wrap_into(y, self.height)
         left = outside(x, y, columns, (self.width, self.height), self.wrap)
-        self.supply.spent(_NONE, self.supply.relocate(np.flatnonzero(left), self.ice_state()))
+        self.supply.spent(_NONE, self.supply.relocate(left.nonzero()[0], self.ice_state()))
 
     def jumps(self, x: np.ndarray, y: np.ndarray, columns=None) -> np.ndarray | None:
         """Long jumps: the clearance of walkers at (x, y), each in its own area (None

@@ -30,7 +30,7 @@ _NONE = np.empty(0, np.int64)
 def first_good(good: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """For tries x k flags: which of the k have a good try, and the flat index (into the
     tries x k draws) of the first good try of each of those."""
-    placed = np.any(good, axis=0)  # (an array for mypy, where good.any may be a scalar)
+    placed = np.logical_or.reduce(good, axis=0)
     which = placed.nonzero()[0]
     return placed, good.argmax(axis=0)[which] * good.shape[1] + which
 

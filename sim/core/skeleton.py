@@ -60,7 +60,7 @@ class Skeleton:
         new = self.crystals.append(pts)
         self.parents.append(parents)
         self.area.append(area)
-        self.calive.append(np.ones(len(pts), bool))
+        self.calive.append_fill(len(pts), True)
         return new
 
     def no_links(self, n: int) -> None:
@@ -74,8 +74,8 @@ class Skeleton:
         self.seg_range.append(ranges(segs_link, len(pts), self.segs.n))
         self.ups_range.append(ranges(ups_link, len(pts), self.ups.n))
         self.ups.append(ups)
-        self.ualive.append(np.ones(len(ups), bool))
-        self.salive.append(np.ones(len(segs), bool))
+        self.ualive.append_fill(len(ups), True)
+        self.salive.append_fill(len(segs), True)
         self.ups_link.append(ups_link.astype(np.int32) + first)
         self.segs.append(segs)
         self.segs_link.append(segs_link.astype(np.int32) + first)
@@ -116,8 +116,8 @@ def upsample(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, 
         links = np.arange(len(p))
         return np.empty((0, 2), np.float32), links[:0], np.hstack([p, q]).astype(np.float32), links
     nseg = np.where(nu >= 2, nu, 1)
-    seg_link = np.repeat(np.arange(len(p)), nseg)
-    j = np.arange(len(seg_link)) - (np.cumsum(nseg) - nseg)[seg_link]
+    seg_link = np.arange(len(p)).repeat(nseg)
+    j = np.arange(len(seg_link)) - (nseg.cumsum() - nseg)[seg_link]
     per = nseg[seg_link]
     t0 = (j / per)[:, None]
     t1 = ((j + 1) / per)[:, None]

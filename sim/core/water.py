@@ -51,7 +51,9 @@ class Water:
 
     def at(self, idx: np.ndarray) -> np.ndarray:
         """len(idx) x 2 positions of walkers `idx`."""
-        return np.column_stack((self.x.raw()[idx], self.y.raw()[idx]))
+        out = np.empty((len(idx), 2), np.float32)
+        out[:, 0], out[:, 1] = self.x.raw()[idx], self.y.raw()[idx]
+        return out
 
     def move(self, idx: np.ndarray, x: np.ndarray, y: np.ndarray) -> None:
         self.x.raw()[idx] = x

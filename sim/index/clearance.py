@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.buffers import distinct
 from .grid import HashGrid
 
 # Rings of cells looked at around a new candidate cell: beyond this the bound stays at
@@ -50,14 +51,16 @@ class Clearance:
         self._ox, self._oy = ox.ravel(), oy.ravel()
         self._ring = np.maximum(np.abs(self._ox), np.abs(self._oy)).astype(np.int16)
         self._cell = np.float32(grid.cell)
+        # (k - 1) cells in px for each ring count k (float32, as the rings' arithmetic)
+        self._beyond = (np.arange(cap + 1) - 1).astype(np.float32) * self._cell
 
     def lower(self, cells: np.ndarray) -> None:
         """`cells` just became candidate cells: lower the rings around them."""
         if len(cells) == 0:
             return
-        cy, cx = np.divmod(np.unique(cells), self.grid.cols)
+        cy, cx = np.divmod(distinct(cells), self.grid.cols)
         tx, ty = cx[:, None] + self._ox, cy[:, None] + self._oy
-        ring = np.broadcast_to(self._ring, tx.shape)
+        ring = self._ring[None, :].repeat(len(cx), axis=0)
         if self.grid.period is not None:  # a tile: the rings go on across the edges
             tx, ty, ring = self._wrapped(tx, ty, ring)
         ok = (tx >= 0) & (tx < self.grid.cols) & (ty >= 0) & (ty < self.grid.rows)
@@ -78,8 +81,8 @@ class Clearance:
         kx, ky = (x / s).astype(np.int32), (y / s).astype(np.int32)  # its cell (Eq. 1)
         fx, fy = x - kx * s, y - ky * s
         border = np.minimum(np.minimum(fx, s - fx), np.minimum(fy, s - fy))
-        k = self.rings[ky * self.grid.cols + kx]
-        rho = np.where(k >= 1, (k - 1).astype(np.float32) * s + border, np.float32(0))
+        # (k - 1) s + border where k >= 1, else 0 (k = 0 gives -s + border < 0)
+        rho = np.maximum(self._beyond[self.rings[ky * self.grid.cols + kx]] + border, 0.0)
         if self.grid.period is not None:  # a tile has no edge: the rings wrap instead
             return np.minimum(rho, rim) - MARGIN
         w, h = self.size

@@ -58,6 +58,6 @@ class HashGrid:
         gap_y = np.maximum(np.maximum(cand_y * s - p[:, 1, None], 0), p[:, 1, None] - (cand_y + 1) * s)
         ok = (gap_x * gap_x + gap_y * gap_y < r * r)
         ok &= (cand_x >= 0) & (cand_x < self.cols) & (cand_y >= 0) & (cand_y < self.rows)
-        owner = np.repeat(np.arange(len(p)) // len(self._images), 9).reshape(-1, 9)
         cells = (cand_y * self.cols + cand_x)[ok].astype(np.int32)
-        return cells, owner[ok]
+        owner = ok.nonzero()[0]  # (row-major: each point's cells in turn)
+        return cells, owner // len(self._images) if len(self._images) > 1 else owner

@@ -97,7 +97,7 @@ class CandidateSearch:
     def nearest(self, crystals: np.ndarray, x: np.ndarray, y: np.ndarray,
                 keys: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         keys = self.grid.keys(x, y) if keys is None else keys
-        w = np.flatnonzero(self.candidates.count[keys] > 0)
+        w = (self.candidates.count[keys] > 0).nonzero()[0]
         counts, starts, rows, ids = self.candidates.listed(keys[w])
         return nearest_listed(crystals, self._hc2, w, counts, ids, x, y, self.grid.period,
                               starts, rows)

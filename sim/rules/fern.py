@@ -102,7 +102,7 @@ class FernGrowth:
         if len(hits) == 0:
             return hits, parents, np.empty((0, 2), np.float32), hits
         k, need = self._slots(walkers, ice.crystals.raw()[parents], parents, index)
-        cand = np.flatnonzero(self._count(parents, k, need))
+        cand = self._count(parents, k, need).nonzero()[0]
         if len(cand) == 0:  # most ticks: every hit only counts
             return hits[:0], parents[:0], np.empty((0, 2), np.float32), hits
         angle = self.axis.raw()[parents[cand]] + k[cand] * SIXTH
@@ -167,7 +167,7 @@ class FernGrowth:
         if self.pooled_first and self._any_ringed:  # a seed's hits count together until it grows
             slot = np.where(self._fresh(parents), 0, k)
         key = np.where(open_, parents * SLOTS + slot, -1)
-        order = np.argsort(key, kind="stable")
+        order = key.argsort(kind="stable")
         skey = key[order]
         _, last, in_run = runs(skey)
         rank = np.empty(len(key), np.int64)
@@ -232,13 +232,20 @@ class FernGrowth:
                      np.minimum(order, 127).astype(np.int8))
 
     def _append(self, axis, slot, seed, order=None, ringed=None) -> None:
+        n = len(axis)
         self.axis.append(axis)
-        self.ringed.append(np.zeros(len(axis), bool) if ringed is None else ringed)
-        self.order.append(np.zeros(len(axis), np.int8) if order is None else order)
+        if ringed is None:
+            self.ringed.append_fill(n, False)
+        else:
+            self.ringed.append(ringed)
+        if order is None:
+            self.order.append_fill(n, 0)
+        else:
+            self.order.append(order)
         self.slot.append(slot)
         self.seed.append(seed)
-        self.child.append(np.full((len(axis), SLOTS), -1, np.int32))
-        self.hits.append(np.zeros((len(axis), SLOTS), np.int32))
+        self.child.append_fill(n, -1)
+        self.hits.append_fill(n, 0)
 
 
 def _first_apart(pts: np.ndarray, gap: float) -> np.ndarray:
