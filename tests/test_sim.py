@@ -194,6 +194,35 @@ def test_upsample_counts_and_even_spacing(D):
                                    rtol=1e-4, atol=1e-4)
 
 
+def upsample_slow(p, q, D):
+    """Eq. 3-4 link by link in Python floats (float64), stored float32."""
+    pts, link, segs, seg_link = [], [], [], []
+    for i, (a, b) in enumerate(zip(p.astype(np.float64), q.astype(np.float64), strict=True)):
+        d = b - a
+        nu = math.floor(math.hypot(d[0], d[1]) / D)
+        k = nu if nu >= 2 else 1
+        nodes = [(a[0] + (j / k) * d[0], a[1] + (j / k) * d[1]) for j in range(k + 1)]
+        pts += nodes[1:-1]
+        link += [i] * (k - 1)
+        segs += [nodes[j] + nodes[j + 1] for j in range(k)]
+        seg_link += [i] * k
+    return (np.array(pts, np.float32).reshape(-1, 2), np.array(link, np.int64),
+            np.array(segs, np.float32).reshape(-1, 4), np.array(seg_link, np.int64))
+
+
+@pytest.mark.parametrize("length", [7.0, 2.4, 12.6, None])
+def test_upsample_matches_a_link_by_link_loop_bit_for_bit(length):
+    """Links all of one length (a fern's are one hc: one grid of nodes) or of any."""
+    rng = np.random.default_rng(5)
+    p = rng.uniform(0, 700, (40, 2)).astype(np.float32)
+    turn = rng.uniform(0, 2 * np.pi, 40)
+    size = rng.uniform(0.5, 20, 40) if length is None else length
+    q = (p + np.column_stack((size * np.cos(turn), size * np.sin(turn)))).astype(np.float32)
+    for mine, slow in zip(upsample(p, q, 2.5), upsample_slow(p, q, 2.5), strict=True):
+        np.testing.assert_array_equal(mine, slow)
+        assert mine.shape == slow.shape
+
+
 def test_sim_upsamples_links_and_upsampled_make_no_freezing_area():
     sim = grown(Params.preset("a-1"), ticks=150)  # D = 1, hc = 10: many upsample points
     assert len(sim.upsampled) > 3 * len(sim.crystals)

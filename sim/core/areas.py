@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .buffers import Growable
+from .buffers import Growable, distinct
 
 
 class Areas:
@@ -48,7 +48,7 @@ class Areas:
         rows = self.rows.raw()
         d = np.hypot(*(pts - rows[area, :2]).T)
         np.maximum.at(rows[:, 4], area, d)
-        return np.unique(area)
+        return distinct(area)
 
     def ride(self, touched: np.ndarray, radius: float) -> None:
         """Growth mode: the annulus of `touched` rides on its ice front, half an active

@@ -96,7 +96,8 @@ class Placer:
         for tries in ((1, 2) if n > 1024 else (4,)) + ((16,) if self.launch else ()):
             if len(todo) == 0:
                 break
-            rows = self.areas.rows.raw()[np.concatenate((area[todo],) * tries)]
+            mine = area if len(todo) == n else area[todo]  # (todo ascends: all, in order)
+            rows = self.areas.rows.raw()[np.concatenate((mine,) * tries)]
             px, py = disc_spots(self.rng, rows, self.launch, self.wrap)
             placed, pick = first_good(self.index.free(px, py).reshape(tries, len(todo)))
             there = todo[placed]

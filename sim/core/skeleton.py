@@ -116,6 +116,13 @@ def upsample(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, 
         links = np.arange(len(p))
         return np.empty((0, 2), np.float32), links[:0], np.hstack([p, q]).astype(np.float32), links
     nseg = np.where(nu >= 2, nu, 1)
+    k = int(nseg[0])
+    if (nseg == k).all():  # links alike (a fern's are one hc each): a grid of link x node
+        nodes = p64[:, None, :] + (np.arange(k + 1) / k)[None, :, None] * d[:, None, :]
+        chain = np.concatenate((nodes[:, :-1], nodes[:, 1:]), axis=2).reshape(-1, 4)
+        links = np.arange(len(p))
+        return (nodes[:, 1:-1].reshape(-1, 2).astype(np.float32), links.repeat(k - 1),
+                chain.astype(np.float32), links.repeat(k))
     seg_link = np.arange(len(p)).repeat(nseg)
     j = np.arange(len(seg_link)) - (nseg.cumsum() - nseg)[seg_link]
     per = nseg[seg_link]

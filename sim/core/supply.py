@@ -29,6 +29,8 @@ class Supply:
 
     def spawn(self, area: np.ndarray, ice: tuple[int, int]) -> None:
         """Create water for `area[i]`; those with no free spot are dropped."""
+        if len(area) == 0:
+            return
         x, y, ok = self.placer.place(area, ice)
         self.water.append(x[ok], y[ok], area[ok])
         self.created += int(ok.sum())

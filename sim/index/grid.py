@@ -10,8 +10,7 @@ import numpy as np
 # px so float32 rounding of a walker's cell or distance can never hide a crystal that
 # is within hc (the exact test `d^2 < hc^2` decides freezing; this only lists).
 CELL_MARGIN = 1e-2
-_OFF_X = np.array([0, 1, 2, 0, 1, 2, 0, 1, 2])
-_OFF_Y = np.array([0, 0, 0, 1, 1, 1, 2, 2, 2])
+_OFF_3 = np.arange(3)
 
 
 class HashGrid:
@@ -27,6 +26,7 @@ class HashGrid:
         self.cols = math.ceil(width / self.cell)   # N, Eq. 1a
         self.rows = math.ceil(height / self.cell)  # M, Eq. 1b
         self.size = self.cols * self.rows
+        self._size = np.array([self.cols, self.rows])[None, :, None]  # (for disc_cells)
         self._inv = np.float32(1.0 / self.cell)
 
     def keys(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -50,14 +50,16 @@ class HashGrid:
             p = (p[:, None, :] + self._images[None]).reshape(-1, 2)
         r = radius + CELL_MARGIN
         s = self.cell
-        lo = np.floor((p - r) / s).astype(np.int64)
-        cand_x = lo[:, 0, None] + _OFF_X
-        cand_y = lo[:, 1, None] + _OFF_Y
-        # Closest point of each candidate rectangle to the disc's centre.
-        gap_x = np.maximum(np.maximum(cand_x * s - p[:, 0, None], 0), p[:, 0, None] - (cand_x + 1) * s)
-        gap_y = np.maximum(np.maximum(cand_y * s - p[:, 1, None], 0), p[:, 1, None] - (cand_y + 1) * s)
-        ok = (gap_x * gap_x + gap_y * gap_y < r * r)
-        ok &= (cand_x >= 0) & (cand_x < self.cols) & (cand_y >= 0) & (cand_y < self.rows)
-        cells = (cand_y * self.cols + cand_x)[ok].astype(np.int32)
+        # The 3 columns and 3 rows from each disc's box corner: (point, x or y, 3).
+        near = np.floor((p - r) / s).astype(np.int64)[:, :, None] + _OFF_3
+        # Per axis, the gap from the disc's centre to each cell's span (0 inside it).
+        c = p[:, :, None]
+        gap = np.maximum(np.maximum(near * s - c, 0), c - (near + 1) * s)
+        gap *= gap
+        on = (near >= 0) & (near < self._size)
+        # (point, row, column): the 3 x 3 cells, row-major as the cell keys.
+        ok = gap[:, 1, :, None] + gap[:, 0, None, :] < r * r
+        ok &= on[:, 1, :, None] & on[:, 0, None, :]
+        cells = (near[:, 1, :, None] * self.cols + near[:, 0, None, :])[ok].astype(np.int32)
         owner = ok.nonzero()[0]  # (row-major: each point's cells in turn)
         return cells, owner // len(self._images) if len(self._images) > 1 else owner
