@@ -3,9 +3,13 @@ sits exactly on a comparison the code makes (a rim, a half-hc gap, a screen edge
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
+import pytest
 
 from sim import FrostSim, Params, walk_displacements
+from sim.core import placement
 from sim.core.areas import shell
 from sim.core.walk import outside
 
@@ -82,3 +86,43 @@ def test_a_second_melt_reports_only_what_it_cut():
     assert len(first.segments) and len(second.segments)
     assert alive[second.segments].all()  # none of them was dead already
     assert not np.intersect1d(first.segments, second.segments).size
+
+
+def placements(sim, first, second, both: bool):
+    """The answers of placing walkers of areas `first`, then of `second`, at once or in
+    turn, and the random state after."""
+    ice = sim.ice_state()
+    if both:
+        answers = sim.placer.place_both(first, second, ice)
+    else:
+        answers = (sim.placer.place(first, ice), sim.placer.place(second, ice))
+    return [a.tolist() for pair in answers for a in pair], sim.rng.bit_generator.state
+
+
+@pytest.mark.parametrize("touches", [[(380.0, 640.0)], [(6.0, 8.0)], [(380.0, 640.0), (700.0, 1250.0)]])
+@pytest.mark.parametrize("sizes", [(12, 3), (1, 40), (30, 30)])
+def test_placing_two_lots_at_once_answers_as_placing_them_in_turn(touches, sizes, monkeypatch):
+    """`place_both` against two `place` calls on a copy: the same spots, flags and draws,
+    at a lone touch, at a corner (where the launch circle runs off the screen, so a lot
+    often needs more rounds of draws: the second's go on, the first's are taken back)
+    and over two areas."""
+    sim = FrostSim(Params.preset("fern"), seed=4)
+    for x, y in touches:
+        sim.touch(x, y)
+    later = []  # rounds drawn after the first, in each `place_both`
+    draw = placement.disc_spots
+    monkeypatch.setattr(placement, "disc_spots", lambda *a: later.append(1) or draw(*a))
+    for tick in range(60):
+        sim.step()
+        rng = np.random.default_rng(tick)
+        first = rng.integers(0, len(sim.areas), sizes[0]).astype(np.int32)
+        second = rng.integers(0, len(sim.areas), sizes[1]).astype(np.int32)
+        twin = copy.deepcopy(sim)
+        later.clear()
+        at_once = placements(sim, first, second, True)
+        more = len(later)
+        assert at_once == placements(twin, first, second, False)
+        if touches[0] == (6.0, 8.0) and more:
+            break
+    else:
+        assert touches[0] != (6.0, 8.0), "no lot at the corner needed a later round"

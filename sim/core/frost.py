@@ -132,9 +132,13 @@ class FrostSim(Holdings):
         new = self._link(frozen, parents, pts)
         self.index.register(new)
         self._follow_ice(new)
-        lost = self.supply.relocate(bounced, self.ice_state())  # hits that only counted
-        if (self.params.replenish or self.params.grow) and not self.pane.on:  # (pane: refill)
-            self.supply.spawn(self._water.area.raw()[frozen], self.ice_state())
+        # Hits that only counted are placed again; a kept pool (not the pane's: it refills)
+        # gets the frozen water back.
+        if (self.params.replenish or self.params.grow) and not self.pane.on:
+            lost = self.supply.relocate_then_spawn(bounced, self._water.area.raw()[frozen],
+                                                   self.ice_state())
+        else:
+            lost = self.supply.relocate(bounced, self.ice_state())
         self.supply.spent(frozen, lost)
         if self.pane.on:  # the pane keeps its pool full
             self.supply.fill(_PANE, self.ice_state())

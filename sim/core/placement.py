@@ -36,10 +36,17 @@ def first_good(good: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def disc_spots(rng: np.random.Generator, a: np.ndarray, launch: float,
-               wrap: tuple[int, int] | None) -> tuple[np.ndarray, np.ndarray]:
+               wrap: tuple[int, int] | None, m: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """A uniform point of the annulus of each area row of `a` (which may reach off the
-    screen; on a tile, `wrap` = (width, height), wrapped onto it)."""
-    u = rng.random((2, len(a)), dtype=np.float32)
+    screen; on a tile, `wrap` = (width, height), wrapped onto it); or, given `m` and one
+    row, m points of that row's annulus."""
+    return annulus_points(rng.random((2, len(a) if m is None else m), dtype=np.float32), a,
+                          launch, wrap)
+
+
+def annulus_points(u: np.ndarray, a: np.ndarray, launch: float,
+                   wrap: tuple[int, int] | None) -> tuple[np.ndarray, np.ndarray]:
+    """`disc_spots` at its uniform draws `u` (2 x points)."""
     inner, outer = shell(a, launch)
     r = np.sqrt(inner ** 2 + u[0] * (outer ** 2 - inner ** 2))
     th = u[1] * TWO_PI
@@ -85,6 +92,11 @@ class Placer:
         the few left (an area nearly full of ice) are placed from its free cells directly,
         so a full area costs one look at its cells, never a long rejection loop. `ice`
         says when the ice last changed (the cell lists follow it)."""
+        return self._place(area, ice)
+
+    def _place(self, area: np.ndarray, ice: tuple[int, int],
+               drawn: tuple[np.ndarray, ...] | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """`place`; `drawn`: its first round already drawn and checked (`place_both`)."""
         if self.pane.on:
             return self.pane.place(len(area))
         n = len(area)
@@ -93,13 +105,17 @@ class Placer:
         direct = self.annulus_full(area) if self.batched else None
         todo = np.arange(n) if direct is None else np.flatnonzero(~direct)
         # A launch circle may cross other areas' ice: give it more tries before the cells.
-        for tries in ((1, 2) if n > 1024 else (4,)) + ((16,) if self.launch else ()):
+        for tries in self.rounds(n):
             if len(todo) == 0:
                 break
-            mine = area if len(todo) == n else area[todo]  # (todo ascends: all, in order)
-            rows = self.areas.rows.raw()[np.concatenate((mine,) * tries)]
-            px, py = disc_spots(self.rng, rows, self.launch, self.wrap)
-            placed, pick = first_good(self.index.free(px, py).reshape(tries, len(todo)))
+            if drawn is not None:
+                (px, py, placed, pick), drawn = drawn, None
+            else:
+                px, py = disc_spots(self.rng, self._rows(area, todo, tries), self.launch,
+                                    self.wrap, tries * len(todo))
+                placed, pick = first_good(self.index.free(px, py).reshape(tries, len(todo)))
+            if len(todo) == n and direct is None and placed.all():  # (the usual case)
+                return px[pick], py[pick], placed
             there = todo[placed]
             x[there], y[there], ok[there] = px[pick], py[pick], True
             todo = todo[~placed]
@@ -114,6 +130,45 @@ class Placer:
             self.cell_work -= len(todo)
             x[todo], y[todo], ok[todo] = self.cell_spots_all(area[todo], ice)
         return x, y, ok
+
+    def rounds(self, n: int) -> tuple[int, ...]:
+        """The tries of each round of disc draws for n walkers."""
+        return ((1, 2) if n > 1024 else (4,)) + ((16,) if self.launch else ())
+
+    def _rows(self, area: np.ndarray, todo: np.ndarray, tries: int) -> np.ndarray:
+        """The area rows of `tries` draws for each walker `todo` (todo ascends); one area
+        (a lone touch's) is its one row, which broadcasts."""
+        if self.areas.n == 1:
+            return self.areas.rows.raw()
+        mine = area if len(todo) == len(area) else area[todo]
+        return self.areas.rows.raw()[np.concatenate((mine,) * tries)]
+
+    def place_both(self, first: np.ndarray, second: np.ndarray, ice: tuple[int, int]):
+        """(`place(first)`, `place(second)`): the answers of those two calls in turn, the
+        same draws in the same order. While the first needs one round of draws (nearly
+        always), both rounds are drawn at once and their spots placed and checked in one
+        pass; else the draws are taken back and the calls made in turn."""
+        n1, n2 = len(first), len(second)
+        if (self.pane.on or not self.batched or n1 == 0 or n2 == 0 or max(n1, n2) > 1024
+                or self.annulus_full(first) is not None or self.annulus_full(second) is not None):
+            return self._place(first, ice), self._place(second, ice)
+        t1, t2 = self.rounds(n1)[0], self.rounds(n2)[0]
+        m1 = t1 * n1
+        before = self.rng.bit_generator.state
+        u = np.concatenate((self.rng.random((2, m1), dtype=np.float32),
+                            self.rng.random((2, t2 * n2), dtype=np.float32)), axis=1)
+        if self.areas.n == 1:
+            rows = self.areas.rows.raw()
+        else:
+            rows = self.areas.rows.raw()[np.concatenate((first,) * t1 + (second,) * t2)]
+        px, py = annulus_points(u, rows, self.launch, self.wrap)
+        good = self.index.free(px, py)
+        placed, pick = first_good(good[:m1].reshape(t1, n1))
+        if not placed.all():  # the first goes on to another round: draw as in turn
+            self.rng.bit_generator.state = before
+            return self._place(first, ice), self._place(second, ice)
+        rest = first_good(good[m1:].reshape(t2, n2))
+        return (px[pick], py[pick], placed), self._place(second, ice, (px[m1:], py[m1:], *rest))
 
     def cell_spots(self, area: int, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """k uniform spots of `area`'s annulus outside candidate cells: a free cell that

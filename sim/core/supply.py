@@ -31,16 +31,36 @@ class Supply:
         """Create water for `area[i]`; those with no free spot are dropped."""
         if len(area) == 0:
             return
-        x, y, ok = self.placer.place(area, ice)
-        self.water.append(x[ok], y[ok], area[ok])
-        self.created += int(ok.sum())
-        self.dropped += int((~ok).sum())
+        self._born(area, *self.placer.place(area, ice))
 
     def relocate(self, idx: np.ndarray, ice: tuple[int, int]) -> np.ndarray:
         """Place walkers `idx` again in their areas; returns those with no free spot."""
         if len(idx) == 0:
             return idx
-        nx, ny, ok = self.placer.place(self.water.area.raw()[idx], ice)
+        return self._moved(idx, *self.placer.place(self.water.area.raw()[idx], ice))
+
+    def relocate_then_spawn(self, idx: np.ndarray, area: np.ndarray,
+                            ice: tuple[int, int]) -> np.ndarray:
+        """`relocate(idx)`, then `spawn(area)`: the same water in the same places, their
+        placements made in one pass (`Placer.place_both`). Returns what relocate does."""
+        if len(idx) == 0 or len(area) == 0:
+            lost = self.relocate(idx, ice)
+            self.spawn(area, ice)
+            return lost
+        moved, born = self.placer.place_both(self.water.area.raw()[idx], area, ice)
+        lost = self._moved(idx, *moved)
+        self._born(area, *born)
+        return lost
+
+    def _born(self, area: np.ndarray, x: np.ndarray, y: np.ndarray, ok: np.ndarray) -> None:
+        self.water.append(x[ok], y[ok], area[ok])
+        self.created += int(ok.sum())
+        self.dropped += int((~ok).sum())
+
+    def _moved(self, idx: np.ndarray, nx: np.ndarray, ny: np.ndarray, ok: np.ndarray) -> np.ndarray:
+        if ok.all():
+            self.water.move(idx, nx, ny)
+            return idx[:0]
         self.water.move(idx[ok], nx[ok], ny[ok])
         return idx[~ok]
 

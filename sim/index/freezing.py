@@ -59,8 +59,8 @@ class FreezingIndex:
         if len(ids) == 0:
             return d2
         some = counts > 0
-        c = self.crystals.raw()[ids]
-        dx, dy = c[:, 0] - pts[rows, 0], c[:, 1] - pts[rows, 1]
+        d = self.crystals.raw()[ids] - pts[rows]
+        dx, dy = d[:, 0], d[:, 1]
         period = self.grid.period
         if period is not None:  # a tile: over the wrap
             dx, dy = nearest_image(dx, period[0]), nearest_image(dy, period[1])

@@ -101,19 +101,23 @@ class FernGrowth:
         `ice` (read only); `index` answers where the ice is."""
         if len(hits) == 0:
             return hits, parents, np.empty((0, 2), np.float32), hits
-        k, need = self._slots(walkers, ice.crystals.raw()[parents], parents, index)
+        at = ice.crystals.raw()[parents]
+        k, need = self._slots(walkers, at, parents, index)
         cand = self._count(parents, k, need).nonzero()[0]
         if len(cand) == 0:  # most ticks: every hit only counts
             return hits[:0], parents[:0], np.empty((0, 2), np.float32), hits
-        angle = self.axis.raw()[parents[cand]] + k[cand] * SIXTH
-        pts = self._spots(ice.crystals.raw()[parents[cand]], angle, index)
-        ok = self._free(pts, parents[cand], k[cand], ice.parents.raw(), index)
-        ok[ok] = _first_apart(pts[ok], self.L / 2)
+        pc, kc = parents[cand], k[cand]
+        angle = self.axis.raw()[pc] + kc * SIXTH
+        pts = self._spots(at[cand], angle, index)
+        ok = self._free(pts, pc, kc, ice.parents.raw(), index)
+        if np.count_nonzero(ok) > 1:
+            ok[ok] = _first_apart(pts[ok], self.L / 2)
         grow = cand[ok]
-        self._adopt(ice.crystals.n, parents[grow], k[grow], angle[ok])
-        counted = np.ones(len(hits), bool)
+        self._adopt(ice.crystals.n, pc[ok], kc[ok], angle[ok])
+        counted = np.empty(len(hits), bool)
+        counted.fill(True)
         counted[grow] = False
-        return hits[grow], parents[grow], pts[ok], hits[counted]
+        return hits[grow], pc[ok], pts[ok], hits[counted]
 
     def melted(self, dead: np.ndarray, parents: np.ndarray, orphans: np.ndarray,
                edge: np.ndarray) -> None:
@@ -146,8 +150,8 @@ class FernGrowth:
         """Each hit's slot (nearest axis to the walker's direction from its crystal, at
         `at`) and the hits it needs."""
         c = at.astype(np.float64)
-        dx = walkers[:, 0] - c[:, 0]
-        dy = walkers[:, 1] - c[:, 1]
+        d = walkers - c
+        dx, dy = d[:, 0], d[:, 1]
         if index.grid.period is not None:  # a tile: the walker may be across an edge
             dx, dy = nearest_image(dx, index.width), nearest_image(dy, index.height)
         turn = (np.arctan2(dy, dx) - self.axis.raw()[parents]) / SIXTH
@@ -173,7 +177,7 @@ class FernGrowth:
         rank = np.empty(len(key), np.int64)
         rank[order] = in_run
         flat = self.hits.raw().reshape(-1)
-        before = flat[key.clip(0)]
+        before = flat[np.maximum(key, 0)]
         due = open_ & (rank == np.maximum(need - before - 1, 0))
         last &= skey >= 0  # each open slot hit: its key (ascending) and its hits
         slots, hits = skey[last], in_run[last] + 1
