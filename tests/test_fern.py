@@ -5,12 +5,14 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from app.cli.options import params_from
 from app.cli.parser import build_parser
 from app.tools.morphology import link_angles
 from sim import PRESETS, FrostSim, Params, preset_name, tuning
-from sim.rules.fern import SIXTH, FernGrowth
+from sim.rules.fern import SIXTH, FernGrowth, _first_apart
 
 CENTRE = (380.0, 640.0)
 FERN = Params.preset("fern")
@@ -342,3 +344,16 @@ def test_side_gap_blocks_a_side_slot_within_gap_minus_one_links_of_a_same_side_b
     g, parent = stem_growth(2)
     assert g.gap_clear(crystals, np.full(5, 1), parent).tolist() == [False, False, True, True,
                                                                     True]
+
+
+@given(st.lists(st.tuples(st.integers(0, 12), st.integers(0, 12)), max_size=12),
+       st.sampled_from([1.0, 2.5, 3.5]))
+def test_spots_too_close_keep_the_earliest_as_a_loop_does(spots, gap):
+    """`_first_apart` against the rule written as a loop: in order, a spot is kept unless
+    it lies closer than `gap` to a spot kept before it."""
+    pts = np.array(spots, np.float32).reshape(-1, 2)
+    kept: list[int] = []
+    for i, (x, y) in enumerate(spots):
+        if all(math.hypot(x - spots[j][0], y - spots[j][1]) >= gap for j in kept):
+            kept.append(i)
+    assert np.flatnonzero(_first_apart(pts, gap)).tolist() == kept

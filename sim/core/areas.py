@@ -48,7 +48,7 @@ class Areas:
         rows = self.rows.raw()
         d = np.hypot(*(pts - rows[area, :2]).T)
         np.maximum.at(rows[:, 4], area, d)
-        return distinct(area)
+        return area[:1] if len(rows) == 1 else distinct(area)
 
     def ride(self, touched: np.ndarray, radius: float) -> None:
         """Growth mode: the annulus of `touched` rides on its ice front, half an active

@@ -268,7 +268,8 @@ class FrostSim(Holdings):
 
     def _close_tick(self, frozen: int) -> Added:
         now = (self.ice.crystals.n, self.ice.ups.n, self.ice.segs.n)
-        c, u, s = (slice(a, b) for a, b in zip(self._mark, now, strict=True))
+        (c0, u0, s0), (c1, u1, s1) = self._mark, now
+        c, u, s = slice(c0, c1), slice(u0, u1), slice(s0, s1)
         self._mark = now
         self.added = Added(self.tick, c, u, s, frozen)
         return self.added

@@ -69,8 +69,9 @@ def nearest_listed(crystals: np.ndarray, hc2: np.float32, w: np.ndarray, counts:
     if starts is None or rows is None:
         starts = np.cumsum(counts) - counts
         rows = np.repeat(np.arange(len(w)), counts)
-    dx = crystals[ids, 0] - x[w][rows]
-    dy = crystals[ids, 1] - y[w][rows]
+    wr = w[rows]
+    dx = crystals[ids, 0] - x[wr]
+    dy = crystals[ids, 1] - y[wr]
     if period is not None:
         dx, dy = nearest_image(dx, period[0]), nearest_image(dy, period[1])
     d2 = dx * dx + dy * dy

@@ -259,8 +259,11 @@ def _first_apart(pts: np.ndarray, gap: float) -> np.ndarray:
         return keep
     p = pts.astype(np.float64)
     near = np.hypot(p[:, None, 0] - p[None, :, 0], p[:, None, 1] - p[None, :, 1]) < gap
-    np.fill_diagonal(near, False)
-    for i in np.flatnonzero(near.any(axis=1)):
+    at = np.arange(len(p))
+    near &= at[None, :] < at[:, None]  # only an earlier point can take a later one's place
+    if not near.any():
+        return keep
+    for i in near.any(axis=1).nonzero()[0]:
         if keep[i] and near[i, :i][keep[:i]].any():
             keep[i] = False
     return keep
