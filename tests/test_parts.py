@@ -126,3 +126,22 @@ def test_placing_two_lots_at_once_answers_as_placing_them_in_turn(touches, sizes
             break
     else:
         assert touches[0] != (6.0, 8.0), "no lot at the corner needed a later round"
+
+
+@pytest.mark.parametrize("touch", [(380.0, 640.0), (3.0, 1277.0), (757.0, 2.0)])
+def test_clearance_rings_are_the_capped_cell_distance_to_the_candidate_cells(touch):
+    """Without melts, each cell's ring count is the Chebyshev distance in cells to the
+    nearest candidate cell, capped: brute force over every cell, by the screen's middle
+    and its corners (where the rings around a cell run off the grid)."""
+    from sim.index.clearance import CAP
+    sim = FrostSim(Params.preset("fern"), seed=1)
+    sim.touch(*touch)
+    for _ in range(80):
+        sim.step()
+    g = sim.grid
+    cand = np.flatnonzero(sim.candidates.count > 0)
+    cy, cx = np.divmod(np.arange(g.size), g.cols)
+    ky, kx = np.divmod(cand, g.cols)
+    dist = np.maximum(np.abs(cx[:, None] - kx), np.abs(cy[:, None] - ky)).min(axis=1)
+    assert len(cand) > 20
+    assert sim.index.clearance.rings.tolist() == np.minimum(dist, CAP).tolist()

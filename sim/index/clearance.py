@@ -45,26 +45,43 @@ class Clearance:
 
     def __init__(self, grid: HashGrid, width: int, height: int, cap: int = CAP):
         self.grid, self.size = grid, (np.float32(width), np.float32(height))
-        self.rings = np.full(grid.size, cap, np.int16)
+        # The rings live on the grid padded by `cap` cells each side, so the rings around
+        # any cell lie inside it: lowering them needs no bounds check. `_rings` is a flat
+        # view from cell (0, 0), indexed by row * `_pcols` + column.
+        self._cap, self._pcols = cap, grid.cols + 2 * cap
+        self._padded = np.full((grid.rows + 2 * cap) * self._pcols, cap, np.int16)
+        self._origin = cap * self._pcols + cap
+        self._rings = self._padded[self._origin:]
         off = np.arange(-cap, cap + 1)
         ox, oy = np.meshgrid(off, off)
         self._ox, self._oy = ox.ravel(), oy.ravel()
+        self._off = self._oy * self._pcols + self._ox  # the same cells, as padded offsets
         self._ring = np.maximum(np.abs(self._ox), np.abs(self._oy)).astype(np.int16)
         self._cell = np.float32(grid.cell)
         # (k - 1) cells in px for each ring count k (float32, as the rings' arithmetic)
         self._beyond = (np.arange(cap + 1) - 1).astype(np.float32) * self._cell
+
+    @property
+    def rings(self) -> np.ndarray:
+        """Each grid cell's ring count (row-major, a copy)."""
+        g, cap = self.grid, self._cap
+        return self._padded.reshape(-1, self._pcols)[cap:cap + g.rows, cap:cap + g.cols].ravel()
 
     def lower(self, cells: np.ndarray) -> None:
         """`cells` just became candidate cells: lower the rings around them."""
         if len(cells) == 0:
             return
         cy, cx = np.divmod(distinct(cells), self.grid.cols)
-        tx, ty = cx[:, None] + self._ox, cy[:, None] + self._oy
-        ring = self._ring[None, :].repeat(len(cx), axis=0)
-        if self.grid.period is not None:  # a tile: the rings go on across the edges
-            tx, ty, ring = self._wrapped(tx, ty, ring)
-        ok = (tx >= 0) & (tx < self.grid.cols) & (ty >= 0) & (ty < self.grid.rows)
-        np.minimum.at(self.rings, (ty * self.grid.cols + tx)[ok], ring[ok])
+        if self.grid.period is None:
+            # (the values as an array of the indices' shape: numpy 2.4's ufunc.at misreads
+            # values it has to broadcast)
+            np.minimum.at(self._padded, (cy * self._pcols + cx + self._origin)[:, None] + self._off,
+                          self._ring[None, :].repeat(len(cx), axis=0))
+            return
+        # A tile: the rings go on across the edges.
+        tx, ty, ring = self._wrapped(cx[:, None] + self._ox, cy[:, None] + self._oy,
+                                     self._ring[None, :].repeat(len(cx), axis=0))
+        np.minimum.at(self._rings, ty * self._pcols + tx, ring)
 
     def _wrapped(self, tx, ty, ring):
         """Cells past an edge are the opposite edge's. The grid's last column and row may
@@ -82,7 +99,7 @@ class Clearance:
         fx, fy = x - kx * s, y - ky * s
         border = np.minimum(np.minimum(fx, s - fx), np.minimum(fy, s - fy))
         # (k - 1) s + border where k >= 1, else 0 (k = 0 gives -s + border < 0)
-        rho = np.maximum(self._beyond[self.rings[ky * self.grid.cols + kx]] + border, 0.0)
+        rho = np.maximum(self._beyond[self._rings[ky * self._pcols + kx]] + border, 0.0)
         if self.grid.period is not None:  # a tile has no edge: the rings wrap instead
             return np.minimum(rho, rim) - MARGIN
         w, h = self.size
@@ -90,7 +107,7 @@ class Clearance:
         return np.minimum(np.minimum(rho, rim), edge) - MARGIN
 
     def nbytes(self) -> int:
-        return self.rings.nbytes
+        return self._padded.nbytes
 
 
 def make_clearance(grid: HashGrid, width: int, height: int, on: bool):
