@@ -357,3 +357,29 @@ def test_spots_too_close_keep_the_earliest_as_a_loop_does(spots, gap):
         if all(math.hypot(x - spots[j][0], y - spots[j][1]) >= gap for j in kept):
             kept.append(i)
     assert np.flatnonzero(_first_apart(pts, gap)).tolist() == kept
+
+
+@given(st.lists(st.tuples(st.integers(0, 3), st.integers(0, 5), st.integers(-1, 4)), max_size=14),
+       st.lists(st.integers(0, 6), min_size=24, max_size=24),
+       st.sets(st.tuples(st.integers(0, 3), st.integers(0, 5)), max_size=4))
+def test_hits_count_in_walker_order_as_a_loop_counts_them(hits, before, taken):
+    """`_count` against the rule as a loop: in walker order, a hit on an open, empty slot
+    (need > 0, no child) counts, and the one that brings the slot's count to its need
+    (or the first, where an earlier blocked attempt left it at or past the need) is due.
+    Slots hit once and slots hit again in one tick."""
+    growth = FernGrowth(Params.preset("fern"), np.random.default_rng(0))
+    growth.add_seeds(4)
+    growth.hits.raw()[:] = np.array(before, np.int32).reshape(4, 6)
+    for p, k in taken:
+        growth.child.raw()[p, k] = 9
+    parents = np.array([h[0] for h in hits], np.int64)
+    k = np.array([h[1] for h in hits], np.int64)
+    need = np.array([h[2] for h in hits], np.int64)
+    start = growth.hits.raw().copy()
+    counts, due = start.copy(), []
+    for p, s, n in hits:
+        open_ = n > 0 and (p, s) not in taken
+        due.append(open_ and counts[p, s] - start[p, s] == max(n - start[p, s] - 1, 0))
+        counts[p, s] += open_
+    assert growth._count(parents, k, need).tolist() == due
+    assert growth.hits.raw().tolist() == counts.tolist()

@@ -110,7 +110,8 @@ def upsample(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, 
 
     Returns (points, point_link, segments, segment_link): points k x 2, segments
     s x 4 (x0, y0, x1, y1) in chain order, and the link index of each."""
-    p64, d = p.astype(np.float64), q.astype(np.float64) - p.astype(np.float64)
+    p64 = p.astype(np.float64)
+    d = q.astype(np.float64) - p64
     nu = np.floor(np.hypot(d[:, 0], d[:, 1]) / spacing).astype(np.int64)
     if not (nu >= 2).any():  # no link long enough: each is one segment (the common case at c-2)
         links = np.arange(len(p))

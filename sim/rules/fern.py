@@ -42,6 +42,8 @@ SLOTS = 6
 TIP, SIDE, CLOSED = 0, 1, 2
 # A non-seed crystal's slots relative to its own axis: straight on, +60, +120, back, -120, -60.
 SLOT_KIND = np.array([TIP, SIDE, CLOSED, CLOSED, CLOSED, SIDE])
+# A blocked slot keeps counting its hits: capped, so the count never overflows.
+HITS_CAP = 1 << 20
 
 
 class PaperGrowth:
@@ -171,18 +173,17 @@ class FernGrowth:
         if self.pooled_first and self._any_ringed:  # a seed's hits count together until it grows
             slot = np.where(self._fresh(parents), 0, k)
         key = np.where(open_, parents * SLOTS + slot, -1)
+        flat = self.hits.raw().reshape(-1)
         order = key.argsort(kind="stable")
         skey = key[order]
         _, last, in_run = runs(skey)
         rank = np.empty(len(key), np.int64)
         rank[order] = in_run
-        flat = self.hits.raw().reshape(-1)
         before = flat[np.maximum(key, 0)]
         due = open_ & (rank == np.maximum(need - before - 1, 0))
         last &= skey >= 0  # each open slot hit: its key (ascending) and its hits
         slots, hits = skey[last], in_run[last] + 1
-        # A blocked slot keeps counting: cap the count so it never overflows.
-        flat[slots] = np.minimum(flat[slots] + hits, 1 << 20)
+        flat[slots] = np.minimum(flat[slots] + hits, HITS_CAP)
         return due
 
     def _spots(self, at, angle, index) -> np.ndarray:
@@ -209,11 +210,15 @@ class FernGrowth:
         of `crystals` (`parent`: every crystal's parent)."""
         clear = np.ones(len(crystals), bool)
         child, slot = self.child.raw(), self.slot.raw()
-        up, down = crystals.copy(), crystals.copy()
-        for _ in range(self.gap - 1):
-            stem = (up >= 0) & (slot[np.maximum(up, 0)] == 0)
-            up = np.where(stem, parent[np.maximum(up, 0)], -1)
-            down = np.where(down >= 0, child[np.maximum(down, 0), 0], -1)
+        up, down = crystals, crystals
+        for step in range(self.gap - 1):
+            if step == 0:  # (the crystals themselves: all real)
+                up = np.where(slot[up] == 0, parent[up], -1)
+                down = child[down, 0]
+            else:
+                stem = (up >= 0) & (slot[np.maximum(up, 0)] == 0)
+                up = np.where(stem, parent[np.maximum(up, 0)], -1)
+                down = np.where(down >= 0, child[np.maximum(down, 0), 0], -1)
             for ring in (up, down):
                 clear &= ~((ring >= 0) & (child[np.maximum(ring, 0), k] >= 0))
         return clear
