@@ -30,16 +30,18 @@ def work_per_crystal(hc: float, grid_spacing: float, spacing: float) -> int:
 
 
 def admit(frozen: np.ndarray, parents: np.ndarray, count: np.ndarray, grid, at, hc: float,
-          work: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+          work: int, most: int | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The freezes (walkers `frozen`, crystals `parents`) a tick takes: within FREEZE_WORK
     at `work` a crystal (the rest wait a tick), then those whose cells (`count` crystals
     listed; `at(frozen)`: the walkers' positions) all stay within CELL_CAP. In walker
     order, so both neighbour searches admit the same. Returns (frozen, parents, over):
-    `over` the walkers whose freeze would overflow a cell."""
+    `over` the walkers whose freeze would overflow a cell. `most`: a bound on the
+    largest count, where known (`CellLists.most`), which spares a pass over the counts."""
     most = max(1, FREEZE_WORK // work)
     frozen, parents = frozen[:most], parents[:most]
     none = frozen[:0]
-    if count.max(initial=0) + len(frozen) <= CELL_CAP:
+    if (most is not None and most + len(frozen) <= CELL_CAP) or \
+            count.max(initial=0) + len(frozen) <= CELL_CAP:
         return frozen, parents, none  # no cell can fill up this tick (cheap: one pass, no cells)
     cells, owner = grid.disc_cells(at(frozen), hc)
     if len(cells) == 0 or count[cells].max() + len(frozen) <= CELL_CAP:

@@ -42,7 +42,8 @@ class Growable:
     def append(self, rows: np.ndarray) -> slice:
         """Append `rows`; returns the slice of indices they received."""
         k = len(rows)
-        self._reserve(self.n + k)
+        if self.n + k > len(self._data):
+            self._reserve(self.n + k)
         self._data[self.n:self.n + k] = rows
         self.n += k
         return slice(self.n - k, self.n)
@@ -91,6 +92,7 @@ class CellLists:
     def __init__(self, n_cells: int, width: int = 8):
         self.count = np.zeros(n_cells, dtype=np.int32)
         self.items = np.full((n_cells, width), -1, dtype=np.int32)
+        self.most = 0  # at least the largest count (removals leave it high)
 
     def insert(self, cells: np.ndarray, ids: np.ndarray) -> None:
         """Add `ids[j]` to cell `cells[j]`; ids of one cell must come in ascending order."""
@@ -100,7 +102,9 @@ class CellLists:
         c, i = cells[order], ids[order]
         _, last, rank = runs(c)
         slot = self.count[c] + rank
-        self._widen(int(slot.max()) + 1)
+        top = int(slot.max()) + 1
+        self._widen(top)
+        self.most = max(self.most, top)
         self.items[c, slot] = i
         self.count[c[last]] = slot[last] + 1
 

@@ -211,6 +211,8 @@ class FrostSim(Holdings):
         """Water in a cell that lists CELL_CAP crystals has arrived at finished ice.
         Returns the cells of the walkers kept."""
         keys = self.grid.keys(self._water.x.raw(), self._water.y.raw())
+        if self.candidates.most < budget.CELL_CAP:  # (no cell can be full)
+            return keys
         full = self.candidates.count[keys] >= budget.CELL_CAP
         if full.any():
             self.supply.dropped += int(full.sum())
@@ -230,7 +232,7 @@ class FrostSim(Holdings):
         cells' cap is dropped, and the kept walkers move down."""
         frozen, parents, over = budget.admit(frozen, parents, self.candidates.count, self.grid,
                                              self._water.at, self.params.hc,
-                                             self.work_per_crystal)
+                                             self.work_per_crystal, self.candidates.most)
         if len(over):
             self.supply.dropped += len(over)
             frozen = self._water.drop_before(over, frozen)

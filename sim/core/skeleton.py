@@ -65,14 +65,14 @@ class Skeleton:
 
     def no_links(self, n: int) -> None:
         """Seeds: n crystals whose links hold no rows."""
-        for ranges, buf in ((self.seg_range, self.segs), (self.ups_range, self.ups)):
-            ranges.append(np.column_stack((np.full(n, buf.n), np.zeros(n))))
+        for table, buf in ((self.seg_range, self.segs), (self.ups_range, self.ups)):
+            table.append(ranges(np.zeros(n, np.int64), buf.n))
 
     def link(self, first: int, tail: np.ndarray, pts: np.ndarray, spacing: float) -> None:
         """The links tail[i] -> pts[i] of crystals first, first + 1, ..., upsampled."""
-        ups, ups_link, segs, segs_link = upsample(tail, pts, spacing)
-        self.seg_range.append(ranges(segs_link, len(pts), self.segs.n))
-        self.ups_range.append(ranges(ups_link, len(pts), self.ups.n))
+        ups, ups_link, segs, segs_link, nseg = chains(tail, pts, spacing)
+        self.seg_range.append(ranges(nseg, self.segs.n))
+        self.ups_range.append(ranges(nseg - 1, self.ups.n))
         self.ups.append(ups)
         self.ualive.append_fill(len(ups), True)
         self.salive.append_fill(len(segs), True)
@@ -110,12 +110,18 @@ def upsample(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, 
 
     Returns (points, point_link, segments, segment_link): points k x 2, segments
     s x 4 (x0, y0, x1, y1) in chain order, and the link index of each."""
+    return chains(p, q, spacing)[:4]
+
+
+def chains(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, ...]:
+    """`upsample`, and each link's count of segments (its points are one fewer)."""
     p64 = p.astype(np.float64)
     d = q.astype(np.float64) - p64
     nu = np.floor(np.hypot(d[:, 0], d[:, 1]) / spacing).astype(np.int64)
     if not (nu >= 2).any():  # no link long enough: each is one segment (the common case at c-2)
         links = np.arange(len(p))
-        return np.empty((0, 2), np.float32), links[:0], np.hstack([p, q]).astype(np.float32), links
+        return (np.empty((0, 2), np.float32), links[:0], np.hstack([p, q]).astype(np.float32),
+                links, np.ones(len(p), np.int64))
     nseg = np.where(nu >= 2, nu, 1)
     k = int(nseg[0])
     if (nseg == k).all():  # links alike (a fern's are one hc each): a grid of link x node
@@ -123,7 +129,7 @@ def upsample(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, 
         chain = np.concatenate((nodes[:, :-1], nodes[:, 1:]), axis=2).reshape(-1, 4)
         links = np.arange(len(p))
         return (nodes[:, 1:-1].reshape(-1, 2).astype(np.float32), links.repeat(k - 1),
-                chain.astype(np.float32), links.repeat(k))
+                chain.astype(np.float32), links.repeat(k), nseg)
     seg_link = np.arange(len(p)).repeat(nseg)
     j = np.arange(len(seg_link)) - (nseg.cumsum() - nseg)[seg_link]
     per = nseg[seg_link]
@@ -134,14 +140,12 @@ def upsample(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, 
     b = p_s + t1 * d_s
     segments = np.concatenate((a, b), axis=1).astype(np.float32)
     inner = j > 0  # a chain's inner nodes are the upsample particles
-    return a[inner].astype(np.float32), seg_link[inner], segments, seg_link
+    return a[inner].astype(np.float32), seg_link[inner], segments, seg_link, nseg
 
 
-def ranges(link: np.ndarray, n: int, offset: int) -> np.ndarray:
-    """n x 2 (first row, count) of each link's rows, given the ascending link index of
-    rows appended at `offset`."""
-    out = np.empty((n, 2), np.int32)
-    count = np.bincount(link, minlength=n)
+def ranges(count: np.ndarray, offset: int) -> np.ndarray:
+    """len(count) x 2 (first row, count) of rows appended at `offset`, count[i] for link i."""
+    out = np.empty((len(count), 2), np.int32)
     out[:, 1] = count
     out[:, 0] = offset + count.cumsum() - count
     return out

@@ -52,7 +52,8 @@ class FreezingIndex:
     def nearest_d2(self, pts: np.ndarray) -> np.ndarray:
         """Squared distance from each point to the nearest live crystal listed in its cell
         (inf if none). Any crystal within hc of a point is listed in the point's cell."""
-        d2 = np.full(len(pts), np.inf, np.float32)
+        d2 = np.empty(len(pts), np.float32)
+        d2.fill(np.inf)
         if len(pts) == 0:
             return d2
         counts, starts, rows, ids = self.candidates.listed(self.grid.keys(pts[:, 0], pts[:, 1]))

@@ -109,13 +109,14 @@ class FernGrowth:
         if len(cand) == 0:  # most ticks: every hit only counts
             return hits[:0], parents[:0], np.empty((0, 2), np.float32), hits
         pc, kc = parents[cand], k[cand]
+        side = (SLOT_KIND[kc] == SIDE) & ~self.seed.raw()[pc]  # side slots (a seed has none)
         angle = self.axis.raw()[pc] + kc * SIXTH
         pts = self._spots(at[cand], angle, index)
-        ok = self._free(pts, pc, kc, ice.parents.raw(), index)
+        ok = self._free(pts, pc, kc, side, ice.parents.raw(), index)
         if np.count_nonzero(ok) > 1:
             ok[ok] = _first_apart(pts[ok], self.L / 2)
         grow = cand[ok]
-        self._adopt(ice.crystals.n, pc[ok], kc[ok], angle[ok])
+        self._adopt(ice.crystals.n, pc[ok], kc[ok], side[ok], angle[ok])
         counted = np.empty(len(hits), bool)
         counted.fill(True)
         counted[grow] = False
@@ -190,17 +191,18 @@ class FernGrowth:
         """One hc from each parent (at `at`) along `angle` (float64 arithmetic, stored
         float32)."""
         c = at.astype(np.float64)
-        pts = np.column_stack((c[:, 0] + self.L * np.cos(angle),
-                               c[:, 1] + self.L * np.sin(angle))).astype(np.float32)
+        pts = np.empty((len(c), 2), np.float32)
+        pts[:, 0], pts[:, 1] = c[:, 0] + self.L * np.cos(angle), c[:, 1] + self.L * np.sin(angle)
         return wrap_points(pts, index.grid.period and (index.width, index.height))
 
-    def _free(self, pts, parents, k, parent, index) -> np.ndarray:
+    def _free(self, pts, parents, k, side, parent, index) -> np.ndarray:
         """Spots on the screen, at least hc / 2 from the ice of the tick's start, and (side
-        slots) clear of same-side branches along the stem (`parent`: every crystal's)."""
+        slots, where `side`) clear of same-side branches along the stem (`parent`: every
+        crystal's)."""
         x, y = pts[:, 0], pts[:, 1]
         ok = (x >= 0) & (x < index.width) & (y >= 0) & (y < index.height)
         ok[ok] = index.nearest_d2(pts[ok]) >= np.float32(self.L / 2) ** 2
-        side = ok & (SLOT_KIND[k] == SIDE) & ~self.seed.raw()[parents]
+        side = ok & side
         if self.gap > 1 and side.any():
             ok[side] = self.gap_clear(parents[side], k[side], parent)
         return ok
@@ -227,15 +229,14 @@ class FernGrowth:
         """Ringed seeds with no child yet."""
         return self.ringed.raw()[crystals] & (self.child.raw()[crystals] < 0).all(axis=1)
 
-    def _adopt(self, first: int, parents, k, angle) -> None:
+    def _adopt(self, first: int, parents, k, side, angle) -> None:
         """The growing slots take the new crystals first, first + 1, ...; each child's axis
-        turns from its link by the drift draw. A seed's first child clears the count its
-        hits kept together."""
+        turns from its link by the drift draw; a side slot's child (`side`) is one branch
+        order up. A seed's first child clears the count its hits kept together."""
         if self.pooled_first and self._any_ringed:
             self.hits.raw()[parents[self._fresh(parents)]] = 0
         self.child.raw()[parents, k] = np.arange(first, first + len(parents), dtype=np.int32)
         turn = self.rng.standard_normal(len(parents)) * self.drift
-        side = (SLOT_KIND[k] == SIDE) & ~self.seed.raw()[parents]
         order = self.order.raw()[parents] + side
         self._append(angle + turn, k.astype(np.int8), np.zeros(len(parents), bool),
                      np.minimum(order, 127).astype(np.int8))
