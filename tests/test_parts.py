@@ -145,3 +145,33 @@ def test_clearance_rings_are_the_capped_cell_distance_to_the_candidate_cells(tou
     dist = np.maximum(np.abs(cx[:, None] - kx), np.abs(cy[:, None] - ky)).min(axis=1)
     assert len(cand) > 20
     assert sim.index.clearance.rings.tolist() == np.minimum(dist, CAP).tolist()
+
+
+def test_clearance_radii_equal_the_float64_arithmetic_bit_for_bit():
+    """Walkers' clearances worked in float64 as the rule reads (the cell from the float32
+    quotient, the offsets and borders in float64) equal `radii`'s float32 offsets, at
+    random spots and at the awkward ones: on and a float32 step either side of cell
+    borders, by the screen's zero edges, and where x / s rounds up to the next cell."""
+    sim = FrostSim(Params.preset("fern"), seed=2)
+    sim.touch(380.0, 640.0)
+    for _ in range(40):
+        sim.step()
+    clear = sim.index.clearance
+    s = np.float32(sim.grid.cell)
+    rng = np.random.default_rng(0)
+    edges = (np.arange(1, 54) * s).astype(np.float32)
+    xs = np.concatenate([rng.uniform(0, 760, 4000), edges, np.nextafter(edges, 0),
+                         np.nextafter(edges, 1000), [0.0, 1e-30, 1e-7, 6.9999995, 7.0, 759.99994]])
+    x = xs.astype(np.float32)
+    y = np.resize(rng.permutation(x) * np.float32(1280 / 760), len(x)).astype(np.float32)
+    y = np.minimum(y, np.float32(1279.9999))
+    rim = rng.uniform(-5, 300, len(x)).astype(np.float32)
+    kx, ky = (x / s).astype(np.int32), (y / s).astype(np.int32)
+    fx, fy = x.astype(np.float64) - kx * np.float64(s), y.astype(np.float64) - ky * np.float64(s)
+    border = np.minimum(np.minimum(fx, s - fx), np.minimum(fy, s - fy))
+    k = clear.rings[ky * sim.grid.cols + kx]
+    rho = np.where(k >= 1, (k - 1).astype(np.float32) * s + border, 0.0)
+    edge = np.minimum(np.minimum(x, 760 - x), np.minimum(y, 1280 - y))
+    want = np.minimum(np.minimum(rho, rim), edge) - np.float32(1e-2)
+    assert (k >= 2).any() and (k == 1).any() and (k == 0).any()
+    np.testing.assert_array_equal(clear.radii(x, y, rim), want)

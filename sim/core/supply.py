@@ -54,8 +54,9 @@ class Supply:
 
     def _born(self, area: np.ndarray, x: np.ndarray, y: np.ndarray, ok: np.ndarray) -> None:
         self.water.append(x[ok], y[ok], area[ok])
-        self.created += int(ok.sum())
-        self.dropped += int((~ok).sum())
+        placed = int(np.count_nonzero(ok))
+        self.created += placed
+        self.dropped += len(ok) - placed
 
     def _moved(self, idx: np.ndarray, nx: np.ndarray, ny: np.ndarray, ok: np.ndarray) -> np.ndarray:
         if ok.all():

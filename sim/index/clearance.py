@@ -58,8 +58,8 @@ class Clearance:
         self._off = self._oy * self._pcols + self._ox  # the same cells, as padded offsets
         self._ring = np.maximum(np.abs(self._ox), np.abs(self._oy)).astype(np.int16)
         self._cell = np.float32(grid.cell)
-        # (k - 1) cells in px for each ring count k (float32, as the rings' arithmetic)
-        self._beyond = (np.arange(cap + 1) - 1).astype(np.float32) * self._cell
+        # (k - 1) cells in px for each ring count k (float32 products, held as float64)
+        self._beyond = ((np.arange(cap + 1) - 1).astype(np.float32) * self._cell).astype(np.float64)
 
     @property
     def rings(self) -> np.ndarray:
@@ -95,11 +95,16 @@ class Clearance:
         """Each walker's clearance rho in px (0 in and next to candidate cells), given its
         on-screen position and its distance `rim` to its area's rim."""
         s = self._cell
-        kx, ky = (x / s).astype(np.int32), (y / s).astype(np.int32)  # its cell (Eq. 1)
-        fx, fy = x - kx * s, y - ky * s
+        qx, qy = np.trunc(x / s), np.trunc(y / s)  # its cell (Eq. 1), as whole numbers
+        # Where it lies in its cell, and its distance to the cell's border: exact in the
+        # walkers' own precision (q s is whole; Sterbenz's lemma covers x - q s, and s - f
+        # wherever it is the nearer side), so float32 walkers need no float64 here.
+        fx, fy = x - qx * s, y - qy * s
         border = np.minimum(np.minimum(fx, s - fx), np.minimum(fy, s - fy))
-        # (k - 1) s + border where k >= 1, else 0 (k = 0 gives -s + border < 0)
-        rho = np.maximum(self._beyond[self._rings[ky * self._pcols + kx]] + border, 0.0)
+        k = self._rings[qy.astype(np.int32) * self._pcols + qx.astype(np.int32)]
+        # (k - 1) s + border where k >= 1, else 0 (k = 0 gives -s + border < 0); float64,
+        # where a float32 sum would round
+        rho = np.maximum(self._beyond[k] + border, 0.0)
         if self.grid.period is not None:  # a tile has no edge: the rings wrap instead
             return np.minimum(rho, rim) - MARGIN
         w, h = self.size

@@ -79,6 +79,8 @@ class FreezingIndex:
     def free(self, px: np.ndarray, py: np.ndarray) -> np.ndarray:
         """On the screen and in no candidate cell."""
         good = (px >= 0) & (px < self.width) & (py >= 0) & (py < self.height)
+        if good.all():  # (the usual case)
+            return self.candidates.count[self.grid.keys(px, py)] == 0
         good[good] = self.candidates.count[self.grid.keys(px[good], py[good])] == 0
         return good
 
