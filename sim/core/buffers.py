@@ -139,7 +139,9 @@ class CellLists:
         counts = self.count[cells]
         rows = np.arange(len(cells)).repeat(counts)
         starts = counts.cumsum() - counts
-        return counts, starts, rows, self.items[cells[rows], np.arange(len(rows)) - starts[rows]]
+        # each id's flat place in `items`: its cell's row, plus its place in the list
+        at = (cells * self.items.shape[1] - starts)[rows] + np.arange(len(rows))
+        return counts, starts, rows, self.items.reshape(-1).take(at)
 
     def nbytes(self) -> int:
         return self.count.nbytes + self.items.nbytes

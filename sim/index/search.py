@@ -70,8 +70,8 @@ def nearest_listed(crystals: np.ndarray, hc2: np.float32, w: np.ndarray, counts:
         starts = np.cumsum(counts) - counts
         rows = np.repeat(np.arange(len(w)), counts)
     wr = w[rows]
-    dx = crystals[ids, 0] - x[wr]
-    dy = crystals[ids, 1] - y[wr]
+    dx = crystals[:, 0].take(ids) - x[wr]
+    dy = crystals[:, 1].take(ids) - y[wr]
     if period is not None:
         dx, dy = nearest_image(dx, period[0]), nearest_image(dy, period[1])
     d2 = dx * dx + dy * dy
