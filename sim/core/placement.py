@@ -30,6 +30,8 @@ _NONE = np.empty(0, np.int64)
 def first_good(good: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """For tries x k flags: which of the k have a good try, and the flat index (into the
     tries x k draws) of the first good try of each of those."""
+    if good[0].all():  # (often: every first try is good)
+        return good[0], np.arange(good.shape[1])
     placed = np.logical_or.reduce(good, axis=0)
     which = placed.nonzero()[0]
     return placed, good.argmax(axis=0)[which] * good.shape[1] + which

@@ -31,7 +31,8 @@ class Water:
 
     def drop(self, *idx: np.ndarray) -> None:
         """Remove the walkers at the indices of `idx`."""
-        keep = np.ones(self.x.n, bool)
+        keep = np.empty(self.x.n, bool)
+        keep.fill(True)
         for i in idx:
             keep[i] = False
         self.keep(keep)

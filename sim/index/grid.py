@@ -28,12 +28,18 @@ class HashGrid:
         self.size = self.cols * self.rows
         self._size = np.array([self.cols, self.rows])[None, :, None]  # (for disc_cells)
         self._inv = np.float32(1.0 / self.cell)
+        self._cols = np.int32(self.cols)
+        self._last = (np.int32(self.cols - 1), np.int32(self.rows - 1))  # (for keys)
 
     def keys(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         """Cell index (row-major) of on-screen points."""
-        kx = np.minimum((x * self._inv).astype(np.int32), self.cols - 1)
-        ky = np.minimum((y * self._inv).astype(np.int32), self.rows - 1)
-        return ky * self.cols + kx
+        kx = (x * self._inv).astype(np.int32)
+        ky = (y * self._inv).astype(np.int32)
+        np.minimum(kx, self._last[0], out=kx)
+        np.minimum(ky, self._last[1], out=ky)
+        ky *= self._cols
+        ky += kx
+        return ky
 
     def span(self, x0: float, y0: float, x1: float, y1: float) -> tuple[np.ndarray, np.ndarray]:
         """(cols, rows): the column and row indices of the cells under a px box, clipped."""
