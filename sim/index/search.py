@@ -22,6 +22,7 @@ from .periodic import nearest_image
 
 # grid9 queries walkers in chunks of this many to bound the gather matrix.
 _GRID9_CHUNK = 4096
+_NO_ID = np.iinfo(np.int32).max  # above every crystal index (ties take the lowest)
 _AROUND_X = np.array([-1, 0, 1, -1, 0, 1, -1, 0, 1])
 _AROUND_Y = np.array([-1, -1, -1, 0, 0, 0, 1, 1, 1])
 
@@ -76,7 +77,7 @@ def nearest_listed(crystals: np.ndarray, hc2: np.float32, w: np.ndarray, counts:
         dx, dy = nearest_image(dx, period[0]), nearest_image(dy, period[1])
     d2 = dx * dx + dy * dy
     dmin = np.minimum.reduceat(d2, starts)
-    tied = np.where(d2 == dmin[rows], ids, np.iinfo(np.int32).max)
+    tied = np.where(d2 == dmin[rows], ids, _NO_ID)
     parent = np.minimum.reduceat(tied, starts)
     hit = dmin < hc2
     return w[hit], parent[hit].astype(np.int32)
