@@ -59,13 +59,15 @@ class FreezingIndex:
         counts, starts, rows, ids = self.candidates.listed(self.grid.keys(pts[:, 0], pts[:, 1]))
         if len(ids) == 0:
             return d2
-        some = counts > 0
         d = self.crystals.raw()[ids] - pts[rows]
         dx, dy = d[:, 0], d[:, 1]
         period = self.grid.period
         if period is not None:  # a tile: over the wrap
             dx, dy = nearest_image(dx, period[0]), nearest_image(dy, period[1])
         e = dx ** 2 + dy ** 2
+        some = counts > 0
+        if some.all():  # (the usual case for spots beside the ice)
+            return np.minimum.reduceat(e, starts).astype(np.float32, copy=False)
         d2[some] = np.minimum.reduceat(e, starts[some])
         return d2
 

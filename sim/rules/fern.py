@@ -72,6 +72,7 @@ class FernGrowth:
         self.rng = rng
         self.pooled_first = pooled_first
         self.L = float(params.hc)
+        self._apart2 = np.float32(self.L / 2) ** 2  # (a new crystal's least gap to ice, squared)
         self.drift = np.deg2rad(params.drift)
         self.gap = params.side_gap
         # Hits a slot needs, by kind; a closed slot never grows.
@@ -201,7 +202,10 @@ class FernGrowth:
         crystal's)."""
         x, y = pts[:, 0], pts[:, 1]
         ok = (x >= 0) & (x < index.width) & (y >= 0) & (y < index.height)
-        ok[ok] = index.nearest_d2(pts[ok]) >= np.float32(self.L / 2) ** 2
+        if ok.all():  # (the usual case)
+            ok = index.nearest_d2(pts) >= self._apart2
+        else:
+            ok[ok] = index.nearest_d2(pts[ok]) >= self._apart2
         side = ok & side
         if self.gap > 1 and side.any():
             ok[side] = self.gap_clear(parents[side], k[side], parent)
@@ -210,7 +214,8 @@ class FernGrowth:
     def gap_clear(self, crystals, k, parent) -> np.ndarray:
         """No side child in slot k within side_gap - 1 links up or down the stem of each
         of `crystals` (`parent`: every crystal's parent)."""
-        clear = np.ones(len(crystals), bool)
+        clear = np.empty(len(crystals), bool)
+        clear.fill(True)
         child, slot = self.child.raw(), self.slot.raw()
         up, down = crystals, crystals
         for step in range(self.gap - 1):
