@@ -97,7 +97,7 @@ def test_the_phase_profiles_time_every_phase_a_tick_calls(preset):
     for _ in range(30):
         sim.step()
     called = {name for name, s in spent.items() if s > 0}
-    # Table 1's presets keep no pool topped up: nothing spawns water in a tick.
-    idle = {"spawn"} if preset == "c-2" else set()
+    # Table 1's presets keep no pool topped up: no frozen water is replaced in a tick.
+    idle = {"counted_and_new"} if preset == "c-2" else set()
     assert called == set(spent) - idle
     assert {"walk", "crystallize", "link", "register", "settle", "relocate"} <= called

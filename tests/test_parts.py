@@ -175,3 +175,20 @@ def test_clearance_radii_equal_the_float64_arithmetic_bit_for_bit():
     want = np.minimum(np.minimum(rho, rim), edge) - np.float32(1e-2)
     assert (k >= 2).any() and (k == 1).any() and (k == 0).any()
     np.testing.assert_array_equal(clear.radii(x, y, rim), want)
+
+
+@pytest.mark.parametrize("area", [(380.0, 640.0, 300.0), (301.0, 301.0, 300.0), (300.5, 640.0, 300.0),
+                                  (375.0, 640.0, 380.0), (20.0, 30.0, 200.0)])
+def test_a_walker_off_the_screen_is_outside_however_its_area_lies(area):
+    """`outside` against the rule as written (off the screen, or beyond the area's rim) for
+    one area a pixel or more inside the screen (where only the rim is checked), one just
+    short of that, one reaching 5 px past an edge and one past a corner; walkers on, just
+    off and far off every edge."""
+    rng = np.random.default_rng(1)
+    x = np.concatenate([rng.uniform(-60, 820, 3000), [-1e-3, 0.0, 759.999, 760.0, 760.001, -2.0]])
+    y = np.concatenate([rng.uniform(-60, 1340, 3000), [-1e-3, 0.0, 1279.999, 1280.0, 1280.001, 640.0]])
+    x, y = x.astype(np.float32), y.astype(np.float32)
+    cx, cy, r = (np.float32(v) for v in area)
+    ox, oy = x - cx, y - cy
+    want = (x < 0) | (x >= 760) | (y < 0) | (y >= 1280) | (ox * ox + oy * oy > r * r)
+    assert outside(x, y, np.array([cx, cy, r], np.float32), (760, 1280), False).tolist() == want.tolist()

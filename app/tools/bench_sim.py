@@ -73,11 +73,12 @@ def fig9(presets: list[str], repeats: int) -> list[dict]:
 
 def phases(sim: FrostSim, more: bool = False) -> list[tuple[object, str, str]]:
     """(owner, method, name) of a tick's phases, in the order a tick calls them (`more`:
-    also the fern tick's admission, settling, relocation and growth-mode follow-up)."""
+    also the fern tick's admission, settling, relocations and growth-mode follow-up)."""
     main = [(sim, "walk", "walk"), (sim, "crystallize", "crystallize"), (sim, "_link", "link"),
             (sim.index, "register", "register"), (sim.supply, "spent", "forget_water")]
     extra = [(sim, "_admit", "admit"), (sim.growth, "settle", "settle"),
-             (sim.supply, "relocate", "relocate"), (sim.supply, "spawn", "spawn"),
+             (sim.supply, "relocate", "relocate"),
+             (sim.supply, "relocate_then_spawn", "counted_and_new"),
              (sim, "_follow_ice", "follow_ice")]
     return main + extra if more else main
 
@@ -309,7 +310,8 @@ def fern_section(seeds: int, ticks: int) -> dict:
         print(f"{name:10} " + "  ".join(f"{a:5.2f} + {b:5.2f}" for a, b in cells))
     prof = fern_profile(ticks)
     print("\nwhere a fern tick goes (one touch, mean ms; walk includes the relocation of its "
-          "leavers, which relocate counts again): " + ", ".join(f"{k} {v:.3f}" for k, v in prof.items()))
+          "leavers, which relocate counts again; counted_and_new: the hits that only counted "
+          "placed again and the frozen water's replacement, in one pass): " + ", ".join(f"{k} {v:.3f}" for k, v in prof.items()))
     out["fern_profile"] = prof
     return out
 

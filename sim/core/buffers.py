@@ -10,13 +10,9 @@ def runs(s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     first and the last element of each run, and each element's place in its run. A few
     numpy passes, none of them a Python-level helper (np.diff with `append` or
     np.unique cost more than the rest of a small tick's counting)."""
-    n = len(s)
-    first, last = np.empty(n, bool), np.empty(n, bool)
-    first[:1] = last[-1:] = True
-    np.not_equal(s[1:], s[:-1], out=first[1:])
-    last[:-1] = first[1:]
-    at = np.arange(n)
-    return first, last, at - np.maximum.accumulate(np.where(first, at, 0))
+    at = np.arange(len(s))
+    lo = s.searchsorted(s)  # where each element's run starts
+    return lo == at, s.searchsorted(s, "right") - 1 == at, at - lo
 
 
 def distinct(a: np.ndarray) -> np.ndarray:
@@ -94,19 +90,23 @@ class CellLists:
         self.items = np.full((n_cells, width), -1, dtype=np.int32)
         self.most = 0  # at least the largest count (removals leave it high)
 
-    def insert(self, cells: np.ndarray, ids: np.ndarray) -> None:
-        """Add `ids[j]` to cell `cells[j]`; ids of one cell must come in ascending order."""
+    def insert(self, cells: np.ndarray, ids: np.ndarray) -> np.ndarray:
+        """Add `ids[j]` to cell `cells[j]`; ids of one cell must come in ascending order.
+        Returns the cells that listed nothing before, ascending."""
         if len(cells) == 0:
-            return
+            return cells
         order = cells.argsort(kind="stable")
         c, i = cells[order], ids[order]
         _, last, rank = runs(c)
+        touched = c[last]
+        opened = touched[self.count[touched] == 0]
         slot = self.count[c] + rank
         top = int(slot.max()) + 1
         self._widen(top)
         self.most = max(self.most, top)
         self.items[c, slot] = i
-        self.count[c[last]] = slot[last] + 1
+        self.count[touched] = slot[last] + 1
+        return opened
 
     def remove(self, cells: np.ndarray, ids_to_drop: np.ndarray) -> None:
         """Remove every id in `ids_to_drop` from the lists of `cells` (order kept)."""

@@ -28,8 +28,10 @@ def outside(x: np.ndarray, y: np.ndarray, centre_r, size: tuple[int, int],
     ox, oy = x - cx, y - cy
     if wrap:
         ox, oy = nearest_image(ox, size[0]), nearest_image(oy, size[1])
-    off = (x < 0) | (x >= size[0]) | (y < 0) | (y >= size[1])
-    return off | (ox * ox + oy * oy > r * r)
+    out = ox * ox + oy * oy > r * r
+    if not wrap and np.ndim(r) == 0 and min(cx - r, cy - r, size[0] - cx - r, size[1] - cy - r) >= 1:
+        return out  # one area whose disc lies a pixel inside the screen: off it is outside the disc
+    return out | (x < 0) | (x >= size[0]) | (y < 0) | (y >= size[1])
 
 
 def on_screen_f32(pts: np.ndarray, width: int, height: int) -> np.ndarray:

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.buffers import distinct
 from .grid import HashGrid
 
 # Rings of cells looked at around a new candidate cell: beyond this the bound stays at
@@ -68,10 +67,11 @@ class Clearance:
         return self._padded.reshape(-1, self._pcols)[cap:cap + g.rows, cap:cap + g.cols].ravel()
 
     def lower(self, cells: np.ndarray) -> None:
-        """`cells` just became candidate cells: lower the rings around them."""
+        """`cells` just became candidate cells: lower the rings around them (a cell
+        given twice only costs more)."""
         if len(cells) == 0:
             return
-        cy, cx = np.divmod(distinct(cells), self.grid.cols)
+        cy, cx = np.divmod(cells, self.grid.cols)
         if self.grid.period is None:
             # (the values as an array of the indices' shape: numpy 2.4's ufunc.at misreads
             # values it has to broadcast)

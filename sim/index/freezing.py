@@ -32,8 +32,7 @@ class FreezingIndex:
         pts = self.crystals.raw()[new]
         ids = np.arange(new.start, new.stop, dtype=np.int32)
         cells, owner = self.grid.disc_cells(pts, self.hc)
-        self.clearance.lower(cells[self.candidates.count[cells] == 0])
-        self.candidates.insert(cells, ids[owner])
+        self.clearance.lower(self.candidates.insert(cells, ids[owner]))
         self.search.insert(pts, ids)
 
     def remove(self, dead: np.ndarray) -> None:
