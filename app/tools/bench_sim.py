@@ -311,7 +311,8 @@ def fern_section(seeds: int, ticks: int) -> dict:
     prof = fern_profile(ticks)
     print("\nwhere a fern tick goes (one touch, mean ms; walk includes the relocation of its "
           "leavers, which relocate counts again; counted_and_new: the hits that only counted "
-          "placed again and the frozen water's replacement, in one pass): " + ", ".join(f"{k} {v:.3f}" for k, v in prof.items()))
+          "placed again and the frozen water's replacement, in one pass): "
+          + ", ".join(f"{k} {v:.3f}" for k, v in prof.items()))
     out["fern_profile"] = prof
     return out
 
