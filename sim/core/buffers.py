@@ -46,7 +46,8 @@ class Growable:
 
     def append_fill(self, k: int, value) -> slice:
         """Append k rows that each hold `value`; returns their slice."""
-        self._reserve(self.n + k)
+        if self.n + k > len(self._data):
+            self._reserve(self.n + k)
         self._data[self.n:self.n + k] = value
         self.n += k
         return slice(self.n - k, self.n)
