@@ -112,6 +112,14 @@ def wait_for(log: Path, pattern: str, count: int = 1, timeout: float = 20.0) -> 
     raise TimeoutError(f"{pattern!r} x{count} not in {log}")
 
 
+def default_signals() -> None:
+    """The app's Ctrl-C and hang-up as a terminal gives them, whatever this run inherited
+    (a background job ignores SIGINT; under nohup SIGHUP is ignored, and the app rightly
+    leaves an ignored signal alone)."""
+    for signum in (signal.SIGINT, signal.SIGHUP):
+        signal.signal(signum, signal.SIG_DFL)
+
+
 def drive(out: Path, mode: str = "session") -> None:
     """Run the app under this X server and drive it through one of the DRIVES."""
     log = out / "app.log"
@@ -127,7 +135,7 @@ def drive(out: Path, mode: str = "session") -> None:
         cmd += ["--touch", "380,640"]
     with open(log, "w") as sink:
         app = subprocess.Popen(cmd, cwd=ROOT, stdout=sink, stderr=subprocess.STDOUT,
-                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+                               preexec_fn=default_signals)
     result = {}
     try:
         result = DRIVES[mode](app, log)
