@@ -4,6 +4,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from sim import FrostSim, Params, upsample, walk_displacements
 from sim.index.grid import CELL_MARGIN, HashGrid
@@ -481,3 +483,14 @@ def test_one_melt_of_several_discs_takes_the_ice_in_any_of_them():
     assert (sim.parents[orphans] == -1).all()
     kept = alive & ~inside & ~np.isin(np.arange(len(c)), orphans)
     assert np.array_equal(sim.parents[kept], parents[kept])
+
+
+@given(st.lists(st.integers(0, 4), max_size=30), st.lists(st.integers(0, 6), max_size=8))
+def test_a_links_rows_are_found_as_a_scan_finds_them(counts, crystals):
+    """`rows` (binary search over each row's crystal, which ascends) against a scan: the
+    rows of each given crystal's link in turn, ascending; crystals with no rows (seeds,
+    or past the last) give none."""
+    from sim.core.skeleton import rows
+    link = np.repeat(np.arange(len(counts)), counts).astype(np.int32)
+    want = [i for c in crystals for i in range(len(link)) if link[i] == c]
+    assert rows(link, np.array(crystals, np.int64)).tolist() == want

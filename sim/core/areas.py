@@ -47,8 +47,11 @@ class Areas:
         """Widen each area's reach to the crystals `pts` of it; returns the areas touched."""
         rows = self.rows.raw()
         d = np.hypot(*(pts - rows[area, :2]).T)
+        if len(rows) == 1:  # one area (a lone touch's)
+            rows[0, 4] = max(rows[0, 4], d.max())
+            return area[:1]
         np.maximum.at(rows[:, 4], area, d)
-        return area[:1] if len(rows) == 1 else distinct(area)
+        return distinct(area)
 
     def ride(self, touched: np.ndarray, radius: float) -> None:
         """Growth mode: the annulus of `touched` rides on its ice front, half an active

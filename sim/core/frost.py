@@ -113,7 +113,6 @@ class FrostSim(Holdings):
         seeds = self._add_crystals(pts32, np.full(len(pts), -1, np.int32), area)
         ringed = area < opened if water and self.params.touch_water else np.zeros(len(pts), bool)
         self.growth.add_seeds(len(pts), ringed)
-        self.ice.no_links(len(pts))
         self.index.register(seeds)
         self._follow_ice(seeds)  # a seed joining an area may lie beyond its ice
         self.supply.fill(np.unique(area), self.ice_state())

@@ -1,7 +1,8 @@
 """The ice skeleton: crystals with parent links, upsample particles and chain segments.
 
-Rows are only appended; a melt marks them dead, so indices stay stable. Each crystal keeps
-its own link's rows as (first, count) ranges, so a melt finds what it cuts without
+Rows are only appended; a melt marks them dead, so indices stay stable. A link's rows are
+appended together, in crystal order, so each row's crystal (`ups_link`, `segs_link`)
+ascends, and a melt finds the rows of the links it cuts by binary search, without
 scanning the whole skeleton.
 """
 
@@ -38,7 +39,7 @@ class Melted:
 
 class Skeleton:
     """Crystals (positions, parents, alive flags, the area whose water became each) and
-    their links' upsample particles and segments, with per-crystal row ranges."""
+    their links' upsample particles and segments, each row with its link's crystal."""
 
     def __init__(self) -> None:
         self.crystals = Growable(np.float32, (2,))
@@ -51,8 +52,6 @@ class Skeleton:
         self.segs = Growable(np.float32, (4,))
         self.segs_link = Growable(np.int32)
         self.salive = Growable(bool)
-        self.seg_range = Growable(np.int32, (2,))
-        self.ups_range = Growable(np.int32, (2,))
         self.longest_link = 0.0  # a crystal's children lie within this of it
 
     def add(self, pts: np.ndarray, parents: np.ndarray, area: np.ndarray) -> slice:
@@ -63,16 +62,9 @@ class Skeleton:
         self.calive.append_fill(len(pts), True)
         return new
 
-    def no_links(self, n: int) -> None:
-        """Seeds: n crystals whose links hold no rows."""
-        for table, buf in ((self.seg_range, self.segs), (self.ups_range, self.ups)):
-            table.append(ranges(np.zeros(n, np.int64), buf.n))
-
     def link(self, first: int, tail: np.ndarray, pts: np.ndarray, spacing: float) -> None:
         """The links tail[i] -> pts[i] of crystals first, first + 1, ..., upsampled."""
-        ups, ups_link, segs, segs_link, nseg = chains(tail, pts, spacing)
-        self.seg_range.append(ranges(nseg, self.segs.n))
-        self.ups_range.append(ranges(nseg - 1, self.ups.n))
+        ups, ups_link, segs, segs_link = upsample(tail, pts, spacing)
         self.ups.append(ups)
         self.ualive.append_fill(len(ups), True)
         self.salive.append_fill(len(segs), True)
@@ -86,8 +78,7 @@ class Skeleton:
     def cut(self, crystals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Kill the live segments and upsample particles of the links of `crystals`;
         returns (segments, upsample particles) killed."""
-        segs = rows(self.seg_range.raw()[crystals])
-        ups = rows(self.ups_range.raw()[crystals])
+        segs, ups = rows(self.segs_link.raw(), crystals), rows(self.ups_link.raw(), crystals)
         segs, ups = segs[self.salive.raw()[segs]], ups[self.ualive.raw()[ups]]
         self.salive.raw()[segs] = False
         self.ualive.raw()[ups] = False
@@ -95,13 +86,12 @@ class Skeleton:
 
     def live_segments(self, crystals: np.ndarray) -> np.ndarray:
         """The live segments of the links of `crystals`."""
-        segs = rows(self.seg_range.raw()[crystals])
+        segs = rows(self.segs_link.raw(), crystals)
         return segs[self.salive.raw()[segs]]
 
     def buffers(self) -> tuple[Growable, ...]:
         return (self.crystals, self.parents, self.ups, self.ups_link, self.segs,
-                self.segs_link, self.area, self.calive, self.ualive, self.salive,
-                self.seg_range, self.ups_range)
+                self.segs_link, self.area, self.calive, self.ualive, self.salive)
 
 
 def upsample(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, ...]:
@@ -110,18 +100,12 @@ def upsample(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, 
 
     Returns (points, point_link, segments, segment_link): points k x 2, segments
     s x 4 (x0, y0, x1, y1) in chain order, and the link index of each."""
-    return chains(p, q, spacing)[:4]
-
-
-def chains(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, ...]:
-    """`upsample`, and each link's count of segments (its points are one fewer)."""
     p64 = p.astype(np.float64)
     d = q.astype(np.float64) - p64
     nu = np.floor(np.hypot(d[:, 0], d[:, 1]) / spacing).astype(np.int64)
     if not (nu >= 2).any():  # no link long enough: each is one segment (the common case at c-2)
         links = np.arange(len(p))
-        return (np.empty((0, 2), np.float32), links[:0], np.hstack([p, q]).astype(np.float32),
-                links, np.ones(len(p), np.int64))
+        return np.empty((0, 2), np.float32), links[:0], np.hstack([p, q]).astype(np.float32), links
     nseg = np.where(nu >= 2, nu, 1)
     k = int(nseg[0])
     if (nseg == k).all():  # links alike (a fern's are one hc each): a grid of link x node
@@ -129,7 +113,7 @@ def chains(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, ..
         chain = np.concatenate((nodes[:, :-1], nodes[:, 1:]), axis=2).reshape(-1, 4)
         links = np.arange(len(p))
         return (nodes[:, 1:-1].reshape(-1, 2).astype(np.float32), links.repeat(k - 1),
-                chain.astype(np.float32), links.repeat(k), nseg)
+                chain.astype(np.float32), links.repeat(k))
     seg_link = np.arange(len(p)).repeat(nseg)
     j = np.arange(len(seg_link)) - (nseg.cumsum() - nseg)[seg_link]
     per = nseg[seg_link]
@@ -140,22 +124,16 @@ def chains(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, ..
     b = p_s + t1 * d_s
     segments = np.concatenate((a, b), axis=1).astype(np.float32)
     inner = j > 0  # a chain's inner nodes are the upsample particles
-    return a[inner].astype(np.float32), seg_link[inner], segments, seg_link, nseg
+    return a[inner].astype(np.float32), seg_link[inner], segments, seg_link
 
 
-def ranges(count: np.ndarray, offset: int) -> np.ndarray:
-    """len(count) x 2 (first row, count) of rows appended at `offset`, count[i] for link i."""
-    out = np.empty((len(count), 2), np.int32)
-    out[:, 1] = count
-    out[:, 0] = offset + count.cumsum() - count
-    return out
-
-
-def rows(ranges: np.ndarray) -> np.ndarray:
-    """The row indices of (first, count) ranges, back to back."""
-    first, count = ranges[:, 0].astype(np.int64), ranges[:, 1].astype(np.int64)
+def rows(link: np.ndarray, crystals: np.ndarray) -> np.ndarray:
+    """The rows of the links of `crystals`, crystal by crystal, each one's ascending, given
+    every row's crystal `link` (ascending: a link's rows are appended together)."""
+    c = np.asarray(crystals).astype(link.dtype, copy=False)
+    first = link.searchsorted(c)
+    count = link.searchsorted(c, "right") - first
     total = int(count.sum())
     if total == 0:
         return np.empty(0, np.int64)
-    starts = np.repeat(first - (np.cumsum(count) - count), count)
-    return starts + np.arange(total)
+    return (first - (count.cumsum() - count)).repeat(count) + np.arange(total)
