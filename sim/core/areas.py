@@ -41,6 +41,9 @@ class Areas:
     def count_ice(self, area: np.ndarray, sign: int) -> None:
         """Crystals of `area` (one entry each) appear (sign 1) or melt (sign -1)."""
         ice = self.ice.raw()
+        if len(ice) == 1:  # one area (a lone touch's)
+            ice[0] += sign * len(area)
+            return
         ice[:] += sign * np.bincount(area, minlength=len(ice)).astype(np.int32)
 
     def reach_to(self, area: np.ndarray, pts: np.ndarray) -> np.ndarray:
