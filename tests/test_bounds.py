@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 from app.tools.scribble import scribble, storm
 from sim import FrostSim, Params
 from sim.core import budget, frost
+from sim.index.grid import HashGrid
 from sim.io.session import MIN_INPUT_S, STEP_SAMPLES, Backlog, Timeline
 from sim.look.geometry import _segments_in
 
@@ -204,6 +205,38 @@ def test_freezes_that_would_overflow_a_cell_are_dropped_in_walker_order(monkeypa
     # cap 3, one listed: the first two walkers freeze, the other two are dropped.
     np.testing.assert_allclose(sim.crystals[1:], [[103.0, 100.0], [104.0, 100.0]], atol=1e-4)
     assert len(sim.water_area) == 0
+
+
+def admitted_slow(points, count, grid, hc, take):
+    """Which of the first `take` freezes a walker-order pass admits: each one's disc cells
+    must all hold fewer than CELL_CAP, counting the freezes admitted before it."""
+    count = count.copy()
+    kept = []
+    for i, p in enumerate(points[:take]):
+        cells, _ = grid.disc_cells(p[None], hc)
+        if (count[cells] < budget.CELL_CAP).all():
+            count[cells] += 1
+            kept.append(i)
+    return kept
+
+
+def test_the_cap_holds_when_each_crystal_brings_much_work():
+    # hc 16, D 1, grid_spacing 2: a crystal's work admits 69 freezes a tick, so 69 + 10 stays
+    # under the cap, yet one cell already holds 127: only one of the ten may freeze there.
+    hc = 16.0
+    work = budget.work_per_crystal(hc, 2, 1.0)
+    assert budget.FREEZE_WORK // work + 10 <= budget.CELL_CAP
+    grid = HashGrid(760, 1280, hc)
+    points = np.array([(100.0 + i, 100.0) for i in range(10)], np.float32)
+    count = np.zeros(grid.size, np.int32)
+    cells, _ = grid.disc_cells(points[:1], hc)
+    count[cells] = 127
+    frozen, parents = np.arange(10), np.zeros(10, np.int32)
+    kept, _, over = budget.admit(frozen, parents, count, grid, lambda i: points[i], hc, work,
+                                 most=int(count.max()))
+    expected = admitted_slow(points, count, grid, hc, 10)
+    assert kept.tolist() == expected == [0]
+    assert over.tolist() == list(range(1, 10))
 
 
 # ---- input spread over ticks -------------------------------------------------------------------

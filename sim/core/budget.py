@@ -37,8 +37,8 @@ def admit(frozen: np.ndarray, parents: np.ndarray, count: np.ndarray, grid, at, 
     order, so both neighbour searches admit the same. Returns (frozen, parents, over):
     `over` the walkers whose freeze would overflow a cell. `most`: a bound on the
     largest count, where known (`CellLists.most`), which spares a pass over the counts."""
-    most = max(1, FREEZE_WORK // work)
-    frozen, parents = frozen[:most], parents[:most]
+    take = max(1, FREEZE_WORK // work)
+    frozen, parents = frozen[:take], parents[:take]
     none = frozen[:0]
     if (most is not None and most + len(frozen) <= CELL_CAP) or \
             count.max(initial=0) + len(frozen) <= CELL_CAP:
