@@ -223,24 +223,34 @@ def interrupt(app: subprocess.Popen, log: Path, signum: int = signal.SIGINT) -> 
 
 
 def lost(app: subprocess.Popen, log: Path, how: str) -> dict:
-    """A click and R, then (with E) the window killed at the X server (`xdotool windowkill`)
-    or the process killed at once (SIGKILL) after the session was last kept on disk."""
+    """A click and R, then (with E) the window killed at the X server (`xdotool windowkill`),
+    the phone's window or the panel's destroyed from outside (`xdotool windowclose`; the
+    panel's then hidden with M), or the process killed at once (SIGKILL) after the session
+    was last kept on disk."""
     wid = window_id()
     wait_for(log, r"stats \(")
     xdo("mousemove", "--window", wid, "200", "300")
     xdo("click", "1")
     xdo("key", "r")
     time.sleep(AUTOSAVE_PERIOD + 1.0)
-    if how == "windowkill":  # the maps' writer started, not done: the rescue waits for it
-        xdo("key", "e")
-        wait_for(log, r"frost maps: exporting")
-        xdo("windowkill", wid)
-    else:
+    if how == "SIGKILL":
         app.kill()
+        return {"status": app.wait(timeout=20)}
+    xdo("key", "e")  # the maps' writer started, not done: the closing waits for it
+    wait_for(log, r"frost maps: exporting")
+    if how == "panelclose":
+        xdo("key", "m")
+        xdo("windowclose", window_id(name="^frost tuning"))
+        time.sleep(0.5)
+        xdo("key", "--window", wid, "m")
+    else:
+        xdo(how, wid)
     return {"status": app.wait(timeout=20)}
 
 
 DRIVES = {"windowkill": lambda app, log: lost(app, log, "windowkill"),
+          "windowclose": lambda app, log: lost(app, log, "windowclose"),
+          "panelclose": lambda app, log: lost(app, log, "panelclose"),
           "SIGKILL": lambda app, log: lost(app, log, "SIGKILL"), "session": session,
           "unwritable": unwritable, "interrupt": interrupt,
           "SIGTERM": lambda app, log: interrupt(app, log, signal.SIGTERM),
@@ -407,6 +417,18 @@ def test_a_lost_display_writes_the_session_and_the_recording_then_exits_1(tmp_pa
     assert "display connection is lost" in log
     ((path,),) = [re.findall(r"recording: \d+ frames .* written to (\S+\.webp)", log)]
     assert Path(path).is_file()
+
+
+@pytest.mark.parametrize("how, which", [("windowclose", "the phone's window"),
+                                        ("panelclose", "the tuning panel's window")])
+def test_a_window_destroyed_from_outside_closes_as_esc_does_with_status_1(
+        tmp_path_factory, how, which):
+    got = driven(tmp_path_factory.mktemp(how), how)
+    saved_on_signal(got, 1)
+    log = got["log"]
+    assert len(re.findall(rf"ERROR app.window: window: {which} was destroyed from outside",
+                          log)) == 1, log[-3000:]
+    assert "X Error" not in log and "BadDrawable" not in log and "BadWindow" not in log
 
 
 def test_a_killed_window_leaves_its_session_kept_on_disk(tmp_path_factory):

@@ -470,6 +470,25 @@ def test_the_lost_display_handler_rescues_once_and_never_waits_on_itself():
     assert other.is_alive() and rescues == [0]  # waits; no second rescue
 
 
+def test_a_lost_window_is_reported_once_and_later_errors_are_ignored():
+    """Errors before a window is lost go on to the handler there was; the first BadWindow
+    or BadDrawable is reported with its X id; every error after it is ignored."""
+    import ctypes
+
+    lost, passed = [], []
+    handler = lost_display.reporting(lost.append, lambda d, e: passed.append(
+        e.contents.error_code) or 7)
+
+    def error(code: int, resource: int) -> int:
+        event = lost_display.XErrorEvent(error_code=code, resourceid=resource)
+        return handler(None, ctypes.pointer(event))
+
+    assert error(8, 0x11) == 7 and passed == [8] and lost == []  # BadMatch: not ours
+    assert error(lost_display.BAD_DRAWABLE, 0x400007) == 0 and lost == [0x400007]
+    assert error(lost_display.BAD_WINDOW, 0x40000D) == 0 and error(8, 0x11) == 0
+    assert lost == [0x400007] and passed == [8]
+
+
 # ---- recording ----------------------------------------------------------------------------
 
 

@@ -21,9 +21,9 @@ import moderngl
 from app.simthread.thread import SimThread, Snapshot
 from app.window.actions import Actions
 from app.window.capture import Capture
-from app.window.glfw_setup import WindowError, open_window
+from app.window.glfw_setup import WindowError, open_window, x_window_id
 from app.window.keys import help_lines
-from app.window.lost_display import on_lost_display
+from app.window.lost_display import on_lost_display, on_lost_window
 from app.window.no_panel import NoPanel
 
 try:  # imgui-bundle has wheels for Python 3.11 on only (README, Dependencies)
@@ -72,7 +72,9 @@ class FrostWindow:
         self.dirty = self.damaged = True  # render the phone again; present again
         self.iconified, self.snapshots, self.new_ticks = False, 0, 0
         self._connect()
-        self._x_handler = on_lost_display(self.display_lost)  # kept while the window is open
+        # Kept while the window is open and until GLFW has terminated.
+        self._x_handlers = (on_lost_display(self.display_lost), on_lost_window(self.window_lost))
+        self.phone_id = x_window_id(window)
 
     def _connect(self) -> None:
         # Sizes come from callbacks: each GLFW call from Python waits for the GIL, which the
@@ -136,6 +138,15 @@ class FrostWindow:
         self.thread.stop()
         self._write_out()
         self.panel.close()
+
+    def window_lost(self, resource: int) -> None:
+        """A request failed on a window that is gone (destroyed from outside, e.g. by
+        `xdotool windowclose`; `resource`: its X id): the loop ends and closes as Esc
+        does, with status 1. Called inside Xlib: no GLFW or GL call."""
+        which = {self.phone_id: "the phone's window",
+                 self.panel.x_id: "the tuning panel's window"}.get(resource, "a window")
+        log.error("window: %s was destroyed from outside (X id %#x): closing", which, resource)
+        self.running, self.exit_status = False, 1
 
     def display_lost(self) -> None:
         """The X connection is gone (lost_display): Xlib ends the process with status 1

@@ -75,6 +75,11 @@ def _window_hints() -> None:
     glfw.window_hint(glfw.SCALE_TO_MONITOR, False)
 
 
+def x_window_id(window) -> int | None:
+    """The X window id of a GLFW window; None off X11."""
+    return glfw.get_x11_window(window) if glfw.get_platform() == glfw.PLATFORM_X11 else None
+
+
 def _workarea() -> tuple[int, int]:
     monitor = glfw.get_primary_monitor()
     if not monitor:

@@ -1,8 +1,18 @@
-"""The display lost while the window runs (the X server gone, or the window killed with
-xkill or `xdotool windowkill`): Xlib calls its I/O error handler, then ends the process
-with status 1, and Python never runs again. The handler set here gives the window the
-moment in between to write what the user made. X11 only (GLFW's other platforms report
-a lost display as an error to the frame loop)."""
+"""The display lost while the window runs, and a window destroyed from outside.
+
+The display lost (the X server gone, or the window killed with xkill or `xdotool
+windowkill`): Xlib calls its I/O error handler, then ends the process with status 1, and
+Python never runs again. The handler set here gives the window the moment in between to
+write what the user made.
+
+A window destroyed from outside (`xdotool windowclose`: the X window is gone, the
+connection is not): the next request on it fails with BadWindow or BadDrawable, and
+Xlib's default error handler prints the error and ends the process. The handler set here
+reports it instead, so the frame loop ends and closes as Esc does, with status 1; from
+then on every X error is expected (the dead window's GL context and GLFW's clean-up meet
+it again) and ignored.
+
+X11 only (GLFW's other platforms report a lost display as an error to the frame loop)."""
 
 from __future__ import annotations
 
@@ -17,6 +27,30 @@ import glfw
 log = logging.getLogger("app.window")
 
 _IOErrorHandler = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p)  # int (*)(Display *)
+BAD_WINDOW, BAD_DRAWABLE = 3, 9  # X protocol error codes (X.h)
+
+
+class XErrorEvent(ctypes.Structure):
+    """Xlib's XErrorEvent."""
+
+    _fields_ = [("type", ctypes.c_int), ("display", ctypes.c_void_p),
+                ("resourceid", ctypes.c_ulong), ("serial", ctypes.c_ulong),
+                ("error_code", ctypes.c_ubyte), ("request_code", ctypes.c_ubyte),
+                ("minor_code", ctypes.c_ubyte)]
+
+
+# int (*)(Display *, XErrorEvent *)
+_ErrorHandler = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.POINTER(XErrorEvent))
+
+
+def _xlib() -> Any:
+    """The X library GLFW loaded (one set of handlers for both); None off X11."""
+    if glfw.get_platform() != glfw.PLATFORM_X11:
+        return None
+    try:
+        return ctypes.CDLL("libX11.so.6")
+    except OSError:
+        return None
 
 
 def on_lost_display(rescue: Callable[[], None]) -> Any:
@@ -24,16 +58,51 @@ def on_lost_display(rescue: Callable[[], None]) -> Any:
     call neither GLFW nor GL. Returns the handler, which the caller keeps as long as the
     window is open (freed while Xlib may call it, it would crash the process); None where
     the window is not on X11 (nothing set)."""
-    if glfw.get_platform() != glfw.PLATFORM_X11:
-        return None
-    try:
-        xlib = ctypes.CDLL("libX11.so.6")  # the library GLFW loaded: one handler for both
-    except OSError:
+    xlib = _xlib()
+    if xlib is None:
         return None
     handler = _IOErrorHandler(_once(rescue))
     xlib.XSetIOErrorHandler.argtypes = [_IOErrorHandler]
     xlib.XSetIOErrorHandler.restype = ctypes.c_void_p
     xlib.XSetIOErrorHandler(handler)
+    return handler
+
+
+def on_lost_window(lost: Callable[[int], None]) -> Any:
+    """Have `lost(resource)` called when a request fails on a window or drawable that is
+    gone (`resource`: its X id), instead of Xlib's exit; it must call neither GLFW nor GL.
+    Other errors go to the handler there was, until a window is lost; after that every
+    error is ignored. Returns the handler, kept by the caller until GLFW has terminated;
+    None off X11."""
+    xlib = _xlib()
+    if xlib is None:
+        return None
+    xlib.XSetErrorHandler.argtypes = [_ErrorHandler]
+    xlib.XSetErrorHandler.restype = _ErrorHandler
+    previous: list = []
+    handler = _ErrorHandler(reporting(lost, lambda d, e: previous[0](d, e)))
+    previous.append(xlib.XSetErrorHandler(handler))
+    return handler
+
+
+def reporting(lost: Callable[[int], None], otherwise: Callable[[Any, Any], int]
+              ) -> Callable[[Any, Any], int]:
+    """The error handler: the first error on a window that is gone reported to `lost`,
+    any other error to `otherwise` until then; afterwards every error ignored."""
+    gone: list[int] = []
+
+    def handler(display, event) -> int:
+        error = event.contents
+        if not gone and error.error_code not in (BAD_WINDOW, BAD_DRAWABLE):
+            return otherwise(display, event)
+        if not gone:
+            gone.append(error.resourceid)
+            try:
+                lost(error.resourceid)
+            except BaseException:  # nothing may unwind into Xlib's C frames
+                log.exception("reporting the lost window failed")
+        return 0
+
     return handler
 
 

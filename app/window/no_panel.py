@@ -14,6 +14,8 @@ WHY = ("the tuning panel needs imgui-bundle, which needs Python 3.11 or later "
 class NoPanel:
     """PanelHost's interface, doing nothing: input is never the panel's."""
 
+    x_id = None  # no window of its own
+
     def __init__(self, say=None):
         self.say = say or (lambda text: log.warning("%s", text))
 

@@ -23,7 +23,7 @@ import moderngl
 from imgui_bundle import imgui
 
 from app.gl.imgui_renderer import ImGuiRenderer
-from app.window.glfw_setup import open_side_window
+from app.window.glfw_setup import open_side_window, x_window_id
 from app.window.panel import TuningPanel
 
 log = logging.getLogger("app.window")
@@ -93,6 +93,7 @@ class PanelHost:
         self.deferred = Deferred(actions)
         self.panel = TuningPanel(self.deferred)
         self.window: Any = None  # a GLFW window once first shown
+        self.x_id: int | None = None  # its X window id
         self.ctx: moderngl.Context | None = None
         self.renderer: ImGuiRenderer | None = None
         self.visible, self.wanted = False, 0
@@ -138,7 +139,7 @@ class PanelHost:
             self.renderer = ImGuiRenderer(self.ctx)
         finally:
             glfw.make_context_current(self.phone)
-        self.window = window
+        self.window, self.x_id = window, x_window_id(window)
         self._connect(window)
         return True
 
