@@ -270,12 +270,12 @@ def test_an_export_worker_that_cannot_write_reports_it(tmp_path):
 
 def test_a_recording_that_cannot_be_written_is_reported(tmp_path, monkeypatch):
     said = []
-    rec = Recorder(unwritable(tmp_path), said.append)
+    rec = Recorder(unwritable(tmp_path), lambda _level, text: said.append(text))
     rec.start()
     rec.offer(lambda: np.zeros((1280, 760, 3), np.uint8))
     rec.stop()  # cannot even name the file: reported at once
     assert "1 frames lost" in said[-1]
-    rec = Recorder(tmp_path / "ok", said.append)
+    rec = Recorder(tmp_path / "ok", lambda _level, text: said.append(text))
     rec.start()
     rec.offer(lambda: np.zeros((1280, 760, 3), np.uint8))
     monkeypatch.setattr("app.window.record.write_atomic", lambda *a: (_ for _ in ()).throw(

@@ -502,19 +502,25 @@ class StepClock:
         return self.now
 
 
-def record(tmp_path, times: list[float], end: float) -> tuple[list[int], int]:
-    """Frames offered at `times` (each a different grey), stopped at `end`: the durations
-    (ms) of the WebP written and how many frames were offered."""
+def record(tmp_path, times: list[float], end: float, grey=lambda i: (7 * i) % 256
+           ) -> tuple[list[int], int]:
+    """Frames offered at `times` (frame i all `grey(i)`; by default each a different grey),
+    stopped at `end`: the durations (ms) of the WebP written and how many were offered."""
     clock = StepClock()
     rec = Recorder(tmp_path, clock=clock)
     rec.toggle()
     for i, t in enumerate(times):
         clock.now = t
-        rec.offer(lambda i=i: np.full((1280, 760, 3), (7 * i) % 256, np.uint8))
+        rec.offer(lambda i=i: np.full((1280, 760, 3), grey(i), np.uint8))
     clock.now = end
     rec.toggle()
     rec.close()
-    (path,) = tmp_path.glob("*.webp")
+    return webp_durations(tmp_path), len(times)
+
+
+def webp_durations(folder) -> list[int]:
+    """The frame durations (ms) of the one WebP in `folder`."""
+    (path,) = folder.glob("*.webp")
     with Image.open(path) as image:
         assert image.size == (380, 640)
         durations = []
@@ -522,7 +528,7 @@ def record(tmp_path, times: list[float], end: float) -> tuple[list[int], int]:
             image.seek(k)
             image.load()  # Pillow reads a frame's duration with its pixels
             durations.append(image.info["duration"])
-    return durations, len(times)
+    return durations
 
 
 def test_a_recording_frame_lasts_until_the_next_one_kept(tmp_path):
@@ -530,6 +536,44 @@ def test_a_recording_frame_lasts_until_the_next_one_kept(tmp_path):
     # 0.5; the last frame lasts until the stop at 1.0.
     durations, _ = record(tmp_path, [0.0, 0.03, 0.05, 0.09, 0.2, 0.5, 0.52], end=1.0)
     assert durations == [90, 110, 300, 500]
+
+
+def test_a_still_scene_records_one_frame_lasting_from_r_to_r(tmp_path):
+    """Every frame the same (nothing moved in 38 s): libwebp keeps one frame, which must
+    last the whole 38 s (hand-worked), not the 0 ms of a still image."""
+    durations, _ = record(tmp_path, [0.1 * k for k in range(10)], end=38.0, grey=lambda i: 90)
+    assert durations == [38000]
+
+
+def test_the_last_frame_lasts_until_r_stopped_it_whatever_came_before(tmp_path):
+    # Hand-worked: a grey at 0, another at 0.5 and again at 1.0 (merged with the one
+    # before), stopped at 3.25: the second grey shows from 0.5 to the stop.
+    durations, _ = record(tmp_path, [0.0, 0.5, 1.0], end=3.25, grey=lambda i: min(i, 1) * 99)
+    assert durations == [500, 2750]
+
+
+def test_a_full_recording_is_written_and_the_next_r_ends_it(tmp_path, monkeypatch):
+    """At MAX_FRAMES (4 here) the recording is written, keeps no more frames and says
+    so; R then ends it (no new recording), and the R after starts one."""
+    from app.window import record as recording
+    monkeypatch.setattr(recording, "MAX_FRAMES", 4)
+    clock, said = StepClock(), []
+    rec = Recorder(tmp_path, lambda level, text: said.append(text), clock=clock)
+    rec.toggle()
+    for k in range(6):
+        clock.now = 0.1 * k
+        rec.offer(lambda k=k: np.full((1280, 760, 3), 40 * k, np.uint8))
+    assert rec.count == 0 and not rec.active and rec.readout() == \
+        "REC full (4 frames written, R ends)"
+    rec.toggle()
+    assert rec.readout() is None and not rec.active
+    rec.close()
+    assert webp_durations(tmp_path) == [100, 100, 100, round(FRAME_GAP * 1000)]
+    assert "recording: 4 frames is the cap: written, no more kept (R ends it)" in said
+    assert "recording: ended (written at the cap)" in said  # and the writer says it wrote:
+    assert f"recording: 4 frames (0.4 s) written to {next(tmp_path.glob('*.webp'))}" in said
+    rec.toggle()
+    assert rec.active and rec.readout() == "REC 0 frames"
 
 
 @pytest.mark.parametrize("fps, seconds", [(21.0, 4.0), (3.6, 10.0), (60.0, 2.0)])

@@ -55,8 +55,7 @@ class FrostWindow:
                                 wake=glfw.post_empty_event, script=getattr(args, "script", ()))
         self.presenter = Presenter(moderngl.create_context(), params, getattr(args, "view", None))
         self.status = Status()
-        self.recorder = Recorder(args.screenshot_dir,
-                                 lambda text: self.thread.notify(logging.WARNING, text))
+        self.recorder = Recorder(args.screenshot_dir, self.thread.notify)
         self.capture = Capture(self.thread, self.presenter, self.status.say, args.screenshot_dir,
                                args.session_dir)
         self.actions = Actions(params, self.thread, self.presenter, self.status, self.capture,
@@ -224,9 +223,8 @@ class FrostWindow:
         self.status.presented(now, self._stats_lines)
 
     def _stats_lines(self, now: float) -> list[str]:
-        rec = self.recorder
         return self.status.lines(now, self.latest, self.actions.params, self.presenter.renderer,
-                                 f"REC {rec.count} frames" if rec.active else None,
+                                 self.recorder.readout(),
                                  self.presenter.render_ms,
                                  self.panel.readout(len(self.status.drawing.times)))
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from app.window.record import FRAME_GAP, MAX_FRAMES
 from sim import PRESETS
 from sim.screen import HEIGHT, WIDTH
 from sim.tuning import BUMP_STEP, HUMIDITY_FACTOR, LENGTH_STEP, TEMPERATURE_STEP
@@ -44,7 +45,8 @@ BINDINGS: tuple[Binding, ...] = (
     Binding(("N", "PERIOD"), "N .", "one tick while paused", "single_step"),
     Binding(("C",), "C", "clear the frost (and the touches)", "clear"),
     Binding(("S", "F12"), "S F12", f"screenshot ({WIDTH}x{HEIGHT} PNG)", "screenshot"),
-    Binding(("R",), "R", "record on / off (animated WebP)", "record"),
+    Binding(("R",), "R", "record on / off (animated WebP; at most "
+            f"{MAX_FRAMES} frames, {MAX_FRAMES * FRAME_GAP:g} s)", "record"),
     Binding(("E",), "E", "export frost maps (height, normal, alpha PNGs)", "export_maps"),
     Binding(("EQUAL", "KP_ADD"), "=", f"humidity up (x{HUMIDITY_FACTOR})", "scale",
             ("humidity", HUMIDITY_FACTOR)),

@@ -1,15 +1,19 @@
 """Recording: phone frames, downscaled and thinned, written as an animated WebP on stop.
 
 Each frame lasts in the file as long as it did on the screen (the time to the next frame
-kept), so a recording plays at the speed it was made, whatever the frame rate was.
-Encoding runs on a writer thread so the window keeps drawing; `close` waits for it.
+kept, the last one's until R stopped it), so a recording plays at the speed it was made,
+whatever the frame rate was. Frames wait in memory until the stop: a recording is written
+when it reaches MAX_FRAMES and then keeps no more frames until R ends it (R always starts
+or stops). Encoding runs on a writer thread so the window keeps drawing; `close` waits.
 """
 
 from __future__ import annotations
 
+import io
 import logging
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -23,8 +27,12 @@ log = logging.getLogger("app.window")
 # 380x640 and at most 12.5 frames a second: about 0.7 MB a frame.
 FRAME_SIZE = (380, 640)
 FRAME_GAP = 0.08  # s: a frame offered sooner after the last one kept is skipped
-# At most 30 s at the full rate (about 270 MB); recording stops and writes itself at the cap.
+# The frames held in memory: 30 s at the full rate, about 270 MB. At the cap the recording
+# is written and keeps no more frames; the next R ends it.
 MAX_FRAMES = 375
+QUALITY = 80  # WebP's lossy quality
+
+Tell = Callable[[int, str], None]  # (logging level, text): to the HUD and the log
 
 
 def recording_path(folder: str | Path, taken=()) -> Path:
@@ -47,47 +55,86 @@ def frame_durations(times: list[float], end: float) -> list[int]:
 def write_animation(frames: list[Image.Image], durations: list[int], path: Path) -> Path:
     """Encode `frames` (each shown its duration, ms) to `path` atomically (a half-written
     WebP never appears)."""
-    write_atomic(path, lambda f: frames[0].save(
-        f, format="WEBP", save_all=True, append_images=frames[1:], duration=durations,
-        loop=0, quality=80, method=0))
-    log.info("recording: %d frames (%.1f s) written to %s", len(frames), sum(durations) / 1000,
-             path)
+    first = frames[0].tobytes()
+    if all(f.tobytes() == first for f in frames[1:]):  # a still scene: one frame, all along
+        data = still_animation(frames[0], sum(durations))
+        write_atomic(path, lambda f: f.write(data))
+    else:
+        write_atomic(path, lambda f: frames[0].save(
+            f, format="WEBP", save_all=True, append_images=frames[1:], duration=durations,
+            loop=0, quality=QUALITY, method=0))
+    log.debug("recording: %d frames encoded into %s", len(frames), path)
     return path
 
 
+def still_animation(frame: Image.Image, duration: int) -> bytes:
+    """An animated WebP of one RGB frame shown `duration` ms. (libwebp merges identical
+    frames and writes a lone frame as a still image, which has no duration.) The frame's
+    bitstream in the container's animation chunks: VP8X, ANIM, then one ANMF."""
+    still = io.BytesIO()
+    frame.save(still, format="WEBP", quality=QUALITY, method=0)
+    bitstream = still.getvalue()[12:]  # after "RIFF", its size, "WEBP": the VP8 chunk
+    w, h = (_u24(n - 1) for n in frame.size)
+    body = (b"WEBP" + _chunk(b"VP8X", b"\x02\0\0\0" + w + h)  # flag: animation
+            + _chunk(b"ANIM", bytes(6))  # background 0, loop forever
+            + _chunk(b"ANMF", _u24(0) + _u24(0) + w + h + _u24(duration) + b"\x02" + bitstream))
+    return b"RIFF" + len(body).to_bytes(4, "little") + body
+
+
+def _chunk(tag: bytes, payload: bytes) -> bytes:
+    return tag + len(payload).to_bytes(4, "little") + payload + b"\0" * (len(payload) % 2)
+
+
+def _u24(n: int) -> bytes:
+    return n.to_bytes(3, "little")
+
+
 def _write_or_report(frames: list[Image.Image], durations: list[int], path: Path,
-                     report) -> None:
-    """The writer thread: a failure goes to `report`, never kills the app."""
+                     tell: Tell) -> None:
+    """The writer thread: done or failed, `tell` says so; nothing kills the app."""
     try:
         write_animation(frames, durations, path)
     except OSError as err:
-        report(f"recording NOT written: {why(err, path)}")
+        tell(logging.WARNING, f"recording NOT written: {why(err, path)}")
+        return
+    tell(logging.INFO, f"recording: {len(frames)} frames ({sum(durations) / 1000:.1f} s) "
+         f"written to {path}")
 
 
 class Recorder:
-    def __init__(self, folder: str | Path, report=None, clock=time.monotonic):
+    """R's recording: off, recording, or full (written at MAX_FRAMES, until R ends it)."""
+
+    def __init__(self, folder: str | Path, tell: Tell | None = None, clock=time.monotonic):
         self.folder, self.clock = folder, clock
-        # Where a failed write is told (from any thread): the window's HUD; else the log.
-        self.report = report or (lambda text: log.warning("%s", text))
+        # What it says, from any thread: the window's HUD and log; else the log.
+        self.tell = tell or log.log
         self.frames: list[Image.Image] | None = None
         self.times: list[float] = []  # when each frame kept was offered (clock's seconds)
+        self.full = False  # written at the cap; R ends it
         self.names: set[str] = set()  # stems of this run's recordings
         self._writers: list[threading.Thread] = []
 
     @property
     def active(self) -> bool:
+        """Keeping frames."""
         return self.frames is not None
 
     @property
     def count(self) -> int:
         return len(self.frames) if self.frames is not None else 0
 
+    def readout(self) -> str | None:
+        """The HUD's word for it: None while off."""
+        if self.full:
+            return f"REC full ({MAX_FRAMES} frames written, R ends)"
+        return f"REC {self.count} frames" if self.active else None
+
     def toggle(self) -> None:
-        self.stop() if self.active else self.start()
+        self.stop() if self.active or self.full else self.start()
 
     def start(self) -> None:
         self.frames, self.times = [], []
-        log.info("recording: started")
+        self.tell(logging.INFO, "recording: started")
 
     def offer(self, read) -> None:
         """A new phone frame is on the screen now; `read()` returns it (HxWx3 uint8,
@@ -99,23 +146,35 @@ class Recorder:
         self.frames.append(Image.fromarray(image).resize(FRAME_SIZE, Image.Resampling.BILINEAR))
         self.times.append(now)
         if len(self.frames) >= MAX_FRAMES:
-            log.info("recording: %d frames is the cap", MAX_FRAMES)
-            self.stop()
+            self.tell(logging.WARNING, f"recording: {MAX_FRAMES} frames is the cap: written, "
+                      "no more kept (R ends it)")
+            self._write(now + FRAME_GAP)
+            self.full = True
 
     def stop(self) -> None:
+        if self.full:
+            self.full = False
+            self.tell(logging.INFO, "recording: ended (written at the cap)")
+        elif not self.frames:
+            self.frames = None
+            self.tell(logging.INFO, "recording: stopped with no frames")
+        else:
+            self._write(self.clock())
+
+    def _write(self, end: float) -> None:
+        """The frames kept, the last one lasting until `end`, to a new file by a writer."""
         frames, self.frames = self.frames, None
-        if not frames:
-            log.info("recording: stopped with no frames")
-            return
-        durations = frame_durations(self.times, self.clock())
+        assert frames  # (stop and offer call it with frames kept)
+        durations = frame_durations(self.times, end)
         try:
             path = recording_path(self.folder, self.names)
         except OSError as err:
-            self.report(f"recording: {len(frames)} frames lost: {why(err, self.folder)}")
+            self.tell(logging.WARNING,
+                      f"recording: {len(frames)} frames lost: {why(err, self.folder)}")
             return
         self.names.add(path.stem)
         writer = threading.Thread(target=_write_or_report, name="frost-rec",
-                                  args=(frames, durations, path, self.report))
+                                  args=(frames, durations, path, self.tell))
         writer.start()
         self._writers.append(writer)
 
