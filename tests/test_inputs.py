@@ -219,6 +219,13 @@ def test_figure8_passes_its_overrides_by_their_parameter_names(stubbed, tmp_path
     assert stubbed[0][0].neighbor_search == "grid9"
 
 
+@pytest.mark.parametrize("env, words", [
+    ({}, "DISPLAY is unset"), ({"DISPLAY": ""}, "DISPLAY set but empty"),
+    ({"DISPLAY": "", "WAYLAND_DISPLAY": ""}, "DISPLAY and WAYLAND_DISPLAY set but empty")])
+def test_no_display_is_worded_as_the_environment_has_it(env, words):
+    assert commands.no_display_words(env) == words
+
+
 def test_a_headless_replay_leaves_the_parameters_to_the_session(stubbed, tmp_path, monkeypatch):
     monkeypatch.setattr(commands, "display_problem", lambda: "DISPLAY is unset")
     status, err = run_main(with_paths(["replay", "SESSION"], tmp_path))

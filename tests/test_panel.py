@@ -211,7 +211,11 @@ def test_loading_a_set_keeps_the_sessions_grid_spacing(tmp_path):
     save_params(tmp_path / "set.json", wanted)
     actions.run("load_params", str(tmp_path / "set.json"))
     assert actions.params == wanted.replace(grid_spacing=4)
-    assert any("grid_spacing stays 4" in line for line in said.lines)
+    assert len(said.lines) == 1 and said.lines[0].startswith(
+        f"params loaded from {tmp_path / 'set.json'} (grid_spacing stays 4, set at start): "
+        "humidity=5000 ")
+    actions.run("load_params", str(tmp_path / "set.json"))
+    assert said.lines[-1].endswith("(grid_spacing stays 4, set at start): unchanged")
     actions.run("load_params", str(tmp_path / "missing.json"))
     assert said.lines[-1].startswith("params NOT loaded: ") and "\n" not in said.lines[-1]
     assert actions.params == wanted.replace(grid_spacing=4)

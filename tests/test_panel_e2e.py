@@ -140,7 +140,7 @@ def session(app: subprocess.Popen, log: Path) -> dict:
     wait_for(log, r"params: hc=", 2)
     load = widget(log, "load_params")
     click(wid, load[0] + load[2] / 2, load[1] + load[3] / 2)
-    wait_for(log, r"params: hc=", 3)
+    wait_for(log, r"params loaded from \S+: hc=")
     time.sleep(1.0)
     shoot = widget(log, "screenshot")
     click(wid, shoot[0] + shoot[2] / 2, shoot[1] + shoot[3] / 2)  # the button, not S

@@ -100,7 +100,7 @@ def test_the_app_survives_the_scribble_and_quits_on_esc(run):
 def test_every_tuning_key_was_applied(run):
     # Each key that changes a parameter becomes a recorded rebuild in the session saved on
     # exit: none is lost in the input backlog (several may share a tick under load).
-    changed = len(re.findall(r"params: (?!unchanged)", run["log"]))
+    changed = len(re.findall(r"(?:params|preset \S+): (?!unchanged)", run["log"]))
     assert changed >= len(TUNING_KEYS) - 3  # a preset key may repeat the values it has
     saved = re.findall(r"session: (\S+\.json) \(", run["log"])[-1]
     events = json.loads(Path(saved).read_text())["events"]

@@ -378,6 +378,80 @@ def test_the_hud_shows_ticks_per_second_fps_while_drawing_and_the_tick_median():
     assert lines[-2] == "PAUSED  REC 4 frames"
 
 
+def test_the_hud_says_paused_not_a_tick_rate_while_paused():
+    stats = simthread.Stats(tick=9, tick_ms=0.1, crystals=5, water=7, rate=25.0, overruns=0,
+                            paused=True, tick_median_ms=0.1)
+    lines = Status().lines(0.0, simthread.Snapshot(None, stats, Params(), ()), Params(), VIEW,
+                           None, 1.5)
+    assert lines[0] == "sim paused  tick median  0.1 ms  overruns 0" and lines[-2] == "PAUSED"
+
+
+VIEW = type("View", (), {"show_features": True, "show_bumps": False, "light": (0.0, 0.0, 1.0)})()
+
+
+def window_keys(params: Params):
+    """The window's key handler over a simulation thread, with the HUD's Status."""
+    import glfw
+
+    from app.window.actions import Actions
+
+    thread, status = SimThread(params, 0, [(380, 640)]), Status()
+    actions = Actions(params, thread, None, status, None, None, lambda: None, lambda: None,
+                      lambda: None)
+
+    def press(key: str) -> list[str]:
+        """`key` pressed, a tick applied as the window applies it: the HUD's lines."""
+        actions.on_key(None, getattr(glfw, f"KEY_{key}"), 0, glfw.PRESS, 0)
+        thread._tick()
+        for snap in thread.drain():
+            if snap.message:
+                status.say(snap.message)
+        return status.lines(time.monotonic(), snap, actions.params, VIEW, None, 1.0)
+
+    return press
+
+
+def test_t_and_y_show_the_temperature_in_the_hud_with_the_rebuild_they_made():
+    press = window_keys(Params.preset("window"))
+    lines = press("T")
+    assert "temperature -12 C" in lines[3]  # the parameters' line (10 C below 0, then 2 more)
+    assert lines[-3:] == ["params: temperature=12",
+                          "rebuilt with 1 touch replanted at tick 0", "H help"]
+    assert "temperature -10 C" in press("Y")[3]
+
+
+def test_a_refused_t_in_the_fern_look_says_what_to_do():
+    lines = window_keys(Params.preset("fern"))("T")
+    assert lines[-2] == ("refused: temperature=12.0 needs window_frost=True: press W (the "
+                         "frosted window) first")
+    assert "temperature" not in lines[3]
+
+
+def test_the_hud_keeps_the_last_messages_for_their_time(monkeypatch):
+    from app.window import status as hud
+
+    clock = StepClock()
+    monkeypatch.setattr(hud.time, "monotonic", clock)
+    status = Status()
+    for k, text in enumerate(["a", "b", "c", "d"]):
+        clock.now = k
+        status.say(text)
+    shown = [status.lines(now, None, Params(), VIEW, None, 1.0)[6:-1] for now in (3.5, 5.5)]
+    # MESSAGES_SHOWN (3) at most, each for MESSAGE_SECONDS (4 s) from when it was said.
+    assert shown == [["b", "c", "d"], ["c", "d"]]
+
+
+@pytest.mark.parametrize("ticks, melts, words", [
+    ([], 0, "rebuilt: nothing to replant (no touch yet)"),
+    ([4], 0, "rebuilt with 1 touch replanted at tick 4"),
+    ([4, 9], 1, "rebuilt with 2 touches replanted in their order by tick 9 and 1 melt at its tick"),
+    ([4, 9, 2], 3, "rebuilt with 3 touches replanted in their order by tick 9 and 3 melts at "
+     "their ticks")])
+def test_a_rebuild_is_worded_in_the_singular_and_plural(ticks, melts, words):
+    from sim.io.session import rebuilt_words
+    assert rebuilt_words(ticks, melts) == words
+
+
 # ---- the session kept on disk ---------------------------------------------------------------
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import os
 import re
 import sys
 
@@ -212,10 +213,16 @@ RUN = {None: _window, "render": _render, "replay": _replay, "figure8": _figure8,
        "figure": _figure, "maps": _maps, "bench": _bench_render}
 
 
+def no_display_words(env) -> str:
+    """Why `env` names no display: DISPLAY (and WAYLAND_DISPLAY) unset, or set to nothing."""
+    empty = [name for name in ("DISPLAY", "WAYLAND_DISPLAY") if env.get(name) == ""]
+    return f"{' and '.join(empty)} set but empty" if empty else "DISPLAY is unset"
+
+
 def display_problem() -> str | None:
     """Why no window can open here (None: it can), e.g. DISPLAY naming no server."""
     if not has_display():
-        return "DISPLAY is unset"
+        return no_display_words(os.environ)
     from app.window.glfw_setup import display_problem as probe
     return probe()
 

@@ -23,6 +23,9 @@ from sim.io.paramsets import load_params, save_params
 # Actions that repeat while their key is held.
 REPEATING = {"single_step", "scale", "shift", "light"}
 MAX_LIGHT_TILT = 0.95  # |xy| of the unit light vector: it never grazes the glass
+# What to do about a change refused for a mode that is off (the end of Params' message).
+REFUSED_HINTS = {"needs window_frost=True": "press W (the frosted window) first",
+                 "needs grains=True": "press 0 (fern) or W (the frosted window) first"}
 
 
 def moved_light(light, dx: float, dy: float) -> tuple[float, float, float]:
@@ -118,7 +121,7 @@ class Actions:
 
     def _preset(self, name: str) -> None:
         self.preset = name
-        self._tune(tuning.preset, name)
+        self._tune(tuning.preset, name, said=f"preset {name}")
 
     def _save_params(self, path: str) -> None:
         try:
@@ -137,33 +140,42 @@ class Actions:
             self.status.say(f"params NOT loaded: {err}", logging.WARNING)
             return
         keep = self.params.grid_spacing
-        if loaded.grid_spacing != keep:
-            self.status.say(f"params: grid_spacing stays {keep} (set at start)", logging.WARNING)
-        self._tune(lambda p: loaded.replace(grid_spacing=keep))
+        kept = f" (grid_spacing stays {keep}, set at start)" if loaded.grid_spacing != keep else ""
+        self._tune(lambda p: loaded.replace(grid_spacing=keep),
+                   said=f"params loaded from {path}{kept}")
 
     def _move_light(self, arg) -> None:
         self.presenter.renderer.light = moved_light(self.presenter.renderer.light, *arg)
         self.redraw()
 
-    def _tune(self, change, *arg) -> None:
+    def _tune(self, change, *arg, said: str = "params") -> None:
+        """The parameters changed by `change(params, *arg)`, sent to the thread; the HUD
+        names each value changed after `said`, or says why nothing changed."""
         try:
             params = change(self.params, *arg)
         except ValueError as err:
-            self.status.say(f"refused: {err}", logging.WARNING)
+            self.status.say(f"refused: {refusal(err)}", logging.WARNING)
             return
         changed = tuning.differences(self.params, params)
         if not changed:
-            self.status.say("params: unchanged")
+            self.status.say(f"{said}: unchanged")
             return
         self.params = params
         self.thread.send("params", params)
-        self.status.say("params: " + " ".join(f"{k}={_number(v)}" for k, v in changed.items()))
+        self.status.say(f"{said}: " + " ".join(f"{k}={_number(v)}" for k, v in changed.items()))
 
 
 def first_preset(params: Params) -> str:
     """The preset `params` follows (the first of Table 1's twins), else the default look."""
     name = preset_name(params).split("/")[0]
     return DEFAULT_PRESET if name == "custom" else name
+
+
+def refusal(err: ValueError) -> str:
+    """Why a change was refused, and what to do where a mode it needs is off."""
+    text = str(err)
+    hint = next((h for end, h in REFUSED_HINTS.items() if text.endswith(end)), None)
+    return f"{text}: {hint}" if hint else text
 
 
 def _number(v) -> str:

@@ -21,6 +21,9 @@ LOG_PERIOD = 2.0  # s between stats lines in the log
 DRAW_WINDOW = 2.0
 IDLE_GAP = 0.5
 MESSAGE_SECONDS = 4.0
+# The HUD shows the last few messages (a parameter change and the rebuild it made come
+# in the same frame): each for MESSAGE_SECONDS, the newest last.
+MESSAGES_SHOWN = 3
 # What the two click latencies of the log measure: the first frame showing the seed's
 # frost, and the first frame showing a crystal that froze onto that seed.
 LATENCY_NOTES = {"frost": "seed shown", "growth": "first crystal frozen onto the seed"}
@@ -55,7 +58,7 @@ class Status:
         self.frames = 0
         self.drawing = DrawRate()
         self.fps: float | None = None  # while drawing; None: idle
-        self.message, self.message_until = "", 0.0
+        self.messages: deque[tuple[str, float]] = deque(maxlen=MESSAGES_SHOWN)  # (text, until)
         self.latencies: list[tuple[str, int, float]] = []  # (kind, ticks, ms)
         self.clicks_pending: list[tuple[str, tuple[int, float], int]] = []
         self.drags: list[tuple[int, int, float]] = []  # right drags whose melts are not all shown
@@ -67,7 +70,7 @@ class Status:
     def say(self, text: str, level: int = logging.INFO) -> None:
         """A message for the HUD (shown MESSAGE_SECONDS) and the log."""
         log.log(level, "%s", text)
-        self.message, self.message_until = text, time.monotonic() + MESSAGE_SECONDS
+        self.messages.append((text, time.monotonic() + MESSAGE_SECONDS))
         self.hud_next = 0.0
 
     def melted(self, last: int, melts: int, radius: float) -> None:
@@ -117,19 +120,20 @@ class Status:
         p = snap.params if snap else params  # what the frame shows
         state = [w for w in ("PAUSED" if s.paused else None, recording) if w]
         drawing = "idle (nothing changed)" if self.fps is None else f"{self.fps:4.1f} fps"
+        rate = "paused" if s.paused else f"{s.rate:4.1f} ticks/s"
         lines = [
-            f"sim {s.rate:4.1f} ticks/s  tick median {s.tick_median_ms:4.1f} ms  "
+            f"sim {rate}  tick median {s.tick_median_ms:4.1f} ms  "
             f"overruns {s.overruns}" + (f"  input waiting {s.waiting}" if s.waiting else ""),
             f"drawing {drawing}  render {render_ms:4.1f} ms" + (f"  {panel}" if panel else ""),
             f"tick {s.tick}  crystals {s.crystals}  water {s.water}  preset {preset_name(p)}",
             f"hc {p.hc:g}  D {p.D:g}  humidity {p.humidity}  step {p.step:g}  bump {p.bump:g}  "
-            f"grow {onoff(p.grow)}",
+            f"grow {onoff(p.grow)}" + (f"  temperature -{p.temperature:g} C" if p.window_frost
+                                       else ""),
             f"look {p.look}  features {onoff(view.show_features)}  bumps {onoff(view.show_bumps)}  "
             "light ({:.2f}, {:.2f}, {:.2f})".format(*view.light),
             "  ".join(state) or "running",
         ]
-        if now < self.message_until:
-            lines.append(self.message)
+        lines += [text for text, until in self.messages if now < until]
         return lines + ["H help"]
 
     def summary(self, snap: Snapshot | None, renders: int, ticks: int, screenshots: int,

@@ -328,6 +328,19 @@ class Applied:
     message: str | None = None
 
 
+def rebuilt_words(ticks: list[int], melts: int) -> str:
+    """What a rebuild regrows: the touches (planted at `ticks`) and `melts` melts."""
+    if not ticks:
+        planted = "nothing to replant (no touch yet)" if not melts else "no touch"
+    elif len(ticks) == 1:
+        planted = f"1 touch replanted at tick {ticks[0]}"
+    else:
+        planted = f"{len(ticks)} touches replanted in their order by tick {max(ticks)}"
+    again = {0: "", 1: " and 1 melt at its tick"}.get(melts, f" and {melts} melts at their ticks")
+    return f"rebuilt: {planted}{again}" if not ticks and not melts else \
+        f"rebuilt with {planted}{again}"
+
+
 class Timeline:
     """A FrostSim and its FrostGeometry driven by events (see the module docstring)."""
 
@@ -465,9 +478,7 @@ class Timeline:
             return
         self._rebuild(params, notes)
         ticks = [t for t, _x, _y in self.touch_ticks()]
-        melts = sum(e["kind"] == "melt" for e in self._pending)
-        notes["message"] = (f"rebuilt with {len(ticks)} touches replanted in their order by "
-                            f"tick {max(ticks, default=0)} and {melts} melts at their ticks")
+        notes["message"] = rebuilt_words(ticks, sum(e["kind"] == "melt" for e in self._pending))
 
     def _relook(self, params: Params, notes: dict) -> None:
         self.params, self.geometry = params, FrostGeometry(params, *self.size, wrap=self.wrap)
