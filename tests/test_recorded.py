@@ -25,7 +25,7 @@ from app.simthread.thread import SimThread
 from app.window.record import Recorder
 from sim import Params
 from sim.io.files import write_all_atomic, write_atomic
-from sim.io.session import SessionLog, replay
+from sim.io.session import Backlog, SessionLog, replay
 from sim.look.maps import live_segments
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -61,6 +61,49 @@ def test_snapshots_do_not_change_when_the_simulation_goes_on():
     for d, (heights, features) in zip((snap.delta, *melt_snap.melts), kept, strict=True):
         assert np.array_equal(d.heights, heights) and np.array_equal(d.features, features)
     assert snap.touches == ((380.0, 640.0),)
+
+
+class HeightsShown:
+    """The renderer's height grid on the CPU, fed snapshots as Snapshot's fields say: clear
+    when `reset`, then the `melts`, then `delta` (each delta clears first if it resets)."""
+
+    def __init__(self, thread: SimThread):
+        self.grid = np.zeros_like(thread.geometry.heights)
+
+    def show(self, snaps) -> None:
+        for snap in snaps:
+            if snap.reset:
+                self.grid[:] = 0
+            for delta in (*snap.melts, *([snap.delta] if snap.delta is not None else [])):
+                if delta.reset:
+                    self.grid[:] = 0
+                self.grid[delta.rows] = delta.heights
+
+
+@pytest.mark.parametrize("paused", [False, True])
+@pytest.mark.parametrize("order", [("melt", "params"), ("params", "melt")])
+def test_a_melt_and_a_parameter_change_in_one_tick_show_the_new_frost_only(order, paused,
+                                                                          monkeypatch):
+    """The frame after a tick holding a melt and a rebuild is the thread's own heights: the
+    melt of the frost the rebuild replaced must not reach the renderer after its reset
+    (paused, no step's delta follows to cover it)."""
+    from app.simthread import thread as simthread  # every command sent applies at one tick
+    monkeypatch.setattr(simthread, "Backlog", lambda **kw: Backlog(**kw, clock=lambda: 0.0))
+    thread = SimThread(PARAMS, 1, [(380.0, 640.0)])
+    shown = HeightsShown(thread)
+    shown.show(ticked(thread, 12))
+    assert np.array_equal(shown.grid, thread.geometry.heights) and shown.grid.any()
+    # A melt smaller than the frost: the rows it sends hold the ice left around it.
+    args = {"melt": (380.0, 640.0, 10.0), "params": PARAMS.replace(hc=PARAMS.hc + 0.5),
+            "pause": None}
+    for kind in ("pause",) * paused + order:
+        thread.send(kind, args[kind])
+    (snap,) = ticked(thread, 1)
+    assert snap.reset and (snap.delta is None) == paused
+    shown.show([snap])
+    assert np.array_equal(shown.grid, thread.geometry.heights)
+    shown.show(ticked(thread, 5))
+    assert np.array_equal(shown.grid, thread.geometry.heights)
 
 
 def test_exported_arrays_are_copies_the_simulation_cannot_change(monkeypatch):
@@ -140,6 +183,23 @@ def test_a_screenshot_states_the_snapshot_shown_not_a_key_pressed_since(tmp_path
     log_ = SessionLog.load(text["session"])
     assert replay(log_).params == PARAMS and log_.view == VIEW and log_.steps == 5
     assert said[-1] == (logging.INFO, f"screenshot: {shot}")
+
+
+def test_a_screenshot_states_the_frame_shown_though_the_thread_ticked_past_it(tmp_path):
+    """The window draws snapshot 5 while the thread has ticked to 9 and planted a touch
+    (those snapshots not yet drained): the PNG and its session state tick 5."""
+    win, said = window_standin(tmp_path, tmp_path / "shots", tmp_path / "sessions")
+    win.latest = ticked(win.thread, 5)[-1]
+    win.thread.send("touch", ((200.0, 300.0), None))
+    ticked(win.thread, 4)
+    assert win.thread.sim.tick == 9
+    take_shot(win)
+    (shot,) = win.capture.screenshots
+    text = Image.open(shot).text
+    assert text["tick"] == "5" and json.loads(text["touches"]) == [[0, 380.0, 640.0]]
+    log_ = SessionLog.load(text["session"])
+    assert log_.steps == 5 and [e["kind"] for e in log_.events] == ["touch"]
+    assert replay(log_).sim.tick == 5
 
 
 @pytest.mark.parametrize("bad", ["shots", "sessions", "both"])
