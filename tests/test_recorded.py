@@ -25,7 +25,7 @@ from app.simthread.thread import SimThread
 from app.window.record import Recorder
 from sim import Params
 from sim.io.files import write_all_atomic, write_atomic
-from sim.io.session import Backlog, SessionLog, replay
+from sim.io.session import SessionLog, replay
 from sim.look.maps import live_segments
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -88,7 +88,8 @@ def test_a_melt_and_a_parameter_change_in_one_tick_show_the_new_frost_only(order
     melt of the frost the rebuild replaced must not reach the renderer after its reset
     (paused, no step's delta follows to cover it)."""
     from app.simthread import thread as simthread  # every command sent applies at one tick
-    monkeypatch.setattr(simthread, "Backlog", lambda **kw: Backlog(**kw, clock=lambda: 0.0))
+    backlog = simthread.Backlog
+    monkeypatch.setattr(simthread, "Backlog", lambda **kw: backlog(**kw, clock=lambda: 0.0))
     thread = SimThread(PARAMS, 1, [(380.0, 640.0)])
     shown = HeightsShown(thread)
     shown.show(ticked(thread, 12))
