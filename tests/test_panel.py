@@ -182,12 +182,12 @@ def test_a_panel_change_is_a_key_change_recorded_at_its_tick():
     keys, _ = actions_on(by_key, params)
     for thread in (by_panel, by_key):
         for _ in range(20):
-            thread._tick()
+            thread.tick()
     panel.run("set_param", ("hc", 8.0))
     keys.run("shift", ("hc", 1.0))  # what `]` does twice
     for thread in (by_panel, by_key):
         for _ in range(5):
-            thread._tick()
+            thread.tick()
     recorded = [t.session().events for t in (by_panel, by_key)]
     assert recorded[0] == recorded[1]
     change = [e for e in recorded[0] if e["kind"] == "params"]

@@ -41,7 +41,7 @@ def unwritable(tmp_path: Path) -> Path:
 
 def ticked(thread: SimThread, n: int) -> list:
     for _ in range(n):
-        thread._tick()
+        thread.tick()
     return thread.drain()
 
 

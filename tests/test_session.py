@@ -53,7 +53,7 @@ def live_session(ticks: int = 60) -> tuple[SimThread, list]:
     for k in range(ticks):
         for kind, arg in script.get(k, ()):
             thread.send(kind, arg)
-        thread._tick()
+        thread.tick()
         snaps.extend(thread.drain())
     return thread, snaps
 
@@ -144,7 +144,7 @@ def test_a_windowed_replay_drives_the_thread_through_the_same_events():
     log = thread.session(snaps[-1].steps, snaps[-1].events)
     again = SimThread(Params(**log.params), log.seed, script=log.events)
     for _ in range(log.steps):  # the live session paused one tick; a replay does not
-        again._tick()
+        again.tick()
     assert again.session().events == log.events
     same_frost(again.sim, thread.sim)
 
@@ -171,7 +171,7 @@ def test_a_recording_that_ends_where_a_rebuilt_melt_is_due_replays_the_same(paus
     for k in range(47 if pause else 45):
         if k in plan:
             thread.send(*plan[k])
-        thread._tick()
+        thread.tick()
     snap = thread.drain()[-1]
     assert thread.sim.tick == 20 and thread.timeline.pending  # the melt waits for a step
     same_frost(replay(thread.session(snap.steps, snap.events)).sim, thread.sim)
@@ -271,11 +271,11 @@ def test_a_melt_and_a_rebuild_in_one_tick_replay_bit_for_bit(tmp_path, order):
     by the rebuilt frost; the one after it melts the rebuilt frost at once."""
     thread = SimThread(PARAMS, 4, [(380.0, 640.0)])
     for _ in range(25):
-        thread._tick()
+        thread.tick()
     for kind in order:
         thread.send(kind, (380.0, 640.0, 30.0) if kind == "melt" else PARAMS.replace(humidity=4000))
     for _ in range(30):  # the rebuilt frost passes tick 25 again
-        thread._tick()
+        thread.tick()
     snaps = thread.drain()
     log = thread.session(snaps[-1].steps, snaps[-1].events)
     assert [e["kind"] for e in log.events] == ["touch", *order]
@@ -358,15 +358,15 @@ def test_melts_sent_at_one_paused_tick_but_apart_replay_as_they_applied(tmp_path
     # apart apply as two groups at the same tick; the replay keeps them apart.
     thread = SimThread(PARAMS, 4, [(380.0, 640.0)])
     for _ in range(40):
-        thread._tick()
+        thread.tick()
     thread.send("pause")
-    thread._tick()
+    thread.tick()
     for x in (370.0, 395.0):
         thread.send("melt", (x, 640.0, 20.0))
-        thread._tick()
+        thread.tick()
     thread.send("pause")
     for _ in range(20):
-        thread._tick()
+        thread.tick()
     snaps = thread.drain()
     log = thread.session(snaps[-1].steps, snaps[-1].events)
     melts = [e for e in log.events if e["kind"] == "melt"]

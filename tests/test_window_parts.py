@@ -16,6 +16,7 @@ from hypothesis import strategies as st
 from PIL import Image
 
 from app.simthread import thread as simthread
+from app.simthread.schedule import RATE_WINDOW
 from app.simthread.thread import SimThread
 from app.window import keys, lost_display
 from app.window.capture import AUTOSAVE_PERIOD, Capture
@@ -123,12 +124,12 @@ def test_drag_path_points_are_evenly_spaced():
 
 
 class FakeClock:
-    """Time for SimThread._loop that moves only when the loop waits or a tick works
-    (`work` seconds per step); the loop stops after `ticks` ticks."""
+    """Time for the thread's schedule that moves only when it waits or a tick works
+    (`work` seconds per step); the schedule stops after `ticks` ticks."""
 
     def __init__(self, thread: SimThread, work: float, ticks: int):
         self.now, self.starts, self.ticks = 100.0, [], ticks
-        thread.clock, thread._wait = (lambda: self.now), self.wait
+        thread.schedule.clock, thread.schedule.wait = (lambda: self.now), self.wait
         step = thread.timeline.step
 
         def working_step():
@@ -147,7 +148,7 @@ class FakeClock:
 def test_ticks_every_dt_on_the_clock_with_immutable_snapshots():
     thread = SimThread(Params(), 0, [(380, 640)])
     clock = FakeClock(thread, work=0.012, ticks=50)
-    thread._loop()
+    thread.schedule.run(thread.tick)
     snaps = thread.drain()
     np.testing.assert_allclose(np.diff(clock.starts), 0.04)  # 25 per second, on schedule
     assert clock.starts[0] == pytest.approx(100.04)
@@ -162,12 +163,12 @@ def test_ticks_every_dt_on_the_clock_with_immutable_snapshots():
 def test_a_late_tick_skips_the_missed_slots_and_counts_them(work, gap, skipped):
     thread = SimThread(Params(), 0, dt=0.04)
     clock = FakeClock(thread, work=work, ticks=10)
-    thread._loop()
+    thread.schedule.run(thread.tick)
     snaps = thread.drain()
     np.testing.assert_allclose(np.diff(clock.starts), gap)  # no catching up
     # A snapshot reports the slots skipped before its tick; the thread counts them all.
     assert [s.stats.overruns for s in snaps] == [skipped * k for k in range(10)]
-    assert thread.overruns == 10 * skipped
+    assert thread.schedule.overruns == 10 * skipped
     assert snaps[-1].stats.rate == pytest.approx(1 / gap)
 
 
@@ -186,7 +187,7 @@ def test_the_real_clock_keeps_the_rate_printed_not_asserted():
 def test_touch_applies_at_the_next_tick():
     thread = SimThread(Params(), 0)
     thread.send("touch", ((100.0, 200.0), (0, time.monotonic())))
-    thread._tick()
+    thread.tick()
     snap = thread.drain()[-1]
     assert snap.touches == ((100.0, 200.0),) and snap.stats.crystals >= 1
     assert len(snap.clicks) == 1
@@ -195,15 +196,15 @@ def test_touch_applies_at_the_next_tick():
 def test_param_change_rebuilds_and_replays_the_touches_deterministically():
     a = SimThread(Params(), 3, [(380, 640)])
     for _ in range(5):
-        a._tick()
+        a.tick()
     a.send("params", Params(hc=8.0))
     for _ in range(20):
-        a._tick()
+        a.tick()
     snaps = a.drain()
     assert snaps[5].reset and snaps[5].params.hc == 8.0 and snaps[5].stats.tick == 1
     b = SimThread(Params(hc=8.0), 3, [(380, 640)])
     for _ in range(20):
-        b._tick()
+        b.tick()
     assert np.array_equal(a.sim.crystals, b.sim.crystals)
 
 
@@ -212,14 +213,14 @@ def test_every_map_export_asked_for_is_written_even_in_one_tick_or_at_stop(tmp_p
     folders, each with its three maps, and a notice for each; none overwrites another."""
     thread = SimThread(Params(), 0, [(380, 640)])
     folders = [tmp_path / f"maps-{i}" for i in range(5)]
-    thread._tick()
+    thread.tick()
     for folder in folders[:3]:
         thread.send("export", folder)
-    thread._tick()
+    thread.tick()
     for folder in folders[3:]:
         thread.send("export", folder)
     thread.stop()
-    notices = [text for _, text in simthread._take_all(thread.notices)]
+    notices = [text for _, text in simthread.take_all(thread.notices)]
     for folder in folders:
         assert sorted(p.name for p in folder.iterdir()) == ["alpha.png", "height.png",
                                                             "normal.png"]
@@ -230,10 +231,10 @@ def test_every_map_export_asked_for_is_written_even_in_one_tick_or_at_stop(tmp_p
 def test_pause_and_single_step():
     thread = SimThread(Params(), 0, [(380, 640)])
     thread.send("pause")
-    thread._tick()
-    thread._tick()
+    thread.tick()
+    thread.tick()
     thread.send("step")
-    thread._tick()
+    thread.tick()
     snaps = thread.drain()
     assert [s.stats.tick for s in snaps] == [0, 0, 1]
     assert snaps[0].delta is None and snaps[2].delta is not None
@@ -243,9 +244,9 @@ def test_a_click_while_paused_is_timed_when_it_shows():
     thread = SimThread(Params(), 0)
     thread.send("pause")
     thread.send("touch", ((100.0, 200.0), (0, 0.0)))
-    thread._tick()
+    thread.tick()
     thread.send("step")
-    thread._tick()
+    thread.tick()
     first, second = thread.drain()
     assert first.clicks == () and second.clicks == ((0, 0.0),)
 
@@ -255,7 +256,7 @@ def test_a_click_is_reported_grown_once_at_the_tick_its_seed_first_gets_a_child(
     thread.send("touch", ((380.0, 640.0), (0, 1.0)))
     seed, reported, first_child = 1, [], None
     for _ in range(60):
-        thread._tick()
+        thread.tick()
         snap = thread.drain()[-1]
         reported += [(snap.stats.tick, click) for click in snap.grown]
         if first_child is None and (thread.sim.parents == seed).any():  # the oracle
@@ -266,11 +267,11 @@ def test_a_click_is_reported_grown_once_at_the_tick_its_seed_first_gets_a_child(
 def test_a_rebuild_forgets_the_seeds_it_renumbered():
     thread = SimThread(Params(), 0)
     thread.send("touch", ((380.0, 640.0), (0, 1.0)))
-    thread._tick()
+    thread.tick()
     thread.send("params", Params(hc=8.0))  # the touch is replanted, but not as a click
     grown = []
     for _ in range(60):
-        thread._tick()
+        thread.tick()
         grown += thread.drain()[-1].grown
     assert (thread.sim.parents == 0).any() and grown == []
 
@@ -291,7 +292,7 @@ def test_a_right_drag_is_logged_when_a_frame_shows_all_its_melts(monkeypatch, ca
     for k in range(3):
         if not together:
             sent.append(thread.send("melt", (xs[k], 640.0, 20.0)))
-        thread._tick()
+        thread.tick()
         for snap in thread.drain():
             status.shown(snap)
         status.presented(time.monotonic(), lambda now: [])
@@ -313,9 +314,9 @@ def test_the_summary_gives_each_latency_kind_its_count_median_and_worst():
 
 def test_clear_drops_touches_and_resets():
     thread = SimThread(Params(), 0, [(380, 640)])
-    thread._tick()
+    thread.tick()
     thread.send("clear")
-    thread._tick()
+    thread.tick()
     snap = thread.drain()[-1]
     assert snap.reset and snap.touches == () and snap.stats.crystals == 0
 
@@ -348,10 +349,10 @@ def test_the_draw_rate_counts_redraws_while_drawing_and_reads_idle_between():
 def test_the_tick_median_is_the_median_of_the_last_ticks_shown():
     thread = SimThread(Params(), 0, [(380, 640)])
     for _ in range(70):
-        thread._tick()
+        thread.tick()
     snaps = thread.drain()
-    last = sorted(s.stats.tick_ms for s in snaps[-simthread.RATE_WINDOW:])
-    middle = simthread.RATE_WINDOW // 2
+    last = sorted(s.stats.tick_ms for s in snaps[-RATE_WINDOW:])
+    middle = RATE_WINDOW // 2
     assert snaps[-1].stats.tick_median_ms == pytest.approx((last[middle - 1] + last[middle]) / 2)
 
 
@@ -402,7 +403,7 @@ def window_keys(params: Params):
     def press(key: str) -> list[str]:
         """`key` pressed, a tick applied as the window applies it: the HUD's lines."""
         actions.on_key(None, getattr(glfw, f"KEY_{key}"), 0, glfw.PRESS, 0)
-        thread._tick()
+        thread.tick()
         for snap in thread.drain():
             if snap.message:
                 status.say(snap.message)
@@ -474,7 +475,7 @@ def keeper(tmp_path) -> tuple[SimThread, Capture, list[str], FakeRenderer]:
 
 def ticked(thread: SimThread, ticks: int):
     for _ in range(ticks):
-        thread._tick()
+        thread.tick()
     return thread.drain()[-1]
 
 
@@ -524,7 +525,7 @@ def test_a_session_that_cannot_be_kept_is_told_once(tmp_path):
     for k in range(3):
         capture.keep_session(ticked(thread, 1), k * AUTOSAVE_PERIOD)
         capture.wait_kept()
-    told = [text for _, text in simthread._take_all(thread.notices)]
+    told = [text for _, text in simthread.take_all(thread.notices)]
     assert len(told) == 1 and told[0].startswith("session NOT saved: ") and said == []
 
 
@@ -727,10 +728,10 @@ def test_the_thread_tells_its_backlog_what_each_step_cost(monkeypatch):
     thread = SimThread(Params.preset("c-3"), 0, [(380, 640)])
     told: list[float] = []
     thread.backlog.stepped = told.append  # type: ignore[method-assign]
-    thread._tick()
+    thread.tick()
     assert told == [3.0]
     thread.paused = True
-    thread._tick()  # no step while paused: nothing to learn
+    thread.tick()  # no step while paused: nothing to learn
     assert told == [3.0]
 
 

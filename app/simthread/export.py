@@ -37,3 +37,35 @@ def write_maps(folder, grid, segments, params, meta, notify: Notify, triangles=N
         notify(logging.WARNING, f"frost maps NOT written: {why(err, folder)}")
         return
     notify(logging.INFO, "frost maps written: " + ", ".join(str(p) for p in paths.values()))
+
+
+class MapExports:
+    """The map exports asked for: each written at the tick after it was asked (the tick the
+    snapshot then shows), by a worker; `finish` writes those still asked for at the end."""
+
+    def __init__(self, notify: Notify):
+        self.notify = notify
+        self.asked: list = []  # folders asked for in the tick being made
+        self.writers: list[threading.Thread] = []
+
+    def ask(self, folder) -> None:
+        self.asked.append(folder)
+
+    def write_asked(self, timeline: Timeline, seed: int) -> None:
+        """The folders asked for in this tick, written from its timeline's state now."""
+        asked, self.asked = self.asked, []
+        for folder in asked:
+            self.writers.append(export_now(folder, timeline, seed, self.notify))
+
+    def finish(self, folders, timeline: Timeline | None, seed: int) -> None:
+        """`folders` asked for but never taken by a tick: written from `timeline` (the
+        last tick's; None: a tick was still running, so reported not written), then
+        every writer waited for."""
+        for folder in folders:
+            if timeline is None:
+                self.notify(logging.WARNING, f"frost maps NOT written: {folder}: the "
+                            "simulation did not stop")
+            else:
+                self.writers.append(export_now(folder, timeline, seed, self.notify))
+        for writer in self.writers:
+            writer.join()

@@ -11,26 +11,22 @@ from __future__ import annotations
 
 import logging
 import queue
-import statistics
 import threading
 import time
-from collections import Counter, deque
+from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 from app.simthread.clicks import Click, Clicks
-from app.simthread.export import export_now
+from app.simthread.export import MapExports
+from app.simthread.schedule import Schedule, TickTimes
 from sim import Params
 from sim.io.session import Applied, Backlog, SessionLog, Timeline, apply_due, group_melts
 from sim.look.geometry import GeometryDelta
 from sim.screen import HEIGHT, TICKS_PER_SECOND, WIDTH
 
 log = logging.getLogger(__name__)
-
-# The achieved tick rate is measured over this many recent ticks (2 s).
-RATE_WINDOW = 50
-
 
 @dataclass(frozen=True)
 class Stats:
@@ -86,7 +82,8 @@ class Command:
 
 
 class SimThread(threading.Thread):
-    """Runs the simulation on a monotonic schedule: tick k is due at start + k * dt."""
+    """The simulation on its own thread: input in, a snapshot out at every tick of its
+    `schedule` (25 a second by default)."""
 
     def __init__(self, params: Params, seed: int, touches=(), width=WIDTH, height=HEIGHT,
                  wake: Callable[[], None] | None = None, dt: float = 1.0 / TICKS_PER_SECOND,
@@ -97,22 +94,22 @@ class SimThread(threading.Thread):
         # (logging level, text) from this thread's workers, for the HUD and the log.
         self.notices: queue.Queue[tuple[int, str]] = queue.Queue()
         self.size = (width, height)
-        self.seed, self.dt, self.wake = seed, dt, wake or (lambda: None)
+        self.seed, self.wake = seed, wake or (lambda: None)
         self.first_params = params
         self.script, self._script_at = list(script), 0  # a replayed session's events
-        self.paused, self.overruns, self.tick_ms = False, 0, 0.0
+        self.paused = False
         self.sent = self.handled = 0  # commands sent (main thread), applied (this thread)
         self._stop_event = threading.Event()
-        self._stamps: deque[float] = deque(maxlen=RATE_WINDOW)
-        self._tick_times: deque[float] = deque(maxlen=RATE_WINDOW)  # ms, for the median
+        self.schedule = Schedule(dt, self._stop_event.wait)
+        self.times = TickTimes()
         self._clicks = Clicks()  # for the latency log
+        self.exports = MapExports(self.notify)
         self._handlers = {"touch": self._touch, "melt": self._melt, "melts": self._melts,
-                          "params": self._set_params,
-                          "clear": self._clear, "pause": self._pause, "step": self._single,
-                          "export": self._ask_export}
+                          "params": self._set_params, "clear": self._clear,
+                          "pause": self._pause, "step": self._single,
+                          "export": lambda folder, _notes: self.exports.ask(folder)}
         # commands wait here when more arrive than a tick takes
         self.backlog = Backlog(kind=_command_kind)
-        self._writers: list[threading.Thread] = []  # map exports being written
         self.timeline = Timeline(params, seed, width, height)
         events = [{"kind": "touch", "x": float(x), "y": float(y)} for x, y in touches]
         self.timeline.apply(events)
@@ -150,20 +147,14 @@ class SimThread(threading.Thread):
         return self.sent
 
     def stop(self, timeout: float = 1.0) -> None:
-        """End the thread, write the map exports still asked for, wait for every writer."""
+        """End the thread; the map exports still asked for written (from the last tick,
+        when the thread has ended) and every writer waited for; other input still waiting
+        (a storm of clicks, then Esc) reported: it never applied, so neither the frame nor
+        the session holds it."""
         self._stop_event.set()
         if self.is_alive() and threading.current_thread() is not self:
             self.join(timeout)
-        self._last_exports()
-        for writer in self._writers:
-            writer.join()
-
-    def _last_exports(self) -> None:
-        """Exports sent but not yet taken by a tick: the maps of the last tick when the
-        thread has ended, else (a tick still running) reported as not written. Other input
-        still waiting (a storm of clicks, then Esc) is reported: it never applied, so the
-        frame and the session do not hold it."""
-        waiting = [*self.backlog.take_all(), *_take_all(self.inbox)]
+        waiting = [*self.backlog.take_all(), *take_all(self.inbox)]
         lost: Counter = Counter()
         for c in waiting:
             if c.kind in INPUT_NAMES:
@@ -171,16 +162,12 @@ class SimThread(threading.Thread):
         if lost:
             self.notify(logging.WARNING, "input still waiting at exit, never applied (not in "
                         "the session): " + ", ".join(f"{n} {k}" for k, n in lost.items()))
-        for folder in (c.arg for c in waiting if c.kind == "export"):
-            if self.is_alive():
-                self.notify(logging.WARNING, f"frost maps NOT written: {folder}: the "
-                            "simulation did not stop")
-            else:
-                self._export(folder)
+        self.exports.finish([c.arg for c in waiting if c.kind == "export"],
+                            None if self.is_alive() else self.timeline, self.seed)
 
     def drain(self) -> list[Snapshot]:
         """Every snapshot produced since the last call, oldest first."""
-        return _take_all(self.outbox)
+        return take_all(self.outbox)
 
     def notify(self, level: int, text: str) -> None:
         """A message for the main thread (any thread may call it)."""
@@ -191,38 +178,23 @@ class SimThread(threading.Thread):
 
     def run(self) -> None:
         try:
-            self._loop()
+            self.schedule.run(self.tick)
         except Exception as err:
             log.exception("simulation thread failed")
             self.outbox.put(self._snapshot(None, error=f"{type(err).__name__}: {err}"))
             self.wake()
 
-    # The schedule's clock and its wait (True: stop); tests drive the loop with fakes.
-    clock = staticmethod(time.monotonic)
-
-    def _wait(self, seconds: float) -> bool:
-        return self._stop_event.wait(seconds)
-
-    def _loop(self) -> None:
-        start, k = self.clock(), 0
-        while not self._stop_event.is_set():
-            k += 1
-            if self._wait(max(0.0, start + k * self.dt - self.clock())):
-                return
-            self._tick()
-            late = int((self.clock() - start) / self.dt) - k
-            if late > 0:  # skip the missed slots; never try to catch up
-                self.overruns += late
-                k += late
-
-    def _tick(self) -> None:
+    def tick(self) -> None:
+        """One tick now: the input due applied, a step unless paused, the map exports
+        asked for written, and its snapshot on `outbox`. The schedule calls it on this
+        thread; a driver that keeps its own time (a test) may call it instead."""
         t0 = time.perf_counter()
-        self._stamps.append(self.clock())
+        self.times.began(self.schedule.clock())
         notes: dict[str, Any] = {"applied": []}
         self._script_at = apply_due(self.timeline, self.script, self._script_at,
                                     notes["applied"].append)
-        self.backlog.extend(group_melts(_take_all(self.inbox), _disc, _melts))
-        done = self.backlog.run(lambda cmd: self._handlers[cmd.kind](cmd.arg, notes))
+        self.backlog.extend(group_melts(take_all(self.inbox), _disc, _melts))
+        done = self.backlog.run(lambda command: self._handlers[command.kind](command.arg, notes))
         self.handled += done  # (a group of melts added the rest of its commands)
         reset, melts, message = _merged(notes["applied"])
         if reset:
@@ -233,10 +205,8 @@ class SimThread(threading.Thread):
         step = self._step() if stepping else Step()
         if stepping:  # the backlog leaves the step its room in the next ticks
             self.backlog.stepped(self.backlog.clock() - t1)
-        for folder in notes.pop("exports", []):  # after any step: the tick the snapshot shows
-            self._export(folder)
-        self.tick_ms = (time.perf_counter() - t0) * 1000.0
-        self._tick_times.append(self.tick_ms)
+        self.exports.write_asked(self.timeline, self.seed)  # the tick the snapshot shows
+        self.times.took((time.perf_counter() - t0) * 1000.0)
         self.outbox.put(self._snapshot(step.delta, reset=reset, clicks=step.clicks,
                                        grown=step.grown, message=message,
                                        melts=(*melts, *step.melts)))
@@ -254,12 +224,10 @@ class SimThread(threading.Thread):
                         events=len(self.timeline.events), **extra)
 
     def _stats(self) -> Stats:
-        s = self._stamps
-        rate = (len(s) - 1) / (s[-1] - s[0]) if len(s) > 1 and s[-1] > s[0] else 0.0
-        median = statistics.median(self._tick_times) if self._tick_times else 0.0
-        return Stats(self.sim.tick, self.tick_ms, len(self.sim.crystals),
-                     len(self.sim.water_area), rate, self.overruns, self.paused, self.handled,
-                     median, sum(map(_inputs, self.backlog)))
+        return Stats(self.sim.tick, self.times.last_ms, len(self.sim.crystals),
+                     len(self.sim.water_area), self.times.rate(), self.schedule.overruns,
+                     self.paused, self.handled, self.times.median_ms(),
+                     sum(map(_inputs, self.backlog)))
 
     # ---- commands: each takes (arg, notes) and applies at this tick ---------------
 
@@ -287,12 +255,6 @@ class SimThread(threading.Thread):
     def _clear(self, _arg, notes: dict) -> None:
         notes["applied"].append(self.timeline.apply([{"kind": "clear"}]))
 
-    def _ask_export(self, folder, notes: dict) -> None:
-        notes.setdefault("exports", []).append(folder)
-
-    def _export(self, folder) -> None:
-        self._writers.append(export_now(folder, self.timeline, self.seed, self.notify))
-
     def _pause(self, _arg, _notes: dict) -> None:
         self.paused = not self.paused
 
@@ -315,7 +277,7 @@ def _melts(commands: list[Command]) -> Command:
     return Command("melts", tuple(c.arg for c in commands))
 
 
-def _take_all(q: queue.Queue) -> list:
+def take_all(q: queue.Queue) -> list:
     """Everything waiting in `q` now, oldest first, without blocking."""
     items = []
     while True:
