@@ -244,26 +244,29 @@ def host():
 
 def test_the_panel_redraws_on_input_or_a_change_and_not_otherwise(host, monkeypatch):
     monkeypatch.setattr(glfw, "get_window_attrib", lambda *_: True)  # focused; no window here
-    actions, t = host.actions, 100.0
-    assert not host.due(host._state(), t)  # hidden
-    host.visible, host.wanted = True, 0
-    host.drawn_state, host.drawn_at = host._state(), t
-    assert not host.due(host._state(), t + 5)  # idle: its pixels stay
+    actions, redraws, t = host.actions, host.redraws, 100.0
+    assert not host.due(t)  # hidden
+    host.visible, redraws.wanted = True, 0
+    redraws.drew(host.state(), t)
+    assert not host.due(t + 5)  # idle: its pixels stay
     for change in (lambda: setattr(actions, "params", actions.params.replace(hc=8.0, step=5.0)),
                    lambda: setattr(actions, "preset", "c-2"),
                    lambda: setattr(actions, "shown", "lockscreen")):
         change()
-        assert host.due(host._state(), t)
-        host.drawn_state = host._state()
-        assert not host.due(host._state(), t + 5)
-    host._mouse_moved(10.0, 20.0)  # a hover: twice, not sooner than 0.1 s after the last
-    assert host.wanted == 2 and not host.due(host._state(), t + 0.05)
-    assert host.due(host._state(), t + 0.11)
-    host._button(glfw.MOUSE_BUTTON_LEFT, glfw.PRESS)  # a click: at once, and the drag after it
-    assert host.wanted == 3 and host.due(host._state(), t + 0.01)
-    host.hurry, host.wanted = False, 0
-    host._mouse_moved(12.0, 20.0)
-    assert host.wanted == 3 and host.due(host._state(), t + 0.01)
+        assert host.due(t)
+        redraws.drew(host.state(), t)
+        assert not host.due(t + 5)
+    host.input.on_cursor(None, 10.0, 20.0)  # a hover: twice, not sooner than 0.1 s after the last
+    assert redraws.wanted == 2 and not host.due(t + 0.05)
+    assert host.due(t + 0.11)
+    host.input.on_button(None, glfw.MOUSE_BUTTON_LEFT, glfw.PRESS, 0)  # a click: at once,
+    assert redraws.wanted == 3 and host.due(t + 0.01)  # and the drag after it
+    redraws.drew(host.state(), t)
+    redraws.drew(host.state(), t)
+    redraws.drew(host.state(), t)
+    assert redraws.wanted == 0 and not redraws.hurry and not host.due(t + 0.01)
+    host.input.on_cursor(None, 12.0, 20.0)
+    assert redraws.wanted == 3 and host.due(t + 0.01)
 
 
 def test_closing_the_panels_window_hides_it_and_keeps_it_for_later(host, monkeypatch):
@@ -271,7 +274,7 @@ def test_closing_the_panels_window_hides_it_and_keeps_it_for_later(host, monkeyp
     for name in ("set_window_should_close", "hide_window"):
         monkeypatch.setattr(glfw, name, lambda *a, name=name: calls.append((name, *a[1:])))
     host.window, host.visible = "the panel's window", True
-    host._closed()  # GLFW's close callback
+    host.input.on_close(host.window)  # GLFW's close callback
     assert not host.visible and host.window is not None  # hidden, not destroyed: M shows it
     assert calls == [("set_window_should_close", False), ("hide_window",)]
 
@@ -282,12 +285,12 @@ def test_the_panels_cost_is_its_recent_redraws_shared_among_the_phones_frames(ho
     from app.window.status import Status
 
     now = time.perf_counter()
-    host._add_cost(now - 3.0, 100.0)
+    host.costs.add(now - 3.0, 100.0)
     assert host.readout(20) is None  # hidden: no cost shown
     host.visible = True
     assert host.readout(20) == "panel 0.00 ms/frame (0 redraws)"  # idle for over 2 s
     for age, ms in ((1.5, 6.0), (0.5, 4.0)):
-        host._add_cost(now - age, ms)
+        host.costs.add(now - age, ms)
     text = host.readout(20)
     assert text == "panel 0.50 ms/frame (2 redraws, 5.0 ms each)"  # (6 + 4) / 20 by hand
     lines = Status().lines(now, None, Params(), types.SimpleNamespace(
