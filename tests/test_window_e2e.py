@@ -54,7 +54,7 @@ def window_tools():
 def xvfb(args: list, **kw) -> subprocess.CompletedProcess:
     """`args` run (captured) with DISPLAY on an Xvfb server of its own. `-displayfd` makes
     the server pick a free display and say which once it accepts clients, so concurrent
-    runs never share one and nothing waits on a guess (`xvfb-run -a` raced under load)."""
+    runs never share one and nothing waits on a guess (`xvfb-run -a` can race under load)."""
     read, write = os.pipe()
     server = subprocess.Popen(["Xvfb", "-displayfd", str(write), *SCREEN.split(), "-nolisten",
                                "tcp", "-noreset"], pass_fds=(write,), stderr=subprocess.DEVNULL)
@@ -570,7 +570,7 @@ if __name__ == "__main__":
 
 
 # The display probe must leave GLFW connected: on a bare X server its disconnect, as the
-# only client, resets the server, and the window's own connection then raced the reset.
+# only client, resets the server, and the window's own connection would race the reset.
 PROBE_KEEPS_GLFW = """
 import glfw
 from app.window.glfw_setup import display_problem

@@ -653,8 +653,8 @@ def test_a_full_recording_is_written_and_the_next_r_ends_it(tmp_path, monkeypatc
 
 @pytest.mark.parametrize("fps, seconds", [(21.0, 4.0), (3.6, 10.0), (60.0, 2.0)])
 def test_a_recording_plays_as_long_as_it_was_recorded(tmp_path, fps, seconds):
-    """Drawn at 21 fps for 4 s (it played in 3.44 s), an idle window's 3.6 fps for 10 s
-    (2.8 s), or faster than a recording keeps: it plays for as long as it was made."""
+    """Drawn at 21 fps for 4 s, an idle window's 3.6 fps for 10 s, or faster than a
+    recording keeps: it plays for as long as it was made."""
     times = [100.0 + k / fps for k in range(int(seconds * fps))]
     durations, offered = record(tmp_path, times, end=100.0 + seconds)
     assert sum(durations) == round(seconds * 1000)

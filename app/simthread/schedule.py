@@ -53,8 +53,10 @@ class TickTimes:
 
     def rate(self) -> float:
         """Ticks per second over the last RATE_WINDOW ticks (0 before two)."""
-        s = self.starts
-        return (len(s) - 1) / (s[-1] - s[0]) if len(s) > 1 and s[-1] > s[0] else 0.0
+        starts = self.starts
+        if len(starts) < 2 or starts[-1] <= starts[0]:
+            return 0.0
+        return (len(starts) - 1) / (starts[-1] - starts[0])
 
     def median_ms(self) -> float:
         return statistics.median(self.durations_ms) if self.durations_ms else 0.0

@@ -133,9 +133,10 @@ class SimThread(threading.Thread):
     def session(self, steps: int | None = None, events: int | None = None) -> SessionLog:
         """The session so far (or its first `events` events and `steps` steps, as a
         snapshot reports them): enough to replay it bit for bit."""
-        t = self.timeline
+        timeline = self.timeline
         return SessionLog(self.seed, self.first_params.as_dict(), *self.size,
-                          list(t.events[:events]), t.steps if steps is None else steps)
+                          list(timeline.events[:events]),
+                          timeline.steps if steps is None else steps)
 
     # ---- main-thread side -------------------------------------------------------
 
@@ -156,13 +157,13 @@ class SimThread(threading.Thread):
             self.join(timeout)
         waiting = [*self.backlog.take_all(), *take_all(self.inbox)]
         lost: Counter = Counter()
-        for c in waiting:
-            if c.kind in INPUT_NAMES:
-                lost[INPUT_NAMES[c.kind]] += _inputs(c)
+        for command in waiting:
+            if command.kind in INPUT_NAMES:
+                lost[INPUT_NAMES[command.kind]] += _inputs(command)
         if lost:
             self.notify(logging.WARNING, "input still waiting at exit, never applied (not in "
                         "the session): " + ", ".join(f"{n} {k}" for k, n in lost.items()))
-        self.exports.finish([c.arg for c in waiting if c.kind == "export"],
+        self.exports.finish([command.arg for command in waiting if command.kind == "export"],
                             None if self.is_alive() else self.timeline, self.seed)
 
     def drain(self) -> list[Snapshot]:
@@ -188,7 +189,7 @@ class SimThread(threading.Thread):
         """One tick now: the input due applied, a step unless paused, the map exports
         asked for written, and its snapshot on `outbox`. The schedule calls it on this
         thread; a driver that keeps its own time (a test) may call it instead."""
-        t0 = time.perf_counter()
+        started = time.perf_counter()
         self.times.began(self.schedule.clock())
         notes: dict[str, Any] = {"applied": []}
         self._script_at = apply_due(self.timeline, self.script, self._script_at,
@@ -201,12 +202,12 @@ class SimThread(threading.Thread):
             self._clicks.forget_seeds()
         # A click made while paused shows (and is timed) at the next step.
         stepping = not self.paused or notes.pop("single", False)
-        t1 = self.backlog.clock()
+        step_started = self.backlog.clock()
         step = self._step() if stepping else Step()
         if stepping:  # the backlog leaves the step its room in the next ticks
-            self.backlog.stepped(self.backlog.clock() - t1)
+            self.backlog.stepped(self.backlog.clock() - step_started)
         self.exports.write_asked(self.timeline, self.seed)  # the tick the snapshot shows
-        self.times.took((time.perf_counter() - t0) * 1000.0)
+        self.times.took((time.perf_counter() - started) * 1000.0)
         self.outbox.put(self._snapshot(step.delta, reset=reset, clicks=step.clicks,
                                        grown=step.grown, message=message,
                                        melts=(*melts, *step.melts)))

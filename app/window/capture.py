@@ -36,15 +36,15 @@ class Capture:
         self._autosave_next, self._autosave_failed = 0.0, False
         self._keeper: threading.Thread | None = None  # the autosave being written
 
-    def keep_session(self, snap: Snapshot | None, now: float) -> None:
-        """Save the session up to `snap` when it differs from the file and the last save
+    def keep_session(self, snapshot: Snapshot | None, now: float) -> None:
+        """Save the session up to `snapshot` when it differs from the file and the last save
         is AUTOSAVE_PERIOD old (`now`, monotonic s), on a worker: a long session takes
         a tenth of a second to write, a frame must not wait for it. A failure is told
         once; the save at exit tells it again."""
-        if snap is None or now < self._autosave_next or self._keeping():
+        if snapshot is None or now < self._autosave_next or self._keeping():
             return
         self._autosave_next = now + AUTOSAVE_PERIOD  # looked at again then, changed or not
-        session = self._session(snap)
+        session = self._session(snapshot)
         if not session.events or self.saved == (session.steps, len(session.events), session.view):
             return  # (no event: no file, as at exit)
         path = self._run_path()
@@ -73,13 +73,13 @@ class Capture:
         log.debug("session kept: %s (%d events, %d steps)", path, len(session.events),
                   session.steps)
 
-    def save_session(self, snap: Snapshot | None, path: Path | None = None) -> Path | None:
-        """The session up to the frame shown (`snap`) and the view it was shown with, to
+    def save_session(self, snapshot: Snapshot | None, path: Path | None = None) -> Path | None:
+        """The session up to the frame shown (`snapshot`) and the view it was shown with, to
         `path` (default: this run's file, once an autosave writing it is done); replay it
         with `frost replay FILE`. OSError if it cannot be written (nothing half-written).
         This run's file is not written while the session has no event (None): it would
         replay bare glass."""
-        session = self._session(snap)
+        session = self._session(snapshot)
         if path is None and not session.events:
             log.info("session: no touch, melt or change to replay, so no session file")
             return None
@@ -90,8 +90,9 @@ class Capture:
         log.info("session: %s (%d events, %d steps)", path, len(session.events), session.steps)
         return path
 
-    def _session(self, snap: Snapshot | None) -> SessionLog:
-        session = self.thread.session(snap.steps, snap.events) if snap else self.thread.session(0, 0)
+    def _session(self, snapshot: Snapshot | None) -> SessionLog:
+        session = (self.thread.session(snapshot.steps, snapshot.events) if snapshot
+                   else self.thread.session(0, 0))
         session.view = self.presenter.renderer.view()
         return session
 
@@ -101,26 +102,26 @@ class Capture:
                                                                   ".json")
         return self.session_path
 
-    def _touch_ticks(self, snap: Snapshot | None) -> list:
+    def _touch_ticks(self, snapshot: Snapshot | None) -> list:
         """(tick, x, y) of the touches the shown frame grows from: the timeline's, as long
         as no rebuild has replaced them since the frame (then the frame's, tick unknown: -1)."""
-        if snap is None:
+        if snapshot is None:
             return []
-        now = self.thread.timeline.touch_ticks()[:len(snap.touches)]
-        if [(x, y) for _t, x, y in now] == [tuple(t) for t in snap.touches]:
+        now = self.thread.timeline.touch_ticks()[:len(snapshot.touches)]
+        if [(x, y) for _t, x, y in now] == [tuple(t) for t in snapshot.touches]:
             return now
-        return [(-1, x, y) for x, y in snap.touches]
+        return [(-1, x, y) for x, y in snapshot.touches]
 
-    def screenshot(self, snap: Snapshot | None, params: Params) -> None:
+    def screenshot(self, snapshot: Snapshot | None, params: Params) -> None:
         """The frame shown, as a PNG stating what made it (all from the snapshot shown and
         the renderer's view), and its own session file: replaying it ends on this frame."""
         self.presenter.render_phone()
-        meta = frost_meta("window, key S", snap.params if snap else params, self.thread.seed,
-                          snap.stats.tick if snap else 0, self._touch_ticks(snap),
+        meta = frost_meta("window, key S", snapshot.params if snapshot else params, self.thread.seed,
+                          snapshot.stats.tick if snapshot else 0, self._touch_ticks(snapshot),
                           view=self.presenter.renderer.view())
         path = self.fresh_name(".png")
         try:
-            meta["session"] = str(self.save_session(snap, self.session_dir / f"{path.stem}.json"))
+            meta["session"] = str(self.save_session(snapshot, self.session_dir / f"{path.stem}.json"))
         except OSError as err:
             self.say(f"screenshot's session NOT saved: {why(err, path.stem + '.json')}",
                      logging.WARNING)

@@ -78,14 +78,15 @@ class FrostWindow:
     def _connect(self) -> None:
         # Sizes come from callbacks: each GLFW call from Python waits for the GIL, which the
         # simulation thread may hold for a few ms, so the frame loop makes as few as it can.
-        w = self.window
-        glfw.set_key_callback(w, self.actions.on_key)
-        glfw.set_mouse_button_callback(w, self.pointer.on_button)
-        glfw.set_cursor_pos_callback(w, self.pointer.on_cursor)
-        glfw.set_framebuffer_size_callback(w, self._on_framebuffer)
-        glfw.set_window_size_callback(w, self._on_window_size)
-        glfw.set_window_iconify_callback(w, lambda _w, on: setattr(self, "iconified", bool(on)))
-        glfw.set_window_refresh_callback(w, lambda *_: setattr(self, "damaged", True))
+        window = self.window
+        glfw.set_key_callback(window, self.actions.on_key)
+        glfw.set_mouse_button_callback(window, self.pointer.on_button)
+        glfw.set_cursor_pos_callback(window, self.pointer.on_cursor)
+        glfw.set_framebuffer_size_callback(window, self._on_framebuffer)
+        glfw.set_window_size_callback(window, self._on_window_size)
+        glfw.set_window_iconify_callback(window,
+                                         lambda _window, on: setattr(self, "iconified", bool(on)))
+        glfw.set_window_refresh_callback(window, lambda *_: setattr(self, "damaged", True))
 
     def _on_framebuffer(self, _window, w: int, h: int) -> None:
         self.sizes.framebuffer = (w, h)
@@ -170,8 +171,8 @@ class FrostWindow:
     # ---- snapshots in, frames out ------------------------------------------------------
 
     def _drain(self) -> None:
-        for snap in self.thread.drain():
-            self._apply(snap)
+        for snapshot in self.thread.drain():
+            self._apply(snapshot)
         self._drain_notices()
 
     def _drain_notices(self) -> None:
@@ -179,28 +180,28 @@ class FrostWindow:
         while not self.thread.notices.empty():
             self.status.say(*self.thread.notices.get()[::-1])
 
-    def _apply(self, snap: Snapshot) -> None:
-        if snap.error:
-            log.error("simulation thread died: %s", snap.error)
+    def _apply(self, snapshot: Snapshot) -> None:
+        if snapshot.error:
+            log.error("simulation thread died: %s", snapshot.error)
             self.running, self.exit_status = False, 1
             return
         renderer = self.presenter.renderer
-        if snap.reset:
+        if snapshot.reset:
             renderer.reset()
             self.dirty = True
             if self.thread.script:  # a replayed parameter change
-                self.actions.params = snap.params
-        for melt in snap.melts:
+                self.actions.params = snapshot.params
+        for melt in snapshot.melts:
             renderer.apply(melt)
             self.dirty = True
-        if snap.delta is not None:
-            renderer.apply(snap.delta)
-            self.dirty = self.dirty or _changes(snap.delta)
-        if snap.message:
-            self.status.say(snap.message)
+        if snapshot.delta is not None:
+            renderer.apply(snapshot.delta)
+            self.dirty = self.dirty or _changes(snapshot.delta)
+        if snapshot.message:
+            self.status.say(snapshot.message)
         self.snapshots, self.new_ticks = self.snapshots + 1, self.new_ticks + 1
-        self.status.shown(snap)
-        self.latest = snap
+        self.status.shown(snapshot)
+        self.latest = snapshot
 
     def _frame(self) -> None:
         now, drawn = time.monotonic(), self.dirty

@@ -72,23 +72,23 @@ class Panel:
         self.texture.write(np.asarray(image).tobytes())
         self.renders += 1
 
-    def draw(self, x: int, y: int, fb_size: tuple[int, int]) -> int:
+    def draw(self, x: int, y: int, framebuffer_size: tuple[int, int]) -> int:
         """Draw with its top-left corner at framebuffer pixel (x, y), y from the top,
         shrunk where the window is too small for it; returns the drawn height."""
         if self.texture is None:
             return 0
-        fw, fh = fb_size
-        tw, th = self.texture.size
-        shrink = min(1.0, (fw - x - PADDING) / tw, (fh - y - PADDING) / th)
+        frame_w, frame_h = framebuffer_size
+        texture_w, texture_h = self.texture.size
+        shrink = min(1.0, (frame_w - x - PADDING) / texture_w, (frame_h - y - PADDING) / texture_h)
         if shrink <= 0:
             return 0
-        tw, th = tw * shrink, th * shrink
-        x0, x1 = 2 * x / fw - 1, 2 * (x + tw) / fw - 1
-        y0, y1 = 1 - 2 * (y + th) / fh, 1 - 2 * y / fh
+        width, height = texture_w * shrink, texture_h * shrink
+        x0, x1 = 2 * x / frame_w - 1, 2 * (x + width) / frame_w - 1
+        y0, y1 = 1 - 2 * (y + height) / frame_h, 1 - 2 * y / frame_h
         self.rect.value = (x0, y0, x1, y1)
         self.texture.use(0)
         self.vao.render(moderngl.TRIANGLE_STRIP, vertices=4)
-        return round(th)
+        return round(height)
 
 
 class Hud:
@@ -103,14 +103,14 @@ class Hud:
         self.help = Panel(ctx, program, font)
         self.visible, self.show_help = True, False
 
-    def draw(self, fb_size: tuple[int, int], stats: list[str], help_lines: list[str]) -> None:
+    def draw(self, framebuffer_size: tuple[int, int], stats: list[str], help_lines: list[str]) -> None:
         if not self.visible:
             return
         self.stats.set(stats)
         self.ctx.enable(moderngl.BLEND)
         self.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
-        height = self.stats.draw(PADDING, PADDING, fb_size)
+        height = self.stats.draw(PADDING, PADDING, framebuffer_size)
         if self.show_help:
             self.help.set(help_lines)
-            self.help.draw(PADDING, PADDING * 2 + height, fb_size)
+            self.help.draw(PADDING, PADDING * 2 + height, framebuffer_size)
         self.ctx.disable(moderngl.BLEND)

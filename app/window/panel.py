@@ -101,16 +101,16 @@ def preset_params(name: str) -> Params:
 
 def tooltip(f: dataclasses.Field, preset: str) -> str:
     """The field's one-line help, its range and the preset's value."""
-    meta, s = f.metadata, SPECS[f.name]
-    if s.kind == "slider":
+    meta, spec = f.metadata, SPECS[f.name]
+    if spec.kind == "slider":
         left = "(" if meta["lo_open"] else "["
         extent = f"range {left}{meta['lo']:g}, {meta['hi']:g}]"
-    elif s.kind == "toggle":
+    elif spec.kind == "toggle":
         extent = "on or off"
     else:
-        extent = "one of " + ", ".join(map(str, s.choices))
+        extent = "one of " + ", ".join(map(str, spec.choices))
     value = getattr(preset_params(preset), f.name)
-    shown = ("on" if value else "off") if s.kind == "toggle" else value
+    shown = ("on" if value else "off") if spec.kind == "toggle" else value
     return f"{meta['doc']}\n{extent}; preset {preset}: {shown}"
 
 
@@ -207,16 +207,16 @@ class TuningPanel:
 
     def _widget(self, f: dataclasses.Field, value):
         """The widget for `f` showing `value`; (changed, value)."""
-        s = SPECS[f.name]
-        if s.kind == "toggle":
+        spec = SPECS[f.name]
+        if spec.kind == "toggle":
             return imgui.checkbox(f.name, value)
-        if s.kind == "list":
-            picked = self._combo(f.name, value, s.choices)
+        if spec.kind == "list":
+            picked = self._combo(f.name, value, spec.choices)
             return picked is not None, value if picked is None else picked
-        flags = imgui.SliderFlags_.always_clamp | (imgui.SliderFlags_.logarithmic if s.log else 0)
-        if s.whole:
-            return imgui.slider_int(f.name, value, int(s.lo), int(s.hi), flags=flags)
-        return imgui.slider_float(f.name, value, s.lo, s.hi, "%.3g", flags)
+        flags = imgui.SliderFlags_.always_clamp | (imgui.SliderFlags_.logarithmic if spec.log else 0)
+        if spec.whole:
+            return imgui.slider_int(f.name, value, int(spec.lo), int(spec.hi), flags=flags)
+        return imgui.slider_float(f.name, value, spec.lo, spec.hi, "%.3g", flags)
 
     def _commit(self, name: str, result) -> None:
         """A toggle or a list at once; a slider's value kept while dragged, sent when it

@@ -5,7 +5,7 @@ The phone's window keeps its size and pays nothing for the panel between the pan
 redraws: the panel redraws on input to it (`panel_input`), on a change of the parameters,
 preset or backdrop, and when the window system asks; otherwise its pixels stay on the
 screen. On llvmpipe under Xvfb a redraw costs several ms (mostly rasterizing its
-widgets), which a panel drawn with every phone frame paid each frame. The panel's window
+widgets), which a panel drawn with every phone frame would pay each frame. The panel's window
 has its own GL context (its draws never disturb the phone's state) and swaps without
 waiting for the screen. Closing it hides it, as M does; a click in it never reaches the
 phone.
@@ -190,8 +190,8 @@ class PanelHost:
         if not self.visible:
             return
         self.costs.phone_frames += phone_drawn
-        t0 = time.perf_counter()
-        if not self.due(t0):
+        started = time.perf_counter()
+        if not self.due(started):
             return
         state = self.state()
         glfw.make_context_current(self.window)
@@ -202,8 +202,8 @@ class PanelHost:
         finally:
             glfw.make_context_current(self.phone)
         now = time.perf_counter()
-        self.panel.add_cost(1000.0 * (now - t0))
-        self.costs.add(now, 1000.0 * (now - t0))
+        self.panel.add_cost(1000.0 * (now - started))
+        self.costs.add(now, 1000.0 * (now - started))
         self.redraws.drew(state, now)
         self.deferred.flush()
 

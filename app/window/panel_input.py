@@ -11,8 +11,8 @@ from imgui_bundle import imgui
 # ImGui settles in a frame or two after an input (hover, open a list, let go of a slider).
 FRAMES_AFTER_INPUT = 3
 # The pointer moving over the panel with no button held redraws it (hover highlights,
-# tooltips) at most this often: on llvmpipe a redraw is ~6-8 ms, and a pointer crossing
-# the panel otherwise redrew it every phone frame (~10 ms a frame, measured).
+# tooltips) at most this often: on llvmpipe a redraw is ~6-8 ms, and a redraw at every
+# move of a pointer crossing the panel would cost about 10 ms a phone frame.
 HOVER_PERIOD = 0.1  # s
 HOVER_FRAMES = 2  # ImGui shows a new tooltip one frame after it is first asked for
 MOUSE_BUTTONS = {glfw.MOUSE_BUTTON_LEFT: 0, glfw.MOUSE_BUTTON_RIGHT: 1, glfw.MOUSE_BUTTON_MIDDLE: 2}

@@ -47,16 +47,16 @@ class Presenter:
         """The phone frame last rendered, H x W x 3 uint8, top row first."""
         return read_image(self.phone)
 
-    def present(self, fb_size: tuple[int, int], stats: list[str], help_lines: list[str]) -> None:
+    def present(self, framebuffer_size: tuple[int, int], stats: list[str], help_lines: list[str]) -> None:
         """The phone letterboxed into the window's framebuffer, the HUD over it (the caller
         swaps buffers)."""
         ctx = self.ctx
         ctx.screen.use()
-        ctx.viewport = (0, 0, *fb_size)
+        ctx.viewport = (0, 0, *framebuffer_size)
         ctx.screen.clear(*BACKDROP)
         ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND | moderngl.CULL_FACE)
-        ctx.viewport = letterbox(fb_size)
+        ctx.viewport = letterbox(framebuffer_size)
         self.texture.use(0)
         self.quad.render(moderngl.TRIANGLE_STRIP, vertices=4)
-        ctx.viewport = (0, 0, *fb_size)
-        self.hud.draw(fb_size, stats, help_lines)
+        ctx.viewport = (0, 0, *framebuffer_size)
+        self.hud.draw(framebuffer_size, stats, help_lines)

@@ -43,10 +43,10 @@ class DrawRate:
 
     def fps(self, now: float) -> float | None:
         """None when idle: no redraw in the last IDLE_GAP s."""
-        t = [x for x in self.times if x >= now - DRAW_WINDOW]
-        if not t or now - t[-1] > IDLE_GAP:
+        recent = [x for x in self.times if x >= now - DRAW_WINDOW]
+        if not recent or now - recent[-1] > IDLE_GAP:
             return None
-        gaps = [b - a for a, b in zip(t, t[1:], strict=False) if b - a <= IDLE_GAP]
+        gaps = [b - a for a, b in zip(recent, recent[1:], strict=False) if b - a <= IDLE_GAP]
         return len(gaps) / sum(gaps) if gaps and sum(gaps) > 0 else None
 
 
@@ -64,7 +64,7 @@ class Status:
         self.drags: list[tuple[int, int, float]] = []  # right drags whose melts are not all shown
         self.drags_shown: list[tuple[int, float, int]] = []  # shown in the frame being made
         self.hud_next, self._log_next = 0.0, self.started + LOG_PERIOD
-        self._log_mark = self.started
+        self._log_since = self.started
         self.stats: list[str] = []  # the HUD's stats lines, refreshed every HUD_PERIOD
 
     def say(self, text: str, level: int = logging.INFO) -> None:
@@ -77,14 +77,14 @@ class Status:
         """A right drag ended: `melts` melts, the last of them the thread's command `last`."""
         self.drags.append((last, melts, radius))
 
-    def shown(self, snap: Snapshot) -> None:
+    def shown(self, snapshot: Snapshot) -> None:
         """A snapshot was applied: its clicks' latencies, and the right drags whose melts it
         completes, are logged with the next frame."""
-        tick = snap.stats.tick
-        self.clicks_pending.extend(("frost", c, tick) for c in snap.clicks)
-        self.clicks_pending.extend(("growth", c, tick) for c in snap.grown)
-        done = [d for d in self.drags if d[0] <= snap.stats.handled]
-        self.drags = [d for d in self.drags if d[0] > snap.stats.handled]
+        tick = snapshot.stats.tick
+        self.clicks_pending.extend(("frost", c, tick) for c in snapshot.clicks)
+        self.clicks_pending.extend(("growth", c, tick) for c in snapshot.grown)
+        done = [d for d in self.drags if d[0] <= snapshot.stats.handled]
+        self.drags = [d for d in self.drags if d[0] > snapshot.stats.handled]
         self.drags_shown.extend((melts, radius, tick) for _, melts, radius in done)
 
     def refresh(self, now: float, lines) -> None:
@@ -108,43 +108,43 @@ class Status:
             log.info("warm finger: %d melts of radius %g px, all shown at tick %d", melts, radius, tick)
         self.drags_shown = []
         if now >= self._log_next:
-            self._log_next, since, self._log_mark = now + LOG_PERIOD, self._log_mark, now
+            self._log_next, since, self._log_since = now + LOG_PERIOD, self._log_since, now
             log.info("stats (%.1f s): %s", now - since, "  ".join(lines(now)[:3]))
 
-    def lines(self, now: float, snap: Snapshot | None, params: Params, view, recording: str | None,
-              render_ms: float, panel: str | None = None) -> list[str]:
+    def lines(self, now: float, snapshot: Snapshot | None, params: Params, view,
+              recording: str | None, render_ms: float, panel: str | None = None) -> list[str]:
         """The HUD's stats: `params` and the stats of the snapshot shown (else `params`), the
         renderer's `view` switches, `recording` (e.g. "REC 12 frames") when on, the tuning
         panel's cost while it is shown (on the second line, which the log's lines keep)."""
-        s = snap.stats if snap else NO_STATS
-        p = snap.params if snap else params  # what the frame shows
-        state = [w for w in ("PAUSED" if s.paused else None, recording) if w]
+        stats = snapshot.stats if snapshot else NO_STATS
+        shown = snapshot.params if snapshot else params  # what the frame shows
+        state = [w for w in ("PAUSED" if stats.paused else None, recording) if w]
         drawing = "idle (nothing changed)" if self.fps is None else f"{self.fps:4.1f} fps"
-        rate = "paused" if s.paused else f"{s.rate:4.1f} ticks/s"
+        rate = "paused" if stats.paused else f"{stats.rate:4.1f} ticks/s"
+        waiting = f"  input waiting {stats.waiting}" if stats.waiting else ""
         lines = [
-            f"sim {rate}  tick median {s.tick_median_ms:4.1f} ms  "
-            f"overruns {s.overruns}" + (f"  input waiting {s.waiting}" if s.waiting else ""),
+            f"sim {rate}  tick median {stats.tick_median_ms:4.1f} ms  "
+            f"overruns {stats.overruns}{waiting}",
             f"drawing {drawing}  render {render_ms:4.1f} ms" + (f"  {panel}" if panel else ""),
-            f"tick {s.tick}  crystals {s.crystals}  water {s.water}  preset {preset_name(p)}",
-            f"hc {p.hc:g}  D {p.D:g}  humidity {p.humidity}  step {p.step:g}  bump {p.bump:g}  "
-            f"grow {onoff(p.grow)}" + (f"  temperature -{p.temperature:g} C" if p.window_frost
-                                       else ""),
-            f"look {p.look}  features {onoff(view.show_features)}  bumps {onoff(view.show_bumps)}  "
-            "light ({:.2f}, {:.2f}, {:.2f})".format(*view.light),
+            f"tick {stats.tick}  crystals {stats.crystals}  water {stats.water}  "
+            f"preset {preset_name(shown)}",
+            params_line(shown),
+            f"look {shown.look}  features {onoff(view.show_features)}  "
+            f"bumps {onoff(view.show_bumps)}  " + "light ({:.2f}, {:.2f}, {:.2f})".format(*view.light),
             "  ".join(state) or "running",
         ]
         lines += [text for text, until in self.messages if now < until]
         return lines + ["H help"]
 
-    def summary(self, snap: Snapshot | None, renders: int, ticks: int, screenshots: int,
+    def summary(self, snapshot: Snapshot | None, renders: int, ticks: int, screenshots: int,
                 exit_status: int) -> None:
         elapsed = max(time.monotonic() - self.started, 1e-9)
-        s = snap.stats if snap else NO_STATS
-        lat = latency_summary(self.latencies)
+        stats = snapshot.stats if snapshot else NO_STATS
+        latency = latency_summary(self.latencies)
         log.info("summary: %.1f s, %d frames (%.1f fps), %d phone renders, %d ticks "
                  "(%.1f ticks/s), %d overruns, %d screenshots, latency %s, exit status %d",
                  elapsed, self.frames, self.frames / elapsed, renders, ticks,
-                 ticks / elapsed, s.overruns, screenshots, lat, exit_status)
+                 ticks / elapsed, stats.overruns, screenshots, latency, exit_status)
 
 
 def latency_summary(latencies: list[tuple[str, int, float]]) -> str:
@@ -156,6 +156,14 @@ def latency_summary(latencies: list[tuple[str, int, float]]) -> str:
             parts.append(f"{kind} {len(ms)} clicks median {statistics.median(ms):.0f} ms "
                          f"max {ms[-1]:.0f} ms")
     return ", ".join(parts) or "none"
+
+
+def params_line(params: Params) -> str:
+    """The HUD's line of the parameters the keys change (the window's temperature in its
+    look, as degrees below freezing)."""
+    cold = f"  temperature -{params.temperature:g} C" if params.window_frost else ""
+    return (f"hc {params.hc:g}  D {params.D:g}  humidity {params.humidity}  "
+            f"step {params.step:g}  bump {params.bump:g}  grow {onoff(params.grow)}{cold}")
 
 
 def onoff(flag: bool) -> str:

@@ -28,24 +28,25 @@ def fit_scale(workarea: tuple[int, int], phone: tuple[int, int] = PHONE) -> floa
     return min(1.0, WORKAREA_MARGIN * ww / pw, WORKAREA_MARGIN * wh / ph)
 
 
-def letterbox(fb_size: tuple[int, int], phone: tuple[int, int] = PHONE) -> tuple[int, int, int, int]:
+def letterbox(framebuffer_size: tuple[int, int],
+              phone: tuple[int, int] = PHONE) -> tuple[int, int, int, int]:
     """The viewport (x, y, w, h), y from the bottom, of the phone centred in the framebuffer."""
-    (fw, fh), (pw, ph) = fb_size, phone
+    (fw, fh), (pw, ph) = framebuffer_size, phone
     scale = min(fw / pw, fh / ph)
     w, h = max(1, round(pw * scale)), max(1, round(ph * scale))
     return (fw - w) // 2, (fh - h) // 2, w, h
 
 
 def cursor_to_phone(cursor: tuple[float, float], window_size: tuple[int, int],
-                    fb_size: tuple[int, int], phone: tuple[int, int] = PHONE):
+                    framebuffer_size: tuple[int, int], phone: tuple[int, int] = PHONE):
     """Phone px (x, y from the top) under a cursor given in window coordinates (y from
     the top, as GLFW reports it), or None outside the phone. Window and framebuffer
     sizes differ on HiDPI screens."""
-    (cx, cy), (ww, wh), (fw, fh) = cursor, window_size, fb_size
+    (cx, cy), (ww, wh), (fw, fh) = cursor, window_size, framebuffer_size
     if min(ww, wh, fw, fh) <= 0:
         return None
     fx, fy = cx * fw / ww, cy * fh / wh
-    vx, vy, vw, vh = letterbox(fb_size, phone)
+    vx, vy, vw, vh = letterbox(framebuffer_size, phone)
     top = fh - vy - vh
     px, py = (fx - vx) * phone[0] / vw, (fy - top) * phone[1] / vh
     if touch_problem(px, py, phone):  # the rule sessions and the command line keep too
