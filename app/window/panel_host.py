@@ -106,7 +106,7 @@ class PanelHost:
 
     def __init__(self, phone, actions):
         self.phone, self.actions = phone, actions
-        self.context = imgui.create_context()
+        self.context = imgui.create_context()  # ImGui's; GL's is gl_context
         io = imgui.get_io()
         io.set_ini_filename(None)  # no imgui.ini beside the user's files
         io.config_flags &= ~imgui.ConfigFlags_.nav_enable_keyboard
@@ -114,7 +114,7 @@ class PanelHost:
         self.panel = TuningPanel(self.deferred)
         self.window: Any = None  # a GLFW window once first shown
         self.x_id: int | None = None  # its X window id
-        self.context_gl: moderngl.Context | None = None
+        self.gl_context: moderngl.Context | None = None
         self.renderer: ImGuiRenderer | None = None
         self.visible = False
         self.redraws, self.costs = Redraws(), PanelCosts()
@@ -154,8 +154,8 @@ class PanelHost:
             log.warning("panel: its window could not open")
             return False
         try:
-            self.context_gl = moderngl.create_context()
-            self.renderer = ImGuiRenderer(self.context_gl)
+            self.gl_context = moderngl.create_context()
+            self.renderer = ImGuiRenderer(self.gl_context)
         finally:
             glfw.make_context_current(self.phone)
         self.window, self.x_id = window, x_window_id(window)
@@ -198,7 +198,7 @@ class PanelHost:
         try:
             self._draw()
             glfw.swap_buffers(self.window)
-            self.context_gl.finish()  # type: ignore[union-attr]
+            self.gl_context.finish()  # type: ignore[union-attr]
         finally:
             glfw.make_context_current(self.phone)
         now = time.perf_counter()
@@ -208,7 +208,7 @@ class PanelHost:
         self.deferred.flush()
 
     def _draw(self) -> None:
-        context, renderer = self.context_gl, self.renderer
+        context, renderer = self.gl_context, self.renderer
         assert context is not None and renderer is not None  # opened before it was shown
         (window_w, window_h) = glfw.get_window_size(self.window)
         (frame_w, frame_h) = glfw.get_framebuffer_size(self.window)
