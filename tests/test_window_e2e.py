@@ -569,6 +569,29 @@ if __name__ == "__main__":
     drive(Path(sys.argv[1]), *sys.argv[2:])
 
 
+# Another X error than a window gone (here BadColor) still goes to Xlib's own handler.
+OTHER_X_ERROR = """
+import ctypes, glfw
+from app.window.lost_display import on_lost_window
+assert glfw.init()
+kept = on_lost_window(lambda resource: print("lost", resource, flush=True))
+xlib = ctypes.CDLL("libX11.so.6")
+xlib.XOpenDisplay.restype = ctypes.c_void_p
+xlib.XFreeColormap.argtypes = [ctypes.c_void_p, ctypes.c_ulong]
+xlib.XSync.argtypes = [ctypes.c_void_p, ctypes.c_int]
+display = xlib.XOpenDisplay(None)
+xlib.XFreeColormap(display, 0x7777777)
+xlib.XSync(display, 0)
+print("went on", flush=True)
+"""
+
+
+def test_an_x_error_that_is_no_lost_window_is_left_to_xlib(tmp_path):
+    proc = xvfb([sys.executable, "-c", OTHER_X_ERROR], cwd=ROOT, timeout=60)
+    assert proc.returncode == 1 and "BadColor" in proc.stderr, proc.stderr
+    assert "lost" not in proc.stdout and "went on" not in proc.stdout
+
+
 # The display probe must leave GLFW connected: on a bare X server its disconnect, as the
 # only client, resets the server, and the window's own connection would race the reset.
 PROBE_KEEPS_GLFW = """
