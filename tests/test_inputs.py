@@ -888,3 +888,41 @@ def test_a_zero_that_means_off_or_flat_is_taken_and_grows(stubbed, option):
         sim.step()
     geometry.update(sim)
     assert len(sim.crystals) > 1
+
+
+# ---- numbers too long to be frost's ----------------------------------------------------
+
+LONG = "9" * 5000  # past Python's 4300-digit limit on converting text to int
+
+
+@pytest.mark.parametrize("text, entry", [
+    ('{"format": "frost-session", "version": 6, "seed": LONG, "params": {}, "events": []}',
+     "entry seed:"),
+    ('{"format": "frost-session", "seed": 0, "params": {}, "events": '
+     '[{"tick": 0, "kind": "touch", "x": 3, "y": -LONG}]}', "entry events[0].y:")])
+def test_a_session_holding_a_number_of_5000_digits_is_refused_naming_its_entry(
+        tmp_path, text, entry):
+    path = tmp_path / "long.json"
+    path.write_text(text.replace("LONG", LONG))
+    status, err = run_main(["replay", "--headless", str(path), "--out", str(tmp_path / "o.png")])
+    assert_refused_in_one_line(status, err, str(path), entry, "5000 digits")
+    assert "set_int_max_str_digits" not in err
+
+
+@pytest.mark.parametrize("command", [["render"], ["figure8", "OUT/f.png"], []])
+def test_a_parameter_set_holding_a_number_of_5000_digits_is_refused_naming_it(
+        stubbed, tmp_path, command):
+    path = tmp_path / "set.json"
+    path.write_text('{"format": "frost-params", "version": 1, "params": {"humidity": LONG}}'
+                    .replace("LONG", LONG))
+    status, err = run_main(with_paths([*command, "--params", str(path)], tmp_path))
+    assert_refused_in_one_line(status, err, str(path), "entry params.humidity:", "5000 digits")
+    assert "set_int_max_str_digits" not in err and not stubbed
+
+
+def test_a_number_of_64_digits_is_still_read_and_judged_by_its_range(tmp_path):
+    path = tmp_path / "s.json"
+    path.write_text('{"format": "frost-session", "seed": %s, "params": {}, "events": []}'
+                    % ("9" * 64))
+    with pytest.raises(SessionError, match=r"'seed' is 9{64}; it must be a whole number"):
+        SessionLog.load(path)
