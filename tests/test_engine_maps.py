@@ -11,7 +11,7 @@ from PIL import Image
 
 from app.cli import main
 from sim import Params
-from sim.io.session import Timeline, grow, touch_events
+from sim.io.timeline import Timeline, grow, touch_events
 from sim.look.geometry import GeometryDelta
 from sim.look.growthmap import GROWTH_NONE, GROWTH_TOP, NEVER, GrowthClock, encode_growth
 from sim.look.maps import compute_maps, live_segments, map_triangles

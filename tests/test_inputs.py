@@ -27,7 +27,8 @@ from app.tools import replay as replay_tool
 from app.window import frost_window as window
 from sim import PRESETS, FrostSim, Params
 from sim.io.files import one_line
-from sim.io.session import SessionError, SessionLog, check_event, replay
+from sim.io.session import SessionError, SessionLog, check_event
+from sim.io.timeline import replay
 
 FIXTURE_OK = settings(suppress_health_check=[HealthCheck.function_scoped_fixture])
 
@@ -822,7 +823,7 @@ def test_a_melt_after_the_last_tick_is_refused(stubbed, option):
 
 
 def test_a_melt_at_the_last_tick_applies():
-    from sim.io.session import Timeline, grow, touch_events
+    from sim.io.timeline import Timeline, grow, touch_events
 
     events = touch_events([(380, 640)]) + [{"tick": 10, "kind": "melt", "x": 380.0,
                                             "y": 640.0, "r": 30.0}]
@@ -892,7 +893,7 @@ def test_a_zero_that_means_off_or_flat_is_taken_and_grows(stubbed, option):
 
 # ---- numbers too long to be frost's ----------------------------------------------------
 
-LONG = "9" * 5000  # past Python's 4300-digit limit on converting text to int
+DIGITS_5000 = "9" * 5000  # past Python's 4300-digit limit on converting text to int
 
 
 @pytest.mark.parametrize("text, entry", [
@@ -903,7 +904,7 @@ LONG = "9" * 5000  # past Python's 4300-digit limit on converting text to int
 def test_a_session_holding_a_number_of_5000_digits_is_refused_naming_its_entry(
         tmp_path, text, entry):
     path = tmp_path / "long.json"
-    path.write_text(text.replace("LONG", LONG))
+    path.write_text(text.replace("LONG", DIGITS_5000))
     status, err = run_main(["replay", "--headless", str(path), "--out", str(tmp_path / "o.png")])
     assert_refused_in_one_line(status, err, str(path), entry, "5000 digits")
     assert "set_int_max_str_digits" not in err
@@ -914,7 +915,7 @@ def test_a_parameter_set_holding_a_number_of_5000_digits_is_refused_naming_it(
         stubbed, tmp_path, command):
     path = tmp_path / "set.json"
     path.write_text('{"format": "frost-params", "version": 1, "params": {"humidity": LONG}}'
-                    .replace("LONG", LONG))
+                    .replace("LONG", DIGITS_5000))
     status, err = run_main(with_paths([*command, "--params", str(path)], tmp_path))
     assert_refused_in_one_line(status, err, str(path), "entry params.humidity:", "5000 digits")
     assert "set_int_max_str_digits" not in err and not stubbed

@@ -17,7 +17,7 @@ from app.images import read_image
 from app.tools import glass_checks as checks
 from app.tools.offscreen import Offscreen
 from sim import Params
-from sim.io.session import Timeline, grow, touch_events
+from sim.io.timeline import Timeline, grow, touch_events
 from sim.look.geometry import FrostGeometry, feature_scale
 from sim.look.maps import compute_maps, live_segments, map_triangles
 from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES

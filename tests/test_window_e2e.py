@@ -352,7 +352,8 @@ def test_a_screenshots_session_replays_headless_to_the_same_frame(run, tmp_path,
 
 
 def test_a_screenshot_states_the_frame_not_a_key_pressed_with_it(run):
-    from sim.io.session import SessionLog, replay
+    from sim.io.session import SessionLog
+    from sim.io.timeline import replay
 
     text = Image.open(run["shots"][4]).text
     shown = replay(SessionLog.load(text["session"])).params.as_dict()

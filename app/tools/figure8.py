@@ -21,7 +21,7 @@ from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
 from sim import PRESETS, FrostSim, Params
 from sim.io.files import why
-from sim.io.session import touch_events
+from sim.io.timeline import touch_events
 from sim.screen import HEIGHT, WIDTH
 
 CELL = (253, 427)  # a frame scaled by 1/3, px (width, height)

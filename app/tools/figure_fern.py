@@ -20,7 +20,7 @@ from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
 from sim import Params
 from sim.io.files import why
-from sim.io.session import touch_events
+from sim.io.timeline import touch_events
 from sim.screen import TICKS_PER_SECOND
 
 TICKS = (25, 50, 125, 250, 500, 750)

@@ -11,7 +11,7 @@ import numpy as np
 from app.gl.renderer import Renderer
 from app.tools.offscreen import Offscreen
 from sim import Params
-from sim.io.session import touch_events
+from sim.io.timeline import touch_events
 from sim.look.maps import bump_field
 from sim.look.material import film
 from sim.screen import HEIGHT, WIDTH

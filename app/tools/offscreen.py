@@ -11,7 +11,8 @@ from app.gl.renderer import Renderer
 from app.images import frost_meta, read_image, save_png
 from app.tools.progress import Progress
 from sim import Params
-from sim.io.session import VERSION, Applied, Timeline, grow
+from sim.io.session import VERSION
+from sim.io.timeline import Applied, Timeline, grow
 from sim.screen import HEIGHT, SIZE, WIDTH
 
 
@@ -43,7 +44,7 @@ class Offscreen:
         return self.timeline.sim
 
     def grow(self, steps: int, events=(), on_tick=None) -> int:
-        """`steps` steps with `events` applied at their ticks (sim.io.session.grow), every
+        """`steps` steps with `events` applied at their ticks (sim.io.timeline.grow), every
         result shown; `on_tick(sim)` after each step. How many events applied."""
         def tick(sim) -> None:
             if self.progress:

@@ -13,7 +13,7 @@ from app.tools.progress import Progress
 from sim import Params
 from sim.io.files import why
 from sim.io.gestures import MELT_SPACING, path_points
-from sim.io.session import touch_events
+from sim.io.timeline import touch_events
 from sim.screen import HEIGHT, WIDTH
 
 

@@ -19,7 +19,7 @@ from app.tools.engine_maps import EngineRun, write_engine_maps
 from app.tools.maps import tile_window
 from app.tools.measures import frosted_end
 from sim import Params
-from sim.io.session import Timeline
+from sim.io.timeline import Timeline
 from sim.look.growthmap import GrowthClock
 
 
