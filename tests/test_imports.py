@@ -55,3 +55,34 @@ def test_the_tools_load_no_window():
     loaded = loaded_by(*modules_of(app.tools))
     assert "app.tools.maps" in loaded and "moderngl" in loaded  # the renderer's GL is theirs
     assert under(loaded, "glfw", "app.window") == set()
+
+
+def imported_modules(path: Path, name: str, known: set[str]) -> set[str]:
+    """The modules among `known` that module `name` (file `path`) imports, anywhere in it
+    (a function's late import too); `from .x import y` counts as x.y where that is a module."""
+    import ast
+
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            found |= {alias.name for alias in node.names}
+        elif isinstance(node, ast.ImportFrom):
+            base = package.rsplit(".", node.level - 1)[0] if node.level else ""
+            module = ".".join(p for p in (base, node.module or "") if p)
+            found |= {module, *(f"{module}.{alias.name}" for alias in node.names)}
+    return found & known - {name}
+
+
+def test_no_module_of_sim_imports_itself_through_others():
+    files = {m: ROOT / (m.replace(".", "/") + ".py") for m in modules_of(sim)}
+    files = {m: p if p.exists() else p.with_suffix("") / "__init__.py" for m, p in files.items()}
+    graph = {m: imported_modules(p, m, set(files)) for m, p in files.items()}
+    for start in graph:  # a walk from each module must never come back to it
+        seen, todo = set(), list(graph[start])
+        while todo:
+            module = todo.pop()
+            assert module != start, f"{start} imports itself through {sorted(seen)}"
+            if module not in seen:
+                seen.add(module)
+                todo.extend(graph[module])

@@ -18,7 +18,8 @@ from ..index.freezing import FreezingIndex
 from ..index.periodic import image_near, wrap_into
 from ..params import Params
 from ..rules.fern import make_growth
-from ..rules.pane import chill, make_pane
+from ..rules.pane import chill
+from ..rules.panes import make_pane
 from ..screen import HEIGHT, WIDTH, touch_problem
 from . import budget, placement
 from .areas import Areas
