@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..index.freezing import FreezingIndex
-from ..index.periodic import image_near, wrap_into
+from ..index.periodic import image_near
 from ..params import Params
 from ..rules.fern import make_growth
 from ..rules.pane import chill
@@ -24,11 +24,13 @@ from ..screen import HEIGHT, WIDTH, touch_problem
 from . import budget, placement
 from .areas import Areas
 from .budget import CELL_CAP, FREEZE_WORK
+from .freezes import admitted, drop_in_full_cells, nearest_crystals
+from .melting import melt_discs
 from .placement import CELL_TRIES, CELL_WORK, Placer
 from .skeleton import Added, Melted, Skeleton, upsample
 from .supply import TOUCH_TRIES, Supply
 from .views import Holdings
-from .walk import on_screen_f32, outside, walk_displacements
+from .walk import clearance_jumps, on_screen_f32, walk_displacements, walk_water
 from .water import Water
 
 __all__ = ["Added", "CELL_CAP", "CELL_TRIES", "CELL_WORK", "FREEZE_WORK", "FrostSim", "Melted",
@@ -126,7 +128,9 @@ class FrostSim(Holdings):
         """One tick: the phases of the module doc, in order."""
         self.placer.cell_work = placement.CELL_WORK
         self.walk()
-        hits, parents = self._admit(*self.crystallize(self._drop_in_full_cells()))
+        keys, dropped = drop_in_full_cells(self._water, self.index)
+        self.supply.dropped += dropped
+        hits, parents = self._admit(*self.crystallize(keys))
         frozen, parents, pts, bounced = self.growth.settle(self._water.at(hits), hits, parents,
                                                            self.ice, self.index)
         new = self._link(frozen, parents, pts)
@@ -155,28 +159,12 @@ class FrostSim(Holdings):
     def melt_many(self, discs) -> Melted:
         """One melt of the crystals within any of `discs` ((x, y, radius) each): as `melt`,
         in one pass over the ice they cover, one return of their water."""
-        for x, y, radius in discs:
-            if not (np.isfinite(x) and np.isfinite(y) and np.isfinite(radius) and radius > 0):
-                raise ValueError(f"melt at ({x!r}, {y!r}) with radius {radius!r}: need finite "
-                                 "values, radius > 0")
-        discs = [(float(x), float(y), float(r)) for x, y, r in discs]
-        dead = _union([self.index.crystals_near(x, y, r) for x, y, r in discs])
-        self.ice.calive.raw()[dead] = False
-        self.pane.melted(dead)
-        self.index.remove(dead)
-        # A child lies within one link of its parent: look no further than that.
-        reach = self.ice.longest_link + 1.0
-        near = _union([self.index.crystals_near(x, y, r + reach) for x, y, r in discs])
-        parents = self.ice.parents.raw()
-        orphans = near[np.isin(parents[near], dead)]
-        self.growth.melted(dead, parents, orphans, near if len(dead) else dead)
-        parents[orphans] = -1
-        segs, ups = self.ice.cut(np.concatenate([dead, orphans]))
-        self.water_melted += len(dead)
-        dead_area = self.ice.area.raw()[dead]
+        melted = melt_discs(discs, self.ice, self.index, self.growth, self.pane)
+        self.water_melted += len(melted.crystals)
+        dead_area = self.ice.area.raw()[melted.crystals]
         self._areas.count_ice(dead_area, -1)
         self.supply.returned(dead_area, self.ice_state())
-        return Melted(dead, ups, segs, orphans)
+        return melted
 
     # ---- phases ---------------------------------------------------------------------
 
@@ -186,56 +174,32 @@ class FrostSim(Holdings):
 
     def walk(self) -> None:
         """Eq. 2 for every walker; leavers are recreated inside their area (Sec. 3.4.2)."""
-        m = self._water.n
-        if m == 0:
+        if self._water.n == 0:
             return
         x, y = self._water.x.raw(), self._water.y.raw()
         columns = self._areas.columns(self._water.area.raw())
-        dx, dy = walk_displacements(self.rng, m, self.params.step, self.jumps(x, y, columns))
-        x += dx
-        y += dy
-        if self.wrap:  # a tile: a walker leaving one edge comes in at the opposite one
-            x[:], y[:] = wrap_into(x, self.width), wrap_into(y, self.height)
-        left = outside(x, y, columns, (self.width, self.height), self.wrap)
-        self.supply.spent(_NONE, self.supply.relocate(left.nonzero()[0], self.ice_state()))
+        left = walk_water(self.rng, x, y, columns, self.params.step, self.jumps(x, y, columns),
+                          (self.width, self.height), self.wrap)
+        self.supply.spent(_NONE, self.supply.relocate(left, self.ice_state()))
 
     def jumps(self, x: np.ndarray, y: np.ndarray, columns=None) -> np.ndarray | None:
         """Long jumps: the clearance of walkers at (x, y), each in its own area (None
         without long jumps); `columns`: `Areas.columns` of the walkers, where known."""
         if not self.params.long_jumps:
             return None
-        cx, cy, r = self._areas.columns(self._water.area.raw()) if columns is None else columns
-        return self.index.clearance.radii(x, y, r - np.hypot(x - cx, y - cy))
-
-    def _drop_in_full_cells(self) -> np.ndarray:
-        """Water in a cell that lists CELL_CAP crystals has arrived at finished ice.
-        Returns the cells of the walkers kept."""
-        keys = self.grid.keys(self._water.x.raw(), self._water.y.raw())
-        if self.candidates.most < budget.CELL_CAP:  # (no cell can be full)
-            return keys
-        full = self.candidates.count[keys] >= budget.CELL_CAP
-        if full.any():
-            self.supply.dropped += int(full.sum())
-            self._water.keep(~full)
-            keys = keys[~full]
-        return keys
+        columns = self._areas.columns(self._water.area.raw()) if columns is None else columns
+        return clearance_jumps(self.index.clearance, x, y, columns)
 
     def crystallize(self, keys: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Sec. 3.4.3: the walkers within hc of a crystal, and their nearest crystal
         (`keys`: the walkers' cells, where known)."""
-        if self._water.n == 0:
-            return np.empty(0, np.int64), np.empty(0, np.int32)
-        return self.index.nearest(self._water.x.raw(), self._water.y.raw(), keys)
+        return nearest_crystals(self._water, self.index, keys)
 
-    def _admit(self, frozen: np.ndarray, parents: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The freezes this tick takes (`budget.admit`); the water of those over the
-        cells' cap is dropped, and the kept walkers move down."""
-        frozen, parents, over = budget.admit(frozen, parents, self.candidates.count, self.grid,
-                                             self._water.at, self.params.hc,
-                                             self.work_per_crystal, self.candidates.most)
-        if len(over):
-            self.supply.dropped += len(over)
-            frozen = self._water.drop_before(over, frozen)
+    def _admit(self, hits: np.ndarray, parents: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The freezes this tick takes (`freezes.admitted`); the rest wait or drop."""
+        frozen, parents, dropped = admitted(self._water, self.index, hits, parents,
+                                            self.params.hc, self.work_per_crystal)
+        self.supply.dropped += dropped
         return frozen, parents
 
     def _link(self, frozen: np.ndarray, parents: np.ndarray, pts: np.ndarray) -> slice:
@@ -276,7 +240,3 @@ class FrostSim(Holdings):
         self.added = Added(self.tick, c, u, s, frozen)
         return self.added
 
-
-def _union(ids: list[np.ndarray]) -> np.ndarray:
-    """Ascending indices in any of `ids` (each ascending): one disc's own, as it is."""
-    return ids[0] if len(ids) == 1 else np.unique(np.concatenate(ids))
