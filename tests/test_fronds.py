@@ -26,7 +26,7 @@ from sim.rules.openglass import OpenGlass, ring_distance
 from tests import frozen_runs
 
 WINDOW = Params.preset("window")
-# The window preset before issue 20, as an old session file holds it: no frond keys.
+# The window preset without the frond rules, as an old session file holds it: no frond keys.
 OLD_WINDOW = {"tip_hits": 3, "side_hits": 6, "humidity": 3000, "water_budget": 6000,
               **{k: getattr(Params, k) for k in FROND_RULES}}
 W, H = 300, 400  # a small pane: a few hundred ticks frost it
@@ -35,14 +35,13 @@ W, H = 300, 400  # a small pane: a few hundred ticks frost it
 # ---- the looks that must not change ----------------------------------------------------------
 
 def test_params_table1_fern_and_the_old_window_grow_bit_identical_frost():
-    """Hashes of scripted runs computed on the code before the frond rules."""
+    """The unprefixed set: Table 1, fern and the window without and with its frond rules."""
     stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text())
     assert frozen_runs.hashes(OLD_WINDOW) == {k: v for k, v in stored.items() if "/" not in k}
 
 
-def test_the_newest_rules_grow_the_frost_they_grew_before_the_split():
-    """Version 5 hashes computed on FrostSim before it was split into parts (issue 22):
-    every preset, the paper's modes, a replant, a wrap tile, a scribble."""
+def test_version_6_grows_the_frost_stored_for_it():
+    """The "v5/" set: every preset, the paper's modes, a replant, a wrap tile, a scribble."""
     stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text())
     assert frozen_runs.hashes_v5() == {k: v for k, v in stored.items() if k.startswith("v5/")}
 
@@ -343,3 +342,9 @@ def test_a_touch_in_window_mode_grows_a_frond():
     assert fronds["n"] > 30
     assert fronds["stem_lw"] > before["stem_lw"], (fronds, before)
     assert fronds["main_frac"] > before["main_frac"], (fronds, before)
+
+
+def test_version_7_grows_the_frost_stored_for_it():
+    """The runs of the v5 set by version 7's rules, each part drawing from its own stream."""
+    stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text())
+    assert frozen_runs.hashes_v7() == {k: v for k, v in stored.items() if k.startswith("v7/")}

@@ -234,7 +234,7 @@ def test_a_session_file_replants_as_its_version_did(tmp_path, version, ticks):
     # the same frost as a run that starts from the regrown schedule
     # (the touches due at tick 0 are planted at once, as a session's first touches are)
     at0 = [(e["x"], e["y"]) for e, t in zip(events[:3], ticks, strict=True) if t == 0]
-    fresh = Timeline(PARAMS.replace(humidity=4000), 0, touches=at0)
+    fresh = Timeline(PARAMS.replace(humidity=4000), 0, touches=at0, version=version)
     grow(fresh, 20, [{**e, "tick": t} for e, t in zip(events[:3], ticks, strict=True) if t > 0])
     same_frost(timeline.sim, fresh.sim)
 

@@ -369,14 +369,15 @@ def test_play_applies_a_ticks_melts_as_one_group_as_the_window_does(monkeypatch)
 
 @pytest.mark.parametrize("version, batched, at_once", [(2, False, False), (3, True, False),
                                                        (4, True, True), (5, True, True),
-                                                       (6, True, True)])
+                                                       (6, True, True), (7, True, True)])
 @pytest.mark.parametrize("preset", ["fern", "window"])
 def test_a_session_file_places_water_as_its_version_did(version, batched, at_once, preset):
     log = SessionLog(0, Params.preset(preset).as_dict(),
                      events=[{"tick": 0, "kind": "touch", "x": 380.0, "y": 640.0}],
                      steps=30, version=version)
     timeline = replay(SessionLog.from_json(log.as_json()))
-    assert (timeline.sim.batched, timeline.sim.tries_at_once) == (batched, at_once)
+    rules = timeline.sim.rules
+    assert (rules.batched_placement, rules.tries_at_once) == (batched, at_once)
     legacy = FrostSim(Params.preset(preset), seed=0, version=version)
     legacy.touch(380.0, 640.0)
     for _ in range(30):

@@ -235,7 +235,7 @@ def test_walkers_leaving_an_edge_come_in_at_the_opposite_one():
 
     sim = FrostSim(Params.preset("window", frame_sites=0.0), *TILE, seed=3, wrap=True)
     x0, y0 = sim.water[:, 0], sim.water[:, 1]
-    rng = copy.deepcopy(sim.rng)
+    rng = copy.deepcopy(sim.streams.walk)
     dx, dy = walk_displacements(rng, len(x0), sim.params.step, sim.jumps(x0, y0))
     sim.walk()
     assert np.array_equal(sim.water[:, 0], wrap_into(x0 + dx, TILE[0]))

@@ -29,6 +29,7 @@ from .melting import melt_discs
 from .placement import CELL_TRIES, CELL_WORK, Placer
 from .skeleton import Added, Melted, Skeleton, upsample
 from .supply import TOUCH_TRIES, Supply
+from .versions import NEWEST, random_streams, rules_of
 from .views import Holdings
 from .walk import clearance_jumps, on_screen_f32, walk_displacements, walk_water
 from .water import Water
@@ -36,9 +37,9 @@ from .water import Water
 __all__ = ["Added", "CELL_CAP", "CELL_TRIES", "CELL_WORK", "FREEZE_WORK", "FrostSim", "Melted",
            "TOUCH_TRIES", "VERSION", "upsample", "walk_displacements"]
 
-# The newest rules (what a session file's "version" names; sim/io/session.py lists what each
-# changed). Older versions replay as frost grew them then.
-VERSION = 6
+# The newest rules (what a session file's "version" names; sim/core/versions.py lists what
+# each changed). Older versions replay as frost grew them then.
+VERSION = NEWEST
 _NONE = np.empty(0, np.int64)
 _PANE = np.zeros(1, np.int32)  # the pane's one area
 
@@ -50,21 +51,19 @@ def _check(name: str, v, low: int, high: int, what: str) -> None:
 
 class FrostSim(Holdings):
     """Window frost on a `width` x `height` px screen (docs/method.md). `version` (1 ..
-    VERSION) picks the rules a session file of that version replays with: 3 batches the
-    cell placement of all areas, 4 draws window water's later tries at once, 5 lets a
-    touch into a short pool bring new walkers and pools a seed's first hits. `wrap`: a
+    VERSION) picks the rules a session file of that version replays with (`self.rules`,
+    sim/core/versions.py); each part draws from its stream of `self.streams`. `wrap`: a
     tile (sim.index.periodic), whose walkers, search, clearance and placement see across edges."""
 
     def __init__(self, params: Params | None = None, width: int = WIDTH, height: int = HEIGHT,
                  seed: int = 0, version: int = VERSION, wrap: bool = False):
         _check("width", width, 1, 16384, " of px")
         _check("height", height, 1, 16384, " of px")
-        _check("version", version, 1, VERSION, "")
+        self.rules = rules_of(version)
         p = self.params = params if params is not None else Params()
         self.width, self.height, self.wrap = int(width), int(height), bool(wrap)
-        self.seed, self.version, self.rng = seed, int(version), np.random.default_rng(seed)
-        self.batched, self.tries_at_once = version >= 3, version >= 4
-        self.touch_creates = version >= 5
+        self.seed, self.version = seed, self.rules.version
+        self.streams = random_streams(seed, self.rules)
         self.tick, self.water_melted, self._mark = 0, 0, (0, 0, 0)
         self.ice, self._water, self._areas = Skeleton(), Water(p.humidity), Areas()
         self.index = FreezingIndex(self.ice.crystals, self.width, self.height, p.hc,
@@ -73,11 +72,13 @@ class FrostSim(Holdings):
         self.search, self.clearance = self.index.search, self.index.clearance
         self.work_per_crystal = budget.work_per_crystal(p.hc, p.grid_spacing, p.D)
         # Beyond the paper (fern rules; window mode chills them by its temperature).
-        self.growth = make_growth(chill(p), self.rng, pooled_first=version >= 5)
-        self.pane = make_pane(p, self.rng, self.index, self.ice, self.tries_at_once)
-        self.placer = Placer(self.rng, self.index, self._areas, self.pane, p, self.batched)
-        self.supply = Supply(p, self.rng, self._water, self._areas, self.placer, self.pane,
-                             self.index, self.touch_creates)
+        rules, streams = self.rules, self.streams
+        self.growth = make_growth(chill(p), streams.growth, rules.pooled_first_hits)
+        self.pane = make_pane(p, streams.pane, self.index, self.ice, rules.tries_at_once)
+        self.placer = Placer(streams.placement, self.index, self._areas, self.pane, p,
+                             rules.batched_placement)
+        self.supply = Supply(p, streams.supply, self._water, self._areas, self.placer, self.pane,
+                             self.index, rules.touch_creates)
         self.added = Added(0, slice(0, 0), slice(0, 0), slice(0, 0), 0)
         self._start_pane()
 
@@ -178,7 +179,7 @@ class FrostSim(Holdings):
             return
         x, y = self._water.x.raw(), self._water.y.raw()
         columns = self._areas.columns(self._water.area.raw())
-        left = walk_water(self.rng, x, y, columns, self.params.step, self.jumps(x, y, columns),
+        left = walk_water(self.streams.walk, x, y, columns, self.params.step, self.jumps(x, y, columns),
                           (self.width, self.height), self.wrap)
         self.supply.spent(_NONE, self.supply.relocate(left, self.ice_state()))
 

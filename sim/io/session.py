@@ -19,14 +19,8 @@ from ..screen import HEIGHT, WIDTH, melt_problem, touch_problem
 from .files import one_line, read_json, write_atomic
 
 FORMAT = "frost-session"
-# 6: a tick's melts given together (a warm finger's drag) apply as one melt, each recorded
-# with its "group" (`Timeline.apply`); 5: a touch into an area whose pool is short brings
-# new walkers, and a ringed seed's hits count together until its first child
-# (sim/core/supply.py `Supply.water_seed`, sim/rules/fern.py); 4: the
-# window's water draws its later tries in one batch (sim/rules/openglass.py); 3: where an
-# area's disc draws fail, walkers are placed from all areas' cells in one pass
-# (sim/core/frost.py, CELL_WORK); 2: a rebuild replants the touches at their own pace (1: all
-# at tick 0). Older files replay as frost did when they were written.
+# The rules a file grows by; sim/core/versions.py lists what each version changed. Older
+# files replay as frost did when they were written.
 VERSION = FROST_VERSION
 # The keys each event kind needs besides "tick" and "kind".
 EVENT_FIELDS = {"touch": ("x", "y"), "melt": ("x", "y", "r"), "params": ("params",),

@@ -7,7 +7,7 @@ the step that produces tick t + 1 (several events of one tick apply in their ord
 
 A rebuild (params, clear) starts a new timeline at tick 0. The touches so far are planted
 again in their order and at their own pace: the first at tick 0, each pause between two
-touches kept but shortened to at most REGROW_GAP ticks (so a scribble regrows stroke by
+touches kept but shortened to at most REGROW_GAP ticks (sim/core/versions.py) (so a scribble regrows stroke by
 stroke as it was drawn, with the water going where it went then, and a touch made minutes
 after the last is back within half a second). The melts so far are scheduled again at
 their own ticks (one at tick t applies in the step that produces tick t + 1, before the
@@ -24,23 +24,13 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..core.frost import FrostSim
+from ..core.versions import rules_of
 from ..look.geometry import FrostGeometry, GeometryDelta
 from ..params import Params
 from ..screen import HEIGHT, WIDTH, touch_problem
 from .session import REBUILDS, VERSION, SessionLog
 
 log = logging.getLogger(__name__)
-
-# The version from which a tick's melts given together apply as one (`Timeline.apply`).
-GROUPED_MELTS = 6
-# Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
-REGROW_GAP = 12
-
-
-def regrow_gap(version: int) -> int:
-    """The longest pause between replanted touches in a session file of `version`."""
-    return 0 if version < 2 else REGROW_GAP
-
 
 def regrow(touches: list[dict[str, Any]], gap: int) -> list[dict[str, Any]]:
     """`touches` (in tick order) as a rebuild schedules them again: the first at tick 0,
@@ -70,7 +60,8 @@ class Timeline:
                  touches=(), version: int = VERSION, wrap: bool = False):
         self.seed, self.size, self.version = seed, (width, height), version
         self.wrap = wrap  # a tile (frost maps --tile): every edge continues at the opposite one
-        self.gap = regrow_gap(version)
+        self.rules = rules_of(version)
+        self.gap = self.rules.regrow_gap
         self.steps = 0
         # Every touch the frost grows from: planted, or scheduled by a rebuild.
         self.touches: tuple[tuple[float, float], ...] = tuple(touches)
@@ -105,7 +96,7 @@ class Timeline:
         events, i = list(events), 0
         while i < len(events):
             j = self._group_end(events, i)
-            if self.version >= GROUPED_MELTS and events[i]["kind"] == "melt":
+            if self.rules.grouped_melts and events[i]["kind"] == "melt":
                 self._melt_group(events[i:j], notes)
             else:
                 self.events.append(self._record(events[i]))
@@ -116,7 +107,7 @@ class Timeline:
     def _group_end(self, events: list, i: int) -> int:
         """The end of the run of melts of one group that starts at `i` (i + 1 if none)."""
         j = i + 1
-        if self.version < GROUPED_MELTS or events[i]["kind"] != "melt":
+        if not self.rules.grouped_melts or events[i]["kind"] != "melt":
             return j
         group = events[i].get("group")
         while j < len(events) and events[j]["kind"] == "melt" and events[j].get("group") == group:
