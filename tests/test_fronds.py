@@ -320,7 +320,7 @@ def tree_of(sim, root):
 @pytest.mark.validation  # a statistical comparison of looks, seconds: `make test-deep`
 def test_a_touch_in_window_mode_grows_a_frond():
     """A touch on open glass, then 400 ticks: its tree's stems, against the same touch on
-    the window of before the fronds (the rules off), are longer and more of its ice lies
+    the window without the frond rules (off), are longer and more of its ice lies
     on main stems; medians of three seeds (one tree is a small sample: a single seed's
     main_frac ranged 0.23-0.58 with the rules on, 0-0.25 off)."""
     def grown(params, seed):

@@ -1,5 +1,5 @@
-"""The looks: Table 1's presets keep the paper's picture pixel for pixel (hashes stored
-before the glass look existed), the glass look's shader variants, and its measured cues."""
+"""The looks: Table 1's presets keep the paper's picture pixel for pixel (stored frame
+hashes), the glass look's shader variants, and its measured cues."""
 
 from __future__ import annotations
 
@@ -24,9 +24,8 @@ from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES
 from sim.look.ridges import VERTS_PER_LINK, ridge_triangles, width_level
 from sim.params import LOOKS
 
-# sha256 of the H x W x 3 frame, computed on the code before the `look` setting existed
-# (1c14e25; "a-1 melt", two touches, again on main at 68e355d, whose one-pass water
-# placement changed it), llvmpipe; grown by version 6's rules (one random stream).
+# sha256 of the H x W x 3 frame of the paper look, llvmpipe; grown by version 6's rules
+# (one random stream).
 # What each run is: preset, seed, ticks, touches, melts.
 PAPER_RUNS = {
     "c-2": ("c-2", 0, 150, [(380.0, 640.0)], []),
@@ -266,8 +265,8 @@ def test_glass_colour_is_even_along_a_link(fern_glass):
     assert checks.colour_variation(frames["black"], run.sim) <= 0.11
 
 
-def test_the_paper_look_varies_along_a_link_as_the_issue_measured(gl_ctx):
-    # The "before": the paper's per-segment pyramids dip at every node (the issue: 15 %).
+def test_the_paper_look_varies_along_a_link_by_about_15_percent(gl_ctx):
+    # The paper's per-segment pyramids dip at every node: about 15 % colour variation.
     run, frames, _ = measured(gl_ctx, "paper")
     run.release()
     assert 0.13 <= checks.colour_variation(frames["black"], run.sim) <= 0.17

@@ -267,4 +267,4 @@ def test_long_jumps_on_a_tile_never_reach_ice_across_an_edge(hc):
     x = np.float32([0.5, 159.5, 30.0, 130.0])
     y = np.float32([64.0, 64.0, 64.0, 64.0])
     rho = lone.clearance.radii(x, y, np.full(4, np.float32(1e9)))
-    assert (rho[:2] > 2 * lone.params.step).all()  # an edge used to cap them at 0.5 px
+    assert (rho[:2] > 2 * lone.params.step).all()  # an edge that capped them would give 0.5 px

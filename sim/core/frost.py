@@ -64,7 +64,7 @@ class FrostSim(Holdings):
         self.width, self.height, self.wrap = int(width), int(height), bool(wrap)
         self.seed, self.version = seed, self.rules.version
         self.streams = random_streams(seed, self.rules)
-        self.tick, self.water_melted, self._mark = 0, 0, (0, 0, 0)
+        self.tick, self.water_melted, self._rows_at_tick_end = 0, 0, (0, 0, 0)
         self.ice, self._water, self._areas = Skeleton(), Water(p.humidity), Areas()
         self.index = FreezingIndex(self.ice.crystals, self.width, self.height, p.hc,
                                    p.neighbor_search, self.wrap, p.long_jumps or p.window_frost)
@@ -234,10 +234,10 @@ class FrostSim(Holdings):
             self._areas.ride(touched, self.params.active_radius)
 
     def _close_tick(self, frozen: int) -> Added:
-        now = (self.ice.crystals.n, self.ice.ups.n, self.ice.segs.n)
-        (c0, u0, s0), (c1, u1, s1) = self._mark, now
-        c, u, s = slice(c0, c1), slice(u0, u1), slice(s0, s1)
-        self._mark = now
-        self.added = Added(self.tick, c, u, s, frozen)
+        """The rows this tick added (touches since the last tick's end included)."""
+        now = self.ice.counts()
+        crystals, upsampled, segments = (slice(a, b) for a, b in zip(self._rows_at_tick_end, now,
+                                                                      strict=True))
+        self._rows_at_tick_end = now
+        self.added = Added(self.tick, crystals, upsampled, segments, frozen)
         return self.added
-

@@ -25,7 +25,7 @@ def melt_discs(discs, ice: Skeleton, index: FreezingIndex, growth, pane) -> Melt
     their children (which become roots) are cut. The water they held is the caller's."""
     discs = checked_discs(discs)
     dead = _union([index.crystals_near(x, y, r) for x, y, r in discs])
-    ice.calive.raw()[dead] = False
+    ice.crystal_alive.raw()[dead] = False
     pane.melted(dead)
     index.remove(dead)
     # A child lies within one link of its parent: look no further than that.

@@ -68,7 +68,7 @@ class Timeline:
         self.melts: list[dict[str, Any]] = []  # this timeline's melts, as applied
         self.events: list[dict[str, Any]] = []  # every event applied, with its tick
         # This timeline's touches as planted; "group" tells those planted together.
-        self._sown: list[dict[str, Any]] = []
+        self._planted: list[dict[str, Any]] = []
         self._group = 0
         # Touches and melts a rebuild scheduled, in tick order.
         self._pending: list[dict[str, Any]] = touch_events(self.touches)
@@ -142,7 +142,7 @@ class Timeline:
 
     def touch_ticks(self) -> list[tuple[int, float, float]]:
         """(tick, x, y) of every touch the frost grows from, planted or scheduled."""
-        return [(e["tick"], e["x"], e["y"]) for e in self._sown + self._pending
+        return [(e["tick"], e["x"], e["y"]) for e in self._planted + self._pending
                 if e["kind"] == "touch"]
 
     def _due(self, notes: dict) -> None:
@@ -150,30 +150,30 @@ class Timeline:
             if self._pending[0]["kind"] == "melt":
                 self._melt(self._pending.pop(0), notes)
             else:
-                self._sow_due()
+                self._plant_due()
 
-    def _sow_due(self) -> None:
+    def _plant_due(self) -> None:
         """Plant the touches due first, together if they were planted together before
         (with gap 0, as version 1 did: every touch due)."""
         head, n = self._pending, 1
         while (n < len(head) and head[n]["kind"] == "touch" and head[n]["tick"] == head[0]["tick"]
                and (self.gap == 0 or head[n].get("group") == head[0].get("group"))):
             n += 1
-        self._sow(head[:n])
+        self._plant(head[:n])
         del head[:n]
 
-    def _sow(self, touches: list[dict[str, Any]]) -> None:
+    def _plant(self, touches: list[dict[str, Any]]) -> None:
         """Plant `touches` now, together (one top-up per area they touch)."""
         self.sim.plant([(e["x"], e["y"]) for e in touches])
         self._group += 1
-        self._sown += [{**e, "tick": self.sim.tick, "group": self._group} for e in touches]
+        self._planted += [{**e, "tick": self.sim.tick, "group": self._group} for e in touches]
 
     # ---- event handlers: (event, notes) ------------------------------------------------
 
     def _touch(self, event: dict, _notes: dict) -> None:
         x, y = float(event["x"]), float(event["y"])
         if touch_problem(x, y, self.size) is None:  # a touch off the screen is ignored
-            self._sow([{"tick": self.sim.tick, "kind": "touch", "x": x, "y": y}])
+            self._plant([{"tick": self.sim.tick, "kind": "touch", "x": x, "y": y}])
             self.touches = (*self.touches, (x, y))
 
     def _melt(self, event: dict, notes: dict) -> None:
@@ -201,18 +201,18 @@ class Timeline:
         notes["deltas"][:] = [self.geometry.redraw(self.sim)]
 
     def _clear(self, _event: dict, notes: dict) -> None:
-        self.touches, self.melts, self._pending, self._sown = (), [], [], []
+        self.touches, self.melts, self._pending, self._planted = (), [], [], []
         self._rebuild(self.params, notes)
 
     def _rebuild(self, params: Params, notes: dict) -> None:
         # What an earlier rebuild scheduled and has not happened yet comes again too.
-        touches = self._sown + [e for e in self._pending if e["kind"] == "touch"]
+        touches = self._planted + [e for e in self._pending if e["kind"] == "touch"]
         melts = self.melts + [e for e in self._pending if e["kind"] == "melt"]
         touches = regrow(sorted(touches, key=lambda e: e["tick"]), self.gap)
         self.touches = tuple((e["x"], e["y"]) for e in touches)
         # (stable: a tick's touches before its melts, as they applied)
         self._pending = sorted(touches + melts, key=lambda e: e["tick"])
-        self.melts, self._sown = [], []
+        self.melts, self._planted = [], []
         self._build(params)
         notes["reset"] = True
         notes["deltas"].clear()  # older melt deltas belong to the old frost
@@ -224,7 +224,7 @@ class Timeline:
         self.geometry = FrostGeometry(params, *self.size, wrap=self.wrap)
         while self._pending and self._pending[0]["tick"] == 0 \
                 and self._pending[0]["kind"] == "touch":  # (melts wait for the step)
-            self._sow_due()
+            self._plant_due()
 
 
 def touch_events(points, tick: int = 0) -> list[dict[str, Any]]:

@@ -113,7 +113,7 @@ class Pane:
         if key != self._band_key:
             n = self.ice.crystals.n
             new = np.arange(self._seen, n)
-            c = self.ice.crystals.raw()[new[self.ice.calive.raw()[new]]]
+            c = self.ice.crystals.raw()[new[self.ice.crystal_alive.raw()[new]]]
             np.add.at(self._own, self.index.grid.keys(c[:, 0], c[:, 1]), 1)
             self._seen = n
             near = (self.index.clearance.rings <= BAND) & (self._own == 0)
