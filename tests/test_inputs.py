@@ -493,6 +493,22 @@ def test_the_default_folder_is_checked_when_there_is_no_out(stubbed, tmp_path, m
     assert status == 0 and stubbed and not (tmp_path / "frost-out").exists(), err
 
 
+@pytest.mark.parametrize("output", list(FILE_OUTPUTS))
+@pytest.mark.parametrize("name, shown", [("x.gif", ".gif"), ("x.png.txt", ".txt"),
+                                         ("x", "no suffix")])
+def test_a_picture_name_frost_cannot_write_is_refused_naming_the_suffixes(
+        stubbed, tmp_path, output, name, shown):
+    status, err = run_main(output_argv(FILE_OUTPUTS[output], tmp_path / name, tmp_path))
+    assert not stubbed
+    assert_refused_in_one_line(status, err, name, ".png, .jpg, .jpeg", shown)
+
+
+@pytest.mark.parametrize("name", ["x.png", "x.jpg", "x.JPEG", "x.Png"])
+def test_picture_names_frost_writes_are_accepted(stubbed, tmp_path, name):
+    status, err = run_main(["render", f"--out={tmp_path / name}"])
+    assert status == 0 and stubbed and err == "", err
+
+
 def test_a_render_over_a_folder_is_refused(stubbed, tmp_path):
     status, err = run_main(["render", "--out", str(tmp_path)])
     assert_refused_in_one_line(status, err, "--out", "is a folder, not a file")

@@ -155,6 +155,36 @@ def test_headless_cli_writes_png_with_metadata(gl_ctx, tmp_path):
                                                                        "background.png"))).any()
 
 
+@pytest.mark.parametrize("name", ["shot.jpg", "shot.JPEG"])
+def test_headless_cli_writes_a_real_jpeg_under_a_jpeg_name(gl_ctx, tmp_path, name):
+    argv = ("--seed", "3", "--touch", "380,640", "--ticks", "12")
+    jpeg, png = tmp_path / name, tmp_path / "same.png"
+    for out in (jpeg, png):
+        run = run_cli(*argv, "--out", str(out))
+        assert run.returncode == 0, run.stderr
+    image = Image.open(jpeg)
+    assert image.format == "JPEG" and image.size == (760, 1280)
+    meta = json.loads(image.info["comment"])  # a JPEG's one comment segment holds the JSON
+    assert meta["seed"] == 3 and meta["tick"] == 12 and meta["Software"] == "frost (frost render)"
+    assert [t[1:] for t in meta["touches"]] == [[380, 640]]
+    # The same frame as the PNG of the same run, up to JPEG's loss.
+    diff = np.abs(np.asarray(image, np.int16) - np.asarray(Image.open(png).convert("RGB"), np.int16))
+    assert diff.mean() < 2.0, diff.mean()
+
+
+def test_a_jpeg_comment_too_long_leaves_out_its_largest_entries(tmp_path):
+    from app.images import JPEG_COMMENT_MAX, save_image
+
+    touches = [[t, 380.5, 640.25] for t in range(5000)]  # some 100 KB of JSON
+    meta = {"seed": 7, "touches": touches, "view": {"light": [1, 2]}}
+    path = save_image(np.zeros((8, 8, 3), np.uint8), tmp_path / "x.jpg", meta)
+    comment = Image.open(path).info["comment"]
+    assert len(comment) <= JPEG_COMMENT_MAX
+    assert json.loads(comment) == {"seed": 7, "view": {"light": [1, 2]}, "left_out": ["touches"]}
+    small = save_image(np.zeros((8, 8, 3), np.uint8), tmp_path / "y.jpg", {"seed": 7})
+    assert json.loads(Image.open(small).info["comment"]) == {"seed": 7}
+
+
 def test_headless_cli_bad_touch_is_a_clear_error(gl_ctx, tmp_path):
     run = run_cli("--touch", "9999,5", "--ticks", "1", "--out", str(tmp_path / "x.png"))
     assert run.returncode == 2

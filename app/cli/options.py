@@ -74,7 +74,8 @@ def add_out(p, demo: bool = False) -> None:
     also = ("; the scripted demo writes its stages' PNGs beside it, by default "
             "frost-out/frost-demo-TIMESTAMP-tickNNNN.png") if demo else ""
     p.add_argument("--out", metavar="FILE.png",
-                   help=f"write the final frame here (default frost-out/frost-TIMESTAMP.png{also})")
+                   help=f"write the final frame here, PNG or JPEG by the suffix (.png, .jpg, .jpeg; "
+                        f"default frost-out/frost-TIMESTAMP.png{also})")
 
 
 def add_ticks(p, default: int | None, what: str) -> None:

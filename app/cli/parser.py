@@ -125,7 +125,7 @@ def _figure8(root: Parser, subs) -> None:
     p = root.command(subs, "figure8", "the paper's Fig. 8: the nine Table 1 presets on one sheet",
                      "Render the nine Table 1 presets (a-1 ... c-3) from one touch into a 3x3 "
                      "sheet (Fig. 8), print each preset's numbers, and exit.", "FILE.png [options]")
-    p.add_argument("out", metavar="FILE.png", help="the sheet to write")
+    p.add_argument("out", metavar="FILE.png", help="the sheet to write (.png, or .jpg/.jpeg for JPEG)")
     options.add_params(p, options.FIGURE8_SET)
     options.add_seed(p)
     options.add_ticks(p, options.DEFAULT_TICKS, "how long each preset grows")
@@ -139,7 +139,7 @@ def _figure(root: Parser, subs) -> None:
                      "Render a labelled sheet of fern growth (ticks 25 ... 750, one touch and three "
                      "touches) with the chosen parameters, and exit.", "KIND FILE.png [options]")
     p.add_argument("kind", choices=FIGURES, metavar="KIND", help=f"which figure: {', '.join(FIGURES)}")
-    p.add_argument("out", metavar="FILE.png", help="the sheet to write")
+    p.add_argument("out", metavar="FILE.png", help="the sheet to write (.png, or .jpg/.jpeg for JPEG)")
     options.add_preset(p)
     options.add_seed(p)
     options.add_background(p)

@@ -16,7 +16,7 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
 from app.backdrops import DEFAULT_BACKDROP, view_from
-from app.images import frost_meta, save_png
+from app.images import frost_meta, save_image
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
 from sim import PRESETS, FrostSim, Params
@@ -173,7 +173,7 @@ def run(args, on_top: Params | None = None) -> int:
                       stats=[s.__dict__ for s in stats],
                       background=getattr(args, "background", None) or DEFAULT_BACKDROP)
     try:
-        path = save_png(sheet, Path(args.out), meta)
+        path = save_image(sheet, Path(args.out), meta)
     except OSError as err:
         print(f"frost: error: cannot write {why(err, args.out)}", file=sys.stderr)
         return 2
