@@ -6,6 +6,7 @@ maps and the GL tools can write screenshots alike."""
 from __future__ import annotations
 
 import json
+import os
 import time
 from pathlib import Path
 
@@ -109,11 +110,13 @@ def save_png(image: np.ndarray, path, meta: dict) -> Path:
 
 def timestamped_path(folder, prefix: str = "frost", suffix: str = ".png", also=(),
                      taken=()) -> Path:
-    """A new file name in `folder` named by the time, never one that already exists, nor
-    one whose stem exists with any (folder, suffix) of `also` or is in `taken` (names
-    handed out before whose files may not be written yet, or never were)."""
+    """A new file name in `folder` named by the time and this process (two runs started in
+    the same second choose before either writes, so the time alone would name both files
+    the same): never one that already exists, nor one whose stem exists with any
+    (folder, suffix) of `also` or is in `taken` (names this run handed out before whose
+    files may not be written yet, or never were)."""
     folder = Path(folder)
-    stamp = time.strftime("%Y%m%d-%H%M%S")
+    stamp = f"{time.strftime('%Y%m%d-%H%M%S')}-p{os.getpid()}"
     path, n = folder / f"{prefix}-{stamp}{suffix}", 1
     while path.exists() or path.stem in taken or any(
             (Path(other) / f"{path.stem}{ext}").exists() for other, ext in also):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -133,6 +134,59 @@ def test_png_metadata_and_fresh_names(tmp_path):
     assert path.exists() and timestamped_path(tmp_path) != path
     text = Image.open(path).text
     assert json.loads(text["seed"]) == 7 and json.loads(text["touches"]) == [[1, 2]]
+
+
+@pytest.mark.parametrize("prefix, suffix", [("frost", ".png"), ("frost-demo", ""),
+                                            ("session", ".json"), ("frost", ".webp")])
+def test_two_runs_in_the_same_second_choose_different_names(monkeypatch, tmp_path, prefix, suffix):
+    """Two runs each choose a name before either has written (a render names its PNG at
+    the start, the window its session file): in the same second they must still differ."""
+    monkeypatch.setattr("app.images.time.strftime", lambda fmt: "20261125-120000")
+    chosen = []
+    for pid in (4100, 4101):
+        monkeypatch.setattr("app.images.os.getpid", lambda pid=pid: pid)
+        chosen.append(timestamped_path(tmp_path, prefix, suffix))
+    assert chosen[0] != chosen[1]
+    for run, path in enumerate(chosen):
+        path.write_text(f"run {run}")
+    assert [p.read_text() for p in chosen] == ["run 0", "run 1"]  # neither overwrote the other
+
+
+FROZEN_CLOCK = ("import sys, time; time.strftime = lambda fmt, *t: '20261125-120000'; "
+                "from app.cli import main; sys.exit(main(sys.argv[1:]))")
+
+
+def test_runs_started_together_overwrite_none_of_each_others_files(gl_ctx, tmp_path):
+    """Four headless renders at once with one frozen clock (so every run starts in the same
+    second), two scripted demos and two with a touch, all into frost-out/: every file a run
+    says it wrote is there, holds that run's seed, and no two runs named the same file."""
+    runs = {seed: ["render", "--seed", str(seed), "--ticks", "3"] + touch
+            for seed, touch in [(1, []), (2, []), (3, ["--touch", "380,640"]),
+                                (4, ["--touch", "380,640"])]}
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    procs = {seed: subprocess.Popen([sys.executable, "-c", FROZEN_CLOCK, *argv], cwd=tmp_path,
+                                    env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                    text=True) for seed, argv in runs.items()}
+    said: dict[int, list[Path]] = {}
+    for seed, proc in procs.items():
+        out, err = proc.communicate(timeout=180)
+        assert proc.returncode == 0, err
+        said[seed] = said_written(out, tmp_path / "frost-out")
+    names = [p.name for files in said.values() for p in files]
+    assert len(names) == 3 + 3 + 1 + 1 == len(set(names))
+    assert sorted(names) == sorted(p.name for p in (tmp_path / "frost-out").iterdir())
+    for seed, files in said.items():
+        for path in files:
+            assert json.loads(Image.open(path).text["seed"]) == seed, path
+
+
+def said_written(stdout: str, folder: Path) -> list[Path]:
+    """The files a render's last line says it wrote: 'wrote frost-out/NAME' (relative to
+    the folder it ran in) or 'wrote N PNG files to FOLDER: a, b, c'."""
+    line = stdout.strip().splitlines()[-1]
+    if ": " in line:
+        return [folder / name for name in line.split(": ", 1)[1].split(", ")]
+    return [folder.parent / line.removeprefix("wrote ")]
 
 
 def run_cli(*args, cwd=ROOT):
