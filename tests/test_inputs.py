@@ -509,6 +509,32 @@ def test_picture_names_frost_writes_are_accepted(stubbed, tmp_path, name):
     assert status == 0 and stubbed and err == "", err
 
 
+# A bad command line of each command, the prefix its error starts with and the help it
+# points to. Every command parsed by frost speaks as frost; frost bench sim's arguments
+# belong to the benchmark's own parser, which speaks as frost bench sim, wherever the words
+# of the command line put the mistake.
+PREFIXES = [([], "frost", "frost"), (["render"], "frost", "frost render"),
+            (["replay", "SESSION"], "frost", "frost replay"),
+            (["figure8", "OUT/f.png"], "frost", "frost figure8"),
+            (["figure", "fern", "OUT/f.png"], "frost", "frost figure"),
+            (["maps", "OUT/maps"], "frost", "frost maps"),
+            (["bench", "render"], "frost", "frost bench render"),
+            (["bench", "sim"], "frost bench sim", "frost bench sim"),
+            (["bench", "--bogus", "sim"], "frost bench sim", "frost bench sim")]
+
+
+@pytest.mark.parametrize("argv, prefix, command", PREFIXES)
+def test_each_commands_errors_carry_its_prefix(stubbed, tmp_path, argv, prefix, command):
+    bad = argv if "--bogus" in argv else [*argv, "--bogus"]
+    status, err = run_main(with_paths(bad, tmp_path))
+    assert status == 2 and err.count("\n") == 1, err
+    assert err.startswith(f"{prefix}: error: ") and err.endswith(f"(see {command} --help)\n"), err
+    if argv and bad != argv:  # a window option before the command: it is named whole
+        status, err = run_main(with_paths(["--seed=3", *argv], tmp_path))
+        assert status == 2 and err.startswith(f"{prefix}: error: "), err
+        assert f"write {command} [options]" in err, err
+
+
 def test_a_render_over_a_folder_is_refused(stubbed, tmp_path):
     status, err = run_main(["render", "--out", str(tmp_path)])
     assert_refused_in_one_line(status, err, "--out", "is a folder, not a file")
