@@ -116,14 +116,31 @@ def _writable_problem(path: Path, folder: bool) -> str | None:
             return f"is {kind or 'a file'}, not a folder"
         if not folder and kind:
             return refusal(kind)  # what the write itself would say, before the work
-        writable = os.access(path, os.W_OK | (os.X_OK if folder else 0))
-        return _creates_files(path if folder else path.parent) if writable else "is not writable"
+        if not folder and not os.access(path, os.W_OK):
+            return "is not writable"
+        home = path if folder else path.parent
+        problem = _permission_problem(home)
+        if problem:
+            return problem if folder else f"its folder {home} {problem}"
+        return _creates_files(home)
     parent = _existing(path.parent)
     if not parent.is_dir():
         return f"{parent} is a file, not a folder"
-    if not os.access(parent, os.W_OK | os.X_OK):
-        return f"cannot create it: {parent} is not writable"
+    problem = _permission_problem(parent)
+    if problem:
+        return f"cannot create it: {parent} {problem}"
     return _creates_files(parent)
+
+
+def _permission_problem(folder: Path) -> str | None:
+    """Why the permissions of `folder` let no file be made in it, or None. Both are
+    needed: writing it (w) adds the name, searching it (x) reaches the file; a folder
+    with w alone (mode 0o200) passes a check of writing only."""
+    if not os.access(folder, os.W_OK):
+        return "is not writable"
+    if not os.access(folder, os.X_OK):
+        return "is not searchable (no x permission), so no file can be made in it"
+    return None
 
 
 def _existing(path: Path) -> Path:
