@@ -698,7 +698,7 @@ NUMBER = st.one_of(st.integers(-3, 3), st.integers(), st.floats(), st.booleans()
                    st.floats(0, 800), st.sampled_from([0, 0.5, 4.0, 759.9999999999, 1e308, 2**70]))
 TICK = st.one_of(st.integers(0, 4), NUMBER)
 # Parameter values near and beyond the valid ranges, of every JSON type. (Only affordable
-# values are replayed below: tiny hc or huge humidity are the README's bounds on work per tick.)
+# values are replayed below: tiny hc or huge humidity are the bounds on work per tick (docs/method.md 5.2).)
 PARAM_VALUE = st.one_of(NUMBER, st.sampled_from(["candidate", "grid9", "octree", None]))
 PARAM_NAMES = st.sampled_from([n for n, _, _ in Params.describe()] + ["zap"])
 PARAMS = st.dictionaries(PARAM_NAMES, PARAM_VALUE, max_size=3) | JSON
