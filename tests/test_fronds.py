@@ -12,11 +12,12 @@ import pytest
 from app.tools.measures import (
     END_GAIN,
     END_TICKS,
+    MAIN_PX,
     clear_boxes,
     frame_mid,
     frosted_end,
-    side_spacing,
     skeleton_measures,
+    stems,
 )
 from sim import FrostSim, Params
 from sim.params import FROND_RULES
@@ -30,6 +31,19 @@ WINDOW = Params.preset("window")
 OLD_WINDOW = {"tip_hits": 3, "side_hits": 6, "humidity": 3000, "water_budget": 6000,
               **{k: getattr(Params, k) for k in FROND_RULES}}
 W, H = 300, 400  # a small pane: a few hundred ticks frost it
+
+
+def side_spacing(crystals, parents, alive) -> float:
+    """Median over main stems (MAIN_PX or more) with side stems of their length per side
+    stem leaving them, px: how far apart side branches are (nan if none)."""
+    head, length, _, parent_stem, link = stems(crystals, parents, alive)
+    n = len(crystals)
+    L = np.bincount(head[link], weights=length[link], minlength=n)
+    ids = np.flatnonzero(L > 0)
+    kid = ids[parent_stem[ids] >= 0]
+    k_n = np.bincount(parent_stem[kid], minlength=n)
+    fed = ids[(L[ids] >= MAIN_PX) & (k_n[ids] > 0)]
+    return float(np.median(L[fed] / k_n[fed])) if len(fed) else float("nan")
 
 
 # ---- the looks that must not change ----------------------------------------------------------

@@ -14,7 +14,6 @@ import pytest
 from app.gl.renderer import Renderer
 from app.gl.shaders import load_program, shader_source
 from app.images import read_image
-from app.tools import glass_checks as checks
 from app.tools.offscreen import Offscreen
 from sim import Params
 from sim.io.timeline import Timeline, grow, touch_events
@@ -23,6 +22,7 @@ from sim.look.maps import compute_maps, live_segments, map_triangles
 from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES
 from sim.look.ridges import VERTS_PER_LINK, ridge_triangles, width_level
 from sim.params import LOOKS
+from tests import glass_checks as checks
 
 # sha256 of the H x W x 3 frame of the paper look, llvmpipe; grown by version 6's rules
 # (one random stream).
@@ -243,7 +243,7 @@ def draw(ctx, renderer: Renderer) -> np.ndarray:
         fbo.release()
 
 
-# ---- the glass look's targets, measured (app/tools/glass_checks.py) ----------------------
+# ---- the glass look's targets, measured (tests/glass_checks.py) ----------------------
 
 def measured(ctx, look: str):
     """One touch at the centre grown to tick 750 in fern's frost with `look`: the run,

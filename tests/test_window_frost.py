@@ -159,7 +159,7 @@ def candidate_oracle(sim):
 
 
 # Ticks a wiped path gets to refreeze: 24 s at 25 ticks/s ("within tens of seconds");
-# measured 30-200 (README), so a generous bound, not a timing.
+# measured 30-200, so a generous bound, not a timing.
 REGROW_TICKS = 600
 MODES = {
     "window": (WINDOW, (), (W, H)),

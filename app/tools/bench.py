@@ -168,8 +168,3 @@ def report(result: dict, frames: int) -> None:
               "that llvmpipe renders on, so timings may be inflated")
     print(json.dumps(result))
 
-
-if __name__ == "__main__":  # the command's old name
-    from app.cli import main
-
-    raise SystemExit(main(["bench", "render", *sys.argv[1:]]))

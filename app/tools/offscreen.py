@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from app.gl.renderer import Renderer
-from app.images import frost_meta, read_image, save_png
+from app.images import frost_meta, read_image, save_image
 from app.tools.progress import Progress
 from sim import Params
 from sim.io.session import VERSION
@@ -72,7 +72,7 @@ class Offscreen:
     def snapshot(self, path: Path, software: str = "frost render") -> Path:
         meta = frost_meta(software, self.sim.params, self.sim.seed, self.sim.tick,
                           self.touches(), view=self.renderer.view(), **self.meta)
-        return save_png(self.frame(), path, meta)
+        return save_image(self.frame(), path, meta)
 
     def release(self) -> None:
         self.fbo.release()

@@ -80,7 +80,7 @@ def _run_demo(offscreen: Offscreen, args) -> int:
 
 
 def demo_stem(folder: Path, stops: list[int]) -> str:
-    """frost-demo-TIMESTAMP (-N where needed): no file of the demo's exists under it."""
+    """frost-demo-TIME-pPID (-N where needed): no file of the demo's exists under it."""
     also = [(folder, f"-tick{stop:04d}.png") for stop in stops]
     return timestamped_path(folder, "frost-demo", "", also).name
 

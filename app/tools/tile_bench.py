@@ -1,4 +1,4 @@
-"""The tile figures of the README: a window-preset tile grown to its frosted end (the share
+"""The tile figures of docs/engine-maps.md: a window-preset tile grown to its frosted end (the share
 of hash cells holding a crystal gains less than END_GAIN over END_TICKS ticks,
 app.tools.measures), timed as `frost maps --tile` grows it (simulation, geometry, growth clock),
 then its maps computed and written, with the peak memory of the process.

@@ -1,4 +1,4 @@
-"""What the glass look is for, measured on a drawn frame (the tests and the README use
+"""What the glass look is for, measured on a drawn frame (the tests and docs/looks.md use
 these): the ice's colour along a link, the ridge's mass across a link by the seed and at
 a leaf and how it grows with what the link carries, the ice's tint by thickness, and
 whether the view through the ice is displaced (not a blend of the view) while clear
