@@ -1,10 +1,12 @@
-"""PNGs that carry how the frost was made: screenshots (read from a framebuffer) and the
-height / normal / alpha maps (computed by sim.look.maps). PIL and numpy only, no GL, so the
-simulation thread can write maps and the GL tools can write screenshots alike."""
+"""Images that carry how the frost was made: screenshots and renders (read from a
+framebuffer, PNG or JPEG by the file's suffix) and the height / normal / alpha maps
+(computed by sim.look.maps). PIL and numpy only, no GL, so the simulation thread can write
+maps and the GL tools can write screenshots alike."""
 
 from __future__ import annotations
 
 import json
+import os
 import time
 from pathlib import Path
 
@@ -17,6 +19,10 @@ from sim.params import Params
 from sim.screen import HEIGHT, WIDTH
 
 DEFAULT_FOLDER = Path("frost-out")  # where headless PNGs go without --out
+# What a picture's file name ends with (any case) and the format written under it.
+IMAGE_FORMATS = {".png": "PNG", ".jpg": "JPEG", ".jpeg": "JPEG"}
+JPEG_QUALITY = 95
+JPEG_COMMENT_MAX = 65533  # bytes in a JPEG's one comment segment (its length is 16 bits)
 
 
 def read_image(fbo) -> np.ndarray:
@@ -50,6 +56,52 @@ def png_writer(image: np.ndarray, meta: dict):
     return lambda f: Image.fromarray(image).save(f, format="PNG", pnginfo=info)
 
 
+def jpeg_writer(image: np.ndarray, meta: dict):
+    """A writer of `image` as JPEG. A JPEG has no text chunks: `meta` goes into its
+    comment segment as one JSON object, left without its largest entries (named under
+    `left_out`) where the whole would not fit in the segment's 64 KB."""
+    comment = jpeg_comment(meta)
+    return lambda f: Image.fromarray(image).save(f, format="JPEG", quality=JPEG_QUALITY,
+                                                 comment=comment)
+
+
+def jpeg_comment(meta: dict) -> bytes:
+    """`meta` as JSON bytes of at most JPEG_COMMENT_MAX, the largest entries left out
+    (and named) until it fits."""
+    kept, left_out = dict(meta), []
+    text = json.dumps(kept).encode()
+    while len(text) > JPEG_COMMENT_MAX:
+        largest = max(kept, key=lambda key: len(json.dumps(kept[key])))
+        del kept[largest]
+        left_out.append(largest)
+        text = json.dumps({**kept, "left_out": left_out}).encode()
+    return text
+
+
+def image_format(path) -> str | None:
+    """The format a picture at `path` is written in, by its suffix; None for a suffix
+    frost does not write."""
+    return IMAGE_FORMATS.get(Path(path).suffix.lower())
+
+
+def suffix_problem(path) -> str | None:
+    """Why frost cannot write a picture under the name `path` (None: it can)."""
+    if image_format(path):
+        return None
+    shown = Path(path).suffix or "no suffix"
+    return f"frost writes {', '.join(IMAGE_FORMATS)} pictures; this name has {shown}"
+
+
+def save_image(image: np.ndarray, path, meta: dict) -> Path:
+    """Write `image` to `path` atomically with `meta`, as PNG or JPEG by the suffix of
+    `path` (ValueError for another). Silent: the caller says what it wrote, once."""
+    problem = suffix_problem(path)
+    if problem:
+        raise ValueError(problem)
+    writer = png_writer if image_format(path) == "PNG" else jpeg_writer
+    return write_atomic(path, writer(image, meta))
+
+
 def save_png(image: np.ndarray, path, meta: dict) -> Path:
     """Write `image` to `path` atomically (never a half-written PNG) with `meta`. Silent:
     the caller says what it wrote, once."""
@@ -58,11 +110,13 @@ def save_png(image: np.ndarray, path, meta: dict) -> Path:
 
 def timestamped_path(folder, prefix: str = "frost", suffix: str = ".png", also=(),
                      taken=()) -> Path:
-    """A new file name in `folder` named by the time, never one that already exists, nor
-    one whose stem exists with any (folder, suffix) of `also` or is in `taken` (names
-    handed out before whose files may not be written yet, or never were)."""
+    """A new file name in `folder` named by the time and this process (two runs started in
+    the same second choose before either writes, so the time alone would name both files
+    the same): never one that already exists, nor one whose stem exists with any
+    (folder, suffix) of `also` or is in `taken` (names this run handed out before whose
+    files may not be written yet, or never were)."""
     folder = Path(folder)
-    stamp = time.strftime("%Y%m%d-%H%M%S")
+    stamp = f"{time.strftime('%Y%m%d-%H%M%S')}-p{os.getpid()}"
     path, n = folder / f"{prefix}-{stamp}{suffix}", 1
     while path.exists() or path.stem in taken or any(
             (Path(other) / f"{path.stem}{ext}").exists() for other, ext in also):

@@ -242,7 +242,7 @@ PRESETS: dict[str, dict[str, Any]] = {
 
 # Looks beyond the paper, selectable by name like Table 1's (which PRESETS alone lists).
 # "fern": window frost's fronds (docs/method.md, section 6); values tuned with `python -m
-# app.tools.bench_sim --section fern` (see the README for the figures).
+# app.tools.bench_sim --section fern` (docs/benchmarks.md has the figures).
 EXTRA_PRESETS: dict[str, dict[str, Any]] = {
     # Rendered with narrower, taller sharp features on links split in three (D 2.5): glossy
     # stems with a fine texture; the paper's 1.5 made every link a hairy perpendicular rung.
@@ -252,7 +252,7 @@ EXTRA_PRESETS: dict[str, dict[str, Any]] = {
              "launch": 30.0, "grow": True, "water_budget": 6000, "touch_water": 48,
              "look": "glass"},
 }
-# "window": fern frost nucleating on the frame, grown as fronds (README's window section;
+# "window": fern frost nucleating on the frame, grown as fronds (docs/looks.md, the frosted window;
 # docs/method.md, section 8). The frond rules at the values a prototype of them found:
 # hit counts 1 / 3 at -10 C, x 3 per branch order, no side branches from order 3; water on
 # glass 2 cell rings from the ice, a humidity field of log-variance 1, a frame chill of 3.

@@ -41,10 +41,3 @@ def melt_problem(x: float, y: float, r: float, size: tuple[int, int] = SIZE) -> 
     is on the screen (where a finger can be) and its radius in range."""
     return radius_problem(r) or touch_problem(x, y, size, "melt")
 
-
-def check_touch(x: float, y: float, size: tuple[int, int] = SIZE) -> tuple[float, float]:
-    """(x, y) as floats when the touch lands on the screen; ValueError naming it if not."""
-    problem = touch_problem(float(x), float(y), size)
-    if problem:
-        raise ValueError(problem)
-    return float(x), float(y)

@@ -1,19 +1,15 @@
 """Scripted runs whose final state is hashed, to pin looks that must not change.
 
-`python -m tests.frozen_runs` prints the hashes; tests/data/frozen_runs.json holds those
-computed on the code before the frond rules (issue 20; "window-v3" on the code before the
-window's tries were drawn at once), and test_fronds.py checks them. Each run asks for the
-rules of the version they were computed under (4; "window-v3" 3): later versions change
-how a touch's water and a seed's first hits go.
-
-The "v5/..." entries pin the newest rules (version 5) as the code grew them before
-FrostSim was split into its parts (issue 22): every preset, the paper's modes (replenish,
-growth, long jumps, launch circle), a rebuild's replant, a wrap tile and a scribble's
-touches into existing areas (`python -m tests.frozen_runs` prints both sets; its
-"window-old" uses no overrides, the test the old window's). Six of them (fern, fern-nogrow,
-window, replant, tile, scribble) were computed again once, after the split, when version
-5's pooled first hits were narrowed to the seeds a touch brings a ring of water; the
-others stayed as they were.
+`python -m tests.frozen_runs` prints the hashes; tests/data/frozen_runs.json holds them and
+test_fronds.py checks them. Each set is grown by the rules of one session version
+(sim/core/versions.py):
+- the unprefixed set by version 4: Table 1's presets and the fern look; "window-old" the
+  window preset with every frond rule off, "window-v3" with them on by version 3's rules;
+- "v5/...": every preset, the paper's modes (replenish, growth, long jumps, launch
+  circle), a rebuild's replant, a wrap tile and a scribble's touches into existing areas,
+  by version 6's rules (whose frost is version 5's: version 6 changed only how a
+  session's melts apply);
+- "v7/...": the same runs by version 7's rules, each part drawing from its own stream.
 """
 
 from __future__ import annotations
@@ -31,7 +27,7 @@ from sim import FrostSim, Params
 RUNS = [("default", None, {}, 160)] + [
     (name, name, {}, 160) for name in ("a-1", "a-2", "a-3", "b-1", "b-2", "b-3", "c-1", "c-3")
 ] + [("fern", "fern", {}, 300), ("fern-nogrow", "fern", {"grow": False}, 200)]
-# The window preset with every frond rule off: the window look before issue 20.
+# The window preset with every frond rule off.
 WINDOW_OLD = ("window-old", "window", None, 400)
 # The window preset with its frond rules as a session file of version 3 places its water
 # (TRIES rounds of one try each), before the tries were drawn at once.
@@ -62,17 +58,18 @@ def run(preset: str | None, overrides: dict, ticks: int, seed: int = 3, **how) -
     return sim
 
 
-def replant(ticks: int = 120) -> FrostSim:
+def replant(ticks: int = 120, version: int = 6) -> FrostSim:
     """A rebuild: forty touches planted at once (a spiral), then growth, a melt, regrowth."""
-    sim = FrostSim(Params.preset("fern"), seed=5)
+    sim = FrostSim(Params.preset("fern"), seed=5, version=version)
     t = np.arange(40)
     sim.plant(np.column_stack((380 + 6 * t * np.cos(t), 640 + 6 * t * np.sin(t))))
     return grown(sim, ticks, (380.0, 640.0, 60.0))
 
 
-def tile(ticks: int = 200) -> FrostSim:
+def tile(ticks: int = 200, version: int = 6) -> FrostSim:
     """A wrap tile: touches by the edges and a corner, so growth, walks and a melt cross them."""
-    sim = FrostSim(Params.preset("fern", long_jumps=True), 256, 192, seed=2, wrap=True)
+    sim = FrostSim(Params.preset("fern", long_jumps=True), 256, 192, seed=2, wrap=True,
+                   version=version)
     sim.plant([(2.0, 96.0), (250.0, 3.0), (128.0, 190.0)])
     return grown(sim, ticks, (1.0, 96.0, 20.0))
 
@@ -86,10 +83,10 @@ def grown(sim: FrostSim, ticks: int, melt: tuple[float, float, float]) -> FrostS
     return sim
 
 
-def scribble(ticks: int = 150) -> FrostSim:
+def scribble(ticks: int = 150, version: int = 6) -> FrostSim:
     """A drag: a touch every 5 ticks along a stroke, each into the area the first opened
     (touch_water brings each its ring), then a wipe across half of it."""
-    sim = FrostSim(Params.preset("fern", touch_water=48), seed=7)
+    sim = FrostSim(Params.preset("fern", touch_water=48), seed=7, version=version)
     for k in range(ticks):
         if k < 100 and k % 5 == 0:
             sim.touch(300.0 + 4.0 * k, 600.0 + 2.0 * k)
@@ -110,11 +107,24 @@ RUNS_V5 = [(name, name, {}, 160) for name in ("a-1", "a-2", "a-3", "b-1", "b-3",
     ("window", "window", {}, 400)]
 
 
-def hashes_v5() -> dict[str, str]:
-    out = {f"v5/{name}": state_hash(run(p, o, t)) for name, p, o, t in RUNS_V5}
+def hashes_of(version: int, prefix: str) -> dict[str, str]:
+    """The runs of RUNS_V5 and the three above grown by the rules of `version`."""
+    out = {f"{prefix}/{name}": state_hash(run(p, o, t, version=version))
+           for name, p, o, t in RUNS_V5}
     for f in (replant, tile, scribble):
-        out[f"v5/{f.__name__}"] = state_hash(f())
+        out[f"{prefix}/{f.__name__}"] = state_hash(f(version=version))
     return out
+
+
+def hashes_v5() -> dict[str, str]:
+    """The "v5/" set: grown by version 6's rules, whose frost is version 5's (version 6
+    changed only how a session's melts apply)."""
+    return hashes_of(6, "v5")
+
+
+def hashes_v7() -> dict[str, str]:
+    """The same runs by version 7's rules: each part's own random stream."""
+    return hashes_of(7, "v7")
 
 
 def hashes(window_off: dict) -> dict[str, str]:
@@ -127,5 +137,5 @@ def hashes(window_off: dict) -> dict[str, str]:
 
 
 if __name__ == "__main__":
-    json.dump({**hashes({}), **hashes_v5()}, sys.stdout, indent=1)
+    json.dump({**hashes({}), **hashes_v5(), **hashes_v7()}, sys.stdout, indent=1)
     print()

@@ -9,11 +9,12 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from app.simthread.backlog import MIN_INPUT_S, STEP_SAMPLES, Backlog
 from app.tools.scribble import scribble, storm
 from sim import FrostSim, Params
 from sim.core import budget, frost
 from sim.index.grid import HashGrid
-from sim.io.session import MIN_INPUT_S, STEP_SAMPLES, Backlog, Timeline
+from sim.io.timeline import Timeline
 from sim.look.geometry import _segments_in
 
 

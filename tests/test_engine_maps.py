@@ -11,7 +11,7 @@ from PIL import Image
 
 from app.cli import main
 from sim import Params
-from sim.io.session import Timeline, grow, touch_events
+from sim.io.timeline import Timeline, grow, touch_events
 from sim.look.geometry import GeometryDelta
 from sim.look.growthmap import GROWTH_NONE, GROWTH_TOP, NEVER, GrowthClock, encode_growth
 from sim.look.maps import compute_maps, live_segments, map_triangles
@@ -202,15 +202,15 @@ def test_a_tile_off_the_height_grid_is_refused_in_one_line(tmp_path, capsys):
     assert not (tmp_path / "m").exists()
 
 
-def test_the_readmes_engine_shader_is_glsl_es_300(tmp_path):
-    """The fragment shader README.md gives engine users compiles as GLSL ES 3.00."""
+def test_the_docs_engine_shader_is_glsl_es_300(tmp_path):
+    """The fragment shader docs/engine-maps.md gives engine users compiles as GLSL ES 3.00."""
     import shutil
     import subprocess
     from pathlib import Path
 
-    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text()
-    start = readme.index("```glsl\n", readme.index("### Using the maps in an engine")) + 8
-    source = readme[start:readme.index("```", start)]
+    page = (Path(__file__).resolve().parent.parent / "docs" / "engine-maps.md").read_text()
+    start = page.index("```glsl\n", page.index("## Using the maps in an engine")) + 8
+    source = page[start:page.index("```", start)]
     assert "u_growth" in source and "u_progress" in source
     exe = shutil.which("glslangValidator")
     assert exe, "glslangValidator is missing: apt-get install glslang-tools (`make test` does)"

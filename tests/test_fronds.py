@@ -12,11 +12,12 @@ import pytest
 from app.tools.measures import (
     END_GAIN,
     END_TICKS,
+    MAIN_PX,
     clear_boxes,
     frame_mid,
     frosted_end,
-    side_spacing,
     skeleton_measures,
+    stems,
 )
 from sim import FrostSim, Params
 from sim.params import FROND_RULES
@@ -26,23 +27,35 @@ from sim.rules.openglass import OpenGlass, ring_distance
 from tests import frozen_runs
 
 WINDOW = Params.preset("window")
-# The window preset before issue 20, as an old session file holds it: no frond keys.
+# The window preset without the frond rules, as an old session file holds it: no frond keys.
 OLD_WINDOW = {"tip_hits": 3, "side_hits": 6, "humidity": 3000, "water_budget": 6000,
               **{k: getattr(Params, k) for k in FROND_RULES}}
 W, H = 300, 400  # a small pane: a few hundred ticks frost it
 
 
+def side_spacing(crystals, parents, alive) -> float:
+    """Median over main stems (MAIN_PX or more) with side stems of their length per side
+    stem leaving them, px: how far apart side branches are (nan if none)."""
+    head, length, _, parent_stem, link = stems(crystals, parents, alive)
+    n = len(crystals)
+    L = np.bincount(head[link], weights=length[link], minlength=n)
+    ids = np.flatnonzero(L > 0)
+    kid = ids[parent_stem[ids] >= 0]
+    k_n = np.bincount(parent_stem[kid], minlength=n)
+    fed = ids[(L[ids] >= MAIN_PX) & (k_n[ids] > 0)]
+    return float(np.median(L[fed] / k_n[fed])) if len(fed) else float("nan")
+
+
 # ---- the looks that must not change ----------------------------------------------------------
 
 def test_params_table1_fern_and_the_old_window_grow_bit_identical_frost():
-    """Hashes of scripted runs computed on the code before the frond rules."""
+    """The unprefixed set: Table 1, fern and the window without and with its frond rules."""
     stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text())
     assert frozen_runs.hashes(OLD_WINDOW) == {k: v for k, v in stored.items() if "/" not in k}
 
 
-def test_the_newest_rules_grow_the_frost_they_grew_before_the_split():
-    """Version 5 hashes computed on FrostSim before it was split into parts (issue 22):
-    every preset, the paper's modes, a replant, a wrap tile, a scribble."""
+def test_version_6_grows_the_frost_stored_for_it():
+    """The "v5/" set: every preset, the paper's modes, a replant, a wrap tile, a scribble."""
     stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text())
     assert frozen_runs.hashes_v5() == {k: v for k, v in stored.items() if k.startswith("v5/")}
 
@@ -321,7 +334,7 @@ def tree_of(sim, root):
 @pytest.mark.validation  # a statistical comparison of looks, seconds: `make test-deep`
 def test_a_touch_in_window_mode_grows_a_frond():
     """A touch on open glass, then 400 ticks: its tree's stems, against the same touch on
-    the window of before the fronds (the rules off), are longer and more of its ice lies
+    the window without the frond rules (off), are longer and more of its ice lies
     on main stems; medians of three seeds (one tree is a small sample: a single seed's
     main_frac ranged 0.23-0.58 with the rules on, 0-0.25 off)."""
     def grown(params, seed):
@@ -343,3 +356,9 @@ def test_a_touch_in_window_mode_grows_a_frond():
     assert fronds["n"] > 30
     assert fronds["stem_lw"] > before["stem_lw"], (fronds, before)
     assert fronds["main_frac"] > before["main_frac"], (fronds, before)
+
+
+def test_version_7_grows_the_frost_stored_for_it():
+    """The runs of the v5 set by version 7's rules, each part drawing from its own stream."""
+    stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text())
+    assert frozen_runs.hashes_v7() == {k: v for k, v in stored.items() if k.startswith("v7/")}

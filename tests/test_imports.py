@@ -3,6 +3,7 @@ Each check imports in a fresh interpreter and reads what ended up in sys.modules
 
 from __future__ import annotations
 
+import ast
 import json
 import pkgutil
 import subprocess
@@ -55,3 +56,83 @@ def test_the_tools_load_no_window():
     loaded = loaded_by(*modules_of(app.tools))
     assert "app.tools.maps" in loaded and "moderngl" in loaded  # the renderer's GL is theirs
     assert under(loaded, "glfw", "app.window") == set()
+
+
+def app_part(module: str) -> str | None:
+    """The part of the app `module` belongs to (app.cli, app.tools, app.images, ...), or
+    None for a module outside the app."""
+    parts = module.split(".")
+    return ".".join(parts[:2]) if parts[0] == "app" and len(parts) > 1 else None
+
+
+def app_imports() -> dict[str, set[str]]:
+    """For each part of the app, the other parts its modules import anywhere in them,
+    inside functions too (an import put off to run time still ties the parts)."""
+    graph: dict[str, set[str]] = {}
+    for path in sorted((ROOT / "app").rglob("*.py")):
+        module = ".".join(path.relative_to(ROOT).with_suffix("").parts)
+        source = app_part(module.removesuffix(".__init__"))
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+                names = [node.module, *(f"{node.module}.{a.name}" for a in node.names)]
+            elif isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            else:
+                continue
+            for name in names:
+                target = app_part(name)
+                if source and target and target != source:
+                    graph.setdefault(source, set()).add(target)
+    return graph
+
+
+def circle(graph: dict[str, set[str]]) -> list[str]:
+    """One circle of imports in `graph` ([] if none), by depth-first search."""
+    done: set[str] = set()
+
+    def visit(node: str, path: list[str]) -> list[str]:
+        if node in path:
+            return path[path.index(node):] + [node]
+        if node in done:
+            return []
+        for nxt in sorted(graph.get(node, ())):
+            found = visit(nxt, path + [node])
+            if found:
+                return found
+        done.add(node)
+        return []
+
+    return next((c for c in (visit(n, []) for n in sorted(graph)) if c), [])
+
+
+def test_circle_finds_a_circle_of_three_and_none_in_a_chain():
+    assert circle({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == ["a", "b", "c", "a"]
+    assert circle({"a": {"b", "c"}, "b": {"c"}}) == []
+
+
+def test_the_apps_parts_import_each_other_in_no_circle():
+    graph = app_imports()
+    assert "app.tools" in graph["app.cli"]  # the command line runs the tools
+    assert circle(graph) == [], " -> ".join(circle(graph))
+
+
+def imported_modules(path: Path, name: str, known: set[str]) -> set[str]:
+    """The modules among `known` that module `name` (file `path`) imports, anywhere in it
+    (a function's late import too); `from .x import y` counts as x.y where that is a module."""
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            found |= {alias.name for alias in node.names}
+        elif isinstance(node, ast.ImportFrom):
+            base = package.rsplit(".", node.level - 1)[0] if node.level else ""
+            module = ".".join(p for p in (base, node.module or "") if p)
+            found |= {module, *(f"{module}.{alias.name}" for alias in node.names)}
+    return found & known - {name}
+
+
+def test_no_module_of_sim_imports_itself_through_others():
+    files = {m: ROOT / (m.replace(".", "/") + ".py") for m in modules_of(sim)}
+    files = {m: p if p.exists() else p.with_suffix("") / "__init__.py" for m, p in files.items()}
+    graph = {m: imported_modules(p, m, set(files)) for m, p in files.items()}
+    assert circle(graph) == [], " -> ".join(circle(graph))

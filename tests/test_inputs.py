@@ -27,7 +27,8 @@ from app.tools import replay as replay_tool
 from app.window import frost_window as window
 from sim import PRESETS, FrostSim, Params
 from sim.io.files import one_line
-from sim.io.session import SessionError, SessionLog, check_event, replay
+from sim.io.session import SessionError, SessionLog, check_event
+from sim.io.timeline import replay
 
 FIXTURE_OK = settings(suppress_health_check=[HealthCheck.function_scoped_fixture])
 
@@ -196,6 +197,46 @@ def test_an_hc_below_its_floor_is_refused_in_one_line_naming_it(stubbed, tmp_pat
     status, err = run_main(with_paths([*head, "--hc", hc], tmp_path))
     assert not stubbed
     assert_refused_in_one_line(status, err, f"hc={float(hc)!r}", "[1.0, 16.0]")
+
+
+DEFAULT_STEP = 5.0  # px: the step every look keeps where its hc allows (sim/params.py)
+
+
+@pytest.mark.parametrize("hc", ["1", "3", "4.5"])
+@pytest.mark.parametrize("head", [[], ["render"], ["maps", "OUT"], ["figure", "fern", "OUT/f.png"],
+                                  ["render", "--preset", "c-2"], ["render", "--window-frost"]])
+def test_an_hc_below_the_default_step_takes_step_with_it(stubbed, tmp_path, head, hc):
+    assert Params.preset("fern").step == Params.preset("c-2").step == DEFAULT_STEP
+    status, err = run_main(with_paths([*head, "--hc", hc], tmp_path))
+    assert status == 0 and err == "", err
+    params = stubbed[0][1]
+    assert params.hc == float(hc) and params.step == float(hc)  # walkers never step over hc
+
+
+@pytest.mark.parametrize("head", [[], ["render"], ["figure8", "OUT/f.png"]])
+def test_a_step_above_a_given_hc_is_refused_naming_both(stubbed, tmp_path, head):
+    status, err = run_main(with_paths([*head, "--hc", "3", "--step", "4"], tmp_path))
+    assert not stubbed
+    assert_refused_in_one_line(status, err, "step=4.0 must not exceed hc=3.0")
+
+
+@pytest.mark.parametrize("hc", [1.0, 3.0, 12.0])
+def test_figure8_fits_each_presets_step_to_an_hc_given(hc):
+    args = build_parser().parse_args(["figure8", "f.png", "--hc", str(hc)])
+    overrides = figure8.preset_overrides(args)
+    for name in PRESETS:
+        params = Params.preset(name, **overrides)
+        assert params.hc == hc and params.step == min(DEFAULT_STEP, hc)
+
+
+def test_figure8_refuses_a_preset_its_options_break_before_drawing(monkeypatch, capsys):
+    """D 0.5 suits the default look's hc (7) but not a-1's (10: at most 16 particles a
+    link), so only figure8's own presets can tell."""
+    monkeypatch.setattr(figure8, "make_context", lambda: pytest.fail("drew"))
+    args = build_parser().parse_args(["figure8", "f.png", "--D", "0.5"])
+    assert figure8.run(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("frost: error: preset a-1 ") and "D=0.5" in err
 
 
 def test_a_window_frost_render_melts_with_no_touch(stubbed):
@@ -380,6 +421,71 @@ def output_argv(template: list[str], path, folder: Path) -> list[str]:
     return with_paths([a.replace("{}", str(path)) for a in template], folder)
 
 
+@pytest.fixture
+def unsearchable(monkeypatch, tmp_path):
+    """A folder "nox" whose permissions allow writing but not searching (mode 0o200: a name
+    can be added, no file in it reached). Root passes every permission check, so os.access
+    is made to refuse X_OK alone on it, as it does for a user; every other mode passes."""
+    (tmp_path / "nox").mkdir()
+    real = os.access
+    monkeypatch.setattr(paths.os, "access", lambda p, m: real(p, m) and not (
+        m & os.X_OK and Path(p).name == "nox"))
+    return tmp_path / "nox"
+
+
+UNSEARCHABLE = "is not searchable (no x permission)"
+
+
+@pytest.mark.parametrize("output", [*FILE_OUTPUTS, *FOLDER_OUTPUTS])
+@pytest.mark.parametrize("inside", ["x.png", "new/x.png"])
+def test_an_output_in_a_folder_writable_but_not_searchable_is_refused(
+        stubbed, tmp_path, unsearchable, output, inside):
+    template = {**FILE_OUTPUTS, **FOLDER_OUTPUTS}[output]
+    target = unsearchable / (inside if output not in FOLDER_OUTPUTS else inside.replace(".png", ""))
+    status, err = run_main(output_argv(template, target, tmp_path))
+    assert not stubbed
+    assert_refused_in_one_line(status, err, str(unsearchable), UNSEARCHABLE)
+
+
+def test_an_existing_output_in_a_folder_not_searchable_is_refused(stubbed, tmp_path, unsearchable):
+    (unsearchable / "x.png").write_bytes(b"old")  # root made it; a user could not reach it
+    status, err = run_main(["render", f"--out={unsearchable / 'x.png'}"])
+    assert_refused_in_one_line(status, err, f"its folder {unsearchable}", UNSEARCHABLE)
+    status, err = run_main(["maps", str(unsearchable)])
+    assert_refused_in_one_line(status, err, str(unsearchable), UNSEARCHABLE)
+
+
+def test_the_default_folder_not_searchable_is_refused(stubbed, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "frost-out").mkdir()
+    real = os.access
+    monkeypatch.setattr(paths.os, "access", lambda p, m: real(p, m) and not (
+        m & os.X_OK and Path(p).name == "frost-out"))
+    status, err = run_main(["render"])
+    assert not stubbed
+    assert_refused_in_one_line(status, err, "frost-out", UNSEARCHABLE)
+
+
+@pytest.mark.parametrize("option", ["--screenshot-dir", "--session-dir"])
+def test_a_window_folder_not_searchable_is_warned_of(stubbed, unsearchable, option):
+    status, err = run_main([f"{option}={unsearchable}"])
+    assert status == 0 and stubbed and err.count("\n") == 1, err
+    assert err.startswith(f"frost: warning: {option} {unsearchable}: ") and UNSEARCHABLE in err
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root passes every permission bit")
+@pytest.mark.parametrize("mode", [0o200, 0o600])
+def test_a_real_folder_without_x_is_refused(stubbed, tmp_path, mode):
+    folder = tmp_path / "nox"
+    folder.mkdir()
+    folder.chmod(mode)
+    try:
+        status, err = run_main(["render", f"--out={folder / 'x.png'}"])
+    finally:
+        folder.chmod(0o700)
+    assert_refused_in_one_line(status, err, str(folder), UNSEARCHABLE)
+
+
 def make_node(kind: str, path: Path) -> None:
     if kind == "fifo":
         os.mkfifo(path)
@@ -500,6 +606,48 @@ def test_the_default_folder_is_checked_when_there_is_no_out(stubbed, tmp_path, m
     assert status == 0 and stubbed and not (tmp_path / "frost-out").exists(), err
 
 
+@pytest.mark.parametrize("output", list(FILE_OUTPUTS))
+@pytest.mark.parametrize("name, shown", [("x.gif", ".gif"), ("x.png.txt", ".txt"),
+                                         ("x", "no suffix")])
+def test_a_picture_name_frost_cannot_write_is_refused_naming_the_suffixes(
+        stubbed, tmp_path, output, name, shown):
+    status, err = run_main(output_argv(FILE_OUTPUTS[output], tmp_path / name, tmp_path))
+    assert not stubbed
+    assert_refused_in_one_line(status, err, name, ".png, .jpg, .jpeg", shown)
+
+
+@pytest.mark.parametrize("name", ["x.png", "x.jpg", "x.JPEG", "x.Png"])
+def test_picture_names_frost_writes_are_accepted(stubbed, tmp_path, name):
+    status, err = run_main(["render", f"--out={tmp_path / name}"])
+    assert status == 0 and stubbed and err == "", err
+
+
+# A bad command line of each command, the prefix its error starts with and the help it
+# points to. Every command parsed by frost speaks as frost; frost bench sim's arguments
+# belong to the benchmark's own parser, which speaks as frost bench sim, wherever the words
+# of the command line put the mistake.
+PREFIXES = [([], "frost", "frost"), (["render"], "frost", "frost render"),
+            (["replay", "SESSION"], "frost", "frost replay"),
+            (["figure8", "OUT/f.png"], "frost", "frost figure8"),
+            (["figure", "fern", "OUT/f.png"], "frost", "frost figure"),
+            (["maps", "OUT/maps"], "frost", "frost maps"),
+            (["bench", "render"], "frost", "frost bench render"),
+            (["bench", "sim"], "frost bench sim", "frost bench sim"),
+            (["bench", "--bogus", "sim"], "frost bench sim", "frost bench sim")]
+
+
+@pytest.mark.parametrize("argv, prefix, command", PREFIXES)
+def test_each_commands_errors_carry_its_prefix(stubbed, tmp_path, argv, prefix, command):
+    bad = argv if "--bogus" in argv else [*argv, "--bogus"]
+    status, err = run_main(with_paths(bad, tmp_path))
+    assert status == 2 and err.count("\n") == 1, err
+    assert err.startswith(f"{prefix}: error: ") and err.endswith(f"(see {command} --help)\n"), err
+    if argv and bad != argv:  # a window option before the command: it is named whole
+        status, err = run_main(with_paths(["--seed=3", *argv], tmp_path))
+        assert status == 2 and err.startswith(f"{prefix}: error: "), err
+        assert f"write {command} [options]" in err, err
+
+
 def test_a_render_over_a_folder_is_refused(stubbed, tmp_path):
     status, err = run_main(["render", "--out", str(tmp_path)])
     assert_refused_in_one_line(status, err, "--out", "is a folder, not a file")
@@ -558,7 +706,7 @@ NUMBER = st.one_of(st.integers(-3, 3), st.integers(), st.floats(), st.booleans()
                    st.floats(0, 800), st.sampled_from([0, 0.5, 4.0, 759.9999999999, 1e308, 2**70]))
 TICK = st.one_of(st.integers(0, 4), NUMBER)
 # Parameter values near and beyond the valid ranges, of every JSON type. (Only affordable
-# values are replayed below: tiny hc or huge humidity are the README's bounds on work per tick.)
+# values are replayed below: tiny hc or huge humidity are the bounds on work per tick (docs/method.md 5.2).)
 PARAM_VALUE = st.one_of(NUMBER, st.sampled_from(["candidate", "grid9", "octree", None]))
 PARAM_NAMES = st.sampled_from([n for n, _, _ in Params.describe()] + ["zap"])
 PARAMS = st.dictionaries(PARAM_NAMES, PARAM_VALUE, max_size=3) | JSON
@@ -829,7 +977,7 @@ def test_a_melt_after_the_last_tick_is_refused(stubbed, option):
 
 
 def test_a_melt_at_the_last_tick_applies():
-    from sim.io.session import Timeline, grow, touch_events
+    from sim.io.timeline import Timeline, grow, touch_events
 
     events = touch_events([(380, 640)]) + [{"tick": 10, "kind": "melt", "x": 380.0,
                                             "y": 640.0, "r": 30.0}]
@@ -895,3 +1043,41 @@ def test_a_zero_that_means_off_or_flat_is_taken_and_grows(stubbed, option):
         sim.step()
     geometry.update(sim)
     assert len(sim.crystals) > 1
+
+
+# ---- numbers too long to be frost's ----------------------------------------------------
+
+DIGITS_5000 = "9" * 5000  # past Python's 4300-digit limit on converting text to int
+
+
+@pytest.mark.parametrize("text, entry", [
+    ('{"format": "frost-session", "version": 6, "seed": LONG, "params": {}, "events": []}',
+     "entry seed:"),
+    ('{"format": "frost-session", "seed": 0, "params": {}, "events": '
+     '[{"tick": 0, "kind": "touch", "x": 3, "y": -LONG}]}', "entry events[0].y:")])
+def test_a_session_holding_a_number_of_5000_digits_is_refused_naming_its_entry(
+        tmp_path, text, entry):
+    path = tmp_path / "long.json"
+    path.write_text(text.replace("LONG", DIGITS_5000))
+    status, err = run_main(["replay", "--headless", str(path), "--out", str(tmp_path / "o.png")])
+    assert_refused_in_one_line(status, err, str(path), entry, "5000 digits")
+    assert "set_int_max_str_digits" not in err
+
+
+@pytest.mark.parametrize("command", [["render"], ["figure8", "OUT/f.png"], []])
+def test_a_parameter_set_holding_a_number_of_5000_digits_is_refused_naming_it(
+        stubbed, tmp_path, command):
+    path = tmp_path / "set.json"
+    path.write_text('{"format": "frost-params", "version": 1, "params": {"humidity": LONG}}'
+                    .replace("LONG", DIGITS_5000))
+    status, err = run_main(with_paths([*command, "--params", str(path)], tmp_path))
+    assert_refused_in_one_line(status, err, str(path), "entry params.humidity:", "5000 digits")
+    assert "set_int_max_str_digits" not in err and not stubbed
+
+
+def test_a_number_of_64_digits_is_still_read_and_judged_by_its_range(tmp_path):
+    path = tmp_path / "s.json"
+    path.write_text('{"format": "frost-session", "seed": %s, "params": {}, "events": []}'
+                    % ("9" * 64))
+    with pytest.raises(SessionError, match=r"'seed' is 9{64}; it must be a whole number"):
+        SessionLog.load(path)

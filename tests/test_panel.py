@@ -452,3 +452,29 @@ def test_a_what_if_replay_draws_what_a_session_run_with_the_set_draws(tmp_path):
     assert main(["replay", str(tmp_path / "s.json"), "--headless", "--out", str(plain)]) == 0
     assert np.array_equal(outs[0], outs[1])
     assert not np.array_equal(outs[0], np.asarray(Image.open(plain).convert("RGB")))
+
+
+@pytest.mark.parametrize("left_out", ["humidity", "frame_chill"])
+def test_a_set_with_a_field_missing_is_refused_naming_it(tmp_path, capsys, left_out):
+    values = Params.preset("window").as_dict()
+    del values[left_out]
+    path = tmp_path / "set.json"
+    path.write_text(json.dumps({"format": "frost-params", "version": 1, "params": values}))
+    with pytest.raises(SystemExit) as stop:
+        main(["render", "--params", str(path), "--out", str(tmp_path / "f.png")])
+    err = capsys.readouterr().err
+    assert stop.value.code == 2 and err.count("\n") == 1 and err.startswith("frost: error: ")
+    assert f"{path}: not a parameter set: 'params' has no {left_out!r} entry;" in err
+
+
+def test_a_set_missing_many_fields_names_the_first_and_counts_the_rest(tmp_path):
+    path = tmp_path / "set.json"
+    path.write_text('{"params": {"hc": 7.0, "step": 5.0}}')
+    with pytest.raises(ParamsFileError, match=f"has no 'D' entry \\(and {len(A_SET.as_dict()) - 3} "
+                                              "more\\)"):
+        load_params(path)
+
+
+def test_a_session_file_lacking_newer_parameters_loads_with_them_off(tmp_path):
+    log = SessionLog(3, {"D": 7.0, "hc": 7.0, "humidity": 500})  # a file older than most parameters
+    assert load_params(log.save(tmp_path / "old.json")) == Params.preset("c-1")

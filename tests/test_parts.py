@@ -11,6 +11,7 @@ import pytest
 from sim import FrostSim, Params, walk_displacements
 from sim.core import placement
 from sim.core.areas import shell
+from sim.core.versions import PARTS
 from sim.core.walk import outside
 
 SMALL = Params(hc=8.0, active_radius=60.0, humidity=200, water_budget=400)
@@ -96,7 +97,7 @@ def placements(sim, first, second, both: bool):
         answers = sim.placer.place_both(first, second, ice)
     else:
         answers = (sim.placer.place(first, ice), sim.placer.place(second, ice))
-    return [a.tolist() for pair in answers for a in pair], sim.rng.bit_generator.state
+    return [a.tolist() for pair in answers for a in pair], sim.streams.placement.bit_generator.state
 
 
 @pytest.mark.parametrize("touches", [[(380.0, 640.0)], [(6.0, 8.0)], [(380.0, 640.0), (700.0, 1250.0)]])
@@ -192,3 +193,45 @@ def test_a_walker_off_the_screen_is_outside_however_its_area_lies(area):
     ox, oy = x - cx, y - cy
     want = (x < 0) | (x >= 760) | (y < 0) | (y >= 1280) | (ox * ox + oy * oy > r * r)
     assert outside(x, y, np.array([cx, cy, r], np.float32), (760, 1280), False).tolist() == want.tolist()
+
+
+# ---- random streams ------------------------------------------------------------------
+
+
+def touched_then_walked(version: int, advanced: str | None = None):
+    """A fern touch and one walk with the `advanced` part's stream (if any) 1000 draws
+    on: (the seed's grain axis, the water as placed, the water after the walk)."""
+    sim = FrostSim(Params.preset("fern"), seed=11, version=version)
+    if advanced:
+        getattr(sim.streams, advanced).random(1000)
+    sim.touch(380.0, 640.0)
+    placed = sim.water
+    sim.walk()
+    return sim.growth.axis.view().copy(), placed, sim.water
+
+
+@pytest.mark.parametrize("advanced, changed", [("growth", "axis"), ("walk", "walked")])
+def test_a_parts_own_draws_leave_the_other_parts_draws_as_they_were(advanced, changed):
+    """From version 7 each part has its own stream: more draws by the growth rule (the
+    seed's axis) leave where the water is placed and how it walks as they were, and more
+    by the walk leave the axis and the placing. Up to version 6 the parts share one."""
+    names = ("axis", "placed", "walked")
+    before = dict(zip(names, touched_then_walked(7), strict=True))
+    after = dict(zip(names, touched_then_walked(7, advanced), strict=True))
+    for name in names:
+        assert np.array_equal(before[name], after[name]) == (name != changed), name
+    shared = touched_then_walked(6, advanced)
+    assert not np.array_equal(touched_then_walked(6)[1], shared[1])
+
+
+def test_each_part_of_version_7_draws_from_a_child_of_the_seed():
+    """The streams are the seed's SeedSequence children in PARTS' order; version 6's one
+    generator is numpy's for the seed."""
+    sim = FrostSim(Params(), seed=42, version=7)
+    children = np.random.SeedSequence(42).spawn(len(PARTS))
+    for part, child in zip(PARTS, children, strict=True):
+        assert getattr(sim.streams, part).random(4).tolist() == \
+            np.random.default_rng(child).random(4).tolist()
+    old = FrostSim(Params(), seed=42, version=6).streams
+    assert len({id(getattr(old, part)) for part in PARTS}) == 1
+    assert old.walk.random(4).tolist() == np.random.default_rng(42).random(4).tolist()

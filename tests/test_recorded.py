@@ -25,7 +25,8 @@ from app.simthread.thread import SimThread
 from app.window.record import Recorder
 from sim import Params
 from sim.io.files import write_all_atomic, write_atomic
-from sim.io.session import SessionLog, replay
+from sim.io.session import SessionLog
+from sim.io.timeline import replay
 from sim.look.maps import live_segments
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -376,7 +377,7 @@ def test_a_replay_with_a_moved_light_and_no_features_matches_the_live_frame(gl_c
 
 
 def test_replayed_touches_follow_clears_and_rebuilds():
-    from sim.io.session import Timeline, grow
+    from sim.io.timeline import Timeline, grow
 
     events = [{"tick": 0, "kind": "touch", "x": 1.0, "y": 2.0},
               {"tick": 3, "kind": "touch", "x": 900.0, "y": 2.0},  # off the screen

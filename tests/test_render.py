@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -135,6 +136,59 @@ def test_png_metadata_and_fresh_names(tmp_path):
     assert json.loads(text["seed"]) == 7 and json.loads(text["touches"]) == [[1, 2]]
 
 
+@pytest.mark.parametrize("prefix, suffix", [("frost", ".png"), ("frost-demo", ""),
+                                            ("session", ".json"), ("frost", ".webp")])
+def test_two_runs_in_the_same_second_choose_different_names(monkeypatch, tmp_path, prefix, suffix):
+    """Two runs each choose a name before either has written (a render names its PNG at
+    the start, the window its session file): in the same second they must still differ."""
+    monkeypatch.setattr("app.images.time.strftime", lambda fmt: "20261125-120000")
+    chosen = []
+    for pid in (4100, 4101):
+        monkeypatch.setattr("app.images.os.getpid", lambda pid=pid: pid)
+        chosen.append(timestamped_path(tmp_path, prefix, suffix))
+    assert chosen[0] != chosen[1]
+    for run, path in enumerate(chosen):
+        path.write_text(f"run {run}")
+    assert [p.read_text() for p in chosen] == ["run 0", "run 1"]  # neither overwrote the other
+
+
+FROZEN_CLOCK = ("import sys, time; time.strftime = lambda fmt, *t: '20261125-120000'; "
+                "from app.cli import main; sys.exit(main(sys.argv[1:]))")
+
+
+def test_runs_started_together_overwrite_none_of_each_others_files(gl_ctx, tmp_path):
+    """Four headless renders at once with one frozen clock (so every run starts in the same
+    second), two scripted demos and two with a touch, all into frost-out/: every file a run
+    says it wrote is there, holds that run's seed, and no two runs named the same file."""
+    runs = {seed: ["render", "--seed", str(seed), "--ticks", "3"] + touch
+            for seed, touch in [(1, []), (2, []), (3, ["--touch", "380,640"]),
+                                (4, ["--touch", "380,640"])]}
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    procs = {seed: subprocess.Popen([sys.executable, "-c", FROZEN_CLOCK, *argv], cwd=tmp_path,
+                                    env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                    text=True) for seed, argv in runs.items()}
+    said: dict[int, list[Path]] = {}
+    for seed, proc in procs.items():
+        out, err = proc.communicate(timeout=180)
+        assert proc.returncode == 0, err
+        said[seed] = said_written(out, tmp_path / "frost-out")
+    names = [p.name for files in said.values() for p in files]
+    assert len(names) == 3 + 3 + 1 + 1 == len(set(names))
+    assert sorted(names) == sorted(p.name for p in (tmp_path / "frost-out").iterdir())
+    for seed, files in said.items():
+        for path in files:
+            assert json.loads(Image.open(path).text["seed"]) == seed, path
+
+
+def said_written(stdout: str, folder: Path) -> list[Path]:
+    """The files a render's last line says it wrote: 'wrote frost-out/NAME' (relative to
+    the folder it ran in) or 'wrote N PNG files to FOLDER: a, b, c'."""
+    line = stdout.strip().splitlines()[-1]
+    if ": " in line:
+        return [folder / name for name in line.split(": ", 1)[1].split(", ")]
+    return [folder.parent / line.removeprefix("wrote ")]
+
+
 def run_cli(*args, cwd=ROOT):
     return subprocess.run([sys.executable, "-m", "app", "render", *args], cwd=cwd,
                           capture_output=True, text=True, timeout=120)
@@ -153,6 +207,36 @@ def test_headless_cli_writes_png_with_metadata(gl_ctx, tmp_path):
     assert [t[1:] for t in json.loads(image.text["touches"])] == [[380, 640], [100, 200]]
     assert (np.asarray(image.convert("RGB")) != np.asarray(Image.open(ROOT / "assets" /
                                                                        "background.png"))).any()
+
+
+@pytest.mark.parametrize("name", ["shot.jpg", "shot.JPEG"])
+def test_headless_cli_writes_a_real_jpeg_under_a_jpeg_name(gl_ctx, tmp_path, name):
+    argv = ("--seed", "3", "--touch", "380,640", "--ticks", "12")
+    jpeg, png = tmp_path / name, tmp_path / "same.png"
+    for out in (jpeg, png):
+        run = run_cli(*argv, "--out", str(out))
+        assert run.returncode == 0, run.stderr
+    image = Image.open(jpeg)
+    assert image.format == "JPEG" and image.size == (760, 1280)
+    meta = json.loads(image.info["comment"])  # a JPEG's one comment segment holds the JSON
+    assert meta["seed"] == 3 and meta["tick"] == 12 and meta["Software"] == "frost (frost render)"
+    assert [t[1:] for t in meta["touches"]] == [[380, 640]]
+    # The same frame as the PNG of the same run, up to JPEG's loss.
+    diff = np.abs(np.asarray(image, np.int16) - np.asarray(Image.open(png).convert("RGB"), np.int16))
+    assert diff.mean() < 2.0, diff.mean()
+
+
+def test_a_jpeg_comment_too_long_leaves_out_its_largest_entries(tmp_path):
+    from app.images import JPEG_COMMENT_MAX, save_image
+
+    touches = [[t, 380.5, 640.25] for t in range(5000)]  # some 100 KB of JSON
+    meta = {"seed": 7, "touches": touches, "view": {"light": [1, 2]}}
+    path = save_image(np.zeros((8, 8, 3), np.uint8), tmp_path / "x.jpg", meta)
+    comment = Image.open(path).info["comment"]
+    assert len(comment) <= JPEG_COMMENT_MAX
+    assert json.loads(comment) == {"seed": 7, "view": {"light": [1, 2]}, "left_out": ["touches"]}
+    small = save_image(np.zeros((8, 8, 3), np.uint8), tmp_path / "y.jpg", {"seed": 7})
+    assert json.loads(Image.open(small).info["comment"]) == {"seed": 7}
 
 
 def test_headless_cli_bad_touch_is_a_clear_error(gl_ctx, tmp_path):

@@ -11,21 +11,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from app.simthread import backlog
 from app.simthread import thread as simthread
+from app.simthread.backlog import Backlog
 from app.simthread.thread import SimThread
 from sim import FrostSim, Params
-from sim.io import session
-from sim.io.session import (
-    VERSION,
-    Backlog,
-    SessionError,
-    SessionLog,
-    Timeline,
-    grow,
-    regrow,
-    replay,
-    touch_events,
-)
+from sim.io.session import VERSION, SessionError, SessionLog
+from sim.io.timeline import Timeline, grow, regrow, replay, touch_events
 
 ROOT = Path(__file__).resolve().parent.parent
 PARAMS = Params.preset("c-3")
@@ -242,7 +234,7 @@ def test_a_session_file_replants_as_its_version_did(tmp_path, version, ticks):
     # the same frost as a run that starts from the regrown schedule
     # (the touches due at tick 0 are planted at once, as a session's first touches are)
     at0 = [(e["x"], e["y"]) for e, t in zip(events[:3], ticks, strict=True) if t == 0]
-    fresh = Timeline(PARAMS.replace(humidity=4000), 0, touches=at0)
+    fresh = Timeline(PARAMS.replace(humidity=4000), 0, touches=at0, version=version)
     grow(fresh, 20, [{**e, "tick": t} for e, t in zip(events[:3], ticks, strict=True) if t > 0])
     same_frost(timeline.sim, fresh.sim)
 
@@ -323,11 +315,11 @@ def test_a_ticks_melts_sent_together_are_recorded_as_one_group_and_replay_so():
 
 
 def test_group_melts_groups_runs_of_overlapping_melts_up_to_its_cap():
-    cap = session.MELT_GROUP
+    cap = backlog.MELT_GROUP
     drag = [("m", 10.0 * k, 0.0) for k in range(cap + 3)]  # 10 px apart, radius 6: overlapping
     far = [("m", 500.0, 500.0), ("m", 0.0, 900.0)]  # apart from each other and the drag
     items = ["t", *drag, "p", *far, "t"]
-    out = session.group_melts(items, lambda i: (i[1], i[2], 6.0) if i[0] == "m" else None,
+    out = backlog.group_melts(items, lambda i: (i[1], i[2], 6.0) if i[0] == "m" else None,
                               tuple)
     assert out == ["t", tuple(drag[:cap]), tuple(drag[cap:]), "p", far[0], far[1], "t"]
 

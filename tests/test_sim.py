@@ -99,7 +99,7 @@ def test_walk_moves_each_walker_by_eq2():
     sim.touch(380, 640)
     before = sim.water.copy()
     rng = np.random.default_rng()
-    rng.bit_generator.state = sim.rng.bit_generator.state  # replay the sim's own draws
+    rng.bit_generator.state = sim.streams.walk.bit_generator.state  # replay the sim's own draws
     u = rng.random((2, len(before)), dtype=np.float32).astype(np.float64)
     a, theta = u[0] * sim.params.step, u[1] * 2 * np.pi  # Eq. 2, worked out in float64
     ex, ey = a * np.cos(theta), a * np.sin(theta)

@@ -8,12 +8,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from app.simthread import backlog
+from app.simthread.backlog import Backlog
 from app.tools import scribble as scribble_module
 from app.tools.scribble import play, spread, storm
 from sim import FrostSim, Params
 from sim.core import budget, frost, placement
-from sim.io import session
-from sim.io.session import Backlog, SessionLog, Timeline, replay
+from sim.io.session import SessionLog
+from sim.io.timeline import Timeline, replay
 
 SMALL = (240, 320)  # a small screen keeps a frosted pane cheap to grow
 
@@ -358,7 +360,7 @@ def test_play_applies_a_ticks_melts_as_one_group_as_the_window_does(monkeypatch)
     schedule = [[{"kind": "melt", "x": float(x), "y": 10.0 + 12 * t, "r": 12.0} for x in xs]
                 for t in range(25)]
     played = play(Params.preset("fern"), schedule, size=SMALL, drain=True)
-    assert session.MELT_GROUP >= 8
+    assert backlog.MELT_GROUP >= 8
     assert len(played.tick_s) == 25 and played.drained == 0 and played.backlog_max == 0
 
 
@@ -367,14 +369,15 @@ def test_play_applies_a_ticks_melts_as_one_group_as_the_window_does(monkeypatch)
 
 @pytest.mark.parametrize("version, batched, at_once", [(2, False, False), (3, True, False),
                                                        (4, True, True), (5, True, True),
-                                                       (6, True, True)])
+                                                       (6, True, True), (7, True, True)])
 @pytest.mark.parametrize("preset", ["fern", "window"])
 def test_a_session_file_places_water_as_its_version_did(version, batched, at_once, preset):
     log = SessionLog(0, Params.preset(preset).as_dict(),
                      events=[{"tick": 0, "kind": "touch", "x": 380.0, "y": 640.0}],
                      steps=30, version=version)
     timeline = replay(SessionLog.from_json(log.as_json()))
-    assert (timeline.sim.batched, timeline.sim.tries_at_once) == (batched, at_once)
+    rules = timeline.sim.rules
+    assert (rules.batched_placement, rules.tries_at_once) == (batched, at_once)
     legacy = FrostSim(Params.preset(preset), seed=0, version=version)
     legacy.touch(380.0, 640.0)
     for _ in range(30):

@@ -235,7 +235,7 @@ def test_walkers_leaving_an_edge_come_in_at_the_opposite_one():
 
     sim = FrostSim(Params.preset("window", frame_sites=0.0), *TILE, seed=3, wrap=True)
     x0, y0 = sim.water[:, 0], sim.water[:, 1]
-    rng = copy.deepcopy(sim.rng)
+    rng = copy.deepcopy(sim.streams.walk)
     dx, dy = walk_displacements(rng, len(x0), sim.params.step, sim.jumps(x0, y0))
     sim.walk()
     assert np.array_equal(sim.water[:, 0], wrap_into(x0 + dx, TILE[0]))
@@ -267,4 +267,4 @@ def test_long_jumps_on_a_tile_never_reach_ice_across_an_edge(hc):
     x = np.float32([0.5, 159.5, 30.0, 130.0])
     y = np.float32([64.0, 64.0, 64.0, 64.0])
     rho = lone.clearance.radii(x, y, np.full(4, np.float32(1e9)))
-    assert (rho[:2] > 2 * lone.params.step).all()  # an edge used to cap them at 0.5 px
+    assert (rho[:2] > 2 * lone.params.step).all()  # an edge that capped them would give 0.5 px

@@ -8,6 +8,7 @@ then read its log, its screenshots and the driver's timings.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import re
@@ -136,9 +137,11 @@ def drive(out: Path, mode: str = "session") -> None:
     with open(log, "w") as sink:
         app = subprocess.Popen(cmd, cwd=ROOT, stdout=sink, stderr=subprocess.STDOUT,
                                preexec_fn=default_signals)
-    result = {}
+    result: dict = {}
     try:
         result = DRIVES[mode](app, log)
+    except Exception as err:  # the test reads it in result.json
+        result = {"driver failed": f"{type(err).__name__}: {err}"}
     finally:
         finish(app, out, result)
 
@@ -242,7 +245,10 @@ def lost(app: subprocess.Popen, log: Path, how: str) -> dict:
         xdo("key", "m")
         xdo("windowclose", window_id(name="^frost tuning"))
         time.sleep(0.5)
-        xdo("key", "--window", wid, "m")
+        # A redraw of the panel settling after M may have met the dead window first: the
+        # app then closes, its phone's window too, and there is no M to press.
+        with contextlib.suppress(subprocess.CalledProcessError):
+            xdo("key", "--window", wid, "m")
     else:
         xdo(how, wid)
     return {"status": app.wait(timeout=20)}
@@ -362,7 +368,8 @@ def test_a_screenshots_session_replays_headless_to_the_same_frame(run, tmp_path,
 
 
 def test_a_screenshot_states_the_frame_not_a_key_pressed_with_it(run):
-    from sim.io.session import SessionLog, replay
+    from sim.io.session import SessionLog
+    from sim.io.timeline import replay
 
     text = Image.open(run["shots"][4]).text
     shown = replay(SessionLog.load(text["session"])).params.as_dict()
@@ -395,7 +402,7 @@ def saved_on_signal(got: dict, status: int) -> None:
     log = got["log"]
     assert re.search(r"recording: \d+ frames .* written to ", log), log[-3000:]
     assert "frost maps written: " in log
-    assert got["result"]["status"] == status, log[-3000:]
+    assert got["result"].get("status") == status, (got["result"], log[-3000:])
     assert re.search(rf"summary: .*, exit status {status}$", log, re.M), log[-3000:]
     assert "Traceback" not in log
     (path,) = (got["out"] / "sessions").glob("session-*.json")

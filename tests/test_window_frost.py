@@ -75,7 +75,7 @@ def test_frame_spacing_matches_the_parameter_and_is_irregular(per_100):
 
 
 def test_one_pool_for_the_whole_pane_placed_on_glass_near_the_ice():
-    # (the window's placement before the fronds, which water_far 0 keeps)
+    # (the window's placement without the fronds, which water_far 0 keeps)
     near = WINDOW.replace(water_far=0, vapour_var=0.0, frame_chill=0.0)
     for frame in (1.0, 10.0):
         sim = FrostSim(near.replace(frame_sites=frame), W, H, seed=2)
@@ -159,7 +159,7 @@ def candidate_oracle(sim):
 
 
 # Ticks a wiped path gets to refreeze: 24 s at 25 ticks/s ("within tens of seconds");
-# measured 30-200 (README), so a generous bound, not a timing.
+# measured 30-200, so a generous bound, not a timing.
 REGROW_TICKS = 600
 MODES = {
     "window": (WINDOW, (), (W, H)),
@@ -210,7 +210,7 @@ def test_a_wiped_path_is_clear_then_refreezes_from_its_edges(mode):
 
 
 def test_a_wipe_opens_all_six_slots_of_the_ice_at_its_edge():
-    # (the window before the fronds: with them the edge keeps its slots, test_fronds.py)
+    # (the window without the fronds: with them the edge keeps its slots, test_fronds.py)
     old = WINDOW.replace(tip_hits=3, side_hits=6, **{k: getattr(Params, k) for k in FROND_RULES})
     sim = FrostSim(old, W, H, seed=2)
     for _ in range(500):  # the pane is frosted

@@ -16,6 +16,7 @@ from hypothesis import strategies as st
 from PIL import Image
 
 from app.simthread import thread as simthread
+from app.simthread.backlog import Backlog
 from app.simthread.schedule import RATE_WINDOW
 from app.simthread.thread import SimThread
 from app.window import keys, lost_display
@@ -26,7 +27,7 @@ from app.window.status import IDLE_GAP, DrawRate, Status
 from app.window.view import cursor_to_phone, fit_scale, letterbox
 from sim import Params, preset_name, tuning
 from sim.io.gestures import path_points
-from sim.io.session import Backlog, SessionLog
+from sim.io.session import SessionLog
 
 
 @pytest.fixture(autouse=True)
@@ -449,7 +450,7 @@ def test_the_hud_keeps_the_last_messages_for_their_time(monkeypatch):
     ([4, 9, 2], 3, "rebuilt with 3 touches replanted in their order by tick 9 and 3 melts at "
      "their ticks")])
 def test_a_rebuild_is_worded_in_the_singular_and_plural(ticks, melts, words):
-    from sim.io.session import rebuilt_words
+    from sim.io.timeline import rebuilt_words
     assert rebuilt_words(ticks, melts) == words
 
 
@@ -752,7 +753,7 @@ def test_input_still_waiting_at_exit_is_reported_by_kind():
 def test_a_session_saved_after_the_thread_ticked_past_the_frame_shown_replays_that_frame(tmp_path):
     """The window saves the frame it shows while the thread has gone on: a touch, a melt
     and a tuning change (a rebuild) applied after that frame must not reach its file."""
-    from sim.io.session import replay
+    from sim.io.timeline import replay
 
     thread, capture, _, _ = keeper(tmp_path)
     thread.send("touch", ((200.0, 300.0), None))

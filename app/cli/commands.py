@@ -53,7 +53,7 @@ def _parse(argv: list[str]) -> tuple[argparse.Namespace, Params]:
         command.error(f"unrecognized arguments: {' '.join(unknown)}")
     try:
         params = params_from(args)
-        _refuse_nonsense(args, argv)
+        _refuse_nonsense(args, argv, command.prog)
         warnings = check_paths(args, command)
     except ValueError as err:
         command.error(str(err))
@@ -99,11 +99,12 @@ def _moved_option(argv: list[str]) -> str | None:
     return None
 
 
-def _refuse_nonsense(args: argparse.Namespace, argv: list[str]) -> None:
-    """ValueError naming the options of a combination the grammar lets through."""
+def _refuse_nonsense(args: argparse.Namespace, argv: list[str], prog: str) -> None:
+    """ValueError naming the options of a combination the grammar lets through (`prog`:
+    the command as typed, e.g. frost bench sim)."""
     if args.command and argv[:1] != [args.command]:
         raise ValueError(f"the window's options do not go before a command: write "
-                         f"frost {args.command} [options]")
+                         f"{prog} [options]")
     if args.command == "maps":
         _refuse_maps(args)
     if args.command == "figure8" and len(args.touch) > 1:

@@ -72,9 +72,11 @@ def add_touch(p, what: str, default: str, kind=values.touch, where: str = "") ->
 
 def add_out(p, demo: bool = False) -> None:
     also = ("; the scripted demo writes its stages' PNGs beside it, by default "
-            "frost-out/frost-demo-TIMESTAMP-tickNNNN.png") if demo else ""
+            "frost-out/frost-demo-TIME-pPID-tickNNNN.png") if demo else ""
     p.add_argument("--out", metavar="FILE.png",
-                   help=f"write the final frame here (default frost-out/frost-TIMESTAMP.png{also})")
+                   help="write the final frame here, PNG or JPEG by the suffix (.png, .jpg, .jpeg; "
+                        "default frost-out/frost-TIME-pPID.png, named by the time and the "
+                        f"process{also})")
 
 
 def add_ticks(p, default: int | None, what: str) -> None:

@@ -23,15 +23,18 @@ BENCH_PRESET = "c-2"  # the renderer's benchmark grows Table 1's c-2 unless told
 class Parser(argparse.ArgumentParser):
     """argparse whose errors are one line naming the problem (exit status 2), with no
     abbreviated options (each option is spelled one way), and which knows its
-    subcommands' parsers by name."""
+    subcommands' parsers by name. Its errors start `frost: error:`, but those of a
+    command whose arguments another program parses (`own_prefix`): they start with the
+    command's name, as that program's own errors do."""
 
-    def __init__(self, **kwargs):
+    def __init__(self, own_prefix: bool = False, **kwargs):
         kwargs.setdefault("formatter_class", argparse.RawDescriptionHelpFormatter)
         super().__init__(allow_abbrev=False, **kwargs)
         self.commands: dict[str, Parser] = {}
+        self.prefix = kwargs["prog"] if own_prefix else PROG
 
     def error(self, message: str):
-        self.exit(2, f"{PROG}: error: {one_line(message)} (see {self.prog} --help)\n")
+        self.exit(2, f"{self.prefix}: error: {one_line(message)} (see {self.prog} --help)\n")
 
     def command(self, subs, name: str, summary: str, description: str = "",
                 usage: str = "[options]", **kwargs) -> Parser:
@@ -125,7 +128,7 @@ def _figure8(root: Parser, subs) -> None:
     p = root.command(subs, "figure8", "the paper's Fig. 8: the nine Table 1 presets on one sheet",
                      "Render the nine Table 1 presets (a-1 ... c-3) from one touch into a 3x3 "
                      "sheet (Fig. 8), print each preset's numbers, and exit.", "FILE.png [options]")
-    p.add_argument("out", metavar="FILE.png", help="the sheet to write")
+    p.add_argument("out", metavar="FILE.png", help="the sheet to write (.png, or .jpg/.jpeg for JPEG)")
     options.add_params(p, options.FIGURE8_SET)
     options.add_seed(p)
     options.add_ticks(p, options.DEFAULT_TICKS, "how long each preset grows")
@@ -139,7 +142,7 @@ def _figure(root: Parser, subs) -> None:
                      "Render a labelled sheet of fern growth (ticks 25 ... 750, one touch and three "
                      "touches) with the chosen parameters, and exit.", "KIND FILE.png [options]")
     p.add_argument("kind", choices=FIGURES, metavar="KIND", help=f"which figure: {', '.join(FIGURES)}")
-    p.add_argument("out", metavar="FILE.png", help="the sheet to write")
+    p.add_argument("out", metavar="FILE.png", help="the sheet to write (.png, or .jpg/.jpeg for JPEG)")
     options.add_preset(p)
     options.add_seed(p)
     options.add_background(p)
@@ -180,7 +183,8 @@ def _bench(root: Parser, subs) -> None:
     # Never parsed here (app.cli.commands hands its arguments to app.tools.bench_sim, as argparse
     # cannot pass on options it does not know); listed so that frost bench --help names it.
     p.command(kinds, "sim", "the simulation's benchmark: every argument, --help too, goes to "
-              "python -m app.tools.bench_sim", usage="[ARGS ...]", add_help=False)
+              "python -m app.tools.bench_sim", usage="[ARGS ...]", add_help=False,
+              own_prefix=True)
     _bench_render(p.command(kinds, "render", "the renderer's benchmark: frame, geometry and "
                             f"upload times at about half the screen frosted (headless, {WIDTH}x{HEIGHT})"))
 

@@ -2,13 +2,14 @@
 
 What a run writes at its end (a headless PNG, a figure, the maps) is refused at start-up
 when it cannot be written, before the work it would lose; such files and folders may be
-missing (they are made on writing) but must be creatable: no name in the path longer than
-the file system allows, a file may be created in the folder (a file system such as /proc
-or /sys takes none: a temporary file is made and removed to know), and an output file that
-exists is a regular file (sim.io.files refuses to replace a device, a FIFO or a socket; a
-symlink is checked where it leads). The window's folders are checked the same way but only
-get a start-up warning: the window reports each failed write and runs on, as the user
-chose (tests/test_window_e2e.py runs it so). The session to replay must be a readable file.
+missing (they are made on writing) but must be creatable: no name in the path longer
+than the file system allows, a picture's name ends in a suffix frost writes (.png, .jpg,
+.jpeg), a file may be created in the folder (a file system such as /proc or /sys takes
+none: a temporary file is made and removed to know), and an output file that exists is a
+regular file (sim.io.files refuses to replace a device, a FIFO or a socket; a symlink is
+checked where it leads). The window's folders are checked the same way but only get a
+start-up warning: the window reports each failed write and runs on, as the user chose
+(tests/test_window_e2e.py runs it so). The session to replay must be a readable file.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import os
 from pathlib import Path
 
 from app.cli.options import has_display
-from app.images import DEFAULT_FOLDER
+from app.images import DEFAULT_FOLDER, suffix_problem
 from app.tools.engine_maps import ENGINE_FILES
 from sim.io.files import not_regular, one_line, refusal, temp_file
 
@@ -59,7 +60,9 @@ def _option_problem(args: argparse.Namespace, action: argparse.Action) -> str | 
     if name not in OUTPUT_FILES + OUTPUT_FOLDERS + WINDOW_FOLDERS or value is None \
             or value == action.default:
         return None
-    problem = _output_problem(Path(value), folder=name not in OUTPUT_FILES) or \
+    is_file = name in OUTPUT_FILES
+    problem = _output_problem(Path(value), folder=not is_file) or \
+        (suffix_problem(value) if is_file else None) or \
         _files_problem(Path(value), FOLDER_FILES.get(name, ()))
     return problem and f"{_named(action, value)}: {problem}"
 
@@ -113,14 +116,31 @@ def _writable_problem(path: Path, folder: bool) -> str | None:
             return f"is {kind or 'a file'}, not a folder"
         if not folder and kind:
             return refusal(kind)  # what the write itself would say, before the work
-        writable = os.access(path, os.W_OK | (os.X_OK if folder else 0))
-        return _creates_files(path if folder else path.parent) if writable else "is not writable"
+        if not folder and not os.access(path, os.W_OK):
+            return "is not writable"
+        home = path if folder else path.parent
+        problem = _permission_problem(home)
+        if problem:
+            return problem if folder else f"its folder {home} {problem}"
+        return _creates_files(home)
     parent = _existing(path.parent)
     if not parent.is_dir():
         return f"{parent} is a file, not a folder"
-    if not os.access(parent, os.W_OK | os.X_OK):
-        return f"cannot create it: {parent} is not writable"
+    problem = _permission_problem(parent)
+    if problem:
+        return f"cannot create it: {parent} {problem}"
     return _creates_files(parent)
+
+
+def _permission_problem(folder: Path) -> str | None:
+    """Why the permissions of `folder` let no file be made in it, or None. Both are
+    needed: writing it (w) adds the name, searching it (x) reaches the file; a folder
+    with w alone (mode 0o200) passes a check of writing only."""
+    if not os.access(folder, os.W_OK):
+        return "is not writable"
+    if not os.access(folder, os.X_OK):
+        return "is not searchable (no x permission), so no file can be made in it"
+    return None
 
 
 def _existing(path: Path) -> Path:

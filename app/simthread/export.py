@@ -9,7 +9,7 @@ from collections.abc import Callable
 
 from app.images import export_maps, frost_meta
 from sim.io.files import why
-from sim.io.session import Timeline
+from sim.io.timeline import Timeline
 from sim.look.maps import live_segments, map_triangles
 
 Notify = Callable[[int, str], None]

@@ -18,11 +18,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from app.simthread.backlog import Backlog, group_melts
 from app.simthread.clicks import Click, Clicks
 from app.simthread.export import MapExports
 from app.simthread.schedule import Schedule, TickTimes
 from sim import Params
-from sim.io.session import Applied, Backlog, SessionLog, Timeline, apply_due, group_melts
+from sim.io.session import SessionLog
+from sim.io.timeline import Applied, Timeline, apply_due
 from sim.look.geometry import GeometryDelta
 from sim.screen import HEIGHT, TICKS_PER_SECOND, WIDTH
 

@@ -7,7 +7,7 @@ a geometry and a renderer per look, their frames interleaved): for each, the med
 vertices sent; then one JSON line.
 
 The geometry is timed by two clocks: the wall clock, and the CPU time of the thread that
-runs it (as the simulation thread counts its work, sim/session.py). On a CPU renderer
+runs it (as the simulation thread counts its work, app/simthread/backlog.py). On a CPU renderer
 (llvmpipe) the wall clock also counts the rasterizer's threads, which keep the cores busy
 a while after `ctx.finish()`; the CPU time is the geometry's own cost.
 """
@@ -168,8 +168,3 @@ def report(result: dict, frames: int) -> None:
               "that llvmpipe renders on, so timings may be inflated")
     print(json.dumps(result))
 
-
-if __name__ == "__main__":  # the command's old name
-    from app.cli import main
-
-    raise SystemExit(main(["bench", "render", *sys.argv[1:]]))

@@ -16,12 +16,12 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
 from app.backdrops import DEFAULT_BACKDROP, view_from
-from app.images import frost_meta, save_png
+from app.images import frost_meta, save_image
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
 from sim import PRESETS, FrostSim, Params
 from sim.io.files import why
-from sim.io.session import touch_events
+from sim.io.timeline import touch_events
 from sim.screen import HEIGHT, WIDTH
 
 CELL = (253, 427)  # a frame scaled by 1/3, px (width, height)
@@ -152,15 +152,31 @@ def set_overrides(params: Params) -> dict:
     return {k: v for k, v in params.as_dict().items() if k not in SET_SKIPS}
 
 
+def preset_overrides(args, on_top: Params | None = None) -> dict:
+    """What changes in each of Table 1's presets: the set's fields (SET_SKIPS aside), then
+    the command line's overrides; an hc given without step takes step with it, as each
+    preset fits its step to its own hc."""
+    overrides = {n: getattr(args, n) for n, _, _ in Params.describe()
+                 if getattr(args, n, None) is not None}
+    if on_top is not None:
+        overrides = {**set_overrides(on_top), **overrides}
+    if "hc" in overrides and "step" not in overrides:
+        overrides["step"] = min(Params.step, overrides["hc"])
+    return overrides
+
+
 def run(args, on_top: Params | None = None) -> int:
     """`frost figure8 FILE.png [--params FILE] [--seed N] [--ticks N] [--touch X,Y]` (checked
     by the command line: one touch at most, on the screen). `on_top`: the --params set,
     whose fields but Table 1's (SET_SKIPS) apply to every preset, the overrides after."""
     touch = args.touch[0] if args.touch else (WIDTH / 2, HEIGHT / 2)
-    overrides = {n: getattr(args, n) for n, _, _ in Params.describe()
-                 if getattr(args, n, None) is not None}
-    if on_top is not None:
-        overrides = {**set_overrides(on_top), **overrides}
+    overrides = preset_overrides(args, on_top)
+    for name in PRESETS:  # each preset with them is valid, or nothing is drawn
+        try:
+            Params.preset(name, **overrides)
+        except ValueError as err:
+            print(f"frost: error: preset {name} with these options: {err}", file=sys.stderr)
+            return 2
     try:
         ctx = make_context()
         sheet, stats = make_figure8(ctx, args.seed, args.ticks, touch, overrides,
@@ -173,7 +189,7 @@ def run(args, on_top: Params | None = None) -> int:
                       stats=[s.__dict__ for s in stats],
                       background=getattr(args, "background", None) or DEFAULT_BACKDROP)
     try:
-        path = save_png(sheet, Path(args.out), meta)
+        path = save_image(sheet, Path(args.out), meta)
     except OSError as err:
         print(f"frost: error: cannot write {why(err, args.out)}", file=sys.stderr)
         return 2

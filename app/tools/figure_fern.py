@@ -14,13 +14,13 @@ from pathlib import Path
 import numpy as np
 
 from app.backdrops import DEFAULT_BACKDROP, view_from
-from app.images import frost_meta, save_png
+from app.images import frost_meta, save_image
 from app.tools.figure8 import compose_grid
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
 from sim import Params
 from sim.io.files import why
-from sim.io.session import touch_events
+from sim.io.timeline import touch_events
 from sim.screen import TICKS_PER_SECOND
 
 TICKS = (25, 50, 125, 250, 500, 750)
@@ -70,7 +70,7 @@ def run(args, params: Params) -> int:
                       rows={k: [list(t) for t in v] for k, v in ROWS.items()},
                       background=getattr(args, "background", None) or DEFAULT_BACKDROP)
     try:
-        out = save_png(sheet, Path(path), meta)
+        out = save_image(sheet, Path(path), meta)
     except OSError as err:
         print(f"frost: error: cannot write {why(err, path)}", file=sys.stderr)
         return 2

@@ -13,7 +13,7 @@ from PIL import Image, ImageDraw
 from app.backdrops import BACKDROPS
 from app.tools.offscreen import Offscreen, make_context
 from sim import Params
-from sim.io.session import touch_events
+from sim.io.timeline import touch_events
 
 # preset: (ticks, touches, crop centre) - the crop where the ice is busiest.
 RUNS = {"fern": (750, [(380.0, 640.0)], (380, 600)),

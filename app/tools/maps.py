@@ -10,9 +10,9 @@ from app.tools.engine_maps import EngineRun, write_engine_maps
 from app.tools.progress import Progress
 from app.tools.render import demo_touches
 from sim import FrostSim, Params
-from sim.io import session
 from sim.io.files import why
-from sim.io.session import Timeline, touch_events
+from sim.io.timeline import Timeline, touch_events
+from sim.io.timeline import grow as grow_timeline
 from sim.look.geometry import FrostGeometry
 from sim.look.growthmap import GrowthClock
 from sim.screen import HEIGHT, SIZE, WIDTH
@@ -22,7 +22,7 @@ def grow(params: Params, seed: int, touches, ticks: int,
          on_tick=None, size: tuple[int, int] = SIZE, wrap: bool = False,
          clock: GrowthClock | None = None) -> tuple[FrostSim, FrostGeometry]:
     """The simulation and its geometry (no GL) after `ticks` ticks of touches (tick, x, y)
-    on a `size` screen (`wrap`: a tile), through sim.io.session.grow; `on_tick(sim)` after
+    on a `size` screen (`wrap`: a tile), through sim.io.timeline.grow; `on_tick(sim)` after
     every tick (progress); `clock` is fed every geometry delta."""
     timeline = Timeline(params, seed, *size, wrap=wrap)
     events = [e for t, x, y in sorted(touches) for e in touch_events([(x, y)], t)]
@@ -31,8 +31,8 @@ def grow(params: Params, seed: int, touches, ticks: int,
         for delta in result.deltas:
             clock.apply(delta)  # type: ignore[union-attr]
 
-    session.grow(timeline, ticks, events, on_apply=applied if clock else None,
-                 on_step=clock.apply if clock else None, on_tick=on_tick)
+    grow_timeline(timeline, ticks, events, on_apply=applied if clock else None,
+                  on_step=clock.apply if clock else None, on_tick=on_tick)
     return timeline.sim, timeline.geometry
 
 

@@ -1,4 +1,5 @@
-"""Measures of a frosted pane (docs/method.md, section 8), shared by the benchmark and the tests.
+"""Measures of a frosted pane (docs/method.md, section 8), shared by the benchmark and the
+tests (what only the tests measure lives with them).
 
 Stems: a link (a crystal and its parent) continues its parent's stem when it is the
 parent's straightest child and turns less than STEM_TURN from the parent's own link; a
@@ -87,19 +88,6 @@ def skeleton_measures(crystals, parents, alive) -> dict[str, float]:
             "main_frac": float(L[main].sum() / total),
             "pinnate": pinnate,
             "order": float((L[ids] * order[ids]).sum() / total)}
-
-
-def side_spacing(crystals, parents, alive) -> float:
-    """Median over main stems (MAIN_PX or more) with side stems of their length per side
-    stem leaving them, px: how far apart side branches are (nan if none)."""
-    head, length, _, parent_stem, link = stems(crystals, parents, alive)
-    n = len(crystals)
-    L = np.bincount(head[link], weights=length[link], minlength=n)
-    ids = np.flatnonzero(L > 0)
-    kid = ids[parent_stem[ids] >= 0]
-    k_n = np.bincount(parent_stem[kid], minlength=n)
-    fed = ids[(L[ids] >= MAIN_PX) & (k_n[ids] > 0)]
-    return float(np.median(L[fed] / k_n[fed])) if len(fed) else float("nan")
 
 
 def pane_measures(sim) -> dict[str, float]:

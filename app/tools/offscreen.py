@@ -8,10 +8,11 @@ from pathlib import Path
 import numpy as np
 
 from app.gl.renderer import Renderer
-from app.images import frost_meta, read_image, save_png
+from app.images import frost_meta, read_image, save_image
 from app.tools.progress import Progress
 from sim import Params
-from sim.io.session import VERSION, Applied, Timeline, grow
+from sim.io.session import VERSION
+from sim.io.timeline import Applied, Timeline, grow
 from sim.screen import HEIGHT, SIZE, WIDTH
 
 
@@ -43,7 +44,7 @@ class Offscreen:
         return self.timeline.sim
 
     def grow(self, steps: int, events=(), on_tick=None) -> int:
-        """`steps` steps with `events` applied at their ticks (sim.io.session.grow), every
+        """`steps` steps with `events` applied at their ticks (sim.io.timeline.grow), every
         result shown; `on_tick(sim)` after each step. How many events applied."""
         def tick(sim) -> None:
             if self.progress:
@@ -71,7 +72,7 @@ class Offscreen:
     def snapshot(self, path: Path, software: str = "frost render") -> Path:
         meta = frost_meta(software, self.sim.params, self.sim.seed, self.sim.tick,
                           self.touches(), view=self.renderer.view(), **self.meta)
-        return save_png(self.frame(), path, meta)
+        return save_image(self.frame(), path, meta)
 
     def release(self) -> None:
         self.fbo.release()

@@ -13,7 +13,7 @@ from app.tools.progress import Progress
 from sim import Params
 from sim.io.files import why
 from sim.io.gestures import MELT_SPACING, path_points
-from sim.io.session import touch_events
+from sim.io.timeline import touch_events
 from sim.screen import HEIGHT, WIDTH
 
 
@@ -80,7 +80,7 @@ def _run_demo(offscreen: Offscreen, args) -> int:
 
 
 def demo_stem(folder: Path, stops: list[int]) -> str:
-    """frost-demo-TIMESTAMP (-N where needed): no file of the demo's exists under it."""
+    """frost-demo-TIME-pPID (-N where needed): no file of the demo's exists under it."""
     also = [(folder, f"-tick{stop:04d}.png") for stop in stops]
     return timestamped_path(folder, "frost-demo", "", also).name
 

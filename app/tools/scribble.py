@@ -15,9 +15,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from app.simthread.backlog import Backlog, group_melts
 from sim import tuning
 from sim.io.gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
-from sim.io.session import Backlog, Timeline, group_melts
+from sim.io.timeline import Timeline
 from sim.params import PRESETS, Params
 from sim.screen import MELT_RADIUS, SIZE, TICKS_PER_SECOND
 from sim.tuning import BUMP_STEP, HUMIDITY_FACTOR, LENGTH_STEP

@@ -1,4 +1,4 @@
-"""The tile figures of the README: a window-preset tile grown to its frosted end (the share
+"""The tile figures of docs/engine-maps.md: a window-preset tile grown to its frosted end (the share
 of hash cells holding a crystal gains less than END_GAIN over END_TICKS ticks,
 app.tools.measures), timed as `frost maps --tile` grows it (simulation, geometry, growth clock),
 then its maps computed and written, with the peak memory of the process.
@@ -19,7 +19,7 @@ from app.tools.engine_maps import EngineRun, write_engine_maps
 from app.tools.maps import tile_window
 from app.tools.measures import frosted_end
 from sim import Params
-from sim.io.session import Timeline
+from sim.io.timeline import Timeline
 from sim.look.growthmap import GrowthClock
 
 

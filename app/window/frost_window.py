@@ -26,7 +26,7 @@ from app.window.keys import help_lines
 from app.window.lost_display import on_lost_display, on_lost_window
 from app.window.no_panel import NoPanel
 
-try:  # imgui-bundle has wheels for Python 3.11 on only (README, Dependencies)
+try:  # imgui-bundle has wheels for Python 3.11 on only (docs/dependencies.md)
     from app.window.panel_host import PanelHost
 except ImportError:
     PanelHost = None  # type: ignore[assignment,misc]

@@ -17,7 +17,7 @@ CELL_CAP = 128
 # its link's upsample particles, and each particle raises a stencil of grid vertices).
 # Freezes beyond it wait a tick as water (in walker order). Table 1's single touches peak at
 # 166 050 (a-1, seeds 0-2) and two a-1 touches at about 332 000, so the paper's frost is
-# unchanged; a fast chain reaction at a large hc no longer makes one tick do seconds of work.
+# unchanged, and a fast chain reaction at a large hc cannot make one tick do seconds of work.
 FREEZE_WORK = 400_000
 
 

@@ -15,27 +15,31 @@ from __future__ import annotations
 import numpy as np
 
 from ..index.freezing import FreezingIndex
-from ..index.periodic import image_near, wrap_into
+from ..index.periodic import image_near
 from ..params import Params
 from ..rules.fern import make_growth
-from ..rules.pane import chill, make_pane
+from ..rules.pane import chill
+from ..rules.panes import make_pane
 from ..screen import HEIGHT, WIDTH, touch_problem
 from . import budget, placement
 from .areas import Areas
 from .budget import CELL_CAP, FREEZE_WORK
+from .freezes import admitted, drop_in_full_cells, nearest_crystals
+from .melting import melt_discs
 from .placement import CELL_TRIES, CELL_WORK, Placer
 from .skeleton import Added, Melted, Skeleton, upsample
 from .supply import TOUCH_TRIES, Supply
+from .versions import NEWEST, random_streams, rules_of
 from .views import Holdings
-from .walk import on_screen_f32, outside, walk_displacements
+from .walk import clearance_jumps, on_screen_f32, walk_displacements, walk_water
 from .water import Water
 
 __all__ = ["Added", "CELL_CAP", "CELL_TRIES", "CELL_WORK", "FREEZE_WORK", "FrostSim", "Melted",
            "TOUCH_TRIES", "VERSION", "upsample", "walk_displacements"]
 
-# The newest rules (what a session file's "version" names; sim/io/session.py lists what each
-# changed). Older versions replay as frost grew them then.
-VERSION = 6
+# The newest rules (what a session file's "version" names; sim/core/versions.py lists what
+# each changed). Older versions replay as frost grew them then.
+VERSION = NEWEST
 _NONE = np.empty(0, np.int64)
 _PANE = np.zeros(1, np.int32)  # the pane's one area
 
@@ -47,22 +51,20 @@ def _check(name: str, v, low: int, high: int, what: str) -> None:
 
 class FrostSim(Holdings):
     """Window frost on a `width` x `height` px screen (docs/method.md). `version` (1 ..
-    VERSION) picks the rules a session file of that version replays with: 3 batches the
-    cell placement of all areas, 4 draws window water's later tries at once, 5 lets a
-    touch into a short pool bring new walkers and pools a seed's first hits. `wrap`: a
+    VERSION) picks the rules a session file of that version replays with (`self.rules`,
+    sim/core/versions.py); each part draws from its stream of `self.streams`. `wrap`: a
     tile (sim.index.periodic), whose walkers, search, clearance and placement see across edges."""
 
     def __init__(self, params: Params | None = None, width: int = WIDTH, height: int = HEIGHT,
                  seed: int = 0, version: int = VERSION, wrap: bool = False):
         _check("width", width, 1, 16384, " of px")
         _check("height", height, 1, 16384, " of px")
-        _check("version", version, 1, VERSION, "")
+        self.rules = rules_of(version)
         p = self.params = params if params is not None else Params()
         self.width, self.height, self.wrap = int(width), int(height), bool(wrap)
-        self.seed, self.version, self.rng = seed, int(version), np.random.default_rng(seed)
-        self.batched, self.tries_at_once = version >= 3, version >= 4
-        self.touch_creates = version >= 5
-        self.tick, self.water_melted, self._mark = 0, 0, (0, 0, 0)
+        self.seed, self.version = seed, self.rules.version
+        self.streams = random_streams(seed, self.rules)
+        self.tick, self.water_melted, self._rows_at_tick_end = 0, 0, (0, 0, 0)
         self.ice, self._water, self._areas = Skeleton(), Water(p.humidity), Areas()
         self.index = FreezingIndex(self.ice.crystals, self.width, self.height, p.hc,
                                    p.neighbor_search, self.wrap, p.long_jumps or p.window_frost)
@@ -70,11 +72,13 @@ class FrostSim(Holdings):
         self.search, self.clearance = self.index.search, self.index.clearance
         self.work_per_crystal = budget.work_per_crystal(p.hc, p.grid_spacing, p.D)
         # Beyond the paper (fern rules; window mode chills them by its temperature).
-        self.growth = make_growth(chill(p), self.rng, pooled_first=version >= 5)
-        self.pane = make_pane(p, self.rng, self.index, self.ice, self.tries_at_once)
-        self.placer = Placer(self.rng, self.index, self._areas, self.pane, p, self.batched)
-        self.supply = Supply(p, self.rng, self._water, self._areas, self.placer, self.pane,
-                             self.index, self.touch_creates)
+        rules, streams = self.rules, self.streams
+        self.growth = make_growth(chill(p), streams.growth, rules.pooled_first_hits)
+        self.pane = make_pane(p, streams.pane, self.index, self.ice, rules.tries_at_once)
+        self.placer = Placer(streams.placement, self.index, self._areas, self.pane, p,
+                             rules.batched_placement)
+        self.supply = Supply(p, streams.supply, self._water, self._areas, self.placer, self.pane,
+                             self.index, rules.touch_creates)
         self.added = Added(0, slice(0, 0), slice(0, 0), slice(0, 0), 0)
         self._start_pane()
 
@@ -125,7 +129,9 @@ class FrostSim(Holdings):
         """One tick: the phases of the module doc, in order."""
         self.placer.cell_work = placement.CELL_WORK
         self.walk()
-        hits, parents = self._admit(*self.crystallize(self._drop_in_full_cells()))
+        keys, dropped = drop_in_full_cells(self._water, self.index)
+        self.supply.dropped += dropped
+        hits, parents = self._admit(*self.crystallize(keys))
         frozen, parents, pts, bounced = self.growth.settle(self._water.at(hits), hits, parents,
                                                            self.ice, self.index)
         new = self._link(frozen, parents, pts)
@@ -154,28 +160,12 @@ class FrostSim(Holdings):
     def melt_many(self, discs) -> Melted:
         """One melt of the crystals within any of `discs` ((x, y, radius) each): as `melt`,
         in one pass over the ice they cover, one return of their water."""
-        for x, y, radius in discs:
-            if not (np.isfinite(x) and np.isfinite(y) and np.isfinite(radius) and radius > 0):
-                raise ValueError(f"melt at ({x!r}, {y!r}) with radius {radius!r}: need finite "
-                                 "values, radius > 0")
-        discs = [(float(x), float(y), float(r)) for x, y, r in discs]
-        dead = _union([self.index.crystals_near(x, y, r) for x, y, r in discs])
-        self.ice.calive.raw()[dead] = False
-        self.pane.melted(dead)
-        self.index.remove(dead)
-        # A child lies within one link of its parent: look no further than that.
-        reach = self.ice.longest_link + 1.0
-        near = _union([self.index.crystals_near(x, y, r + reach) for x, y, r in discs])
-        parents = self.ice.parents.raw()
-        orphans = near[np.isin(parents[near], dead)]
-        self.growth.melted(dead, parents, orphans, near if len(dead) else dead)
-        parents[orphans] = -1
-        segs, ups = self.ice.cut(np.concatenate([dead, orphans]))
-        self.water_melted += len(dead)
-        dead_area = self.ice.area.raw()[dead]
+        melted = melt_discs(discs, self.ice, self.index, self.growth, self.pane)
+        self.water_melted += len(melted.crystals)
+        dead_area = self.ice.area.raw()[melted.crystals]
         self._areas.count_ice(dead_area, -1)
         self.supply.returned(dead_area, self.ice_state())
-        return Melted(dead, ups, segs, orphans)
+        return melted
 
     # ---- phases ---------------------------------------------------------------------
 
@@ -185,56 +175,32 @@ class FrostSim(Holdings):
 
     def walk(self) -> None:
         """Eq. 2 for every walker; leavers are recreated inside their area (Sec. 3.4.2)."""
-        m = self._water.n
-        if m == 0:
+        if self._water.n == 0:
             return
         x, y = self._water.x.raw(), self._water.y.raw()
         columns = self._areas.columns(self._water.area.raw())
-        dx, dy = walk_displacements(self.rng, m, self.params.step, self.jumps(x, y, columns))
-        x += dx
-        y += dy
-        if self.wrap:  # a tile: a walker leaving one edge comes in at the opposite one
-            x[:], y[:] = wrap_into(x, self.width), wrap_into(y, self.height)
-        left = outside(x, y, columns, (self.width, self.height), self.wrap)
-        self.supply.spent(_NONE, self.supply.relocate(left.nonzero()[0], self.ice_state()))
+        left = walk_water(self.streams.walk, x, y, columns, self.params.step, self.jumps(x, y, columns),
+                          (self.width, self.height), self.wrap)
+        self.supply.spent(_NONE, self.supply.relocate(left, self.ice_state()))
 
     def jumps(self, x: np.ndarray, y: np.ndarray, columns=None) -> np.ndarray | None:
         """Long jumps: the clearance of walkers at (x, y), each in its own area (None
         without long jumps); `columns`: `Areas.columns` of the walkers, where known."""
         if not self.params.long_jumps:
             return None
-        cx, cy, r = self._areas.columns(self._water.area.raw()) if columns is None else columns
-        return self.index.clearance.radii(x, y, r - np.hypot(x - cx, y - cy))
-
-    def _drop_in_full_cells(self) -> np.ndarray:
-        """Water in a cell that lists CELL_CAP crystals has arrived at finished ice.
-        Returns the cells of the walkers kept."""
-        keys = self.grid.keys(self._water.x.raw(), self._water.y.raw())
-        if self.candidates.most < budget.CELL_CAP:  # (no cell can be full)
-            return keys
-        full = self.candidates.count[keys] >= budget.CELL_CAP
-        if full.any():
-            self.supply.dropped += int(full.sum())
-            self._water.keep(~full)
-            keys = keys[~full]
-        return keys
+        columns = self._areas.columns(self._water.area.raw()) if columns is None else columns
+        return clearance_jumps(self.index.clearance, x, y, columns)
 
     def crystallize(self, keys: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Sec. 3.4.3: the walkers within hc of a crystal, and their nearest crystal
         (`keys`: the walkers' cells, where known)."""
-        if self._water.n == 0:
-            return np.empty(0, np.int64), np.empty(0, np.int32)
-        return self.index.nearest(self._water.x.raw(), self._water.y.raw(), keys)
+        return nearest_crystals(self._water, self.index, keys)
 
-    def _admit(self, frozen: np.ndarray, parents: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The freezes this tick takes (`budget.admit`); the water of those over the
-        cells' cap is dropped, and the kept walkers move down."""
-        frozen, parents, over = budget.admit(frozen, parents, self.candidates.count, self.grid,
-                                             self._water.at, self.params.hc,
-                                             self.work_per_crystal, self.candidates.most)
-        if len(over):
-            self.supply.dropped += len(over)
-            frozen = self._water.drop_before(over, frozen)
+    def _admit(self, hits: np.ndarray, parents: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The freezes this tick takes (`freezes.admitted`); the rest wait or drop."""
+        frozen, parents, dropped = admitted(self._water, self.index, hits, parents,
+                                            self.params.hc, self.work_per_crystal)
+        self.supply.dropped += dropped
         return frozen, parents
 
     def _link(self, frozen: np.ndarray, parents: np.ndarray, pts: np.ndarray) -> slice:
@@ -268,14 +234,10 @@ class FrostSim(Holdings):
             self._areas.ride(touched, self.params.active_radius)
 
     def _close_tick(self, frozen: int) -> Added:
-        now = (self.ice.crystals.n, self.ice.ups.n, self.ice.segs.n)
-        (c0, u0, s0), (c1, u1, s1) = self._mark, now
-        c, u, s = slice(c0, c1), slice(u0, u1), slice(s0, s1)
-        self._mark = now
-        self.added = Added(self.tick, c, u, s, frozen)
+        """The rows this tick added (touches since the last tick's end included)."""
+        now = self.ice.counts()
+        crystals, upsampled, segments = (slice(a, b) for a, b in zip(self._rows_at_tick_end, now,
+                                                                      strict=True))
+        self._rows_at_tick_end = now
+        self.added = Added(self.tick, crystals, upsampled, segments, frozen)
         return self.added
-
-
-def _union(ids: list[np.ndarray]) -> np.ndarray:
-    """Ascending indices in any of `ids` (each ascending): one disc's own, as it is."""
-    return ids[0] if len(ids) == 1 else np.unique(np.concatenate(ids))

@@ -1,7 +1,7 @@
 """The ice skeleton: crystals with parent links, upsample particles and chain segments.
 
 Rows are only appended; a melt marks them dead, so indices stay stable. A link's rows are
-appended together, in crystal order, so each row's crystal (`ups_link`, `segs_link`)
+appended together, in crystal order, so each row's crystal (`upsampled_link`, `segments_link`)
 ascends, and a melt finds the rows of the links it cuts by binary search, without
 scanning the whole skeleton.
 """
@@ -45,13 +45,13 @@ class Skeleton:
         self.crystals = Growable(np.float32, (2,))
         self.parents = Growable(np.int32)  # -1 for a seed
         self.area = Growable(np.int32)  # the area whose water became each crystal
-        self.calive = Growable(bool)
-        self.ups = Growable(np.float32, (2,))
-        self.ups_link = Growable(np.int32)
-        self.ualive = Growable(bool)
-        self.segs = Growable(np.float32, (4,))
-        self.segs_link = Growable(np.int32)
-        self.salive = Growable(bool)
+        self.crystal_alive = Growable(bool)
+        self.upsampled = Growable(np.float32, (2,))
+        self.upsampled_link = Growable(np.int32)
+        self.upsampled_alive = Growable(bool)
+        self.segments = Growable(np.float32, (4,))
+        self.segments_link = Growable(np.int32)
+        self.segments_alive = Growable(bool)
         self.longest_link = 0.0  # a crystal's children lie within this of it
 
     def add(self, pts: np.ndarray, parents: np.ndarray, area: np.ndarray) -> slice:
@@ -59,18 +59,18 @@ class Skeleton:
         new = self.crystals.append(pts)
         self.parents.append(parents)
         self.area.append(area)
-        self.calive.append_fill(len(pts), True)
+        self.crystal_alive.append_fill(len(pts), True)
         return new
 
     def link(self, first: int, tail: np.ndarray, pts: np.ndarray, spacing: float) -> None:
         """The links tail[i] -> pts[i] of crystals first, first + 1, ..., upsampled."""
-        ups, ups_link, segs, segs_link = upsample(tail, pts, spacing)
-        self.ups.append(ups)
-        self.ualive.append_fill(len(ups), True)
-        self.salive.append_fill(len(segs), True)
-        self.ups_link.append(ups_link.astype(np.int32) + first)
-        self.segs.append(segs)
-        self.segs_link.append(segs_link.astype(np.int32) + first)
+        points, point_link, segments, segment_link = upsample(tail, pts, spacing)
+        self.upsampled.append(points)
+        self.upsampled_alive.append_fill(len(points), True)
+        self.segments_alive.append_fill(len(segments), True)
+        self.upsampled_link.append(point_link.astype(np.int32) + first)
+        self.segments.append(segments)
+        self.segments_link.append(segment_link.astype(np.int32) + first)
         if len(pts):
             d = pts - tail
             self.longest_link = max(self.longest_link, float(np.hypot(d[:, 0], d[:, 1]).max()))
@@ -78,20 +78,26 @@ class Skeleton:
     def cut(self, crystals: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Kill the live segments and upsample particles of the links of `crystals`;
         returns (segments, upsample particles) killed."""
-        segs, ups = rows(self.segs_link.raw(), crystals), rows(self.ups_link.raw(), crystals)
-        segs, ups = segs[self.salive.raw()[segs]], ups[self.ualive.raw()[ups]]
-        self.salive.raw()[segs] = False
-        self.ualive.raw()[ups] = False
-        return segs, ups
+        segments = self.live_segments(crystals)
+        points = rows(self.upsampled_link.raw(), crystals)
+        points = points[self.upsampled_alive.raw()[points]]
+        self.segments_alive.raw()[segments] = False
+        self.upsampled_alive.raw()[points] = False
+        return segments, points
 
     def live_segments(self, crystals: np.ndarray) -> np.ndarray:
         """The live segments of the links of `crystals`."""
-        segs = rows(self.segs_link.raw(), crystals)
-        return segs[self.salive.raw()[segs]]
+        segments = rows(self.segments_link.raw(), crystals)
+        return segments[self.segments_alive.raw()[segments]]
+
+    def counts(self) -> tuple[int, int, int]:
+        """Rows so far: crystals, upsample particles, segments."""
+        return (self.crystals.n, self.upsampled.n, self.segments.n)
 
     def buffers(self) -> tuple[Growable, ...]:
-        return (self.crystals, self.parents, self.ups, self.ups_link, self.segs,
-                self.segs_link, self.area, self.calive, self.ualive, self.salive)
+        return (self.crystals, self.parents, self.upsampled, self.upsampled_link, self.segments,
+                self.segments_link, self.area, self.crystal_alive, self.upsampled_alive,
+                self.segments_alive)
 
 
 def upsample(p: np.ndarray, q: np.ndarray, spacing: float) -> tuple[np.ndarray, ...]:

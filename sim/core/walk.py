@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..index.periodic import nearest_image
+from ..index.periodic import nearest_image, wrap_into
 from .placement import TWO_PI
 
 
@@ -18,6 +18,25 @@ def walk_displacements(rng: np.random.Generator, m: int, step: float,
         a = np.where(jump > step, jump, a)
     theta = u[1] * TWO_PI
     return a * np.cos(theta), a * np.sin(theta)
+
+
+def walk_water(rng: np.random.Generator, x: np.ndarray, y: np.ndarray, columns, step: float,
+               jump: np.ndarray | None, size: tuple[int, int], wrap: bool) -> np.ndarray:
+    """One walk (Eq. 2) of the walkers at (x, y), moved in place, each in its own area
+    (`columns`: centre x, centre y, outer radius); on a tile (`wrap`) a walker leaving one
+    edge comes in at the opposite one. Returns the indices of those that left their area."""
+    dx, dy = walk_displacements(rng, len(x), step, jump)
+    x += dx
+    y += dy
+    if wrap:
+        x[:], y[:] = wrap_into(x, size[0]), wrap_into(y, size[1])
+    return outside(x, y, columns, size, wrap).nonzero()[0]
+
+
+def clearance_jumps(clearance, x: np.ndarray, y: np.ndarray, columns) -> np.ndarray:
+    """Long jumps: the clearance of walkers at (x, y) within their own areas (`columns`)."""
+    cx, cy, r = columns
+    return clearance.radii(x, y, r - np.hypot(x - cx, y - cy))
 
 
 def outside(x: np.ndarray, y: np.ndarray, centre_r, size: tuple[int, int],

@@ -46,16 +46,17 @@ class Clearance:
         self.grid, self.size = grid, (np.float32(width), np.float32(height))
         # The rings live on the grid padded by `cap` cells each side, so the rings around
         # any cell lie inside it: lowering them needs no bounds check. `_rings` is a flat
-        # view from cell (0, 0), indexed by row * `_pcols` + column.
-        self._cap, self._pcols = cap, grid.cols + 2 * cap
-        self._padded = np.full((grid.rows + 2 * cap) * self._pcols, cap, np.int16)
-        self._origin = cap * self._pcols + cap
+        # view from cell (0, 0), indexed by row * `_padded_cols` + column.
+        self._cap, self._padded_cols = cap, grid.cols + 2 * cap
+        self._padded = np.full((grid.rows + 2 * cap) * self._padded_cols, cap, np.int16)
+        self._origin = cap * self._padded_cols + cap
         self._rings = self._padded[self._origin:]
         off = np.arange(-cap, cap + 1)
         ox, oy = np.meshgrid(off, off)
-        self._ox, self._oy = ox.ravel(), oy.ravel()
-        self._off = self._oy * self._pcols + self._ox  # the same cells, as padded offsets
-        self._ring = np.maximum(np.abs(self._ox), np.abs(self._oy)).astype(np.int16)
+        self._offset_x, self._offset_y = ox.ravel(), oy.ravel()
+        # the same cells, as offsets in the padded view
+        self._padded_offsets = self._offset_y * self._padded_cols + self._offset_x
+        self._ring = np.maximum(np.abs(self._offset_x), np.abs(self._offset_y)).astype(np.int16)
         self._cell = np.float32(grid.cell)
         # (k - 1) cells in px for each ring count k (float32 products, held as float64)
         self._beyond = ((np.arange(cap + 1) - 1).astype(np.float32) * self._cell).astype(np.float64)
@@ -64,7 +65,7 @@ class Clearance:
     def rings(self) -> np.ndarray:
         """Each grid cell's ring count (row-major, a copy)."""
         g, cap = self.grid, self._cap
-        return self._padded.reshape(-1, self._pcols)[cap:cap + g.rows, cap:cap + g.cols].ravel()
+        return self._padded.reshape(-1, self._padded_cols)[cap:cap + g.rows, cap:cap + g.cols].ravel()
 
     def lower(self, cells: np.ndarray) -> None:
         """`cells` just became candidate cells: lower the rings around them (a cell
@@ -75,13 +76,13 @@ class Clearance:
         if self.grid.period is None:
             # (the values as an array of the indices' shape: numpy 2.4's ufunc.at misreads
             # values it has to broadcast)
-            np.minimum.at(self._padded, (cy * self._pcols + cx + self._origin)[:, None] + self._off,
-                          self._ring[None, :].repeat(len(cx), axis=0))
+            at = (cy * self._padded_cols + cx + self._origin)[:, None] + self._padded_offsets
+            np.minimum.at(self._padded, at, self._ring[None, :].repeat(len(cx), axis=0))
             return
         # A tile: the rings go on across the edges.
-        tx, ty, ring = self._wrapped(cx[:, None] + self._ox, cy[:, None] + self._oy,
+        tx, ty, ring = self._wrapped(cx[:, None] + self._offset_x, cy[:, None] + self._offset_y,
                                      self._ring[None, :].repeat(len(cx), axis=0))
-        np.minimum.at(self._rings, ty * self._pcols + tx, ring)
+        np.minimum.at(self._rings, ty * self._padded_cols + tx, ring)
 
     def _wrapped(self, tx, ty, ring):
         """Cells past an edge are the opposite edge's. The grid's last column and row may
@@ -101,7 +102,7 @@ class Clearance:
         # wherever it is the nearer side), so float32 walkers need no float64 here.
         fx, fy = x - qx * s, y - qy * s
         border = np.minimum(np.minimum(fx, s - fx), np.minimum(fy, s - fy))
-        k = self._rings[qy.astype(np.int32) * self._pcols + qx.astype(np.int32)]
+        k = self._rings[qy.astype(np.int32) * self._padded_cols + qx.astype(np.int32)]
         # (k - 1) s + border where k >= 1, else 0 (k = 0 gives -s + border < 0); float64,
         # where a float32 sum would round
         rho = np.maximum(self._beyond[k] + border, 0.0)

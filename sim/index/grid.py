@@ -27,14 +27,14 @@ class HashGrid:
         self.rows = math.ceil(height / self.cell)  # M, Eq. 1b
         self.size = self.cols * self.rows
         self._size = np.array([self.cols, self.rows])[None, :, None]  # (for disc_cells)
-        self._inv = np.float32(1.0 / self.cell)
+        self._inverse_cell = np.float32(1.0 / self.cell)
         self._cols = np.int32(self.cols)
         self._last = (np.int32(self.cols - 1), np.int32(self.rows - 1))  # (for keys)
 
     def keys(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         """Cell index (row-major) of on-screen points."""
-        kx = (x * self._inv).astype(np.int32)
-        ky = (y * self._inv).astype(np.int32)
+        kx = (x * self._inverse_cell).astype(np.int32)
+        ky = (y * self._inverse_cell).astype(np.int32)
         np.minimum(kx, self._last[0], out=kx)
         np.minimum(ky, self._last[1], out=ky)
         ky *= self._cols

@@ -88,7 +88,7 @@ class CandidateSearch:
 
     def __init__(self, grid: HashGrid, candidates: CellLists, hc: float):
         self.grid, self.candidates = grid, candidates
-        self._hc2 = np.float32(hc) ** 2
+        self._hc_squared = np.float32(hc) ** 2
 
     def insert(self, pts: np.ndarray, ids: np.ndarray) -> None:
         """Nothing to do: FrostSim lists new crystals in the candidate cells itself."""
@@ -101,7 +101,7 @@ class CandidateSearch:
         keys = self.grid.keys(x, y) if keys is None else keys
         w = (self.candidates.count[keys] > 0).nonzero()[0]
         counts, starts, rows, ids = self.candidates.listed(keys[w])
-        return nearest_listed(crystals, self._hc2, w, counts, ids, x, y, self.grid.period,
+        return nearest_listed(crystals, self._hc_squared, w, counts, ids, x, y, self.grid.period,
                               starts, rows)
 
     def nbytes(self) -> int:
@@ -113,7 +113,7 @@ class Grid9Search:
 
     def __init__(self, grid: HashGrid, hc: float):
         self.grid = grid
-        self._hc2 = np.float32(hc) ** 2
+        self._hc_squared = np.float32(hc) ** 2
         self._own = CellLists(grid.size + 1)  # the extra cell stays empty: off-grid neighbours
 
     def insert(self, pts: np.ndarray, ids: np.ndarray) -> None:
@@ -131,7 +131,7 @@ class Grid9Search:
             per_walker = counts.reshape(-1, 9).sum(axis=1)
             some = per_walker > 0
             w = lo + np.flatnonzero(some)
-            h, p = nearest_listed(crystals, self._hc2, w, per_walker[some], ids, x, y)
+            h, p = nearest_listed(crystals, self._hc_squared, w, per_walker[some], ids, x, y)
             hits.append(h)
             parents.append(p)
         return np.concatenate(hits), np.concatenate(parents)

@@ -91,15 +91,58 @@ def refusal(kind: str) -> str:
     return f"is {kind}, not a regular file; frost writes only regular files"
 
 
+# The most digits a whole number in a file may have: frost's largest (a seed, 2**63 - 1)
+# has 19. A longer one is refused by its entry before Python converts it (which takes time
+# quadratic in its length, and beyond 4300 digits refuses with a hint meant for programmers).
+MOST_DIGITS = 64
+
+
+class _LongNumber(str):
+    """A whole number in a file with more than MOST_DIGITS digits, kept as its text."""
+
+
 def read_json(path, error: type[Exception]):
     """The JSON held by the file at `path`; `error` (one line naming the file) when it
-    cannot be read or is not JSON."""
+    cannot be read, is not JSON, or holds a whole number too long to be one of frost's
+    (naming its entry)."""
+    long_numbers: list[_LongNumber] = []
+
+    def whole_number(text: str) -> int | _LongNumber:
+        if len(text.lstrip("-")) <= MOST_DIGITS:
+            return int(text)
+        long_numbers.append(_LongNumber(text))
+        return long_numbers[-1]
+
     try:
-        return json.loads(Path(path).read_text())
+        data = json.loads(Path(path).read_text(), parse_int=whole_number)
     except OSError as err:
         raise error(f"{path}: cannot read: {err.strerror or err}") from None
-    except (json.JSONDecodeError, UnicodeDecodeError, RecursionError) as err:
+    except (ValueError, UnicodeDecodeError, RecursionError) as err:  # JSONDecodeError too
         raise error(f"{path}: not JSON: {err}") from None
+    found = _long_number(data, "") if long_numbers else None
+    if found is not None:
+        entry, digits = found
+        raise error(f"{path}: entry {entry or 'at the top'}: a whole number of {digits} "
+                    f"digits; frost's have at most {MOST_DIGITS}")
+    return data
+
+
+def _long_number(data, entry: str) -> tuple[str, int] | None:
+    """(where, digits) of the first _LongNumber in `data` (e.g. "events[3].x"), or None.
+    (A stack, not recursion: the file may nest as deep as the parser allows.)"""
+    stack = [(entry, data)]
+    while stack:
+        entry, data = stack.pop()
+        if isinstance(data, _LongNumber):
+            return entry, len(data.lstrip("-"))
+        items = (data.items() if isinstance(data, dict)
+                 else enumerate(data) if isinstance(data, list) else ())
+        stack.extend(reversed([(_entry(entry, key), value) for key, value in items]))
+    return None
+
+
+def _entry(entry: str, key) -> str:
+    return f"{entry}[{key}]" if isinstance(key, int) else f"{entry}.{key}" if entry else key
 
 
 def one_line(text: str) -> str:

@@ -72,7 +72,7 @@ class FernGrowth:
         self.rng = rng
         self.pooled_first = pooled_first
         self.L = float(params.hc)
-        self._apart2 = np.float32(self.L / 2) ** 2  # (a new crystal's least gap to ice, squared)
+        self._apart_squared = np.float32(self.L / 2) ** 2  # (a new crystal's least gap to ice, squared)
         self.drift = np.deg2rad(params.drift)
         self.gap = params.side_gap
         # Hits a slot needs, by kind; a closed slot never grows.
@@ -203,9 +203,9 @@ class FernGrowth:
         x, y = pts[:, 0], pts[:, 1]
         ok = (x >= 0) & (x < index.width) & (y >= 0) & (y < index.height)
         if ok.all():  # (the usual case)
-            ok = index.nearest_d2(pts) >= self._apart2
+            ok = index.nearest_d2(pts) >= self._apart_squared
         else:
-            ok[ok] = index.nearest_d2(pts[ok]) >= self._apart2
+            ok[ok] = index.nearest_d2(pts[ok]) >= self._apart_squared
         side = ok & side
         if self.gap > 1 and side.any():
             ok[side] = self.gap_clear(parents[side], k[side], parent)

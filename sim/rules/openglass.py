@@ -22,7 +22,7 @@ from ..params import Params
 from .fronds import FRAME_PX, edge_distance
 from .pane import REFERENCE_C, TRIES, Pane
 
-# Walkers per far cell of glass. At 2.5 (the band's density before the fronds) a 40 px
+# Walkers per far cell of glass. At 2.5 (the band's density without the fronds) a 40 px
 # wipe was 38 % back after 300 ticks in a prototype; 8 refroze it.
 FAR_DENSITY = 8.0
 # Where the frame's chill is this share of its most or more (within 150 ln(1 / 0.7) = 53 px
@@ -51,7 +51,7 @@ class OpenGlass(Pane):
         self.supply = p.temperature / REFERENCE_C
         self._key: tuple[int, int] | None = None
         self._cells = np.empty(0, np.int64)
-        self._cum = np.empty(0)
+        self._cumulative_weight = np.empty(0)
         self._area = 0.0
         self.wet = np.zeros(grid.size, bool)
 
@@ -61,7 +61,7 @@ class OpenGlass(Pane):
             self.vapour = humidity_field(self.rng, grid.rows, grid.cols, grid.cell, p.vapour_var)
         if p.frame_chill:
             self.chill = frame_weight(grid, self.index.width, self.index.height, p.frame_chill)
-            # By the colder frame water freezes beside the ice (as before the fronds).
+            # By the colder frame water freezes beside the ice (as without the fronds).
             near_frame = (self.chill - 1.0) / p.frame_chill >= FRAME_NEAR
             self.rings = np.where(near_frame, 0, self.far_rings).astype(np.int16)
         return super().start()
@@ -102,7 +102,8 @@ class OpenGlass(Pane):
         """k points, each uniform in a cell drawn by weight."""
         grid = self.index.grid
         u = self.rng.random((3, k))
-        pick = np.minimum(np.searchsorted(self._cum, u[0] * self._cum[-1], side="right"),
+        weights = self._cumulative_weight
+        pick = np.minimum(np.searchsorted(weights, u[0] * weights[-1], side="right"),
                           len(self._cells) - 1)
         cell = self._cells[pick]
         s = grid.cell
@@ -142,7 +143,7 @@ class OpenGlass(Pane):
             near |= self.wet & ~far
         w = self.chill * np.where(far, self.vapour, np.where(near, self.near_weight, 0.0))
         self._cells = np.flatnonzero(w > 0)
-        self._cum = np.cumsum(w[self._cells])
+        self._cumulative_weight = np.cumsum(w[self._cells])
         self._area = float(far.sum() + self.near_weight * near.sum())
 
 

@@ -113,7 +113,7 @@ class Pane:
         if key != self._band_key:
             n = self.ice.crystals.n
             new = np.arange(self._seen, n)
-            c = self.ice.crystals.raw()[new[self.ice.calive.raw()[new]]]
+            c = self.ice.crystals.raw()[new[self.ice.crystal_alive.raw()[new]]]
             np.add.at(self._own, self.index.grid.keys(c[:, 0], c[:, 1]), 1)
             self._seen = n
             near = (self.index.clearance.rings <= BAND) & (self._own == 0)
@@ -147,10 +147,3 @@ def pane_sites(rng: np.random.Generator, width: int, height: int, n: int) -> np.
     """Scratch and dust: n sites uniform on the glass."""
     return rng.random((n, 2)) * np.array([width, height])
 
-
-def make_pane(params: Params, rng: np.random.Generator, index, ice, tries_at_once: bool):
-    """The pane of window mode (`window_frost`; open glass with `water_far`), else none."""
-    if params.water_far:  # (frond rules 2 and 3)
-        from .openglass import OpenGlass
-        return OpenGlass(params, rng, index, ice, tries_at_once)
-    return Pane(params, rng, index, ice) if params.window_frost else NoPane()

@@ -1,4 +1,4 @@
-"""What the glass look is for, measured on a drawn frame (the tests and the README use
+"""What the glass look is for, measured on a drawn frame (the tests and docs/looks.md use
 these): the ice's colour along a link, the ridge's mass across a link by the seed and at
 a leaf and how it grows with what the link carries, the ice's tint by thickness, and
 whether the view through the ice is displaced (not a blend of the view) while clear
@@ -11,7 +11,7 @@ import numpy as np
 from app.gl.renderer import Renderer
 from app.tools.offscreen import Offscreen
 from sim import Params
-from sim.io.session import touch_events
+from sim.io.timeline import touch_events
 from sim.look.maps import bump_field
 from sim.look.material import film
 from sim.screen import HEIGHT, WIDTH

@@ -1,0 +1,74 @@
+"""The rules of each session version, in one place. A session file names the version of
+the rules it was grown by, and replays by them bit for bit; a run without a file takes
+the newest. What each version changed:
+
+1. The first rules: a rebuild replants every touch at tick 0.
+2. A rebuild replants the touches at their own pace, each pause kept up to REGROW_GAP
+   ticks (sim/io/timeline.py).
+3. Where an area's disc draws fail, walkers are placed from all areas' cells in one pass
+   (sim/core/placement.py, CELL_WORK).
+4. Window water draws its later tries in one batch (sim/rules/openglass.py).
+5. A touch into an area whose pool is short brings new walkers (sim/core/supply.py), and
+   a ringed seed's hits count together until its first child (sim/rules/fern.py).
+6. A tick's melts given together (a warm finger's drag) apply as one melt, each recorded
+   with its "group" (sim/io/timeline.py).
+7. Each part draws from a random stream of its own (`random_streams`), so a change in
+   one part's draws leaves the others' unchanged. Up to version 6 they share one.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+NEWEST = 7
+# Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
+REGROW_GAP = 12
+# The parts that draw random numbers, in the order their streams are spawned.
+PARTS = ("walk", "placement", "supply", "growth", "pane")
+
+
+@dataclass(frozen=True)
+class Rules:
+    """What the frost of one version does, rule by rule (see the module doc)."""
+
+    version: int
+    regrow_gap: int  # 2: the longest pause kept between replanted touches (0: all at once)
+    batched_placement: bool  # 3
+    tries_at_once: bool  # 4
+    touch_creates: bool  # 5: a touch into a short pool brings new walkers
+    pooled_first_hits: bool  # 5
+    grouped_melts: bool  # 6
+    own_streams: bool  # 7
+
+
+def rules_of(version: int) -> Rules:
+    """The rules of session `version` (1 .. NEWEST)."""
+    if isinstance(version, bool) or not isinstance(version, (int, np.integer)) \
+            or not 1 <= version <= NEWEST:
+        raise ValueError(f"version={version!r} must be a whole number in [1, {NEWEST}]")
+    v = int(version)
+    return Rules(v, REGROW_GAP if v >= 2 else 0, v >= 3, v >= 4, v >= 5, v >= 5, v >= 6, v >= 7)
+
+
+@dataclass(frozen=True)
+class Streams:
+    """The random generator each part draws from (one object for all up to version 6)."""
+
+    walk: np.random.Generator
+    placement: np.random.Generator
+    supply: np.random.Generator
+    growth: np.random.Generator
+    pane: np.random.Generator
+
+
+def random_streams(seed: int, rules: Rules) -> Streams:
+    """Each part's generator for `seed`: its own child of the seed's SeedSequence (in
+    PARTS' order, so adding a part at the end leaves the others' streams as they were),
+    or before version 7 the one generator all parts shared."""
+    if not rules.own_streams:
+        shared = np.random.default_rng(seed)
+        return Streams(*(shared,) * len(PARTS))
+    children = np.random.SeedSequence(seed).spawn(len(PARTS))
+    return Streams(*(np.random.default_rng(child) for child in children))

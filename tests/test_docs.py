@@ -1,0 +1,75 @@
+"""What a user reads: the README stays short, and every link and file named in the README
+and docs/ leads to something in this repository."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+README_MOST_LINES = 200
+LINK = re.compile(r"!?\[[^\]]*\]\(([^)\s]+)\)")  # [text](target) and ![alt](target)
+# A file of the repository named in the text, e.g. `app/tools/render.py` or docs/panel.webp.
+NAMED_FILE = re.compile(r"\b((?:app|sim|tests|shaders|assets|docs)/[\w./-]*\w\.(?:py|md|frag|vert|"
+                        r"webp|png|json))\b")
+
+
+def page_id(page: Path) -> str:
+    return str(page.relative_to(ROOT))
+
+
+def links(page: Path) -> list[str]:
+    return LINK.findall(page.read_text())
+
+
+def anchor(heading: str) -> str:
+    """The anchor a Markdown heading gets (GitHub's rule): lower case, every character but
+    letters, digits, `_`, `-` and spaces dropped, spaces made dashes."""
+    return re.sub(r"[^\w\- ]", "", heading.strip().lower()).replace(" ", "-")
+
+
+def anchors(page: Path) -> set[str]:
+    headings = [line.lstrip("#") for line in page.read_text().splitlines()
+                if re.match(r"#{1,6} ", line)]
+    return {anchor(h) for h in headings}
+
+
+def test_anchor_follows_githubs_rule_on_hand_worked_headings():
+    assert anchor(" 5. Beyond the paper: limits the paper states") == \
+        "5-beyond-the-paper-limits-the-paper-states"
+    assert anchor(" 7. The frosted window (`window_frost`; `sim/rules/pane.py`)") == \
+        "7-the-frosted-window-window_frost-simrulespanepy"
+
+
+def test_the_readme_is_short():
+    lines = (ROOT / "README.md").read_text().splitlines()
+    assert len(lines) <= README_MOST_LINES, len(lines)
+
+
+@pytest.mark.parametrize("page", PAGES, ids=page_id)
+def test_every_link_resolves_inside_the_repository(page):
+    found = links(page)
+    assert found or page.name != "README.md"  # the README links the docs
+    for target in found:
+        assert not re.match(r"[a-z]+:", target), f"{target}: points outside the repository"
+        path, _, fragment = target.partition("#")
+        where = (page.parent / path).resolve() if path else page
+        assert where.is_relative_to(ROOT), f"{target}: outside the repository"
+        assert where.is_file(), f"{target}: no such file"
+        if fragment and where.suffix == ".md":
+            assert fragment in anchors(where), f"{target}: no such heading in {where.name}"
+
+
+@pytest.mark.parametrize("page", PAGES, ids=page_id)
+def test_no_address_outside_the_repository(page):
+    assert re.findall(r"\b(?:https?|ftp)://\S+", page.read_text()) == []
+
+
+@pytest.mark.parametrize("page", PAGES, ids=page_id)
+def test_every_file_named_exists(page):
+    missing = [name for name in NAMED_FILE.findall(page.read_text())
+               if not (ROOT / name).exists() and not (page.parent / name).exists()]
+    assert missing == []
