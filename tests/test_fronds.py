@@ -244,8 +244,8 @@ def test_the_frame_band_is_denser_with_the_chill():
     assert ratio(3.0) > 1.1 * ratio(0.0)
 
 
-def grown_to(params, share, limit=3000):
-    sim = FrostSim(params, seed=0)  # the whole screen (a small pane's pool floods it)
+def grown_to(params, share, seed=0, limit=3000):
+    sim = FrostSim(params, seed=seed)  # the whole screen (a small pane's pool floods it)
     held = np.zeros(sim.grid.size, bool)
     while sim.tick < limit and held.mean() < share:
         new = sim.step().crystals
@@ -256,13 +256,17 @@ def grown_to(params, share, limit=3000):
 
 @pytest.mark.validation  # a statistical comparison of looks, seconds: `make test-deep`
 def test_colder_is_faster_and_its_side_branches_closer():
-    """-20, -10, -4 C to 40 % of the cells: fewer ticks, and side branches closer together
-    along the main stems (at the same coverage)."""
-    sims = [grown_to(WINDOW.replace(temperature=c), 0.4) for c in (20.0, 10.0, 4.0)]
-    t = [s.tick for s in sims]
-    assert t[0] < t[1] < t[2] < 3000, t
-    gap = [side_spacing(s.crystals, s.parents, s.crystal_alive) for s in sims]
-    assert gap[0] < gap[1] < gap[2], gap
+    """-20, -10, -4 C to 40 % of the cells: fewer ticks on every seed, and side branches
+    closer together along the main stems (at the same coverage) on the mean of three
+    seeds: one seed's -10 and -4 C can come within a px of each other."""
+    gaps = []
+    for seed in (0, 1, 2):
+        sims = [grown_to(WINDOW.replace(temperature=c), 0.4, seed) for c in (20.0, 10.0, 4.0)]
+        t = [s.tick for s in sims]
+        assert t[0] < t[1] < t[2] < 3000, (seed, t)
+        gaps.append([side_spacing(s.crystals, s.parents, s.crystal_alive) for s in sims])
+    gap = np.mean(gaps, axis=0)
+    assert gap[0] < gap[1] < gap[2], gaps
 
 
 # ---- the measures -----------------------------------------------------------------------------
