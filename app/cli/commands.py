@@ -32,6 +32,9 @@ def main(argv: list[str] | None = None) -> int:
         if argv[:2] == ["bench", "sim"]:  # its arguments are bench_sim's to parse
             from app.tools.bench_sim import main as bench_sim
             return bench_sim(argv[2:], prog="frost bench sim")
+        if argv[:2] == ["bench", "serve"]:
+            from app.serve.bench import main as bench_serve
+            return bench_serve(argv[2:])
         args, params = _parse(argv)
         return RUN[args.command](args, params)
     except KeyboardInterrupt:  # Ctrl-C: every file is written atomically, none is half there

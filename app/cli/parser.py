@@ -203,13 +203,17 @@ def _serve(root: Parser, subs) -> None:
 
 
 def _bench(root: Parser, subs) -> None:
-    p = root.command(subs, "bench", "benchmarks: the simulation (sim) or the renderer (render)",
+    p = root.command(subs, "bench", "benchmarks: the simulation (sim), the renderer (render) or "
+                     "the phone server (serve)",
                      usage="WHAT [options]")
     kinds = p.add_subparsers(dest="bench", title="benchmarks", metavar="WHAT", required=True)
     # Never parsed here (app.cli.commands hands its arguments to app.tools.bench_sim, as argparse
     # cannot pass on options it does not know); listed so that frost bench --help names it.
     p.command(kinds, "sim", "the simulation's benchmark: every argument, --help too, goes to "
               "python -m app.tools.bench_sim", usage="[ARGS ...]", add_help=False)
+    p.command(kinds, "serve", "frost serve's benchmark: bytes a tick and of a snapshot, tick time "
+              "with 0 and 16 pages, memory, touch-to-first-delta latency; every argument goes "
+              "to python -m app.serve.bench", usage="[ARGS ...]", add_help=False)
     _bench_render(p.command(kinds, "render", "the renderer's benchmark: frame, geometry and "
                             f"upload times at about half the screen frosted (headless, {WIDTH}x{HEIGHT})"))
 
