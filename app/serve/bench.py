@@ -191,12 +191,18 @@ async def _phase(params: Params, pages: int, seconds: float) -> dict:
 
 
 async def _self_scribble(feed: Feed, seconds: float) -> None:
-    t0, phase = time.monotonic(), "down"
+    """The pages' input played by the server itself: the scribble and the taps."""
+    t0, phase, k = time.monotonic(), "down", 0
     fingers: dict = {}
     while time.monotonic() - t0 < seconds:
-        x, y = scribble_point(time.monotonic() - t0)
+        now = time.monotonic() - t0
+        x, y = scribble_point(now)
         feed.controls.handle(Input("touch", x, y, phase), fingers)
         phase = "move"
+        if now >= k * TAP_PERIOD and now < seconds - 1.0:
+            feed.controls.handle(Input("touch", *tap_point(k), "down", 1), fingers)
+            feed.controls.handle(Input("touch", phase="up", finger=1), fingers)
+            k += 1
         await asyncio.sleep(1.0 / SCRIBBLE_HZ)
 
 
@@ -225,6 +231,8 @@ def main(argv: list[str] | None = None, prog: str = "frost bench serve") -> int:
                         "memory check)")
     p.add_argument("--pages", type=int, default=16, help="pages connected in the second phase")
     p.add_argument("--skip-bytes", action="store_true", help="skip the offline byte counts")
+    p.add_argument("--skip-baseline", action="store_true",
+                   help="skip the server phase with no page (e.g. for a long memory run)")
     args = p.parse_args(argv)
     if not args.skip_bytes:
         print("bytes (offline, the server's encoder):")
@@ -232,7 +240,9 @@ def main(argv: list[str] | None = None, prog: str = "frost bench serve") -> int:
         bytes_offline("fern", 1500, scribble=True)
     params = Params.preset(args.preset)
     print(f"server on loopback ({args.preset}, seed 0, a finger scribbling):")
-    _print_phase("no page (the server scribbles)", asyncio.run(_phase(params, 0, args.seconds)))
+    if not args.skip_baseline:
+        _print_phase("no page (the server plays the same input)",
+                     asyncio.run(_phase(params, 0, args.seconds)))
     _print_phase(f"{args.pages} pages", asyncio.run(_phase(params, args.pages, args.seconds)))
     sys.stdout.flush()
     return 0
