@@ -63,18 +63,21 @@ class PageModel:
                 return t[key]
         return None
 
+    def take(self, msg) -> None:
+        """A message the socket received; AssertionError if the socket ended."""
+        if msg.type == WSMsgType.BINARY:
+            self.apply(msg.data)
+        elif msg.type == WSMsgType.TEXT:
+            self.texts.append(json.loads(msg.data))
+        else:
+            raise AssertionError(f"socket ended: {msg.type} {msg.data} {msg.extra}")
+
 
 async def read_until(ws, page: PageModel, done, timeout: float = 20.0):
     loop = asyncio.get_running_loop()
     end = loop.time() + timeout
     while not done():
-        msg = await asyncio.wait_for(ws.receive(), max(0.01, end - loop.time()))
-        if msg.type == WSMsgType.BINARY:
-            page.apply(msg.data)
-        elif msg.type == WSMsgType.TEXT:
-            page.texts.append(json.loads(msg.data))
-        else:
-            raise AssertionError(f"socket ended: {msg.type} {msg.data} {msg.extra}")
+        page.take(await asyncio.wait_for(ws.receive(), max(0.01, end - loop.time())))
 
 
 async def read_quiet(ws, page: PageModel, quiet: float = 0.4):
@@ -84,12 +87,7 @@ async def read_quiet(ws, page: PageModel, quiet: float = 0.4):
             msg = await asyncio.wait_for(ws.receive(), quiet)
         except asyncio.TimeoutError:
             return
-        if msg.type == WSMsgType.BINARY:
-            page.apply(msg.data)
-        elif msg.type == WSMsgType.TEXT:
-            page.texts.append(json.loads(msg.data))
-        else:
-            raise AssertionError(f"socket ended: {msg.type}")
+        page.take(msg)
 
 
 async def closing(ws, timeout: float = 10.0):
