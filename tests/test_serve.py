@@ -435,3 +435,14 @@ def test_a_clear_while_paused_clears_every_page():
             assert not page.heights.any() and len(page.tris) == 0
         assert feed.latest.stats.paused and feed.thread.session().events[-1]["kind"] == "clear"
     serve(test)
+
+
+def test_the_bench_prints_its_figures(capsys):
+    """frost bench serve runs (briefly) and says each figure; no speed is asserted."""
+    from app.serve import bench
+    bench.bytes_offline("c-2", 30, scribble=True)
+    assert bench.main(["--skip-bytes", "--seconds", "3", "--pages", "2"]) == 0
+    out = capsys.readouterr().out
+    for says in ("per tick p50", "snapshot", "no page", "2 pages: tick median", "memory (RSS)",
+                 "pages received", "touch to first delta"):
+        assert says in out, says
