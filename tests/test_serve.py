@@ -476,3 +476,20 @@ def test_menu_and_keys_change_the_shared_frost_and_every_page_hears():
         assert kinds == ["params", "params", "params"]  # look, preset, key V; nothing else
         assert feed.controls.params == Params.preset("window").replace(look="paper")
     serve(test)
+
+
+def test_a_port_taken_or_out_of_range_is_one_clear_error():
+    import subprocess
+    import sys
+
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        run = subprocess.run([sys.executable, "-m", "app", "serve", "--port", str(port)],
+                             capture_output=True, text=True, timeout=60)
+    assert run.returncode == 1
+    assert run.stderr.strip().splitlines()[-1].startswith(f"frost: error: cannot listen on 127.0.0.1:{port}")
+    run = subprocess.run([sys.executable, "-m", "app", "serve", "--port", "65536"],
+                         capture_output=True, text=True, timeout=60)
+    assert run.returncode == 2 and run.stderr.count("\n") == 1 and "--port" in run.stderr
