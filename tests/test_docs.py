@@ -65,7 +65,10 @@ def test_every_link_resolves_inside_the_repository(page):
 
 @pytest.mark.parametrize("page", PAGES, ids=page_id)
 def test_no_address_outside_the_repository(page):
-    assert re.findall(r"\b(?:https?|ftp)://\S+", page.read_text()) == []
+    """No address a reader would follow off this machine (this machine's own server, as
+    `frost serve` prints it, is no outside address)."""
+    addresses = re.findall(r"\b(?:https?|ftp)://\S+", page.read_text())
+    assert [a for a in addresses if not re.match(r"https?://(127\.0\.0\.1|localhost)[:/]", a)] == []
 
 
 @pytest.mark.parametrize("page", PAGES, ids=page_id)

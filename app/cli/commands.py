@@ -33,6 +33,9 @@ def main(argv: list[str] | None = None) -> int:
         if argv[:2] == ["bench", "sim"]:  # its arguments are bench_sim's to parse
             from app.tools.bench_sim import main as bench_sim
             return bench_sim(argv[2:], prog="frost bench sim")
+        if argv[:2] == ["bench", "serve"]:
+            from app.serve.bench import main as bench_serve
+            return bench_serve(argv[2:])
         args, params = _parse(argv)
         return RUN[args.command](args, params)
     except KeyboardInterrupt:  # Ctrl-C: every file is written atomically, none is half there
@@ -210,8 +213,13 @@ def _bench_render(args: argparse.Namespace, params: Params) -> int:
     return run(args, params)
 
 
+def _serve(args: argparse.Namespace, params: Params) -> int:
+    from app.serve.server import serve
+    return serve(args, params)
+
+
 RUN = {None: _window, "render": _render, "replay": _replay, "figure8": _figure8,
-       "figure": _figure, "maps": _maps, "bench": _bench_render}
+       "figure": _figure, "maps": _maps, "bench": _bench_render, "serve": _serve}
 
 
 def no_display_words(env) -> str:

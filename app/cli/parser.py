@@ -53,7 +53,7 @@ def build_parser() -> Parser:
     root = _window()
     subs = root.add_subparsers(dest="command", title="commands (frost COMMAND --help for each)",
                                metavar="COMMAND")
-    for add in (_render, _replay, _figure8, _figure, _maps, _bench):
+    for add in (_render, _replay, _figure8, _figure, _maps, _bench, _serve):
         add(root, subs)
     return root
 
@@ -176,8 +176,36 @@ def _maps(root: Parser, subs) -> None:
     options.add_overrides(p)
 
 
+def _serve(root: Parser, subs) -> None:
+    from app.backdrops import BACKDROPS
+    from app.serve import DEFAULT_PORT, MAX_PAGES
+
+    p = root.command(subs, "serve", "the frost for phones: a page that a browser opens, over HTTP "
+                     "and WebSockets", "Run the simulation and serve it to phones and browsers "
+                     f"(docs/phone.md): every page (at most {MAX_PAGES}) shows the same pane and "
+                     "every touch grows it; the session is saved as the window saves it. Binds "
+                     "127.0.0.1 unless told; any other --host prints a URL with a random token, "
+                     "and its QR code, and refuses requests without it.")
+    p.add_argument("--host", default="127.0.0.1", metavar="H",
+                   help="address to listen on, e.g. 0.0.0.0 for a phone on the same network "
+                        "(default 127.0.0.1: this machine only)")
+    p.add_argument("--port", type=lambda text: values.whole(text, 65535), default=DEFAULT_PORT,
+                   metavar="P", help=f"TCP port, 0 for any free one (default {DEFAULT_PORT})")
+    options.add_preset(p)
+    options.add_seed(p)
+    options.add_touch(p, options.PLANT, "none")
+    p.add_argument("--background", choices=list(BACKDROPS), default="dusk", metavar="NAME",
+                   help=f"the view behind the glass: {', '.join(BACKDROPS)} (default dusk)")
+    p.add_argument("--window", action="store_true",
+                   help="also open the desktop window on the same frost (it then writes the "
+                        "session, as it does alone; default off)")
+    options.add_window(p)
+    options.add_overrides(p)
+
+
 def _bench(root: Parser, subs) -> None:
-    p = root.command(subs, "bench", "benchmarks: the simulation (sim) or the renderer (render)",
+    p = root.command(subs, "bench", "benchmarks: the simulation (sim), the renderer (render) or "
+                     "the phone server (serve)",
                      usage="WHAT [options]")
     kinds = p.add_subparsers(dest="bench", title="benchmarks", metavar="WHAT", required=True)
     # Never parsed here (app.cli.commands hands its arguments to app.tools.bench_sim, as argparse
@@ -185,6 +213,9 @@ def _bench(root: Parser, subs) -> None:
     p.command(kinds, "sim", "the simulation's benchmark: every argument, --help too, goes to "
               "python -m app.tools.bench_sim", usage="[ARGS ...]", add_help=False,
               own_prefix=True)
+    p.command(kinds, "serve", "frost serve's benchmark: bytes a tick and of a snapshot, tick time "
+              "with 0 and 16 pages, memory, touch-to-first-delta latency; every argument goes "
+              "to python -m app.serve.bench", usage="[ARGS ...]", add_help=False, own_prefix=True)
     _bench_render(p.command(kinds, "render", "the renderer's benchmark: frame, geometry and "
                             f"upload times at about half the screen frosted (headless, {WIDTH}x{HEIGHT})"))
 
