@@ -47,7 +47,8 @@ def test_a_page_and_the_window_share_the_frost(tmp_path):
     assert run.returncode == 0, run.stderr[-3000:]
     result = json.loads((tmp_path / "result.json").read_text())
     assert result["status"] == 0, result["stderr"]
-    from sim.io.session import SessionLog, replay
+    from sim.io.session import SessionLog
+    from sim.io.timeline import replay
     [path] = tmp_path.glob("session-*.json")  # the window's, as it writes alone
     again = replay(SessionLog.load(path))
     assert again.tick == result["tick"]

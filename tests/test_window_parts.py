@@ -804,3 +804,32 @@ def test_without_imgui_the_panel_key_says_why_and_the_panel_costs_nothing():
     used = {"toggle", "needs_frame", "frame", "readout", "close"}  # what FrostWindow calls
     assert used <= {n for n in dir(host) if not n.startswith("_")}
     assert used <= {n for n in dir(NoPanel) if not n.startswith("_")}
+
+
+class _Failing:
+    """A window whose loop raises, having lost a window (`lost`: its X id) or not."""
+
+    def __init__(self, lost: int | None):
+        self.lost_window, self.running, self.exit_status, self.closed = lost, True, 0, False
+
+    def loop(self) -> int:
+        raise RuntimeError("GL call on a dead drawable")
+
+    def close(self) -> None:
+        self.closed = True
+
+
+@pytest.mark.parametrize("lost", [None, 0x400007])
+def test_a_frame_that_fails_after_its_window_was_destroyed_is_no_new_error(lost, caplog):
+    from app.window import frost_window
+
+    app = _Failing(lost)
+    with caplog.at_level(logging.INFO, logger="app.window"):
+        assert frost_window._run(app) == 1
+    assert app.closed and not app.running and app.exit_status == 1
+    tracebacks = [r for r in caplog.records if r.exc_info]
+    if lost is None:  # a real failure: its traceback is the report
+        assert [r.getMessage() for r in tracebacks] == ["window failed"]
+    else:  # the window's loss was said already: one line, no traceback
+        assert tracebacks == []
+        assert any("ended with the window gone" in r.getMessage() for r in caplog.records)

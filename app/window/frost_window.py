@@ -36,7 +36,7 @@ from app.window.record import Recorder
 from app.window.status import Status
 from app.window.view import PHONE, Sizes
 from sim import Params
-from sim.io.files import why
+from sim.io.files import one_line, why
 
 log = logging.getLogger("app.window")
 
@@ -68,6 +68,7 @@ class FrostWindow:
         self.latest: Snapshot | None = None
         self.running, self.exit_status = True, 0
         self.ended_by: signal.Signals | None = None  # the signal that ended the loop
+        self.lost_window: int | None = None  # the X id of a window destroyed from outside
         self.dirty = self.damaged = True  # render the phone again; present again
         self.iconified, self.snapshots, self.new_ticks = False, 0, 0
         self._connect()
@@ -146,7 +147,7 @@ class FrostWindow:
         which = {self.phone_id: "the phone's window",
                  self.panel.x_id: "the tuning panel's window"}.get(resource, "a window")
         log.error("window: %s was destroyed from outside (X id %#x): closing", which, resource)
-        self.running, self.exit_status = False, 1
+        self.running, self.exit_status, self.lost_window = False, 1, resource
 
     def display_lost(self) -> None:
         """The X connection is gone (lost_display): Xlib ends the process with status 1
@@ -263,8 +264,11 @@ def _run(app: FrostWindow) -> int:
     """The frame loop, then the window closed (session saved) whatever ended it."""
     try:
         return app.loop()
-    except Exception:
-        log.exception("window failed")
+    except Exception as err:
+        if app.lost_window is None:
+            log.exception("window failed")
+        else:  # the rest of the frame that met the dead window: already said, in one line
+            log.info("window: the frame under way ended with the window gone (%s)", one_line(repr(err)))
         app.running, app.exit_status = False, 1
         return 1
     finally:
