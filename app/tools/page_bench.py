@@ -1,0 +1,275 @@
+"""The phone page against the desktop: the same frost drawn by the desktop renderer (EGL,
+headless) and by the page (app/web, WebGL2 in headless Chromium), compared pixel for pixel,
+and the page's frame time at 760x1280.
+
+The page is driven without a server: Playwright serves app/web, the shaders and the
+backdrops from disk and stands in for the WebSocket, sending the hello and the geometry
+messages of the protocol (app.serve.protocol) for the deltas the desktop renderer applied.
+
+python -m app.tools.page_bench [--preset fern] [--look paper] [--ticks 300] [--frames 60]
+    [--out DIR]
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import json
+import mimetypes
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+from app.backdrops import DEFAULT_BACKDROP, load_backdrop
+from app.resources import SHADER_DIR, WEB_DIR
+from sim import Params
+from sim.look.geometry import GeometryDelta
+from sim.look.material import Material
+from sim.screen import HEIGHT, WIDTH
+
+CHROMIUM = "/usr/bin/chromium"
+# SwiftShader (Chromium's CPU rasteriser) for WebGL2, on any machine, GPU or not.
+CHROMIUM_ARGS = ["--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist"]
+ORIGIN = "http://frost.test"  # the page's address when Playwright serves it from disk
+# Touches the bench grows its frost from (screen px).
+TOUCHES = ((380.0, 640.0), (200.0, 300.0), (560.0, 1000.0))
+
+
+def browser_problem() -> str | None:
+    """Why the page cannot be driven here (no playwright, no chromium), or None."""
+    try:
+        import playwright.sync_api  # noqa: F401
+    except ImportError:
+        return "the playwright package is missing (pip install playwright; it is in the dev extra)"
+    if not Path(CHROMIUM).is_file():
+        return f"{CHROMIUM} is missing (apt-get install chromium)"
+    return None
+
+
+def launch(playwright):
+    """The system Chromium, headless, with WebGL2 on SwiftShader."""
+    return playwright.chromium.launch(executable_path=CHROMIUM, headless=True, args=CHROMIUM_ARGS)
+
+
+def material_uniforms(light=None) -> dict:
+    """The ice's material (and light) as a hello's "uniforms" carry them."""
+    from app.gl.renderer import default_light
+
+    m = Material()
+    light = default_light() if light is None else np.asarray(light, np.float64)
+    return {"ice_color": list(m.ice_color), "ambient": m.ambient, "diffuse": m.diffuse,
+            "specular": m.specular, "shininess": m.shininess, "opacity": m.opacity,
+            "density": m.density, "relief": m.relief, "refraction": m.refraction,
+            "light": [float(v) for v in light]}
+
+
+def hello(params: Params, backdrop: str = DEFAULT_BACKDROP) -> dict:
+    s = params.grid_spacing
+    return {"type": "hello", "protocol": 1, "screen": [WIDTH, HEIGHT],
+            "grid": [WIDTH // s + 1, HEIGHT // s + 1], "spacing": s,
+            "uniforms": material_uniforms(), "look": params.look, "backdrop": backdrop,
+            "paused": False, "tick": 0}
+
+
+def grow(params: Params, seed: int, ticks: int, touches=TOUCHES):
+    """(Offscreen with the frost grown from `touches`, every delta its renderer applied,
+    in order: a rebuild's reset as an empty reset delta)."""
+    from app.tools.offscreen import Offscreen, make_context
+    from sim.io.session import grow as grow_timeline
+    from sim.io.session import touch_events
+
+    off = Offscreen(make_context(), params, seed)
+    deltas: list[GeometryDelta] = []
+
+    def applied(result) -> None:
+        off.show(result)
+        if result.reset:
+            deltas.append(reset_delta(off.sim.tick, params))
+        deltas.extend(result.deltas)
+
+    def step(delta: GeometryDelta) -> None:
+        off.renderer.apply(delta)
+        deltas.append(delta)
+
+    grow_timeline(off.timeline, ticks, touch_events(touches), applied, step)
+    return off, deltas
+
+
+def reset_delta(tick: int, params: Params) -> GeometryDelta:
+    cols = WIDTH // params.grid_spacing + 1
+    return GeometryDelta(tick, slice(0, 0), np.zeros((0, cols), np.float32),
+                         np.zeros((0, 6), np.float32), reset=True, look=params.look)
+
+
+class Page:
+    """The page in headless Chromium, served from disk, fed `messages` over a stand-in
+    WebSocket. Use as a context manager."""
+
+    def __init__(self, hello_message: dict, messages: list[bytes], viewport=(WIDTH, HEIGHT),
+                 scale: float = 1.0):
+        self.hello, self.messages = hello_message, messages
+        self.viewport, self.scale = viewport, scale
+
+    def __enter__(self) -> Page:
+        from playwright.sync_api import sync_playwright
+
+        self._pw = sync_playwright().start()
+        self.browser = launch(self._pw)
+        self.context = self.browser.new_context(
+            viewport={"width": self.viewport[0], "height": self.viewport[1]},
+            device_scale_factor=self.scale)
+        self.page = self.context.new_page()
+        self.page.route(f"{ORIGIN}/**", self._serve)
+        self.page.route_web_socket(f"{ORIGIN.replace('http', 'ws')}/ws**", self._socket)
+        self.page.goto(f"{ORIGIN}/")
+        self.page.wait_for_function(
+            f"window.frost && (window.frost.error || window.frost.messages >= {len(self.messages) + 1})",
+            timeout=60_000)
+        self.page.wait_for_function(
+            "window.frost.error || (window.frost.frames > 0 && window.frost.hello"
+            " && window.frost.shownBackdrop === window.frost.hello.backdrop)")
+        error = self.page.evaluate("window.frost.error")
+        if error:
+            raise RuntimeError(f"the page failed: {error}")
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.browser.close()
+        self._pw.stop()
+
+    def _serve(self, route) -> None:
+        path = route.request.url[len(ORIGIN):].split("?")[0]
+        if path == "/":
+            return route.fulfill(path=str(WEB_DIR / "index.html"))
+        for prefix, folder in (("/web/", WEB_DIR), ("/shaders/", SHADER_DIR)):
+            if path.startswith(prefix) and "/" not in path[len(prefix):]:
+                file = folder / path[len(prefix):]
+                if file.is_file():
+                    kind = "text/javascript" if file.suffix == ".js" else mimetypes.guess_type(file.name)[0]
+                    return route.fulfill(body=file.read_bytes(), content_type=kind or "text/plain")
+        if path.startswith("/backdrops/") and path.endswith(".png"):
+            image = load_backdrop(path[len("/backdrops/"):-4])
+            buf = io.BytesIO()
+            Image.fromarray(image).save(buf, format="PNG")
+            return route.fulfill(body=buf.getvalue(), content_type="image/png")
+        return route.fulfill(status=404, body="not found")
+
+    def _socket(self, ws) -> None:
+        ws.send(json.dumps(self.hello))
+        for message in self.messages:
+            ws.send(message)
+
+    def pixels(self) -> np.ndarray:
+        """The page's frame, H x W x 3 uint8, top row first."""
+        import base64
+
+        raw = base64.b64decode(self.page.evaluate("window.frost.framePixels()"))
+        return np.frombuffer(raw, np.uint8).reshape(HEIGHT, WIDTH, 4)[:, :, :3].copy()
+
+    def frame_times(self, n: int) -> np.ndarray:
+        """Milliseconds of `n` full frames, each waited for."""
+        return np.asarray(self.page.evaluate(f"window.frost.frameTimes({n})"))
+
+
+def encode(deltas: list[GeometryDelta], params: Params) -> list[bytes]:
+    """The geometry messages a server sends for `deltas`, in order."""
+    from app.serve.protocol import Encoder
+
+    s = params.grid_spacing
+    enc = Encoder(WIDTH // s + 1, HEIGHT // s + 1)
+    return [enc.delta(d) for d in deltas]
+
+
+def wire_deltas(messages: list[bytes], params: Params) -> list[GeometryDelta]:
+    """The deltas as a page receives them (heights as half floats, vertices in 1/16 px,
+    normals in 1/127): `messages` decoded back, each as the rows its height runs touch."""
+    from app.serve.protocol import RESET, apply_geometry, decode_geometry
+
+    s = params.grid_spacing
+    cols, rows = WIDTH // s + 1, HEIGHT // s + 1
+    grid = np.zeros(rows * cols, np.float32)
+    out = []
+    for message in messages:
+        m = decode_geometry(message)
+        apply_geometry(grid, m)
+        touched = [r for start, count in m["runs"]
+                   for r in range(start // cols, (start + count - 1) // cols + 1)]
+        lo, hi = (min(touched), max(touched) + 1) if touched else (0, 0)
+        out.append(GeometryDelta(m["tick"], slice(lo, hi), grid.reshape(rows, cols)[lo:hi].copy(),
+                                 m["vertices"], reset=bool(m["flags"] & RESET),
+                                 clear_box=m["clear_box"], look=m["look"],
+                                 height_scale=m["height_scale"]))
+    return out
+
+
+def desktop_frame(ctx, params: Params, deltas: list[GeometryDelta]) -> np.ndarray:
+    """`deltas` applied in order by a fresh desktop renderer, its frame."""
+    from app.gl.renderer import Renderer
+    from app.images import read_image
+
+    renderer = Renderer(ctx, params, WIDTH, HEIGHT)
+    for delta in deltas:
+        renderer.apply(delta)
+    fbo = ctx.simple_framebuffer((WIDTH, HEIGHT), components=4)
+    renderer.render(fbo)
+    return read_image(fbo)
+
+
+def compare(a: np.ndarray, b: np.ndarray) -> dict:
+    """Mean absolute difference (of 255) and the share of pixels whose every channel is
+    within 8/255, of two H x W x 3 uint8 images."""
+    d = np.abs(a.astype(np.int16) - b.astype(np.int16))
+    return {"mad": float(d.mean()), "within8": float((d.max(axis=2) <= 8).mean()),
+            "max": int(d.max())}
+
+
+def difference_image(a: np.ndarray, b: np.ndarray, gain: float = 8.0) -> np.ndarray:
+    d = np.abs(a.astype(np.int16) - b.astype(np.int16)).max(axis=2)
+    return np.clip(d * gain, 0, 255).astype(np.uint8)
+
+
+def main(argv: list[str] | None = None, prog: str = "python -m app.tools.page_bench") -> int:
+    p = argparse.ArgumentParser(prog=prog, description=__doc__.split("\n\n")[0])
+    p.add_argument("--preset", default="fern")
+    p.add_argument("--look", choices=("paper", "glass"), help="default: the preset's")
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--ticks", type=int, default=300, help="ticks to grow (default 300)")
+    p.add_argument("--frames", type=int, default=60, help="page frames timed (default 60)")
+    p.add_argument("--out", help="write desktop.png, page.png, difference.png here")
+    args = p.parse_args(argv)
+    problem = browser_problem()
+    if problem:
+        print(f"frost: error: {problem}")
+        return 2
+    params = Params.preset(args.preset)
+    if args.look:
+        params = params.replace(look=args.look)
+    off, deltas = grow(params, args.seed, args.ticks)
+    desktop = off.frame()
+    messages = encode(deltas, params)
+    wire = desktop_frame(off.renderer.ctx, params, wire_deltas(messages, params))
+    with Page(hello(params), messages) as page:
+        shown = page.pixels()
+        times = page.frame_times(args.frames)
+    print(f"{args.preset}, {params.look}, {args.ticks} ticks, {len(messages)} messages, "
+          f"{sum(map(len, messages)) / 1e3:.0f} kB")
+    for name, a, b in (("page vs desktop", desktop, shown),
+                       ("page vs desktop fed the page's messages", wire, shown),
+                       ("desktop fed the messages vs desktop", desktop, wire)):
+        print(f"{name}: " + ", ".join(f"{k} {v:.4g}" for k, v in compare(a, b).items()))
+    print(f"page frame time at {WIDTH}x{HEIGHT}: median {np.median(times):.1f} ms, "
+          f"p99 {np.percentile(times, 99):.1f} ms ({args.frames} frames)")
+    if args.out:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        Image.fromarray(desktop).save(out / "desktop.png")
+        Image.fromarray(shown).save(out / "page.png")
+        Image.fromarray(wire).save(out / "desktop-wire.png")
+        Image.fromarray(difference_image(desktop, shown)).save(out / "difference.png")
+        Image.fromarray(difference_image(wire, shown)).save(out / "difference-wire.png")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

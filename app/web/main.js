@@ -1,0 +1,289 @@
+// The phone page: connects to `frost serve`, draws the shared frost with the WebGL2 port of
+// the desktop renderer, and sends touches, melts, keys and menu choices back.
+
+import { decodeDelta } from "./protocol.js";
+import { Program, Renderer, fetchShaders } from "./renderer.js";
+import { Pointers } from "./input.js";
+import { Menu } from "./menu.js";
+import { withText } from "./png.js";
+
+const SCREEN = [760, 1280];
+const RETRY_FIRST = 250, RETRY_MOST = 8000;  // ms between reconnects: doubling up to this
+
+const token = new URLSearchParams(location.search).get("token");
+const query = token ? `?token=${encodeURIComponent(token)}` : "";
+
+const canvas = document.getElementById("frost");
+const gl = canvas.getContext("webgl2", {
+  alpha: false, antialias: false, depth: false, premultipliedAlpha: false, preserveDrawingBuffer: true,
+});
+
+// What the page knows; `window.frost` exposes it to the tests and the bench.
+const state = {
+  hello: null, renderer: null, tick: 0, connected: false, synced: false, dirty: true,
+  messages: 0, bytes: 0, backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
+};
+window.frost = state;
+
+function status(text) {
+  document.getElementById("status").textContent = text;
+}
+
+async function main() {
+  if (!gl) {
+    status("This browser has no WebGL2.");
+    state.error = "no WebGL2";
+    return;
+  }
+  const sources = await fetchShaders("shaders/", query);
+  state.sources = sources;
+  state.blitter = new Blitter(gl, sources);
+  const pointers = new Pointers(canvas, paneRect, send);
+  pointers.attach();
+  state.menu = new Menu(document.getElementById("menu"), send, screenshot);
+  state.menu.pointers = pointers;
+  addEventListener("keydown", onKey);
+  addEventListener("resize", () => { state.dirty = true; });
+  connect(RETRY_FIRST);
+  requestAnimationFrame(frame);
+}
+
+// ---- the connection ------------------------------------------------------------------
+
+function connect(retry) {
+  const url = new URL("ws" + query, location.href);
+  url.protocol = location.protocol === "https:" ? "wss:" : "ws:";
+  const ws = new WebSocket(url);
+  ws.binaryType = "arraybuffer";
+  state.socket = ws;
+  ws.onopen = () => { retry = RETRY_FIRST; };
+  ws.onmessage = (event) => {
+    state.messages += 1;
+    if (typeof event.data === "string") return onText(JSON.parse(event.data));
+    state.bytes += event.data.byteLength;
+    if (!state.renderer) return;
+    const delta = decodeDelta(event.data);
+    state.renderer.apply(delta);
+    state.tick = delta.tick;
+    if (delta.snapshotEnd) state.synced = true;
+    state.dirty = true;
+  };
+  ws.onclose = (event) => {
+    state.connected = false;
+    state.synced = false;
+    state.socket = null;
+    if (event.code === 1008 || event.code === 1009 || event.code === 4403) {
+      status(`refused: ${event.reason || event.code}`);
+    } else {
+      status(`reconnecting (${event.reason || "connection lost"})`);
+    }
+    setTimeout(() => connect(Math.min(retry * 2, RETRY_MOST)), retry);
+  };
+}
+
+function send(message) {
+  const ws = state.socket;
+  if (ws && ws.readyState === WebSocket.OPEN) ws.send(JSON.stringify(message));
+}
+
+async function onText(msg) {
+  if (msg.type === "hello") {
+    state.hello = msg;
+    state.connected = true;
+    status("");
+    const [cols, rows] = msg.grid;
+    const r = state.renderer;
+    if (!r || r.gridSize[0] !== cols || r.gridSize[1] !== rows || r.spacing !== msg.spacing) {
+      state.renderer = new Renderer(gl, state.sources, { width: SCREEN[0], height: SCREEN[1], grid: msg.grid, spacing: msg.spacing });
+    } else {
+      r.reset();  // the snapshot that follows holds the whole frost
+    }
+    state.backdrop = null;
+  }
+  if (msg.type === "hello" || msg.type === "state") {
+    Object.assign(state.hello, msg, { type: "hello" });
+    applyView(state.hello);
+    state.menu.show(state.hello);
+    if (state.hello.backdrop !== state.backdrop) await loadBackdrop(state.hello.backdrop);
+    state.dirty = true;
+  } else if (msg.type === "error") {
+    status(msg.message || "error");
+  }
+}
+
+// The light, the material and the toggles the server sends (names as the shader's uniforms
+// without u_, or as sim.look.material.Material's fields).
+function applyView(hello) {
+  const r = state.renderer;
+  for (const [key, value] of Object.entries(hello.uniforms || {})) {
+    const name = key.replace(/^u_/, "");
+    if (name === "light") r.light = value;
+    else r.material[name] = value;
+  }
+  const view = hello.view || {};
+  if ("light" in view) r.light = view.light;
+  if ("features" in view) r.showFeatures = !!view.features;
+  if ("bumps" in view) r.showBumps = !!view.bumps;
+}
+
+async function loadBackdrop(name) {
+  state.backdrop = name;
+  const r = await fetch(`backdrops/${encodeURIComponent(name)}.png${query}`);
+  if (!r.ok) return status(`backdrop ${name}: HTTP ${r.status}`);
+  const image = await createImageBitmap(await r.blob(), { colorSpaceConversion: "none", premultiplyAlpha: "none" });
+  if (state.backdrop !== name) return;  // another came meanwhile
+  state.renderer.setBackgroundImage(image);
+  state.shownBackdrop = name;
+  state.dirty = true;
+}
+
+// ---- keys ----------------------------------------------------------------------------
+
+// A key as GLFW names it (app/window/keys.py), or null.
+export function keyName(event) {
+  const code = event.code;
+  if (/^Key[A-Z]$/.test(code)) return code.slice(3);
+  if (/^Digit[0-9]$/.test(code)) return code.slice(5);
+  if (/^F[0-9]+$/.test(code)) return code;
+  const named = {
+    Space: "SPACE", Period: "PERIOD", Equal: "EQUAL", Minus: "MINUS", NumpadAdd: "KP_ADD",
+    NumpadSubtract: "KP_SUBTRACT", BracketLeft: "LEFT_BRACKET", BracketRight: "RIGHT_BRACKET",
+    Quote: "APOSTROPHE", Semicolon: "SEMICOLON", ArrowLeft: "LEFT", ArrowRight: "RIGHT",
+    ArrowUp: "UP", ArrowDown: "DOWN", Tab: "TAB", Escape: "ESCAPE",
+  };
+  return named[code] || null;
+}
+
+function onKey(event) {
+  if (event.target.closest && event.target.closest("#menu")) return;
+  if (event.ctrlKey || event.metaKey || event.altKey) return;
+  const name = keyName(event);
+  if (!name) return;
+  event.preventDefault();
+  if (name === "S" || name === "F12") return void screenshot();
+  send({ type: "key", key: name });
+}
+
+// ---- drawing -------------------------------------------------------------------------
+
+// Where the 760x1280 pane lies on the canvas, device px: letterboxed, centred.
+function paneRect() {
+  const w = canvas.width, h = canvas.height;
+  const scale = Math.min(w / SCREEN[0], h / SCREEN[1]);
+  const pw = Math.round(SCREEN[0] * scale), ph = Math.round(SCREEN[1] * scale);
+  return { x: Math.floor((w - pw) / 2), y: Math.floor((h - ph) / 2), w: pw, h: ph, scale };
+}
+
+function fitCanvas() {
+  const dpr = window.devicePixelRatio || 1;
+  const w = Math.round(canvas.clientWidth * dpr), h = Math.round(canvas.clientHeight * dpr);
+  if (canvas.width !== w || canvas.height !== h) {
+    canvas.width = w;
+    canvas.height = h;
+    state.dirty = true;
+  }
+}
+
+function frame() {
+  fitCanvas();
+  if (state.dirty && state.renderer) {
+    state.dirty = false;
+    state.renderer.render();
+    state.blitter.draw(state.renderer.frame, paneRect());
+    state.frames += 1;
+  }
+  requestAnimationFrame(frame);
+}
+
+// The pane's texture drawn into the canvas's rect (device px, y down), black around it.
+class Blitter {
+  constructor(gl, sources) {
+    this.gl = gl;
+    this.prog = new Program(gl, sources, "blit.vert", "blit.frag");
+    this.array = gl.createVertexArray();
+  }
+
+  draw(texture, rect) {
+    const gl = this.gl;
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.viewport(0, 0, gl.drawingBufferWidth, gl.drawingBufferHeight);
+    gl.clearColor(0, 0, 0, 1);
+    gl.clear(gl.COLOR_BUFFER_BIT);
+    gl.viewport(rect.x, gl.drawingBufferHeight - rect.y - rect.h, rect.w, rect.h);
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D, texture);
+    // One canvas px per pane px: nearest, so the page shows the frame exactly.
+    const filter = rect.scale === 1 ? gl.NEAREST : gl.LINEAR;
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, filter);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, filter);
+    this.prog.use({ u_texture: 0, u_rect: [-1, -1, 1, 1] });
+    gl.bindVertexArray(this.array);
+    gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4);
+    gl.bindVertexArray(null);
+  }
+}
+
+// ---- screenshot ----------------------------------------------------------------------
+
+// The pane (760x1280) as PNG bytes with the desktop's metadata keys.
+async function screenshotPng() {
+  const r = state.renderer;
+  r.render();
+  const pixels = r.readFrame();
+  for (let i = 3; i < pixels.length; i += 4) pixels[i] = 255;
+  const c = document.createElement("canvas");
+  [c.width, c.height] = SCREEN;
+  c.getContext("2d").putImageData(new ImageData(new Uint8ClampedArray(pixels.buffer), ...SCREEN), 0, 0);
+  const blob = await new Promise((resolve) => c.toBlob(resolve, "image/png"));
+  const png = new Uint8Array(await blob.arrayBuffer());
+  const hello = state.hello || {};
+  const meta = {
+    ...(hello.meta || {}), tick: state.tick,
+    Software: "frost (page)", "Creation Time": new Date().toISOString().slice(0, 19),
+    view: { light: r.light, features: r.showFeatures, bumps: r.showBumps, background: state.backdrop },
+  };
+  return withText(png, meta);
+}
+
+async function screenshot() {
+  if (!state.renderer) return;
+  const png = await screenshotPng();
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(new Blob([png], { type: "image/png" }));
+  const stamp = new Date().toISOString().replace(/[-:]/g, "").replace("T", "-").slice(0, 15);
+  a.download = `frost-${stamp}.png`;
+  document.body.append(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(a.href), 10000);
+}
+state.screenshotPng = screenshotPng;
+
+// The pane's pixels now (RGBA, top row first) as base64: for the tests and the bench.
+state.framePixels = () => {
+  state.renderer.render();
+  const px = state.renderer.readFrame();
+  let s = "";
+  for (let i = 0; i < px.length; i += 0x8000) s += String.fromCharCode(...px.subarray(i, i + 0x8000));
+  return btoa(s);
+};
+
+// Frame times (ms) of `n` full frames at 760x1280, each waited for (a 1-pixel read).
+state.frameTimes = (n) => {
+  const r = state.renderer, one = new Uint8Array(4), times = [];
+  for (let i = 0; i < n; i++) {
+    const t0 = performance.now();
+    r.render();
+    gl.bindFramebuffer(gl.FRAMEBUFFER, r.frameFbo);
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
+    times.push(performance.now() - t0);
+  }
+  gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+  return times;
+};
+
+main().catch((err) => {
+  state.error = String(err);
+  status(`error: ${err.message}`);
+  console.error(err);
+});
