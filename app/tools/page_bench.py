@@ -32,8 +32,10 @@ CHROMIUM = "/usr/bin/chromium"
 # SwiftShader (Chromium's CPU rasteriser) for WebGL2, on any machine, GPU or not.
 CHROMIUM_ARGS = ["--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist"]
 ORIGIN = "http://frost.test"  # the page's address when Playwright serves it from disk
-# Touches the bench grows its frost from (screen px).
+# Touches the bench grows its frost from (screen px), and a warm finger's melt (x, y, r)
+# two thirds of the way (a wipe of the page's features, then the survivors re-sent).
 TOUCHES = ((380.0, 640.0), (200.0, 300.0), (560.0, 1000.0))
+MELT = (380.0, 600.0, 40.0)
 
 
 def browser_problem() -> str | None:
@@ -72,14 +74,21 @@ def hello(params: Params, backdrop: str = DEFAULT_BACKDROP) -> dict:
             "paused": False, "tick": 0}
 
 
-def grow(params: Params, seed: int, ticks: int, touches=TOUCHES):
-    """(Offscreen with the frost grown from `touches`, every delta its renderer applied,
-    in order: a rebuild's reset as an empty reset delta)."""
-    from app.tools.offscreen import Offscreen, make_context
-    from sim.io.session import grow as grow_timeline
+def bench_events(ticks: int) -> list[dict]:
+    """The bench's touches at tick 0 and its melt two thirds of the way."""
     from sim.io.session import touch_events
 
-    off = Offscreen(make_context(), params, seed)
+    x, y, r = MELT
+    return [*touch_events(TOUCHES), {"tick": 2 * ticks // 3, "kind": "melt", "x": x, "y": y, "r": r}]
+
+
+def grow(params: Params, seed: int, ticks: int, events=None, ctx=None):
+    """(Offscreen with the frost grown with `events` (default: bench_events), every delta
+    its renderer applied, in order: a rebuild's reset as an empty reset delta)."""
+    from app.tools.offscreen import Offscreen, make_context
+    from sim.io.session import grow as grow_timeline
+
+    off = Offscreen(ctx or make_context(), params, seed)
     deltas: list[GeometryDelta] = []
 
     def applied(result) -> None:
@@ -92,7 +101,8 @@ def grow(params: Params, seed: int, ticks: int, touches=TOUCHES):
         off.renderer.apply(delta)
         deltas.append(delta)
 
-    grow_timeline(off.timeline, ticks, touch_events(touches), applied, step)
+    grow_timeline(off.timeline, ticks, bench_events(ticks) if events is None else events,
+                  applied, step)
     return off, deltas
 
 
@@ -104,21 +114,25 @@ def reset_delta(tick: int, params: Params) -> GeometryDelta:
 
 class Page:
     """The page in headless Chromium, served from disk, fed `messages` over a stand-in
-    WebSocket. Use as a context manager."""
+    WebSocket; what the page sends is kept in `sent`. Use as a context manager; `browser`
+    (launch) is shared if given, else the page starts its own."""
 
     def __init__(self, hello_message: dict, messages: list[bytes], viewport=(WIDTH, HEIGHT),
-                 scale: float = 1.0):
+                 scale: float = 1.0, browser=None, touch: bool = False):
         self.hello, self.messages = hello_message, messages
-        self.viewport, self.scale = viewport, scale
+        self.viewport, self.scale, self.touch = viewport, scale, touch
+        self.browser, self._pw = browser, None
+        self.sent: list[dict] = []
 
     def __enter__(self) -> Page:
-        from playwright.sync_api import sync_playwright
+        if self.browser is None:
+            from playwright.sync_api import sync_playwright
 
-        self._pw = sync_playwright().start()
-        self.browser = launch(self._pw)
+            self._pw = sync_playwright().start()
+            self.browser = launch(self._pw)
         self.context = self.browser.new_context(
             viewport={"width": self.viewport[0], "height": self.viewport[1]},
-            device_scale_factor=self.scale)
+            device_scale_factor=self.scale, has_touch=self.touch, is_mobile=self.touch)
         self.page = self.context.new_page()
         self.page.route(f"{ORIGIN}/**", self._serve)
         self.page.route_web_socket(f"{ORIGIN.replace('http', 'ws')}/ws**", self._socket)
@@ -135,8 +149,10 @@ class Page:
         return self
 
     def __exit__(self, *exc) -> None:
-        self.browser.close()
-        self._pw.stop()
+        self.context.close()
+        if self._pw is not None:
+            self.browser.close()
+            self._pw.stop()
 
     def _serve(self, route) -> None:
         path = route.request.url[len(ORIGIN):].split("?")[0]
@@ -156,6 +172,7 @@ class Page:
         return route.fulfill(status=404, body="not found")
 
     def _socket(self, ws) -> None:
+        ws.on_message(lambda m: self.sent.append(json.loads(m)))
         ws.send(json.dumps(self.hello))
         for message in self.messages:
             ws.send(message)

@@ -268,6 +268,9 @@ state.framePixels = () => {
   return btoa(s);
 };
 
+state.canvasSize = () => [canvas.width, canvas.height];
+state.pane = paneRect;
+
 // Frame times (ms) of `n` full frames at 760x1280, each waited for (a 1-pixel read).
 state.frameTimes = (n) => {
   const r = state.renderer, one = new Uint8Array(4), times = [];

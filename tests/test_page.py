@@ -1,0 +1,175 @@
+"""The phone page (app/web) in headless Chromium, without a server: Playwright serves its
+files from disk and stands in for the WebSocket (app.tools.page_bench.Page). The desktop
+renderer (EGL) and numpy are the oracles."""
+
+from __future__ import annotations
+
+import io
+import json
+import re
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from app.resources import WEB_DIR
+from app.tools.page_bench import (
+    Page,
+    browser_problem,
+    compare,
+    desktop_frame,
+    encode,
+    grow,
+    hello,
+    launch,
+    wire_deltas,
+)
+from sim import Params
+from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES
+
+PROBLEM = browser_problem()
+pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
+
+
+@pytest.fixture(scope="module")
+def browser():
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as pw:
+        b = launch(pw)
+        yield b
+        b.close()
+
+
+@pytest.fixture(scope="module")
+def grown(gl_ctx):
+    """A glass frost grown 120 ticks from three touches with a melt at tick 80: the
+    desktop's frame of the page's messages, and the messages."""
+    params = Params.preset("fern")
+    _off, deltas = grow(params, 3, 120, ctx=gl_ctx)
+    messages = encode(deltas, params)
+    return params, messages, desktop_frame(gl_ctx, params, wire_deltas(messages, params))
+
+
+def test_the_page_knows_each_looks_defines():
+    source = (WEB_DIR / "renderer.js").read_text()
+    for name, table in (("LOOK_DEFINES", LOOK_DEFINES), ("FEATURE_DEFINES", FEATURE_DEFINES)):
+        text = re.search(rf"export const {name} = (\{{.*?\}});", source).group(1)
+        page = json.loads(re.sub(r"(\w+):", r'"\1":', text))
+        assert page == {look: list(d) for look, d in table.items()}
+
+
+def test_half_floats_as_numpy(browser):
+    """Every half decodes as numpy does; numbers round to the nearest half (ties to even,
+    subnormals, overflow) as numpy's astype(float16)."""
+    rng = np.random.default_rng(5)
+    bits = np.arange(1 << 16, dtype=np.uint16)
+    halves = bits.view(np.float16).astype(np.float64)
+    finite = np.isfinite(halves)
+    # Ties and their neighbours, subnormals, the largest half and beyond, random values.
+    mids = (halves[finite][:-1] + np.diff(halves[finite]) / 2)
+    samples = np.concatenate([mids[::97], np.nextafter(mids[::89], 0), rng.normal(0, 30, 2000),
+                              rng.uniform(-1e-6, 1e-6, 500), [65504, 65519.99, 65520, 1e6, -0.0]])
+    samples = samples.astype(np.float32).astype(np.float64)
+    with Page(hello(Params.preset("fern")), [], browser=browser) as page:
+        out = page.page.evaluate("""async ([values]) => {
+            const m = await import('./web/protocol.js');
+            const dec = []; for (let h = 0; h < 65536; h++) dec.push(m.halfToFloat(h));
+            return [dec, values.map(m.floatToHalf)]; }""", [samples.tolist()])
+    decoded = np.array([np.nan if v is None else v for v in out[0]])
+    assert np.array_equal(decoded[finite], halves[finite])
+    with np.errstate(over="ignore"):
+        expected = samples.astype(np.float16).view(np.uint16)
+    assert np.array_equal(np.array(out[1], np.uint16), expected)
+
+
+def test_the_page_decodes_what_the_server_encodes(browser, grown):
+    from app.serve.protocol import decode_geometry
+
+    params, messages, _ = grown
+    with Page(hello(params), messages, browser=browser) as page:
+        for i in (0, 1, 40, len(messages) - 1, *(i for i, m in enumerate(messages) if m[2] & 2)):
+            m = decode_geometry(messages[i])
+            got = page.page.evaluate("""async ([bytes]) => {
+                const p = await import('./web/protocol.js');
+                const d = p.decodeDelta(new Uint8Array(bytes).buffer);
+                return {...d, heights: Array.from(d.heights), features: Array.from(d.features)}; }""",
+                                     [list(messages[i])])
+            assert got["tick"] == m["tick"] and got["look"] == m["look"]
+            assert got["reset"] == bool(m["flags"] & 1)
+            assert got["clearBox"] == (list(m["clear_box"]) if m["clear_box"] else None)
+            assert [tuple(r) for r in got["runs"]] == m["runs"]
+            assert np.array_equal(np.array(got["heights"], np.float32), m["heights"])
+            assert np.array_equal(np.array(got["features"], np.float32).reshape(-1, 6), m["vertices"])
+
+
+def test_the_page_draws_the_frost_as_the_desktop_does(browser, grown):
+    """The page's frame of the messages against the desktop renderer's frame of the same
+    messages: only the two rasterisers differ (SwiftShader, llvmpipe)."""
+    params, messages, desktop = grown
+    with Page(hello(params), messages, browser=browser) as page:
+        shown = page.pixels()
+    with Page(hello(params), [], browser=browser) as page:
+        bare = page.pixels()
+    assert compare(desktop, bare)["within8"] < 0.97  # the frost is there to compare
+    got = compare(desktop, shown)
+    assert got["mad"] < 0.1 and got["within8"] > 0.9995, got
+
+
+def test_screenshot_png_carries_the_desktops_keys(browser, grown):
+    from app.images import frost_meta
+
+    params, messages, _ = grown
+    with Page({**hello(params), "meta": {"parameters": params.as_dict(), "seed": 3,
+                                         "touches": [[0, 380.0, 640.0]]}},
+              messages, browser=browser) as page:
+        png = bytes(page.page.evaluate("async () => Array.from(await frost.screenshotPng())"))
+        shown = page.pixels()
+    with Image.open(io.BytesIO(png)) as im:
+        text = dict(im.text)
+        pixels = np.asarray(im.convert("RGB"))
+    desktop_keys = set(frost_meta("x", params, 0, 0, [], view={}))
+    assert set(text) == desktop_keys
+    assert json.loads(text["tick"]) == 120 and json.loads(text["seed"]) == 3
+    assert json.loads(text["parameters"]) == params.as_dict()
+    assert json.loads(text["view"])["background"] == "dusk"
+    assert np.array_equal(pixels, shown)
+
+
+def test_fingers_become_touches_and_melts_in_screen_px(browser):
+    """A phone (390x844 CSS px, 3 device px each): the pane is letterboxed and drawn at the
+    device's resolution; a tap sends a touch at the pane's px under it, a second finger
+    melts, a drag sends moves, each finger its own id."""
+    params = Params.preset("fern")
+    with Page(hello(params), [], viewport=(390, 844), scale=3, browser=browser, touch=True) as page:
+        size = page.page.evaluate("[frost.canvasSize(), frost.pane()]")
+        assert size[0] == [1170, 2532]
+        pane = size[1]  # device px: 1170 wide, 760 * 1170 / 760 ... letterboxed top and bottom
+        assert pane["w"] == 1170 and pane["h"] == round(1280 * 1170 / 760)
+        assert pane["y"] == (2532 - pane["h"]) // 2
+        # CSS px of pane px (x, y).
+        css = lambda x, y: ((pane["x"] + x * pane["scale"]) / 3, (pane["y"] + y * pane["scale"]) / 3)  # noqa: E731
+        cdp = page.context.new_cdp_session(page.page)
+
+        def touch(kind, points):
+            cdp.send("Input.dispatchTouchEvent", {"type": kind, "touchPoints": [
+                {"x": x, "y": y, "id": i} for i, (x, y) in points]})
+
+        touch("touchStart", [(1, css(380, 640))])
+        touch("touchStart", [(1, css(380, 640)), (2, css(100, 200))])
+        touch("touchMove", [(1, css(390, 650)), (2, css(110, 220))])
+        page.page.wait_for_timeout(100)
+        touch("touchEnd", [])
+        page.page.wait_for_function("true")
+        page.page.wait_for_timeout(100)
+    sent = page.sent
+    kinds = [(m["type"], m["phase"], m["id"]) for m in sent]
+    assert kinds[:2] == [("touch", "down", 0), ("melt", "down", 1)]
+    assert ("touch", "move", 0) in kinds and ("melt", "move", 1) in kinds
+    assert {("touch", "up", 0), ("melt", "up", 1)} <= set(kinds)
+    down = sent[0]
+    assert abs(down["x"] - 380) < 0.5 and abs(down["y"] - 640) < 0.5
+    melt = sent[1]
+    assert abs(melt["x"] - 100) < 0.5 and abs(melt["y"] - 200) < 0.5
+    move = next(m for m in sent if m["phase"] == "move" and m["id"] == 0)
+    assert abs(move["x"] - 390) < 0.5 and abs(move["y"] - 650) < 0.5
