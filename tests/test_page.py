@@ -41,11 +41,11 @@ def browser():
         b.close()
 
 
-@pytest.fixture(scope="module")
-def grown(gl_ctx):
-    """A glass frost grown 120 ticks from three touches with a melt at tick 80: the
-    desktop's frame of the page's messages, and the messages."""
-    params = Params.preset("fern")
+@pytest.fixture(scope="module", params=["glass", "paper"])
+def grown(gl_ctx, request):
+    """A frost of each look grown 120 ticks from three touches with a melt at tick 80:
+    the desktop's frame of the page's messages, and the messages."""
+    params = Params.preset("fern").replace(look=request.param)
     _off, deltas = grow(params, 3, 120, ctx=gl_ctx)
     messages = encode(deltas, params)
     return params, messages, desktop_frame(gl_ctx, params, wire_deltas(messages, params))
@@ -114,6 +114,27 @@ def test_the_page_draws_the_frost_as_the_desktop_does(browser, grown):
     assert compare(desktop, bare)["within8"] < 0.97  # the frost is there to compare
     got = compare(desktop, shown)
     assert got["mad"] < 0.1 and got["within8"] > 0.9995, got
+
+
+def test_the_height_texture_holds_heights_and_slopes_as_numpy(browser, grown):
+    """After every message, the page's height texture (its mirror) holds each vertex's
+    height and numpy.gradient's slopes of the grid the messages give (app.serve.protocol's
+    apply_geometry), as half floats: the rows each message touched and their neighbours
+    were rewritten."""
+    from app.serve.protocol import apply_geometry, decode_geometry
+
+    params, messages, _ = grown
+    cols, rows = hello(params)["grid"]
+    grid = np.zeros(rows * cols, np.float32)
+    for m in messages:
+        apply_geometry(grid, decode_geometry(m))
+    gy, gx = np.gradient(grid.reshape(rows, cols), float(params.grid_spacing))
+    want = np.stack((grid.reshape(rows, cols), gx, gy), axis=-1).astype(np.float16)
+    with Page(hello(params), messages, browser=browser) as page:
+        texels = page.page.evaluate("Array.from(frost.renderer.texels)")
+    got = np.array(texels, np.uint16).view(np.float16).reshape(rows, cols, 3)
+    assert np.abs(want).max() > 0.1
+    assert np.array_equal(got, want)
 
 
 def test_screenshot_png_carries_the_desktops_keys(browser, grown):

@@ -109,6 +109,7 @@ export class Renderer {
     this.heightScale = FEATURE_HEIGHT_SCALE;
     this.background = texture(gl, width, height, gl.RGB8, gl.NEAREST);
     this.grid = new Float32Array(grid[0] * grid[1]);  // mirror of the heights, row-major
+    this.texels = new Uint16Array(grid[0] * grid[1] * 3);  // mirror of the height texture
     this.heights = texture(gl, grid[0], grid[1], gl.RGB16F, gl.LINEAR);
     this.features = new FeatureLayer(gl, sources, this.size);
     this.backgroundProg = new Program(gl, sources, "fullscreen.vert", "background.frag");
@@ -180,13 +181,13 @@ export class Renderer {
     if (hi <= lo) return;
     const g = this.grid, h = this.spacing;
     const at = (r, c) => g[r * cols + c];
-    const texels = new Uint16Array((hi - lo) * cols * 3);
+    const texels = this.texels;
     const fr = Math.fround;
     for (let r = lo; r < hi; r++) {
       const [ra, rb, dy] = r === 0 ? [0, 1, h] : r === rows - 1 ? [r - 1, r, h] : [r - 1, r + 1, 2 * h];
       for (let c = 0; c < cols; c++) {
         const [ca, cb, dx] = c === 0 ? [0, 1, h] : c === cols - 1 ? [c - 1, c, h] : [c - 1, c + 1, 2 * h];
-        const o = ((r - lo) * cols + c) * 3;
+        const o = (r * cols + c) * 3;
         texels[o] = floatToHalf(at(r, c));
         texels[o + 1] = floatToHalf(fr(fr(at(r, cb) - at(r, ca)) / dx));
         texels[o + 2] = floatToHalf(fr(fr(at(rb, c) - at(ra, c)) / dy));
@@ -194,7 +195,8 @@ export class Renderer {
     }
     gl.bindTexture(gl.TEXTURE_2D, this.heights);
     gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
-    gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, lo, cols, hi - lo, gl.RGB, gl.HALF_FLOAT, texels);
+    gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, lo, cols, hi - lo, gl.RGB, gl.HALF_FLOAT,
+      texels.subarray(lo * cols * 3, hi * cols * 3));
   }
 
   // Clear glass: no heights, no features.
