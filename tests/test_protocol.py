@@ -1,0 +1,142 @@
+"""The phone protocol's bytes (docs/protocol.md) against messages taken apart by hand, and the
+page's input checks."""
+
+import json
+import struct
+
+import numpy as np
+import pytest
+
+from app.serve.protocol import (
+    MAX_INPUT_BYTES,
+    PART_VERTICES,
+    Encoder,
+    ProtocolError,
+    apply_geometry,
+    decode_geometry,
+    height_runs,
+    parse_input,
+)
+from sim import Params
+from sim.io.session import Timeline
+from sim.look.geometry import GeometryDelta
+
+
+def delta(tick, rows, heights, features=(), **more):
+    feats = np.array(features, np.float32).reshape(-1, 6)
+    return GeometryDelta(tick, rows, np.array(heights, np.float32), feats, **more)
+
+
+def test_a_delta_unpacked_by_hand():
+    enc = Encoder(cols=3, rows=4)
+    d = delta(7, slice(1, 3), [[0, 0.5, 0], [0, 0, 0]],
+              [[10.25, 20.5, 1.5, 0.0, 0.6, 0.8], [-3.0, 1279.9375, 0.0, 1.0, 0.0, 0.0]],
+              look="glass", height_scale=24.0, clear_box=(1.0, 2.0, 30.5, 40.0))
+    m = enc.delta(d)
+    # header: 4 bytes, tick, cols, rows, height scale, runs, vertices, box
+    assert struct.unpack("<BBBB", m[0:4]) == (1, 1, 2, 1)  # version, type, flags clear_box, glass
+    assert struct.unpack("<I", m[4:8]) == (7,)
+    assert struct.unpack("<HH", m[8:12]) == (3, 4)
+    assert struct.unpack("<f", m[12:16]) == (24.0,)
+    assert struct.unpack("<II", m[16:24]) == (1, 2)
+    assert struct.unpack("<4f", m[24:40]) == (1.0, 2.0, 30.5, 40.0)
+    # one run: row 1, column 1 is flat index 4, one value; 2 bytes, padded to 4
+    assert struct.unpack("<II", m[40:48]) == (4, 1)
+    assert struct.unpack("<e", m[48:50]) == (0.5,) and m[50:52] == b"\0\0"
+    # vertices: x*16, y*16 as int16, z half, 2 pad, normal*127 as int8, 1 pad
+    v0, v1 = m[52:64], m[64:76]
+    assert struct.unpack("<hhe", v0[:6]) == (164, 328, 1.5)
+    assert struct.unpack("<bbb", v0[8:11]) == (0, 76, 102)  # 0.6*127 = 76.2, 0.8*127 = 101.6
+    assert struct.unpack("<hhe", v1[:6]) == (-48, 20479, 0.0)
+    assert struct.unpack("<bbb", v1[8:11]) == (127, 0, 0)
+    assert len(m) == 76
+
+
+def test_runs_take_only_what_changed_and_bridge_small_gaps():
+    old = np.zeros(30, np.float16)
+    new = old.copy()
+    new[[2, 3, 8, 20, 29]] = 1
+    # 3 -> 8 is a gap of 4 unchanged values (sent along); 8 -> 20 is not
+    assert height_runs(old, new) == [(2, 7), (20, 1), (29, 1)]
+    assert height_runs(old, old) == []
+
+
+def test_a_second_delta_sends_only_the_changes():
+    enc = Encoder(cols=4, rows=3)
+    enc.delta(delta(1, slice(0, 2), [[1, 1, 1, 1], [0, 0, 0, 0]]))
+    m = enc.delta(delta(2, slice(0, 2), [[1, 1, 1, 2], [0, 0, 0, 0]]))
+    assert struct.unpack("<I", m[16:20]) == (1,)
+    assert struct.unpack("<II", m[40:48]) == (3, 1)
+    assert struct.unpack("<e", m[48:50]) == (2.0,)
+
+
+def test_reset_clears_the_encoders_grid():
+    enc = Encoder(cols=2, rows=2)
+    enc.delta(delta(1, slice(0, 2), [[1, 1], [1, 1]]))
+    m = enc.delta(delta(0, slice(0, 2), [[0, 0], [0, 1]]), reset=True)
+    assert m[2] == 1 and struct.unpack("<II", m[40:48]) == (3, 1)
+    assert enc.bare(5, reset=True)[2] == 1 and not enc.heights.any()
+
+
+def test_a_snapshot_is_every_height_and_the_features_in_parts():
+    enc = Encoder(cols=2, rows=2)
+    enc.delta(delta(1, slice(0, 2), [[1, 0], [0, 3]]))
+    feats = np.zeros((PART_VERTICES + 5, 6), np.float32)
+    feats[:, 0] = 1.0
+    parts = enc.snapshot(9, feats, "paper", 16.0)
+    assert [p[2] for p in parts] == [1 | 4, 4 | 8]
+    assert struct.unpack("<II", parts[0][16:24]) == (1, PART_VERTICES)
+    assert struct.unpack("<II", parts[0][40:48]) == (0, 4)
+    assert struct.unpack("<4e", parts[0][48:56]) == (1.0, 0.0, 0.0, 3.0)
+    assert struct.unpack("<II", parts[1][16:24]) == (0, 5)
+    assert len(parts[1]) == 40 + 5 * 12
+
+
+def test_the_pages_grid_follows_the_simulations():
+    """Decoding every message of a run gives the geometry's heights (as half floats)."""
+    tl = Timeline(Params.preset("c-2"), 3, 200, 160)
+    tl.apply([{"kind": "touch", "x": 100.0, "y": 80.0}])
+    g = tl.geometry
+    enc, page = Encoder(g.cols, g.rows), np.zeros(g.rows * g.cols, np.float32)
+    for _ in range(60):
+        for d in tl.step():
+            apply_geometry(page, decode_geometry(enc.delta(d)))
+    assert g.heights.any()
+    assert (page == g.heights.ravel().astype(np.float16)).all()
+
+
+@pytest.mark.parametrize("message, kind, fields", [
+    ('{"type":"touch","x":10,"y":20.5}', "touch", {"x": 10.0, "y": 20.5, "phase": "down"}),
+    ('{"type":"melt","x":1,"y":2,"phase":"move","id":3}', "melt", {"finger": 3, "phase": "move"}),
+    ('{"type":"touch","phase":"up","id":1}', "touch", {"phase": "up", "finger": 1}),
+    ('{"type":"preset","name":"window"}', "preset", {"name": "window"}),
+    ('{"type":"key","key":"SPACE"}', "key", {"name": "SPACE"}),
+    ('{"type":"pause"}', "pause", {}),
+    ('{"type":"ping","t":12.5}', "ping", {"stamp": 12.5}),
+])
+def test_good_input(message, kind, fields):
+    got = parse_input(message)
+    assert got.kind == kind
+    for k, v in fields.items():
+        assert getattr(got, k) == v
+
+
+@pytest.mark.parametrize("message, code, says", [
+    ("not json", 1008, "not JSON"),
+    ("[1, 2]", 1008, "JSON object"),
+    ('{"type":"warp"}', 1008, "unknown message type"),
+    ('{"type":"touch","x":"1","y":2}', 1008, "'x'"),
+    ('{"type":"touch","x":NaN,"y":2}', 1008, "not JSON"),
+    ('{"type":"touch","x":1e999,"y":2}', 1008, "'x'"),
+    ('{"type":"touch","x":true,"y":2}', 1008, "'x'"),
+    ('{"type":"touch","x":1,"y":2,"id":32}', 1008, "'id'"),
+    ('{"type":"touch","x":1,"y":2,"phase":"hover"}', 1008, "'phase'"),
+    ('{"type":"preset","name":""}', 1008, "'name'"),
+    ('{"type":"key"}', 1008, "'key'"),
+    (b"\x00\x01", 1008, "binary"),
+    (json.dumps({"type": "pause", "pad": "x" * MAX_INPUT_BYTES}), 1009, "over 1024 bytes"),
+])
+def test_bad_input_names_the_problem(message, code, says):
+    with pytest.raises(ProtocolError, match=says) as err:
+        parse_input(message)
+    assert err.value.code == code
