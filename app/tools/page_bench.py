@@ -25,7 +25,7 @@ from app.backdrops import DEFAULT_BACKDROP, load_backdrop
 from app.resources import SHADER_DIR, WEB_DIR
 from sim import Params
 from sim.look.geometry import GeometryDelta
-from sim.look.material import Material
+from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, Material
 from sim.screen import HEIGHT, WIDTH
 
 CHROMIUM = "/usr/bin/chromium"
@@ -54,24 +54,23 @@ def launch(playwright):
     return playwright.chromium.launch(executable_path=CHROMIUM, headless=True, args=CHROMIUM_ARGS)
 
 
-def material_uniforms(light=None) -> dict:
-    """The ice's material (and light) as a hello's "uniforms" carry them."""
+def hello(params: Params, backdrop: str = DEFAULT_BACKDROP) -> dict:
+    """A hello as docs/protocol.md has it, for `params` and the desktop's material and light."""
     from app.gl.renderer import default_light
 
-    m = Material()
-    light = default_light() if light is None else np.asarray(light, np.float64)
-    return {"ice_color": list(m.ice_color), "ambient": m.ambient, "diffuse": m.diffuse,
-            "specular": m.specular, "shininess": m.shininess, "opacity": m.opacity,
-            "density": m.density, "relief": m.relief, "refraction": m.refraction,
-            "light": [float(v) for v in light]}
-
-
-def hello(params: Params, backdrop: str = DEFAULT_BACKDROP) -> dict:
-    s = params.grid_spacing
+    m, s = Material(), params.grid_spacing
+    uniforms = {f"u_{k}": v for k, v in (
+        ("ice_color", list(m.ice_color)), ("ambient", m.ambient), ("diffuse", m.diffuse),
+        ("specular", m.specular), ("shininess", m.shininess), ("opacity", m.opacity),
+        ("density", m.density), ("relief", m.relief), ("refraction", m.refraction))}
     return {"type": "hello", "protocol": 1, "screen": [WIDTH, HEIGHT],
-            "grid": [WIDTH // s + 1, HEIGHT // s + 1], "spacing": s,
-            "uniforms": material_uniforms(), "look": params.look, "backdrop": backdrop,
-            "paused": False, "tick": 0}
+            "grid": [WIDTH // s + 1, HEIGHT // s + 1], "spacing": s, "tick": 0, "paused": False,
+            "look": params.look, "looks": list(LOOK_DEFINES), "backdrop": backdrop,
+            "view": {"light": [float(v) for v in default_light()], "features": True,
+                     "bumps": True, "background": backdrop},
+            "uniforms": uniforms,
+            "defines": {look: {"ice": list(LOOK_DEFINES[look]), "feature": list(FEATURE_DEFINES[look])}
+                        for look in LOOK_DEFINES}}
 
 
 def bench_events(ticks: int) -> list[dict]:

@@ -29,6 +29,13 @@ function status(text) {
   document.getElementById("status").textContent = text;
 }
 
+let noticeTimer = 0;
+function notice(text) {
+  status(text);
+  clearTimeout(noticeTimer);
+  noticeTimer = setTimeout(() => status(""), 4000);
+}
+
 async function main() {
   if (!gl) {
     status("This browser has no WebGL2.");
@@ -95,6 +102,7 @@ async function onText(msg) {
     const r = state.renderer;
     if (!r || r.gridSize[0] !== cols || r.gridSize[1] !== rows || r.spacing !== msg.spacing) {
       state.renderer = new Renderer(gl, state.sources, { width: SCREEN[0], height: SCREEN[1], grid: msg.grid, spacing: msg.spacing });
+      if (msg.defines) state.renderer.setDefines(msg.defines);
     } else {
       r.reset();  // the snapshot that follows holds the whole frost
     }
@@ -106,8 +114,11 @@ async function onText(msg) {
     state.menu.show(state.hello);
     if (state.hello.backdrop !== state.backdrop) await loadBackdrop(state.hello.backdrop);
     state.dirty = true;
-  } else if (msg.type === "error") {
-    status(msg.message || "error");
+  } else if (msg.type === "resync") {
+    // The server dropped this page's queue: a snapshot follows (its first part resets).
+    state.synced = false;
+  } else if (msg.type === "notice") {
+    notice(msg.text);
   }
 }
 
@@ -236,10 +247,14 @@ async function screenshotPng() {
   c.getContext("2d").putImageData(new ImageData(new Uint8ClampedArray(pixels.buffer), ...SCREEN), 0, 0);
   const blob = await new Promise((resolve) => c.toBlob(resolve, "image/png"));
   const png = new Uint8Array(await blob.arrayBuffer());
-  const hello = state.hello || {};
+  // frost_meta's keys in its order; parameters, seed and touches as the server's hello
+  // (or a state message) gives them in "meta".
+  const known = (state.hello || {}).meta || {};
+  const local = new Date(Date.now() - new Date().getTimezoneOffset() * 60000);
   const meta = {
-    ...(hello.meta || {}), tick: state.tick,
-    Software: "frost (page)", "Creation Time": new Date().toISOString().slice(0, 19),
+    parameters: known.parameters ?? null, seed: known.seed ?? null, tick: state.tick,
+    touches: known.touches ?? [], Software: "frost (page)",
+    "Creation Time": local.toISOString().slice(0, 19),
     view: { light: r.light, features: r.showFeatures, bumps: r.showBumps, background: state.backdrop },
   };
   return withText(png, meta);

@@ -9,7 +9,8 @@
 import { floatToHalf } from "./protocol.js";
 
 export const HEADER = "#version 300 es\nprecision highp float;\n";
-// Each look's compile-time variants (sim/look/material.py LOOK_DEFINES, FEATURE_DEFINES).
+// Each look's compile-time variants (sim/look/material.py LOOK_DEFINES, FEATURE_DEFINES),
+// until the server's hello says ({look: {ice: [...], feature: [...]}}: setDefines).
 export const LOOK_DEFINES = { paper: [], glass: ["FILM", "SCATTER", "SPARKLE", "REFRACT"] };
 export const FEATURE_DEFINES = { paper: [], glass: ["EDGE_AA"] };
 export const SHADERS = ["fullscreen.vert", "background.frag", "tile.vert", "ice.frag",
@@ -115,6 +116,7 @@ export class Renderer {
     this.backgroundProg = new Program(gl, sources, "fullscreen.vert", "background.frag");
     this.emptyArray = gl.createVertexArray();
     this.iceProgs = {};
+    this.defines = { ice: LOOK_DEFINES, feature: FEATURE_DEFINES };
     this.tiles = new TileSet(gl, this.size, spacing);
     // The frame: RGBA8 of the screen's size, as the desktop's offscreen framebuffer.
     this.frame = texture(gl, width, height, gl.RGBA8, gl.LINEAR);
@@ -233,9 +235,22 @@ export class Renderer {
 
   iceProgram(look) {
     if (!(look in this.iceProgs)) {
-      this.iceProgs[look] = new Program(this.gl, this.sources, "tile.vert", "ice.frag", LOOK_DEFINES[look]);
+      this.iceProgs[look] = new Program(this.gl, this.sources, "tile.vert", "ice.frag", this.defines.ice[look]);
     }
     return this.iceProgs[look];
+  }
+
+  // The looks' #defines as the server's hello gives them ({look: {ice, feature}}).
+  setDefines(defines) {
+    const ice = {}, feature = {};
+    for (const [look, d] of Object.entries(defines)) {
+      ice[look] = d.ice;
+      feature[look] = d.feature;
+    }
+    this.defines = { ice, feature };
+    this.features.defines = feature;
+    this.iceProgs = {};
+    this.features.progs = {};
   }
 
   iceUniforms() {
@@ -287,6 +302,7 @@ export class FeatureLayer {
     this.heightScale = FEATURE_HEIGHT_SCALE;
     this.look = "paper";
     this.progs = {};  // per look
+    this.defines = FEATURE_DEFINES;
     this.vbo = gl.createBuffer();
   }
 
@@ -351,7 +367,7 @@ export class FeatureLayer {
   program(look) {
     if (!(look in this.progs)) {
       const gl = this.gl;
-      const prog = new Program(gl, this.sources, "feature.vert", "feature.frag", FEATURE_DEFINES[look]);
+      const prog = new Program(gl, this.sources, "feature.vert", "feature.frag", this.defines[look]);
       const array = gl.createVertexArray();
       gl.bindVertexArray(array);
       gl.bindBuffer(gl.ARRAY_BUFFER, this.vbo);
