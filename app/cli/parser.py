@@ -181,6 +181,9 @@ def _bench(root: Parser, subs) -> None:
     # cannot pass on options it does not know); listed so that frost bench --help names it.
     p.command(kinds, "sim", "the simulation's benchmark: every argument, --help too, goes to "
               "python -m app.tools.bench_sim", usage="[ARGS ...]", add_help=False)
+    p.command(kinds, "page", "the phone page against the desktop renderer (parity) and its "
+              "frame time: every argument goes to python -m app.tools.page_bench",
+              usage="[ARGS ...]", add_help=False)
     _bench_render(p.command(kinds, "render", "the renderer's benchmark: frame, geometry and "
                             f"upload times at about half the screen frosted (headless, {WIDTH}x{HEIGHT})"))
 

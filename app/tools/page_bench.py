@@ -22,8 +22,9 @@ import numpy as np
 from PIL import Image
 
 from app.backdrops import DEFAULT_BACKDROP, load_backdrop
+from app.cli.values import count
 from app.resources import SHADER_DIR, WEB_DIR
-from sim import Params
+from sim import Params, all_presets
 from sim.look.geometry import GeometryDelta
 from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, Material
 from sim.screen import HEIGHT, WIDTH
@@ -247,11 +248,12 @@ def difference_image(a: np.ndarray, b: np.ndarray, gain: float = 8.0) -> np.ndar
 
 def main(argv: list[str] | None = None, prog: str = "python -m app.tools.page_bench") -> int:
     p = argparse.ArgumentParser(prog=prog, description=__doc__.split("\n\n")[0])
-    p.add_argument("--preset", default="fern")
+    p.add_argument("--preset", default="fern", choices=list(all_presets()), metavar="NAME",
+                   help="parameter set to grow (default fern)")
     p.add_argument("--look", choices=("paper", "glass"), help="default: the preset's")
     p.add_argument("--seed", type=int, default=1)
-    p.add_argument("--ticks", type=int, default=300, help="ticks to grow (default 300)")
-    p.add_argument("--frames", type=int, default=60, help="page frames timed (default 60)")
+    p.add_argument("--ticks", type=count, default=300, help="ticks to grow (default 300)")
+    p.add_argument("--frames", type=count, default=60, help="page frames timed (default 60)")
     p.add_argument("--out", help="write desktop.png, page.png, difference.png here")
     args = p.parse_args(argv)
     problem = browser_problem()
@@ -261,7 +263,11 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.tools.page_be
     params = Params.preset(args.preset)
     if args.look:
         params = params.replace(look=args.look)
-    off, deltas = grow(params, args.seed, args.ticks)
+    try:
+        off, deltas = grow(params, args.seed, args.ticks)
+    except RuntimeError as err:  # no EGL context
+        print(f"frost: error: {err}")
+        return 2
     desktop = off.frame()
     messages = encode(deltas, params)
     wire = desktop_frame(off.renderer.ctx, params, wire_deltas(messages, params))
