@@ -84,6 +84,7 @@ def test_a_snapshot_is_every_height_and_the_features_in_parts():
     feats = np.zeros((PART_VERTICES + 5, 6), np.float32)
     feats[:, 0] = 1.0
     parts = enc.snapshot(9, feats, "paper", 16.0)
+    assert PART_VERTICES % 3 == 0  # a part holds whole triangles
     assert [p[2] for p in parts] == [1 | 4, 4 | 8]
     assert struct.unpack("<II", parts[0][16:24]) == (1, PART_VERTICES)
     assert struct.unpack("<II", parts[0][40:48]) == (0, 4)

@@ -35,11 +35,13 @@ SUBPIXEL = 16
 # starting a new run (8 bytes) when there are at most this many.
 RUN_GAP = 4
 # A snapshot's features are cut into messages of at most this many vertices (768 kB), so
-# a page's queue fills by parts and a stalled page is seen within one part.
-PART_VERTICES = 65536
+# a page's queue fills by parts and a stalled page is seen within one part; whole
+# triangles each.
+PART_VERTICES = 3 * 21845
 
 # Page -> server
 MAX_INPUT_BYTES = 1024
+RATE_TEXT = 200  # messages a second a page may send (app.serve.pages.TokenBucket)
 FINGERS = 32  # finger ids 0..31
 PHASES = ("down", "move", "up")
 POINTER_KINDS = ("touch", "melt")

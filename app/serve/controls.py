@@ -1,0 +1,115 @@
+"""What a page's input does: the window's commands for the simulation thread (a finger is
+the left button, the warm finger the right; a key is the window's key of that name), so it
+is recorded with its tick and `frost replay` plays it again."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+from app.backdrops import BACKDROPS
+from app.serve.protocol import Input
+from app.simthread.thread import SimThread
+from app.window.keys import BINDINGS, Binding
+from sim import Params, all_presets, preset_name, tuning
+from sim.io.gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
+from sim.params import LOOKS
+from sim.screen import SIZE, touch_problem
+
+# The window's key actions that act on the shared frost; the others (screenshot, recording,
+# panel, HUD, light, the desktop's view toggles) are the page's own or the desktop's.
+KEY_TUNES = {"scale": tuning.scaled, "shift": tuning.shifted, "toggle_param": tuning.toggled,
+             "cycle_param": tuning.cycled, "preset": tuning.preset}
+KEY_COMMANDS = {"pause": "pause", "single_step": "step", "clear": "clear"}
+
+
+class Controls:
+    """Turns checked page input into commands; `params` is what was asked for last (the
+    thread applies it at its next tick); `backdrop` is the one every page shows."""
+
+    def __init__(self, thread: SimThread, params: Params, melt_radius: float, backdrop: str,
+                 notice: Callable[[str], None], tick: Callable[[], int]):
+        self.thread, self.params, self.melt_radius = thread, params, melt_radius
+        self.backdrop, self.notice, self.tick = backdrop, notice, tick
+        self.keys: dict[str, Binding] = {name: b for b in BINDINGS for name in b.keys}
+        self._handlers: dict[str, Callable[[Input, dict], None]] = {
+            "touch": self._pointer, "melt": self._pointer,
+            "preset": lambda m, _f: self._tune(tuning.preset, m.name, check=all_presets()),
+            "look": lambda m, _f: self._tune(lambda p, v: tuning.changed(p, "look", v), m.name,
+                                             check=LOOKS),
+            "backdrop": lambda m, _f: self._backdrop(m.name),
+            "key": lambda m, _f: self._key(m.name),
+            "pause": self._command, "step": self._command, "clear": self._command}
+
+    def preset(self) -> str:
+        return preset_name(self.params).split("/")[0]
+
+    def handle(self, message: Input, fingers: dict) -> None:
+        """Apply one page message; `fingers` holds that page's drags."""
+        self._handlers[message.kind](message, fingers)
+
+    def _command(self, m: Input, _fingers: dict) -> None:
+        self.thread.send(m.kind)
+
+    def _pointer(self, m: Input, fingers: dict) -> None:
+        key = (m.kind, m.finger)
+        if m.phase == "up":
+            fingers.pop(key, None)
+            return
+        spot = (m.x, m.y)
+        if touch_problem(*spot, SIZE) is not None:
+            return  # off the screen, as a click beside the phone
+        if m.phase == "down" or key not in fingers:
+            fingers[key] = spot
+            self._send(m.kind, spot, timed=m.phase == "down")
+            return
+        spacing = DRAG_SPACING_HC * self.params.hc if m.kind == "touch" \
+            else MELT_SPACING * self.melt_radius
+        points = path_points(fingers[key], spot, spacing)
+        for point in points:
+            self._send(m.kind, point, timed=False)
+        if points:
+            fingers[key] = points[-1]
+
+    def _send(self, kind: str, spot: tuple[float, float], timed: bool) -> None:
+        if kind == "melt":
+            self.thread.send("melt", (*spot, self.melt_radius))
+        else:
+            self.thread.send("touch", (spot, (self.tick(), time.monotonic()) if timed else None))
+
+    def _key(self, name: str) -> None:
+        binding = self.keys.get(name)
+        if binding is None:
+            self.notice(f"key {name[:16]} is not one of the window's keys")
+        elif binding.action in KEY_COMMANDS:
+            self.thread.send(KEY_COMMANDS[binding.action])
+        elif binding.action in KEY_TUNES:
+            args = binding.arg if isinstance(binding.arg, tuple) else (binding.arg,)
+            self._tune(KEY_TUNES[binding.action], *args)
+        elif binding.action == "backdrop":
+            names = list(BACKDROPS)
+            self._backdrop(names[(names.index(self.backdrop) + 1) % len(names)]
+                           if self.backdrop in names else names[0])
+        else:
+            self.notice(f"key {name}: {binding.description}: not on a page")
+
+    def _backdrop(self, name: str) -> None:
+        if name not in BACKDROPS:
+            self.notice(f"backdrop {name[:16]!r} refused: one of {', '.join(BACKDROPS)}")
+            return
+        self.backdrop = name
+
+    def _tune(self, change, *args, check=None) -> None:
+        """The window's way to change the parameters (Actions._tune); the grid's spacing
+        stays (the pages' height grid is the session's)."""
+        if check is not None and args[0] not in check:
+            self.notice(f"{args[0][:16]!r} refused: one of {', '.join(check)}")
+            return
+        try:
+            params = change(self.params, *args).replace(grid_spacing=self.params.grid_spacing)
+        except ValueError as err:
+            self.notice(f"refused: {err}")
+            return
+        if tuning.differences(self.params, params):
+            self.params = params
+            self.thread.send("params", params)

@@ -1,0 +1,187 @@
+"""The simulation thread's snapshots, encoded once a tick and fanned out to every page.
+
+Runs on the asyncio loop, which the thread's `wake` schedules after each tick. A page that
+connects or resyncs needs the whole frost: the live ice is drawn anew
+(`FrostGeometry.redraw`, into a geometry of its own) inside that same `wake` while it runs on
+the simulation thread, right after a tick and before the next, so it reads a simulation
+that nothing changes meanwhile, and it is tagged with the (steps, events) of the snapshot it
+follows. The heights come from the encoder's grid (the sum of every delta sent).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+import threading
+from collections import deque
+
+from app.backdrops import BACKDROPS
+from app.gl.renderer import MAX_DEPTH, TILE, default_light
+from app.serve import protocol
+from app.serve.controls import Controls
+from app.serve.pages import Page
+from app.simthread.thread import SimThread, Snapshot
+from sim import Params, all_presets
+from sim.look.geometry import FrostGeometry, GeometryDelta
+from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, Material
+from sim.params import LOOKS
+from sim.screen import SIZE
+
+log = logging.getLogger("app.serve")
+
+# The per-tick message sizes kept for the bench (the last minute).
+SIZES_KEPT = 1500
+
+
+class Feed:
+    """One simulation thread, its encoder and the pages it feeds."""
+
+    def __init__(self, params: Params, seed: int, touches=(), melt_radius: float = 24.0,
+                 backdrop: str = "dusk"):
+        self.thread = SimThread(params, seed, touches, *SIZE, wake=self._woken)
+        geometry = self.thread.geometry
+        self.encoder = protocol.Encoder(geometry.cols, geometry.rows)
+        self.controls = Controls(self.thread, params, melt_radius, backdrop, self.notice,
+                                 self.tick)
+        self.pages: set[Page] = set()
+        self.latest: Snapshot | None = None
+        self.key = (0, 0)  # (steps, events) of the latest snapshot published
+        self.error: str | None = None
+        self.redraws = 0
+        self.sizes: deque[int] = deque(maxlen=SIZES_KEPT)  # bytes a tick, for the bench
+        self._state: dict = {}
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._want_redraw = threading.Event()
+        self._lock = threading.Lock()
+        self._redraw: tuple[tuple[int, int], GeometryDelta] | None = None
+        self._pumping = threading.Event()  # a pump is scheduled
+
+    def start(self, loop: asyncio.AbstractEventLoop) -> None:
+        self._loop = loop
+        self.thread.start()
+
+    def tick(self) -> int:
+        return self.latest.stats.tick if self.latest else 0
+
+    # ---- the simulation thread's side ---------------------------------------------------
+
+    def _woken(self) -> None:
+        """The thread's wake: after every tick (on its thread) and for its notices."""
+        if threading.current_thread() is self.thread and self._want_redraw.is_set():
+            self._want_redraw.clear()
+            self._make_redraw()
+        loop = self._loop
+        if loop is not None and not self._pumping.is_set():
+            self._pumping.set()
+            with contextlib.suppress(RuntimeError):  # the loop is closed: the end
+                loop.call_soon_threadsafe(self.pump)
+
+    def _make_redraw(self) -> None:
+        thread = self.thread
+        timeline = thread.timeline
+        key = (timeline.steps, len(timeline.events))
+        try:
+            delta = FrostGeometry(thread.params, *thread.size).redraw(thread.sim)
+        except Exception:  # (the thread may have died in its tick)
+            log.exception("serve: the snapshot of the frost failed")
+            return
+        with self._lock:
+            self._redraw = (key, delta)
+
+    # ---- the loop's side -----------------------------------------------------------------
+
+    def ask_redraw(self) -> None:
+        self._want_redraw.set()
+
+    def pump(self) -> None:
+        """Publish every snapshot the thread made since the last pump."""
+        self._pumping.clear()
+        for snap in self.thread.drain():
+            self._publish(snap)
+            self._serve_redraw()
+        self._serve_redraw()
+        while not self.thread.notices.empty():
+            level, text = self.thread.notices.get()
+            log.log(level, "%s", text)
+
+    def _publish(self, snap: Snapshot) -> None:
+        if snap.error:
+            log.error("simulation thread died: %s", snap.error)
+            self.error = snap.error
+            return
+        reset, messages = snap.reset, []
+        for delta in (*snap.melts, *(() if snap.delta is None else (snap.delta,))):
+            messages.append(self.encoder.delta(delta, reset=reset))
+            reset = False
+        if reset:
+            messages.append(self.encoder.bare(snap.stats.tick, reset=True))
+        self.latest, self.key = snap, (snap.steps, snap.events)
+        self.sizes.append(sum(map(len, messages)))
+        self._send_state()
+        if snap.message:
+            self.notice(snap.message)
+        if messages:
+            for page in self.pages:
+                page.tick(messages)
+
+    def _serve_redraw(self) -> None:
+        with self._lock:
+            ready = self._redraw
+            if ready is None or ready[0] > self.key:
+                return  # none, or its snapshot is not published yet
+            self._redraw = None
+        key, delta = ready
+        waiting = [p for p in self.pages if p.idle_waiting()]
+        if key < self.key:  # the frost moved on before it was published: draw it again
+            if waiting:
+                self.ask_redraw()
+            return
+        self.redraws += 1
+        parts = self.encoder.snapshot(delta.tick, delta.features, delta.look, delta.height_scale)
+        state = protocol.text("state", **self.state())
+        for page in waiting:
+            page.start(parts, state)
+
+    # ---- JSON ----------------------------------------------------------------------------
+
+    def state(self) -> dict:
+        snap, c = self.latest, self.controls
+        return {"paused": bool(snap and snap.stats.paused), "preset": c.preset(),
+                "look": c.params.look, "backdrop": c.backdrop, "tick": self.tick()}
+
+    def _send_state(self) -> None:
+        state = self.state()
+        changed = {k: v for k, v in state.items() if self._state.get(k) != v and k != "tick"}
+        self._state = state
+        if changed:
+            self.broadcast(protocol.text("state", **changed, tick=state["tick"]))
+
+    def hello(self) -> str:
+        m = Material()
+        uniforms = {"u_ice_color": m.ice_color, "u_ambient": m.ambient, "u_diffuse": m.diffuse,
+                    "u_specular": m.specular, "u_shininess": m.shininess,
+                    "u_opacity": m.opacity, "u_density": m.density, "u_relief": m.relief,
+                    "u_refraction": m.refraction}
+        defines = {look: {"ice": list(LOOK_DEFINES[look]), "feature": list(FEATURE_DEFINES[look])}
+                   for look in LOOKS}
+        return protocol.text(
+            "hello", protocol=protocol.VERSION, screen=list(SIZE),
+            grid=list(self.encoder.grid), spacing=self.controls.params.grid_spacing,
+            presets=list(all_presets()), looks=list(LOOKS), backdrops=list(BACKDROPS),
+            view=self.view(), uniforms=uniforms, defines=defines, tile=TILE, max_depth=MAX_DEPTH,
+            melt_radius=self.controls.melt_radius, **self.state())
+
+    def view(self) -> dict:
+        """The view a session file records (what the pages show by default)."""
+        return {"light": [float(v) for v in default_light()], "features": True, "bumps": True,
+                "background": self.controls.backdrop}
+
+    def notice(self, text: str) -> None:
+        self.broadcast(protocol.text("notice", text=text))
+
+    def broadcast(self, message: str) -> None:
+        for page in self.pages:
+            if not page.waiting:
+                page.text(message)
+

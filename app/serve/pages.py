@@ -1,0 +1,128 @@
+"""One connected page: its bounded outgoing queue and the task that writes it, its input
+rate limit. A page that falls behind is dropped to a resync (its queue cleared, a snapshot
+sent again); it never makes the tick or another page wait."""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import time
+from collections import deque
+from collections.abc import Callable
+
+from aiohttp import web
+
+from app.serve import protocol
+
+log = logging.getLogger("app.serve")
+
+# A live page more than this many ticks (2 s) behind, or with this many bytes queued (a
+# snapshot's 3 MB at most and more than a second of the largest deltas), is resynced.
+MAX_BEHIND_TICKS = 50
+MAX_BEHIND_BYTES = 6 << 20
+# Input: at most RATE messages a second, in bursts of at most BURST (a token bucket).
+RATE, BURST = float(protocol.RATE_TEXT), float(protocol.RATE_TEXT)
+
+
+class TokenBucket:
+    """Takes one token per message; refills at `rate` a second up to `burst`."""
+
+    def __init__(self, rate: float = RATE, burst: float = BURST, clock=time.monotonic):
+        self.rate, self.burst, self.clock = rate, burst, clock
+        self.tokens, self.at = burst, clock()
+
+    def take(self) -> bool:
+        now = self.clock()
+        self.tokens = min(self.burst, self.tokens + (now - self.at) * self.rate)
+        self.at = now
+        if self.tokens < 1.0:
+            return False
+        self.tokens -= 1.0
+        return True
+
+
+class Page:
+    """A WebSocket's outgoing side. States: waiting (for a snapshot; gets no deltas) and
+    live. `ask_snapshot` is called when it waits with nothing left to write."""
+
+    def __init__(self, ws: web.WebSocketResponse, name: str, ask_snapshot: Callable[[], None]):
+        self.ws, self.name, self.ask_snapshot = ws, name, ask_snapshot
+        self.queue: deque[tuple[str | bytes, bool]] = deque()  # (message, ends a tick)
+        self.behind_ticks = self.behind_bytes = 0
+        self.waiting, self.busy, self.closed = True, False, False
+        self.resyncs = 0
+        self.bucket = TokenBucket()
+        self.fingers: dict[tuple[str, int], tuple[float, float]] = {}  # a drag's last spot
+        self._ready = asyncio.Event()
+
+    def text(self, message: str) -> None:
+        self._put(message, False)
+
+    def tick(self, messages: list[bytes]) -> None:
+        """One tick's messages, unless the page waits for a snapshot; a page too far behind
+        is resynced instead."""
+        if self.waiting or self.closed:
+            return
+        if self.behind_ticks >= MAX_BEHIND_TICKS or self.behind_bytes >= MAX_BEHIND_BYTES:
+            self.resync("fell behind")
+            return
+        for i, m in enumerate(messages):
+            self._put(m, i == len(messages) - 1)
+
+    def resync(self, reason: str) -> None:
+        """Drop what is queued; a snapshot follows once the message being written is out."""
+        log.info("serve: page %s resyncs (%s)", self.name, reason)
+        self.queue.clear()
+        self.behind_ticks = self.behind_bytes = 0
+        self.waiting, self.resyncs = True, self.resyncs + 1
+        self.text(protocol.text("resync", reason=reason))
+
+    def start(self, parts: list[bytes], state: str) -> None:
+        """The snapshot (its parts) and the state now: the page is live from here on."""
+        self.waiting = False
+        self.text(state)
+        for p in parts:
+            self._put(p, False)
+
+    def idle_waiting(self) -> bool:
+        """Waiting for a snapshot with nothing being written: ready for one."""
+        return self.waiting and not self.busy and not self.queue and not self.closed
+
+    def _put(self, message: str | bytes, ends_tick: bool) -> None:
+        self.queue.append((message, ends_tick))
+        self.behind_ticks += ends_tick
+        self.behind_bytes += len(message)
+        self._ready.set()
+
+    async def write(self) -> None:
+        """Send the queue as it fills, until the socket closes."""
+        while not self.closed:
+            if not self.queue:
+                if self.waiting:
+                    self.ask_snapshot()
+                self._ready.clear()
+                await self._ready.wait()
+                continue
+            message, ends_tick = self.queue.popleft()
+            self.behind_ticks -= ends_tick
+            self.behind_bytes -= len(message)
+            self.busy = True
+            try:
+                await self._send(message)
+            except (ConnectionError, RuntimeError):
+                self.closed = True
+            except Exception:
+                log.exception("serve: page %s: writing failed", self.name)
+                self.closed = True
+            finally:
+                self.busy = False
+
+    async def _send(self, message: str | bytes) -> None:
+        if isinstance(message, bytes):
+            await self.ws.send_bytes(message)
+        else:
+            await self.ws.send_str(message)
+
+    def close(self) -> None:
+        self.closed = True
+        self._ready.set()

@@ -1,0 +1,259 @@
+"""`frost serve`: the HTTP + WebSocket server (aiohttp) in front of one `Feed`.
+
+Security (docs/phone.md): a token on every request when one is in force (403 without it),
+the WebSocket's Origin must name the host asked, at most MAX_PAGES sockets, static files
+only from their own folders, and a page's bad input closes its socket alone.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import io
+import logging
+import secrets
+import signal
+import socket
+import sys
+import time
+from pathlib import Path, PurePosixPath
+from urllib.parse import urlsplit
+
+from aiohttp import WSMsgType, web
+
+from app.backdrops import BACKDROPS, load_backdrop
+from app.resources import SHADER_DIR
+from app.serve import protocol
+from app.serve.feed import Feed
+from app.serve.pages import Page
+from app.serve.session import SessionFiles
+
+log = logging.getLogger("app.serve")
+
+WEB_DIR = Path(__file__).resolve().parent.parent / "web"
+MAX_PAGES = 16
+LOOPBACK = ("127.0.0.1", "localhost", "::1")
+HEARTBEAT = 20.0  # s: a socket that answers no ping within half of it is closed
+TYPES = {".html": "text/html", ".js": "text/javascript", ".mjs": "text/javascript",
+         ".css": "text/css", ".json": "application/json", ".png": "image/png",
+         ".svg": "image/svg+xml", ".vert": "text/plain", ".frag": "text/plain",
+         ".glsl": "text/plain", ".webmanifest": "application/manifest+json"}
+FEED = web.AppKey("feed", Feed)
+TOKEN = web.AppKey("token", str)  # "" when none is in force
+FILES = web.AppKey("files", SessionFiles)
+BACKDROP_PNGS = web.AppKey("backdrops", dict)
+
+
+def make_app(feed: Feed, token: str | None = None, session_dir=None,
+             web_dir: Path = WEB_DIR) -> web.Application:
+    """The server's app: its routes, the token check, the feed started with it and stopped
+    (the session written to `session_dir`, if given) when it is cleaned up."""
+    app = web.Application(middlewares=[_token_check])
+    app[FEED], app[TOKEN] = feed, token or ""
+    app[FILES] = SessionFiles(feed, session_dir)
+    app[BACKDROP_PNGS] = {}
+    app.router.add_get("/", _folder(web_dir, "index.html"))
+    app.router.add_get("/web/{path:.*}", _folder(web_dir))
+    app.router.add_get("/shaders/{path:.*}", _folder(SHADER_DIR))
+    app.router.add_get("/backdrops/{name}.png", _backdrop)
+    app.router.add_get("/ws", _socket)
+    app.on_startup.append(_start)
+    app.on_cleanup.append(_stop)
+    return app
+
+
+async def _start(app: web.Application) -> None:
+    app[FEED].start(asyncio.get_running_loop())
+    app[FILES].start()
+
+
+async def _stop(app: web.Application) -> None:
+    feed: Feed = app[FEED]
+    for page in list(feed.pages):
+        page.close()
+        await page.ws.close(code=1001, message=b"frost serve is ending")
+    feed.thread.stop()
+    feed.pump()  # the last ticks, for the session's file
+    app[FILES].stop()
+
+
+@web.middleware
+async def _token_check(request: web.Request, handler):
+    token = request.app[TOKEN]
+    given = request.query.get("token", "")
+    if token and not secrets.compare_digest(given.encode(), token.encode()):
+        raise web.HTTPForbidden(text="frost: this server needs the token of the URL "
+                                     "frost serve printed\n")
+    return await handler(request)
+
+
+def inside(folder: Path, rel: str) -> Path | None:
+    """The file `rel` names under `folder`, or None if it is not a file there (a path that
+    climbs out with '..', is absolute, or is a link leading out)."""
+    if not rel or "\\" in rel or "\0" in rel or rel.startswith("/"):
+        return None
+    if any(part in ("..", ".") for part in PurePosixPath(rel).parts):
+        return None
+    root = folder.resolve()
+    path = (root / rel).resolve()
+    return path if path.is_relative_to(root) and path.is_file() else None
+
+
+def _folder(folder: Path, name: str | None = None):
+    """A handler serving the files of `folder` (the path's {path}, or always `name`)."""
+    async def handler(request: web.Request) -> web.StreamResponse:
+        rel = name or request.match_info["path"]
+        path = inside(folder, rel)
+        if path is None:
+            raise web.HTTPNotFound(text=f"frost: no file {rel[:80]!r}\n")
+        headers = {"Cache-Control": "no-cache"}
+        if path.suffix in TYPES:
+            headers["Content-Type"] = TYPES[path.suffix]
+        return web.FileResponse(path, headers=headers)
+    return handler
+
+
+async def _backdrop(request: web.Request) -> web.Response:
+    name, cache = request.match_info["name"], request.app[BACKDROP_PNGS]
+    if name not in BACKDROPS:
+        raise web.HTTPNotFound(text=f"frost: no backdrop {name[:40]!r}\n")
+    if name not in cache:
+        cache[name] = await asyncio.to_thread(_png, name)
+    return web.Response(body=cache[name], content_type="image/png")
+
+
+def _png(name: str) -> bytes:
+    from PIL import Image
+    out = io.BytesIO()
+    Image.fromarray(load_backdrop(name)).save(out, "PNG")
+    return out.getvalue()
+
+
+def same_origin(origin: str, host: str) -> bool:
+    """A WebSocket's Origin header names the host (and port) the request was made to."""
+    parts = urlsplit(origin)
+    return parts.scheme in ("http", "https") and parts.netloc.lower() == host.lower()
+
+
+async def _socket(request: web.Request) -> web.WebSocketResponse:
+    feed: Feed = request.app[FEED]
+    origin = request.headers.get("Origin")
+    if origin is not None and not same_origin(origin, request.host):
+        raise web.HTTPForbidden(text="frost: the page's origin is not this server\n")
+    if len(feed.pages) >= MAX_PAGES:
+        raise web.HTTPServiceUnavailable(text=f"frost: {MAX_PAGES} pages are connected already\n")
+    ws = web.WebSocketResponse(max_msg_size=protocol.MAX_INPUT_BYTES, heartbeat=HEARTBEAT)
+    await ws.prepare(request)
+    page = Page(ws, f"{request.remote}:{id(ws) & 0xFFFF:04x}", feed.ask_redraw)
+    feed.pages.add(page)
+    page.text(feed.hello())
+    writer = asyncio.create_task(page.write())
+    log.info("serve: page %s connected (%d pages)", page.name, len(feed.pages))
+    try:
+        async for msg in ws:
+            problem = _take(feed, page, msg)
+            if problem is not None:
+                log.info("serve: page %s closed: %s", page.name, problem.reason)
+                await ws.close(code=problem.code, message=problem.reason.encode()[:120])
+                break
+    finally:
+        page.close()
+        feed.pages.discard(page)
+        writer.cancel()
+    return ws
+
+
+def _take(feed: Feed, page: Page, msg) -> protocol.ProtocolError | None:
+    """Apply one message of a page; the error that closes its socket, if any."""
+    if msg.type == WSMsgType.ERROR:
+        return protocol.ProtocolError(f"socket error: {msg.data}"[:100], protocol.TOO_BIG)
+    if msg.type not in (WSMsgType.TEXT, WSMsgType.BINARY):
+        return None
+    if not page.bucket.take():
+        return protocol.ProtocolError(f"over {protocol.RATE_TEXT} messages a second")
+    try:
+        message = protocol.parse_input(msg.data)
+    except protocol.ProtocolError as err:
+        return err
+    if message.kind == "ping":
+        page.text(protocol.text("pong", t=message.stamp, tick=feed.tick()))
+    else:
+        feed.controls.handle(message, page.fingers)
+    return None
+
+
+# ---- the command ------------------------------------------------------------------------
+
+def run(args, feed: Feed) -> int:
+    """Serve until Ctrl-C (or a signal, or --max-seconds); the exit status."""
+    token = None if args.host in LOOPBACK else secrets.token_urlsafe(16)
+    app = make_app(feed, token, args.session_dir)
+    return asyncio.run(_serve(app, args.host, args.port, token, args.max_seconds))
+
+
+async def _serve(app: web.Application, host: str, port: int, token: str | None,
+                 max_seconds: float | None) -> int:
+    runner = web.AppRunner(app, handle_signals=False, access_log=None)
+    await runner.setup()
+    try:
+        site = web.TCPSite(runner, host, port)
+        await site.start()
+    except OSError as err:
+        await runner.cleanup()
+        print(f"frost: error: cannot listen on {host}:{port}: {err.strerror or err}",
+              file=sys.stderr)
+        return 1
+    bound = runner.addresses[0][1] if runner.addresses else port
+    announce(host, bound, token)
+    status = await _until_ended(app[FEED], max_seconds)
+    await runner.cleanup()
+    return status
+
+
+async def _until_ended(feed: Feed, max_seconds: float | None) -> int:
+    """Wait for a signal (128 + its number, as the window exits), the deadline (0) or the
+    simulation thread's death (1)."""
+    loop, ended = asyncio.get_running_loop(), asyncio.Event()
+    got: list[int] = []
+
+    def on_signal(signum: int) -> None:
+        got.append(signum)
+        ended.set()
+
+    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        loop.add_signal_handler(sig, on_signal, sig)
+    deadline = time.monotonic() + (max_seconds if max_seconds is not None else float("inf"))
+    while not ended.is_set() and feed.error is None and time.monotonic() < deadline:
+        with contextlib.suppress(asyncio.TimeoutError):
+            await asyncio.wait_for(ended.wait(), 0.25)
+    if got:
+        log.info("serve: %s received: closing", signal.Signals(got[0]).name)
+        return 128 + got[0]
+    return 1 if feed.error else 0
+
+
+def lan_address() -> str:
+    """This machine's address on its network (where a phone can reach it); no packet is
+    sent (a UDP socket's connect only picks the route)."""
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        try:
+            s.connect(("10.254.254.254", 1))
+            return s.getsockname()[0]
+        except OSError:
+            return socket.gethostname()
+
+
+def announce(host: str, port: int, token: str | None) -> None:
+    """Print the URL to open (with the token, and its QR code for a phone's camera)."""
+    if token is None:
+        print(f"frost serve: open http://{host}:{port}/ (Ctrl-C ends it)", flush=True)
+        return
+    shown = lan_address() if host in ("0.0.0.0", "::", "") else host
+    url = f"http://{shown}:{port}/?token={token}"
+    print(f"frost serve: open {url} on a phone of this network (Ctrl-C ends it)", flush=True)
+    try:
+        import segno
+        segno.make(url, error="m").terminal(compact=True)
+    except ImportError:
+        print("frost serve: (no QR code: the segno package is missing)")
+    sys.stdout.flush()

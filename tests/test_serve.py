@@ -1,0 +1,372 @@
+"""`frost serve` through aiohttp's test client: the shared frost, snapshots, the security
+rules, bad input, a stalled page, and the session it writes. Each page here keeps what a
+page holds (the height grid and the feature triangles) from the messages it gets, as the
+oracle the server's state is checked against."""
+
+import asyncio
+import json
+import socket
+
+import numpy as np
+import pytest
+from aiohttp import WSMsgType
+from aiohttp.test_utils import TestClient, TestServer
+
+from app.serve import pages as pages_module
+from app.serve.feed import Feed
+from app.serve.protocol import LAST_PART, RESET, SNAPSHOT, apply_geometry, decode_geometry
+from app.serve.server import MAX_PAGES, inside, make_app, same_origin
+from sim import Params
+from sim.io.session import SessionLog, replay
+
+PAPER = Params.preset("c-2")
+CENTRE = (380.0, 640.0)
+
+
+class PageModel:
+    """What a page holds after the messages it got."""
+
+    def __init__(self):
+        self.heights: np.ndarray | None = None
+        self.tris = np.empty((0, 3, 6), np.float32)
+        self.texts: list[dict] = []
+        self.tick, self.snapshots, self.messages, self.resets = -1, 0, 0, 0
+
+    def apply(self, data: bytes) -> dict:
+        m = decode_geometry(data)
+        cols, rows = m["grid"]
+        if self.heights is None:
+            self.heights = np.zeros(cols * rows, np.float32)
+        if m["flags"] & RESET:
+            self.tris = self.tris[:0]
+            self.resets += not m["flags"] & SNAPSHOT
+        if m["clear_box"] is not None:
+            x0, y0, x1, y1 = m["clear_box"]
+            lo, hi = self.tris[:, :, :2].min(axis=1), self.tris[:, :, :2].max(axis=1)
+            meets = (hi[:, 0] >= x0) & (lo[:, 0] <= x1) & (hi[:, 1] >= y0) & (lo[:, 1] <= y1)
+            self.tris = self.tris[~meets]
+        apply_geometry(self.heights, m)
+        self.tris = np.concatenate((self.tris, m["vertices"].reshape(-1, 3, 6)))
+        self.tick, self.messages = m["tick"], self.messages + 1
+        if m["flags"] & SNAPSHOT and m["flags"] & LAST_PART:
+            self.snapshots += 1
+        return m
+
+    def sorted_tris(self) -> np.ndarray:
+        """The distinct triangles, sorted (a survivor of a melt whose box its bounds meet
+        but not its triangles is sent again: drawn twice, it draws the same)."""
+        return np.unique(self.tris.reshape(-1, 18), axis=0)
+
+    def state(self, key):
+        for t in reversed(self.texts):
+            if t["type"] in ("state", "hello") and key in t:
+                return t[key]
+        return None
+
+
+async def read_until(ws, page: PageModel, done, timeout: float = 20.0):
+    loop = asyncio.get_running_loop()
+    end = loop.time() + timeout
+    while not done():
+        msg = await asyncio.wait_for(ws.receive(), max(0.01, end - loop.time()))
+        if msg.type == WSMsgType.BINARY:
+            page.apply(msg.data)
+        elif msg.type == WSMsgType.TEXT:
+            page.texts.append(json.loads(msg.data))
+        else:
+            raise AssertionError(f"socket ended: {msg.type} {msg.data} {msg.extra}")
+
+
+async def read_quiet(ws, page: PageModel, quiet: float = 0.4):
+    """Read until nothing comes for `quiet` s (a paused simulation sends nothing)."""
+    while True:
+        try:
+            msg = await asyncio.wait_for(ws.receive(), quiet)
+        except asyncio.TimeoutError:
+            return
+        if msg.type == WSMsgType.BINARY:
+            page.apply(msg.data)
+        elif msg.type == WSMsgType.TEXT:
+            page.texts.append(json.loads(msg.data))
+        else:
+            raise AssertionError(f"socket ended: {msg.type}")
+
+
+def near(page: PageModel, spot, reach: float = 40.0) -> bool:
+    xy = page.tris[:, :, :2].reshape(-1, 2)
+    return bool(len(xy)) and bool((np.hypot(*(xy - spot).T) < reach).any())
+
+
+def serve(test, params=PAPER, **app_kw):
+    """Run `test(client, feed)` against a fresh server."""
+    async def main():
+        feed = Feed(params, seed=1)
+        async with TestClient(TestServer(make_app(feed, **app_kw))) as client:
+            await test(client, feed)
+        return feed
+    return asyncio.run(main())
+
+
+async def connect(client, token=None):
+    ws = await client.ws_connect("/ws" + (f"?token={token}" if token else ""))
+    page = PageModel()
+    await read_until(ws, page, lambda: page.snapshots >= 1)
+    assert page.texts[0]["type"] == "hello" and page.texts[0]["protocol"] == 1
+    return ws, page
+
+
+async def pause(ws, page):
+    await ws.send_json({"type": "pause"})
+    await read_until(ws, page, lambda: page.state("paused") is True)
+    await read_quiet(ws, page)
+
+
+def test_a_touch_grows_frost_on_the_page():
+    async def test(client, feed):
+        ws, page = await connect(client)
+        assert not near(page, CENTRE)
+        await ws.send_json({"type": "touch", "x": CENTRE[0], "y": CENTRE[1]})
+        await read_until(ws, page, lambda: near(page, CENTRE))
+        assert page.heights.reshape(feed.encoder.grid[::-1]).any()
+    serve(test)
+
+
+def test_two_pages_see_the_same_frost_and_a_late_one_gets_it_whole():
+    async def test(client, feed):
+        (a, pa), (b, pb) = await connect(client), await connect(client)
+        await b.send_json({"type": "touch", "x": 300.0, "y": 500.0})
+        await a.send_json({"type": "touch", "x": 450.0, "y": 800.0, "phase": "down", "id": 2})
+        await a.send_json({"type": "touch", "x": 470.0, "y": 840.0, "phase": "move", "id": 2})
+        await read_until(a, pa, lambda: near(pa, (300, 500)) and near(pa, (450, 800))
+                         and pa.tick > 40)
+        await pause(a, pa)
+        await read_quiet(b, pb)
+        assert pa.tick == pb.tick and pa.heights.any()
+        assert (pa.heights == pb.heights).all()
+        assert np.array_equal(pa.sorted_tris(), pb.sorted_tris())
+        # the late page: a snapshot only, equal to the sum of the early page's deltas
+        c, pc = await connect(client)
+        assert pc.messages <= 2 and pc.tick == pa.tick
+        assert (pc.heights == pa.heights).all()
+        assert np.array_equal(pc.sorted_tris(), pa.sorted_tris())
+        # which is the simulation's frost (half floats); a tap, a finger down and one seed
+        # 4 hc (28 px) along its 45 px drag
+        assert (pc.heights == feed.thread.geometry.heights.ravel().astype(np.float16)).all()
+        assert len(feed.thread.touches) == 3
+    serve(test)
+
+
+def test_after_a_melt_the_late_page_still_matches():
+    async def test(client, feed):
+        a, pa = await connect(client)
+        await a.send_json({"type": "touch", "x": CENTRE[0], "y": CENTRE[1]})
+        await read_until(a, pa, lambda: pa.tick > 60)
+        await a.send_json({"type": "melt", "x": CENTRE[0] + 10, "y": CENTRE[1]})
+        await read_until(a, pa, lambda: pa.tick > 66)
+        await pause(a, pa)
+        b, pb = await connect(client)
+        assert (pb.heights == pa.heights).all()
+        assert np.array_equal(pb.sorted_tris(), pa.sorted_tris())
+    serve(test)
+
+
+def test_a_token_is_needed_when_one_is_in_force():
+    async def test(client, feed):
+        for url in ("/", "/shaders/ice.frag", "/ws", "/backdrops/dusk.png"):
+            resp = await client.get(url)
+            assert resp.status == 403, url
+            resp = await client.get(url + "?token=wrong")
+            assert resp.status == 403, url
+        resp = await client.get("/shaders/ice.frag?token=s3cret")
+        assert resp.status == 200 and "void main" in await resp.text()
+        ws, _page = await connect(client, token="s3cret")
+        await ws.close()
+    serve(test, token="s3cret")
+
+
+def test_static_files_stay_in_their_folders(tmp_path):
+    web = tmp_path / "web"
+    web.mkdir()
+    (web / "index.html").write_text("<p>frost</p>")
+    (web / "app.js").write_text("export {};")
+    (tmp_path / "secret.txt").write_text("no")
+    (web / "link.txt").symlink_to(tmp_path / "secret.txt")
+
+    async def test(client, feed):
+        assert await (await client.get("/")).text() == "<p>frost</p>"
+        resp = await client.get("/web/app.js")
+        assert resp.status == 200 and resp.content_type == "text/javascript"
+        for url in ("/web/..%2fsecret.txt", "/web/%2e%2e/secret.txt", "/web/../secret.txt",
+                    "/web/%2Fetc%2Fpasswd", "/web//etc/passwd", "/web/link.txt",
+                    "/shaders/..%2f..%2fpyproject.toml", "/shaders/%2e%2e%2fsetup.py",
+                    "/backdrops/..%2fbackground.png"):
+            resp = await client.get(url)
+            assert resp.status == 404, url
+            assert await resp.text() != "no"
+        png = await client.get("/backdrops/dusk.png")
+        assert png.status == 200 and (await png.read())[:4] == b"\x89PNG"
+    serve(test, web_dir=web)
+    assert inside(web, "../secret.txt") is None and inside(web, str(tmp_path / "secret.txt")) is None
+    assert inside(web, "app.js") == (web / "app.js").resolve()
+
+
+def test_origin_must_name_the_host():
+    assert same_origin("http://192.168.1.5:8025", "192.168.1.5:8025")
+    assert not same_origin("http://evil.example", "192.168.1.5:8025")
+    assert not same_origin("null", "127.0.0.1:8025")
+
+    async def test(client, feed):
+        resp = await client.get("/ws", headers={"Origin": "http://evil.example",
+                                                "Connection": "Upgrade", "Upgrade": "websocket",
+                                                "Sec-WebSocket-Version": "13",
+                                                "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ=="})
+        assert resp.status == 403
+        host = f"{client.server.host}:{client.server.port}"
+        ws = await client.ws_connect("/ws", origin=f"http://{host}")
+        await ws.close()
+    serve(test)
+
+
+def test_at_most_sixteen_pages():
+    async def test(client, feed):
+        sockets = [await client.ws_connect("/ws") for _ in range(MAX_PAGES)]
+        resp = await client.get("/ws", headers={"Connection": "Upgrade", "Upgrade": "websocket",
+                                                "Sec-WebSocket-Version": "13",
+                                                "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ=="})
+        assert resp.status == 503
+        for ws in sockets:
+            await ws.close()
+    serve(test)
+
+
+@pytest.mark.parametrize("send, code, says", [
+    ("not json", 1008, "not JSON"),
+    ('{"type":"touch","x":"a","y":1}', 1008, "'x'"),
+    ('{"type":"warp"}', 1008, "unknown message type"),
+    ("x" * 2000, 1009, ""),
+    (b"\x01\x02", 1008, "binary"),
+])
+def test_bad_input_closes_that_socket_and_changes_nothing(send, code, says):
+    async def test(client, feed):
+        good, page = await connect(client)
+        bad = await client.ws_connect("/ws")
+        await (bad.send_bytes(send) if isinstance(send, bytes) else bad.send_str(send))
+        while (msg := await asyncio.wait_for(bad.receive(), 10)).type not in (
+                WSMsgType.CLOSE, WSMsgType.CLOSING, WSMsgType.CLOSED):
+            pass
+        assert bad.close_code == code and says in (msg.extra or "")
+        tick = page.tick
+        await read_until(good, page, lambda: page.tick > tick + 10)  # still ticking
+        assert feed.thread.session().events == []
+    serve(test)
+
+
+def test_a_flood_is_cut_off_and_the_server_ticks_on():
+    async def test(client, feed):
+        good, page = await connect(client)
+        flood = await client.ws_connect("/ws")
+        for i in range(400):
+            await flood.send_str(f'{{"type":"ping","t":{i}}}')
+        while (msg := await asyncio.wait_for(flood.receive(), 10)).type not in (
+                WSMsgType.CLOSE, WSMsgType.CLOSING, WSMsgType.CLOSED):
+            pass
+        assert flood.close_code == 1008 and "messages a second" in msg.extra
+        tick = page.tick
+        await read_until(good, page, lambda: page.tick > tick + 10)
+    serve(test)
+
+
+def stalled_socket(host: str, port: int) -> socket.socket:
+    """A WebSocket opened by hand that never reads (a tiny receive buffer)."""
+    s = socket.socket()
+    s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+    s.connect((host, port))
+    s.sendall(b"GET /ws HTTP/1.1\r\nHost: %s:%d\r\nConnection: Upgrade\r\nUpgrade: websocket\r\n"
+              b"Sec-WebSocket-Version: 13\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n\r\n"
+              % (host.encode(), port))
+    return s
+
+
+class StuckSocket:
+    """A page's socket whose sends hang (the peer stopped reading) from the `after`-th on,
+    until `gate` is set; what it sent goes into `page`."""
+
+    def __init__(self, after: int):
+        self.after, self.sent, self.gate = after, 0, asyncio.Event()
+        self.page = PageModel()
+
+    async def _send(self, data):
+        self.sent += 1
+        if self.sent > self.after:
+            await self.gate.wait()
+        if isinstance(data, bytes):
+            self.page.apply(data)
+        else:
+            self.page.texts.append(json.loads(data))
+
+    send_bytes = send_str = _send
+
+
+def test_a_page_that_stops_reading_stalls_nobody(monkeypatch):
+    monkeypatch.setattr(pages_module, "MAX_BEHIND_TICKS", 10)
+
+    async def test(client, feed):
+        good, page = await connect(client)
+        stuck_tcp = stalled_socket(client.server.host, client.server.port)  # the real thing
+        stuck = StuckSocket(after=3)  # hello, state and the snapshot's one part, then hangs
+        slow = pages_module.Page(stuck, "stuck", feed.ask_redraw)
+        feed.pages.add(slow)
+        slow.text(feed.hello())
+        writer = asyncio.create_task(slow.write())
+        try:
+            most = 0
+            for i in range(40):  # a scribble: deltas every tick
+                await good.send_json({"type": "touch", "x": 100.0 + 9 * i, "y": 300.0 + 11 * i})
+                await read_until(good, page, lambda t=page.tick: page.tick > t)
+                most = max(most, len(slow.queue), slow.behind_ticks)
+            assert slow.resyncs >= 1 and slow.waiting, "the stuck page was not dropped"
+            assert most <= pages_module.MAX_BEHIND_TICKS + 2  # its queue stayed bounded
+            assert feed.redraws <= 2  # a hung page asks for no snapshot while it hangs
+            stuck.gate.set()  # it reads again: a snapshot brings it back to the frost
+            await pause(good, page)
+            for _ in range(100):
+                if not slow.waiting and not slow.queue and not slow.busy:
+                    break
+                await asyncio.sleep(0.05)
+            assert (stuck.page.heights == page.heights).all()
+            assert np.array_equal(stuck.page.sorted_tris(), page.sorted_tris())
+        finally:
+            stuck_tcp.close()
+            slow.close()
+            feed.pages.discard(slow)
+            writer.cancel()
+    serve(test)
+
+
+def test_the_session_written_replays_to_the_same_frost(tmp_path):
+    seen = PageModel()
+
+    async def test(client, feed):
+        ws, page = await connect(client)
+        await ws.send_json({"type": "touch", "x": CENTRE[0], "y": CENTRE[1]})
+        await ws.send_json({"type": "touch", "x": 200.0, "y": 300.0, "id": 1})
+        await ws.send_json({"type": "touch", "x": 260.0, "y": 360.0, "id": 1, "phase": "move"})
+        await read_until(ws, page, lambda: page.tick > 50)
+        await ws.send_json({"type": "melt", "x": CENTRE[0], "y": CENTRE[1] + 8})
+        await ws.send_json({"type": "key", "key": "EQUAL"})  # humidity up: a rebuild
+        await read_until(ws, page, lambda: page.resets == 1)  # the rebuild
+        await read_until(ws, page, lambda: page.tick > 30)
+        await ws.close()
+        seen.heights, seen.tris = page.heights, page.tris
+
+    feed = serve(test, session_dir=tmp_path)
+    files = list(tmp_path.glob("session-*.json"))
+    assert len(files) == 1
+    log = SessionLog.load(files[0])
+    kinds = [e["kind"] for e in log.events]
+    assert kinds.count("touch") == 5 and "melt" in kinds and "params" in kinds
+    again = replay(log)
+    sim = feed.thread.sim
+    assert np.array_equal(again.sim.crystals, sim.crystals)
+    assert np.array_equal(again.sim.crystal_alive, sim.crystal_alive)
+    assert (again.geometry.heights == feed.thread.geometry.heights).all()
