@@ -137,6 +137,20 @@ def test_the_height_texture_holds_heights_and_slopes_as_numpy(browser, grown):
     assert np.array_equal(got, want)
 
 
+def test_a_page_reconnects_and_holds_what_the_new_connection_gives(browser, grown):
+    """The socket closes after the whole frost; the page reconnects (after its backoff)
+    and the new connection's hello and messages (half the frost) replace what it held."""
+    params, messages, _ = grown
+    half = messages[:len(messages) // 2]
+    with Page(hello(params), half, browser=browser) as page:
+        want = page.pixels()
+    with Page(hello(params), messages, browser=browser, later=[half]) as page:
+        total = len(messages) + len(half) + 2  # and two hellos
+        page.page.wait_for_function(f"frost.hellos === 2 && frost.messages === {total}")
+        page.page.wait_for_timeout(100)
+        assert np.array_equal(page.pixels(), want)
+
+
 def test_screenshot_png_carries_the_desktops_keys(browser, grown):
     from app.images import frost_meta
 

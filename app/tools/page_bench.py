@@ -118,8 +118,11 @@ class Page:
     (launch) is shared if given, else the page starts its own."""
 
     def __init__(self, hello_message: dict, messages: list[bytes], viewport=(WIDTH, HEIGHT),
-                 scale: float = 1.0, browser=None, touch: bool = False):
+                 scale: float = 1.0, browser=None, touch: bool = False, later=()):
+        # `later`: what each later connection gets (the page reconnects: this one's socket
+        # is closed once its messages are sent).
         self.hello, self.messages = hello_message, messages
+        self.connections = [messages, *later]
         self.viewport, self.scale, self.touch = viewport, scale, touch
         self.browser, self._pw = browser, None
         self.sent: list[dict] = []
@@ -174,8 +177,11 @@ class Page:
     def _socket(self, ws) -> None:
         ws.on_message(lambda m: self.sent.append(json.loads(m)))
         ws.send(json.dumps(self.hello))
-        for message in self.messages:
+        messages = self.connections.pop(0)
+        for message in messages:
             ws.send(message)
+        if self.connections:
+            ws.close(code=1001, reason="going away")
 
     def pixels(self) -> np.ndarray:
         """The page's frame, H x W x 3 uint8, top row first."""

@@ -21,7 +21,7 @@ const gl = canvas.getContext("webgl2", {
 // What the page knows; `window.frost` exposes it to the tests and the bench.
 const state = {
   hello: null, renderer: null, tick: 0, connected: false, synced: false, dirty: true,
-  messages: 0, bytes: 0, backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
+  messages: 0, bytes: 0, hellos: 0, backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
 };
 window.frost = state;
 
@@ -96,6 +96,7 @@ function send(message) {
 async function onText(msg) {
   if (msg.type === "hello") {
     state.hello = msg;
+    state.hellos += 1;
     state.connected = true;
     status("");
     const [cols, rows] = msg.grid;
