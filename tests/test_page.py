@@ -208,3 +208,26 @@ def test_fingers_become_touches_and_melts_in_screen_px(browser):
     assert abs(melt["x"] - 100) < 0.5 and abs(melt["y"] - 200) < 0.5
     move = next(m for m in sent if m["phase"] == "move" and m["id"] == 0)
     assert abs(move["x"] - 390) < 0.5 and abs(move["y"] - 650) < 0.5
+
+
+def test_keys_and_the_menu_go_to_the_server(browser):
+    """Keys by their GLFW names (S takes a screenshot on the page instead); the menu's
+    choices as their messages; the menu shows the server's state."""
+    params = Params.preset("fern")
+    state = {**hello(params), "presets": ["fern", "c-3"], "preset": "fern",
+             "backdrops": ["dusk", "lockscreen"], "paused": True}
+    with Page(state, [], browser=browser) as page:
+        p = page.page
+        for key in ("Space", "c", "3", "BracketRight", "ArrowLeft", "s", "Shift"):
+            p.keyboard.press(key)
+        assert p.input_value("#preset") == "fern" and p.inner_text("#pause") == "Resume"
+        p.click("#open")
+        p.select_option("#preset", "c-3")
+        p.select_option("#look", "paper")
+        p.select_option("#backdrop", "lockscreen")
+        for button in ("#pause", "#clear"):
+            p.click(button)
+        p.wait_for_timeout(100)
+    assert page.sent == [{"type": "key", "key": k} for k in ("SPACE", "C", "3", "RIGHT_BRACKET", "LEFT")] + [
+        {"type": "preset", "name": "c-3"}, {"type": "look", "name": "paper"},
+        {"type": "backdrop", "name": "lockscreen"}, {"type": "pause"}, {"type": "clear"}]
