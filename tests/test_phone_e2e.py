@@ -222,6 +222,26 @@ def test_a_request_without_the_token_is_refused(serve, phones, browser):
         wrong.close()
 
 
+def test_a_flood_of_bad_messages_closes_that_page_alone(serve, phones):
+    """Malformed and oversized messages close the sender's socket (it reconnects and
+    resyncs); the server keeps ticking for the other page, and nothing changed."""
+    s = serve()
+    bad, good = phones(s.local), phones(s.local)
+    tick0, t0 = good.evaluate("frost.tick"), time.monotonic()
+    floods = ["'{bad'", "'x'.repeat(5000)", "JSON.stringify({type: 'touch', x: NaN, y: 1})",
+              "JSON.stringify({type: 'nope'})", "new Uint8Array(64)",
+              "JSON.stringify({type: 'touch', x: 1, y: 2, id: 99})"]
+    for flood in floods:
+        bad.wait_for_function("frost.synced", timeout=10_000)
+        hellos = bad.evaluate("frost.hellos")
+        bad.evaluate(f"for (let i = 0; i < 50; i++) frost.socket.send({flood})")
+        bad.wait_for_function(f"frost.hellos > {hellos}", timeout=10_000)  # closed, back
+    rate = (good.evaluate("frost.tick") - tick0) / (time.monotonic() - t0)
+    assert rate > 20, f"{rate:.1f} ticks a second"
+    # No touch landed: the frost is the bare backdrop still.
+    assert np.array_equal(pixels(good).astype(int), BACKDROP)
+
+
 def _stalled_socket(port: int, token: str | None) -> socket.socket:
     """A WebSocket that connects and then never reads (a tiny receive window)."""
     sock = socket.socket()
