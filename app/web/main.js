@@ -248,9 +248,9 @@ async function screenshotPng() {
   c.getContext("2d").putImageData(new ImageData(new Uint8ClampedArray(pixels.buffer), ...SCREEN), 0, 0);
   const blob = await new Promise((resolve) => c.toBlob(resolve, "image/png"));
   const png = new Uint8Array(await blob.arrayBuffer());
-  // frost_meta's keys in its order; parameters, seed and touches as the server's hello
-  // (or a state message) gives them in "meta".
-  const known = (state.hello || {}).meta || {};
+  // frost_meta's keys in its order; parameters, seed and touches as the server gives them
+  // (GET /meta, else the hello's "meta").
+  const known = await serverMeta();
   const local = new Date(Date.now() - new Date().getTimezoneOffset() * 60000);
   const meta = {
     parameters: known.parameters ?? null, seed: known.seed ?? null, tick: state.tick,
@@ -259,6 +259,14 @@ async function screenshotPng() {
     view: { light: r.light, features: r.showFeatures, bumps: r.showBumps, background: state.backdrop },
   };
   return withText(png, meta);
+}
+
+async function serverMeta() {
+  try {
+    const r = await fetch(`meta${query}`);
+    if (r.ok) return await r.json();
+  } catch { /* an older server: the hello's */ }
+  return (state.hello || {}).meta || {};
 }
 
 async function screenshot() {
