@@ -151,6 +151,27 @@ def test_a_page_reconnects_and_holds_what_the_new_connection_gives(browser, grow
         assert np.array_equal(page.pixels(), want)
 
 
+def test_on_the_same_rasteriser_the_page_draws_the_desktops_pixels(grown):
+    """Chromium's WebGL on the system's OpenGL (ANGLE over EGL: Mesa's llvmpipe, the
+    desktop renderer's rasteriser here): the page's frame is the desktop's, bit for bit."""
+    from playwright.sync_api import sync_playwright
+
+    params, messages, desktop = grown
+    with sync_playwright() as pw:
+        b = launch(pw, "gl-egl")
+        try:
+            with Page(hello(params), messages, browser=b) as page:
+                renderer = page.page.evaluate("""() => { const gl = document.createElement('canvas')
+                    .getContext('webgl2'); const d = gl.getExtension('WEBGL_debug_renderer_info');
+                    return gl.getParameter(d.UNMASKED_RENDERER_WEBGL); }""")
+                if "llvmpipe" not in renderer:
+                    pytest.skip(f"Chromium's OpenGL is not llvmpipe here: {renderer}")
+                shown = page.pixels()
+        finally:
+            b.close()
+    assert np.array_equal(shown, desktop), compare(shown, desktop)
+
+
 def test_screenshot_png_carries_the_desktops_keys(browser, grown):
     from app.images import frost_meta
 

@@ -32,6 +32,8 @@ from sim.screen import HEIGHT, WIDTH
 CHROMIUM = "/usr/bin/chromium"
 # SwiftShader (Chromium's CPU rasteriser) for WebGL2, on any machine, GPU or not.
 CHROMIUM_ARGS = ["--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist"]
+# Or the system's OpenGL through EGL (Mesa's llvmpipe here: the desktop renderer's rasteriser).
+ANGLE = {"swiftshader": CHROMIUM_ARGS, "gl-egl": ["--use-angle=gl-egl", "--ignore-gpu-blocklist"]}
 ORIGIN = "http://frost.test"  # the page's address when Playwright serves it from disk
 # Touches the bench grows its frost from (screen px), and a warm finger's melt (x, y, r)
 # two thirds of the way (a wipe of the page's features, then the survivors re-sent).
@@ -50,9 +52,9 @@ def browser_problem() -> str | None:
     return None
 
 
-def launch(playwright):
-    """The system Chromium, headless, with WebGL2 on SwiftShader."""
-    return playwright.chromium.launch(executable_path=CHROMIUM, headless=True, args=CHROMIUM_ARGS)
+def launch(playwright, angle: str = "swiftshader"):
+    """The system Chromium, headless, with WebGL2 on SwiftShader (or `angle` of ANGLE)."""
+    return playwright.chromium.launch(executable_path=CHROMIUM, headless=True, args=ANGLE[angle])
 
 
 def hello(params: Params, backdrop: str = DEFAULT_BACKDROP) -> dict:
@@ -118,13 +120,14 @@ class Page:
     (launch) is shared if given, else the page starts its own."""
 
     def __init__(self, hello_message: dict, messages: list[bytes], viewport=(WIDTH, HEIGHT),
-                 scale: float = 1.0, browser=None, touch: bool = False, later=()):
+                 scale: float = 1.0, browser=None, touch: bool = False, later=(),
+                 angle: str = "swiftshader"):
         # `later`: what each later connection gets (the page reconnects: this one's socket
         # is closed once its messages are sent).
         self.hello, self.messages = hello_message, messages
         self.connections = [messages, *later]
         self.viewport, self.scale, self.touch = viewport, scale, touch
-        self.browser, self._pw = browser, None
+        self.browser, self._pw, self.angle = browser, None, angle
         self.sent: list[dict] = []
 
     def __enter__(self) -> Page:
@@ -132,7 +135,7 @@ class Page:
             from playwright.sync_api import sync_playwright
 
             self._pw = sync_playwright().start()
-            self.browser = launch(self._pw)
+            self.browser = launch(self._pw, self.angle)
         self.context = self.browser.new_context(
             viewport={"width": self.viewport[0], "height": self.viewport[1]},
             device_scale_factor=self.scale, has_touch=self.touch, is_mobile=self.touch)
@@ -239,6 +242,19 @@ def desktop_frame(ctx, params: Params, deltas: list[GeometryDelta]) -> np.ndarra
     return read_image(fbo)
 
 
+def desktop_frame_times(off, n: int) -> np.ndarray:
+    """Milliseconds of `n` full frames of the desktop renderer (EGL), each waited for."""
+    import time
+
+    times = []
+    for _ in range(n):
+        t0 = time.perf_counter()
+        off.renderer.render(off.fbo)
+        off.fbo.read(viewport=(0, 0, 1, 1))
+        times.append((time.perf_counter() - t0) * 1e3)
+    return np.asarray(times)
+
+
 def compare(a: np.ndarray, b: np.ndarray) -> dict:
     """Mean absolute difference (of 255) and the share of pixels whose every channel is
     within 8/255, of two H x W x 3 uint8 images."""
@@ -260,6 +276,9 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.tools.page_be
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--ticks", type=count, default=300, help="ticks to grow (default 300)")
     p.add_argument("--frames", type=count, default=60, help="page frames timed (default 60)")
+    p.add_argument("--angle", choices=list(ANGLE), default="swiftshader",
+                   help="the page's WebGL: Chromium's SwiftShader (default) or the system's "
+                        "OpenGL through EGL (gl-egl)")
     p.add_argument("--out", help="write desktop.png, page.png, difference.png here")
     args = p.parse_args(argv)
     problem = browser_problem()
@@ -277,7 +296,7 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.tools.page_be
     desktop = off.frame()
     messages = encode(deltas, params)
     wire = desktop_frame(off.renderer.ctx, params, wire_deltas(messages, params))
-    with Page(hello(params), messages) as page:
+    with Page(hello(params), messages, angle=args.angle) as page:
         shown = page.pixels()
         times = page.frame_times(args.frames)
     print(f"{args.preset}, {params.look}, {args.ticks} ticks, {len(messages)} messages, "
@@ -288,8 +307,10 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.tools.page_be
         got = compare(a, b)
         print(f"{name}: mean abs difference {got['mad']:.4f}/255, within 8/255 {got['within8']:.4%}, "
               f"largest {got['max']}")
-    print(f"page frame time at {WIDTH}x{HEIGHT}: median {np.median(times):.1f} ms, "
-          f"p99 {np.percentile(times, 99):.1f} ms ({args.frames} frames)")
+    for name, t in ((f"page (Chromium, {args.angle})", times),
+                    ("desktop (EGL)", desktop_frame_times(off, args.frames))):
+        print(f"{name} frame time at {WIDTH}x{HEIGHT}: median {np.median(t):.1f} ms, "
+              f"p99 {np.percentile(t, 99):.1f} ms ({args.frames} frames)")
     if args.out:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
