@@ -370,3 +370,38 @@ def test_the_session_written_replays_to_the_same_frost(tmp_path):
     assert np.array_equal(again.sim.crystals, sim.crystals)
     assert np.array_equal(again.sim.crystal_alive, sim.crystal_alive)
     assert (again.geometry.heights == feed.thread.geometry.heights).all()
+
+
+def test_frost_serve_from_the_command_line(tmp_path):
+    """The command: it prints its URL, a page grows frost, Ctrl-C writes the session and
+    exits 130 (as the window does), and the session replays to the frost the page saw."""
+    import signal
+    import subprocess
+    import sys
+
+    proc = subprocess.Popen([sys.executable, "-m", "app", "serve", "--port", "0", "--preset",
+                             "c-2", "--session-dir", str(tmp_path)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        line = proc.stdout.readline()
+        assert line.startswith("frost serve: open http://127.0.0.1:"), line
+        url = line.split()[3]
+        page = PageModel()
+
+        async def main():
+            from aiohttp import ClientSession
+            async with ClientSession() as http, http.ws_connect(url + "ws") as ws:
+                await read_until(ws, page, lambda: page.snapshots >= 1)
+                await ws.send_json({"type": "touch", "x": CENTRE[0], "y": CENTRE[1]})
+                await read_until(ws, page, lambda: near(page, CENTRE) and page.tick > 30)
+                await pause(ws, page)
+        asyncio.run(main())
+        proc.send_signal(signal.SIGINT)
+        assert proc.wait(30) == 130
+    finally:
+        proc.kill()
+        proc.wait()
+    [path] = tmp_path.glob("session-*.json")
+    again = replay(SessionLog.load(path))
+    assert again.tick == page.tick
+    assert (again.geometry.heights.ravel().astype(np.float16) == page.heights).all()

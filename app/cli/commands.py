@@ -211,8 +211,13 @@ def _bench_render(args: argparse.Namespace, params: Params) -> int:
     return run(args, params)
 
 
+def _serve(args: argparse.Namespace, params: Params) -> int:
+    from app.serve.server import serve
+    return serve(args, params)
+
+
 RUN = {None: _window, "render": _render, "replay": _replay, "figure8": _figure8,
-       "figure": _figure, "maps": _maps, "bench": _bench_render}
+       "figure": _figure, "maps": _maps, "bench": _bench_render, "serve": _serve}
 
 
 def display_problem() -> str | None:

@@ -50,7 +50,7 @@ def build_parser() -> Parser:
     root = _window()
     subs = root.add_subparsers(dest="command", title="commands (frost COMMAND --help for each)",
                                metavar="COMMAND")
-    for add in (_render, _replay, _figure8, _figure, _maps, _bench):
+    for add in (_render, _replay, _figure8, _figure, _maps, _bench, _serve):
         add(root, subs)
     return root
 
@@ -170,6 +170,35 @@ def _maps(root: Parser, subs) -> None:
     options.add_touch(p, options.PLANT, "the scripted demo", kind=values.point,
                       where="on the maps (0 <= X < W, 0 <= Y < H of --size)")
     options.add_ticks(p, options.DEFAULT_TICKS, "how long to grow")
+    options.add_overrides(p)
+
+
+def _serve(root: Parser, subs) -> None:
+    from app.backdrops import BACKDROPS
+    from app.serve import DEFAULT_PORT, MAX_PAGES
+
+    p = root.command(subs, "serve", "the frost for phones: a page that a browser opens, over HTTP "
+                     "and WebSockets", "Run the simulation and serve it to phones and browsers "
+                     f"(docs/phone.md): every page (at most {MAX_PAGES}) shows the same pane and "
+                     "every touch grows it; the session is saved as the window saves it. Binds "
+                     "127.0.0.1 unless told; any other --host prints a URL with a random token, "
+                     "and its QR code, and refuses requests without it.")
+    p.add_argument("--host", default="127.0.0.1", metavar="H",
+                   help="address to listen on, e.g. 0.0.0.0 for a phone on the same network "
+                        "(default 127.0.0.1: this machine only)")
+    p.add_argument("--port", type=lambda text: values.whole(text, 65535), default=DEFAULT_PORT,
+                   metavar="P", help=f"TCP port, 0 for any free one (default {DEFAULT_PORT})")
+    options.add_preset(p)
+    options.add_seed(p)
+    options.add_touch(p, options.PLANT, "none")
+    p.add_argument("--background", choices=list(BACKDROPS), default="dusk", metavar="NAME",
+                   help=f"the view behind the glass: {', '.join(BACKDROPS)} (default dusk)")
+    options.add_melt_radius(p, "a page's warm finger")
+    p.add_argument("--session-dir", default=options.WINDOW_DEFAULTS["session_dir"], metavar="DIR",
+                   help="folder for the session file written on exit (when there was an event "
+                        "to replay) (default sessions)")
+    p.add_argument("--max-seconds", type=values.seconds, metavar="S",
+                   help="stop by itself after S seconds, exit status 0 (default: until Ctrl-C)")
     options.add_overrides(p)
 
 

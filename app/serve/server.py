@@ -23,7 +23,7 @@ from aiohttp import WSMsgType, web
 
 from app.backdrops import BACKDROPS, load_backdrop
 from app.resources import SHADER_DIR
-from app.serve import protocol
+from app.serve import MAX_PAGES, protocol
 from app.serve.feed import Feed
 from app.serve.pages import Page
 from app.serve.session import SessionFiles
@@ -31,7 +31,6 @@ from app.serve.session import SessionFiles
 log = logging.getLogger("app.serve")
 
 WEB_DIR = Path(__file__).resolve().parent.parent / "web"
-MAX_PAGES = 16
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
 HEARTBEAT = 20.0  # s: a socket that answers no ping within half of it is closed
 TYPES = {".html": "text/html", ".js": "text/javascript", ".mjs": "text/javascript",
@@ -184,9 +183,10 @@ def _take(feed: Feed, page: Page, msg) -> protocol.ProtocolError | None:
 
 # ---- the command ------------------------------------------------------------------------
 
-def run(args, feed: Feed) -> int:
-    """Serve until Ctrl-C (or a signal, or --max-seconds); the exit status."""
+def serve(args, params) -> int:
+    """`frost serve`: serve until Ctrl-C (or a signal, or --max-seconds); the exit status."""
     token = None if args.host in LOOPBACK else secrets.token_urlsafe(16)
+    feed = Feed(params, args.seed, args.touch, args.melt_radius, args.background)
     app = make_app(feed, token, args.session_dir)
     return asyncio.run(_serve(app, args.host, args.port, token, args.max_seconds))
 
