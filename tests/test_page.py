@@ -172,6 +172,24 @@ def test_on_the_same_rasteriser_the_page_draws_the_desktops_pixels(grown):
     assert np.array_equal(shown, desktop), compare(shown, desktop)
 
 
+def test_a_lost_gpu_context_comes_back_with_the_frost(browser, grown):
+    """The context lost (a phone took the GPU away) and restored: the page reconnects
+    and draws the frost of the new connection's snapshot as before."""
+    params, messages, _ = grown
+    with Page(hello(params), messages, browser=browser, later=[messages], hang_up=False) as page:
+        before, p = page.pixels(), page.page
+        shown = p.screenshot()
+        p.evaluate("window.lose = document.getElementById('frost').getContext('webgl2')"
+                   ".getExtension('WEBGL_lose_context'); lose.loseContext()")
+        p.wait_for_function("frost.lost === 1")
+        p.evaluate("lose.restoreContext()")
+        p.wait_for_function(f"frost.hellos === 2 && frost.messages === {2 * len(messages) + 2}"
+                            " && frost.shownBackdrop === 'dusk'")
+        p.wait_for_function("frost.frames > 0 && !frost.dirty")
+        assert np.array_equal(page.pixels(), before)
+        assert p.screenshot() == shown  # and on the screen
+
+
 def test_screenshot_png_carries_the_desktops_keys(browser, grown):
     from app.images import frost_meta
 

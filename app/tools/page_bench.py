@@ -121,11 +121,11 @@ class Page:
 
     def __init__(self, hello_message: dict, messages: list[bytes], viewport=(WIDTH, HEIGHT),
                  scale: float = 1.0, browser=None, touch: bool = False, later=(),
-                 angle: str = "swiftshader"):
-        # `later`: what each later connection gets (the page reconnects: this one's socket
-        # is closed once its messages are sent).
+                 angle: str = "swiftshader", hang_up: bool = True):
+        # `later`: what each later connection gets (with `hang_up` a socket is closed once
+        # its messages are sent, while a later connection is to come).
         self.hello, self.messages = hello_message, messages
-        self.connections = [messages, *later]
+        self.connections, self.hang_up = [messages, *later], hang_up
         self.viewport, self.scale, self.touch = viewport, scale, touch
         self.browser, self._pw, self.angle = browser, None, angle
         self.sent: list[dict] = []
@@ -183,7 +183,7 @@ class Page:
         messages = self.connections.pop(0)
         for message in messages:
             ws.send(message)
-        if self.connections:
+        if self.connections and self.hang_up:
             ws.close(code=1001, reason="going away")
 
     def pixels(self) -> np.ndarray:

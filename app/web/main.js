@@ -21,7 +21,7 @@ const gl = canvas.getContext("webgl2", {
 // What the page knows; `window.frost` exposes it to the tests and the bench.
 const state = {
   hello: null, renderer: null, tick: 0, connected: false, synced: false, dirty: true,
-  messages: 0, bytes: 0, hellos: 0, backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
+  messages: 0, bytes: 0, hellos: 0, lost: 0, backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
 };
 window.frost = state;
 
@@ -51,6 +51,18 @@ async function main() {
   state.menu.pointers = pointers;
   addEventListener("keydown", onKey);
   addEventListener("resize", () => { state.dirty = true; });
+  // A phone may take the GPU away (in the background): start again when it gives it back,
+  // the server's snapshot refilling what the context held.
+  canvas.addEventListener("webglcontextlost", (event) => {
+    event.preventDefault();
+    state.renderer = null;
+    state.lost += 1;
+  });
+  canvas.addEventListener("webglcontextrestored", () => {
+    state.blitter = new Blitter(gl, sources);
+    state.backdrop = state.shownBackdrop = null;
+    if (state.socket) state.socket.close(4001, "page: the GPU context was restored");
+  });
   connect(RETRY_FIRST);
   requestAnimationFrame(frame);
 }
@@ -68,12 +80,18 @@ function connect(retry) {
     state.messages += 1;
     if (typeof event.data === "string") return onText(JSON.parse(event.data));
     state.bytes += event.data.byteLength;
-    if (!state.renderer) return;
-    const delta = decodeDelta(event.data);
-    state.renderer.apply(delta);
-    state.tick = delta.tick;
-    if (delta.snapshotEnd) state.synced = true;
-    state.dirty = true;
+    if (!state.renderer || gl.isContextLost()) return;
+    try {
+      const delta = decodeDelta(event.data);
+      state.renderer.apply(delta);
+      state.tick = delta.tick;
+      if (delta.snapshotEnd) state.synced = true;
+      state.dirty = true;
+    } catch (err) {
+      // What the page holds is no longer the server's: start again from a snapshot.
+      console.error(err);
+      ws.close(4000, `page: ${err.message}`.slice(0, 120));
+    }
   };
   ws.onclose = (event) => {
     state.connected = false;
@@ -101,6 +119,7 @@ async function onText(msg) {
     status("");
     const [cols, rows] = msg.grid;
     const r = state.renderer;
+    if (gl.isContextLost()) return;
     if (!r || r.gridSize[0] !== cols || r.gridSize[1] !== rows || r.spacing !== msg.spacing) {
       state.renderer = new Renderer(gl, state.sources, { width: SCREEN[0], height: SCREEN[1], grid: msg.grid, spacing: msg.spacing });
       if (msg.defines) state.renderer.setDefines(msg.defines);
