@@ -51,6 +51,12 @@ def test_sim_loads_nothing_of_the_app_nor_gl_nor_images():
     assert under(loaded, *GL_AND_WINDOW, "app", "PIL") == set()
 
 
+def test_the_server_loads_no_gl_and_no_window_library():
+    loaded = loaded_by("app.serve.server", "app.serve.bench")
+    assert "aiohttp" in loaded and "app.serve.feed" in loaded
+    assert under(loaded, *GL_AND_WINDOW, "app.gl", "app.tools") == set()
+
+
 def test_the_tools_load_no_window():
     loaded = loaded_by(*modules_of(app.tools))
     assert "app.tools.maps" in loaded and "moderngl" in loaded  # the renderer's GL is theirs

@@ -356,6 +356,7 @@ def test_the_session_written_replays_to_the_same_frost(tmp_path):
         await ws.send_json({"type": "key", "key": "EQUAL"})  # humidity up: a rebuild
         await read_until(ws, page, lambda: page.resets == 1)  # the rebuild
         await read_until(ws, page, lambda: page.tick > 30)
+        await pause(ws, page)
         await ws.close()
         seen.heights, seen.tris = page.heights, page.tris
 
@@ -370,6 +371,8 @@ def test_the_session_written_replays_to_the_same_frost(tmp_path):
     assert np.array_equal(again.sim.crystals, sim.crystals)
     assert np.array_equal(again.sim.crystal_alive, sim.crystal_alive)
     assert (again.geometry.heights == feed.thread.geometry.heights).all()
+    # and the page, which saw a rebuild on the way, holds that frost too
+    assert (seen.heights == again.geometry.heights.ravel().astype(np.float16)).all()
 
 
 def test_frost_serve_from_the_command_line(tmp_path):

@@ -35,6 +35,9 @@ def main(argv: list[str] | None = None) -> int:
         if argv[:2] == ["bench", "page"]:  # so are the page bench's
             from app.tools.page_bench import main as page_bench
             return page_bench(argv[2:], prog="frost bench page")
+        if argv[:2] == ["bench", "serve"]:
+            from app.serve.bench import main as bench_serve
+            return bench_serve(argv[2:])
         args, params = _parse(argv)
         return RUN[args.command](args, params)
     except KeyboardInterrupt:  # Ctrl-C: every file is written atomically, none is half there

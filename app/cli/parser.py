@@ -203,7 +203,8 @@ def _serve(root: Parser, subs) -> None:
 
 
 def _bench(root: Parser, subs) -> None:
-    p = root.command(subs, "bench", "benchmarks: the simulation (sim) or the renderer (render)",
+    p = root.command(subs, "bench", "benchmarks: the simulation (sim), the renderer (render) or "
+                     "the phone server (serve)",
                      usage="WHAT [options]")
     kinds = p.add_subparsers(dest="bench", title="benchmarks", metavar="WHAT", required=True)
     # Never parsed here (app.cli.commands hands its arguments to app.tools.bench_sim, as argparse
@@ -213,6 +214,9 @@ def _bench(root: Parser, subs) -> None:
     p.command(kinds, "page", "the phone page against the desktop renderer (parity) and its "
               "frame time: every argument goes to python -m app.tools.page_bench",
               usage="[ARGS ...]", add_help=False)
+    p.command(kinds, "serve", "frost serve's benchmark: bytes a tick and of a snapshot, tick time "
+              "with 0 and 16 pages, memory, touch-to-first-delta latency; every argument goes "
+              "to python -m app.serve.bench", usage="[ARGS ...]", add_help=False)
     _bench_render(p.command(kinds, "render", "the renderer's benchmark: frame, geometry and "
                             f"upload times at about half the screen frosted (headless, {WIDTH}x{HEIGHT})"))
 

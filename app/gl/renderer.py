@@ -26,7 +26,7 @@ from app.backdrops import DEFAULT_BACKDROP, load_backdrop
 from app.gl.shaders import load_program
 from app.resources import ASSET_DIR
 from sim.look.geometry import VERTEX_FLOATS, GeometryDelta
-from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, Material
+from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, MAX_DEPTH, TILE, Material, default_light
 from sim.params import Params
 from sim.screen import HEIGHT, WIDTH
 
@@ -36,17 +36,7 @@ BACKGROUND = ASSET_DIR / "background.png"
 # Feature heights are stored in 8 bits as z / height scale: 16 px (steps of 0.06 px)
 # unless features can stand higher (sim.look.geometry.feature_scale; each delta says).
 FEATURE_HEIGHT_SCALE = 16.0
-MAX_DEPTH = 64.0  # px; features higher than this share the nearest depth
 VERTEX_BYTES = VERTEX_FLOATS * 4
-# Side of a screen tile of the ice pass, px. Smaller tiles hug the ice closer but cost
-# more instances (3.8k at most at 16 px, a few kB).
-TILE = 16
-
-
-def default_light() -> np.ndarray:
-    """Toward the light: up-left of the screen and in front (x right, y down, z viewer)."""
-    v = np.array([-0.35, -0.45, 0.82])
-    return v / np.linalg.norm(v)
 
 
 def load_background(path: Path = BACKGROUND) -> np.ndarray:

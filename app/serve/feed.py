@@ -17,21 +17,20 @@ import threading
 from collections import deque
 
 from app.backdrops import BACKDROPS
-from app.gl.renderer import MAX_DEPTH, TILE, default_light
 from app.serve import protocol
 from app.serve.controls import Controls
 from app.serve.pages import Page
 from app.simthread.thread import SimThread, Snapshot
 from sim import Params, all_presets
 from sim.look.geometry import FrostGeometry, GeometryDelta
-from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, Material
+from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, MAX_DEPTH, TILE, Material, default_light
 from sim.params import LOOKS
 from sim.screen import SIZE
 
 log = logging.getLogger("app.serve")
 
-# The per-tick message sizes kept for the bench (the last minute).
-SIZES_KEPT = 1500
+# Per-tick figures kept for the bench (six minutes).
+SIZES_KEPT = 9000
 
 
 class Feed:
@@ -49,7 +48,9 @@ class Feed:
         self.key = (0, 0)  # (steps, events) of the latest snapshot published
         self.error: str | None = None
         self.redraws = 0
-        self.sizes: deque[int] = deque(maxlen=SIZES_KEPT)  # bytes a tick, for the bench
+        # For the bench: bytes sent a tick, the thread's tick time (ms)
+        self.sizes: deque[int] = deque(maxlen=SIZES_KEPT)
+        self.tick_ms: deque[float] = deque(maxlen=SIZES_KEPT)
         self._state: dict = {}
         self._loop: asyncio.AbstractEventLoop | None = None
         self._want_redraw = threading.Event()
@@ -118,6 +119,7 @@ class Feed:
             messages.append(self.encoder.bare(snap.stats.tick, reset=True))
         self.latest, self.key = snap, (snap.steps, snap.events)
         self.sizes.append(sum(map(len, messages)))
+        self.tick_ms.append(snap.stats.tick_ms)
         self._send_state()
         if snap.message:
             self.notice(snap.message)

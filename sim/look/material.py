@@ -22,6 +22,20 @@ LOOK_DEFINES = MappingProxyType({
 FEATURE_DEFINES = MappingProxyType({"paper": (), "glass": ("EDGE_AA",)})
 
 
+# What the renderer (and the phone page's port of it) draws with, shared here so that the
+# server can name it without GL.
+MAX_DEPTH = 64.0  # px; features higher than this share the nearest depth
+# Side of a screen tile of the ice pass, px. Smaller tiles hug the ice closer but cost
+# more instances (3.8k at most at 16 px, a few kB).
+TILE = 16
+
+
+def default_light() -> np.ndarray:
+    """Toward the light: up-left of the screen and in front (x right, y down, z viewer)."""
+    v = np.array([-0.35, -0.45, 0.82])
+    return v / np.linalg.norm(v)
+
+
 # The glass look's film (shaders/ice.frag's FILM, the same numbers): the bump surface is
 # clear below FILM_CUT px and rises FILM_GAIN times as fast above it.
 FILM_CUT, FILM_GAIN = 0.8, 1.3
