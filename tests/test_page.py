@@ -32,13 +32,18 @@ pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reaso
 
 
 @pytest.fixture(scope="module")
-def browser():
+def playwright():
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as pw:
-        b = launch(pw)
-        yield b
-        b.close()
+        yield pw
+
+
+@pytest.fixture(scope="module")
+def browser(playwright):
+    b = launch(playwright)
+    yield b
+    b.close()
 
 
 @pytest.fixture(scope="module", params=["glass", "paper"])
@@ -151,24 +156,21 @@ def test_a_page_reconnects_and_holds_what_the_new_connection_gives(browser, grow
         assert np.array_equal(page.pixels(), want)
 
 
-def test_on_the_same_rasteriser_the_page_draws_the_desktops_pixels(grown):
+def test_on_the_same_rasteriser_the_page_draws_the_desktops_pixels(playwright, grown):
     """Chromium's WebGL on the system's OpenGL (ANGLE over EGL: Mesa's llvmpipe, the
     desktop renderer's rasteriser here): the page's frame is the desktop's, bit for bit."""
-    from playwright.sync_api import sync_playwright
-
     params, messages, desktop = grown
-    with sync_playwright() as pw:
-        b = launch(pw, "gl-egl")
-        try:
-            with Page(hello(params), messages, browser=b) as page:
-                renderer = page.page.evaluate("""() => { const gl = document.createElement('canvas')
-                    .getContext('webgl2'); const d = gl.getExtension('WEBGL_debug_renderer_info');
-                    return gl.getParameter(d.UNMASKED_RENDERER_WEBGL); }""")
-                if "llvmpipe" not in renderer:
-                    pytest.skip(f"Chromium's OpenGL is not llvmpipe here: {renderer}")
-                shown = page.pixels()
-        finally:
-            b.close()
+    b = launch(playwright, "gl-egl")
+    try:
+        with Page(hello(params), messages, browser=b) as page:
+            renderer = page.page.evaluate("""() => { const gl = document.createElement('canvas')
+                .getContext('webgl2'); const d = gl.getExtension('WEBGL_debug_renderer_info');
+                return gl.getParameter(d.UNMASKED_RENDERER_WEBGL); }""")
+            if "llvmpipe" not in renderer:
+                pytest.skip(f"Chromium's OpenGL is not llvmpipe here: {renderer}")
+            shown = page.pixels()
+    finally:
+        b.close()
     assert np.array_equal(shown, desktop), compare(shown, desktop)
 
 
