@@ -16,6 +16,7 @@ import argparse
 import io
 import json
 import mimetypes
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -268,6 +269,52 @@ def difference_image(a: np.ndarray, b: np.ndarray, gain: float = 8.0) -> np.ndar
     return np.clip(d * gain, 0, 255).astype(np.uint8)
 
 
+def touch_latency(taps: int, preset: str = "fern", gap_s: float = 0.7) -> np.ndarray:
+    """Milliseconds from a finger down on the page (an emulated phone in headless Chromium)
+    to the frame that first draws growth near it, through `frost serve` on loopback (started
+    here, on a free port): `taps` taps `gap_s` apart at random spots of the pane."""
+    import re
+    import signal
+    import subprocess
+    import sys
+
+    from playwright.sync_api import sync_playwright
+
+    rng = np.random.default_rng(7)
+    with tempfile.TemporaryDirectory() as tmp:
+        proc = subprocess.Popen([sys.executable, "-m", "app", "serve", "--port", "0",
+                                 "--preset", preset, "--session-dir", tmp],
+                                cwd=tmp, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        try:
+            url = None
+            for line in proc.stdout:
+                found = re.search(r"open (http://\S+)", line)
+                if found:
+                    url = found.group(1)
+                    break
+            if url is None:
+                raise RuntimeError("frost serve did not start")
+            with sync_playwright() as pw:
+                browser = launch(pw)
+                context = browser.new_context(viewport={"width": 390, "height": 844},
+                                              device_scale_factor=3, has_touch=True, is_mobile=True)
+                page = context.new_page()
+                page.goto(url)
+                page.wait_for_function("window.frost && frost.synced", timeout=30_000)
+                r = page.evaluate("frost.pane()")
+                for _ in range(taps):
+                    x, y = rng.uniform(40, WIDTH - 40), rng.uniform(40, HEIGHT - 40)
+                    page.touchscreen.tap((r["x"] + x * r["scale"]) / 3, (r["y"] + y * r["scale"]) / 3)
+                    page.wait_for_timeout(gap_s * 1000)
+                got = page.evaluate("frost.latencies")
+                context.close()
+                browser.close()
+        finally:
+            proc.send_signal(signal.SIGINT)
+            proc.communicate(timeout=60)
+    return np.asarray(got)
+
+
 def main(argv: list[str] | None = None, prog: str = "python -m app.tools.page_bench") -> int:
     p = argparse.ArgumentParser(prog=prog, description=__doc__.split("\n\n")[0])
     p.add_argument("--preset", default="fern", choices=list(all_presets()), metavar="NAME",
@@ -279,12 +326,20 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.tools.page_be
     p.add_argument("--angle", choices=list(ANGLE), default="swiftshader",
                    help="the page's WebGL: Chromium's SwiftShader (default) or the system's "
                         "OpenGL through EGL (gl-egl)")
+    p.add_argument("--taps", type=count, help="instead: touch to first drawn growth through frost "
+                   "serve on loopback, over this many taps")
     p.add_argument("--out", help="write desktop.png, page.png, difference.png here")
     args = p.parse_args(argv)
     problem = browser_problem()
     if problem:
         print(f"frost: error: {problem}")
         return 2
+    if args.taps:
+        ms = touch_latency(args.taps, args.preset)
+        print(f"touch to first drawn growth ({args.preset}, loopback, {len(ms)} of {args.taps} "
+              f"taps seen): median {np.median(ms):.0f} ms, p95 {np.percentile(ms, 95):.0f} ms, "
+              f"max {ms.max():.0f} ms")
+        return 0
     params = Params.preset(args.preset)
     if args.look:
         params = params.replace(look=args.look)

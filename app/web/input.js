@@ -16,6 +16,7 @@ export class Pointers {
     this.warm = false;
     this.fingers = new Map();  // pointerId -> {id, kind, moved: [x, y] | null}
     this.flushing = false;
+    this.onDown = null;  // (kind, [x, y], time) of each finger down, if set
   }
 
   attach() {
@@ -55,6 +56,7 @@ export class Pointers {
     this.fingers.set(event.pointerId, { id, kind, moved: null });
     try { this.canvas.setPointerCapture(event.pointerId); } catch { /* synthetic events */ }
     this.send({ type: kind, phase: "down", id, x: p[0], y: p[1] });
+    if (this.onDown) this.onDown(kind, p, event.timeStamp);
   }
 
   move(event) {

@@ -21,7 +21,7 @@ const gl = canvas.getContext("webgl2", {
 // What the page knows; `window.frost` exposes it to the tests and the bench.
 const state = {
   hello: null, renderer: null, tick: 0, connected: false, synced: false, dirty: true,
-  messages: 0, bytes: 0, hellos: 0, lost: 0, backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
+  messages: 0, bytes: 0, hellos: 0, lost: 0, watch: null, latencies: [], watch: null, latencies: [], backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
 };
 window.frost = state;
 
@@ -47,6 +47,12 @@ async function main() {
   state.blitter = new Blitter(gl, sources);
   const pointers = new Pointers(canvas, paneRect, send);
   pointers.attach();
+  pointers.onDown = (kind, p, t0) => {
+    if (kind === "touch") state.watch = { x: p[0], y: p[1], t0, seen: false };
+  };
+  pointers.onDown = (kind, p, t0) => {
+    if (kind === "touch") state.watch = { x: p[0], y: p[1], t0, seen: false };
+  };
   state.menu = new Menu(document.getElementById("menu"), send, screenshot);
   state.menu.pointers = pointers;
   addEventListener("keydown", onKey);
@@ -85,6 +91,8 @@ function connect(retry) {
       const delta = decodeDelta(event.data);
       state.renderer.apply(delta);
       state.tick = delta.tick;
+      if (state.watch && !state.watch.seen) state.watch.seen = grewNear(delta, state.watch);
+      if (state.watch && !state.watch.seen) state.watch.seen = grewNear(delta.features, state.watch);
       if (delta.snapshotEnd) state.synced = true;
       state.dirty = true;
     } catch (err) {
@@ -168,6 +176,36 @@ async function loadBackdrop(name) {
   state.dirty = true;
 }
 
+// Touch to first drawn growth (the bench reads frost.latencies, ms): whether a delta's
+// features reach within GREW_NEAR px of the last finger down.
+const GREW_NEAR = 12;
+function grewNear(features, { x, y }) {
+  for (let i = 0; i < features.length; i += 6) {
+    if (Math.hypot(features[i] - x, features[i + 1] - y) < GREW_NEAR) return true;
+  }
+  return false;
+}
+
+// Touch to first drawn growth (the bench reads frost.latencies, ms): whether a delta
+// brings features within GREW_NEAR px of the last finger down, or ice thicker than
+// SHOWS px (the glass look's film shows the bumps from 0.8 px) on a grid vertex there.
+const GREW_NEAR = 12, SHOWS = 0.8;
+function grewNear(delta, { x, y }) {
+  const f = delta.features;
+  for (let i = 0; i < f.length; i += 6) {
+    if (Math.hypot(f[i] - x, f[i + 1] - y) < GREW_NEAR) return true;
+  }
+  const cols = delta.grid[0], s = state.renderer.spacing;
+  let k = 0;
+  for (const [start, count] of delta.runs) {
+    for (let i = start; i < start + count; i++, k++) {
+      const px = (i % cols) * s, py = Math.floor(i / cols) * s;
+      if (delta.heights[k] > SHOWS && Math.hypot(px - x, py - y) < GREW_NEAR) return true;
+    }
+  }
+  return false;
+}
+
 // ---- keys ----------------------------------------------------------------------------
 
 // A key as GLFW names it (app/window/keys.py), or null.
@@ -222,6 +260,16 @@ function frame() {
     state.renderer.render();
     state.blitter.draw(state.renderer.frame, paneRect());
     state.frames += 1;
+    if (state.watch && state.watch.seen) {  // the tap's first growth is drawn
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+      state.latencies.push(performance.now() - state.watch.t0);
+      state.watch = null;
+    }
+    if (state.watch && state.watch.seen) {  // the tap's first growth is drawn
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+      state.latencies.push(performance.now() - state.watch.t0);
+      state.watch = null;
+    }
   }
   requestAnimationFrame(frame);
 }
