@@ -21,7 +21,7 @@ const gl = canvas.getContext("webgl2", {
 // What the page knows; `window.frost` exposes it to the tests and the bench.
 const state = {
   hello: null, renderer: null, tick: 0, connected: false, synced: false, dirty: true,
-  messages: 0, bytes: 0, hellos: 0, lost: 0, watch: null, latencies: [], watch: null, latencies: [], backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
+  messages: 0, bytes: 0, hellos: 0, lost: 0, watch: null, latencies: [], backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
 };
 window.frost = state;
 
@@ -47,9 +47,6 @@ async function main() {
   state.blitter = new Blitter(gl, sources);
   const pointers = new Pointers(canvas, paneRect, send);
   pointers.attach();
-  pointers.onDown = (kind, p, t0) => {
-    if (kind === "touch") state.watch = { x: p[0], y: p[1], t0, seen: false };
-  };
   pointers.onDown = (kind, p, t0) => {
     if (kind === "touch") state.watch = { x: p[0], y: p[1], t0, seen: false };
   };
@@ -92,7 +89,6 @@ function connect(retry) {
       state.renderer.apply(delta);
       state.tick = delta.tick;
       if (state.watch && !state.watch.seen) state.watch.seen = grewNear(delta, state.watch);
-      if (state.watch && !state.watch.seen) state.watch.seen = grewNear(delta.features, state.watch);
       if (delta.snapshotEnd) state.synced = true;
       state.dirty = true;
     } catch (err) {
@@ -176,16 +172,6 @@ async function loadBackdrop(name) {
   state.dirty = true;
 }
 
-// Touch to first drawn growth (the bench reads frost.latencies, ms): whether a delta's
-// features reach within GREW_NEAR px of the last finger down.
-const GREW_NEAR = 12;
-function grewNear(features, { x, y }) {
-  for (let i = 0; i < features.length; i += 6) {
-    if (Math.hypot(features[i] - x, features[i + 1] - y) < GREW_NEAR) return true;
-  }
-  return false;
-}
-
 // Touch to first drawn growth (the bench reads frost.latencies, ms): whether a delta
 // brings features within GREW_NEAR px of the last finger down, or ice thicker than
 // SHOWS px (the glass look's film shows the bumps from 0.8 px) on a grid vertex there.
@@ -260,11 +246,6 @@ function frame() {
     state.renderer.render();
     state.blitter.draw(state.renderer.frame, paneRect());
     state.frames += 1;
-    if (state.watch && state.watch.seen) {  // the tap's first growth is drawn
-      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
-      state.latencies.push(performance.now() - state.watch.t0);
-      state.watch = null;
-    }
     if (state.watch && state.watch.seen) {  // the tap's first growth is drawn
       gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
       state.latencies.push(performance.now() - state.watch.t0);
