@@ -192,6 +192,51 @@ def test_a_lost_gpu_context_comes_back_with_the_frost(browser, grown):
         assert p.screenshot() == shown  # and on the screen
 
 
+def test_drawing_only_what_changed_gives_the_whole_frames_pixels(browser, grown):
+    """Each message applied and only its damage drawn (in the pane's texture, then on the
+    canvas): the same pixels as the whole frame drawn again."""
+    import base64
+
+    from app.serve.protocol import Encoder, decode_geometry
+    from sim.look.geometry import GeometryDelta
+
+    params, messages, _ = grown
+    # Then features alone (no height changes), shifted onto clear glass, and a wipe alone.
+    cols, rows = hello(params)["grid"]
+    feats = max((decode_geometry(m)["vertices"] for m in messages), key=len).copy()
+    feats[:, 0] = np.clip(feats[:, 0] + 150, 0, 759)
+    none = np.zeros((0, cols), np.float32)
+    enc = Encoder(cols, rows)
+    box = (feats[:, 0].min(), feats[:, 1].min(), feats[:, 0].mean(), feats[:, 1].mean())
+    messages = [*messages, enc.delta(GeometryDelta(1, slice(0, 0), none, feats, look=params.look)),
+                enc.delta(GeometryDelta(2, slice(0, 0), none, feats[:0], look=params.look,
+                                        clear_box=tuple(map(float, box))))]
+    with Page(hello(params), [], browser=browser) as page:
+        p = page.page
+        differ = p.evaluate("""async (msgs) => {
+            const proto = await import('./web/protocol.js');
+            const r = frost.renderer;
+            for (const b64 of msgs) {
+              const bytes = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
+              r.apply(proto.decodeDelta(bytes.buffer));
+              r.render();
+            }
+            const partial = r.readFrame();
+            r.render(true);
+            const whole = r.readFrame();
+            let n = 0;
+            for (let i = 0; i < whole.length; i++) n += partial[i] !== whole[i];
+            return n; }""", [base64.b64encode(m).decode() for m in messages])
+        assert differ == 0
+    with Page(hello(params), messages, browser=browser, viewport=(390, 844), scale=3) as page:
+        p = page.page
+        p.wait_for_function("frost.frames > 1 && !frost.blitDamage")
+        parts = p.screenshot()
+        p.evaluate("frost.dirty = true")
+        p.wait_for_function("!frost.dirty")
+        assert p.screenshot() == parts
+
+
 def test_screenshot_png_carries_the_desktops_keys(browser, grown):
     from app.images import frost_meta
 

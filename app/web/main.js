@@ -90,7 +90,6 @@ function connect(retry) {
       state.tick = delta.tick;
       if (state.watch && !state.watch.seen) state.watch.seen = grewNear(delta, state.watch);
       if (delta.snapshotEnd) state.synced = true;
-      state.dirty = true;
     } catch (err) {
       // What the page holds is no longer the server's: start again from a snapshot.
       console.error(err);
@@ -136,8 +135,8 @@ async function onText(msg) {
     Object.assign(state.hello, msg, { type: "hello" });
     applyView(state.hello);
     state.menu.show(state.hello);
+    state.renderer.damageAll();
     if (state.hello.backdrop !== state.backdrop) await loadBackdrop(state.hello.backdrop);
-    state.dirty = true;
   } else if (msg.type === "resync") {
     // The server dropped this page's queue: a snapshot follows (its first part resets).
     state.synced = false;
@@ -169,7 +168,6 @@ async function loadBackdrop(name) {
   if (state.backdrop !== name) return;  // another came meanwhile
   state.renderer.setBackgroundImage(image);
   state.shownBackdrop = name;
-  state.dirty = true;
 }
 
 // Touch to first drawn growth (the bench reads frost.latencies, ms): whether a delta
@@ -239,12 +237,20 @@ function fitCanvas() {
   }
 }
 
+// Draw what changed into the pane's texture; the canvas is told of it at the next frame.
+function drawPane(all = false) {
+  const d = state.renderer.render(all);
+  const b = state.blitDamage;
+  if (d) state.blitDamage = b ? [Math.min(b[0], d[0]), Math.min(b[1], d[1]), Math.max(b[2], d[2]), Math.max(b[3], d[3])] : d;
+}
+
 function frame() {
   fitCanvas();
-  if (state.dirty && state.renderer) {
+  if (state.renderer) drawPane();
+  if (state.renderer && (state.dirty || state.blitDamage)) {
+    state.blitter.draw(state.renderer.frame, paneRect(), state.dirty ? null : state.blitDamage);
     state.dirty = false;
-    state.renderer.render();
-    state.blitter.draw(state.renderer.frame, paneRect());
+    state.blitDamage = null;
     state.frames += 1;
     if (state.watch && state.watch.seen) {  // the tap's first growth is drawn
       gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
@@ -263,13 +269,26 @@ class Blitter {
     this.array = gl.createVertexArray();
   }
 
-  draw(texture, rect) {
+  // `damage`: only the pane px [x0, y0, x1, y1] (y down) changed, else all of it (and the
+  // black around it) is drawn.
+  draw(texture, rect, damage = null) {
     const gl = this.gl;
+    const H = gl.drawingBufferHeight;
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
-    gl.viewport(0, 0, gl.drawingBufferWidth, gl.drawingBufferHeight);
-    gl.clearColor(0, 0, 0, 1);
-    gl.clear(gl.COLOR_BUFFER_BIT);
-    gl.viewport(rect.x, gl.drawingBufferHeight - rect.y - rect.h, rect.w, rect.h);
+    if (damage) {
+      // Its canvas px, and two more each way (linear filtering reaches a texel further).
+      const x0 = Math.max(Math.floor(rect.x + damage[0] * rect.scale) - 2, rect.x);
+      const y0 = Math.max(Math.floor(rect.y + damage[1] * rect.scale) - 2, rect.y);
+      const x1 = Math.min(Math.ceil(rect.x + damage[2] * rect.scale) + 2, rect.x + rect.w);
+      const y1 = Math.min(Math.ceil(rect.y + damage[3] * rect.scale) + 2, rect.y + rect.h);
+      gl.enable(gl.SCISSOR_TEST);
+      gl.scissor(x0, H - y1, x1 - x0, y1 - y0);
+    } else {
+      gl.viewport(0, 0, gl.drawingBufferWidth, H);
+      gl.clearColor(0, 0, 0, 1);
+      gl.clear(gl.COLOR_BUFFER_BIT);
+    }
+    gl.viewport(rect.x, H - rect.y - rect.h, rect.w, rect.h);
     gl.activeTexture(gl.TEXTURE0);
     gl.bindTexture(gl.TEXTURE_2D, texture);
     // One canvas px per pane px: nearest, so the page shows the frame exactly.
@@ -280,6 +299,7 @@ class Blitter {
     gl.bindVertexArray(this.array);
     gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4);
     gl.bindVertexArray(null);
+    gl.disable(gl.SCISSOR_TEST);
   }
 }
 
@@ -288,7 +308,7 @@ class Blitter {
 // The pane (760x1280) as PNG bytes with the desktop's metadata keys.
 async function screenshotPng() {
   const r = state.renderer;
-  r.render();
+  drawPane();
   const pixels = r.readFrame();
   for (let i = 3; i < pixels.length; i += 4) pixels[i] = 255;
   const c = document.createElement("canvas");
@@ -333,7 +353,7 @@ state.screenshotPng = screenshotPng;
 
 // The pane's pixels now (RGBA, top row first) as base64: for the tests and the bench.
 state.framePixels = () => {
-  state.renderer.render();
+  drawPane();
   const px = state.renderer.readFrame();
   let s = "";
   for (let i = 0; i < px.length; i += 0x8000) s += String.fromCharCode(...px.subarray(i, i + 0x8000));
@@ -348,7 +368,7 @@ state.frameTimes = (n) => {
   const r = state.renderer, one = new Uint8Array(4), times = [];
   for (let i = 0; i < n; i++) {
     const t0 = performance.now();
-    r.render();
+    r.render(true);
     gl.bindFramebuffer(gl.FRAMEBUFFER, r.frameFbo);
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
     times.push(performance.now() - t0);

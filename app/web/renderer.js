@@ -120,11 +120,31 @@ export class Renderer {
     this.tiles = new TileSet(gl, this.size, spacing);
     // The frame: RGBA8 of the screen's size, as the desktop's offscreen framebuffer.
     this.frame = texture(gl, width, height, gl.RGBA8, gl.LINEAR);
+    // The part of the frame to draw again, px [x0, y0, x1, y1] (y down), or null: only what
+    // changed is drawn (the frame texture keeps the rest), the same pixels a whole frame gives.
+    this.damage = null;
     this.frameFbo = gl.createFramebuffer();
     gl.bindFramebuffer(gl.FRAMEBUFFER, this.frameFbo);
     gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, this.frame, 0);
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     this.reset();
+  }
+
+  // Draw everything again next frame (a new backdrop, look, light or material).
+  damageAll() {
+    this.damage = [0, 0, ...this.size];
+  }
+
+  addDamage(x0, y0, x1, y1) {
+    const [w, h] = this.size;
+    x0 = Math.max(Math.floor(x0), 0);
+    y0 = Math.max(Math.floor(y0), 0);
+    x1 = Math.min(Math.ceil(x1), w);
+    y1 = Math.min(Math.ceil(y1), h);
+    if (x1 <= x0 || y1 <= y0) return;
+    const d = this.damage;
+    this.damage = d ? [Math.min(d[0], x0), Math.min(d[1], y0), Math.max(d[2], x1), Math.max(d[3], y1)]
+      : [x0, y0, x1, y1];
   }
 
   // The view behind the glass from an image (ImageBitmap, top row first) of the screen's size.
@@ -135,16 +155,22 @@ export class Renderer {
     gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
     gl.pixelStorei(gl.UNPACK_FLIP_Y_WEBGL, false);
     gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, gl.RGB, gl.UNSIGNED_BYTE, image);
+    this.damageAll();
   }
 
   // Upload a tick's changes (a decoded message): its dirty height rows and new features.
   apply(delta) {
     if (delta.reset) this.reset();
+    if (delta.look !== this.look || delta.heightScale !== this.heightScale) this.damageAll();
     this.look = delta.look;
     this.heightScale = delta.heightScale;
     this.features.heightScale = delta.heightScale;
     this.features.look = delta.look;
-    if (delta.clearBox) this.features.wipe(delta.clearBox);
+    if (delta.clearBox) {
+      const b = delta.clearBox;
+      this.features.wipe(b);
+      this.addDamage(b[0] - 2, b[1] - 2, b[2] + 2, b[3] + 2);  // as wiped, and a px more
+    }
     if (delta.runs.length) {
       const [cols, rows] = this.gridSize;
       if (delta.grid[0] !== cols || delta.grid[1] !== rows) {
@@ -158,6 +184,11 @@ export class Renderer {
           if (h > 0 && this.grid[i] === 0) this.tiles.markHeights(i % cols, Math.floor(i / cols));
           this.grid[i] = h;
         }
+        // A vertex's height changes its neighbours' slopes, and bilinear filtering spreads
+        // each texel one grid cell further: two cells each way (and a px).
+        const s = this.spacing, r0 = Math.floor(start / cols), r1 = Math.floor((start + count - 1) / cols);
+        const c0 = r1 > r0 ? 0 : start % cols, c1 = r1 > r0 ? cols - 1 : (start + count - 1) % cols;
+        this.addDamage((c0 - 2) * s - 1, (r0 - 2) * s - 1, (c1 + 2) * s + 1, (r1 + 2) * s + 1);
         for (let r = Math.floor(start / cols); r <= Math.floor((start + count - 1) / cols); r++) touched[r] = 1;
       }
       // Each block of touched rows, with one more each side (whose slopes they change).
@@ -169,7 +200,7 @@ export class Renderer {
         r = end;
       }
     }
-    this.tiles.markTriangles(delta.features);
+    this.tiles.markTriangles(delta.features, (x0, y0, x1, y1) => this.addDamage(x0 - 1, y0 - 1, x1 + 1, y1 + 1));
     this.features.append(delta.features);
   }
 
@@ -207,14 +238,30 @@ export class Renderer {
     this.uploadRows(0, this.gridSize[1]);
     this.features.clear();
     this.tiles.clear();
+    this.damageAll();
   }
 
-  // Draw one full frame into the frame texture.
-  render() {
+  // Draw what changed since the last frame into the frame texture (`all`: everything);
+  // the rect drawn ([x0, y0, x1, y1] px, y down), or null if nothing changed.
+  render(all = false) {
     const gl = this.gl;
+    if (all) this.damageAll();
     this.features.drawQueued();
+    const d = this.damage;
+    if (!d) return null;
+    this.damage = null;
     gl.bindFramebuffer(gl.FRAMEBUFFER, this.frameFbo);
     gl.viewport(0, 0, ...this.size);
+    gl.enable(gl.SCISSOR_TEST);
+    gl.scissor(d[0], this.size[1] - d[3], d[2] - d[0], d[3] - d[1]);  // GL rows count up
+    this.drawPasses();
+    gl.disable(gl.SCISSOR_TEST);
+    return d;
+  }
+
+  // The background pass, then the ice pass blended over it, as the desktop draws a frame.
+  drawPasses() {
+    const gl = this.gl;
     gl.disable(gl.DEPTH_TEST);
     gl.disable(gl.BLEND);
     bindTexture(gl, 0, this.background);
@@ -420,11 +467,14 @@ export class TileSet {
   }
 
   // Mark the tiles under each triangle's bounding box (vertices of 6 floats, 3 a triangle).
-  markTriangles(verts) {
+  // (`each(x0, y0, x1, y1)` is told every box too.)
+  markTriangles(verts, each = () => {}) {
     for (let t = 0; t + 18 <= verts.length; t += 18) {
       const xs = [verts[t], verts[t + 6], verts[t + 12]];
       const ys = [verts[t + 1], verts[t + 7], verts[t + 13]];
-      this.markBox(Math.min(...xs), Math.min(...ys), Math.max(...xs), Math.max(...ys));
+      const box = [Math.min(...xs), Math.min(...ys), Math.max(...xs), Math.max(...ys)];
+      this.markBox(...box);
+      each(...box);
     }
   }
 
