@@ -63,18 +63,21 @@ class PageModel:
                 return t[key]
         return None
 
+    def take(self, msg) -> None:
+        """A message the socket received; AssertionError if the socket ended."""
+        if msg.type == WSMsgType.BINARY:
+            self.apply(msg.data)
+        elif msg.type == WSMsgType.TEXT:
+            self.texts.append(json.loads(msg.data))
+        else:
+            raise AssertionError(f"socket ended: {msg.type} {msg.data} {msg.extra}")
+
 
 async def read_until(ws, page: PageModel, done, timeout: float = 20.0):
     loop = asyncio.get_running_loop()
     end = loop.time() + timeout
     while not done():
-        msg = await asyncio.wait_for(ws.receive(), max(0.01, end - loop.time()))
-        if msg.type == WSMsgType.BINARY:
-            page.apply(msg.data)
-        elif msg.type == WSMsgType.TEXT:
-            page.texts.append(json.loads(msg.data))
-        else:
-            raise AssertionError(f"socket ended: {msg.type} {msg.data} {msg.extra}")
+        page.take(await asyncio.wait_for(ws.receive(), max(0.01, end - loop.time())))
 
 
 async def read_quiet(ws, page: PageModel, quiet: float = 0.4):
@@ -84,12 +87,22 @@ async def read_quiet(ws, page: PageModel, quiet: float = 0.4):
             msg = await asyncio.wait_for(ws.receive(), quiet)
         except asyncio.TimeoutError:
             return
-        if msg.type == WSMsgType.BINARY:
-            page.apply(msg.data)
-        elif msg.type == WSMsgType.TEXT:
-            page.texts.append(json.loads(msg.data))
-        else:
-            raise AssertionError(f"socket ended: {msg.type}")
+        page.take(msg)
+
+
+async def closing(ws, timeout: float = 10.0):
+    """The close message the server sends `ws` within `timeout` s (what it sends before
+    is read and dropped); AssertionError if the socket stays open."""
+    loop = asyncio.get_running_loop()
+    end = loop.time() + timeout
+    while loop.time() < end:
+        try:
+            msg = await asyncio.wait_for(ws.receive(), end - loop.time())
+        except asyncio.TimeoutError:
+            break
+        if msg.type in (WSMsgType.CLOSE, WSMsgType.CLOSING, WSMsgType.CLOSED):
+            return msg
+    raise AssertionError("the server left the socket open")
 
 
 def near(page: PageModel, spot, reach: float = 40.0) -> bool:
@@ -137,6 +150,7 @@ def test_two_pages_see_the_same_frost_and_a_late_one_gets_it_whole():
         await b.send_json({"type": "touch", "x": 300.0, "y": 500.0})
         await a.send_json({"type": "touch", "x": 450.0, "y": 800.0, "phase": "down", "id": 2})
         await a.send_json({"type": "touch", "x": 470.0, "y": 840.0, "phase": "move", "id": 2})
+        await a.send_json({"type": "touch", "x": 490.0, "y": 880.0, "phase": "move", "id": 2})
         await read_until(a, pa, lambda: near(pa, (300, 500)) and near(pa, (450, 800))
                          and pa.tick > 40)
         await pause(a, pa)
@@ -149,10 +163,11 @@ def test_two_pages_see_the_same_frost_and_a_late_one_gets_it_whole():
         assert pc.messages <= 2 and pc.tick == pa.tick
         assert (pc.heights == pa.heights).all()
         assert np.array_equal(pc.sorted_tris(), pa.sorted_tris())
-        # which is the simulation's frost (half floats); a tap, a finger down and one seed
-        # 4 hc (28 px) along its 45 px drag
+        # which is the simulation's frost (half floats); a tap, a finger down, and seeds every
+        # 4 hc = 28 px along its drag: one in its first 44.7 px, then from that seed (462.5,
+        # 825.0) to (490, 880), 61.5 px, two more
         assert (pc.heights == feed.thread.geometry.heights.ravel().astype(np.float16)).all()
-        assert len(feed.thread.touches) == 3
+        assert len(feed.thread.touches) == 5
     serve(test)
 
 
@@ -251,9 +266,7 @@ def test_bad_input_closes_that_socket_and_changes_nothing(send, code, says):
         good, page = await connect(client)
         bad = await client.ws_connect("/ws")
         await (bad.send_bytes(send) if isinstance(send, bytes) else bad.send_str(send))
-        while (msg := await asyncio.wait_for(bad.receive(), 10)).type not in (
-                WSMsgType.CLOSE, WSMsgType.CLOSING, WSMsgType.CLOSED):
-            pass
+        msg = await closing(bad)
         assert bad.close_code == code and says in (msg.extra or "")
         tick = page.tick
         await read_until(good, page, lambda: page.tick > tick + 10)  # still ticking
@@ -267,9 +280,7 @@ def test_a_flood_is_cut_off_and_the_server_ticks_on():
         flood = await client.ws_connect("/ws")
         for i in range(400):
             await flood.send_str(f'{{"type":"ping","t":{i}}}')
-        while (msg := await asyncio.wait_for(flood.receive(), 10)).type not in (
-                WSMsgType.CLOSE, WSMsgType.CLOSING, WSMsgType.CLOSED):
-            pass
+        msg = await closing(flood)
         assert flood.close_code == 1008 and "messages a second" in msg.extra
         tick = page.tick
         await read_until(good, page, lambda: page.tick > tick + 10)
@@ -408,3 +419,30 @@ def test_frost_serve_from_the_command_line(tmp_path):
     again = replay(SessionLog.load(path))
     assert again.tick == page.tick
     assert (again.geometry.heights.ravel().astype(np.float16) == page.heights).all()
+
+
+def test_a_clear_while_paused_clears_every_page():
+    """A rebuild with no step after it (paused) still tells the pages to drop the frost."""
+    async def test(client, feed):
+        (a, pa), (b, pb) = await connect(client), await connect(client)
+        await a.send_json({"type": "touch", "x": CENTRE[0], "y": CENTRE[1]})
+        await read_until(a, pa, lambda: near(pa, CENTRE) and pa.tick > 30)
+        await pause(a, pa)
+        await b.send_json({"type": "clear"})
+        await read_until(a, pa, lambda: pa.resets == 1)
+        await read_until(b, pb, lambda: pb.resets == 1)
+        for page in (pa, pb):
+            assert not page.heights.any() and len(page.tris) == 0
+        assert feed.latest.stats.paused and feed.thread.session().events[-1]["kind"] == "clear"
+    serve(test)
+
+
+def test_the_bench_prints_its_figures(capsys):
+    """frost bench serve runs (briefly) and says each figure; no speed is asserted."""
+    from app.serve import bench
+    bench.bytes_offline("c-2", 30, scribble=True)
+    assert bench.main(["--skip-bytes", "--seconds", "3", "--pages", "2"]) == 0
+    out = capsys.readouterr().out
+    for says in ("per tick p50", "snapshot", "no page", "2 pages: tick median", "memory (RSS)",
+                 "pages received", "touch to first delta"):
+        assert says in out, says

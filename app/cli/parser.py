@@ -193,12 +193,10 @@ def _serve(root: Parser, subs) -> None:
     options.add_touch(p, options.PLANT, "none")
     p.add_argument("--background", choices=list(BACKDROPS), default="dusk", metavar="NAME",
                    help=f"the view behind the glass: {', '.join(BACKDROPS)} (default dusk)")
-    options.add_melt_radius(p, "a page's warm finger")
-    p.add_argument("--session-dir", default=options.WINDOW_DEFAULTS["session_dir"], metavar="DIR",
-                   help="folder for the session file written on exit (when there was an event "
-                        "to replay) (default sessions)")
-    p.add_argument("--max-seconds", type=values.seconds, metavar="S",
-                   help="stop by itself after S seconds, exit status 0 (default: until Ctrl-C)")
+    p.add_argument("--window", action="store_true",
+                   help="also open the desktop window on the same frost (it then writes the "
+                        "session, as it does alone; default off)")
+    options.add_window(p)
     options.add_overrides(p)
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
+import queue
 import threading
 from collections import deque
 
@@ -37,12 +38,19 @@ class Feed:
     """One simulation thread, its encoder and the pages it feeds."""
 
     def __init__(self, params: Params, seed: int, touches=(), melt_radius: float = 24.0,
-                 backdrop: str = "dusk"):
-        self.thread = SimThread(params, seed, touches, *SIZE, wake=self._woken)
+                 backdrop: str = "dusk", thread: SimThread | None = None):
+        """A feed of a new simulation thread, or of `thread` (the desktop window's, which
+        starts it and reads its snapshots from this feed: `beside_window`)."""
+        self.thread = thread or SimThread(params, seed, touches, *SIZE)
+        self._wake_also = self.thread.wake  # (the window's wake; nothing for a thread of our own)
+        self.thread.wake = self._woken
+        self.own_thread = thread is None
+        self._drain = self.thread.drain  # (the window's drain reads this feed: beside_window)
         geometry = self.thread.geometry
         self.encoder = protocol.Encoder(geometry.cols, geometry.rows)
         self.controls = Controls(self.thread, params, melt_radius, backdrop, self.notice,
                                  self.tick)
+        self._window: queue.Queue[Snapshot] | None = None  # the window's snapshots
         self.pages: set[Page] = set()
         self.latest: Snapshot | None = None
         self.key = (0, 0)  # (steps, events) of the latest snapshot published
@@ -60,7 +68,16 @@ class Feed:
 
     def start(self, loop: asyncio.AbstractEventLoop) -> None:
         self._loop = loop
-        self.thread.start()
+        if self.own_thread:
+            self.thread.start()
+
+    def beside_window(self) -> None:
+        """The thread is the desktop window's too: every snapshot this feed publishes is
+        handed on to the window's `drain`, which reads no other (the thread's outbox has
+        one reader), and the window reads the thread's notices."""
+        self._window = queue.Queue()
+        window = self._window
+        self.thread.drain = lambda: _everything(window)  # type: ignore[method-assign]
 
     def tick(self) -> int:
         return self.latest.stats.tick if self.latest else 0
@@ -73,7 +90,9 @@ class Feed:
             self._want_redraw.clear()
             self._make_redraw()
         loop = self._loop
-        if loop is not None and not self._pumping.is_set():
+        if loop is None:
+            self._wake_also()  # not serving yet: the window reads the notices itself
+        elif not self._pumping.is_set():
             self._pumping.set()
             with contextlib.suppress(RuntimeError):  # the loop is closed: the end
                 loop.call_soon_threadsafe(self.pump)
@@ -98,10 +117,15 @@ class Feed:
     def pump(self) -> None:
         """Publish every snapshot the thread made since the last pump."""
         self._pumping.clear()
-        for snap in self.thread.drain():
+        for snap in self._drain():
             self._publish(snap)
             self._serve_redraw()
+            if self._window is not None:
+                self._window.put(snap)
         self._serve_redraw()
+        if self._window is not None:
+            self._wake_also()
+            return
         while not self.thread.notices.empty():
             level, text = self.thread.notices.get()
             log.log(level, "%s", text)
@@ -117,6 +141,8 @@ class Feed:
             reset = False
         if reset:
             messages.append(self.encoder.bare(snap.stats.tick, reset=True))
+        if snap.reset and self._window is not None:  # (the window's keys change them too)
+            self.controls.params = snap.params
         self.latest, self.key = snap, (snap.steps, snap.events)
         self.sizes.append(sum(map(len, messages)))
         self.tick_ms.append(snap.stats.tick_ms)
@@ -187,3 +213,11 @@ class Feed:
             if not page.waiting:
                 page.text(message)
 
+
+def _everything(q: queue.Queue) -> list:
+    """What `q` holds now, oldest first."""
+    items = []
+    with contextlib.suppress(queue.Empty):
+        while True:
+            items.append(q.get_nowait())
+    return items

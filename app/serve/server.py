@@ -186,6 +186,9 @@ def _take(feed: Feed, page: Page, msg) -> protocol.ProtocolError | None:
 def serve(args, params) -> int:
     """`frost serve`: serve until Ctrl-C (or a signal, or --max-seconds); the exit status."""
     token = None if args.host in LOOPBACK else secrets.token_urlsafe(16)
+    if args.window:
+        from app.serve.window import serve_with_window
+        return serve_with_window(args, params, token)
     feed = Feed(params, args.seed, args.touch, args.melt_radius, args.background)
     app = make_app(feed, token, args.session_dir)
     return asyncio.run(_serve(app, args.host, args.port, token, args.max_seconds))
@@ -193,6 +196,18 @@ def serve(args, params) -> int:
 
 async def _serve(app: web.Application, host: str, port: int, token: str | None,
                  max_seconds: float | None) -> int:
+    runner = await listen(app, host, port, token)
+    if runner is None:
+        return 1
+    status = await _until_ended(app[FEED], max_seconds)
+    await runner.cleanup()
+    return status
+
+
+async def listen(app: web.Application, host: str, port: int,
+                 token: str | None) -> web.AppRunner | None:
+    """The app served on host:port and its URL printed; None (the error said) if it cannot
+    listen there."""
     runner = web.AppRunner(app, handle_signals=False, access_log=None)
     await runner.setup()
     try:
@@ -202,12 +217,9 @@ async def _serve(app: web.Application, host: str, port: int, token: str | None,
         await runner.cleanup()
         print(f"frost: error: cannot listen on {host}:{port}: {err.strerror or err}",
               file=sys.stderr)
-        return 1
-    bound = runner.addresses[0][1] if runner.addresses else port
-    announce(host, bound, token)
-    status = await _until_ended(app[FEED], max_seconds)
-    await runner.cleanup()
-    return status
+        return None
+    announce(host, runner.addresses[0][1] if runner.addresses else port, token)
+    return runner
 
 
 async def _until_ended(feed: Feed, max_seconds: float | None) -> int:

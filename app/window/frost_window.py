@@ -224,8 +224,9 @@ def _changes(delta) -> bool:
     return delta.reset or delta.rows.stop > delta.rows.start or len(delta.features) > 0
 
 
-def run(args, params: Params) -> int:
-    """Open the phone window and run until it closes; the exit status."""
+def run(args, params: Params, attach: Callable[[FrostWindow], None] | None = None) -> int:
+    """Open the phone window and run until it closes; the exit status. `attach` is handed
+    the window before its loop starts (frost serve --window feeds pages from its thread)."""
     try:
         window, scale = open_window(args.scale)
     except WindowError as err:
@@ -235,6 +236,8 @@ def run(args, params: Params) -> int:
              *glfw.get_window_size(window), scale, *glfw.get_framebuffer_size(window))
     try:
         app = FrostWindow(window, args, params)
+        if attach is not None:
+            attach(app)
     except Exception:
         log.exception("window failed")
         glfw.terminate()

@@ -1,0 +1,72 @@
+"""`frost serve --window`: the desktop window on the same frost as the pages. The window
+owns the main thread, the simulation thread and the session file, as it does alone; the
+server runs its asyncio loop on a thread of its own and feeds the window the snapshots it
+publishes (`Feed.beside_window`)."""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import threading
+
+from app.serve.feed import Feed
+from app.serve.server import listen, make_app
+
+log = logging.getLogger("app.serve")
+
+
+class Background:
+    """The server's loop on a thread of its own."""
+
+    def __init__(self, host: str, port: int, token: str | None):
+        self.host, self.port, self.token = host, port, token
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._ended: asyncio.Event | None = None
+        self._ready = threading.Event()
+        self._thread: threading.Thread | None = None
+
+    def start(self, feed: Feed) -> None:
+        """Serve `feed`; RuntimeError if it cannot listen."""
+        self._thread = threading.Thread(target=lambda: asyncio.run(self._main(feed)),
+                                        name="frost-serve", daemon=True)
+        self._thread.start()
+        self._ready.wait(30)
+        if self._loop is None:
+            raise RuntimeError(f"frost serve cannot listen on {self.host}:{self.port}")
+
+    async def _main(self, feed: Feed) -> None:
+        runner = await listen(make_app(feed, self.token, None), self.host, self.port, self.token)
+        if runner is None:
+            self._ready.set()
+            return
+        self._loop, self._ended = asyncio.get_running_loop(), asyncio.Event()
+        self._ready.set()
+        await self._ended.wait()
+        await runner.cleanup()
+
+    def stop(self) -> None:
+        if self._loop is not None and self._ended is not None and self._thread is not None:
+            self._loop.call_soon_threadsafe(self._ended.set)
+            self._thread.join(10)
+
+
+def serve_with_window(args, params, token: str | None) -> int:
+    """The window (its exit status) with the server beside it until it closes."""
+    from app.backdrops import view_from
+    from app.window import frost_window
+
+    server = Background(args.host, args.port, token)
+
+    def attach(window) -> None:
+        feed = Feed(params, args.seed, melt_radius=args.melt_radius, backdrop=args.background,
+                    thread=window.thread)
+        feed.beside_window()
+        server.start(feed)
+
+    args.view = view_from(args)
+    try:
+        return frost_window.run(args, params, attach)
+    finally:
+        server.stop()
+
+

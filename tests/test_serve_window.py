@@ -1,0 +1,61 @@
+"""`frost serve --window` under Xvfb: a page's touch grows the frost the desktop window
+shows, and the window's session file replays to what the page holds.
+
+The test runs this file as a script on an Xvfb server of its own (test_window_e2e's way)."""
+
+import asyncio
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytestmark = pytest.mark.window
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def drive(out: Path) -> None:
+    """Under Xvfb: start the command, be a page, let the window close at --max-seconds."""
+    from test_serve import CENTRE, PageModel, near, pause, read_until
+
+    app = subprocess.Popen([sys.executable, "-m", "app", "serve", "--window", "--port", "0",
+                            "--preset", "c-2", "--max-seconds", "12", "--session-dir", str(out),
+                            "--screenshot-dir", str(out)], cwd=ROOT, stdout=subprocess.PIPE,
+                           stderr=subprocess.PIPE, text=True)
+    url = app.stdout.readline().split()[3]
+    page = PageModel()
+
+    async def main():
+        from aiohttp import ClientSession
+        async with ClientSession() as http, http.ws_connect(url + "ws") as ws:
+            await read_until(ws, page, lambda: page.snapshots >= 1, timeout=60)
+            await ws.send_json({"type": "touch", "x": CENTRE[0], "y": CENTRE[1]})
+            await read_until(ws, page, lambda: near(page, CENTRE) and page.tick > 30)
+            await pause(ws, page)
+    asyncio.run(main())
+    status = app.wait(60)
+    np.save(out / "page.npy", page.heights)
+    (out / "result.json").write_text(json.dumps({"status": status, "tick": page.tick,
+                                                 "stderr": app.stderr.read()[-3000:]}))
+
+
+def test_a_page_and_the_window_share_the_frost(tmp_path):
+    from test_window_e2e import xvfb
+    run = xvfb([sys.executable, __file__, str(tmp_path)], cwd=ROOT, timeout=180)
+    assert run.returncode == 0, run.stderr[-3000:]
+    result = json.loads((tmp_path / "result.json").read_text())
+    assert result["status"] == 0, result["stderr"]
+    from sim.io.session import SessionLog, replay
+    [path] = tmp_path.glob("session-*.json")  # the window's, as it writes alone
+    again = replay(SessionLog.load(path))
+    assert again.tick == result["tick"]
+    page = np.load(tmp_path / "page.npy")
+    assert (again.geometry.heights.ravel().astype(np.float16) == page).all()
+    assert "window:" in result["stderr"]  # the window did open
+
+
+if __name__ == "__main__":
+    sys.path.insert(0, str(ROOT / "tests"))
+    drive(Path(sys.argv[1]))
