@@ -18,6 +18,7 @@ import json
 import mimetypes
 import tempfile
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from PIL import Image
@@ -128,7 +129,8 @@ class Page:
         self.hello, self.messages = hello_message, messages
         self.connections, self.hang_up = [messages, *later], hang_up
         self.viewport, self.scale, self.touch = viewport, scale, touch
-        self.browser, self._pw, self.angle = browser, None, angle
+        self.browser, self.angle = browser, angle
+        self._pw: Any = None  # playwright, when this page started its own
         self.sent: list[dict] = []
 
     def __enter__(self) -> Page:
@@ -287,7 +289,7 @@ def touch_latency(taps: int, preset: str = "fern", gap_s: float = 0.7) -> np.nda
                                 cwd=tmp, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         try:
             url = None
-            for line in proc.stdout:
+            for line in proc.stdout or ():
                 found = re.search(r"open (http://\S+)", line)
                 if found:
                     url = found.group(1)
