@@ -140,6 +140,8 @@ async function onText(msg) {
   } else if (msg.type === "resync") {
     // The server dropped this page's queue: a snapshot follows (its first part resets).
     state.synced = false;
+  } else if (msg.type === "pong") {
+    state.pong = msg;  // the server's tick when it answered (the tests read it)
   } else if (msg.type === "notice") {
     notice(msg.text);
   }
