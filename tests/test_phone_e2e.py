@@ -189,8 +189,9 @@ def test_a_tap_grows_frost_in_the_page(serve, phones):
     far = {"x": 5, "y": css_point(page, 0, 100)[1], "width": 60, "height": 60}
     before = [np.asarray(Image.open(io.BytesIO(page.screenshot(clip=c))).convert("RGB"), float)
               for c in (box, far)]
+    tick = page.evaluate("frost.tick")
     tap(page, x, y)
-    page.wait_for_timeout(2500)  # 60 ticks
+    page.wait_for_function(f"frost.tick >= {tick + 50}", timeout=30_000)  # two seconds of frost
     after = [np.asarray(Image.open(io.BytesIO(page.screenshot(clip=c))).convert("RGB"), float)
              for c in (box, far)]
     near = np.abs(after[0] - before[0]).max(axis=2)
