@@ -446,3 +446,50 @@ def test_the_bench_prints_its_figures(capsys):
     for says in ("per tick p50", "snapshot", "no page", "2 pages: tick median", "memory (RSS)",
                  "pages received", "touch to first delta"):
         assert says in out, says
+
+
+def test_menu_and_keys_change_the_shared_frost_and_every_page_hears():
+    async def test(client, feed):
+        (a, pa), (b, pb) = await connect(client), await connect(client)
+        assert pa.texts[0]["preset"] == "b-2" and pa.texts[0]["look"] == "paper"  # c-2's twin
+        await a.send_json({"type": "look", "name": "glass"})
+        await read_until(b, pb, lambda: pb.state("look") == "glass" and pb.resets == 1)
+        await a.send_json({"type": "backdrop", "name": "lockscreen"})
+        await read_until(b, pb, lambda: pb.state("backdrop") == "lockscreen")
+        await a.send_json({"type": "preset", "name": "window"})
+        await read_until(b, pb, lambda: pb.state("preset") == "window")
+        await b.send_json({"type": "key", "key": "V"})  # the window's look key: back to paper
+        await read_until(a, pa, lambda: pa.state("look") == "paper" and pa.resets == 3)
+        for bad in ({"type": "preset", "name": "z-9"}, {"type": "backdrop", "name": "/etc"},
+                    {"type": "key", "key": "S"}, {"type": "key", "key": "NOPE"}):
+            await a.send_json(bad)
+        await a.send_json({"type": "ping", "t": 1})  # answered after the four
+        await read_until(a, pa, lambda: pa.texts[-1]["type"] == "pong")
+        notes = [t["text"] for t in pa.texts if t["type"] == "notice"]
+        for says in ("'z-9' refused", "backdrop '/etc' refused", "screenshot", "key NOPE"):
+            assert any(says in n for n in notes), (says, notes)
+        assert feed.controls.backdrop == "lockscreen"
+        await b.send_json({"type": "ping", "t": 2})  # (after a's notices, were they b's too)
+        await read_until(b, pb, lambda: pb.texts[-1]["type"] == "pong")
+        assert not any("refused" in t.get("text", "") for t in pb.texts)  # a's alone
+        kinds = [e["kind"] for e in feed.thread.session().events]
+        assert kinds == ["params", "params", "params"]  # look, preset, key V; nothing else
+        assert feed.controls.params == Params.preset("window").replace(look="paper")
+    serve(test)
+
+
+def test_a_port_taken_or_out_of_range_is_one_clear_error():
+    import subprocess
+    import sys
+
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        run = subprocess.run([sys.executable, "-m", "app", "serve", "--port", str(port)],
+                             capture_output=True, text=True, timeout=60)
+    assert run.returncode == 1
+    assert run.stderr.strip().splitlines()[-1].startswith(f"frost: error: cannot listen on 127.0.0.1:{port}")
+    run = subprocess.run([sys.executable, "-m", "app", "serve", "--port", "65536"],
+                         capture_output=True, text=True, timeout=60)
+    assert run.returncode == 2 and run.stderr.count("\n") == 1 and "--port" in run.stderr

@@ -19,7 +19,7 @@ from sim.screen import SIZE, touch_problem
 # The window's key actions that act on the shared frost; the others (screenshot, recording,
 # panel, HUD, light, the desktop's view toggles) are the page's own or the desktop's.
 KEY_TUNES = {"scale": tuning.scaled, "shift": tuning.shifted, "toggle_param": tuning.toggled,
-             "cycle_param": tuning.cycled, "preset": tuning.preset}
+             "cycle_param": tuning.cycled}
 KEY_COMMANDS = {"pause": "pause", "single_step": "step", "clear": "clear"}
 
 
@@ -30,11 +30,13 @@ class Controls:
     def __init__(self, thread: SimThread, params: Params, melt_radius: float, backdrop: str,
                  notice: Callable[[str], None], tick: Callable[[], int]):
         self.thread, self.params, self.melt_radius = thread, params, melt_radius
-        self.backdrop, self.notice, self.tick = backdrop, notice, tick
+        self.backdrop, self.tick = backdrop, tick
+        self.notice = self.tell_all = notice
+        self.chosen = ""  # the preset a page chose last
         self.keys: dict[str, Binding] = {name: b for b in BINDINGS for name in b.keys}
         self._handlers: dict[str, Callable[[Input, dict], None]] = {
             "touch": self._pointer, "melt": self._pointer,
-            "preset": lambda m, _f: self._tune(tuning.preset, m.name, check=all_presets()),
+            "preset": lambda m, _f: self._preset(m.name),
             "look": lambda m, _f: self._tune(lambda p, v: tuning.changed(p, "look", v), m.name,
                                              check=LOOKS),
             "backdrop": lambda m, _f: self._backdrop(m.name),
@@ -42,10 +44,16 @@ class Controls:
             "pause": self._command, "step": self._command, "clear": self._command}
 
     def preset(self) -> str:
-        return preset_name(self.params).split("/")[0]
+        """The preset the parameters follow: the one last chosen if they still do (Table
+        1's twins b-2 and c-2 are the same numbers), else the first, or 'custom'."""
+        names = preset_name(self.params).split("/")
+        return self.chosen if self.chosen in names else names[0]
 
-    def handle(self, message: Input, fingers: dict) -> None:
-        """Apply one page message; `fingers` holds that page's drags."""
+    def handle(self, message: Input, fingers: dict,
+               reply: Callable[[str], None] | None = None) -> None:
+        """Apply one page message; `fingers` holds that page's drags, `reply` tells that
+        page why a change was refused (default: every page)."""
+        self.notice = reply or self.tell_all
         self._handlers[message.kind](message, fingers)
 
     def _command(self, m: Input, _fingers: dict) -> None:
@@ -83,6 +91,8 @@ class Controls:
             self.notice(f"key {name[:16]} is not one of the window's keys")
         elif binding.action in KEY_COMMANDS:
             self.thread.send(KEY_COMMANDS[binding.action])
+        elif binding.action == "preset":
+            self._preset(binding.arg)
         elif binding.action in KEY_TUNES:
             args = binding.arg if isinstance(binding.arg, tuple) else (binding.arg,)
             self._tune(KEY_TUNES[binding.action], *args)
@@ -92,6 +102,11 @@ class Controls:
                            if self.backdrop in names else names[0])
         else:
             self.notice(f"key {name}: {binding.description}: not on a page")
+
+    def _preset(self, name: str) -> None:
+        if name in all_presets():
+            self.chosen = name
+        self._tune(tuning.preset, name, check=all_presets())
 
     def _backdrop(self, name: str) -> None:
         if name not in BACKDROPS:

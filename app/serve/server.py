@@ -177,7 +177,8 @@ def _take(feed: Feed, page: Page, msg) -> protocol.ProtocolError | None:
     if message.kind == "ping":
         page.text(protocol.text("pong", t=message.stamp, tick=feed.tick()))
     else:
-        feed.controls.handle(message, page.fingers)
+        feed.controls.handle(message, page.fingers,
+                             lambda why: page.text(protocol.text("notice", text=why)))
     return None
 
 
