@@ -314,6 +314,10 @@ def test_keys_and_the_menu_go_to_the_server(browser):
         for button in ("#pause", "#clear"):
             p.click(button)
         p.wait_for_timeout(100)
+        # A refusal (a notice): the menu goes back to what is in force, and says why.
+        page.socket.send(json.dumps({"type": "notice", "text": "no such preset"}))
+        p.wait_for_function("document.getElementById('status').textContent === 'no such preset'")
+        assert p.input_value("#preset") == "fern"
     assert page.sent == [{"type": "key", "key": k} for k in ("SPACE", "C", "3", "RIGHT_BRACKET", "LEFT")] + [
         {"type": "preset", "name": "c-3"}, {"type": "look", "name": "paper"},
         {"type": "backdrop", "name": "lockscreen"}, {"type": "pause"}, {"type": "clear"}]

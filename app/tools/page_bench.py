@@ -180,6 +180,7 @@ class Page:
         return route.fulfill(status=404, body="not found")
 
     def _socket(self, ws) -> None:
+        self.socket = ws  # the latest, for tests that send more
         ws.on_message(lambda m: self.sent.append(json.loads(m)))
         ws.send(json.dumps(self.hello))
         messages = self.connections.pop(0)

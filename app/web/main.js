@@ -144,6 +144,7 @@ async function onText(msg) {
     state.pong = msg;  // the server's tick when it answered (the tests read it)
   } else if (msg.type === "notice") {
     notice(msg.text);
+    state.menu.show(state.hello);  // a refused choice: the menu shows what is in force
   }
 }
 
