@@ -19,3 +19,5 @@ def resource_dir(name: str) -> Path:
 
 SHADER_DIR = resource_dir("shaders")
 ASSET_DIR = resource_dir("assets")
+# The phone page (HTML, ES modules, CSS): inside the package, installed or not.
+WEB_DIR = _HERE / "web"

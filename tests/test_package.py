@@ -58,12 +58,14 @@ def elsewhere(tmp_path) -> Path:
     return tmp_path
 
 
-def test_wheel_holds_every_module_the_shaders_and_the_background(wheel):
+def test_wheel_holds_every_module_the_shaders_the_background_and_the_page(wheel):
     checkout = [p for pkg in ("app", "sim") for p in (ROOT / pkg).rglob("*.py")]
     modules = {p.relative_to(ROOT).as_posix(): p for p in checkout}
     data = {f"app/_data/shaders/{p.name}": p for p in (ROOT / "shaders").iterdir()}
     assert any(name.endswith(".frag") for name in data)
     data["app/_data/assets/background.png"] = ROOT / "assets" / "background.png"
+    data.update({f"app/web/{p.name}": p for p in (ROOT / "app" / "web").iterdir()})
+    assert "app/web/index.html" in data
     with zipfile.ZipFile(wheel) as whl:
         names = set(whl.namelist())
         assert set(modules) - names == set()

@@ -33,6 +33,9 @@ def main(argv: list[str] | None = None) -> int:
         if argv[:2] == ["bench", "sim"]:  # its arguments are bench_sim's to parse
             from app.tools.bench_sim import main as bench_sim
             return bench_sim(argv[2:], prog="frost bench sim")
+        if argv[:2] == ["bench", "page"]:  # so are the page bench's
+            from app.tools.page_bench import main as page_bench
+            return page_bench(argv[2:], prog="frost bench page")
         if argv[:2] == ["bench", "serve"]:
             from app.serve.bench import main as bench_serve
             return bench_serve(argv[2:])

@@ -213,6 +213,9 @@ def _bench(root: Parser, subs) -> None:
     p.command(kinds, "sim", "the simulation's benchmark: every argument, --help too, goes to "
               "python -m app.tools.bench_sim", usage="[ARGS ...]", add_help=False,
               own_prefix=True)
+    p.command(kinds, "page", "the phone page against the desktop renderer (parity) and its "
+              "frame time: every argument goes to python -m app.tools.page_bench",
+              usage="[ARGS ...]", add_help=False, own_prefix=True)
     p.command(kinds, "serve", "frost serve's benchmark: bytes a tick and of a snapshot, tick time "
               "with 0 and 16 pages, memory, touch-to-first-delta latency; every argument goes "
               "to python -m app.serve.bench", usage="[ARGS ...]", add_help=False, own_prefix=True)

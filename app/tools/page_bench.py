@@ -1,0 +1,385 @@
+"""The phone page against the desktop: the same frost drawn by the desktop renderer (EGL,
+headless) and by the page (app/web, WebGL2 in headless Chromium), compared pixel for pixel,
+and the page's frame time at 760x1280.
+
+The page is driven without a server: Playwright serves app/web, the shaders and the
+backdrops from disk and stands in for the WebSocket, sending the hello and the geometry
+messages of the protocol (app.serve.protocol) for the deltas the desktop renderer applied.
+
+python -m app.tools.page_bench [--preset fern] [--look paper] [--ticks 300] [--frames 60]
+    [--out DIR]
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import json
+import mimetypes
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from PIL import Image
+
+from app.backdrops import DEFAULT_BACKDROP, load_backdrop
+from app.resources import SHADER_DIR, WEB_DIR
+from sim import Params, all_presets
+from sim.look.geometry import GeometryDelta
+from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, Material
+from sim.screen import HEIGHT, WIDTH
+
+CHROMIUM = "/usr/bin/chromium"
+# SwiftShader (Chromium's CPU rasteriser) for WebGL2, on any machine, GPU or not.
+CHROMIUM_ARGS = ["--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist"]
+# Or the system's OpenGL through EGL (Mesa's llvmpipe here: the desktop renderer's rasteriser).
+ANGLE = {"swiftshader": CHROMIUM_ARGS, "gl-egl": ["--use-angle=gl-egl", "--ignore-gpu-blocklist"]}
+ORIGIN = "http://frost.test"  # the page's address when Playwright serves it from disk
+# Touches the bench grows its frost from (screen px), and a warm finger's melt (x, y, r)
+# two thirds of the way (a wipe of the page's features, then the survivors re-sent).
+TOUCHES = ((380.0, 640.0), (200.0, 300.0), (560.0, 1000.0))
+MELT = (380.0, 600.0, 40.0)
+
+
+def browser_problem() -> str | None:
+    """Why the page cannot be driven here (no playwright, no chromium), or None."""
+    try:
+        import playwright.sync_api  # noqa: F401
+    except ImportError:
+        return "the playwright package is missing (pip install playwright; it is in the dev extra)"
+    if not Path(CHROMIUM).is_file():
+        return f"{CHROMIUM} is missing (apt-get install chromium)"
+    return None
+
+
+def launch(playwright, angle: str = "swiftshader"):
+    """The system Chromium, headless, with WebGL2 on SwiftShader (or `angle` of ANGLE)."""
+    return playwright.chromium.launch(executable_path=CHROMIUM, headless=True, args=ANGLE[angle])
+
+
+def hello(params: Params, backdrop: str = DEFAULT_BACKDROP) -> dict:
+    """A hello as docs/protocol.md has it, for `params` and the desktop's material and light."""
+    from app.gl.renderer import default_light
+
+    m, s = Material(), params.grid_spacing
+    uniforms = {f"u_{k}": v for k, v in (
+        ("ice_color", list(m.ice_color)), ("ambient", m.ambient), ("diffuse", m.diffuse),
+        ("specular", m.specular), ("shininess", m.shininess), ("opacity", m.opacity),
+        ("density", m.density), ("relief", m.relief), ("refraction", m.refraction))}
+    return {"type": "hello", "protocol": 1, "screen": [WIDTH, HEIGHT],
+            "grid": [WIDTH // s + 1, HEIGHT // s + 1], "spacing": s, "tick": 0, "paused": False,
+            "look": params.look, "looks": list(LOOK_DEFINES), "backdrop": backdrop,
+            "view": {"light": [float(v) for v in default_light()], "features": True,
+                     "bumps": True, "background": backdrop},
+            "uniforms": uniforms,
+            "defines": {look: {"ice": list(LOOK_DEFINES[look]), "feature": list(FEATURE_DEFINES[look])}
+                        for look in LOOK_DEFINES}}
+
+
+def bench_events(ticks: int) -> list[dict]:
+    """The bench's touches at tick 0 and its melt two thirds of the way."""
+    from sim.io.timeline import touch_events
+
+    x, y, r = MELT
+    return [*touch_events(TOUCHES), {"tick": 2 * ticks // 3, "kind": "melt", "x": x, "y": y, "r": r}]
+
+
+def grow(params: Params, seed: int, ticks: int, events=None, ctx=None):
+    """(Offscreen with the frost grown with `events` (default: bench_events), every delta
+    its renderer applied, in order: a rebuild's reset as an empty reset delta)."""
+    from app.tools.offscreen import Offscreen, make_context
+    from sim.io.timeline import grow as grow_timeline
+
+    off = Offscreen(ctx or make_context(), params, seed)
+    deltas: list[GeometryDelta] = []
+
+    def applied(result) -> None:
+        off.show(result)
+        if result.reset:
+            deltas.append(reset_delta(off.sim.tick, params))
+        deltas.extend(result.deltas)
+
+    def step(delta: GeometryDelta) -> None:
+        off.renderer.apply(delta)
+        deltas.append(delta)
+
+    grow_timeline(off.timeline, ticks, bench_events(ticks) if events is None else events,
+                  applied, step)
+    return off, deltas
+
+
+def reset_delta(tick: int, params: Params) -> GeometryDelta:
+    cols = WIDTH // params.grid_spacing + 1
+    return GeometryDelta(tick, slice(0, 0), np.zeros((0, cols), np.float32),
+                         np.zeros((0, 6), np.float32), reset=True, look=params.look)
+
+
+class Page:
+    """The page in headless Chromium, served from disk, fed `messages` over a stand-in
+    WebSocket; what the page sends is kept in `sent`. Use as a context manager; `browser`
+    (launch) is shared if given, else the page starts its own."""
+
+    def __init__(self, hello_message: dict, messages: list[bytes], viewport=(WIDTH, HEIGHT),
+                 scale: float = 1.0, browser=None, touch: bool = False, later=(),
+                 angle: str = "swiftshader", hang_up: bool = True):
+        # `later`: what each later connection gets (with `hang_up` a socket is closed once
+        # its messages are sent, while a later connection is to come).
+        self.hello, self.messages = hello_message, messages
+        self.connections, self.hang_up = [messages, *later], hang_up
+        self.viewport, self.scale, self.touch = viewport, scale, touch
+        self.browser, self.angle = browser, angle
+        self._pw: Any = None  # playwright, when this page started its own
+        self.sent: list[dict] = []
+
+    def __enter__(self) -> Page:
+        if self.browser is None:
+            from playwright.sync_api import sync_playwright
+
+            self._pw = sync_playwright().start()
+            self.browser = launch(self._pw, self.angle)
+        self.context = self.browser.new_context(
+            viewport={"width": self.viewport[0], "height": self.viewport[1]},
+            device_scale_factor=self.scale, has_touch=self.touch, is_mobile=self.touch)
+        self.page = self.context.new_page()
+        self.page.route(f"{ORIGIN}/**", self._serve)
+        self.page.route_web_socket(f"{ORIGIN.replace('http', 'ws')}/ws**", self._socket)
+        self.page.goto(f"{ORIGIN}/")
+        self.page.wait_for_function(
+            f"window.frost && (window.frost.error || window.frost.messages >= {len(self.messages) + 1})",
+            timeout=60_000)
+        self.page.wait_for_function(
+            "window.frost.error || (window.frost.frames > 0 && window.frost.hello"
+            " && window.frost.shownBackdrop === window.frost.hello.backdrop)")
+        error = self.page.evaluate("window.frost.error")
+        if error:
+            raise RuntimeError(f"the page failed: {error}")
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.context.close()
+        if self._pw is not None:
+            self.browser.close()
+            self._pw.stop()
+
+    def _serve(self, route) -> None:
+        path = route.request.url[len(ORIGIN):].split("?")[0]
+        if path == "/":
+            return route.fulfill(path=str(WEB_DIR / "index.html"))
+        for prefix, folder in (("/web/", WEB_DIR), ("/shaders/", SHADER_DIR)):
+            if path.startswith(prefix) and "/" not in path[len(prefix):]:
+                file = folder / path[len(prefix):]
+                if file.is_file():
+                    kind = "text/javascript" if file.suffix == ".js" else mimetypes.guess_type(file.name)[0]
+                    return route.fulfill(body=file.read_bytes(), content_type=kind or "text/plain")
+        if path.startswith("/backdrops/") and path.endswith(".png"):
+            image = load_backdrop(path[len("/backdrops/"):-4])
+            buf = io.BytesIO()
+            Image.fromarray(image).save(buf, format="PNG")
+            return route.fulfill(body=buf.getvalue(), content_type="image/png")
+        return route.fulfill(status=404, body="not found")
+
+    def _socket(self, ws) -> None:
+        self.socket = ws  # the latest, for tests that send more
+        ws.on_message(lambda m: self.sent.append(json.loads(m)))
+        ws.send(json.dumps(self.hello))
+        messages = self.connections.pop(0)
+        for message in messages:
+            ws.send(message)
+        if self.connections and self.hang_up:
+            ws.close(code=1001, reason="going away")
+
+    def pixels(self) -> np.ndarray:
+        """The page's frame, H x W x 3 uint8, top row first."""
+        import base64
+
+        raw = base64.b64decode(self.page.evaluate("window.frost.framePixels()"))
+        return np.frombuffer(raw, np.uint8).reshape(HEIGHT, WIDTH, 4)[:, :, :3].copy()
+
+    def frame_times(self, n: int) -> np.ndarray:
+        """Milliseconds of `n` full frames, each waited for."""
+        return np.asarray(self.page.evaluate(f"window.frost.frameTimes({n})"))
+
+
+def encode(deltas: list[GeometryDelta], params: Params) -> list[bytes]:
+    """The geometry messages a server sends for `deltas`, in order."""
+    from app.serve.protocol import Encoder
+
+    s = params.grid_spacing
+    enc = Encoder(WIDTH // s + 1, HEIGHT // s + 1)
+    return [enc.delta(d) for d in deltas]
+
+
+def wire_deltas(messages: list[bytes], params: Params) -> list[GeometryDelta]:
+    """The deltas as a page receives them (heights as half floats, vertices in 1/16 px,
+    normals in 1/127): `messages` decoded back, each as the rows its height runs touch."""
+    from app.serve.protocol import RESET, apply_geometry, decode_geometry
+
+    s = params.grid_spacing
+    cols, rows = WIDTH // s + 1, HEIGHT // s + 1
+    grid = np.zeros(rows * cols, np.float32)
+    out = []
+    for message in messages:
+        m = decode_geometry(message)
+        apply_geometry(grid, m)
+        touched = [r for start, count in m["runs"]
+                   for r in range(start // cols, (start + count - 1) // cols + 1)]
+        lo, hi = (min(touched), max(touched) + 1) if touched else (0, 0)
+        out.append(GeometryDelta(m["tick"], slice(lo, hi), grid.reshape(rows, cols)[lo:hi].copy(),
+                                 m["vertices"], reset=bool(m["flags"] & RESET),
+                                 clear_box=m["clear_box"], look=m["look"],
+                                 height_scale=m["height_scale"]))
+    return out
+
+
+def desktop_frame(ctx, params: Params, deltas: list[GeometryDelta]) -> np.ndarray:
+    """`deltas` applied in order by a fresh desktop renderer, its frame."""
+    from app.gl.renderer import Renderer
+    from app.images import read_image
+
+    renderer = Renderer(ctx, params, WIDTH, HEIGHT)
+    for delta in deltas:
+        renderer.apply(delta)
+    fbo = ctx.simple_framebuffer((WIDTH, HEIGHT), components=4)
+    renderer.render(fbo)
+    return read_image(fbo)
+
+
+def desktop_frame_times(off, n: int) -> np.ndarray:
+    """Milliseconds of `n` full frames of the desktop renderer (EGL), each waited for."""
+    import time
+
+    times = []
+    for _ in range(n):
+        t0 = time.perf_counter()
+        off.renderer.render(off.fbo)
+        off.fbo.read(viewport=(0, 0, 1, 1))
+        times.append((time.perf_counter() - t0) * 1e3)
+    return np.asarray(times)
+
+
+def compare(a: np.ndarray, b: np.ndarray) -> dict:
+    """Mean absolute difference (of 255) and the share of pixels whose every channel is
+    within 8/255, of two H x W x 3 uint8 images."""
+    d = np.abs(a.astype(np.int16) - b.astype(np.int16))
+    return {"mad": float(d.mean()), "within8": float((d.max(axis=2) <= 8).mean()),
+            "max": int(d.max())}
+
+
+def difference_image(a: np.ndarray, b: np.ndarray, gain: float = 8.0) -> np.ndarray:
+    d = np.abs(a.astype(np.int16) - b.astype(np.int16)).max(axis=2)
+    return np.clip(d * gain, 0, 255).astype(np.uint8)
+
+
+def touch_latency(taps: int, preset: str = "fern", gap_s: float = 0.7) -> np.ndarray:
+    """Milliseconds from a finger down on the page (an emulated phone in headless Chromium)
+    to the frame that first draws growth near it, through `frost serve` on loopback (started
+    here, on a free port): `taps` taps `gap_s` apart at random spots of the pane."""
+    import re
+    import signal
+    import subprocess
+    import sys
+
+    from playwright.sync_api import sync_playwright
+
+    rng = np.random.default_rng(7)
+    with tempfile.TemporaryDirectory() as tmp:
+        proc = subprocess.Popen([sys.executable, "-m", "app", "serve", "--port", "0",
+                                 "--preset", preset, "--session-dir", tmp],
+                                cwd=tmp, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        try:
+            url = None
+            for line in proc.stdout or ():
+                found = re.search(r"open (http://\S+)", line)
+                if found:
+                    url = found.group(1)
+                    break
+            if url is None:
+                raise RuntimeError("frost serve did not start")
+            with sync_playwright() as pw:
+                browser = launch(pw)
+                context = browser.new_context(viewport={"width": 390, "height": 844},
+                                              device_scale_factor=3, has_touch=True, is_mobile=True)
+                page = context.new_page()
+                page.goto(url)
+                page.wait_for_function("window.frost && frost.synced", timeout=30_000)
+                r = page.evaluate("frost.pane()")
+                for _ in range(taps):
+                    x, y = rng.uniform(40, WIDTH - 40), rng.uniform(40, HEIGHT - 40)
+                    page.touchscreen.tap((r["x"] + x * r["scale"]) / 3, (r["y"] + y * r["scale"]) / 3)
+                    page.wait_for_timeout(gap_s * 1000)
+                got = page.evaluate("frost.latencies")
+                context.close()
+                browser.close()
+        finally:
+            proc.send_signal(signal.SIGINT)
+            proc.communicate(timeout=60)
+    return np.asarray(got)
+
+
+def main(argv: list[str] | None = None, prog: str = "python -m app.tools.page_bench") -> int:
+    from app.cli.values import count  # here: the command line's package loads the window
+
+    p = argparse.ArgumentParser(prog=prog, description=__doc__.split("\n\n")[0])
+    p.add_argument("--preset", default="fern", choices=list(all_presets()), metavar="NAME",
+                   help="parameter set to grow (default fern)")
+    p.add_argument("--look", choices=("paper", "glass"), help="default: the preset's")
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--ticks", type=count, default=300, help="ticks to grow (default 300)")
+    p.add_argument("--frames", type=count, default=60, help="page frames timed (default 60)")
+    p.add_argument("--angle", choices=list(ANGLE), default="swiftshader",
+                   help="the page's WebGL: Chromium's SwiftShader (default) or the system's "
+                        "OpenGL through EGL (gl-egl)")
+    p.add_argument("--taps", type=count, help="instead: touch to first drawn growth through frost "
+                   "serve on loopback, over this many taps")
+    p.add_argument("--out", help="write desktop.png, page.png, difference.png here")
+    args = p.parse_args(argv)
+    problem = browser_problem()
+    if problem:
+        print(f"frost: error: {problem}")
+        return 2
+    if args.taps:
+        ms = touch_latency(args.taps, args.preset)
+        print(f"touch to first drawn growth ({args.preset}, loopback, {len(ms)} of {args.taps} "
+              f"taps seen): median {np.median(ms):.0f} ms, p95 {np.percentile(ms, 95):.0f} ms, "
+              f"max {ms.max():.0f} ms")
+        return 0
+    params = Params.preset(args.preset)
+    if args.look:
+        params = params.replace(look=args.look)
+    try:
+        off, deltas = grow(params, args.seed, args.ticks)
+    except RuntimeError as err:  # no EGL context
+        print(f"frost: error: {err}")
+        return 2
+    desktop = off.frame()
+    messages = encode(deltas, params)
+    wire = desktop_frame(off.renderer.ctx, params, wire_deltas(messages, params))
+    with Page(hello(params), messages, angle=args.angle) as page:
+        shown = page.pixels()
+        times = page.frame_times(args.frames)
+    print(f"{args.preset}, {params.look}, {args.ticks} ticks, {len(messages)} messages, "
+          f"{sum(map(len, messages)) / 1e3:.0f} kB")
+    for name, a, b in (("page vs desktop", desktop, shown),
+                       ("page vs desktop fed the page's messages", wire, shown),
+                       ("desktop fed the messages vs desktop", desktop, wire)):
+        got = compare(a, b)
+        print(f"{name}: mean abs difference {got['mad']:.4f}/255, within 8/255 {got['within8']:.4%}, "
+              f"largest {got['max']}")
+    for name, t in ((f"page (Chromium, {args.angle})", times),
+                    ("desktop (EGL)", desktop_frame_times(off, args.frames))):
+        print(f"{name} frame time at {WIDTH}x{HEIGHT}: median {np.median(t):.1f} ms, "
+              f"p99 {np.percentile(t, 99):.1f} ms ({args.frames} frames)")
+    if args.out:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        Image.fromarray(desktop).save(out / "desktop.png")
+        Image.fromarray(shown).save(out / "page.png")
+        Image.fromarray(wire).save(out / "desktop-wire.png")
+        Image.fromarray(difference_image(desktop, shown)).save(out / "difference.png")
+        Image.fromarray(difference_image(wire, shown)).save(out / "difference-wire.png")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

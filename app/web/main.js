@@ -1,0 +1,387 @@
+// The phone page: connects to `frost serve`, draws the shared frost with the WebGL2 port of
+// the desktop renderer, and sends touches, melts, keys and menu choices back.
+
+import { decodeDelta } from "./protocol.js";
+import { Program, Renderer, fetchShaders } from "./renderer.js";
+import { Pointers } from "./input.js";
+import { Menu } from "./menu.js";
+import { withText } from "./png.js";
+
+const SCREEN = [760, 1280];
+const RETRY_FIRST = 250, RETRY_MOST = 8000;  // ms between reconnects: doubling up to this
+
+const token = new URLSearchParams(location.search).get("token");
+const query = token ? `?token=${encodeURIComponent(token)}` : "";
+
+const canvas = document.getElementById("frost");
+const gl = canvas.getContext("webgl2", {
+  alpha: false, antialias: false, depth: false, premultipliedAlpha: false, preserveDrawingBuffer: true,
+});
+
+// What the page knows; `window.frost` exposes it to the tests and the bench.
+const state = {
+  hello: null, renderer: null, tick: 0, connected: false, synced: false, dirty: true,
+  messages: 0, bytes: 0, hellos: 0, lost: 0, watch: null, latencies: [], backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
+};
+window.frost = state;
+
+function status(text) {
+  document.getElementById("status").textContent = text;
+}
+
+let noticeTimer = 0;
+function notice(text) {
+  status(text);
+  clearTimeout(noticeTimer);
+  noticeTimer = setTimeout(() => status(""), 4000);
+}
+
+async function main() {
+  if (!gl) {
+    status("This browser has no WebGL2.");
+    state.error = "no WebGL2";
+    return;
+  }
+  const sources = await fetchShaders("shaders/", query);
+  state.sources = sources;
+  state.blitter = new Blitter(gl, sources);
+  const pointers = new Pointers(canvas, paneRect, send);
+  pointers.attach();
+  pointers.onDown = (kind, p, t0) => {
+    if (kind === "touch") state.watch = { x: p[0], y: p[1], t0, seen: false };
+  };
+  state.menu = new Menu(document.getElementById("menu"), send, screenshot);
+  state.menu.pointers = pointers;
+  addEventListener("keydown", onKey);
+  addEventListener("resize", () => { state.dirty = true; });
+  // A phone may take the GPU away (in the background): start again when it gives it back,
+  // the server's snapshot refilling what the context held.
+  canvas.addEventListener("webglcontextlost", (event) => {
+    event.preventDefault();
+    state.renderer = null;
+    state.lost += 1;
+  });
+  canvas.addEventListener("webglcontextrestored", () => {
+    state.blitter = new Blitter(gl, sources);
+    state.backdrop = state.shownBackdrop = null;
+    if (state.socket) state.socket.close(4001, "page: the GPU context was restored");
+  });
+  connect(RETRY_FIRST);
+  requestAnimationFrame(frame);
+}
+
+// ---- the connection ------------------------------------------------------------------
+
+function connect(retry) {
+  const url = new URL("ws" + query, location.href);
+  url.protocol = location.protocol === "https:" ? "wss:" : "ws:";
+  const ws = new WebSocket(url);
+  ws.binaryType = "arraybuffer";
+  state.socket = ws;
+  ws.onopen = () => { retry = RETRY_FIRST; };
+  ws.onmessage = (event) => {
+    state.messages += 1;
+    if (typeof event.data === "string") return onText(JSON.parse(event.data));
+    state.bytes += event.data.byteLength;
+    if (!state.renderer || gl.isContextLost()) return;
+    try {
+      const delta = decodeDelta(event.data);
+      state.renderer.apply(delta);
+      state.tick = delta.tick;
+      if (state.watch && !state.watch.seen) state.watch.seen = grewNear(delta, state.watch);
+      if (delta.snapshotEnd) state.synced = true;
+    } catch (err) {
+      // What the page holds is no longer the server's: start again from a snapshot.
+      console.error(err);
+      ws.close(4000, `page: ${err.message}`.slice(0, 120));
+    }
+  };
+  ws.onclose = (event) => {
+    state.connected = false;
+    state.synced = false;
+    state.socket = null;
+    if (event.code === 1008 || event.code === 1009 || event.code === 4403) {
+      status(`refused: ${event.reason || event.code}`);
+    } else {
+      status(`reconnecting (${event.reason || "connection lost"})`);
+    }
+    setTimeout(() => connect(Math.min(retry * 2, RETRY_MOST)), retry);
+  };
+}
+
+function send(message) {
+  const ws = state.socket;
+  if (ws && ws.readyState === WebSocket.OPEN) ws.send(JSON.stringify(message));
+}
+
+async function onText(msg) {
+  if (msg.type === "hello") {
+    state.hello = msg;
+    state.hellos += 1;
+    state.connected = true;
+    status("");
+    const [cols, rows] = msg.grid;
+    const r = state.renderer;
+    if (gl.isContextLost()) return;
+    if (!r || r.gridSize[0] !== cols || r.gridSize[1] !== rows || r.spacing !== msg.spacing) {
+      state.renderer = new Renderer(gl, state.sources, { width: SCREEN[0], height: SCREEN[1], grid: msg.grid, spacing: msg.spacing });
+      if (msg.defines) state.renderer.setDefines(msg.defines);
+    } else {
+      r.reset();  // the snapshot that follows holds the whole frost
+    }
+    state.backdrop = null;
+  }
+  if (msg.type === "hello" || msg.type === "state") {
+    Object.assign(state.hello, msg, { type: "hello" });
+    applyView(state.hello);
+    state.menu.show(state.hello);
+    state.renderer.damageAll();
+    if (state.hello.backdrop !== state.backdrop) await loadBackdrop(state.hello.backdrop);
+  } else if (msg.type === "resync") {
+    // The server dropped this page's queue: a snapshot follows (its first part resets).
+    state.synced = false;
+  } else if (msg.type === "pong") {
+    state.pong = msg;  // the server's tick when it answered (the tests read it)
+  } else if (msg.type === "notice") {
+    notice(msg.text);
+    state.menu.show(state.hello);  // a refused choice: the menu shows what is in force
+  }
+}
+
+// The light, the material and the toggles the server sends (names as the shader's uniforms
+// without u_, or as sim.look.material.Material's fields).
+function applyView(hello) {
+  const r = state.renderer;
+  for (const [key, value] of Object.entries(hello.uniforms || {})) {
+    const name = key.replace(/^u_/, "");
+    if (name === "light") r.light = value;
+    else r.material[name] = value;
+  }
+  const view = hello.view || {};
+  if ("light" in view) r.light = view.light;
+  if ("features" in view) r.showFeatures = !!view.features;
+  if ("bumps" in view) r.showBumps = !!view.bumps;
+}
+
+async function loadBackdrop(name) {
+  state.backdrop = name;
+  const r = await fetch(`backdrops/${encodeURIComponent(name)}.png${query}`);
+  if (!r.ok) return status(`backdrop ${name}: HTTP ${r.status}`);
+  const image = await createImageBitmap(await r.blob(), { colorSpaceConversion: "none", premultiplyAlpha: "none" });
+  if (state.backdrop !== name) return;  // another came meanwhile
+  state.renderer.setBackgroundImage(image);
+  state.shownBackdrop = name;
+}
+
+// Touch to first drawn growth (the bench reads frost.latencies, ms): whether a delta
+// brings features within GREW_NEAR px of the last finger down, or ice thicker than
+// SHOWS px (the glass look's film shows the bumps from 0.8 px) on a grid vertex there.
+const GREW_NEAR = 12, SHOWS = 0.8;
+function grewNear(delta, { x, y }) {
+  const f = delta.features;
+  for (let i = 0; i < f.length; i += 6) {
+    if (Math.hypot(f[i] - x, f[i + 1] - y) < GREW_NEAR) return true;
+  }
+  const cols = delta.grid[0], s = state.renderer.spacing;
+  let k = 0;
+  for (const [start, count] of delta.runs) {
+    for (let i = start; i < start + count; i++, k++) {
+      const px = (i % cols) * s, py = Math.floor(i / cols) * s;
+      if (delta.heights[k] > SHOWS && Math.hypot(px - x, py - y) < GREW_NEAR) return true;
+    }
+  }
+  return false;
+}
+
+// ---- keys ----------------------------------------------------------------------------
+
+// A key as GLFW names it (app/window/keys.py), or null.
+export function keyName(event) {
+  const code = event.code;
+  if (/^Key[A-Z]$/.test(code)) return code.slice(3);
+  if (/^Digit[0-9]$/.test(code)) return code.slice(5);
+  if (/^F[0-9]+$/.test(code)) return code;
+  const named = {
+    Space: "SPACE", Period: "PERIOD", Equal: "EQUAL", Minus: "MINUS", NumpadAdd: "KP_ADD",
+    NumpadSubtract: "KP_SUBTRACT", BracketLeft: "LEFT_BRACKET", BracketRight: "RIGHT_BRACKET",
+    Quote: "APOSTROPHE", Semicolon: "SEMICOLON", ArrowLeft: "LEFT", ArrowRight: "RIGHT",
+    ArrowUp: "UP", ArrowDown: "DOWN", Tab: "TAB", Escape: "ESCAPE",
+  };
+  return named[code] || null;
+}
+
+function onKey(event) {
+  if (event.target.closest && event.target.closest("#menu")) return;
+  if (event.ctrlKey || event.metaKey || event.altKey) return;
+  const name = keyName(event);
+  if (!name) return;
+  event.preventDefault();
+  if (name === "S" || name === "F12") return void screenshot();
+  send({ type: "key", key: name });
+}
+
+// ---- drawing -------------------------------------------------------------------------
+
+// Where the 760x1280 pane lies on the canvas, device px: letterboxed, centred.
+function paneRect() {
+  const w = canvas.width, h = canvas.height;
+  const scale = Math.min(w / SCREEN[0], h / SCREEN[1]);
+  const pw = Math.round(SCREEN[0] * scale), ph = Math.round(SCREEN[1] * scale);
+  return { x: Math.floor((w - pw) / 2), y: Math.floor((h - ph) / 2), w: pw, h: ph, scale };
+}
+
+function fitCanvas() {
+  const dpr = window.devicePixelRatio || 1;
+  const w = Math.round(canvas.clientWidth * dpr), h = Math.round(canvas.clientHeight * dpr);
+  if (canvas.width !== w || canvas.height !== h) {
+    canvas.width = w;
+    canvas.height = h;
+    state.dirty = true;
+  }
+}
+
+// Draw what changed into the pane's texture; the canvas is told of it at the next frame.
+function drawPane(all = false) {
+  const d = state.renderer.render(all);
+  const b = state.blitDamage;
+  if (d) state.blitDamage = b ? [Math.min(b[0], d[0]), Math.min(b[1], d[1]), Math.max(b[2], d[2]), Math.max(b[3], d[3])] : d;
+}
+
+function frame() {
+  fitCanvas();
+  if (state.renderer) drawPane();
+  if (state.renderer && (state.dirty || state.blitDamage)) {
+    state.blitter.draw(state.renderer.frame, paneRect(), state.dirty ? null : state.blitDamage);
+    state.dirty = false;
+    state.blitDamage = null;
+    state.frames += 1;
+    if (state.watch && state.watch.seen) {  // the tap's first growth is drawn
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+      state.latencies.push(performance.now() - state.watch.t0);
+      state.watch = null;
+    }
+  }
+  requestAnimationFrame(frame);
+}
+
+// The pane's texture drawn into the canvas's rect (device px, y down), black around it.
+class Blitter {
+  constructor(gl, sources) {
+    this.gl = gl;
+    this.prog = new Program(gl, sources, "blit.vert", "blit.frag");
+    this.array = gl.createVertexArray();
+  }
+
+  // `damage`: only the pane px [x0, y0, x1, y1] (y down) changed, else all of it (and the
+  // black around it) is drawn.
+  draw(texture, rect, damage = null) {
+    const gl = this.gl;
+    const H = gl.drawingBufferHeight;
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    if (damage) {
+      // Its canvas px, and two more each way (linear filtering reaches a texel further).
+      const x0 = Math.max(Math.floor(rect.x + damage[0] * rect.scale) - 2, rect.x);
+      const y0 = Math.max(Math.floor(rect.y + damage[1] * rect.scale) - 2, rect.y);
+      const x1 = Math.min(Math.ceil(rect.x + damage[2] * rect.scale) + 2, rect.x + rect.w);
+      const y1 = Math.min(Math.ceil(rect.y + damage[3] * rect.scale) + 2, rect.y + rect.h);
+      gl.enable(gl.SCISSOR_TEST);
+      gl.scissor(x0, H - y1, x1 - x0, y1 - y0);
+    } else {
+      gl.viewport(0, 0, gl.drawingBufferWidth, H);
+      gl.clearColor(0, 0, 0, 1);
+      gl.clear(gl.COLOR_BUFFER_BIT);
+    }
+    gl.viewport(rect.x, H - rect.y - rect.h, rect.w, rect.h);
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D, texture);
+    // One canvas px per pane px: nearest, so the page shows the frame exactly.
+    const filter = rect.scale === 1 ? gl.NEAREST : gl.LINEAR;
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, filter);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, filter);
+    this.prog.use({ u_texture: 0, u_rect: [-1, -1, 1, 1] });
+    gl.bindVertexArray(this.array);
+    gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4);
+    gl.bindVertexArray(null);
+    gl.disable(gl.SCISSOR_TEST);
+  }
+}
+
+// ---- screenshot ----------------------------------------------------------------------
+
+// The pane (760x1280) as PNG bytes with the desktop's metadata keys.
+async function screenshotPng() {
+  const r = state.renderer;
+  drawPane();
+  const pixels = r.readFrame();
+  for (let i = 3; i < pixels.length; i += 4) pixels[i] = 255;
+  const c = document.createElement("canvas");
+  [c.width, c.height] = SCREEN;
+  c.getContext("2d").putImageData(new ImageData(new Uint8ClampedArray(pixels.buffer), ...SCREEN), 0, 0);
+  const blob = await new Promise((resolve) => c.toBlob(resolve, "image/png"));
+  const png = new Uint8Array(await blob.arrayBuffer());
+  // frost_meta's keys in its order; parameters, seed and touches as the server gives them
+  // (GET /meta, else the hello's "meta").
+  const known = await serverMeta();
+  const local = new Date(Date.now() - new Date().getTimezoneOffset() * 60000);
+  const meta = {
+    parameters: known.parameters ?? null, seed: known.seed ?? null, tick: state.tick,
+    touches: known.touches ?? [], Software: "frost (page)",
+    "Creation Time": local.toISOString().slice(0, 19),
+    view: { light: r.light, features: r.showFeatures, bumps: r.showBumps, background: state.backdrop },
+  };
+  return withText(png, meta);
+}
+
+async function serverMeta() {
+  try {
+    const r = await fetch(`meta${query}`);
+    if (r.ok) return await r.json();
+  } catch { /* an older server: the hello's */ }
+  return (state.hello || {}).meta || {};
+}
+
+async function screenshot() {
+  if (!state.renderer) return;
+  const png = await screenshotPng();
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(new Blob([png], { type: "image/png" }));
+  const stamp = new Date().toISOString().replace(/[-:]/g, "").replace("T", "-").slice(0, 15);
+  a.download = `frost-${stamp}.png`;
+  document.body.append(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(a.href), 10000);
+}
+state.screenshotPng = screenshotPng;
+
+// The pane's pixels now (RGBA, top row first) as base64: for the tests and the bench.
+state.framePixels = () => {
+  drawPane();
+  const px = state.renderer.readFrame();
+  let s = "";
+  for (let i = 0; i < px.length; i += 0x8000) s += String.fromCharCode(...px.subarray(i, i + 0x8000));
+  return btoa(s);
+};
+
+state.canvasSize = () => [canvas.width, canvas.height];
+state.pane = paneRect;
+
+// Frame times (ms) of `n` full frames at 760x1280, each waited for (a 1-pixel read).
+state.frameTimes = (n) => {
+  const r = state.renderer, one = new Uint8Array(4), times = [];
+  for (let i = 0; i < n; i++) {
+    const t0 = performance.now();
+    r.render(true);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, r.frameFbo);
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
+    times.push(performance.now() - t0);
+  }
+  gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+  return times;
+};
+
+main().catch((err) => {
+  state.error = String(err);
+  status(`error: ${err.message}`);
+  console.error(err);
+});

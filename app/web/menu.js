@@ -1,0 +1,36 @@
+// The page's small menu: preset, look, backdrop, warm finger, pause, clear, screenshot.
+// Choices go to the server (which tells every page what changed); the menu shows its state.
+
+export class Menu {
+  constructor(root, send, screenshot) {
+    this.root = root;
+    this.send = send;
+    this.pointers = null;
+    const $ = (id) => root.querySelector(`#${id}`);
+    this.panel = $("panel");
+    $("open").addEventListener("click", () => { this.panel.hidden = !this.panel.hidden; });
+    for (const kind of ["preset", "look", "backdrop"]) {
+      $(kind).addEventListener("change", (e) => send({ type: kind, name: e.target.value }));
+    }
+    $("pause").addEventListener("click", () => send({ type: "pause" }));
+    $("clear").addEventListener("click", () => send({ type: "clear" }));
+    $("shot").addEventListener("click", () => screenshot());
+    $("warm").addEventListener("change", (e) => { if (this.pointers) this.pointers.warm = e.target.checked; });
+    this.$ = $;
+  }
+
+  // The server's state (hello / state messages merged).
+  show(hello) {
+    const lists = { preset: hello.presets, look: hello.looks, backdrop: hello.backdrops };
+    for (const [kind, names] of Object.entries(lists)) {
+      const select = this.$(kind);
+      const wanted = (names || []).join("\n");
+      if (select.dataset.names !== wanted) {
+        select.replaceChildren(...(names || []).map((n) => new Option(n, n)));
+        select.dataset.names = wanted;
+      }
+      if (hello[kind] !== undefined) select.value = hello[kind];
+    }
+    this.$("pause").textContent = hello.paused ? "Resume" : "Pause";
+  }
+}

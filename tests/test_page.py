@@ -1,0 +1,323 @@
+"""The phone page (app/web) in headless Chromium, without a server: Playwright serves its
+files from disk and stands in for the WebSocket (app.tools.page_bench.Page). The desktop
+renderer (EGL) and numpy are the oracles."""
+
+from __future__ import annotations
+
+import io
+import json
+import re
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from app.resources import WEB_DIR
+from app.tools.page_bench import (
+    Page,
+    browser_problem,
+    compare,
+    desktop_frame,
+    encode,
+    grow,
+    hello,
+    launch,
+    wire_deltas,
+)
+from sim import Params
+from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES
+
+PROBLEM = browser_problem()
+pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
+
+
+@pytest.fixture(scope="module")
+def playwright():
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as pw:
+        yield pw
+
+
+@pytest.fixture(scope="module")
+def browser(playwright):
+    b = launch(playwright)
+    yield b
+    b.close()
+
+
+@pytest.fixture(scope="module", params=["glass", "paper"])
+def grown(gl_ctx, request):
+    """A frost of each look grown 120 ticks from three touches with a melt at tick 80:
+    the desktop's frame of the page's messages, and the messages."""
+    params = Params.preset("fern").replace(look=request.param)
+    _off, deltas = grow(params, 3, 120, ctx=gl_ctx)
+    messages = encode(deltas, params)
+    return params, messages, desktop_frame(gl_ctx, params, wire_deltas(messages, params))
+
+
+def test_the_page_knows_each_looks_defines():
+    source = (WEB_DIR / "renderer.js").read_text()
+    for name, table in (("LOOK_DEFINES", LOOK_DEFINES), ("FEATURE_DEFINES", FEATURE_DEFINES)):
+        text = re.search(rf"export const {name} = (\{{.*?\}});", source).group(1)
+        page = json.loads(re.sub(r"(\w+):", r'"\1":', text))
+        assert page == {look: list(d) for look, d in table.items()}
+
+
+def test_half_floats_as_numpy(browser):
+    """Every half decodes as numpy does; numbers round to the nearest half (ties to even,
+    subnormals, overflow) as numpy's astype(float16)."""
+    rng = np.random.default_rng(5)
+    bits = np.arange(1 << 16, dtype=np.uint16)
+    halves = bits.view(np.float16).astype(np.float64)
+    finite = np.isfinite(halves)
+    # Ties and their neighbours, subnormals, the largest half and beyond, random values.
+    mids = (halves[finite][:-1] + np.diff(halves[finite]) / 2)
+    samples = np.concatenate([mids[::97], np.nextafter(mids[::89], 0), rng.normal(0, 30, 2000),
+                              rng.uniform(-1e-6, 1e-6, 500), [65504, 65519.99, 65520, 1e6, -0.0]])
+    samples = samples.astype(np.float32).astype(np.float64)
+    with Page(hello(Params.preset("fern")), [], browser=browser) as page:
+        out = page.page.evaluate("""async ([values]) => {
+            const m = await import('./web/protocol.js');
+            const dec = []; for (let h = 0; h < 65536; h++) dec.push(m.halfToFloat(h));
+            return [dec, values.map(m.floatToHalf)]; }""", [samples.tolist()])
+    decoded = np.array([np.nan if v is None else v for v in out[0]])
+    assert np.array_equal(decoded[finite], halves[finite])
+    with np.errstate(over="ignore"):
+        expected = samples.astype(np.float16).view(np.uint16)
+    assert np.array_equal(np.array(out[1], np.uint16), expected)
+
+
+def test_the_page_decodes_what_the_server_encodes(browser, grown):
+    from app.serve.protocol import decode_geometry
+
+    params, messages, _ = grown
+    with Page(hello(params), messages, browser=browser) as page:
+        for i in (0, 1, 40, len(messages) - 1, *(i for i, m in enumerate(messages) if m[2] & 2)):
+            m = decode_geometry(messages[i])
+            got = page.page.evaluate("""async ([bytes]) => {
+                const p = await import('./web/protocol.js');
+                const d = p.decodeDelta(new Uint8Array(bytes).buffer);
+                return {...d, heights: Array.from(d.heights), features: Array.from(d.features)}; }""",
+                                     [list(messages[i])])
+            assert got["tick"] == m["tick"] and got["look"] == m["look"]
+            assert got["reset"] == bool(m["flags"] & 1)
+            assert got["clearBox"] == (list(m["clear_box"]) if m["clear_box"] else None)
+            assert [tuple(r) for r in got["runs"]] == m["runs"]
+            assert np.array_equal(np.array(got["heights"], np.float32), m["heights"])
+            assert np.array_equal(np.array(got["features"], np.float32).reshape(-1, 6), m["vertices"])
+
+
+def test_the_page_draws_the_frost_as_the_desktop_does(browser, grown):
+    """The page's frame of the messages against the desktop renderer's frame of the same
+    messages: only the two rasterisers differ (SwiftShader, llvmpipe)."""
+    params, messages, desktop = grown
+    with Page(hello(params), messages, browser=browser) as page:
+        shown = page.pixels()
+    with Page(hello(params), [], browser=browser) as page:
+        bare = page.pixels()
+    assert compare(desktop, bare)["within8"] < 0.97  # the frost is there to compare
+    got = compare(desktop, shown)
+    assert got["mad"] < 0.1 and got["within8"] > 0.9995, got
+
+
+def test_the_height_texture_holds_heights_and_slopes_as_numpy(browser, grown):
+    """After every message, the page's height texture (its mirror) holds each vertex's
+    height and numpy.gradient's slopes of the grid the messages give (app.serve.protocol's
+    apply_geometry), as half floats: the rows each message touched and their neighbours
+    were rewritten."""
+    from app.serve.protocol import apply_geometry, decode_geometry
+
+    params, messages, _ = grown
+    cols, rows = hello(params)["grid"]
+    grid = np.zeros(rows * cols, np.float32)
+    for m in messages:
+        apply_geometry(grid, decode_geometry(m))
+    gy, gx = np.gradient(grid.reshape(rows, cols), float(params.grid_spacing))
+    want = np.stack((grid.reshape(rows, cols), gx, gy), axis=-1).astype(np.float16)
+    with Page(hello(params), messages, browser=browser) as page:
+        texels = page.page.evaluate("Array.from(frost.renderer.texels)")
+    got = np.array(texels, np.uint16).view(np.float16).reshape(rows, cols, 3)
+    assert np.abs(want).max() > 0.1
+    assert np.array_equal(got, want)
+
+
+def test_a_page_reconnects_and_holds_what_the_new_connection_gives(browser, grown):
+    """The socket closes after the whole frost; the page reconnects (after its backoff)
+    and the new connection's hello and messages (half the frost) replace what it held."""
+    params, messages, _ = grown
+    half = messages[:len(messages) // 2]
+    with Page(hello(params), half, browser=browser) as page:
+        want = page.pixels()
+    with Page(hello(params), messages, browser=browser, later=[half]) as page:
+        total = len(messages) + len(half) + 2  # and two hellos
+        page.page.wait_for_function(f"frost.hellos === 2 && frost.messages === {total}")
+        page.page.wait_for_timeout(100)
+        assert np.array_equal(page.pixels(), want)
+
+
+def test_on_the_same_rasteriser_the_page_draws_the_desktops_pixels(playwright, grown):
+    """Chromium's WebGL on the system's OpenGL (ANGLE over EGL: Mesa's llvmpipe, the
+    desktop renderer's rasteriser here): the page's frame is the desktop's, bit for bit."""
+    params, messages, desktop = grown
+    b = launch(playwright, "gl-egl")
+    try:
+        with Page(hello(params), messages, browser=b) as page:
+            renderer = page.page.evaluate("""() => { const gl = document.createElement('canvas')
+                .getContext('webgl2'); const d = gl.getExtension('WEBGL_debug_renderer_info');
+                return gl.getParameter(d.UNMASKED_RENDERER_WEBGL); }""")
+            if "llvmpipe" not in renderer:
+                pytest.skip(f"Chromium's OpenGL is not llvmpipe here: {renderer}")
+            shown = page.pixels()
+    finally:
+        b.close()
+    assert np.array_equal(shown, desktop), compare(shown, desktop)
+
+
+def test_a_lost_gpu_context_comes_back_with_the_frost(browser, grown):
+    """The context lost (a phone took the GPU away) and restored: the page reconnects
+    and draws the frost of the new connection's snapshot as before."""
+    params, messages, _ = grown
+    with Page(hello(params), messages, browser=browser, later=[messages], hang_up=False) as page:
+        before, p = page.pixels(), page.page
+        shown = p.screenshot()
+        p.evaluate("window.lose = document.getElementById('frost').getContext('webgl2')"
+                   ".getExtension('WEBGL_lose_context'); lose.loseContext()")
+        p.wait_for_function("frost.lost === 1")
+        p.evaluate("lose.restoreContext()")
+        p.wait_for_function(f"frost.hellos === 2 && frost.messages === {2 * len(messages) + 2}"
+                            " && frost.shownBackdrop === 'dusk'")
+        p.wait_for_function("frost.frames > 0 && !frost.dirty")
+        assert np.array_equal(page.pixels(), before)
+        assert p.screenshot() == shown  # and on the screen
+
+
+def test_drawing_only_what_changed_gives_the_whole_frames_pixels(browser, grown):
+    """Each message applied and only its damage drawn (in the pane's texture, then on the
+    canvas): the same pixels as the whole frame drawn again."""
+    import base64
+
+    from app.serve.protocol import Encoder, decode_geometry
+    from sim.look.geometry import GeometryDelta
+
+    params, messages, _ = grown
+    # Then features alone (no height changes), shifted onto clear glass, and a wipe alone.
+    cols, rows = hello(params)["grid"]
+    feats = max((decode_geometry(m)["vertices"] for m in messages), key=len).copy()
+    feats[:, 0] = np.clip(feats[:, 0] + 150, 0, 759)
+    none = np.zeros((0, cols), np.float32)
+    enc = Encoder(cols, rows)
+    box = (feats[:, 0].min(), feats[:, 1].min(), feats[:, 0].mean(), feats[:, 1].mean())
+    messages = [*messages, enc.delta(GeometryDelta(1, slice(0, 0), none, feats, look=params.look)),
+                enc.delta(GeometryDelta(2, slice(0, 0), none, feats[:0], look=params.look,
+                                        clear_box=tuple(map(float, box))))]
+    with Page(hello(params), [], browser=browser) as page:
+        p = page.page
+        differ = p.evaluate("""async (msgs) => {
+            const proto = await import('./web/protocol.js');
+            const r = frost.renderer;
+            for (const b64 of msgs) {
+              const bytes = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
+              r.apply(proto.decodeDelta(bytes.buffer));
+              r.render();
+            }
+            const partial = r.readFrame();
+            r.render(true);
+            const whole = r.readFrame();
+            let n = 0;
+            for (let i = 0; i < whole.length; i++) n += partial[i] !== whole[i];
+            return n; }""", [base64.b64encode(m).decode() for m in messages])
+        assert differ == 0
+    with Page(hello(params), messages, browser=browser, viewport=(390, 844), scale=3) as page:
+        p = page.page
+        p.wait_for_function("frost.frames > 1 && !frost.blitDamage")
+        parts = p.screenshot()
+        p.evaluate("frost.dirty = true")
+        p.wait_for_function("!frost.dirty")
+        assert p.screenshot() == parts
+
+
+def test_screenshot_png_carries_the_desktops_keys(browser, grown):
+    from app.images import frost_meta
+
+    params, messages, _ = grown
+    with Page({**hello(params), "meta": {"parameters": params.as_dict(), "seed": 3,
+                                         "touches": [[0, 380.0, 640.0]]}},
+              messages, browser=browser) as page:
+        png = bytes(page.page.evaluate("async () => Array.from(await frost.screenshotPng())"))
+        shown = page.pixels()
+    with Image.open(io.BytesIO(png)) as im:
+        text = dict(im.text)
+        pixels = np.asarray(im.convert("RGB"))
+    desktop_keys = set(frost_meta("x", params, 0, 0, [], view={}))
+    assert set(text) == desktop_keys
+    assert json.loads(text["tick"]) == 120 and json.loads(text["seed"]) == 3
+    assert json.loads(text["parameters"]) == params.as_dict()
+    assert json.loads(text["view"])["background"] == "dusk"
+    assert np.array_equal(pixels, shown)
+
+
+def test_fingers_become_touches_and_melts_in_screen_px(browser):
+    """A phone (390x844 CSS px, 3 device px each): the pane is letterboxed and drawn at the
+    device's resolution; a tap sends a touch at the pane's px under it, a second finger
+    melts, a drag sends moves, each finger its own id."""
+    params = Params.preset("fern")
+    with Page(hello(params), [], viewport=(390, 844), scale=3, browser=browser, touch=True) as page:
+        size = page.page.evaluate("[frost.canvasSize(), frost.pane()]")
+        assert size[0] == [1170, 2532]
+        pane = size[1]  # device px: 1170 wide, 760 * 1170 / 760 ... letterboxed top and bottom
+        assert pane["w"] == 1170 and pane["h"] == round(1280 * 1170 / 760)
+        assert pane["y"] == (2532 - pane["h"]) // 2
+        # CSS px of pane px (x, y).
+        css = lambda x, y: ((pane["x"] + x * pane["scale"]) / 3, (pane["y"] + y * pane["scale"]) / 3)  # noqa: E731
+        cdp = page.context.new_cdp_session(page.page)
+
+        def touch(kind, points):
+            cdp.send("Input.dispatchTouchEvent", {"type": kind, "touchPoints": [
+                {"x": x, "y": y, "id": i} for i, (x, y) in points]})
+
+        touch("touchStart", [(1, css(380, 640))])
+        touch("touchStart", [(1, css(380, 640)), (2, css(100, 200))])
+        touch("touchMove", [(1, css(390, 650)), (2, css(110, 220))])
+        page.page.wait_for_timeout(100)
+        touch("touchEnd", [])
+        page.page.wait_for_function("true")
+        page.page.wait_for_timeout(100)
+    sent = page.sent
+    kinds = [(m["type"], m["phase"], m["id"]) for m in sent]
+    assert kinds[:2] == [("touch", "down", 0), ("melt", "down", 1)]
+    assert ("touch", "move", 0) in kinds and ("melt", "move", 1) in kinds
+    assert {("touch", "up", 0), ("melt", "up", 1)} <= set(kinds)
+    down = sent[0]
+    assert abs(down["x"] - 380) < 0.5 and abs(down["y"] - 640) < 0.5
+    melt = sent[1]
+    assert abs(melt["x"] - 100) < 0.5 and abs(melt["y"] - 200) < 0.5
+    move = next(m for m in sent if m["phase"] == "move" and m["id"] == 0)
+    assert abs(move["x"] - 390) < 0.5 and abs(move["y"] - 650) < 0.5
+
+
+def test_keys_and_the_menu_go_to_the_server(browser):
+    """Keys by their GLFW names (S takes a screenshot on the page instead); the menu's
+    choices as their messages; the menu shows the server's state."""
+    params = Params.preset("fern")
+    state = {**hello(params), "presets": ["fern", "c-3"], "preset": "fern",
+             "backdrops": ["dusk", "lockscreen"], "paused": True}
+    with Page(state, [], browser=browser) as page:
+        p = page.page
+        for key in ("Space", "c", "3", "BracketRight", "ArrowLeft", "s", "Shift"):
+            p.keyboard.press(key)
+        assert p.input_value("#preset") == "fern" and p.inner_text("#pause") == "Resume"
+        p.click("#open")
+        p.select_option("#preset", "c-3")
+        p.select_option("#look", "paper")
+        p.select_option("#backdrop", "lockscreen")
+        for button in ("#pause", "#clear"):
+            p.click(button)
+        p.wait_for_timeout(100)
+        # A refusal (a notice): the menu goes back to what is in force, and says why.
+        page.socket.send(json.dumps({"type": "notice", "text": "no such preset"}))
+        p.wait_for_function("document.getElementById('status').textContent === 'no such preset'")
+        assert p.input_value("#preset") == "fern"
+    assert page.sent == [{"type": "key", "key": k} for k in ("SPACE", "C", "3", "RIGHT_BRACKET", "LEFT")] + [
+        {"type": "preset", "name": "c-3"}, {"type": "look", "name": "paper"},
+        {"type": "backdrop", "name": "lockscreen"}, {"type": "pause"}, {"type": "clear"}]
