@@ -498,9 +498,9 @@ SECTIONS = {"fig9": section_fig9, "busy": section_busy, "growth": section_growth
 
 def main(argv: list[str] | None = None, prog: str = "python -m app.tools.bench_sim") -> int:
     ap = _Parser(prog=prog, description=__doc__.splitlines()[0])
-    ap.add_argument("--repeats", type=_count, default=3, metavar="N",
+    ap.add_argument("--repeats", type=count, default=3, metavar="N",
                     help="full growths per search and preset, runs (default 3)")
-    ap.add_argument("--samples", type=_count, default=200, metavar="N",
+    ap.add_argument("--samples", type=count, default=200, metavar="N",
                     help="busy ticks timed per humidity, ticks (default 200)")
     ap.add_argument("--quick", action="store_true",
                     help="a fast smoke run: 1 repeat, 20 samples, shorter scribble, fern and "
@@ -531,8 +531,9 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
-def _count(text: str) -> int:
-    """--repeats and --samples: a whole number from 1 to 100 000."""
+def count(text: str) -> int:
+    """How many of something a benchmark does (--repeats, --samples, ...): a whole number
+    from 1 to 100 000."""
     try:
         n = int(text)
     except ValueError:

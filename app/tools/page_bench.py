@@ -25,6 +25,7 @@ from PIL import Image
 
 from app.backdrops import DEFAULT_BACKDROP, load_backdrop
 from app.resources import SHADER_DIR, WEB_DIR
+from app.tools.bench_sim import count
 from sim import Params, all_presets
 from sim.look.geometry import GeometryDelta
 from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, Material
@@ -318,8 +319,6 @@ def touch_latency(taps: int, preset: str = "fern", gap_s: float = 0.7) -> np.nda
 
 
 def main(argv: list[str] | None = None, prog: str = "python -m app.tools.page_bench") -> int:
-    from app.cli.values import count  # here: the command line's package loads the window
-
     p = argparse.ArgumentParser(prog=prog, description=__doc__.split("\n\n")[0])
     p.add_argument("--preset", default="fern", choices=list(all_presets()), metavar="NAME",
                    help="parameter set to grow (default fern)")
