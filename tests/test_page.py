@@ -241,9 +241,8 @@ def test_screenshot_png_carries_the_desktops_keys(browser, grown):
     from app.images import frost_meta
 
     params, messages, _ = grown
-    with Page({**hello(params), "meta": {"parameters": params.as_dict(), "seed": 3,
-                                         "touches": [[0, 380.0, 640.0]]}},
-              messages, browser=browser) as page:
+    meta = {"parameters": params.as_dict(), "seed": 3, "touches": [[0, 380.0, 640.0]]}
+    with Page(hello(params), messages, browser=browser, meta=meta) as page:
         png = bytes(page.page.evaluate("async () => Array.from(await frost.screenshotPng())"))
         shown = page.pixels()
     with Image.open(io.BytesIO(png)) as im:
@@ -253,6 +252,7 @@ def test_screenshot_png_carries_the_desktops_keys(browser, grown):
     assert set(text) == desktop_keys
     assert json.loads(text["tick"]) == 120 and json.loads(text["seed"]) == 3
     assert json.loads(text["parameters"]) == params.as_dict()
+    assert json.loads(text["touches"]) == [[0, 380.0, 640.0]]
     assert json.loads(text["view"])["background"] == "dusk"
     assert np.array_equal(pixels, shown)
 

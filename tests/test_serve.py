@@ -494,3 +494,60 @@ def test_a_port_taken_or_out_of_range_is_one_clear_error():
     run = subprocess.run([sys.executable, "-m", "app", "serve", "--port", "65536"],
                          capture_output=True, text=True, timeout=60)
     assert run.returncode == 2 and run.stderr.count("\n") == 1 and "--port" in run.stderr
+
+
+def test_meta_states_the_parameters_seed_and_touches_of_the_frame_published():
+    async def test(client, feed):
+        ws, page = await connect(client)
+        for x, y in ((300.0, 500.0), (450.0, 800.0)):
+            await ws.send_json({"type": "touch", "x": x, "y": y})
+        await read_until(ws, page, lambda: near(page, (300, 500)) and near(page, (450, 800)))
+        await pause(ws, page)
+        meta = await (await client.get("/meta")).json()
+        session = feed.thread.session()
+        assert meta["parameters"] == PAPER.as_dict() and meta["seed"] == 1
+        assert meta["tick"] == page.tick == feed.latest.stats.tick
+        # the session's touch events, as [tick, x, y]
+        touches = [[e["tick"], e["x"], e["y"]] for e in session.events if e["kind"] == "touch"]
+        assert meta["touches"] == touches and [t[1:] for t in touches] == [[300, 500], [450, 800]]
+        assert meta["Software"] == "frost (page)"
+    serve(test)
+
+
+def test_meta_needs_the_token_too():
+    async def test(client, feed):
+        assert (await client.get("/meta")).status == 403
+        assert (await client.get("/meta?token=sesame")).status == 200
+    serve(test, token="sesame")
+
+
+def test_ctrl_c_with_a_page_connected_closes_it_and_writes_the_session(tmp_path):
+    """The page's socket is closed by the server (1001) rather than waited on, and the
+    server exits 130 with the session written."""
+    import signal
+    import subprocess
+    import sys
+
+    proc = subprocess.Popen([sys.executable, "-m", "app", "serve", "--port", "0", "--preset",
+                             "c-2", "--session-dir", str(tmp_path)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        url = proc.stdout.readline().split()[3]
+        page = PageModel()
+
+        async def main():
+            from aiohttp import ClientSession
+            async with ClientSession() as http, http.ws_connect(url + "ws", heartbeat=None) as ws:
+                await read_until(ws, page, lambda: page.snapshots >= 1)
+                await ws.send_json({"type": "touch", "x": CENTRE[0], "y": CENTRE[1]})
+                await read_until(ws, page, lambda: near(page, CENTRE))
+                proc.send_signal(signal.SIGINT)
+                return await closing(ws, timeout=15)
+        closed = asyncio.run(main())
+        assert closed.type in (WSMsgType.CLOSE, WSMsgType.CLOSED, WSMsgType.CLOSING)
+        assert proc.wait(30) == 130
+    finally:
+        proc.kill()
+        proc.wait()
+    [path] = tmp_path.glob("session-*.json")
+    assert [e["kind"] for e in SessionLog.load(path).events] == ["touch"]

@@ -22,6 +22,7 @@ from urllib.parse import urlsplit
 from aiohttp import WSMsgType, web
 
 from app.backdrops import BACKDROPS, load_backdrop
+from app.images import frost_meta
 from app.resources import SHADER_DIR
 from app.serve import MAX_PAGES, protocol
 from app.serve.feed import Feed
@@ -55,8 +56,10 @@ def make_app(feed: Feed, token: str | None = None, session_dir=None,
     app.router.add_get("/web/{path:.*}", _folder(web_dir))
     app.router.add_get("/shaders/{path:.*}", _folder(SHADER_DIR))
     app.router.add_get("/backdrops/{name}.png", _backdrop)
+    app.router.add_get("/meta", _meta)
     app.router.add_get("/ws", _socket)
     app.on_startup.append(_start)
+    app.on_shutdown.append(_close_pages)  # before aiohttp waits on the open handlers
     app.on_cleanup.append(_stop)
     return app
 
@@ -66,11 +69,15 @@ async def _start(app: web.Application) -> None:
     app[FILES].start()
 
 
-async def _stop(app: web.Application) -> None:
-    feed: Feed = app[FEED]
-    for page in list(feed.pages):
+async def _close_pages(app: web.Application) -> None:
+    for page in list(app[FEED].pages):
         page.close()
         await page.ws.close(code=1001, message=b"frost serve is ending")
+
+
+async def _stop(app: web.Application) -> None:
+    feed: Feed = app[FEED]
+    await _close_pages(app)  # (a test client's cleanup comes without a shutdown)
     feed.thread.stop()
     feed.pump()  # the last ticks, for the session's file
     app[FILES].stop()
@@ -110,6 +117,16 @@ def _folder(folder: Path, name: str | None = None):
             headers["Content-Type"] = TYPES[path.suffix]
         return web.FileResponse(path, headers=headers)
     return handler
+
+
+async def _meta(request: web.Request) -> web.Response:
+    """What a page's screenshot states beside its own view (app.images.frost_meta's keys):
+    the parameters, seed and touches of the frame published last."""
+    feed: Feed = request.app[FEED]
+    snap, thread = feed.latest, feed.thread
+    meta = frost_meta("page", snap.params if snap else feed.controls.params, thread.seed,
+                      snap.stats.tick if snap else 0, thread.touch_ticks(snap))
+    return web.json_response(meta, headers={"Cache-Control": "no-cache"})
 
 
 async def _backdrop(request: web.Request) -> web.Response:

@@ -142,6 +142,16 @@ class SimThread(threading.Thread):
 
     # ---- main-thread side -------------------------------------------------------
 
+    def touch_ticks(self, snapshot: Snapshot | None) -> list[tuple[int, float, float]]:
+        """(tick, x, y) of the touches `snapshot`'s frame grows from: the timeline's, as
+        long as no rebuild has replaced them since (then the frame's, tick unknown: -1)."""
+        if snapshot is None:
+            return []
+        now = self.timeline.touch_ticks()[:len(snapshot.touches)]
+        if [(x, y) for _t, x, y in now] == [tuple(t) for t in snapshot.touches]:
+            return now
+        return [(-1, x, y) for x, y in snapshot.touches]
+
     def send(self, kind: str, arg: Any = None) -> int:
         """Queue a command for the next ticks; how many commands have been sent so far (a
         snapshot whose stats.handled reaches it shows this one applied)."""

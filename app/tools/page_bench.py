@@ -123,10 +123,11 @@ class Page:
 
     def __init__(self, hello_message: dict, messages: list[bytes], viewport=(WIDTH, HEIGHT),
                  scale: float = 1.0, browser=None, touch: bool = False, later=(),
-                 angle: str = "swiftshader", hang_up: bool = True):
+                 angle: str = "swiftshader", hang_up: bool = True, meta: dict | None = None):
         # `later`: what each later connection gets (with `hang_up` a socket is closed once
-        # its messages are sent, while a later connection is to come).
-        self.hello, self.messages = hello_message, messages
+        # its messages are sent, while a later connection is to come). `meta`: what GET /meta
+        # answers (as frost serve's), else 404.
+        self.hello, self.messages, self.meta = hello_message, messages, meta
         self.connections, self.hang_up = [messages, *later], hang_up
         self.viewport, self.scale, self.touch = viewport, scale, touch
         self.browser, self.angle = browser, angle
@@ -173,6 +174,8 @@ class Page:
                 if file.is_file():
                     kind = "text/javascript" if file.suffix == ".js" else mimetypes.guess_type(file.name)[0]
                     return route.fulfill(body=file.read_bytes(), content_type=kind or "text/plain")
+        if path == "/meta" and self.meta is not None:
+            return route.fulfill(body=json.dumps(self.meta), content_type="application/json")
         if path.startswith("/backdrops/") and path.endswith(".png"):
             image = load_backdrop(path[len("/backdrops/"):-4])
             buf = io.BytesIO()

@@ -320,7 +320,7 @@ async function screenshotPng() {
   const blob = await new Promise((resolve) => c.toBlob(resolve, "image/png"));
   const png = new Uint8Array(await blob.arrayBuffer());
   // frost_meta's keys in its order; parameters, seed and touches as the server gives them
-  // (GET /meta, else the hello's "meta").
+  // (GET /meta).
   const known = await serverMeta();
   const local = new Date(Date.now() - new Date().getTimezoneOffset() * 60000);
   const meta = {
@@ -336,8 +336,8 @@ async function serverMeta() {
   try {
     const r = await fetch(`meta${query}`);
     if (r.ok) return await r.json();
-  } catch { /* an older server: the hello's */ }
-  return (state.hello || {}).meta || {};
+  } catch { /* the server is gone: the page's own keys only */ }
+  return {};
 }
 
 async function screenshot() {

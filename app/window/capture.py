@@ -102,22 +102,12 @@ class Capture:
                                                                   ".json")
         return self.session_path
 
-    def _touch_ticks(self, snapshot: Snapshot | None) -> list:
-        """(tick, x, y) of the touches the shown frame grows from: the timeline's, as long
-        as no rebuild has replaced them since the frame (then the frame's, tick unknown: -1)."""
-        if snapshot is None:
-            return []
-        now = self.thread.timeline.touch_ticks()[:len(snapshot.touches)]
-        if [(x, y) for _t, x, y in now] == [tuple(t) for t in snapshot.touches]:
-            return now
-        return [(-1, x, y) for x, y in snapshot.touches]
-
     def screenshot(self, snapshot: Snapshot | None, params: Params) -> None:
         """The frame shown, as a PNG stating what made it (all from the snapshot shown and
         the renderer's view), and its own session file: replaying it ends on this frame."""
         self.presenter.render_phone()
         meta = frost_meta("window, key S", snapshot.params if snapshot else params, self.thread.seed,
-                          snapshot.stats.tick if snapshot else 0, self._touch_ticks(snapshot),
+                          snapshot.stats.tick if snapshot else 0, self.thread.touch_ticks(snapshot),
                           view=self.presenter.renderer.view())
         path = self.fresh_name(".png")
         try:
