@@ -120,9 +120,9 @@ export class Renderer {
     this.tiles = new TileSet(gl, this.size, spacing);
     // The frame: RGBA8 of the screen's size, as the desktop's offscreen framebuffer.
     this.frame = texture(gl, width, height, gl.RGBA8, gl.LINEAR);
-    // The part of the frame to draw again, px [x0, y0, x1, y1] (y down), or null: only what
-    // changed is drawn (the frame texture keeps the rest), the same pixels a whole frame gives.
-    this.damage = null;
+    // The tiles of the frame to draw again: only what changed is drawn (the frame texture
+    // keeps the rest), the same pixels a whole frame gives.
+    this.damage = new TileDamage(this.size);
     this.frameFbo = gl.createFramebuffer();
     gl.bindFramebuffer(gl.FRAMEBUFFER, this.frameFbo);
     gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, this.frame, 0);
@@ -132,7 +132,7 @@ export class Renderer {
 
   // Draw everything again next frame (a new backdrop, look, light or material).
   damageAll() {
-    this.damage = [0, 0, ...this.size];
+    this.damage.all = true;
   }
 
   addDamage(x0, y0, x1, y1) {
@@ -141,10 +141,7 @@ export class Renderer {
     y0 = Math.max(Math.floor(y0), 0);
     x1 = Math.min(Math.ceil(x1), w);
     y1 = Math.min(Math.ceil(y1), h);
-    if (x1 <= x0 || y1 <= y0) return;
-    const d = this.damage;
-    this.damage = d ? [Math.min(d[0], x0), Math.min(d[1], y0), Math.max(d[2], x1), Math.max(d[3], y1)]
-      : [x0, y0, x1, y1];
+    if (x1 > x0 && y1 > y0) this.damage.mark(x0, y0, x1, y1);
   }
 
   // The view behind the glass from an image (ImageBitmap, top row first) of the screen's size.
@@ -186,9 +183,17 @@ export class Renderer {
         }
         // A vertex's height changes its neighbours' slopes, and bilinear filtering spreads
         // each texel one grid cell further: two cells each way (and a px).
+        // A run that wraps onto later rows: its first row's end, the whole rows between
+        // and its last row's start.
         const s = this.spacing, r0 = Math.floor(start / cols), r1 = Math.floor((start + count - 1) / cols);
-        const c0 = r1 > r0 ? 0 : start % cols, c1 = r1 > r0 ? cols - 1 : (start + count - 1) % cols;
-        this.addDamage((c0 - 2) * s - 1, (r0 - 2) * s - 1, (c1 + 2) * s + 1, (r1 + 2) * s + 1);
+        const c0 = start % cols, c1 = (start + count - 1) % cols;
+        const cells = (ca, ra, cb, rb) => this.addDamage((ca - 2) * s - 1, (ra - 2) * s - 1, (cb + 2) * s + 1, (rb + 2) * s + 1);
+        if (r1 === r0) cells(c0, r0, c1, r0);
+        else {
+          cells(c0, r0, cols - 1, r0);
+          if (r1 > r0 + 1) cells(0, r0 + 1, cols - 1, r1 - 1);
+          cells(0, r1, c1, r1);
+        }
         for (let r = Math.floor(start / cols); r <= Math.floor((start + count - 1) / cols); r++) touched[r] = 1;
       }
       // Each block of touched rows, with one more each side (whose slopes they change).
@@ -242,32 +247,38 @@ export class Renderer {
   }
 
   // Draw what changed since the last frame into the frame texture (`all`: everything);
-  // the rect drawn ([x0, y0, x1, y1] px, y down), or null if nothing changed.
+  // the box drawn ([x0, y0, x1, y1] px, y down), or null if nothing changed. Only the
+  // changed tiles are drawn (each pass one instanced draw: SwiftShader pays for every draw
+  // call and every quad, so neither a scissored pass per place nor the pane's every tile).
   render(all = false) {
     const gl = this.gl;
     if (all) this.damageAll();
     this.features.drawQueued();
-    const d = this.damage;
+    const d = this.damage.take();
     if (!d) return null;
-    this.damage = null;
     gl.bindFramebuffer(gl.FRAMEBUFFER, this.frameFbo);
     gl.viewport(0, 0, ...this.size);
-    gl.enable(gl.SCISSOR_TEST);
-    gl.scissor(d[0], this.size[1] - d[3], d[2] - d[0], d[3] - d[1]);  // GL rows count up
-    this.drawPasses();
-    gl.disable(gl.SCISSOR_TEST);
-    return d;
+    if (d.tiles) this.drawPasses(d.tiles);
+    else this.drawPasses();
+    return d.box;
   }
 
-  // The background pass, then the ice pass blended over it, as the desktop draws a frame.
-  drawPasses() {
+  // The background pass, then the ice pass blended over it, as the desktop draws a frame;
+  // on `tiles` alone (a mask of the TileSet's tiles) if given.
+  drawPasses(tiles = null) {
     const gl = this.gl;
     gl.disable(gl.DEPTH_TEST);
     gl.disable(gl.BLEND);
     bindTexture(gl, 0, this.background);
-    this.backgroundProg.use({ u_background: 0, u_screen: this.size });
-    gl.bindVertexArray(this.emptyArray);
-    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    if (tiles) {
+      this.backgroundTiles ||= new Program(gl, this.sources, "tile.vert", "background.frag");
+      this.backgroundTiles.use({ u_background: 0, u_screen: this.size, u_tile: TILE });
+      this.tiles.renderSome(this.backgroundTiles, tiles, false);
+    } else {
+      this.backgroundProg.use({ u_background: 0, u_screen: this.size });
+      gl.bindVertexArray(this.emptyArray);
+      gl.drawArrays(gl.TRIANGLES, 0, 3);
+    }
     if (!(this.showBumps || this.showFeatures)) return;
     bindTexture(gl, 1, this.heights);
     bindTexture(gl, 2, this.features.texture);
@@ -276,7 +287,8 @@ export class Renderer {
     // Premultiplied "over": frame = ice + (1 - alpha) * background.
     gl.enable(gl.BLEND);
     gl.blendFunc(gl.ONE, gl.ONE_MINUS_SRC_ALPHA);
-    this.tiles.render(prog);
+    if (tiles) this.tiles.renderSome(prog, tiles, true);
+    else this.tiles.render(prog);
     gl.disable(gl.BLEND);
   }
 
@@ -430,6 +442,52 @@ export class FeatureLayer {
   }
 }
 
+// The tiles (TILE px) of the frame that changed since it was drawn: a mask, or `all`.
+export class TileDamage {
+  constructor(size) {
+    this.size = size;
+    this.cols = Math.ceil(size[0] / TILE);
+    this.rows = Math.ceil(size[1] / TILE);
+    this.mask = new Uint8Array(this.cols * this.rows);
+    this.any = false;
+    this.all = false;
+  }
+
+  // The tiles under a px box (y down, x1 and y1 excluded; clipped to the frame already).
+  mark(x0, y0, x1, y1) {
+    const tx1 = Math.ceil(x1 / TILE), ty1 = Math.ceil(y1 / TILE);
+    for (let ty = Math.floor(y0 / TILE); ty < ty1; ty++) {
+      this.mask.fill(1, ty * this.cols + Math.floor(x0 / TILE), ty * this.cols + tx1);
+    }
+    this.any = true;
+  }
+
+  // What to draw, and none left: null (nothing), {tiles: null} (everything) or {tiles: the
+  // mask}, with the box ([x0, y0, x1, y1] px, y down) they span.
+  take() {
+    const [w, h] = this.size;
+    if (this.all) {
+      this.all = this.any = false;
+      this.mask.fill(0);
+      return { tiles: null, box: [0, 0, w, h] };
+    }
+    if (!this.any) return null;
+    const box = [w, h, 0, 0];
+    for (let i = 0; i < this.mask.length; i++) {
+      if (!this.mask[i]) continue;
+      const x = (i % this.cols) * TILE, y = Math.floor(i / this.cols) * TILE;
+      box[0] = Math.min(box[0], x);
+      box[1] = Math.min(box[1], y);
+      box[2] = Math.max(box[2], Math.min(x + TILE, w));
+      box[3] = Math.max(box[3], Math.min(y + TILE, h));
+    }
+    const tiles = this.mask;
+    this.mask = new Uint8Array(tiles.length);
+    this.any = false;
+    return { tiles, box };
+  }
+}
+
 // The screen tiles that hold ice, drawn as instanced quads; only added until a reset.
 export class TileSet {
   constructor(gl, size, spacing) {
@@ -442,7 +500,7 @@ export class TileSet {
     gl.bindBuffer(gl.ARRAY_BUFFER, this.corners);
     gl.bufferData(gl.ARRAY_BUFFER, new Float32Array([0, 0, 1, 0, 0, 1, 1, 1]), gl.STATIC_DRAW);
     this.instances = gl.createBuffer();
-    this.arrays = new Map();  // per ice program
+    this.arrays = new Map();  // instance buffer -> program -> vertex array
     this.count = 0;
     this.dirty = false;
   }
@@ -499,8 +557,27 @@ export class TileSet {
     gl.bindVertexArray(null);
   }
 
-  array(prog) {
-    if (!this.arrays.has(prog)) {
+  // The tiles of `mask` (a TileDamage's), with `iced`: those of them that hold ice.
+  renderSome(prog, mask, iced) {
+    const gl = this.gl;
+    const tiles = [];
+    for (let i = 0; i < mask.length; i++) {
+      if (mask[i] && (!iced || this.mask[i])) tiles.push(i % this.cols, Math.floor(i / this.cols));
+    }
+    if (!tiles.length) return;
+    this.some ||= gl.createBuffer();
+    gl.bindBuffer(gl.ARRAY_BUFFER, this.some);
+    gl.bufferData(gl.ARRAY_BUFFER, new Float32Array(tiles), gl.STREAM_DRAW);
+    gl.bindVertexArray(this.array(prog, this.some));
+    gl.drawArraysInstanced(gl.TRIANGLE_STRIP, 0, 4, tiles.length / 2);
+    gl.bindVertexArray(null);
+  }
+
+  // The vertex array of `prog` over the tiles in `instances` (default: this set's).
+  array(prog, instances = this.instances) {
+    if (!this.arrays.has(instances)) this.arrays.set(instances, new Map());
+    const arrays = this.arrays.get(instances);
+    if (!arrays.has(prog)) {
       const gl = this.gl;
       const array = gl.createVertexArray();
       gl.bindVertexArray(array);
@@ -508,14 +585,14 @@ export class TileSet {
       gl.bindBuffer(gl.ARRAY_BUFFER, this.corners);
       gl.enableVertexAttribArray(corner);
       gl.vertexAttribPointer(corner, 2, gl.FLOAT, false, 0, 0);
-      gl.bindBuffer(gl.ARRAY_BUFFER, this.instances);
+      gl.bindBuffer(gl.ARRAY_BUFFER, instances);
       gl.enableVertexAttribArray(tile);
       gl.vertexAttribPointer(tile, 2, gl.FLOAT, false, 0, 0);
       gl.vertexAttribDivisor(tile, 1);
       gl.bindVertexArray(null);
-      this.arrays.set(prog, array);
+      arrays.set(prog, array);
     }
-    return this.arrays.get(prog);
+    return arrays.get(prog);
   }
 
   upload() {
