@@ -275,10 +275,12 @@ def difference_image(a: np.ndarray, b: np.ndarray, gain: float = 8.0) -> np.ndar
     return np.clip(d * gain, 0, 255).astype(np.uint8)
 
 
-def touch_latency(taps: int, preset: str = "fern", gap_s: float = 0.7) -> np.ndarray:
+def touch_latency(taps: int, preset: str = "fern", gap_s: float = 0.7) -> tuple[np.ndarray, np.ndarray]:
     """Milliseconds from a finger down on the page (an emulated phone in headless Chromium)
-    to the frame that first draws growth near it, through `frost serve` on loopback (started
-    here, on a free port): `taps` taps `gap_s` apart at random spots of the pane."""
+    to the frame that first draws growth near it, and to the frame that first draws frost
+    near it (the seed's own ice: the first step after the touch), through `frost serve` on
+    loopback (started here, on a free port): `taps` taps `gap_s` apart at random spots of
+    the pane."""
     import re
     import signal
     import subprocess
@@ -312,13 +314,13 @@ def touch_latency(taps: int, preset: str = "fern", gap_s: float = 0.7) -> np.nda
                     x, y = rng.uniform(40, WIDTH - 40), rng.uniform(40, HEIGHT - 40)
                     page.touchscreen.tap((r["x"] + x * r["scale"]) / 3, (r["y"] + y * r["scale"]) / 3)
                     page.wait_for_timeout(gap_s * 1000)
-                got = page.evaluate("frost.latencies")
+                got = page.evaluate("[frost.latencies, frost.frostLatencies]")
                 context.close()
                 browser.close()
         finally:
             proc.send_signal(signal.SIGINT)
             proc.communicate(timeout=60)
-    return np.asarray(got)
+    return np.asarray(got[0]), np.asarray(got[1])
 
 
 def main(argv: list[str] | None = None, prog: str = "python -m app.tools.page_bench") -> int:
@@ -341,10 +343,11 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.tools.page_be
         print(f"frost: error: {problem}")
         return 2
     if args.taps:
-        ms = touch_latency(args.taps, args.preset)
-        print(f"touch to first drawn growth ({args.preset}, loopback, {len(ms)} of {args.taps} "
-              f"taps seen): median {np.median(ms):.0f} ms, p95 {np.percentile(ms, 95):.0f} ms, "
-              f"max {ms.max():.0f} ms")
+        growth, frost = touch_latency(args.taps, args.preset)
+        for what, ms in (("growth", growth), ("frost (the seed's own ice)", frost)):
+            print(f"touch to first drawn {what} ({args.preset}, loopback, {len(ms)} of "
+                  f"{args.taps} taps seen): " + (f"median {np.median(ms):.0f} ms, p95 "
+                  f"{np.percentile(ms, 95):.0f} ms, max {ms.max():.0f} ms" if len(ms) else "none"))
         return 0
     params = Params.preset(args.preset)
     if args.look:

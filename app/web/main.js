@@ -21,7 +21,7 @@ const gl = canvas.getContext("webgl2", {
 // What the page knows; `window.frost` exposes it to the tests and the bench.
 const state = {
   hello: null, renderer: null, tick: 0, connected: false, synced: false, dirty: true,
-  messages: 0, bytes: 0, hellos: 0, lost: 0, watch: null, latencies: [], backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
+  messages: 0, bytes: 0, hellos: 0, lost: 0, watch: null, latencies: [], frostLatencies: [], backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
 };
 window.frost = state;
 
@@ -48,7 +48,7 @@ async function main() {
   const pointers = new Pointers(canvas, paneRect, send);
   pointers.attach();
   pointers.onDown = (kind, p, t0) => {
-    if (kind === "touch") state.watch = { x: p[0], y: p[1], t0, seen: false };
+    if (kind === "touch") state.watch = { x: p[0], y: p[1], t0, seen: false, frost: false, frostDrawn: false };
   };
   state.menu = new Menu(document.getElementById("menu"), send, screenshot);
   state.menu.pointers = pointers;
@@ -88,7 +88,9 @@ function connect(retry) {
       const delta = decodeDelta(event.data);
       state.renderer.apply(delta);
       state.tick = delta.tick;
-      if (state.watch && !state.watch.seen) state.watch.seen = grewNear(delta, state.watch);
+      const w = state.watch;
+      if (w && !w.frost) w.frost = grewNear(delta, w, 0);
+      if (w && !w.seen) w.seen = grewNear(delta, w, SHOWS);
       if (delta.snapshotEnd) state.synced = true;
     } catch (err) {
       // What the page holds is no longer the server's: start again from a snapshot.
@@ -175,9 +177,11 @@ async function loadBackdrop(name) {
 
 // Touch to first drawn growth (the bench reads frost.latencies, ms): whether a delta
 // brings features within GREW_NEAR px of the last finger down, or ice thicker than
-// SHOWS px (the glass look's film shows the bumps from 0.8 px) on a grid vertex there.
+// `thicker` px on a grid vertex there: SHOWS (the glass look's film shows the bumps from
+// 0.8 px) for growth; 0 for the first frost (frost.frostLatencies: the seed's own ice,
+// drawn with the first step after the touch, as the desktop log's "frost").
 const GREW_NEAR = 12, SHOWS = 0.8;
-function grewNear(delta, { x, y }) {
+function grewNear(delta, { x, y }, thicker) {
   const f = delta.features;
   for (let i = 0; i < f.length; i += 6) {
     if (Math.hypot(f[i] - x, f[i + 1] - y) < GREW_NEAR) return true;
@@ -187,7 +191,7 @@ function grewNear(delta, { x, y }) {
   for (const [start, count] of delta.runs) {
     for (let i = start; i < start + count; i++, k++) {
       const px = (i % cols) * s, py = Math.floor(i / cols) * s;
-      if (delta.heights[k] > SHOWS && Math.hypot(px - x, py - y) < GREW_NEAR) return true;
+      if (delta.heights[k] > thicker && Math.hypot(px - x, py - y) < GREW_NEAR) return true;
     }
   }
   return false;
@@ -255,10 +259,16 @@ function frame() {
     state.dirty = false;
     state.blitDamage = null;
     state.frames += 1;
-    if (state.watch && state.watch.seen) {  // the tap's first growth is drawn
+    const w = state.watch;
+    if (w && (w.seen || (w.frost && !w.frostDrawn))) {  // the tap's first frost or growth is drawn
       gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
-      state.latencies.push(performance.now() - state.watch.t0);
-      state.watch = null;
+      const ms = performance.now() - w.t0;
+      if (!w.frostDrawn) state.frostLatencies.push(ms);
+      w.frostDrawn = true;
+      if (w.seen) {
+        state.latencies.push(ms);
+        state.watch = null;
+      }
     }
   }
   requestAnimationFrame(frame);
