@@ -296,6 +296,40 @@ def test_fingers_become_touches_and_melts_in_screen_px(browser):
     assert abs(move["x"] - 390) < 0.5 and abs(move["y"] - 650) < 0.5
 
 
+def test_a_tap_is_timed_to_its_first_drawn_frost_and_growth(browser):
+    """After a tap, a delta with ice far from it counts for nothing; thin ice (0.5 px) within
+    12 px of it is its first frost (frost.frostLatencies) but not growth; ice over 0.8 px
+    there is its growth (frost.latencies). Each is timed once, at the frame that draws it."""
+    from app.serve.protocol import Encoder
+    from sim.look.geometry import GeometryDelta
+
+    params = Params.preset("fern")
+    cols, rows = hello(params)["grid"]
+    s = params.grid_spacing
+    enc = Encoder(cols, rows)
+
+    def ice(tick, x, y, h):  # a delta raising the grid vertex nearest (x, y) to h px
+        r, c = round(y / s), round(x / s)
+        row = enc.heights.reshape(rows, cols)[r].astype(np.float32)
+        row[c] = h
+        return enc.delta(GeometryDelta(tick, slice(r, r + 1), row[None, :],
+                                       np.zeros((0, 6), np.float32), look=params.look))
+
+    with Page(hello(params), [], viewport=(390, 844), scale=3, browser=browser, touch=True) as page:
+        p = page.page
+        pane = p.evaluate("frost.pane()")
+        p.touchscreen.tap((pane["x"] + 380 * pane["scale"]) / 3, (pane["y"] + 640 * pane["scale"]) / 3)
+        p.wait_for_function("frost.watch !== null")
+        counts = "[frost.frostLatencies.length, frost.latencies.length]"
+        for tick, (x, y, h), want in ((1, (380, 400, 2.0), [0, 0]), (2, (384, 644, 0.5), [1, 0]),
+                                      (3, (376, 636, 0.7), [1, 0]), (4, (380, 640, 1.0), [1, 1])):
+            page.socket.send(ice(tick, x, y, h))
+            p.wait_for_function(f"frost.tick === {tick} && !frost.blitDamage")
+            p.wait_for_timeout(50)  # a frame more
+            assert p.evaluate(counts) == want, (tick, want)
+        assert p.evaluate("frost.watch") is None
+
+
 def test_keys_and_the_menu_go_to_the_server(browser):
     """Keys by their GLFW names (S takes a screenshot on the page instead); the menu's
     choices as their messages; the menu shows the server's state."""

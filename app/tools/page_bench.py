@@ -314,7 +314,7 @@ def touch_latency(taps: int, preset: str = "fern", gap_s: float = 0.7) -> tuple[
                     x, y = rng.uniform(40, WIDTH - 40), rng.uniform(40, HEIGHT - 40)
                     page.touchscreen.tap((r["x"] + x * r["scale"]) / 3, (r["y"] + y * r["scale"]) / 3)
                     page.wait_for_timeout(gap_s * 1000)
-                got = page.evaluate("[frost.latencies, frost.frostLatencies]")
+                got = page.evaluate("[frost.latencies, frost.frostLatencies || []]")
                 context.close()
                 browser.close()
         finally:
