@@ -101,8 +101,11 @@ def inside(folder: Path, rel: str) -> Path | None:
     if any(part in ("..", ".") for part in PurePosixPath(rel).parts):
         return None
     root = folder.resolve()
-    path = (root / rel).resolve()
-    return path if path.is_relative_to(root) and path.is_file() else None
+    try:
+        path = (root / rel).resolve()
+        return path if path.is_relative_to(root) and path.is_file() else None
+    except OSError:  # a name too long for the file system, a loop of links
+        return None
 
 
 def _folder(folder: Path, name: str | None = None):
