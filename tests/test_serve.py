@@ -491,11 +491,29 @@ def test_a_port_taken_or_out_of_range_is_one_clear_error():
         port = taken.getsockname()[1]
         run = subprocess.run([sys.executable, "-m", "app", "serve", "--port", str(port)],
                              capture_output=True, text=True, timeout=60)
-    assert run.returncode == 1
-    assert run.stderr.strip().splitlines()[-1].startswith(f"frost: error: cannot listen on 127.0.0.1:{port}")
+    assert run.returncode == 2 and run.stderr.count("\n") == 1
+    assert run.stderr.startswith(f"frost: error: cannot listen on 127.0.0.1:{port}")
     run = subprocess.run([sys.executable, "-m", "app", "serve", "--port", "65536"],
                          capture_output=True, text=True, timeout=60)
     assert run.returncode == 2 and run.stderr.count("\n") == 1 and "--port" in run.stderr
+
+
+@pytest.mark.parametrize("args, says", [
+    (["--host", "no-such-host.invalid"], "cannot listen on no-such-host.invalid:0"),
+    (["--session-dir", "/proc/no-such-folder"], "--session-dir /proc/no-such-folder"),
+    (["--window"], "--window: no window can open here (DISPLAY is unset)"),
+])
+def test_bad_command_lines_are_one_clear_error(args, says):
+    import os
+    import subprocess
+    import sys
+
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    run = subprocess.run([sys.executable, "-m", "app", "serve", "--port", "0",
+                          "--max-seconds", "5", *args],
+                         capture_output=True, text=True, timeout=60, env=env)
+    assert (run.returncode, run.stderr.count("\n")) == (2, 1), run.stderr
+    assert run.stderr.startswith("frost: error: ") and says in run.stderr
 
 
 def test_meta_states_the_parameters_seed_and_touches_of_the_frame_published():
@@ -553,3 +571,10 @@ def test_ctrl_c_with_a_page_connected_closes_it_and_writes_the_session(tmp_path)
         proc.wait()
     [path] = tmp_path.glob("session-*.json")
     assert [e["kind"] for e in SessionLog.load(path).events] == ["touch"]
+
+
+def test_an_ipv6_host_is_bracketed_in_the_url(capsys):
+    from app.serve.server import announce
+
+    announce("::1", 8025, None)
+    assert "http://[::1]:8025/" in capsys.readouterr().out

@@ -219,7 +219,7 @@ async def _serve(app: web.Application, host: str, port: int, token: str | None,
                  max_seconds: float | None) -> int:
     runner = await listen(app, host, port, token)
     if runner is None:
-        return 1
+        return 2
     status = await _until_ended(app[FEED], max_seconds)
     await runner.cleanup()
     return status
@@ -235,12 +235,25 @@ async def listen(app: web.Application, host: str, port: int,
         site = web.TCPSite(runner, host, port)
         await site.start()
     except OSError as err:
+        app[FILES].folder = None  # nothing was served: no word on a session
         await runner.cleanup()
-        print(f"frost: error: cannot listen on {host}:{port}: {err.strerror or err}",
-              file=sys.stderr)
+        print(f"frost: error: {listen_problem(host, port, err)}", file=sys.stderr)
         return None
     announce(host, runner.addresses[0][1] if runner.addresses else port, token)
     return runner
+
+
+def listen_problem(host: str, port: int, err: OSError | None = None) -> str | None:
+    """Why host:port cannot be listened on (None: it can now), from `err` if given, else
+    by binding a socket there and closing it."""
+    if err is None:
+        try:
+            family = socket.AF_INET6 if ":" in host else socket.AF_INET
+            socket.create_server((host, port), family=family).close()
+            return None
+        except (OSError, OverflowError) as error:
+            err = error if isinstance(error, OSError) else OSError(str(error))
+    return f"cannot listen on {url_host(host)}:{port}: {err.strerror or err}"
 
 
 async def _until_ended(feed: Feed, max_seconds: float | None) -> int:
@@ -276,13 +289,18 @@ def lan_address() -> str:
             return socket.gethostname()
 
 
+def url_host(host: str) -> str:
+    """A host as a URL writes it: an IPv6 address in brackets."""
+    return f"[{host}]" if ":" in host else host
+
+
 def announce(host: str, port: int, token: str | None) -> None:
     """Print the URL to open (with the token, and its QR code for a phone's camera)."""
     if token is None:
-        print(f"frost serve: open http://{host}:{port}/ (Ctrl-C ends it)", flush=True)
+        print(f"frost serve: open http://{url_host(host)}:{port}/ (Ctrl-C ends it)", flush=True)
         return
     shown = lan_address() if host in ("0.0.0.0", "::", "") else host
-    url = f"http://{shown}:{port}/?token={token}"
+    url = f"http://{url_host(shown)}:{port}/?token={token}"
     print(f"frost serve: open {url} on a phone of this network (Ctrl-C ends it)", flush=True)
     try:
         import segno
