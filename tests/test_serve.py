@@ -578,3 +578,37 @@ def test_an_ipv6_host_is_bracketed_in_the_url(capsys):
 
     announce("::1", 8025, None)
     assert "http://[::1]:8025/" in capsys.readouterr().out
+
+
+def test_input_waiting_for_the_thread_stays_bounded(monkeypatch):
+    """A page dragging a warm finger corner to corner as fast as its message rate allows
+    asks for far more melts than the thread applies; what waits stays bounded (the rest is
+    dropped, and that page is told), and the thread goes on ticking."""
+    from app.serve import controls
+
+    monkeypatch.setattr(controls, "MAX_WAITING", 50, raising=False)
+    corners = ({"x": 0, "y": 0}, {"x": 759, "y": 1279})
+
+    async def test(client, feed):
+        good, page = await connect(client)
+        await pause(good, page)  # nothing applies but input: the backlog stays put
+        thread = feed.thread
+        ws = await client.ws_connect("/ws")
+        sent = thread.sent
+        await ws.send_json({"type": "melt", **corners[0], "phase": "down"})
+        for i in range(12):  # each a path of about 125 melts
+            await ws.send_json({"type": "melt", **corners[(i + 1) % 2], "phase": "move"})
+        await ws.send_json({"type": "ping", "t": 1})
+        told = []
+        async for msg in ws:
+            data = json.loads(msg.data) if msg.type == WSMsgType.TEXT else {}
+            told += [data["text"]] if data.get("type") == "notice" else []
+            if data.get("type") == "pong":
+                break
+        assert thread.sent - sent <= 50 + 130, thread.sent - sent  # one path over the bound
+        assert feed.controls.dropped >= 10 and any("dropped" in t for t in told)
+        await good.send_json({"type": "pause"})
+        tick = page.tick
+        await read_until(good, page, lambda: page.tick > tick + 5)
+        await ws.close()
+    serve(test)
