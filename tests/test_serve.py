@@ -612,3 +612,25 @@ def test_input_waiting_for_the_thread_stays_bounded(monkeypatch):
         await read_until(good, page, lambda: page.tick > tick + 5)
         await ws.close()
     serve(test)
+
+
+def test_a_storm_of_preset_changes_regrows_the_frost_a_few_times_not_each():
+    """A page switching presets as fast as its message rate allows: each change waiting
+    right behind another is replaced by it (each applied would regrow the whole frost, and
+    the thread fell tens of seconds behind); the last one asked for is in force, and what
+    waits drains at once."""
+    async def test(client, feed):
+        good, page = await connect(client)
+        await good.send_json({"type": "touch", "x": CENTRE[0], "y": CENTRE[1]})
+        await read_until(good, page, lambda: page.tick > 40)
+        names = ["window", "fern"] * 60 + ["c-3"]
+        for name in names:
+            await good.send_json({"type": "preset", "name": name})
+        await read_until(good, page, lambda: page.state("preset") == "c-3")
+        thread = feed.thread
+        await read_until(good, page, lambda: thread.handled == thread.sent, timeout=30)
+        changes = [e for e in thread.session().events if e.get("kind") == "params"]
+        assert 1 <= len(changes) < 20, len(changes)
+        assert thread.params == Params.preset("c-3").replace(grid_spacing=PAPER.grid_spacing,
+                                                             look=PAPER.look)
+    serve(test)
