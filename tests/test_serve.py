@@ -614,11 +614,13 @@ def test_input_waiting_for_the_thread_stays_bounded(monkeypatch):
     serve(test)
 
 
-def test_a_storm_of_preset_changes_regrows_the_frost_a_few_times_not_each():
-    """A page switching presets as fast as its message rate allows: each change waiting
-    right behind another is replaced by it (each applied would regrow the whole frost, and
-    the thread fell tens of seconds behind); the last one asked for is in force, and what
-    waits drains at once."""
+def test_a_storm_of_preset_changes_regrows_the_frost_a_few_times_not_each(monkeypatch):
+    """Preset changes as fast as the message rate allows (the page's limit on changes
+    lifted: the thread's part alone): each change waiting right behind another is replaced
+    by it (each applied would regrow the whole frost, and the thread fell tens of seconds
+    behind); the last one asked for is in force, and what waits drains at once."""
+    monkeypatch.setattr(pages_module, "CHANGE_BURST", 1000.0)
+
     async def test(client, feed):
         good, page = await connect(client)
         await good.send_json({"type": "touch", "x": CENTRE[0], "y": CENTRE[1]})
@@ -633,4 +635,23 @@ def test_a_storm_of_preset_changes_regrows_the_frost_a_few_times_not_each():
         assert 1 <= len(changes) < 20, len(changes)
         assert thread.params == Params.preset("c-3").replace(grid_spacing=PAPER.grid_spacing,
                                                              look=PAPER.look)
+    serve(test)
+
+
+def test_changes_are_limited_to_a_few_a_second_and_refused_with_a_notice():
+    """A preset change with a touch between each (so none replaces another) 40 times at
+    once: the first ten (the burst) go to the thread, the rest are refused with a notice;
+    touches are not counted."""
+    async def test(client, feed):
+        good, page = await connect(client)
+        thread = feed.thread
+        sent = thread.sent
+        for i in range(40):
+            await good.send_json({"type": "preset", "name": ("window", "fern")[i % 2]})
+            await good.send_json({"type": "touch", "x": 100 + i, "y": 100})
+        await good.send_json({"type": "ping", "t": 1})
+        await read_until(good, page, lambda: any(t["type"] == "pong" for t in page.texts))
+        refused = [t for t in page.texts if t["type"] == "notice" and "changes a second" in t["text"]]
+        assert 40 + 10 <= thread.sent - sent <= 40 + 11  # a token may come back meanwhile
+        assert len(refused) == 80 - (thread.sent - sent)
     serve(test)

@@ -26,7 +26,7 @@ from app.images import frost_meta
 from app.resources import SHADER_DIR
 from app.serve import MAX_PAGES, protocol
 from app.serve.feed import Feed
-from app.serve.pages import Page
+from app.serve.pages import CHANGE_RATE, Page
 from app.serve.session import SessionFiles
 
 log = logging.getLogger("app.serve")
@@ -196,6 +196,9 @@ def _take(feed: Feed, page: Page, msg) -> protocol.ProtocolError | None:
         return err
     if message.kind == "ping":
         page.text(protocol.text("pong", t=message.stamp, tick=feed.tick()))
+    elif message.kind not in ("touch", "melt") and not page.changes.take():
+        page.text(protocol.text("notice", text=f"{message.kind} refused: at most "
+                                f"{CHANGE_RATE:g} changes a second"))
     else:
         feed.controls.handle(message, page.fingers,
                              lambda why: page.text(protocol.text("notice", text=why)))
