@@ -5,6 +5,7 @@ oracle the server's state is checked against."""
 
 import asyncio
 import json
+import logging
 import socket
 
 import numpy as np
@@ -655,3 +656,17 @@ def test_changes_are_limited_to_a_few_a_second_and_refused_with_a_notice():
         assert 40 + 10 <= thread.sent - sent <= 40 + 11  # a token may come back meanwhile
         assert len(refused) == 80 - (thread.sent - sent)
     serve(test)
+
+
+def test_a_request_line_over_8_kib_is_refused_in_one_line_of_log(caplog):
+    async def test(client, feed):
+        reader, writer = await asyncio.open_connection(client.server.host, client.server.port)
+        writer.write(b"GET /" + b"x" * 9000 + b" HTTP/1.1\r\nHost: a\r\n\r\n")
+        assert (await asyncio.wait_for(reader.read(100), 10)).startswith(b"HTTP/1.0 400")
+        writer.close()
+        await asyncio.sleep(0.2)
+    with caplog.at_level(logging.INFO, "aiohttp.server"):
+        serve(test)
+    said = [r for r in caplog.records if r.name == "aiohttp.server"]
+    assert len(said) == 1 and said[0].exc_info is None and said[0].levelno == logging.INFO
+    assert "bad request refused" in said[0].getMessage() and len(said[0].getMessage()) < 200

@@ -20,6 +20,7 @@ from pathlib import Path, PurePosixPath
 from urllib.parse import urlsplit
 
 from aiohttp import WSMsgType, web
+from aiohttp.http_exceptions import HttpProcessingError
 
 from app.backdrops import BACKDROPS, load_backdrop
 from app.images import frost_meta
@@ -44,11 +45,29 @@ FILES = web.AppKey("files", SessionFiles)
 BACKDROP_PNGS = web.AppKey("backdrops", dict)
 
 
+class _BadRequestsInOneLine(logging.Filter):
+    """aiohttp logs a request it cannot parse (a line over 8 KiB) as an error with a
+    traceback, so anyone could fill the terminal: one line instead."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        err = record.exc_info[1] if record.exc_info else None
+        if isinstance(err, HttpProcessingError):
+            record.msg, record.args, record.exc_info = "serve: a bad request refused (%s)", (
+                " ".join(str(err).split())[:100],), None
+            record.levelno, record.levelname = logging.INFO, "INFO"
+        return True
+
+
+BAD_REQUESTS = _BadRequestsInOneLine()
+
+
 def make_app(feed: Feed, token: str | None = None, session_dir=None,
              web_dir: Path = WEB_DIR) -> web.Application:
     """The server's app: its routes, the token check, the feed started with it and stopped
     (the session written to `session_dir`, if given) when it is cleaned up."""
     app = web.Application(middlewares=[_token_check])
+    if BAD_REQUESTS not in logging.getLogger("aiohttp.server").filters:
+        logging.getLogger("aiohttp.server").addFilter(BAD_REQUESTS)
     app[FEED], app[TOKEN] = feed, token or ""
     app[FILES] = SessionFiles(feed, session_dir)
     app[BACKDROP_PNGS] = {}
