@@ -39,6 +39,7 @@ TYPES = {".html": "text/html", ".js": "text/javascript", ".mjs": "text/javascrip
          ".css": "text/css", ".json": "application/json", ".png": "image/png",
          ".svg": "image/svg+xml", ".vert": "text/plain", ".frag": "text/plain",
          ".glsl": "text/plain", ".webmanifest": "application/manifest+json"}
+FULL = 1013  # a socket's close code: try again later (every page's place is taken)
 FEED = web.AppKey("feed", Feed)
 TOKEN = web.AppKey("token", str)  # "" when none is in force
 FILES = web.AppKey("files", SessionFiles)
@@ -178,9 +179,11 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
     origin = request.headers.get("Origin")
     if origin is not None and not same_origin(origin, request.host):
         raise web.HTTPForbidden(text="frost: the page's origin is not this server\n")
-    if len(feed.pages) >= MAX_PAGES:
-        raise web.HTTPServiceUnavailable(text=f"frost: {MAX_PAGES} pages are connected already\n")
     ws = web.WebSocketResponse(max_msg_size=protocol.MAX_INPUT_BYTES, heartbeat=HEARTBEAT)
+    if len(feed.pages) >= MAX_PAGES:  # closed at once, with words the page can show (a 503
+        await ws.prepare(request)      # reaches a browser's page as "connection lost")
+        await ws.close(code=FULL, message=f"{MAX_PAGES} pages are connected already".encode())
+        return ws
     await ws.prepare(request)
     page = Page(ws, f"{request.remote}:{id(ws) & 0xFFFF:04x}", feed.ask_redraw)
     feed.pages.add(page)
