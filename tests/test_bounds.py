@@ -370,3 +370,12 @@ def test_settings_whose_tick_work_is_unbounded_are_refused_by_name(refused, name
     with pytest.raises(ValueError, match=named.replace(".", r"\.")):
         Params(**refused)
     Params(**allowed)  # the largest allowed value of the same kind is fine
+
+
+def test_an_item_replaces_the_last_waiting_only_where_told():
+    backlog = Backlog()
+    same = lambda a, b: a[0] == b[0] == "params"  # noqa: E731
+    assert backlog.extend([("params", 1), ("params", 2), ("touch", 3), ("params", 4)], same) == 1
+    assert backlog.extend([("params", 5)], same) == 1
+    assert list(backlog) == [("params", 2), ("touch", 3), ("params", 5)]
+    assert backlog.extend([("params", 6)]) == 0 and len(backlog) == 4

@@ -355,3 +355,23 @@ def test_keys_and_the_menu_go_to_the_server(browser):
     assert page.sent == [{"type": "key", "key": k} for k in ("SPACE", "C", "3", "RIGHT_BRACKET", "LEFT")] + [
         {"type": "preset", "name": "c-3"}, {"type": "look", "name": "paper"},
         {"type": "backdrop", "name": "lockscreen"}, {"type": "pause"}, {"type": "clear"}]
+
+
+def test_keys_reach_the_frost_again_once_the_menu_is_closed(browser):
+    """A keyboard user opens the menu, picks something, closes it: the keys that follow
+    (Space, 3) go to the server, not to the menu's button left focused (where Space would
+    open the menu again)."""
+    params = Params.preset("fern")
+    state = {**hello(params), "presets": ["fern", "c-3"], "preset": "fern",
+             "backdrops": ["dusk", "lockscreen"]}
+    with Page(state, [], browser=browser) as page:
+        p = page.page
+        p.click("#open")
+        p.click("#pause")
+        p.click("#open")
+        for key in ("Space", "3"):
+            p.keyboard.press(key)
+        p.wait_for_timeout(100)
+        assert p.is_hidden("#panel")
+    assert page.sent == [{"type": "pause"}, {"type": "key", "key": "SPACE"},
+                         {"type": "key", "key": "3"}]

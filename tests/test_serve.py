@@ -5,6 +5,7 @@ oracle the server's state is checked against."""
 
 import asyncio
 import json
+import logging
 import socket
 
 import numpy as np
@@ -215,9 +216,10 @@ def test_static_files_stay_in_their_folders(tmp_path):
         for url in ("/web/..%2fsecret.txt", "/web/%2e%2e/secret.txt", "/web/../secret.txt",
                     "/web/%2Fetc%2Fpasswd", "/web//etc/passwd", "/web/link.txt",
                     "/shaders/..%2f..%2fpyproject.toml", "/shaders/%2e%2e%2fsetup.py",
-                    "/backdrops/..%2fbackground.png"):
+                    "/backdrops/..%2fbackground.png",
+                    "/web/" + "a" * 4000, "/shaders/" + "a/" * 2000 + "x"):  # names too long
             resp = await client.get(url)
-            assert resp.status == 404, url
+            assert resp.status == 404, url[:40]
             assert await resp.text() != "no"
         png = await client.get("/backdrops/dusk.png")
         assert png.status == 200 and (await png.read())[:4] == b"\x89PNG"
@@ -246,10 +248,12 @@ def test_origin_must_name_the_host():
 def test_at_most_sixteen_pages():
     async def test(client, feed):
         sockets = [await client.ws_connect("/ws") for _ in range(MAX_PAGES)]
-        resp = await client.get("/ws", headers={"Connection": "Upgrade", "Upgrade": "websocket",
-                                                "Sec-WebSocket-Version": "13",
-                                                "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ=="})
-        assert resp.status == 503
+        # Closed at once with the reason, which a browser's page can show (of a 503 it
+        # learns only that the connection failed); it never becomes a page.
+        extra = await client.ws_connect("/ws")
+        msg = await closing(extra)
+        assert extra.close_code == 1013 and msg.extra == f"{MAX_PAGES} pages are connected already"
+        assert len(feed.pages) == MAX_PAGES
         for ws in sockets:
             await ws.close()
     serve(test)
@@ -258,6 +262,7 @@ def test_at_most_sixteen_pages():
 @pytest.mark.parametrize("send, code, says", [
     ("not json", 1008, "not JSON"),
     ('{"type":"touch","x":"a","y":1}', 1008, "'x'"),
+    ('{"type":"touch","x":1' + "0" * 400 + ',"y":1}', 1008, "'x' must be a finite number"),
     ('{"type":"warp"}', 1008, "unknown message type"),
     ("x" * 2000, 1009, ""),
     (b"\x01\x02", 1008, "binary"),
@@ -489,11 +494,29 @@ def test_a_port_taken_or_out_of_range_is_one_clear_error():
         port = taken.getsockname()[1]
         run = subprocess.run([sys.executable, "-m", "app", "serve", "--port", str(port)],
                              capture_output=True, text=True, timeout=60)
-    assert run.returncode == 1
-    assert run.stderr.strip().splitlines()[-1].startswith(f"frost: error: cannot listen on 127.0.0.1:{port}")
+    assert run.returncode == 2 and run.stderr.count("\n") == 1
+    assert run.stderr.startswith(f"frost: error: cannot listen on 127.0.0.1:{port}")
     run = subprocess.run([sys.executable, "-m", "app", "serve", "--port", "65536"],
                          capture_output=True, text=True, timeout=60)
     assert run.returncode == 2 and run.stderr.count("\n") == 1 and "--port" in run.stderr
+
+
+@pytest.mark.parametrize("args, says", [
+    (["--host", "no-such-host.invalid"], "cannot listen on no-such-host.invalid:0"),
+    (["--session-dir", "/proc/no-such-folder"], "--session-dir /proc/no-such-folder"),
+    (["--window"], "--window: no window can open here (DISPLAY is unset)"),
+])
+def test_bad_command_lines_are_one_clear_error(args, says):
+    import os
+    import subprocess
+    import sys
+
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    run = subprocess.run([sys.executable, "-m", "app", "serve", "--port", "0",
+                          "--max-seconds", "5", *args],
+                         capture_output=True, text=True, timeout=60, env=env)
+    assert (run.returncode, run.stderr.count("\n")) == (2, 1), run.stderr
+    assert run.stderr.startswith("frost: error: ") and says in run.stderr
 
 
 def test_meta_states_the_parameters_seed_and_touches_of_the_frame_published():
@@ -551,3 +574,101 @@ def test_ctrl_c_with_a_page_connected_closes_it_and_writes_the_session(tmp_path)
         proc.wait()
     [path] = tmp_path.glob("session-*.json")
     assert [e["kind"] for e in SessionLog.load(path).events] == ["touch"]
+
+
+def test_an_ipv6_host_is_bracketed_in_the_url(capsys):
+    from app.serve.server import announce
+
+    announce("::1", 8025, None)
+    assert "http://[::1]:8025/" in capsys.readouterr().out
+
+
+def test_input_waiting_for_the_thread_stays_bounded(monkeypatch):
+    """A page dragging a warm finger corner to corner as fast as its message rate allows
+    asks for far more melts than the thread applies; what waits stays bounded (the rest is
+    dropped, and that page is told), and the thread goes on ticking."""
+    from app.serve import controls
+
+    monkeypatch.setattr(controls, "MAX_WAITING", 50, raising=False)
+    corners = ({"x": 0, "y": 0}, {"x": 759, "y": 1279})
+
+    async def test(client, feed):
+        good, page = await connect(client)
+        await pause(good, page)  # nothing applies but input: the backlog stays put
+        thread = feed.thread
+        ws = await client.ws_connect("/ws")
+        sent = thread.sent
+        await ws.send_json({"type": "melt", **corners[0], "phase": "down"})
+        for i in range(12):  # each a path of about 125 melts
+            await ws.send_json({"type": "melt", **corners[(i + 1) % 2], "phase": "move"})
+        await ws.send_json({"type": "ping", "t": 1})
+        told = []
+        async for msg in ws:
+            data = json.loads(msg.data) if msg.type == WSMsgType.TEXT else {}
+            told += [data["text"]] if data.get("type") == "notice" else []
+            if data.get("type") == "pong":
+                break
+        assert thread.sent - sent <= 50 + 130, thread.sent - sent  # one path over the bound
+        assert feed.controls.dropped >= 10 and any("dropped" in t for t in told)
+        await good.send_json({"type": "pause"})
+        tick = page.tick
+        await read_until(good, page, lambda: page.tick > tick + 5)
+        await ws.close()
+    serve(test)
+
+
+def test_a_storm_of_preset_changes_regrows_the_frost_a_few_times_not_each(monkeypatch):
+    """Preset changes as fast as the message rate allows (the page's limit on changes
+    lifted: the thread's part alone): each change waiting right behind another is replaced
+    by it (each applied would regrow the whole frost, and the thread fell tens of seconds
+    behind); the last one asked for is in force, and what waits drains at once."""
+    monkeypatch.setattr(pages_module, "CHANGE_BURST", 1000.0)
+
+    async def test(client, feed):
+        good, page = await connect(client)
+        await good.send_json({"type": "touch", "x": CENTRE[0], "y": CENTRE[1]})
+        await read_until(good, page, lambda: page.tick > 40)
+        names = ["window", "fern"] * 60 + ["c-3"]
+        for name in names:
+            await good.send_json({"type": "preset", "name": name})
+        await read_until(good, page, lambda: page.state("preset") == "c-3")
+        thread = feed.thread
+        await read_until(good, page, lambda: thread.handled == thread.sent, timeout=30)
+        changes = [e for e in thread.session().events if e.get("kind") == "params"]
+        assert 1 <= len(changes) < 20, len(changes)
+        assert thread.params == Params.preset("c-3").replace(grid_spacing=PAPER.grid_spacing,
+                                                             look=PAPER.look)
+    serve(test)
+
+
+def test_changes_are_limited_to_a_few_a_second_and_refused_with_a_notice():
+    """A preset change with a touch between each (so none replaces another) 40 times at
+    once: the first ten (the burst) go to the thread, the rest are refused with a notice;
+    touches are not counted."""
+    async def test(client, feed):
+        good, page = await connect(client)
+        thread = feed.thread
+        sent = thread.sent
+        for i in range(40):
+            await good.send_json({"type": "preset", "name": ("window", "fern")[i % 2]})
+            await good.send_json({"type": "touch", "x": 100 + i, "y": 100})
+        await good.send_json({"type": "ping", "t": 1})
+        await read_until(good, page, lambda: any(t["type"] == "pong" for t in page.texts))
+        refused = [t for t in page.texts if t["type"] == "notice" and "changes a second" in t["text"]]
+        assert 40 + 10 <= thread.sent - sent <= 40 + 11  # a token may come back meanwhile
+        assert len(refused) == 80 - (thread.sent - sent)
+    serve(test)
+
+
+def test_a_request_line_over_8_kib_is_refused_in_one_line_of_log(caplog):
+    async def test(client, feed):
+        reader, writer = await asyncio.open_connection(client.server.host, client.server.port)
+        writer.write(b"GET /" + b"x" * 9000 + b" HTTP/1.1\r\nHost: a\r\n\r\n")
+        assert (await asyncio.wait_for(reader.read(100), 10)).startswith(b"HTTP/1.0 400")
+        writer.close()
+        await asyncio.sleep(0.2)
+    with caplog.at_level(logging.INFO, "aiohttp.server"):
+        serve(test)
+    said = [r for r in caplog.records if r.name == "aiohttp.server"]
+    assert len(said) == 1 and said[0].exc_info is None and said[0].levelno == logging.INFO
+    assert "bad request refused" in said[0].getMessage() and len(said[0].getMessage()) < 200

@@ -113,6 +113,10 @@ def _refuse_nonsense(args: argparse.Namespace, argv: list[str], prog: str) -> No
                          f"{prog} [options]")
     if args.command == "maps":
         _refuse_maps(args)
+    if args.command == "serve" and args.window:
+        problem = display_problem()
+        if problem:
+            raise ValueError(f"--window: no window can open here ({problem})")
     if args.command == "figure8" and len(args.touch) > 1:
         raise ValueError(f"figure8 grows from one --touch; got {len(args.touch)} --touch options")
     if args.command == "render" and (args.melt or args.melt_path) and not args.touch \

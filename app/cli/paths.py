@@ -34,11 +34,13 @@ NAME_MAX = 255  # bytes in one name, where the file system does not say (Linux's
 def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> list[str]:
     """Refuse (ValueError naming the option) an output path of `parser`'s command that
     cannot be written or a replay that cannot be read; return warnings for the window's
-    folders. Folders left at their defaults are the window's to report at run time."""
+    folders (frost serve refuses its --session-dir: the pages it serves cannot show a write
+    failing). Folders left at their defaults are the window's to report at run time."""
     warnings = []
     for action in parser._actions:  # this command's own options, not the root's defaults
         problem = _option_problem(args, action)
-        if problem and action.dest in WINDOW_FOLDERS:
+        if problem and action.dest in WINDOW_FOLDERS and not (
+                args.command == "serve" and action.dest == "session_dir"):
             warnings.append(f"{problem}; the window will say so at each write")
         elif problem:
             raise ValueError(problem)

@@ -21,6 +21,11 @@ from sim.screen import SIZE, touch_problem
 KEY_TUNES = {"scale": tuning.scaled, "shift": tuning.shifted, "toggle_param": tuning.toggled,
              "cycle_param": tuning.cycled}
 KEY_COMMANDS = {"pause": "pause", "single_step": "step", "clear": "clear"}
+# Most commands that may wait for the simulation thread before a page's touches and melts
+# are dropped (the finger still moves on): within its message rate a page can drag corner to
+# corner 200 times a second, 25 000 melts a second, and the thread applies a few hundred,
+# so without it the waiting input (and the memory it holds) grows without bound.
+MAX_WAITING = 2000
 
 
 class Controls:
@@ -33,6 +38,7 @@ class Controls:
         self.backdrop, self.tick = backdrop, tick
         self.notice = self.tell_all = notice
         self.chosen = ""  # the preset a page chose last
+        self.dropped = 0  # touches and melts dropped while too much input waited
         self.keys: dict[str, Binding] = {name: b for b in BINDINGS for name in b.keys}
         self._handlers: dict[str, Callable[[Input, dict], None]] = {
             "touch": self._pointer, "melt": self._pointer,
@@ -67,6 +73,13 @@ class Controls:
         spot = (m.x, m.y)
         if touch_problem(*spot, SIZE) is not None:
             return  # off the screen, as a click beside the phone
+        if self.thread.sent - self.thread.handled >= MAX_WAITING:
+            fingers[key] = spot  # the next move goes on from here, not from the last spot sent
+            self.dropped += 1
+            if self.dropped % 100 == 1:
+                self.notice(f"too much input waiting ({MAX_WAITING} or more): some of it "
+                            "was dropped")
+            return
         if m.phase == "down" or key not in fingers:
             fingers[key] = spot
             self._send(m.kind, spot, timed=m.phase == "down")

@@ -22,6 +22,10 @@ MAX_BEHIND_TICKS = 50
 MAX_BEHIND_BYTES = 6 << 20
 # Input: at most RATE messages a second, in bursts of at most BURST (a token bucket).
 RATE, BURST = float(protocol.RATE_TEXT), float(protocol.RATE_TEXT)
+# Changes (a preset, look, backdrop, key, pause, step or clear) at most CHANGE_RATE a second
+# in bursts of CHANGE_BURST: each may regrow the whole frost, and the simulation thread
+# applies one a tick at best; more are refused with a notice (a person never needs more).
+CHANGE_RATE, CHANGE_BURST = 5.0, 10.0
 
 
 class TokenBucket:
@@ -52,6 +56,7 @@ class Page:
         self.waiting, self.busy, self.closed = True, False, False
         self.resyncs = 0
         self.bucket = TokenBucket()
+        self.changes = TokenBucket(CHANGE_RATE, CHANGE_BURST)
         self.fingers: dict[tuple[str, int], tuple[float, float]] = {}  # a drag's last spot
         self._ready = asyncio.Event()
 

@@ -248,9 +248,15 @@ def _pointer(kind: str, data: dict) -> Input:
 
 def _number(data: dict, key: str) -> float:
     value = data.get(key)
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+    if isinstance(value, bool) or not isinstance(value, int | float):
         raise ProtocolError(f"{key!r} must be a finite number")
-    return float(value)
+    try:
+        number = float(value)  # a whole number of 400 digits overflows
+    except OverflowError:
+        number = math.inf
+    if not math.isfinite(number):
+        raise ProtocolError(f"{key!r} must be a finite number")
+    return number
 
 
 def _name(data: dict, key: str) -> str:

@@ -20,13 +20,14 @@ from pathlib import Path, PurePosixPath
 from urllib.parse import urlsplit
 
 from aiohttp import WSMsgType, web
+from aiohttp.http_exceptions import HttpProcessingError
 
 from app.backdrops import BACKDROPS, load_backdrop
 from app.images import frost_meta
 from app.resources import SHADER_DIR
 from app.serve import MAX_PAGES, protocol
 from app.serve.feed import Feed
-from app.serve.pages import Page
+from app.serve.pages import CHANGE_RATE, Page
 from app.serve.session import SessionFiles
 
 log = logging.getLogger("app.serve")
@@ -38,10 +39,27 @@ TYPES = {".html": "text/html", ".js": "text/javascript", ".mjs": "text/javascrip
          ".css": "text/css", ".json": "application/json", ".png": "image/png",
          ".svg": "image/svg+xml", ".vert": "text/plain", ".frag": "text/plain",
          ".glsl": "text/plain", ".webmanifest": "application/manifest+json"}
+FULL = 1013  # a socket's close code: try again later (every page's place is taken)
 FEED = web.AppKey("feed", Feed)
 TOKEN = web.AppKey("token", str)  # "" when none is in force
 FILES = web.AppKey("files", SessionFiles)
 BACKDROP_PNGS = web.AppKey("backdrops", dict)
+
+
+class _BadRequestsInOneLine(logging.Filter):
+    """aiohttp logs a request it cannot parse (a line over 8 KiB) as an error with a
+    traceback, so anyone could fill the terminal: one line instead."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        err = record.exc_info[1] if record.exc_info else None
+        if isinstance(err, HttpProcessingError):
+            record.msg, record.args, record.exc_info = "serve: a bad request refused (%s)", (
+                " ".join(str(err).split())[:100],), None
+            record.levelno, record.levelname = logging.INFO, "INFO"
+        return True
+
+
+BAD_REQUESTS = _BadRequestsInOneLine()
 
 
 def make_app(feed: Feed, token: str | None = None, session_dir=None,
@@ -49,6 +67,8 @@ def make_app(feed: Feed, token: str | None = None, session_dir=None,
     """The server's app: its routes, the token check, the feed started with it and stopped
     (the session written to `session_dir`, if given) when it is cleaned up."""
     app = web.Application(middlewares=[_token_check])
+    if BAD_REQUESTS not in logging.getLogger("aiohttp.server").filters:
+        logging.getLogger("aiohttp.server").addFilter(BAD_REQUESTS)
     app[FEED], app[TOKEN] = feed, token or ""
     app[FILES] = SessionFiles(feed, session_dir)
     app[BACKDROP_PNGS] = {}
@@ -101,8 +121,11 @@ def inside(folder: Path, rel: str) -> Path | None:
     if any(part in ("..", ".") for part in PurePosixPath(rel).parts):
         return None
     root = folder.resolve()
-    path = (root / rel).resolve()
-    return path if path.is_relative_to(root) and path.is_file() else None
+    try:
+        path = (root / rel).resolve()
+        return path if path.is_relative_to(root) and path.is_file() else None
+    except OSError:  # a name too long for the file system, a loop of links
+        return None
 
 
 def _folder(folder: Path, name: str | None = None):
@@ -156,9 +179,11 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
     origin = request.headers.get("Origin")
     if origin is not None and not same_origin(origin, request.host):
         raise web.HTTPForbidden(text="frost: the page's origin is not this server\n")
-    if len(feed.pages) >= MAX_PAGES:
-        raise web.HTTPServiceUnavailable(text=f"frost: {MAX_PAGES} pages are connected already\n")
     ws = web.WebSocketResponse(max_msg_size=protocol.MAX_INPUT_BYTES, heartbeat=HEARTBEAT)
+    if len(feed.pages) >= MAX_PAGES:  # closed at once, with words the page can show (a 503
+        await ws.prepare(request)      # reaches a browser's page as "connection lost")
+        await ws.close(code=FULL, message=f"{MAX_PAGES} pages are connected already".encode())
+        return ws
     await ws.prepare(request)
     page = Page(ws, f"{request.remote}:{id(ws) & 0xFFFF:04x}", feed.ask_redraw)
     feed.pages.add(page)
@@ -193,6 +218,9 @@ def _take(feed: Feed, page: Page, msg) -> protocol.ProtocolError | None:
         return err
     if message.kind == "ping":
         page.text(protocol.text("pong", t=message.stamp, tick=feed.tick()))
+    elif message.kind not in ("touch", "melt") and not page.changes.take():
+        page.text(protocol.text("notice", text=f"{message.kind} refused: at most "
+                                f"{CHANGE_RATE:g} changes a second"))
     else:
         feed.controls.handle(message, page.fingers,
                              lambda why: page.text(protocol.text("notice", text=why)))
@@ -216,7 +244,7 @@ async def _serve(app: web.Application, host: str, port: int, token: str | None,
                  max_seconds: float | None) -> int:
     runner = await listen(app, host, port, token)
     if runner is None:
-        return 1
+        return 2
     status = await _until_ended(app[FEED], max_seconds)
     await runner.cleanup()
     return status
@@ -232,12 +260,25 @@ async def listen(app: web.Application, host: str, port: int,
         site = web.TCPSite(runner, host, port)
         await site.start()
     except OSError as err:
+        app[FILES].folder = None  # nothing was served: no word on a session
         await runner.cleanup()
-        print(f"frost: error: cannot listen on {host}:{port}: {err.strerror or err}",
-              file=sys.stderr)
+        print(f"frost: error: {listen_problem(host, port, err)}", file=sys.stderr)
         return None
     announce(host, runner.addresses[0][1] if runner.addresses else port, token)
     return runner
+
+
+def listen_problem(host: str, port: int, err: OSError | None = None) -> str | None:
+    """Why host:port cannot be listened on (None: it can now), from `err` if given, else
+    by binding a socket there and closing it."""
+    if err is None:
+        try:
+            family = socket.AF_INET6 if ":" in host else socket.AF_INET
+            socket.create_server((host, port), family=family).close()
+            return None
+        except (OSError, OverflowError) as error:
+            err = error if isinstance(error, OSError) else OSError(str(error))
+    return f"cannot listen on {url_host(host)}:{port}: {err.strerror or err}"
 
 
 async def _until_ended(feed: Feed, max_seconds: float | None) -> int:
@@ -273,13 +314,18 @@ def lan_address() -> str:
             return socket.gethostname()
 
 
+def url_host(host: str) -> str:
+    """A host as a URL writes it: an IPv6 address in brackets."""
+    return f"[{host}]" if ":" in host else host
+
+
 def announce(host: str, port: int, token: str | None) -> None:
     """Print the URL to open (with the token, and its QR code for a phone's camera)."""
     if token is None:
-        print(f"frost serve: open http://{host}:{port}/ (Ctrl-C ends it)", flush=True)
+        print(f"frost serve: open http://{url_host(host)}:{port}/ (Ctrl-C ends it)", flush=True)
         return
     shown = lan_address() if host in ("0.0.0.0", "::", "") else host
-    url = f"http://{shown}:{port}/?token={token}"
+    url = f"http://{url_host(shown)}:{port}/?token={token}"
     print(f"frost serve: open {url} on a phone of this network (Ctrl-C ends it)", flush=True)
     try:
         import segno

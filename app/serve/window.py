@@ -7,10 +7,11 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import sys
 import threading
 
 from app.serve.feed import Feed
-from app.serve.server import listen, make_app
+from app.serve.server import listen, listen_problem, make_app
 
 log = logging.getLogger("app.serve")
 
@@ -55,6 +56,10 @@ def serve_with_window(args, params, token: str | None) -> int:
     from app.backdrops import view_from
     from app.window import frost_window
 
+    problem = listen_problem(args.host, args.port)  # before a window opens for nothing
+    if problem:
+        print(f"frost: error: {problem}", file=sys.stderr)
+        return 2
     server = Background(args.host, args.port, token)
 
     def attach(window) -> None:

@@ -58,8 +58,18 @@ class Backlog:
         """What a step lately cost, s: the median of the last STEP_SAMPLES."""
         return statistics.median(self._steps) if self._steps else 0.0
 
-    def extend(self, items) -> None:
-        self._items.extend(items)
+    def extend(self, items, replaces: Callable[[Any, Any], bool] | None = None) -> int:
+        """Queue `items`, oldest first. An item that `replaces(last waiting, item)` takes
+        the place of the last item waiting (one the item would undo at once: a tuning change
+        right behind another, each a regrowth of the frost). How many items were replaced."""
+        replaced = 0
+        for item in items:
+            if replaces is not None and self._items and replaces(self._items[-1], item):
+                self._items[-1] = item
+                replaced += 1
+            else:
+                self._items.append(item)
+        return replaced
 
     def run(self, apply) -> int:
         """`apply(item)` for this tick's share of the items; how many went."""

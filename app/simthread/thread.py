@@ -206,7 +206,10 @@ class SimThread(threading.Thread):
         notes: dict[str, Any] = {"applied": []}
         self._script_at = apply_due(self.timeline, self.script, self._script_at,
                                     notes["applied"].append)
-        self.backlog.extend(group_melts(take_all(self.inbox), _disc, _melts))
+        # (a tuning change waiting right behind another replaces it: a page or a held key
+        # can ask for hundreds, and each applied would regrow the frost)
+        self.handled += self.backlog.extend(group_melts(take_all(self.inbox), _disc, _melts),
+                                            replaces=_superseded)
         done = self.backlog.run(lambda command: self._handlers[command.kind](command.arg, notes))
         self.handled += done  # (a group of melts added the rest of its commands)
         reset, melts, message = _merged(notes["applied"])
@@ -310,6 +313,11 @@ def _merged(applied: list[Applied]) -> tuple[bool, tuple[GeometryDelta, ...], st
         melts.extend(a.deltas)
         message = a.message or message
     return reset, tuple(melts), message
+
+
+def _superseded(waiting: Command, arriving: Command) -> bool:
+    """`arriving` makes `waiting` moot: both set the whole parameters, nothing between."""
+    return waiting.kind == arriving.kind == "params"
 
 
 def _command_kind(command: Command) -> str:

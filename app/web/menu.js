@@ -8,7 +8,11 @@ export class Menu {
     this.pointers = null;
     const $ = (id) => root.querySelector(`#${id}`);
     this.panel = $("panel");
-    $("open").addEventListener("click", () => { this.panel.hidden = !this.panel.hidden; });
+    $("open").addEventListener("click", (e) => {
+      this.panel.hidden = !this.panel.hidden;
+      // Closed: the keys go to the frost again, not to the menu's button left focused.
+      if (this.panel.hidden) e.currentTarget.blur();
+    });
     for (const kind of ["preset", "look", "backdrop"]) {
       $(kind).addEventListener("change", (e) => send({ type: kind, name: e.target.value }));
     }
