@@ -672,3 +672,64 @@ def test_a_request_line_over_8_kib_is_refused_in_one_line_of_log(caplog):
     said = [r for r in caplog.records if r.name == "aiohttp.server"]
     assert len(said) == 1 and said[0].exc_info is None and said[0].levelno == logging.INFO
     assert "bad request refused" in said[0].getMessage() and len(said[0].getMessage()) < 200
+
+
+class _Sends:
+    """A stand-in thread that counts what it is sent (nothing waits: it applies at once)."""
+
+    sent = handled = 0
+
+    def __init__(self):
+        self.kinds: list[str] = []
+
+    def send(self, kind, _arg=None):
+        self.kinds.append(kind)
+
+
+def _controls():
+    from app.serve.controls import Controls
+
+    return Controls(_Sends(), PAPER, 24.0, "dusk", lambda _text: None, lambda: 0)
+
+
+def test_a_finger_faster_than_a_person_leaves_at_most_the_bound_of_melts():
+    """Sweeping corner to corner 40 times in 0.2 s asks for ~5 000 melts; a page's fingers
+    leave the burst plus the rate times the time (less the fractions of a melt the bucket
+    still holds, or lost to its cap at the first move), the rest of each path skipped."""
+    from app.serve.pages import POINT_BURST, POINT_RATE, TokenBucket
+    from app.serve.protocol import Input
+
+    now = [0.0]
+    bucket = TokenBucket(POINT_RATE, POINT_BURST, clock=lambda: now[0])
+    controls, fingers, told = _controls(), {}, []
+    controls.handle(Input("melt", 0.0, 0.0, "down", 1), fingers, told.append, bucket)
+    for i in range(40):
+        now[0] += 0.005
+        x, y = ((759.0, 1279.0), (0.0, 0.0))[i % 2]
+        controls.handle(Input("melt", x, y, "move", 1), fingers, told.append, bucket)
+    most = POINT_BURST + 0.2 * POINT_RATE
+    assert most - 2 <= len(controls.thread.kinds) <= most
+    assert controls.skipped > 4000 and len(told) >= 1 and "skipped" in told[0]
+
+
+def test_a_person_dragging_loses_no_melt_or_touch_to_the_bound():
+    """A finger at 3 000 px/s for two seconds leaves every point the same drag leaves with
+    no bound at all (the oracle)."""
+    from app.serve.pages import POINT_BURST, POINT_RATE, TokenBucket
+    from app.serve.protocol import Input
+
+    def drag(kind, bucket, now):
+        controls, fingers = _controls(), {}
+        controls.handle(Input(kind, 10.0, 640.0, "down", 1), fingers, None, bucket)
+        for step in range(1, 201):  # 30 px each 10 ms, back and forth across the screen
+            now[0] += 0.01
+            x = 10.0 + (30.0 * step) % 1480.0
+            x = x if x <= 740.0 else 1480.0 - x
+            controls.handle(Input(kind, x, 640.0, "move", 1), fingers, None, bucket)
+        return controls.thread.kinds
+
+    for kind in ("melt", "touch"):
+        now = [0.0]
+        bucket = TokenBucket(POINT_RATE, POINT_BURST, clock=lambda at=now: at[0])
+        bounded = drag(kind, bucket, now)
+        assert bounded == drag(kind, None, [0.0]) and len(bounded) > 100

@@ -8,6 +8,7 @@ import time
 from collections.abc import Callable
 
 from app.backdrops import BACKDROPS
+from app.serve.pages import POINT_RATE, TokenBucket
 from app.serve.protocol import Input
 from app.simthread.thread import SimThread
 from app.window.keys import BINDINGS, Binding
@@ -39,6 +40,8 @@ class Controls:
         self.notice = self.tell_all = notice
         self.chosen = ""  # the preset a page chose last
         self.dropped = 0  # touches and melts dropped while too much input waited
+        self.skipped = self.skipped_told = 0  # touches and melts over a page's bound
+        self.points: TokenBucket | None = None  # the bound of the page being handled
         self.keys: dict[str, Binding] = {name: b for b in BINDINGS for name in b.keys}
         self._handlers: dict[str, Callable[[Input, dict], None]] = {
             "touch": self._pointer, "melt": self._pointer,
@@ -56,10 +59,13 @@ class Controls:
         return self.chosen if self.chosen in names else names[0]
 
     def handle(self, message: Input, fingers: dict,
-               reply: Callable[[str], None] | None = None) -> None:
+               reply: Callable[[str], None] | None = None,
+               points: TokenBucket | None = None) -> None:
         """Apply one page message; `fingers` holds that page's drags, `reply` tells that
-        page why a change was refused (default: every page)."""
+        page why a change was refused (default: every page), `points` (a TokenBucket, or
+        None: no bound) how many touches and melts its fingers may still leave."""
         self.notice = reply or self.tell_all
+        self.points = points
         self._handlers[message.kind](message, fingers)
 
     def _command(self, m: Input, _fingers: dict) -> None:
@@ -82,15 +88,32 @@ class Controls:
             return
         if m.phase == "down" or key not in fingers:
             fingers[key] = spot
-            self._send(m.kind, spot, timed=m.phase == "down")
+            if self._granted(1):
+                self._send(m.kind, spot, timed=m.phase == "down")
             return
         spacing = DRAG_SPACING_HC * self.params.hc if m.kind == "touch" \
             else MELT_SPACING * self.melt_radius
         points = path_points(fingers[key], spot, spacing)
-        for point in points:
+        kept = self._granted(len(points))
+        for point in points[:kept]:
             self._send(m.kind, point, timed=False)
-        if points:
+        if kept < len(points):
+            fingers[key] = spot  # the rest of the path skipped: the finger goes on from here
+        elif points:
             fingers[key] = points[-1]
+
+    def _granted(self, wanted: int) -> int:
+        """How many of `wanted` touches or melts the page's bound lets through."""
+        if self.points is None or wanted == 0:
+            return wanted
+        granted = self.points.grant(wanted)
+        if granted < wanted:
+            self.skipped += wanted - granted
+            if self.skipped_told < self.skipped // 1000 + 1:
+                self.skipped_told = self.skipped // 1000 + 1
+                self.notice(f"a finger faster than {POINT_RATE:g} touches or melts a second: "
+                            "part of its path was skipped")
+        return granted
 
     def _send(self, kind: str, spot: tuple[float, float], timed: bool) -> None:
         if kind == "melt":

@@ -223,7 +223,7 @@ def _take(feed: Feed, page: Page, msg) -> protocol.ProtocolError | None:
                                 f"{CHANGE_RATE:g} changes a second"))
     else:
         feed.controls.handle(message, page.fingers,
-                             lambda why: page.text(protocol.text("notice", text=why)))
+                             lambda why: page.text(protocol.text("notice", text=why)), page.points)
     return None
 
 
