@@ -6,6 +6,7 @@ oracle the server's state is checked against."""
 import asyncio
 import json
 import logging
+import re
 import socket
 
 import numpy as np
@@ -733,3 +734,29 @@ def test_a_person_dragging_loses_no_melt_or_touch_to_the_bound():
         bucket = TokenBucket(POINT_RATE, POINT_BURST, clock=lambda at=now: at[0])
         bounded = drag(kind, bucket, now)
         assert bounded == drag(kind, None, [0.0]) and len(bounded) > 100
+
+
+def test_a_stats_line_in_words():
+    from app.serve.server import stats_line
+
+    assert stats_line(10.0, 250, [2.0, 3.0, 9.0], [1000, 3000, 2500], 2, False) == \
+        "stats (10.0 s): sim 25.0 ticks/s, tick median 3.0 ms, 2 pages, 2.5 kB a tick each"
+    assert stats_line(10.0, 0, [], [], 1, True) == "stats (10.0 s): sim paused, no tick, 1 page"
+
+
+def test_the_server_logs_its_stats_while_it_serves(monkeypatch, caplog):
+    import logging
+
+    from app.serve import server
+
+    monkeypatch.setattr(server, "STATS_PERIOD", 0.5)
+
+    async def test(client, feed):
+        ws, page = await connect(client)
+        await read_until(ws, page, lambda: page.tick > feed.tick() - 1 and page.tick >= 30)
+        await asyncio.sleep(0.6)
+
+    with caplog.at_level(logging.INFO, logger="app.serve"):
+        serve(test)
+    lines = [r.getMessage() for r in caplog.records if "stats (" in r.getMessage()]
+    assert lines and re.search(r"sim \d+\.\d ticks/s, tick median \d+\.\d ms, 1 page", lines[-1])

@@ -14,6 +14,7 @@ import logging
 import secrets
 import signal
 import socket
+import statistics
 import sys
 import time
 from pathlib import Path, PurePosixPath
@@ -44,6 +45,8 @@ FEED = web.AppKey("feed", Feed)
 TOKEN = web.AppKey("token", str)  # "" when none is in force
 FILES = web.AppKey("files", SessionFiles)
 BACKDROP_PNGS = web.AppKey("backdrops", dict)
+STATS = web.AppKey("stats", asyncio.Task)
+STATS_PERIOD = 10.0  # s between the log's stats lines
 
 
 class _BadRequestsInOneLine(logging.Filter):
@@ -87,6 +90,31 @@ def make_app(feed: Feed, token: str | None = None, session_dir=None,
 async def _start(app: web.Application) -> None:
     app[FEED].start(asyncio.get_running_loop())
     app[FILES].start()
+    app[STATS] = asyncio.create_task(_log_stats(app[FEED], STATS_PERIOD))
+
+
+async def _log_stats(feed: Feed, period: float) -> None:
+    """A stats line in the log every `period` s, as the window logs one."""
+    loop = asyncio.get_running_loop()
+    tick, since = feed.tick(), loop.time()
+    while True:
+        await asyncio.sleep(period)
+        now, ticks = loop.time(), feed.tick() - tick
+        n = max(0, min(ticks, len(feed.tick_ms)))
+        log.info("serve: %s", stats_line(now - since, ticks, list(feed.tick_ms)[-n:] if n else [],
+                                         list(feed.sizes)[-n:] if n else [], len(feed.pages),
+                                         bool(feed.latest and feed.latest.stats.paused)))
+        tick, since = feed.tick(), now
+
+
+def stats_line(seconds: float, ticks: int, tick_ms: list[float], sizes: list[int], pages: int,
+               paused: bool) -> str:
+    """`seconds` of serving in words: the simulation's rate (`ticks` advanced) and median
+    tick (`tick_ms`), the pages connected and the median bytes a tick sent each (`sizes`)."""
+    rate = "sim paused" if paused else f"sim {ticks / seconds:.1f} ticks/s"
+    tick = f"tick median {statistics.median(tick_ms):.1f} ms" if tick_ms else "no tick"
+    sent = f", {statistics.median(sizes) / 1000:.1f} kB a tick each" if sizes and pages else ""
+    return f"stats ({seconds:.1f} s): {rate}, {tick}, {pages} page{'s' * (pages != 1)}{sent}"
 
 
 async def _close_pages(app: web.Application) -> None:
@@ -97,6 +125,8 @@ async def _close_pages(app: web.Application) -> None:
 
 async def _stop(app: web.Application) -> None:
     feed: Feed = app[FEED]
+    if STATS in app:
+        app[STATS].cancel()
     await _close_pages(app)  # (a test client's cleanup comes without a shutdown)
     feed.thread.stop()
     feed.pump()  # the last ticks, for the session's file
