@@ -9,7 +9,8 @@ test_fronds.py checks them. Each set is grown by the rules of one session versio
   circle), a rebuild's replant, a wrap tile and a scribble's touches into existing areas,
   by version 6's rules (whose frost is version 5's: version 6 changed only how a
   session's melts apply);
-- "v7/...": the same runs by version 7's rules, each part drawing from its own stream.
+- "v7/...": the same runs by version 7's rules, each part drawing from its own stream;
+- "v8/...": the same runs by version 8's rules, a touch opening an area with its ring.
 """
 
 from __future__ import annotations
@@ -127,6 +128,11 @@ def hashes_v7() -> dict[str, str]:
     return hashes_of(7, "v7")
 
 
+def hashes_v8() -> dict[str, str]:
+    """The same runs by version 8's rules: a touch that opens an area brings its ring."""
+    return hashes_of(8, "v8")
+
+
 def hashes(window_off: dict) -> dict[str, str]:
     out = {name: state_hash(run(p, o, t, version=4)) for name, p, o, t in RUNS}
     name, p, _, t = WINDOW_OLD
@@ -137,5 +143,5 @@ def hashes(window_off: dict) -> dict[str, str]:
 
 
 if __name__ == "__main__":
-    json.dump({**hashes({}), **hashes_v5(), **hashes_v7()}, sys.stdout, indent=1)
+    json.dump({**hashes({}), **hashes_v5(), **hashes_v7(), **hashes_v8()}, sys.stdout, indent=1)
     print()

@@ -366,3 +366,23 @@ def test_version_7_grows_the_frost_stored_for_it():
     """The runs of the v5 set by version 7's rules, each part drawing from its own stream."""
     stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text())
     assert frozen_runs.hashes_v7() == {k: v for k, v in stored.items() if k.startswith("v7/")}
+
+
+def test_version_8_grows_the_frost_stored_for_it():
+    """The runs of the v5 set by version 8's rules: a touch opening an area rings its seed."""
+    stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text())
+    assert frozen_runs.hashes_v8() == {k: v for k, v in stored.items() if k.startswith("v8/")}
+
+
+def test_version_8_leaves_the_windows_touches_as_version_7_grew_them():
+    # The window's pane is one area: every touch joins it and was ringed already, so
+    # version 8 (which rings a touch opening an area) grows the very same frost.
+    def grown(version: int) -> str:
+        sim = FrostSim(Params.preset("window"), seed=4, version=version)
+        for k in range(60):
+            if k % 6 == 0:
+                sim.touch(100.0 + 9.0 * k, 300.0 + 11.0 * k)
+            sim.step()
+        return frozen_runs.state_hash(sim)
+
+    assert grown(8) == grown(7)

@@ -244,16 +244,17 @@ def test_a_seed_ringed_by_ice_fills_the_sliver_of_its_ring_it_is_nearest():
 
 # (how the seed at (480, 640) came, version, whether its first hits count together)
 SEEDS = [("joined", 5, True), ("joined", 4, False), ("opened", 5, False),
-         ("without water", 5, False)]
+         ("opened", 7, False), ("opened", 8, True), ("without water", 8, False)]
 
 
 @pytest.mark.parametrize("how, version, pooled", SEEDS)
 def test_a_ringed_seeds_hits_count_together_until_its_first_child(how, version, pooled):
     # Five walkers just inside hc of a seed, 60 degrees apart: one hit on each of five
     # slots. A fern tip slot grows on its 5th hit. From version 5 the hits of a seed a
-    # touch brought a ring of water (it joined an area) count together, so it grows one
-    # child, in the slot of the hit that made five; a touch that opens an area and the
-    # pane's seeds (planted without water) count slot by slot, as before.
+    # touch brought a ring of water (it joined an area; from version 8 it may open one
+    # too) count together, so it grows one child, in the slot of the hit that made five;
+    # up to version 7 a touch that opens an area, and the pane's seeds (planted without
+    # water) always, count slot by slot.
     params = Params.preset("fern", step=0.01, long_jumps=False, drift=0.0)
     sim = FrostSim(params, seed=0, version=version)
     if how != "opened":
@@ -289,13 +290,25 @@ def test_without_touch_water_a_touch_moves_no_walker():
     assert (sim.water[:len(before)] == before).all()
 
 
-def test_a_touch_that_opens_an_area_moves_no_walker():
-    sim = FrostSim(Params.preset("fern"), seed=0)
+@pytest.mark.parametrize("version", [7, 8])
+def test_a_touch_that_opens_an_area_rings_its_seed_from_version_8(version):
+    # Its new pool lies on the launch circle, `launch` (30 px) beyond its only ice, the
+    # seed. Up to version 7 that is all; from version 8 the touch moves `touch_water` of
+    # that pool into the ring from hc to 2 hc around its seed, and no other area's walker.
+    params = Params.preset("fern")
+    sim = FrostSim(params, seed=0, version=version)
     sim.touch(100.0, 100.0)
     before = sim.water.copy()
     sim.touch(600.0, 1100.0)  # far beyond the first area
     assert len(sim.areas) == 2
     assert (sim.water[:len(before)] == before).all()
+    new = sim.water[len(before):].astype(np.float64)
+    assert len(new) == params.humidity and (sim.water_area[len(before):] == 1).all()
+    r = np.hypot(*(new - (600.0, 1100.0)).T)
+    ringed = (r >= params.hc - 1e-3) & (r <= 2 * params.hc + 1e-3)
+    on_circle = np.abs(r - params.launch) < 1e-3
+    assert ringed.sum() == (params.touch_water if version >= 8 else 0)
+    assert (ringed | on_circle).all()
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])

@@ -104,8 +104,8 @@ class FrostSim(Holdings):
     def plant(self, points, water: bool = True) -> np.ndarray:
         """Touches at every (x, y) of `points` at once (a run's first touches, or those a
         rebuild replants together): the seeds, then one top-up of each area they touched,
-        then (`water`, with `touch_water`) the water each seed that joined an area brings
-        (`Supply.water_seed`). Returns each seed's area."""
+        then (`water`, with `touch_water`) the ring of water each seed that joined an area
+        brings (from version 8 each seed: `Supply.water_seed`). Returns each seed's area."""
         pts = np.array(points, np.float64).reshape(-1, 2)
         for x, y in pts:
             problem = touch_problem(x, y, (self.width, self.height))
@@ -115,12 +115,16 @@ class FrostSim(Holdings):
         opened = self._areas.n
         area = self._areas.areas_for(pts32, self.params.active_radius)
         seeds = self._add_crystals(pts32, np.full(len(pts), -1, np.int32), area)
-        ringed = area < opened if water and self.params.touch_water else np.zeros(len(pts), bool)
+        # The seeds that bring a ring of water (`touch_water`): those joining an area, and
+        # from version 8 those opening one (whose pool starts on the launch circle, 30 px
+        # out, else their first arm waits for it); their first hits count together.
+        ringed = (area < opened) | self.rules.opening_rings
+        ringed &= bool(water and self.params.touch_water)
         self.growth.add_seeds(len(pts), ringed)
         self.index.register(seeds)
         self._follow_ice(seeds)  # a seed joining an area may lie beyond its ice
         self.supply.fill(np.unique(area), self.ice_state())
-        for seed in np.flatnonzero(ringed):  # (`water`, with `touch_water`, joined)
+        for seed in np.flatnonzero(ringed):
             sx, sy = self.ice.crystals.raw()[seeds.start + int(seed)]
             self.supply.water_seed((float(sx), float(sy)), int(area[seed]))
         return area

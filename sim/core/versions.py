@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-NEWEST = 7
+NEWEST = 8
 # Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
 REGROW_GAP = 12
 # The parts that draw random numbers, in the order their streams are spawned.
@@ -41,6 +41,7 @@ class Rules:
     pooled_first_hits: bool  # 5
     grouped_melts: bool  # 6
     own_streams: bool  # 7
+    opening_rings: bool  # 8: a touch that opens an area brings its ring of water too
 
 
 def rules_of(version: int) -> Rules:
@@ -49,7 +50,8 @@ def rules_of(version: int) -> Rules:
             or not 1 <= version <= NEWEST:
         raise ValueError(f"version={version!r} must be a whole number in [1, {NEWEST}]")
     v = int(version)
-    return Rules(v, REGROW_GAP if v >= 2 else 0, v >= 3, v >= 4, v >= 5, v >= 5, v >= 6, v >= 7)
+    return Rules(v, REGROW_GAP if v >= 2 else 0, v >= 3, v >= 4, v >= 5, v >= 5, v >= 6, v >= 7,
+                 v >= 8)
 
 
 @dataclass(frozen=True)

@@ -17,13 +17,14 @@ written: every one freezes where it is. `FernGrowth` adds grains and hit counter
   blocked; the hit still counts and the next one tries again.
 - Walkers whose hit only counted are not frozen: the simulation places them again.
 - (Session version 5 on, `pooled_first`.) Until a seed that a touch brought a ring of
-  water (one that joined an area) has its first child, its hits count together,
-  whatever their slots: the hit that brings the seed's count to its tip need grows its
-  own slot. The ring's hits spread over six slots, and a seed near older ice, whose
-  ring that ice cut, often never reached the need on any one of them (docs/method.md,
-  5.3). A touch that opens an area, and the pane's seeds, count slot by slot: pooled,
-  their first arm came early and alone (a lone touch's six-fold order S6 0.53 -> 0.33;
-  the window's stems shorter, stem_lw 76.8 -> 72.8 px).
+  water has its first child, its hits count together, whatever their slots: the hit that
+  brings the seed's count to its tip need grows its own slot. The ring's hits spread over
+  six slots, and a seed near older ice, whose ring that ice cut, often never reached the
+  need on any one of them (docs/method.md, 5.3). Up to version 7 only a touch joining an
+  area brings a ring; one opening an area, pooled without a ring, had its first arm early
+  and alone (a lone touch's six-fold order S6 0.53 -> 0.33). From version 8 it brings one
+  too (its arms come early and together). The pane's seeds count slot by slot: pooled,
+  the window's stems grew shorter (stem_lw 76.8 -> 72.8 px).
 
 Per-crystal state lives in arrays parallel to the simulation's crystals.
 """
