@@ -101,3 +101,30 @@ def test_the_phase_profiles_time_every_phase_a_tick_calls(preset):
     idle = {"counted_and_new"} if preset == "c-2" else set()
     assert called == set(spent) - idle
     assert {"walk", "crystallize", "link", "register", "settle", "relocate"} <= called
+
+
+@pytest.mark.parametrize("preset, version", [("fern", 7), ("fern", 8), ("window", 8)])
+def test_a_taps_wait_is_the_ticks_until_its_seed_has_a_child(preset, version):
+    """`taps.waits` against a run driven tap by tap: each tap applied before its tick, its
+    seed's wait the ticks until some crystal has it for a parent (every crystal looked at)."""
+    from app.tools import taps
+    from sim import FrostSim
+
+    n = 4
+    got = taps.waits(preset, version, n, seed=1)
+    sim = FrostSim(Params.preset(preset), seed=1, version=version)
+    spots = taps.tap_spots(n)
+    when = [int(k * taps.GAP_S * 25) for k in range(n)]
+    seeds: dict[int, tuple[int, int]] = {}
+    want = [taps.NEVER] * n
+    for tick in range(when[-1] + taps.NEVER):
+        for k in range(n):
+            if when[k] == tick:
+                sim.touch(float(spots[k][0]), float(spots[k][1]))
+                seeds[k] = (len(sim.crystals) - 1, tick)
+        sim.step()
+        for k, (s, t) in seeds.items():
+            if want[k] == taps.NEVER and s in set(sim.parents.tolist()) and tick + 1 - t <= taps.NEVER:
+                want[k] = tick + 1 - t
+    assert got.tolist() == want
+    assert min(want) >= 1

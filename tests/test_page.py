@@ -297,9 +297,10 @@ def test_fingers_become_touches_and_melts_in_screen_px(browser):
 
 
 def test_a_tap_is_timed_to_its_first_drawn_frost_and_growth(browser):
-    """After a tap, a delta with ice far from it counts for nothing; thin ice (0.5 px) within
-    12 px of it is its first frost (frost.frostLatencies) but not growth; ice over 0.8 px
-    there is its growth (frost.latencies). Each is timed once, at the frame that draws it."""
+    """After a tap, a delta with ice or a ridge far from it counts for nothing; ice within
+    12 px of it, however thin or thick, is its first frost (frost.frostLatencies) but not
+    growth; a ridge there (a link frozen onto the seed) is its growth (frost.latencies).
+    Each is timed once, at the frame that draws it."""
     from app.serve.protocol import Encoder
     from sim.look.geometry import GeometryDelta
 
@@ -308,12 +309,17 @@ def test_a_tap_is_timed_to_its_first_drawn_frost_and_growth(browser):
     s = params.grid_spacing
     enc = Encoder(cols, rows)
 
-    def ice(tick, x, y, h):  # a delta raising the grid vertex nearest (x, y) to h px
+    def ice(tick, x, y, h, ridge=None):  # the grid vertex nearest (x, y) raised to h px
         r, c = round(y / s), round(x / s)
         row = enc.heights.reshape(rows, cols)[r].astype(np.float32)
         row[c] = h
-        return enc.delta(GeometryDelta(tick, slice(r, r + 1), row[None, :],
-                                       np.zeros((0, 6), np.float32), look=params.look))
+        feats = np.zeros((0, 6), np.float32)
+        if ridge is not None:  # a triangle of a ridge with a corner at `ridge`
+            rx, ry = ridge
+            feats = np.array([[rx, ry, 0.5, 0, 0, 1], [rx + 7, ry, 0.5, 0, 0, 1],
+                              [rx, ry + 1, 0.0, 0, 0, 1]], np.float32)
+        return enc.delta(GeometryDelta(tick, slice(r, r + 1), row[None, :], feats,
+                                       look=params.look))
 
     with Page(hello(params), [], viewport=(390, 844), scale=3, browser=browser, touch=True) as page:
         p = page.page
@@ -321,9 +327,12 @@ def test_a_tap_is_timed_to_its_first_drawn_frost_and_growth(browser):
         p.touchscreen.tap((pane["x"] + 380 * pane["scale"]) / 3, (pane["y"] + 640 * pane["scale"]) / 3)
         p.wait_for_function("frost.watch !== null")
         counts = "[frost.frostLatencies.length, frost.latencies.length]"
-        for tick, (x, y, h), want in ((1, (380, 400, 2.0), [0, 0]), (2, (384, 644, 0.5), [1, 0]),
-                                      (3, (376, 636, 0.7), [1, 0]), (4, (380, 640, 1.0), [1, 1])):
-            page.socket.send(ice(tick, x, y, h))
+        for tick, (x, y, h), ridge, want in (
+                (1, (380, 400, 2.0), (380, 420), [0, 0]),  # far from the tap
+                (2, (384, 644, 0.5), None, [1, 0]),  # thin ice there: its frost
+                (3, (376, 636, 3.0), None, [1, 0]),  # thick ice there: not yet growth
+                (4, (380, 400, 0.0), (385, 646), [1, 1])):  # a ridge there: growth
+            page.socket.send(ice(tick, x, y, h, ridge))
             p.wait_for_function(f"frost.tick === {tick} && !frost.blitDamage")
             p.wait_for_timeout(50)  # a frame more
             assert p.evaluate(counts) == want, (tick, want)

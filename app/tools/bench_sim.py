@@ -18,6 +18,9 @@ asserts nothing.
 7. Window mode (sim/rules/pane.py, the frond rules): the pane's measures (app/tools/measures.py) per seed at
    ticks 500 / 1000 / 1500 / 2250 with the median and p99 tick times, the frosted end, the
    one-touch fern tick and the memory (`--section window` runs only this).
+8. Taps (app/tools/taps.py): ticks from a tap to its seed's first child, the page bench's
+   taps through the simulation alone, by version 7's and version 8's rules side by side
+   (`--section taps`).
 """
 
 from __future__ import annotations
@@ -34,6 +37,7 @@ import numpy as np
 from app.tools.measures import END_GAIN, END_TICKS, frosted_end, pane_measures
 from app.tools.morphology import extent, mass_radius_dimension, six_fold_order, turn_shares
 from app.tools.scribble import play, scribble, spread, storm
+from app.tools.taps import taps_section
 from sim import FrostSim, Params, all_presets
 from sim.look.geometry import FrostGeometry
 from sim.screen import TICKS_PER_SECOND
@@ -493,7 +497,8 @@ def section_abuse(args) -> dict:
 SECTIONS = {"fig9": section_fig9, "busy": section_busy, "growth": section_growth,
             "memory": section_memory, "abuse": section_abuse,
             "fern": lambda args: {"fern": fern_section(*_fern_sizes(args))},
-            "window": lambda args: {"window": window_section(*_window_sizes(args))}}
+            "window": lambda args: {"window": window_section(*_window_sizes(args))},
+            "taps": lambda args: {"taps": taps_section(seeds=1 if args.quick else 4)}}
 
 
 def main(argv: list[str] | None = None, prog: str = "python -m app.tools.bench_sim") -> int:

@@ -26,6 +26,7 @@ from PIL import Image
 from app.backdrops import DEFAULT_BACKDROP, load_backdrop
 from app.resources import SHADER_DIR, WEB_DIR
 from app.tools.bench_sim import count
+from app.tools.taps import GAP_S, tap_spots
 from sim import Params, all_presets
 from sim.look.geometry import GeometryDelta
 from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, Material
@@ -275,12 +276,13 @@ def difference_image(a: np.ndarray, b: np.ndarray, gain: float = 8.0) -> np.ndar
     return np.clip(d * gain, 0, 255).astype(np.uint8)
 
 
-def touch_latency(taps: int, preset: str = "fern", gap_s: float = 0.7) -> tuple[np.ndarray, np.ndarray]:
+def touch_latency(taps: int, preset: str = "fern", gap_s: float = GAP_S) -> tuple[np.ndarray, np.ndarray]:
     """Milliseconds from a finger down on the page (an emulated phone in headless Chromium)
-    to the frame that first draws growth near it, and to the frame that first draws frost
-    near it (the seed's own ice: the first step after the touch), through `frost serve` on
-    loopback (started here, on a free port): `taps` taps `gap_s` apart at random spots of
-    the pane."""
+    to the frame that first draws growth near it (a ridge: a link frozen onto the seed),
+    and to the frame that first draws frost near it (the seed's own ice: the first step
+    after the touch), through `frost serve` on loopback (started here, on a free port):
+    `taps` taps `gap_s` apart at `tap_spots` (`frost bench sim --section taps` counts the
+    same taps' ticks through the simulation alone)."""
     import re
     import signal
     import subprocess
@@ -288,7 +290,6 @@ def touch_latency(taps: int, preset: str = "fern", gap_s: float = 0.7) -> tuple[
 
     from playwright.sync_api import sync_playwright
 
-    rng = np.random.default_rng(7)
     with tempfile.TemporaryDirectory() as tmp:
         proc = subprocess.Popen([sys.executable, "-m", "app", "serve", "--port", "0",
                                  "--preset", preset, "--session-dir", tmp],
@@ -310,8 +311,7 @@ def touch_latency(taps: int, preset: str = "fern", gap_s: float = 0.7) -> tuple[
                 page.goto(url)
                 page.wait_for_function("window.frost && frost.synced", timeout=30_000)
                 r = page.evaluate("frost.pane()")
-                for _ in range(taps):
-                    x, y = rng.uniform(40, WIDTH - 40), rng.uniform(40, HEIGHT - 40)
+                for x, y in tap_spots(taps):
                     page.touchscreen.tap((r["x"] + x * r["scale"]) / 3, (r["y"] + y * r["scale"]) / 3)
                     page.wait_for_timeout(gap_s * 1000)
                 got = page.evaluate("[frost.latencies, frost.frostLatencies || []]")
@@ -348,6 +348,10 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.tools.page_be
             print(f"touch to first drawn {what} ({args.preset}, loopback, {len(ms)} of "
                   f"{args.taps} taps seen): " + (f"median {np.median(ms):.0f} ms, p95 "
                   f"{np.percentile(ms, 95):.0f} ms, max {ms.max():.0f} ms" if len(ms) else "none"))
+        if len(growth) < args.taps:
+            print(f"{args.taps - len(growth)} of the taps drew no growth before the next tap "
+                  f"({GAP_S} s later): a seed in finished ice has no open slot ('never' in "
+                  "`frost bench sim --section taps`, the same taps through the simulation alone)")
         return 0
     params = Params.preset(args.preset)
     if args.look:

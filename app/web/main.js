@@ -89,8 +89,8 @@ function connect(retry) {
       state.renderer.apply(delta);
       state.tick = delta.tick;
       const w = state.watch;
-      if (w && !w.frost) w.frost = grewNear(delta, w, 0);
-      if (w && !w.seen) w.seen = grewNear(delta, w, SHOWS);
+      if (w && !w.frost) w.frost = grewNear(delta, w, true);
+      if (w && !w.seen) w.seen = grewNear(delta, w, false);
       if (delta.snapshotEnd) state.synced = true;
     } catch (err) {
       // What the page holds is no longer the server's: start again from a snapshot.
@@ -176,22 +176,24 @@ async function loadBackdrop(name) {
 }
 
 // Touch to first drawn growth (the bench reads frost.latencies, ms): whether a delta
-// brings features within GREW_NEAR px of the last finger down, or ice thicker than
-// `thicker` px on a grid vertex there: SHOWS (the glass look's film shows the bumps from
-// 0.8 px) for growth; 0 for the first frost (frost.frostLatencies: the seed's own ice,
-// drawn with the first step after the touch, as the desktop log's "frost").
-const GREW_NEAR = 12, SHOWS = 0.8;
-function grewNear(delta, { x, y }, thicker) {
+// brings features (a link's ridge) within GREW_NEAR px of the last finger down: the
+// desktop log's "growth", a first crystal frozen onto the seed (a link from the seed
+// itself, so its ridge has vertices there whatever hc is). With `anyIce`, ice of any thickness on a grid vertex there counts
+// too: the first frost (frost.frostLatencies: the seed's own ice, drawn with the first
+// step after the touch, as the desktop log's "frost").
+const GREW_NEAR = 12;
+function grewNear(delta, { x, y }, anyIce) {
   const f = delta.features;
   for (let i = 0; i < f.length; i += 6) {
     if (Math.hypot(f[i] - x, f[i + 1] - y) < GREW_NEAR) return true;
   }
+  if (!anyIce) return false;
   const cols = delta.grid[0], s = state.renderer.spacing;
   let k = 0;
   for (const [start, count] of delta.runs) {
     for (let i = start; i < start + count; i++, k++) {
       const px = (i % cols) * s, py = Math.floor(i / cols) * s;
-      if (delta.heights[k] > thicker && Math.hypot(px - x, py - y) < GREW_NEAR) return true;
+      if (delta.heights[k] > 0 && Math.hypot(px - x, py - y) < GREW_NEAR) return true;
     }
   }
   return false;
