@@ -120,12 +120,19 @@ def phones(browser, serve):
 
 
 def open_page(context, url: str):
+    """A page of `url`, synced and drawn, having logged no error and failed no request
+    (a browser asks for /favicon.ico unless the page names its icon)."""
     page = context.new_page()
+    failed: list[str] = []
+    page.on("console", lambda m: m.type == "error" and failed.append(m.text))
+    page.on("response", lambda r: r.status >= 400 and failed.append(f"{r.status} {r.url}"))
     page.goto(url)
     page.wait_for_function("window.frost && (window.frost.error || (window.frost.synced"
                            " && window.frost.frames > 0 && window.frost.shownBackdrop))",
                            timeout=30_000)
     assert page.evaluate("window.frost.error") is None
+    page.wait_for_timeout(300)
+    assert failed == []
     return page
 
 
