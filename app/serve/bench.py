@@ -24,7 +24,7 @@ import time
 
 import numpy as np
 
-from app.serve import protocol
+from app.serve import guard, protocol
 from app.serve.feed import Feed
 from app.serve.protocol import Encoder, Input
 from app.serve.server import make_app
@@ -156,7 +156,7 @@ async def _taps(ws, got: dict, end: float) -> None:
 async def _phase(params: Params, pages: int, seconds: float) -> dict:
     from aiohttp import web
     feed = Feed(params, seed=0)
-    runner = web.AppRunner(make_app(feed), access_log=None)
+    runner = guard.GuardedRunner(make_app(feed), access_log=None)  # as frost serve's
     await runner.setup()
     site = web.TCPSite(runner, "127.0.0.1", 0)
     await site.start()

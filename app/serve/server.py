@@ -26,7 +26,7 @@ from aiohttp.http_exceptions import HttpProcessingError
 from app.backdrops import BACKDROPS, load_backdrop
 from app.images import frost_meta
 from app.resources import SHADER_DIR
-from app.serve import MAX_PAGES, protocol
+from app.serve import MAX_PAGES, guard, protocol
 from app.serve.feed import Feed
 from app.serve.pages import CHANGE_RATE, Page
 from app.serve.session import SessionFiles
@@ -215,6 +215,7 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
         await ws.close(code=FULL, message=f"{MAX_PAGES} pages are connected already".encode())
         return ws
     await ws.prepare(request)
+    guard.untimed(request.transport)  # frames from now on, not request heads
     page = Page(ws, f"{request.remote}:{id(ws) & 0xFFFF:04x}", feed.ask_redraw)
     feed.pages.add(page)
     page.text(feed.hello())
@@ -284,7 +285,7 @@ async def listen(app: web.Application, host: str, port: int,
                  token: str | None) -> web.AppRunner | None:
     """The app served on host:port and its URL printed; None (the error said) if it cannot
     listen there."""
-    runner = web.AppRunner(app, handle_signals=False, access_log=None)
+    runner = guard.GuardedRunner(app, handle_signals=False, access_log=None)
     await runner.setup()
     try:
         site = web.TCPSite(runner, host, port)

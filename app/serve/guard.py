@@ -1,0 +1,157 @@
+"""Connections a slow or hostile client cannot pile up (docs/phone.md, security).
+
+aiohttp waits for a request's head (its request line and headers) without end, and
+keeps an idle connection an hour: a client that opens connections and never finishes a
+head held one file descriptor each, and at Debian's default limit of 1 024 no page could
+connect, even after they were gone. Here each connection is wrapped:
+
+- its request's head must arrive in full (to the blank line) within HEAD_S seconds of its
+  first byte, or of the connection for the first request; else the connection is closed;
+- once the server has taken a page's WebSocket on it (`untimed`), it is no longer timed
+  (a refused upgrade leaves it timed);
+- at most MAX_CONNECTIONS are open at once: one more takes the place of the oldest still
+  waiting for its head (else of the oldest that is not a page's WebSocket; else it is
+  closed as it comes), so a flood of them cannot lock a person's page out;
+- an idle connection between requests is closed after IDLE_S (aiohttp's keep-alive).
+
+A request this server takes has no body, so any byte after a head starts the next head.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+
+from aiohttp import web
+
+log = logging.getLogger("app.serve")
+
+HEAD_S = 10.0
+IDLE_S = 15.0
+# 16 pages, each with a few files' connections, fit many times over.
+MAX_CONNECTIONS = 256
+END_OF_HEAD = b"\r\n\r\n"
+
+
+def untimed(transport) -> None:
+    """`transport` (a request's) carries a page's WebSocket from now on."""
+    protocol = transport.get_protocol() if transport is not None else None
+    if isinstance(protocol, Guarded):
+        protocol.untimed()
+
+
+class GuardedRunner(web.AppRunner):
+    """An AppRunner whose sites hand every connection to a `Guarded` wrapper."""
+
+    def __init__(self, app: web.Application, **kwargs):
+        kwargs.setdefault("keepalive_timeout", IDLE_S)
+        super().__init__(app, **kwargs)
+        self.conns: dict[Guarded, None] = {}  # open ones, oldest first
+        self.evicted = 0  # closed to make room for a newer one
+        self.refused = 0  # closed as they came: every slot a page's
+        self.timed_out = 0  # closed for a head not finished in HEAD_S
+
+    @property
+    def server(self):
+        inner = super().server
+        if inner is None:
+            return None
+        return lambda: Guarded(inner(), self)
+
+    def admit(self, conn: Guarded) -> bool:
+        """Whether `conn` gets a slot, an older one closed for it where all are taken."""
+        if len(self.conns) >= MAX_CONNECTIONS:
+            victim = next((c for c in self.conns if c.timer is not None), None) \
+                or next((c for c in self.conns if not c.page), None)
+            if victim is None:
+                self.refused += 1
+                return False
+            self.evicted += 1
+            if self.evicted == 1 or self.evicted % 1000 == 0:
+                log.warning("serve: %d connections open: the oldest idle or unfinished ones "
+                            "make room for new ones (%d so far)", MAX_CONNECTIONS, self.evicted)
+            del self.conns[victim]
+            victim.close()
+        self.conns[conn] = None
+        return True
+
+
+class Guarded(asyncio.Protocol):
+    """aiohttp's protocol for one connection, behind the deadlines of the module doc."""
+
+    def __init__(self, inner: asyncio.Protocol, runner: GuardedRunner):
+        self.inner, self.runner = inner, runner
+        self.transport: asyncio.Transport | None = None
+        self.timer: asyncio.TimerHandle | None = None
+        self.tail = b""  # the unfinished head's last bytes
+        self.page = False  # a page's WebSocket: no longer timed
+        self.served = False  # connection_made reached aiohttp
+
+    def connection_made(self, transport) -> None:
+        self.transport = transport
+        if not self.runner.admit(self):
+            transport.abort()
+            return
+        self.served = True
+        self._start_timer()
+        self.inner.connection_made(transport)
+
+    def close(self) -> None:
+        self._stop_timer()
+        if self.transport is not None:
+            self.transport.abort()
+
+    def data_received(self, data: bytes) -> None:
+        if not self.page:
+            self._watch(data)
+        self.inner.data_received(data)
+
+    def _watch(self, data: bytes) -> None:
+        """Follow the heads in `data`: each one finished stops its timer, a byte after it
+        starts the next one's."""
+        while data:
+            if self.timer is None:
+                self._start_timer()
+            seen = self.tail + data
+            end = seen.find(END_OF_HEAD)
+            if end < 0:
+                self.tail = seen[-(len(END_OF_HEAD) - 1):]  # an end may straddle two reads
+                return
+            self._stop_timer()
+            self.tail = b""
+            data = seen[end + len(END_OF_HEAD):]
+
+    def untimed(self) -> None:
+        """The connection is a page's WebSocket now: its bytes are frames, not heads."""
+        self.page = True
+        self._stop_timer()
+        self.tail = b""
+
+    def _start_timer(self) -> None:
+        loop = asyncio.get_running_loop()
+        self.timer = loop.call_later(HEAD_S, self._expire)
+
+    def _stop_timer(self) -> None:
+        if self.timer is not None:
+            self.timer.cancel()
+            self.timer = None
+
+    def _expire(self) -> None:
+        self.timer = None
+        self.runner.timed_out += 1
+        self.close()
+
+    def eof_received(self):
+        return self.inner.eof_received() if self.served else None
+
+    def connection_lost(self, exc) -> None:
+        self._stop_timer()
+        self.runner.conns.pop(self, None)
+        if self.served:
+            self.inner.connection_lost(exc)
+
+    def pause_writing(self) -> None:
+        self.inner.pause_writing()
+
+    def resume_writing(self) -> None:
+        self.inner.resume_writing()

@@ -1,0 +1,151 @@
+"""`frost serve`'s connections against clients that never finish a request (app/serve/guard.py):
+the server as `frost serve` listens (its runner, a free port), raw sockets and real
+WebSockets against it, the deadlines shortened. The oracle is the clock and the socket:
+closed (EOF or reset) or answered."""
+
+from __future__ import annotations
+
+import asyncio
+
+import aiohttp
+import pytest
+
+from app.serve import guard
+from app.serve.feed import Feed
+from app.serve.server import listen, make_app
+from sim import Params
+
+HEAD = 0.4  # the shortened deadline for a request's head, s
+GET = b"GET /meta HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"
+
+
+@pytest.fixture
+def short(monkeypatch):
+    monkeypatch.setattr(guard, "HEAD_S", HEAD)
+    monkeypatch.setattr(guard, "MAX_CONNECTIONS", 4)
+
+
+def run(test):
+    """`test(port, runner)` against a server listening as `frost serve` does."""
+    async def main():
+        feed = Feed(Params.preset("c-2"), seed=1)
+        runner = await listen(make_app(feed), "127.0.0.1", 0, None)
+        assert runner is not None
+        try:
+            await test(runner.addresses[0][1], runner)
+        finally:
+            await runner.cleanup()
+    asyncio.run(main())
+
+
+async def closed(reader: asyncio.StreamReader, within: float) -> bool:
+    """Whether the server closes the connection (EOF or reset) within `within` s,
+    reading and dropping whatever it sends before."""
+    loop = asyncio.get_running_loop()
+    end = loop.time() + within
+    try:
+        while loop.time() < end:
+            data = await asyncio.wait_for(reader.read(65536), end - loop.time())
+            if not data:
+                return True
+    except (ConnectionResetError, BrokenPipeError):
+        return True
+    except asyncio.TimeoutError:
+        return False
+    return False
+
+
+async def answered(reader: asyncio.StreamReader) -> bytes:
+    """The status line of the server's answer, read whole (head, then Content-Length bytes)."""
+    head = await asyncio.wait_for(reader.readuntil(b"\r\n\r\n"), 5)
+    length = [int(line.split(b":")[1]) for line in head.split(b"\r\n")
+              if line.lower().startswith(b"content-length:")]
+    await asyncio.wait_for(reader.readexactly(length[0] if length else 0), 5)
+    return head.split(b"\r\n")[0]
+
+
+def test_a_head_never_finished_is_closed_and_a_finished_one_answered(short):
+    async def test(port, runner):
+        r1, w1 = await asyncio.open_connection("127.0.0.1", port)
+        w1.write(b"GET /meta HTTP/1.1\r\nHost: 127.0.0.1\r\n")  # no blank line: unfinished
+        r2, w2 = await asyncio.open_connection("127.0.0.1", port)
+        w2.write(GET)
+        assert (await answered(r2)).startswith(b"HTTP/1.1 200")
+        assert not await closed(r1, HEAD / 2)  # not before its deadline
+        assert await closed(r1, HEAD + 1.0)
+        assert runner.timed_out == 1
+        r3, w3 = await asyncio.open_connection("127.0.0.1", port)  # silent from the start
+        assert await closed(r3, HEAD + 1.0)
+        for w in (w1, w2, w3):
+            w.close()
+    run(test)
+
+
+def test_a_head_dribbled_a_byte_at_a_time_is_timed_from_its_first_byte(short):
+    # Bytes keep coming, each well within the deadline of the last, but the head as a
+    # whole takes longer than HEAD_S: closed.
+    async def test(port, runner):
+        reader, writer = await asyncio.open_connection("127.0.0.1", port)
+        loop = asyncio.get_running_loop()
+        t0 = loop.time()
+        for byte in GET[:-4]:
+            writer.write(bytes([byte]))
+            if await closed(reader, HEAD / 8):
+                break
+        else:
+            raise AssertionError("a head dribbled for longer than the deadline stayed open")
+        assert HEAD * 0.9 < loop.time() - t0 < HEAD + 1.0
+        writer.close()
+    run(test)
+
+
+def test_a_kept_alive_connection_is_timed_again_for_its_next_head(short):
+    async def test(port, runner):
+        reader, writer = await asyncio.open_connection("127.0.0.1", port)
+        writer.write(GET)
+        assert (await answered(reader)).startswith(b"HTTP/1.1 200")
+        await asyncio.sleep(HEAD * 1.5)  # idle between requests: aiohttp's keep-alive
+        writer.write(GET)  # a second request, whole: answered on the same connection
+        assert (await answered(reader)).startswith(b"HTTP/1.1 200")
+        writer.write(b"GET /meta HTTP/1.1\r\n")  # a third, never finished
+        assert await closed(reader, HEAD + 1.0)
+        writer.close()
+    run(test)
+
+
+def test_a_full_house_makes_room_for_a_request_but_never_drops_a_page(short):
+    async def test(port, runner):
+        hung = []
+        for _ in range(guard.MAX_CONNECTIONS):  # every slot held by an unfinished head
+            reader, writer = await asyncio.open_connection("127.0.0.1", port)
+            writer.write(b"GET / HTTP/1.1\r\n")
+            hung.append((reader, writer))
+        await asyncio.sleep(0.05)
+        reader, writer = await asyncio.open_connection("127.0.0.1", port)
+        writer.write(GET)
+        assert (await answered(reader)).startswith(b"HTTP/1.1 200")  # a person gets in
+        assert await closed(hung[0][0], HEAD / 4)  # in the oldest one's place
+        assert not await closed(hung[1][0], 0.01)
+        assert runner.evicted == 1
+        for _, w in hung + [(reader, writer)]:
+            w.close()
+        await asyncio.sleep(0.05)
+        # Pages in every slot, kept past the deadline: the next connection is refused,
+        # and every page still hears the ticks.
+        async with aiohttp.ClientSession() as session:
+            pages = [await session.ws_connect(f"http://127.0.0.1:{port}/ws")
+                     for _ in range(guard.MAX_CONNECTIONS)]
+            await asyncio.sleep(HEAD * 2)
+            late_reader, late_writer = await asyncio.open_connection("127.0.0.1", port)
+            late_writer.write(GET)
+            assert await closed(late_reader, 1.0)
+            assert runner.refused >= 1
+            for ws in pages:  # each still hears the ticks (a message a tick)
+                ticks = 0
+                while ticks < 3:
+                    msg = await asyncio.wait_for(ws.receive(), 5)
+                    assert msg.type in (aiohttp.WSMsgType.BINARY, aiohttp.WSMsgType.TEXT)
+                    ticks += msg.type == aiohttp.WSMsgType.BINARY
+                await ws.close()
+            late_writer.close()
+    run(test)
