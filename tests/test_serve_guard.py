@@ -149,3 +149,32 @@ def test_a_full_house_makes_room_for_a_request_but_never_drops_a_page(short):
                 await ws.close()
             late_writer.close()
     run(test)
+
+
+def test_a_full_house_of_idle_connections_gives_way_before_a_head_on_its_way(short):
+    # A client that opens connections as fast as it can, each asking one thing and then
+    # idling, keeps the house full of kept-alive connections: a person's connection,
+    # whose head is still on its way, must not be the one closed for the next of them
+    # (else every file of the page is reset, and the page never loads).
+    async def test(port, runner):
+        person_reader, person_writer = await asyncio.open_connection("127.0.0.1", port)
+        person_writer.write(GET[:10])  # the head's first bytes, the rest on their way
+        idle = []
+        for _ in range(guard.MAX_CONNECTIONS - 1):  # asked, answered, idle; all younger
+            reader, writer = await asyncio.open_connection("127.0.0.1", port)
+            writer.write(GET)
+            assert (await answered(reader)).startswith(b"HTTP/1.1 200")
+            idle.append((reader, writer))
+        for _ in range(2):  # two more in a full house: two idle ones close for them
+            reader, writer = await asyncio.open_connection("127.0.0.1", port)
+            writer.write(GET)
+            assert (await answered(reader)).startswith(b"HTTP/1.1 200")
+            idle.append((reader, writer))
+        assert await closed(idle[0][0], HEAD / 4) and await closed(idle[1][0], HEAD / 4)
+        assert not await closed(idle[2][0], 0.01)
+        person_writer.write(GET[10:])
+        assert (await answered(person_reader)).startswith(b"HTTP/1.1 200")
+        assert runner.evicted == 2
+        for _, w in idle + [(person_reader, person_writer)]:
+            w.close()
+    run(test)

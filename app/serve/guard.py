@@ -9,9 +9,13 @@ connect, even after they were gone. Here each connection is wrapped:
   first byte, or of the connection for the first request; else the connection is closed;
 - once the server has taken a page's WebSocket on it (`untimed`), it is no longer timed
   (a refused upgrade leaves it timed);
-- at most MAX_CONNECTIONS are open at once: one more takes the place of the oldest still
-  waiting for its head (else of the oldest that is not a page's WebSocket; else it is
-  closed as it comes), so a flood of them cannot lock a person's page out;
+- at most MAX_CONNECTIONS are open at once: one more takes the place of the oldest idle
+  one (kept alive, waiting for its next request), else of the oldest still waiting for its
+  head, else of the oldest that is not a page's WebSocket; else it is closed as it comes.
+  So a flood of them cannot lock a person's page out: neither connections that never finish
+  a head (the person's head arrives and is answered long before its connection is the
+  oldest unfinished) nor connections that ask and then idle, opened as fast as a client
+  can (a person's connection, its head on its way, is never taken for one of them);
 - an idle connection between requests is closed after IDLE_S (aiohttp's keep-alive).
 
 A request this server takes has no body, so any byte after a head starts the next head.
@@ -61,7 +65,8 @@ class GuardedRunner(web.AppRunner):
     def admit(self, conn: Guarded) -> bool:
         """Whether `conn` gets a slot, an older one closed for it where all are taken."""
         if len(self.conns) >= MAX_CONNECTIONS:
-            victim = next((c for c in self.conns if c.timer is not None), None) \
+            victim = next((c for c in self.conns if c.idle()), None) \
+                or next((c for c in self.conns if c.timer is not None), None) \
                 or next((c for c in self.conns if not c.page), None)
             if victim is None:
                 self.refused += 1
@@ -95,6 +100,13 @@ class Guarded(asyncio.Protocol):
         self.served = True
         self._start_timer()
         self.inner.connection_made(transport)
+
+    def idle(self) -> bool:
+        """Whether aiohttp waits for this connection's next request (kept alive between two;
+        aiohttp's own test before it closes an idle one), its head not begun."""
+        waiter = getattr(self.inner, "_waiter", None)
+        return (self.served and not self.page and self.timer is None
+                and waiter is not None and not waiter.done())
 
     def close(self) -> None:
         self._stop_timer()
