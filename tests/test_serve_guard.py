@@ -178,3 +178,34 @@ def test_a_full_house_of_idle_connections_gives_way_before_a_head_on_its_way(sho
         for _, w in idle + [(person_reader, person_writer)]:
             w.close()
     run(test)
+
+
+def test_a_flood_of_connections_is_a_line_in_the_log_now_and_then(short, caplog, monkeypatch):
+    # Thousands of connections a second, each closing an older one: the log says so once,
+    # then at most once a LOG_S with the count since, not a line per thousand.
+    monkeypatch.setattr(guard, "LOG_S", 60.0)
+
+    async def flood(port, runner, count):
+        held, end = [], runner.evicted + count
+        while runner.evicted < end:
+            _, writer = await asyncio.open_connection("127.0.0.1", port)
+            writer.write(b"G")
+            held.append(writer)
+            if len(held) > 8:
+                held.pop(0).close()
+        for w in held:
+            w.close()
+
+    def said() -> list[str]:
+        return [r.getMessage() for r in caplog.records if "make room" in r.getMessage()]
+
+    async def test(port, runner):
+        await flood(port, runner, 2100)
+        assert len(said()) == 1 and "(1 closed since the last such line, 1 in all)" in said()[0]
+        evicted = runner.evicted
+        monkeypatch.setattr(guard, "LOG_S", 0.0)  # the while since the last line is over
+        await flood(port, runner, 1)
+        assert len(said()) == 2
+        assert f"({evicted} closed since the last such line, {evicted + 1} in all)" in said()[1]
+    with caplog.at_level("INFO", logger="app.serve"):
+        run(test)

@@ -34,6 +34,7 @@ HEAD_S = 10.0
 IDLE_S = 15.0
 # 16 pages, each with a few files' connections, fit many times over.
 MAX_CONNECTIONS = 256
+LOG_S = 10.0  # s: at most one line a while on connections closed to make room
 END_OF_HEAD = b"\r\n\r\n"
 
 
@@ -54,6 +55,7 @@ class GuardedRunner(web.AppRunner):
         self.evicted = 0  # closed to make room for a newer one
         self.refused = 0  # closed as they came: every slot a page's
         self.timed_out = 0  # closed for a head not finished in HEAD_S
+        self.said: tuple[float, int] | None = None  # (when, evicted) of the last line on it
 
     @property
     def server(self):
@@ -72,13 +74,24 @@ class GuardedRunner(web.AppRunner):
                 self.refused += 1
                 return False
             self.evicted += 1
-            if self.evicted == 1 or self.evicted % 1000 == 0:
-                log.warning("serve: %d connections open: the oldest idle or unfinished ones "
-                            "make room for new ones (%d so far)", MAX_CONNECTIONS, self.evicted)
+            self._say_evicted()
             del self.conns[victim]
             victim.close()
         self.conns[conn] = None
         return True
+
+
+    def _say_evicted(self) -> None:
+        """A line in the log on the first connection closed for another, then at most one a
+        LOG_S (a flood opens thousands a second), each with the count since the last."""
+        now = asyncio.get_running_loop().time()
+        if self.said is not None and now - self.said[0] < LOG_S:
+            return
+        since = self.evicted - (self.said[1] if self.said else 0)
+        log.warning("serve: %d connections open: the oldest idle or unfinished ones make room "
+                    "for new ones (%d closed since the last such line, %d in all)",
+                    MAX_CONNECTIONS, since, self.evicted)
+        self.said = (now, self.evicted)
 
 
 class Guarded(asyncio.Protocol):
