@@ -209,3 +209,24 @@ def test_a_flood_of_connections_is_a_line_in_the_log_now_and_then(short, caplog,
         assert f"({evicted} closed since the last such line, {evicted + 1} in all)" in said()[1]
     with caplog.at_level("INFO", logger="app.serve"):
         run(test)
+
+
+def test_a_head_longer_than_any_page_sends_is_closed_at_once(short):
+    # aiohttp keeps a head's lines until it is whole (up to 128 of 8 KiB each): 256 such
+    # heads held 700 MB. One over MAX_HEAD_BYTES is closed as its bytes pass the mark,
+    # long before its deadline; a long head within it is answered.
+    line = b"X-Long: " + b"a" * 7990 + b"\r\n"
+    within = guard.MAX_HEAD_BYTES // len(line) - 1
+
+    async def test(port, runner):
+        reader, writer = await asyncio.open_connection("127.0.0.1", port)
+        for _ in range(2):  # each head counted from its own start, read a line at a time
+            for part in (GET[:-2], *[line] * within, b"\r\n"):
+                writer.write(part)
+                await asyncio.sleep(0.005)
+            assert (await answered(reader)).startswith(b"HTTP/1.1 200")
+        writer.write(GET[:-2] + line * (within + 2))  # past the mark, unfinished
+        assert await closed(reader, HEAD / 4)
+        assert runner.timed_out == 0 and runner.too_long == 1
+        writer.close()
+    run(test)

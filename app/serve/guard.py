@@ -16,6 +16,7 @@ connect, even after they were gone. Here each connection is wrapped:
   a head (the person's head arrives and is answered long before its connection is the
   oldest unfinished) nor connections that ask and then idle, opened as fast as a client
   can (a person's connection, its head on its way, is never taken for one of them);
+- a head longer than MAX_HEAD_BYTES is closed as its bytes pass the mark;
 - an idle connection between requests is closed after IDLE_S (aiohttp's keep-alive).
 
 A request this server takes has no body, so any byte after a head starts the next head.
@@ -34,6 +35,9 @@ HEAD_S = 10.0
 IDLE_S = 15.0
 # 16 pages, each with a few files' connections, fit many times over.
 MAX_CONNECTIONS = 256
+# A page's heads are under 2 KiB; aiohttp keeps a head's lines until it is whole, up to
+# 128 of 8 KiB each (1 MiB): 256 of them held 700 MB.
+MAX_HEAD_BYTES = 64 * 1024
 LOG_S = 10.0  # s: at most one line a while on connections closed to make room
 END_OF_HEAD = b"\r\n\r\n"
 
@@ -55,6 +59,7 @@ class GuardedRunner(web.AppRunner):
         self.evicted = 0  # closed to make room for a newer one
         self.refused = 0  # closed as they came: every slot a page's
         self.timed_out = 0  # closed for a head not finished in HEAD_S
+        self.too_long = 0  # closed for a head longer than MAX_HEAD_BYTES
         self.said: tuple[float, int] | None = None  # (when, evicted) of the last line on it
 
     @property
@@ -102,6 +107,7 @@ class Guarded(asyncio.Protocol):
         self.transport: asyncio.Transport | None = None
         self.timer: asyncio.TimerHandle | None = None
         self.tail = b""  # the unfinished head's last bytes
+        self.head = 0  # the unfinished head's bytes so far
         self.page = False  # a page's WebSocket: no longer timed
         self.served = False  # connection_made reached aiohttp
 
@@ -127,13 +133,12 @@ class Guarded(asyncio.Protocol):
             self.transport.abort()
 
     def data_received(self, data: bytes) -> None:
-        if not self.page:
-            self._watch(data)
-        self.inner.data_received(data)
+        if self.page or self._watch(data):
+            self.inner.data_received(data)
 
-    def _watch(self, data: bytes) -> None:
+    def _watch(self, data: bytes) -> bool:
         """Follow the heads in `data`: each one finished stops its timer, a byte after it
-        starts the next one's."""
+        starts the next one's; False (the connection closed) if a head grew too long."""
         while data:
             if self.timer is None:
                 self._start_timer()
@@ -141,10 +146,16 @@ class Guarded(asyncio.Protocol):
             end = seen.find(END_OF_HEAD)
             if end < 0:
                 self.tail = seen[-(len(END_OF_HEAD) - 1):]  # an end may straddle two reads
-                return
+                self.head += len(data)
+                if self.head > MAX_HEAD_BYTES:
+                    self.runner.too_long += 1
+                    self.close()
+                    return False
+                return True
             self._stop_timer()
-            self.tail = b""
+            self.tail, self.head = b"", 0
             data = seen[end + len(END_OF_HEAD):]
+        return True
 
     def untimed(self) -> None:
         """The connection is a page's WebSocket now: its bytes are frames, not heads."""
