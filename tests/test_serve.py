@@ -760,3 +760,27 @@ def test_the_server_logs_its_stats_while_it_serves(monkeypatch, caplog):
         serve(test)
     lines = [r.getMessage() for r in caplog.records if "stats (" in r.getMessage()]
     assert lines and re.search(r"sim \d+\.\d ticks/s, tick median \d+\.\d ms, 1 page", lines[-1])
+
+
+def test_the_stats_line_counts_ticks_stepped_across_a_rebuild(monkeypatch, caplog):
+    # A new preset regrows the frost from tick 0 (its touches replanted at their ticks):
+    # the tick goes back, but the simulation stepped on at its pace all along. The rate is
+    # the steps taken (the session's count), never negative.
+    import logging
+
+    from app.serve import server
+
+    monkeypatch.setattr(server, "STATS_PERIOD", 0.8)
+
+    async def test(client, feed):
+        ws, page = await connect(client)
+        await read_until(ws, page, lambda: page.tick >= 40)
+        await ws.send_json({"type": "preset", "name": "c-3"})
+        await read_until(ws, page, lambda: page.state("preset") == "c-3")
+        await asyncio.sleep(1.8)
+
+    with caplog.at_level(logging.INFO, logger="app.serve"):
+        serve(test)
+    rates = [float(m) for r in caplog.records
+             for m in re.findall(r"sim (-?\d+\.\d) ticks/s", r.getMessage())]
+    assert len(rates) >= 3 and all(rate > 5 for rate in rates), rates

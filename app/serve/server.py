@@ -94,17 +94,18 @@ async def _start(app: web.Application) -> None:
 
 
 async def _log_stats(feed: Feed, period: float) -> None:
-    """A stats line in the log every `period` s, as the window logs one."""
+    """A stats line in the log every `period` s, as the window logs one. Its rate counts
+    the session's steps: a rebuild (a new preset) sets the tick back to 0."""
     loop = asyncio.get_running_loop()
-    tick, since = feed.tick(), loop.time()
+    steps, since = feed.key[0], loop.time()
     while True:
         await asyncio.sleep(period)
-        now, ticks = loop.time(), feed.tick() - tick
+        now, ticks = loop.time(), feed.key[0] - steps
         n = max(0, min(ticks, len(feed.tick_ms)))
         log.info("serve: %s", stats_line(now - since, ticks, list(feed.tick_ms)[-n:] if n else [],
                                          list(feed.sizes)[-n:] if n else [], len(feed.pages),
                                          bool(feed.latest and feed.latest.stats.paused)))
-        tick, since = feed.tick(), now
+        steps, since = steps + ticks, now
 
 
 def stats_line(seconds: float, ticks: int, tick_ms: list[float], sizes: list[int], pages: int,
