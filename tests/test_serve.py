@@ -784,3 +784,32 @@ def test_the_stats_line_counts_ticks_stepped_across_a_rebuild(monkeypatch, caplo
     rates = [float(m) for r in caplog.records
              for m in re.findall(r"sim (-?\d+\.\d) ticks/s", r.getMessage())]
     assert len(rates) >= 3 and all(rate > 5 for rate in rates), rates
+
+
+def test_a_flood_of_bad_requests_is_a_line_in_the_log_now_and_then(caplog, monkeypatch):
+    # A client sending bad heads as fast as it can wrote a line each, 6 600 lines a
+    # second: the log says the first, then at most one a BAD_LOG_S with the count since.
+    from app.serve import server
+
+    monkeypatch.setattr(server, "BAD_LOG_S", 60.0)
+
+    async def bad(client, count):
+        for _ in range(count):
+            reader, writer = await asyncio.open_connection(client.server.host, client.server.port)
+            writer.write(b"GET /meta HTTP/1.1\r\nHost: a\r\nBad Header\r\n\r\n")
+            assert (await asyncio.wait_for(reader.read(100), 10)).startswith(b"HTTP/1.0 400")
+            writer.close()
+
+    def said() -> list[str]:
+        return [r.getMessage() for r in caplog.records if r.name == "aiohttp.server"]
+
+    async def test(client, feed):
+        await bad(client, 50)
+        await asyncio.sleep(0.1)
+        assert len(said()) == 1 and "more" not in said()[0]
+        monkeypatch.setattr(server, "BAD_LOG_S", 0.0)  # the while since the last line is over
+        await bad(client, 1)
+        await asyncio.sleep(0.1)
+        assert len(said()) == 2 and said()[1].endswith("; 49 more refused since the last such line")
+    with caplog.at_level(logging.INFO, "aiohttp.server"):
+        serve(test)

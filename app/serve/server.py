@@ -47,18 +47,32 @@ FILES = web.AppKey("files", SessionFiles)
 BACKDROP_PNGS = web.AppKey("backdrops", dict)
 STATS = web.AppKey("stats", asyncio.Task)
 STATS_PERIOD = 10.0  # s between the log's stats lines
+BAD_LOG_S = 10.0  # s: at most one line a while on requests refused as malformed
 
 
 class _BadRequestsInOneLine(logging.Filter):
     """aiohttp logs a request it cannot parse (a line over 8 KiB) as an error with a
-    traceback, so anyone could fill the terminal: one line instead."""
+    traceback, so anyone could fill the terminal: one line instead, and of a flood of them
+    (thousands a second) the first, then at most one a BAD_LOG_S with the count since."""
+
+    def __init__(self):
+        super().__init__()
+        self.said_at: float | None = None  # time.monotonic() of the last line
+        self.unsaid = 0  # refused since then
 
     def filter(self, record: logging.LogRecord) -> bool:
         err = record.exc_info[1] if record.exc_info else None
-        if isinstance(err, HttpProcessingError):
-            record.msg, record.args, record.exc_info = "serve: a bad request refused (%s)", (
-                " ".join(str(err).split())[:100],), None
-            record.levelno, record.levelname = logging.INFO, "INFO"
+        if not isinstance(err, HttpProcessingError):
+            return True
+        now = time.monotonic()
+        if self.said_at is not None and now - self.said_at < BAD_LOG_S:
+            self.unsaid += 1
+            return False
+        more = f"; {self.unsaid} more refused since the last such line" if self.unsaid else ""
+        record.msg, record.args, record.exc_info = "serve: a bad request refused (%s)%s", (
+            " ".join(str(err).split())[:100], more), None
+        record.levelno, record.levelname = logging.INFO, "INFO"
+        self.said_at, self.unsaid = now, 0
         return True
 
 
@@ -72,6 +86,7 @@ def make_app(feed: Feed, token: str | None = None, session_dir=None,
     app = web.Application(middlewares=[_token_check])
     if BAD_REQUESTS not in logging.getLogger("aiohttp.server").filters:
         logging.getLogger("aiohttp.server").addFilter(BAD_REQUESTS)
+    BAD_REQUESTS.said_at, BAD_REQUESTS.unsaid = None, 0  # a new server says its first
     app[FEED], app[TOKEN] = feed, token or ""
     app[FILES] = SessionFiles(feed, session_dir)
     app[BACKDROP_PNGS] = {}
