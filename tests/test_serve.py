@@ -813,3 +813,33 @@ def test_a_flood_of_bad_requests_is_a_line_in_the_log_now_and_then(caplog, monke
         assert len(said()) == 2 and said()[1].endswith("; 49 more refused since the last such line")
     with caplog.at_level(logging.INFO, "aiohttp.server"):
         serve(test)
+
+
+def test_pages_coming_and_going_in_a_flood_are_lines_in_the_log_now_and_then(caplog):
+    # A client opening sockets as fast as it can (each reads its hello and goes) wrote a
+    # line each, some 200 a second: sixteen pages are named as they come (a whole house at
+    # once), then at most a line a PAGE_LOG_S, saying how many went unsaid before it.
+    from app.serve import server
+
+    clock = [0.0]
+
+    async def come_and_go(client, count):
+        for _ in range(count):
+            ws = await client.ws_connect("/ws")
+            assert (await ws.receive_json())["type"] == "hello"
+            await ws.close()
+
+    def said() -> list[str]:
+        return [r.getMessage() for r in caplog.records if "connected (" in r.getMessage()]
+
+    async def test(client, feed):
+        lines = client.server.app[server.PAGE_LINES]
+        lines.bucket.clock, lines.bucket.at = (lambda: clock[0]), 0.0
+        await come_and_go(client, 30)
+        assert len(said()) == server.PAGE_LOG_BURST and "unsaid" not in said()[-1]
+        clock[0] += server.PAGE_LOG_S  # a line's worth of time
+        await come_and_go(client, 2)
+        assert len(said()) == server.PAGE_LOG_BURST + 1
+        assert said()[-1].endswith(f"({30 - server.PAGE_LOG_BURST} such lines unsaid before it)")
+    with caplog.at_level(logging.INFO, "app.serve"):
+        serve(test)

@@ -28,7 +28,7 @@ from app.images import frost_meta
 from app.resources import SHADER_DIR
 from app.serve import MAX_PAGES, guard, protocol
 from app.serve.feed import Feed
-from app.serve.pages import CHANGE_RATE, Page
+from app.serve.pages import CHANGE_RATE, Page, TokenBucket
 from app.serve.session import SessionFiles
 
 log = logging.getLogger("app.serve")
@@ -48,6 +48,8 @@ BACKDROP_PNGS = web.AppKey("backdrops", dict)
 STATS = web.AppKey("stats", asyncio.Task)
 STATS_PERIOD = 10.0  # s between the log's stats lines
 BAD_LOG_S = 10.0  # s: at most one line a while on requests refused as malformed
+# Lines on pages connected and closed: a house of them at once, then one a PAGE_LOG_S.
+PAGE_LOG_BURST, PAGE_LOG_S = 16, 10.0
 
 
 class _BadRequestsInOneLine(logging.Filter):
@@ -79,6 +81,28 @@ class _BadRequestsInOneLine(logging.Filter):
 BAD_REQUESTS = _BadRequestsInOneLine()
 
 
+class Sparing:
+    """Log lines of one kind (pages connected and closed) for a person: every one while they
+    come as a person's pages do, a few at a time; of a flood (a client opening sockets as fast
+    as it can) at most one a PAGE_LOG_S, each saying how many went unsaid before it."""
+
+    def __init__(self):
+        self.bucket = TokenBucket(1 / PAGE_LOG_S, PAGE_LOG_BURST)
+        self.unsaid = 0
+
+    def info(self, msg: str, *args) -> None:
+        if not self.bucket.take():
+            self.unsaid += 1
+            return
+        if self.unsaid:
+            msg, args = msg + " (%d such lines unsaid before it)", (*args, self.unsaid)
+        log.info(msg, *args)
+        self.unsaid = 0
+
+
+PAGE_LINES = web.AppKey("page_lines", Sparing)
+
+
 def make_app(feed: Feed, token: str | None = None, session_dir=None,
              web_dir: Path = WEB_DIR) -> web.Application:
     """The server's app: its routes, the token check, the feed started with it and stopped
@@ -90,6 +114,7 @@ def make_app(feed: Feed, token: str | None = None, session_dir=None,
     app[FEED], app[TOKEN] = feed, token or ""
     app[FILES] = SessionFiles(feed, session_dir)
     app[BACKDROP_PNGS] = {}
+    app[PAGE_LINES] = Sparing()
     app.router.add_get("/", _folder(web_dir, "index.html"))
     app.router.add_get("/web/{path:.*}", _folder(web_dir))
     app.router.add_get("/shaders/{path:.*}", _folder(SHADER_DIR))
@@ -236,12 +261,13 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
     feed.pages.add(page)
     page.text(feed.hello())
     writer = asyncio.create_task(page.write())
-    log.info("serve: page %s connected (%d pages)", page.name, len(feed.pages))
+    lines = request.app[PAGE_LINES]
+    lines.info("serve: page %s connected (%d pages)", page.name, len(feed.pages))
     try:
         async for msg in ws:
             problem = _take(feed, page, msg)
             if problem is not None:
-                log.info("serve: page %s closed: %s", page.name, problem.reason)
+                lines.info("serve: page %s closed: %s", page.name, problem.reason)
                 await ws.close(code=problem.code, message=problem.reason.encode()[:120])
                 break
     finally:
