@@ -25,11 +25,11 @@ def short(monkeypatch):
     monkeypatch.setattr(guard, "MAX_CONNECTIONS", 4)
 
 
-def run(test):
+def run(test, token: str | None = None):
     """`test(port, runner)` against a server listening as `frost serve` does."""
     async def main():
         feed = Feed(Params.preset("c-2"), seed=1)
-        runner = await listen(make_app(feed), "127.0.0.1", 0, None)
+        runner = await listen(make_app(feed, token), "127.0.0.1", 0, token)
         assert runner is not None
         try:
             await test(runner.addresses[0][1], runner)
@@ -230,3 +230,20 @@ def test_a_head_longer_than_any_page_sends_is_closed_at_once(short):
         assert runner.timed_out == 0 and runner.too_long == 1
         writer.close()
     run(test)
+
+
+def test_an_upgrade_refused_for_its_token_stays_timed(short):
+    # A socket asked for without the token (or with a wrong one) is a 403: its connection
+    # is no page's, and a frame begun on it and never ended does not keep it open.
+    async def test(port, runner):
+        for query in ("", "?token=wrong"):
+            reader, writer = await asyncio.open_connection("127.0.0.1", port)
+            writer.write(f"GET /ws{query} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n"
+                         "Connection: Upgrade\r\nSec-WebSocket-Version: 13\r\n"
+                         "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n\r\n".encode())
+            assert (await answered(reader)).startswith(b"HTTP/1.1 403")
+            assert not any(c.page for c in runner.conns)
+            writer.write(b"\x81\x85abcd")  # a frame's first bytes, as if taken; no more
+            assert await closed(reader, HEAD + 1.0)  # (aiohttp closes it at once)
+            writer.close()
+    run(test, token="secret")
