@@ -843,3 +843,28 @@ def test_pages_coming_and_going_in_a_flood_are_lines_in_the_log_now_and_then(cap
         assert said()[-1].endswith(f"({30 - server.PAGE_LOG_BURST} such lines unsaid before it)")
     with caplog.at_level(logging.INFO, "app.serve"):
         serve(test)
+
+
+def test_without_a_token_only_a_loopback_host_is_answered():
+    # With no token (the server bound to 127.0.0.1), a page of another site whose name
+    # its DNS turns to 127.0.0.1 (DNS rebinding) asks with its own name as Host and Origin,
+    # so the Origin check passes: such a page read /meta and drove the frost. Only the
+    # names of this machine (any port: a tunnel) are answered; a token admits any name.
+    upgrade = {"Connection": "Upgrade", "Upgrade": "websocket", "Sec-WebSocket-Version": "13",
+               "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ=="}
+
+    async def test(client, feed):
+        for host in ("evil.example:8025", "evil.example", "192.168.1.5:8025", "127.0.0.1.evil.example"):
+            assert (await client.get("/meta", headers={"Host": host})).status == 403, host
+            resp = await client.get("/ws", headers={"Host": host, "Origin": f"http://{host}", **upgrade})
+            assert resp.status == 403, host
+        for host in ("127.0.0.1:8025", "localhost:9000", "LOCALHOST", "[::1]:8025", "127.0.0.2"):
+            assert (await client.get("/meta", headers={"Host": host})).status == 200, host
+        ws, _page = await connect(client)
+        await ws.close()
+    serve(test)
+
+    async def with_token(client, feed):
+        resp = await client.get("/meta?token=s3cret", headers={"Host": "192.168.1.5:8025"})
+        assert resp.status == 200
+    serve(with_token, token="s3cret")

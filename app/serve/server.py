@@ -10,6 +10,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import io
+import ipaddress
 import logging
 import secrets
 import signal
@@ -176,12 +177,34 @@ async def _stop(app: web.Application) -> None:
 
 @web.middleware
 async def _token_check(request: web.Request, handler):
+    """The token, where one is in force; else (a server on loopback) a Host naming this
+    machine: a page of another site whose name its DNS turns to 127.0.0.1 (DNS rebinding)
+    sends its own name as Host and as Origin, and would pass the Origin check."""
     token = request.app[TOKEN]
     given = request.query.get("token", "")
     if token and not secrets.compare_digest(given.encode(), token.encode()):
         raise web.HTTPForbidden(text="frost: this server needs the token of the URL "
                                      "frost serve printed\n")
+    host = request.headers.get("Host")
+    if not token and host is not None and not loopback_name(host):
+        raise web.HTTPForbidden(text="frost: this server answers only to this machine's "
+                                     "names (127.0.0.1, localhost)\n")
     return await handler(request)
+
+
+def loopback_name(host: str) -> bool:
+    """Whether a request's Host header names this machine: localhost or a loopback
+    address, any port."""
+    try:
+        name = urlsplit("//" + host).hostname
+    except ValueError:  # an unclosed bracket
+        return False
+    if name == "localhost":
+        return True
+    try:
+        return name is not None and ipaddress.ip_address(name).is_loopback
+    except ValueError:
+        return False
 
 
 def inside(folder: Path, rel: str) -> Path | None:
