@@ -760,3 +760,111 @@ def test_the_server_logs_its_stats_while_it_serves(monkeypatch, caplog):
         serve(test)
     lines = [r.getMessage() for r in caplog.records if "stats (" in r.getMessage()]
     assert lines and re.search(r"sim \d+\.\d ticks/s, tick median \d+\.\d ms, 1 page", lines[-1])
+
+
+def test_the_stats_line_counts_ticks_stepped_across_a_rebuild(monkeypatch, caplog):
+    # A new preset regrows the frost from tick 0 (its touches replanted at their ticks):
+    # the tick goes back, but the simulation stepped on at its pace all along. The rate is
+    # the steps taken (the session's count), never negative.
+    import logging
+
+    from app.serve import server
+
+    monkeypatch.setattr(server, "STATS_PERIOD", 0.8)
+
+    async def test(client, feed):
+        ws, page = await connect(client)
+        await read_until(ws, page, lambda: page.tick >= 40)
+        await ws.send_json({"type": "preset", "name": "c-3"})
+        await read_until(ws, page, lambda: page.state("preset") == "c-3")
+        await asyncio.sleep(1.8)
+
+    with caplog.at_level(logging.INFO, logger="app.serve"):
+        serve(test)
+    rates = [float(m) for r in caplog.records
+             for m in re.findall(r"sim (-?\d+\.\d) ticks/s", r.getMessage())]
+    assert len(rates) >= 3 and all(rate > 5 for rate in rates), rates
+
+
+def test_a_flood_of_bad_requests_is_a_line_in_the_log_now_and_then(caplog, monkeypatch):
+    # A client sending bad heads as fast as it can wrote a line each, 6 600 lines a
+    # second: the log says the first, then at most one a BAD_LOG_S with the count since.
+    from app.serve import server
+
+    monkeypatch.setattr(server, "BAD_LOG_S", 60.0)
+
+    async def bad(client, count):
+        for _ in range(count):
+            reader, writer = await asyncio.open_connection(client.server.host, client.server.port)
+            writer.write(b"GET /meta HTTP/1.1\r\nHost: a\r\nBad Header\r\n\r\n")
+            assert (await asyncio.wait_for(reader.read(100), 10)).startswith(b"HTTP/1.0 400")
+            writer.close()
+
+    def said() -> list[str]:
+        return [r.getMessage() for r in caplog.records if r.name == "aiohttp.server"]
+
+    async def test(client, feed):
+        await bad(client, 50)
+        await asyncio.sleep(0.1)
+        assert len(said()) == 1 and "more" not in said()[0]
+        monkeypatch.setattr(server, "BAD_LOG_S", 0.0)  # the while since the last line is over
+        await bad(client, 1)
+        await asyncio.sleep(0.1)
+        assert len(said()) == 2 and said()[1].endswith("; 49 more refused since the last such line")
+    with caplog.at_level(logging.INFO, "aiohttp.server"):
+        serve(test)
+
+
+def test_pages_coming_and_going_in_a_flood_are_lines_in_the_log_now_and_then(caplog):
+    # A client opening sockets as fast as it can (each reads its hello and goes) wrote a
+    # line each, some 200 a second: sixteen pages are named as they come (a whole house at
+    # once), then at most a line a PAGE_LOG_S, saying how many went unsaid before it.
+    from app.serve import server
+
+    clock = [0.0]
+
+    async def come_and_go(client, count):
+        for _ in range(count):
+            ws = await client.ws_connect("/ws")
+            assert (await ws.receive_json())["type"] == "hello"
+            await ws.close()
+
+    def said() -> list[str]:
+        return [r.getMessage() for r in caplog.records if "connected (" in r.getMessage()]
+
+    async def test(client, feed):
+        lines = client.server.app[server.PAGE_LINES]
+        lines.bucket.clock, lines.bucket.at = (lambda: clock[0]), 0.0
+        await come_and_go(client, 30)
+        assert len(said()) == server.PAGE_LOG_BURST and "unsaid" not in said()[-1]
+        clock[0] += server.PAGE_LOG_S  # a line's worth of time
+        await come_and_go(client, 2)
+        assert len(said()) == server.PAGE_LOG_BURST + 1
+        assert said()[-1].endswith(f"({30 - server.PAGE_LOG_BURST} such lines unsaid before it)")
+    with caplog.at_level(logging.INFO, "app.serve"):
+        serve(test)
+
+
+def test_without_a_token_only_a_loopback_host_is_answered():
+    # With no token (the server bound to 127.0.0.1), a page of another site whose name
+    # its DNS turns to 127.0.0.1 (DNS rebinding) asks with its own name as Host and Origin,
+    # so the Origin check passes: such a page read /meta and drove the frost. Only the
+    # names of this machine (any port: a tunnel) are answered; a token admits any name.
+    upgrade = {"Connection": "Upgrade", "Upgrade": "websocket", "Sec-WebSocket-Version": "13",
+               "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ=="}
+
+    async def test(client, feed):
+        for host in ("evil.example:8025", "evil.example", "192.168.1.5:8025", "127.0.0.1.evil.example"):
+            assert (await client.get("/meta", headers={"Host": host})).status == 403, host
+            resp = await client.get("/ws", headers={"Host": host, "Origin": f"http://{host}", **upgrade})
+            assert resp.status == 403, host
+        for host in ("127.0.0.1:8025", "localhost:9000", "LOCALHOST", "[::1]:8025", "127.0.0.2"):
+            assert (await client.get("/meta", headers={"Host": host})).status == 200, host
+        ws, _page = await connect(client)
+        await ws.close()
+    serve(test)
+
+    async def with_token(client, feed):
+        resp = await client.get("/meta?token=s3cret", headers={"Host": "192.168.1.5:8025"})
+        assert resp.status == 200
+    serve(with_token, token="s3cret")

@@ -25,11 +25,11 @@ def short(monkeypatch):
     monkeypatch.setattr(guard, "MAX_CONNECTIONS", 4)
 
 
-def run(test):
+def run(test, token: str | None = None):
     """`test(port, runner)` against a server listening as `frost serve` does."""
     async def main():
         feed = Feed(Params.preset("c-2"), seed=1)
-        runner = await listen(make_app(feed), "127.0.0.1", 0, None)
+        runner = await listen(make_app(feed, token), "127.0.0.1", 0, token)
         assert runner is not None
         try:
             await test(runner.addresses[0][1], runner)
@@ -149,3 +149,101 @@ def test_a_full_house_makes_room_for_a_request_but_never_drops_a_page(short):
                 await ws.close()
             late_writer.close()
     run(test)
+
+
+def test_a_full_house_of_idle_connections_gives_way_before_a_head_on_its_way(short):
+    # A client that opens connections as fast as it can, each asking one thing and then
+    # idling, keeps the house full of kept-alive connections: a person's connection,
+    # whose head is still on its way, must not be the one closed for the next of them
+    # (else every file of the page is reset, and the page never loads).
+    async def test(port, runner):
+        person_reader, person_writer = await asyncio.open_connection("127.0.0.1", port)
+        person_writer.write(GET[:10])  # the head's first bytes, the rest on their way
+        idle = []
+        for _ in range(guard.MAX_CONNECTIONS - 1):  # asked, answered, idle; all younger
+            reader, writer = await asyncio.open_connection("127.0.0.1", port)
+            writer.write(GET)
+            assert (await answered(reader)).startswith(b"HTTP/1.1 200")
+            idle.append((reader, writer))
+        for _ in range(2):  # two more in a full house: two idle ones close for them
+            reader, writer = await asyncio.open_connection("127.0.0.1", port)
+            writer.write(GET)
+            assert (await answered(reader)).startswith(b"HTTP/1.1 200")
+            idle.append((reader, writer))
+        assert await closed(idle[0][0], HEAD / 4) and await closed(idle[1][0], HEAD / 4)
+        assert not await closed(idle[2][0], 0.01)
+        person_writer.write(GET[10:])
+        assert (await answered(person_reader)).startswith(b"HTTP/1.1 200")
+        assert runner.evicted == 2
+        for _, w in idle + [(person_reader, person_writer)]:
+            w.close()
+    run(test)
+
+
+def test_a_flood_of_connections_is_a_line_in_the_log_now_and_then(short, caplog, monkeypatch):
+    # Thousands of connections a second, each closing an older one: the log says so once,
+    # then at most once a LOG_S with the count since, not a line per thousand.
+    monkeypatch.setattr(guard, "LOG_S", 60.0)
+
+    async def flood(port, runner, count):
+        held, end = [], runner.evicted + count
+        while runner.evicted < end:
+            _, writer = await asyncio.open_connection("127.0.0.1", port)
+            writer.write(b"G")
+            held.append(writer)
+            if len(held) > 8:
+                held.pop(0).close()
+        for w in held:
+            w.close()
+
+    def said() -> list[str]:
+        return [r.getMessage() for r in caplog.records if "make room" in r.getMessage()]
+
+    async def test(port, runner):
+        await flood(port, runner, 2100)
+        assert len(said()) == 1 and "(1 closed since the last such line, 1 in all)" in said()[0]
+        evicted = runner.evicted
+        monkeypatch.setattr(guard, "LOG_S", 0.0)  # the while since the last line is over
+        await flood(port, runner, 1)
+        assert len(said()) == 2
+        assert f"({evicted} closed since the last such line, {evicted + 1} in all)" in said()[1]
+    with caplog.at_level("INFO", logger="app.serve"):
+        run(test)
+
+
+def test_a_head_longer_than_any_page_sends_is_closed_at_once(short):
+    # aiohttp keeps a head's lines until it is whole (up to 128 of 8 KiB each): 256 such
+    # heads held 700 MB. One over MAX_HEAD_BYTES is closed as its bytes pass the mark,
+    # long before its deadline; a long head within it is answered.
+    line = b"X-Long: " + b"a" * 7990 + b"\r\n"
+    within = guard.MAX_HEAD_BYTES // len(line) - 1
+
+    async def test(port, runner):
+        reader, writer = await asyncio.open_connection("127.0.0.1", port)
+        for _ in range(2):  # each head counted from its own start, read a line at a time
+            for part in (GET[:-2], *[line] * within, b"\r\n"):
+                writer.write(part)
+                await asyncio.sleep(0.005)
+            assert (await answered(reader)).startswith(b"HTTP/1.1 200")
+        writer.write(GET[:-2] + line * (within + 2))  # past the mark, unfinished
+        assert await closed(reader, HEAD / 4)
+        assert runner.timed_out == 0 and runner.too_long == 1
+        writer.close()
+    run(test)
+
+
+def test_an_upgrade_refused_for_its_token_stays_timed(short):
+    # A socket asked for without the token (or with a wrong one) is a 403: its connection
+    # is no page's, and a frame begun on it and never ended does not keep it open.
+    async def test(port, runner):
+        for query in ("", "?token=wrong"):
+            reader, writer = await asyncio.open_connection("127.0.0.1", port)
+            writer.write(f"GET /ws{query} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n"
+                         "Connection: Upgrade\r\nSec-WebSocket-Version: 13\r\n"
+                         "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n\r\n".encode())
+            assert (await answered(reader)).startswith(b"HTTP/1.1 403")
+            assert not any(c.page for c in runner.conns)
+            writer.write(b"\x81\x85abcd")  # a frame's first bytes, as if taken; no more
+            assert await closed(reader, HEAD + 1.0)  # (aiohttp closes it at once)
+            writer.close()
+    run(test, token="secret")

@@ -9,9 +9,14 @@ connect, even after they were gone. Here each connection is wrapped:
   first byte, or of the connection for the first request; else the connection is closed;
 - once the server has taken a page's WebSocket on it (`untimed`), it is no longer timed
   (a refused upgrade leaves it timed);
-- at most MAX_CONNECTIONS are open at once: one more takes the place of the oldest still
-  waiting for its head (else of the oldest that is not a page's WebSocket; else it is
-  closed as it comes), so a flood of them cannot lock a person's page out;
+- at most MAX_CONNECTIONS are open at once: one more takes the place of the oldest idle
+  one (kept alive, waiting for its next request), else of the oldest still waiting for its
+  head, else of the oldest that is not a page's WebSocket; else it is closed as it comes.
+  So a flood of them cannot lock a person's page out: neither connections that never finish
+  a head (the person's head arrives and is answered long before its connection is the
+  oldest unfinished) nor connections that ask and then idle, opened as fast as a client
+  can (a person's connection, its head on its way, is never taken for one of them);
+- a head longer than MAX_HEAD_BYTES is closed as its bytes pass the mark;
 - an idle connection between requests is closed after IDLE_S (aiohttp's keep-alive).
 
 A request this server takes has no body, so any byte after a head starts the next head.
@@ -30,6 +35,10 @@ HEAD_S = 10.0
 IDLE_S = 15.0
 # 16 pages, each with a few files' connections, fit many times over.
 MAX_CONNECTIONS = 256
+# A page's heads are under 2 KiB; aiohttp keeps a head's lines until it is whole, up to
+# 128 of 8 KiB each (1 MiB): 256 of them held 700 MB.
+MAX_HEAD_BYTES = 64 * 1024
+LOG_S = 10.0  # s: at most one line a while on connections closed to make room
 END_OF_HEAD = b"\r\n\r\n"
 
 
@@ -50,6 +59,8 @@ class GuardedRunner(web.AppRunner):
         self.evicted = 0  # closed to make room for a newer one
         self.refused = 0  # closed as they came: every slot a page's
         self.timed_out = 0  # closed for a head not finished in HEAD_S
+        self.too_long = 0  # closed for a head longer than MAX_HEAD_BYTES
+        self.said: tuple[float, int] | None = None  # (when, evicted) of the last line on it
 
     @property
     def server(self):
@@ -61,19 +72,31 @@ class GuardedRunner(web.AppRunner):
     def admit(self, conn: Guarded) -> bool:
         """Whether `conn` gets a slot, an older one closed for it where all are taken."""
         if len(self.conns) >= MAX_CONNECTIONS:
-            victim = next((c for c in self.conns if c.timer is not None), None) \
+            victim = next((c for c in self.conns if c.idle()), None) \
+                or next((c for c in self.conns if c.timer is not None), None) \
                 or next((c for c in self.conns if not c.page), None)
             if victim is None:
                 self.refused += 1
                 return False
             self.evicted += 1
-            if self.evicted == 1 or self.evicted % 1000 == 0:
-                log.warning("serve: %d connections open: the oldest idle or unfinished ones "
-                            "make room for new ones (%d so far)", MAX_CONNECTIONS, self.evicted)
+            self._say_evicted()
             del self.conns[victim]
             victim.close()
         self.conns[conn] = None
         return True
+
+
+    def _say_evicted(self) -> None:
+        """A line in the log on the first connection closed for another, then at most one a
+        LOG_S (a flood opens thousands a second), each with the count since the last."""
+        now = asyncio.get_running_loop().time()
+        if self.said is not None and now - self.said[0] < LOG_S:
+            return
+        since = self.evicted - (self.said[1] if self.said else 0)
+        log.warning("serve: %d connections open: the oldest idle or unfinished ones make room "
+                    "for new ones (%d closed since the last such line, %d in all)",
+                    MAX_CONNECTIONS, since, self.evicted)
+        self.said = (now, self.evicted)
 
 
 class Guarded(asyncio.Protocol):
@@ -84,6 +107,7 @@ class Guarded(asyncio.Protocol):
         self.transport: asyncio.Transport | None = None
         self.timer: asyncio.TimerHandle | None = None
         self.tail = b""  # the unfinished head's last bytes
+        self.head = 0  # the unfinished head's bytes so far
         self.page = False  # a page's WebSocket: no longer timed
         self.served = False  # connection_made reached aiohttp
 
@@ -96,19 +120,25 @@ class Guarded(asyncio.Protocol):
         self._start_timer()
         self.inner.connection_made(transport)
 
+    def idle(self) -> bool:
+        """Whether aiohttp waits for this connection's next request (kept alive between two;
+        aiohttp's own test before it closes an idle one), its head not begun."""
+        waiter = getattr(self.inner, "_waiter", None)
+        return (self.served and not self.page and self.timer is None
+                and waiter is not None and not waiter.done())
+
     def close(self) -> None:
         self._stop_timer()
         if self.transport is not None:
             self.transport.abort()
 
     def data_received(self, data: bytes) -> None:
-        if not self.page:
-            self._watch(data)
-        self.inner.data_received(data)
+        if self.page or self._watch(data):
+            self.inner.data_received(data)
 
-    def _watch(self, data: bytes) -> None:
+    def _watch(self, data: bytes) -> bool:
         """Follow the heads in `data`: each one finished stops its timer, a byte after it
-        starts the next one's."""
+        starts the next one's; False (the connection closed) if a head grew too long."""
         while data:
             if self.timer is None:
                 self._start_timer()
@@ -116,10 +146,16 @@ class Guarded(asyncio.Protocol):
             end = seen.find(END_OF_HEAD)
             if end < 0:
                 self.tail = seen[-(len(END_OF_HEAD) - 1):]  # an end may straddle two reads
-                return
+                self.head += len(data)
+                if self.head > MAX_HEAD_BYTES:
+                    self.runner.too_long += 1
+                    self.close()
+                    return False
+                return True
             self._stop_timer()
-            self.tail = b""
+            self.tail, self.head = b"", 0
             data = seen[end + len(END_OF_HEAD):]
+        return True
 
     def untimed(self) -> None:
         """The connection is a page's WebSocket now: its bytes are frames, not heads."""

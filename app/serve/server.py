@@ -10,6 +10,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import io
+import ipaddress
 import logging
 import secrets
 import signal
@@ -28,7 +29,7 @@ from app.images import frost_meta
 from app.resources import SHADER_DIR
 from app.serve import MAX_PAGES, guard, protocol
 from app.serve.feed import Feed
-from app.serve.pages import CHANGE_RATE, Page
+from app.serve.pages import CHANGE_RATE, Page, TokenBucket
 from app.serve.session import SessionFiles
 
 log = logging.getLogger("app.serve")
@@ -47,22 +48,60 @@ FILES = web.AppKey("files", SessionFiles)
 BACKDROP_PNGS = web.AppKey("backdrops", dict)
 STATS = web.AppKey("stats", asyncio.Task)
 STATS_PERIOD = 10.0  # s between the log's stats lines
+BAD_LOG_S = 10.0  # s: at most one line a while on requests refused as malformed
+# Lines on pages connected and closed: a house of them at once, then one a PAGE_LOG_S.
+PAGE_LOG_BURST, PAGE_LOG_S = 16, 10.0
 
 
 class _BadRequestsInOneLine(logging.Filter):
     """aiohttp logs a request it cannot parse (a line over 8 KiB) as an error with a
-    traceback, so anyone could fill the terminal: one line instead."""
+    traceback, so anyone could fill the terminal: one line instead, and of a flood of them
+    (thousands a second) the first, then at most one a BAD_LOG_S with the count since."""
+
+    def __init__(self):
+        super().__init__()
+        self.said_at: float | None = None  # time.monotonic() of the last line
+        self.unsaid = 0  # refused since then
 
     def filter(self, record: logging.LogRecord) -> bool:
         err = record.exc_info[1] if record.exc_info else None
-        if isinstance(err, HttpProcessingError):
-            record.msg, record.args, record.exc_info = "serve: a bad request refused (%s)", (
-                " ".join(str(err).split())[:100],), None
-            record.levelno, record.levelname = logging.INFO, "INFO"
+        if not isinstance(err, HttpProcessingError):
+            return True
+        now = time.monotonic()
+        if self.said_at is not None and now - self.said_at < BAD_LOG_S:
+            self.unsaid += 1
+            return False
+        more = f"; {self.unsaid} more refused since the last such line" if self.unsaid else ""
+        record.msg, record.args, record.exc_info = "serve: a bad request refused (%s)%s", (
+            " ".join(str(err).split())[:100], more), None
+        record.levelno, record.levelname = logging.INFO, "INFO"
+        self.said_at, self.unsaid = now, 0
         return True
 
 
 BAD_REQUESTS = _BadRequestsInOneLine()
+
+
+class Sparing:
+    """Log lines of one kind (pages connected and closed) for a person: every one while they
+    come as a person's pages do, a few at a time; of a flood (a client opening sockets as fast
+    as it can) at most one a PAGE_LOG_S, each saying how many went unsaid before it."""
+
+    def __init__(self):
+        self.bucket = TokenBucket(1 / PAGE_LOG_S, PAGE_LOG_BURST)
+        self.unsaid = 0
+
+    def info(self, msg: str, *args) -> None:
+        if not self.bucket.take():
+            self.unsaid += 1
+            return
+        if self.unsaid:
+            msg, args = msg + " (%d such lines unsaid before it)", (*args, self.unsaid)
+        log.info(msg, *args)
+        self.unsaid = 0
+
+
+PAGE_LINES = web.AppKey("page_lines", Sparing)
 
 
 def make_app(feed: Feed, token: str | None = None, session_dir=None,
@@ -72,9 +111,11 @@ def make_app(feed: Feed, token: str | None = None, session_dir=None,
     app = web.Application(middlewares=[_token_check])
     if BAD_REQUESTS not in logging.getLogger("aiohttp.server").filters:
         logging.getLogger("aiohttp.server").addFilter(BAD_REQUESTS)
+    BAD_REQUESTS.said_at, BAD_REQUESTS.unsaid = None, 0  # a new server says its first
     app[FEED], app[TOKEN] = feed, token or ""
     app[FILES] = SessionFiles(feed, session_dir)
     app[BACKDROP_PNGS] = {}
+    app[PAGE_LINES] = Sparing()
     app.router.add_get("/", _folder(web_dir, "index.html"))
     app.router.add_get("/web/{path:.*}", _folder(web_dir))
     app.router.add_get("/shaders/{path:.*}", _folder(SHADER_DIR))
@@ -94,17 +135,18 @@ async def _start(app: web.Application) -> None:
 
 
 async def _log_stats(feed: Feed, period: float) -> None:
-    """A stats line in the log every `period` s, as the window logs one."""
+    """A stats line in the log every `period` s, as the window logs one. Its rate counts
+    the session's steps: a rebuild (a new preset) sets the tick back to 0."""
     loop = asyncio.get_running_loop()
-    tick, since = feed.tick(), loop.time()
+    steps, since = feed.key[0], loop.time()
     while True:
         await asyncio.sleep(period)
-        now, ticks = loop.time(), feed.tick() - tick
+        now, ticks = loop.time(), feed.key[0] - steps
         n = max(0, min(ticks, len(feed.tick_ms)))
         log.info("serve: %s", stats_line(now - since, ticks, list(feed.tick_ms)[-n:] if n else [],
                                          list(feed.sizes)[-n:] if n else [], len(feed.pages),
                                          bool(feed.latest and feed.latest.stats.paused)))
-        tick, since = feed.tick(), now
+        steps, since = steps + ticks, now
 
 
 def stats_line(seconds: float, ticks: int, tick_ms: list[float], sizes: list[int], pages: int,
@@ -135,12 +177,34 @@ async def _stop(app: web.Application) -> None:
 
 @web.middleware
 async def _token_check(request: web.Request, handler):
+    """The token, where one is in force; else (a server on loopback) a Host naming this
+    machine: a page of another site whose name its DNS turns to 127.0.0.1 (DNS rebinding)
+    sends its own name as Host and as Origin, and would pass the Origin check."""
     token = request.app[TOKEN]
     given = request.query.get("token", "")
     if token and not secrets.compare_digest(given.encode(), token.encode()):
         raise web.HTTPForbidden(text="frost: this server needs the token of the URL "
                                      "frost serve printed\n")
+    host = request.headers.get("Host")
+    if not token and host is not None and not loopback_name(host):
+        raise web.HTTPForbidden(text="frost: this server answers only to this machine's "
+                                     "names (127.0.0.1, localhost)\n")
     return await handler(request)
+
+
+def loopback_name(host: str) -> bool:
+    """Whether a request's Host header names this machine: localhost or a loopback
+    address, any port."""
+    try:
+        name = urlsplit("//" + host).hostname
+    except ValueError:  # an unclosed bracket
+        return False
+    if name == "localhost":
+        return True
+    try:
+        return name is not None and ipaddress.ip_address(name).is_loopback
+    except ValueError:
+        return False
 
 
 def inside(folder: Path, rel: str) -> Path | None:
@@ -220,12 +284,13 @@ async def _socket(request: web.Request) -> web.WebSocketResponse:
     feed.pages.add(page)
     page.text(feed.hello())
     writer = asyncio.create_task(page.write())
-    log.info("serve: page %s connected (%d pages)", page.name, len(feed.pages))
+    lines = request.app[PAGE_LINES]
+    lines.info("serve: page %s connected (%d pages)", page.name, len(feed.pages))
     try:
         async for msg in ws:
             problem = _take(feed, page, msg)
             if problem is not None:
-                log.info("serve: page %s closed: %s", page.name, problem.reason)
+                lines.info("serve: page %s closed: %s", page.name, problem.reason)
                 await ws.close(code=problem.code, message=problem.reason.encode()[:120])
                 break
     finally:
