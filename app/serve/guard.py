@@ -85,7 +85,6 @@ class GuardedRunner(web.AppRunner):
         self.conns[conn] = None
         return True
 
-
     def _say_evicted(self) -> None:
         """A line in the log on the first connection closed for another, then at most one a
         LOG_S (a flood opens thousands a second), each with the count since the last."""
