@@ -10,7 +10,9 @@ test_fronds.py checks them. Each set is grown by the rules of one session versio
   by version 6's rules (whose frost is version 5's: version 6 changed only how a
   session's melts apply);
 - "v7/...": the same runs by version 7's rules, each part drawing from its own stream;
-- "v8/...": the same runs by version 8's rules, a touch opening an area with its ring.
+- "v8/...": the same runs by version 8's rules, a touch opening an area with its ring;
+- "v9/...": a page tapping one spot, by version 9's rules (a touch obeys the cells' cap);
+  the v8 runs grow the same by version 9's (no cell of theirs fills up).
 """
 
 from __future__ import annotations
@@ -133,6 +135,25 @@ def hashes_v8() -> dict[str, str]:
     return hashes_of(8, "v8")
 
 
+def one_spot(ticks: int = 100, version: int = 9) -> FrostSim:
+    """A page tapping one spot: 20 touches a tick there on the finest grid, its cells full
+    within a few ticks; a melt half way frees them, and the touches plant again."""
+    sim = FrostSim(Params.preset("fern", hc=16.0, D=1.0, grid_spacing=2), seed=11,
+                   version=version)
+    for _ in range(ticks):
+        for _k in range(20):
+            sim.touch(380.0, 640.0)
+        sim.step()
+        if sim.tick == ticks // 2:
+            sim.melt(380.0, 640.0, 40.0)
+    return sim
+
+
+def hashes_v9() -> dict[str, str]:
+    """Version 9's own run: one spot tapped past the cells' cap."""
+    return {"v9/one-spot": state_hash(one_spot())}
+
+
 def hashes(window_off: dict) -> dict[str, str]:
     out = {name: state_hash(run(p, o, t, version=4)) for name, p, o, t in RUNS}
     name, p, _, t = WINDOW_OLD
@@ -143,5 +164,6 @@ def hashes(window_off: dict) -> dict[str, str]:
 
 
 if __name__ == "__main__":
-    json.dump({**hashes({}), **hashes_v5(), **hashes_v7(), **hashes_v8()}, sys.stdout, indent=1)
+    json.dump({**hashes({}), **hashes_v5(), **hashes_v7(), **hashes_v8(), **hashes_v9()},
+              sys.stdout, indent=1)
     print()

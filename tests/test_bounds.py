@@ -13,7 +13,7 @@ from app.simthread.backlog import MIN_INPUT_S, STEP_SAMPLES, Backlog
 from app.tools.scribble import scribble, storm
 from sim import FrostSim, Params
 from sim.core import budget, frost
-from sim.index.grid import HashGrid
+from sim.index.grid import CELL_MARGIN, HashGrid
 from sim.io.timeline import Timeline
 from sim.look.geometry import _segments_in
 
@@ -185,6 +185,67 @@ def test_no_cell_ever_lists_more_than_the_cap():
         keys = sim.grid.keys(sim.water[:, 0], sim.water[:, 1])
         assert not full[keys].any()
     assert sim.candidates.count.max() == frost.CELL_CAP  # it was reached
+
+
+def listed_slow(sim: FrostSim, cells: np.ndarray | None = None) -> np.ndarray:
+    """Live crystals listed in each cell (or each of `cells`), by brute force: those whose
+    freezing disc (hc, and the grid's listing margin) meets the cell's rectangle."""
+    x0, y0 = cell_corners(sim, cells)
+    c = sim.crystals[sim.crystal_alive].astype(np.float64)
+    return meets(sim, c[:, :1], c[:, 1:], x0[None], y0[None]).sum(axis=0)
+
+
+def disc_cells_slow(sim: FrostSim, x: float, y: float) -> np.ndarray:
+    """The cells a seed at (x, y) would be listed in, by the same brute force."""
+    x0, y0 = cell_corners(sim)
+    return np.flatnonzero(meets(sim, x, y, x0, y0))
+
+
+def cell_corners(sim: FrostSim, cells: np.ndarray | None = None):
+    grid = sim.grid
+    cells = np.arange(grid.size) if cells is None else cells
+    return cells % grid.cols * grid.cell, cells // grid.cols * grid.cell
+
+
+def meets(sim: FrostSim, x, y, x0, y0) -> np.ndarray:
+    """Whether the disc at (x, y) meets the cell with corner (x0, y0)."""
+    s, r = sim.grid.cell, sim.params.hc + CELL_MARGIN
+    gx = np.maximum(np.maximum(x0 - x, 0), x - (x0 + s))
+    gy = np.maximum(np.maximum(y0 - y, 0), y - (y0 + s))
+    return gx ** 2 + gy ** 2 < r * r
+
+
+FINEST = {"hc": 16.0, "D": 1.0, "grid_spacing": 2}  # the most work a crystal can bring
+
+
+def test_a_touch_where_its_cells_are_full_plants_nothing():
+    # A page tapping one spot 20 times a tick: from version 9 a touch plants its seed (and
+    # brings water) exactly when every cell its disc meets lists fewer than CELL_CAP, and
+    # no cell ever lists more, fern crystals (grown hc from their walker) included.
+    sim = FrostSim(Params.preset("fern", **FINEST), seed=0)
+    cells, refused = disc_cells_slow(sim, 380.0, 640.0), 0
+    for _ in range(120):
+        for _k in range(20):
+            room = (listed_slow(sim, cells) < frost.CELL_CAP).all()
+            crystals, water = len(sim.crystals), len(sim.water_area)
+            area = sim.touch(380.0, 640.0)
+            assert (area >= 0) == room
+            if not room:
+                refused += 1
+                assert (len(sim.crystals), len(sim.water_area)) == (crystals, water)
+        sim.step()
+        assert listed_slow(sim).max() <= frost.CELL_CAP
+        assert np.array_equal(listed_slow(sim), sim.candidates.count)
+    assert refused > 2000  # the cells filled early, and the rest planted nothing
+
+
+def test_a_session_of_version_8_still_piles_touches_into_one_cell():
+    sim = FrostSim(Params.preset("fern", **FINEST), seed=0, version=8)
+    for _ in range(3):
+        for _k in range(50):
+            assert sim.touch(380.0, 640.0) >= 0
+        sim.step()
+    assert listed_slow(sim).max() > frost.CELL_CAP  # as it grew when it was recorded
 
 
 @pytest.mark.parametrize("preset", ["a-1", "c-3"])

@@ -374,6 +374,18 @@ def test_version_8_grows_the_frost_stored_for_it():
     assert frozen_runs.hashes_v8() == {k: v for k, v in stored.items() if k.startswith("v8/")}
 
 
+def test_version_9_grows_the_frost_stored_for_it():
+    """One spot tapped past the cells' cap (version 9's own run), and the looks people grow
+    (fern, the window, a scribble), which fill no cell, as version 8 grew them."""
+    stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text())
+    assert frozen_runs.hashes_v9() == {k: v for k, v in stored.items() if k.startswith("v9/")}
+    for name, preset, overrides, ticks in frozen_runs.RUNS_V5:
+        if name in ("fern", "window"):
+            sim = frozen_runs.run(preset, overrides, ticks, version=9)
+            assert frozen_runs.state_hash(sim) == stored[f"v8/{name}"]
+    assert frozen_runs.state_hash(frozen_runs.scribble(version=9)) == stored["v8/scribble"]
+
+
 def test_version_8_leaves_the_windows_touches_as_version_7_grew_them():
     # The window's pane is one area: every touch joins it and was ringed already, so
     # version 8 (which rings a touch opening an area) grows the very same frost.

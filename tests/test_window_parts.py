@@ -265,6 +265,23 @@ def test_a_click_is_reported_grown_once_at_the_tick_its_seed_first_gets_a_child(
     assert first_child is not None and reported == [(first_child, (0, 1.0))]
 
 
+def test_a_click_into_full_cells_is_neither_shown_nor_reported_grown():
+    # Its touch plants nothing (version 9): the crystal planted last before it is not its
+    # seed, and the click's frost never shows.
+    thread = SimThread(Params.preset("fern", hc=16.0, D=1.0, grid_spacing=2), 0,
+                       [(380.0, 640.0)] * 200)
+    crystals = len(thread.sim.crystals)
+    assert crystals < 200  # the cells filled: the later touches planted nothing
+    thread.send("touch", ((380.0, 640.0), (0, 1.0)))
+    shown, grown = [], []
+    for _ in range(30):
+        thread.tick()
+        snap = thread.drain()[-1]
+        shown += snap.clicks
+        grown += snap.grown
+    assert len(thread.sim.crystals) == crystals and shown == grown == []
+
+
 def test_a_rebuild_forgets_the_seeds_it_renumbered():
     thread = SimThread(Params(), 0)
     thread.send("touch", ((380.0, 640.0), (0, 1.0)))

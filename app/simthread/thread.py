@@ -249,10 +249,10 @@ class SimThread(threading.Thread):
 
     def _touch(self, arg, notes: dict) -> None:
         (x, y), click = arg
-        before = len(self.touches)
+        seed = len(self.sim.crystals)  # its seed's index, if it plants one
         notes["applied"].append(self.timeline.apply([{"kind": "touch", "x": x, "y": y}]))
-        if click is not None and len(self.touches) > before:
-            self._clicks.planted(click, len(self.sim.crystals) - 1)
+        if click is not None and len(self.sim.crystals) > seed:  # (not into full cells)
+            self._clicks.planted(click, seed)
 
     def _melt(self, arg, notes: dict) -> None:
         x, y, r = arg

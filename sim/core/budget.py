@@ -50,6 +50,17 @@ def admit(frozen: np.ndarray, parents: np.ndarray, count: np.ndarray, grid, at, 
     return frozen[ok], parents[ok], frozen[~ok]
 
 
+def room_for(candidates, grid, pts: np.ndarray, hc: float) -> np.ndarray:
+    """Which new crystals at `pts` (in order) keep every cell their freezing disc lists
+    them in (`grid`'s cells, `candidates`' lists) within CELL_CAP: a seed a touch plants,
+    or a fern crystal, which grows one hc from its parent, away from the walker the cap
+    was checked at."""
+    if candidates.most + len(pts) <= CELL_CAP:  # (no cell can fill up)
+        return np.ones(len(pts), bool)
+    cells, owner = grid.disc_cells(pts, hc)
+    return within_cap(candidates.count, cells, owner, len(pts))
+
+
 def within_cap(count: np.ndarray, cells: np.ndarray, owner: np.ndarray, n: int) -> np.ndarray:
     """Per freeze (n, in walker order): whether every cell its disc lists it in (`cells`,
     `owner`) stays within CELL_CAP after the earlier freezes."""

@@ -73,7 +73,8 @@ class FrostSim(Holdings):
         self.work_per_crystal = budget.work_per_crystal(p.hc, p.grid_spacing, p.D)
         # Beyond the paper (fern rules; window mode chills them by its temperature).
         rules, streams = self.rules, self.streams
-        self.growth = make_growth(chill(p), streams.growth, rules.pooled_first_hits)
+        self.growth = make_growth(chill(p), streams.growth, rules.pooled_first_hits,
+                                  rules.capped_touches)
         self.pane = make_pane(p, streams.pane, self.index, self.ice, rules.tries_at_once)
         self.placer = Placer(streams.placement, self.index, self._areas, self.pane, p,
                              rules.batched_placement)
@@ -93,7 +94,8 @@ class FrostSim(Holdings):
     # ---- public API -------------------------------------------------------------
 
     def touch(self, x: float, y: float) -> int:
-        """Plant a seed crystal at (x, y); returns the index of its active area.
+        """Plant a seed crystal at (x, y); returns the index of its active area, or -1
+        where the touch planted nothing (from version 9: its seed would overfill a cell).
 
         A touch inside an existing active area joins that area (the nearest, by its
         centre) and tops its pool up to `humidity`; elsewhere it opens a new area with
@@ -105,22 +107,40 @@ class FrostSim(Holdings):
         """Touches at every (x, y) of `points` at once (a run's first touches, or those a
         rebuild replants together): the seeds, then one top-up of each area they touched,
         then (`water`, with `touch_water`) the ring of water each seed that joined an area
-        brings (from version 8 each seed: `Supply.water_seed`). Returns each seed's area."""
+        brings (from version 8 each seed: `Supply.water_seed`). Returns each seed's area;
+        -1 for a touch that planted nothing: from version 9 a touch obeys the cells' cap
+        as a freeze does (`budget.within_cap`), so one spot touched again and again stops
+        adding seeds (and water) once its cells are full."""
         pts = np.array(points, np.float64).reshape(-1, 2)
         for x, y in pts:
             problem = touch_problem(x, y, (self.width, self.height))
             if problem:
                 raise ValueError(problem)
         pts32 = on_screen_f32(pts, self.width, self.height)
+        room = self._room_for(pts32)
+        out = np.full(len(pts), -1, np.int32)
+        if room.any():
+            out[room] = self._seed(pts32[room], water)
+        return out
+
+    def _room_for(self, pts32: np.ndarray) -> np.ndarray:
+        """Which seeds at `pts32` (in order) the cells' cap takes (version 9; before, all)."""
+        if not self.rules.capped_touches:
+            return np.ones(len(pts32), bool)
+        return budget.room_for(self.index.candidates, self.index.grid, pts32, self.params.hc)
+
+    def _seed(self, pts32: np.ndarray, water: bool) -> np.ndarray:
+        """Seeds at `pts32` (on the screen, within the cap), their areas topped up and
+        ringed (see `plant`); each seed's area."""
         opened = self._areas.n
         area = self._areas.areas_for(pts32, self.params.active_radius)
-        seeds = self._add_crystals(pts32, np.full(len(pts), -1, np.int32), area)
+        seeds = self._add_crystals(pts32, np.full(len(pts32), -1, np.int32), area)
         # The seeds that bring a ring of water (`touch_water`): those joining an area, and
         # from version 8 those opening one (whose pool starts on the launch circle, 30 px
         # out, else their first arm waits for it); their first hits count together.
         ringed = (area < opened) | self.rules.opening_rings
         ringed &= bool(water and self.params.touch_water)
-        self.growth.add_seeds(len(pts), ringed)
+        self.growth.add_seeds(len(pts32), ringed)
         self.index.register(seeds)
         self._follow_ice(seeds)  # a seed joining an area may lie beyond its ice
         self.supply.fill(np.unique(area), self.ice_state())

@@ -14,6 +14,11 @@ the newest. What each version changed:
    with its "group" (sim/io/timeline.py).
 7. Each part draws from a random stream of its own (`random_streams`), so a change in
    one part's draws leaves the others' unchanged. Up to version 6 they share one.
+8. A touch that opens an area brings its ring of water too (sim/core/frost.py `plant`).
+9. A touch obeys the cells' cap as a freeze does (sim/core/budget.py CELL_CAP): a touch
+   whose seed would list a cell past it plants nothing (no seed, no water). Before, a page
+   tapping one spot piled thousands of seeds into one cell, and every walker near it
+   searched them all.
 """
 
 from __future__ import annotations
@@ -22,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-NEWEST = 8
+NEWEST = 9
 # Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
 REGROW_GAP = 12
 # The parts that draw random numbers, in the order their streams are spawned.
@@ -42,6 +47,7 @@ class Rules:
     grouped_melts: bool  # 6
     own_streams: bool  # 7
     opening_rings: bool  # 8: a touch that opens an area brings its ring of water too
+    capped_touches: bool  # 9: a touch into a full cell plants nothing
 
 
 def rules_of(version: int) -> Rules:
@@ -51,7 +57,7 @@ def rules_of(version: int) -> Rules:
         raise ValueError(f"version={version!r} must be a whole number in [1, {NEWEST}]")
     v = int(version)
     return Rules(v, REGROW_GAP if v >= 2 else 0, v >= 3, v >= 4, v >= 5, v >= 5, v >= 6, v >= 7,
-                 v >= 8)
+                 v >= 8, v >= 9)
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,8 @@ written: every one freezes where it is. `FernGrowth` adds grains and hit counter
   slot's axis; the child's axes turn from that link by a normal draw of `drift` degrees.
   A slot holds one child. A spot closer than hc / 2 to ice, off the screen, or (for a
   side slot) within `side_gap` - 1 links of a side branch on the same side of its stem is
-  blocked; the hit still counts and the next one tries again.
+  blocked, and from session version 9 so is one whose crystal would list a cell past
+  CELL_CAP (sim/core/budget.py); the hit still counts and the next one tries again.
 - Walkers whose hit only counted are not frozen: the simulation places them again.
 - (Session version 5 on, `pooled_first`.) Until a seed that a touch brought a ring of
   water has its first child, its hits count together, whatever their slots: the hit that
@@ -33,6 +34,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.budget import room_for
 from ..core.buffers import Growable, runs
 from ..index.periodic import nearest_image, wrap_points
 from ..params import Params
@@ -69,9 +71,11 @@ class PaperGrowth:
 class FernGrowth:
     """Grains and hit counters (see module doc) over per-crystal arrays."""
 
-    def __init__(self, params: Params, rng: np.random.Generator, pooled_first: bool = True):
+    def __init__(self, params: Params, rng: np.random.Generator, pooled_first: bool = True,
+                 capped: bool = False):
         self.rng = rng
         self.pooled_first = pooled_first
+        self.capped = capped  # version 9: a spot that would overfill a cell is blocked
         self.L = float(params.hc)
         self._apart_squared = np.float32(self.L / 2) ** 2  # (a new crystal's least gap to ice, squared)
         self.drift = np.deg2rad(params.drift)
@@ -117,6 +121,8 @@ class FernGrowth:
         ok = self._free(pts, pc, kc, side, ice.parents.raw(), index)
         if np.count_nonzero(ok) > 1:
             ok[ok] = _first_apart(pts[ok], self.L / 2)
+        if self.capped and ok.any():  # (the cap was checked at the walker, not the spot)
+            ok[ok] = room_for(index.candidates, index.grid, pts[ok], index.hc)
         grow = cand[ok]
         self._adopt(ice.crystals.n, pc[ok], kc[ok], side[ok], angle[ok])
         counted = np.empty(len(hits), bool)
@@ -281,5 +287,6 @@ def _first_apart(pts: np.ndarray, gap: float) -> np.ndarray:
     return keep
 
 
-def make_growth(params: Params, rng: np.random.Generator, pooled_first: bool = True):
-    return FernGrowth(params, rng, pooled_first) if params.grains else PaperGrowth()
+def make_growth(params: Params, rng: np.random.Generator, pooled_first: bool = True,
+                capped: bool = False):
+    return FernGrowth(params, rng, pooled_first, capped) if params.grains else PaperGrowth()
