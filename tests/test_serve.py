@@ -8,16 +8,20 @@ import json
 import logging
 import re
 import socket
+import threading
 
 import numpy as np
 import pytest
 from aiohttp import WSMsgType
 from aiohttp.test_utils import TestClient, TestServer
 
+from app import session_keeper
 from app.serve import pages as pages_module
+from app.serve import session as session_module
 from app.serve.feed import Feed
 from app.serve.protocol import LAST_PART, RESET, SNAPSHOT, apply_geometry, decode_geometry
 from app.serve.server import MAX_PAGES, inside, make_app, same_origin
+from app.serve.session import SessionFiles
 from sim import Params
 from sim.io.session import SessionLog
 from sim.io.timeline import replay
@@ -391,6 +395,43 @@ def test_the_session_written_replays_to_the_same_frost(tmp_path):
     assert (again.geometry.heights == feed.thread.geometry.heights).all()
     # and the page, which saw a rebuild on the way, holds that frost too
     assert (seen.heights == again.geometry.heights.ravel().astype(np.float16)).all()
+
+
+def test_an_autosave_in_flight_never_replaces_the_last_save(tmp_path, monkeypatch):
+    """A slow disk: an autosave is being written when the server stops with one more
+    event; the save at the end waits for it, so the file keeps both events."""
+    monkeypatch.setattr(session_module, "AUTOSAVE_PERIOD", 0.01)
+    monkeypatch.setattr(session_keeper, "AUTOSAVE_PERIOD", 0.01)
+    gate, save, writes = threading.Event(), SessionLog.save, []
+
+    def slow_save(session, path):
+        writes.append(len(session.events))
+        if len(writes) == 1:
+            assert gate.wait(10)
+        return save(session, path)
+
+    monkeypatch.setattr(SessionLog, "save", slow_save)
+    feed = Feed(PAPER, seed=1)
+
+    def touched(x: float, y: float) -> None:
+        feed.thread.send("touch", ((x, y), None))
+        feed.thread.tick()
+        feed.pump()
+
+    async def run():
+        files = SessionFiles(feed, tmp_path)
+        touched(*CENTRE)
+        files.start()
+        while not writes:  # the autosave of one event, held at the gate
+            await asyncio.sleep(0.01)
+        touched(200.0, 300.0)
+        threading.Timer(0.2, gate.set).start()
+        files.stop()
+        await asyncio.sleep(0.5)  # (time for a write left behind to land)
+
+    asyncio.run(run())
+    [path] = tmp_path.glob("session-*.json")
+    assert writes == [1, 2] and len(SessionLog.load(path).events) == 2
 
 
 def test_frost_serve_from_the_command_line(tmp_path):

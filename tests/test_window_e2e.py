@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.window.capture import AUTOSAVE_PERIOD
+from app.session_keeper import AUTOSAVE_PERIOD
 from sim.io.session import SessionLog
 
 ROOT = Path(__file__).resolve().parent.parent

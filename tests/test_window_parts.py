@@ -15,12 +15,13 @@ from hypothesis import example, given
 from hypothesis import strategies as st
 from PIL import Image
 
+from app.session_keeper import AUTOSAVE_PERIOD
 from app.simthread import thread as simthread
 from app.simthread.backlog import Backlog
 from app.simthread.schedule import RATE_WINDOW
 from app.simthread.thread import SimThread
 from app.window import keys, lost_display
-from app.window.capture import AUTOSAVE_PERIOD, Capture
+from app.window.capture import Capture
 from app.window.keys import BINDINGS, Binding, help_lines, key_table
 from app.window.record import FRAME_GAP, Recorder
 from app.window.status import IDLE_GAP, DrawRate, Status
@@ -505,12 +506,12 @@ def test_the_session_file_follows_the_run_at_most_every_autosave_period(tmp_path
     for now, ticks in ((0.0, 5), (1.0, 5), (AUTOSAVE_PERIOD, 5), (2 * AUTOSAVE_PERIOD, 0)):
         snap = ticked(thread, ticks) if ticks else snap
         capture.keep_session(snap, now)
-        capture.wait_kept()
+        capture.keeper.wait()
         saved.append(SessionLog.load(capture.session_path).steps)
     assert saved == [5, 5, 15, 15]  # too soon at 1 s; unchanged at the end
     renderer.light = [0.5, 0.0, 0.866]  # the view alone changed: saved with it
     capture.keep_session(snap, 3 * AUTOSAVE_PERIOD)
-    capture.wait_kept()
+    capture.keeper.wait()
     assert SessionLog.load(capture.session_path).view["light"] == [0.5, 0.0, 0.866]
     assert said == [] and len(list((tmp_path / "sessions").iterdir())) == 1
 
@@ -533,7 +534,7 @@ def test_an_autosave_never_holds_a_frame_nor_outlives_the_last_save(tmp_path, mo
     last = ticked(thread, 3)
     threading.Timer(0.2, gate.set).start()
     capture.save_session(last)
-    capture.wait_kept()  # (nothing left to wait for)
+    capture.keeper.wait()  # (nothing left to wait for)
     assert writes == [3, 9] and SessionLog.load(capture.session_path).steps == 9
 
 
@@ -542,7 +543,7 @@ def test_a_session_that_cannot_be_kept_is_told_once(tmp_path):
     (tmp_path / "sessions").write_text("a file where the folder must be")
     for k in range(3):
         capture.keep_session(ticked(thread, 1), k * AUTOSAVE_PERIOD)
-        capture.wait_kept()
+        capture.keeper.wait()
     told = [text for _, text in simthread.take_all(thread.notices)]
     assert len(told) == 1 and told[0].startswith("session NOT saved: ") and said == []
 

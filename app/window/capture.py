@@ -4,11 +4,11 @@ exit, and requests for frost-map exports; every name new, every failure reported
 from __future__ import annotations
 
 import logging
-import threading
 from collections.abc import Callable
 from pathlib import Path
 
 from app.images import frost_meta, save_png, timestamped_path
+from app.session_keeper import SessionKeeper
 from app.simthread.thread import SimThread, Snapshot
 from app.window.presenter import Presenter
 from sim import Params
@@ -16,10 +16,6 @@ from sim.io.files import why
 from sim.io.session import SessionLog
 
 log = logging.getLogger("app.window")
-
-# s: while the session changes, its file is saved this often, so a process killed at once
-# (SIGKILL, the X server gone) loses at most this much of it.
-AUTOSAVE_PERIOD = 3.0
 
 
 class Capture:
@@ -29,63 +25,31 @@ class Capture:
                  screenshot_dir, session_dir):
         self.thread, self.presenter, self.say = thread, presenter, say
         self.screenshot_dir, self.session_dir = Path(screenshot_dir), Path(session_dir)
-        self.session_path: Path | None = None  # this run's session file, made on first save
+        # this run's session file (a failed autosave told on the HUD, once)
+        self.keeper = SessionKeeper(self.session_dir, log,
+                                    lambda text: thread.notify(logging.WARNING, text))
         self.screenshots: list[Path] = []
         self.names: set[str] = set()  # stems of screenshots and map folders asked for
-        self.saved: tuple | None = None  # (steps, events, view) of this run's file
-        self._autosave_next, self._autosave_failed = 0.0, False
-        self._keeper: threading.Thread | None = None  # the autosave being written
+
+    @property
+    def session_path(self) -> Path | None:
+        """This run's session file, once saved."""
+        return self.keeper.path
 
     def keep_session(self, snapshot: Snapshot | None, now: float) -> None:
-        """Save the session up to `snapshot` when it differs from the file and the last save
-        is AUTOSAVE_PERIOD old (`now`, monotonic s), on a worker: a long session takes
-        a tenth of a second to write, a frame must not wait for it. A failure is told
-        once; the save at exit tells it again."""
-        if snapshot is None or now < self._autosave_next or self._keeping():
-            return
-        self._autosave_next = now + AUTOSAVE_PERIOD  # looked at again then, changed or not
-        session = self._session(snapshot)
-        if not session.events or self.saved == (session.steps, len(session.events), session.view):
-            return  # (no event: no file, as at exit)
-        path = self._run_path()
-        self.saved = None
-        self._keeper = threading.Thread(target=self._keep, args=(session, path),
-                                        name="frost-session", daemon=True)
-        self._keeper.start()
-
-    def _keeping(self) -> bool:
-        return self._keeper is not None and self._keeper.is_alive()
-
-    def wait_kept(self) -> None:
-        """Until the autosave being written (if any) is done."""
-        if self._keeper is not None:
-            self._keeper.join()
-
-    def _keep(self, session: SessionLog, path: Path) -> None:
-        try:
-            session.save(path)
-        except OSError as err:
-            if not self._autosave_failed:
-                self.thread.notify(logging.WARNING, f"session NOT saved: {why(err, path)}")
-            self._autosave_failed = True
-            return
-        self.saved = (session.steps, len(session.events), session.view)
-        log.debug("session kept: %s (%d events, %d steps)", path, len(session.events),
-                  session.steps)
+        """The autosave (`SessionKeeper.keep`) of the session up to `snapshot` (`now`:
+        monotonic s)."""
+        if snapshot is not None:
+            self.keeper.keep(lambda: self._session(snapshot), now)
 
     def save_session(self, snapshot: Snapshot | None, path: Path | None = None) -> Path | None:
         """The session up to the frame shown (`snapshot`) and the view it was shown with, to
-        `path` (default: this run's file, once an autosave writing it is done); replay it
-        with `frost replay FILE`. OSError if it cannot be written (nothing half-written).
-        This run's file is not written while the session has no event (None): it would
-        replay bare glass."""
+        `path` (OSError if it cannot be written; nothing half-written); replay it with
+        `frost replay FILE`. Without `path`: this run's file at the end
+        (`SessionKeeper.finish`, which says what it did)."""
         session = self._session(snapshot)
-        if path is None and not session.events:
-            log.info("session: no touch, melt or change to replay, so no session file")
-            return None
         if path is None:
-            self.wait_kept()
-            path = self._run_path()
+            return self.keeper.finish(session)
         session.save(path)
         log.info("session: %s (%d events, %d steps)", path, len(session.events), session.steps)
         return path
@@ -95,12 +59,6 @@ class Capture:
                    else self.thread.session(0, 0))
         session.view = self.presenter.renderer.view()
         return session
-
-    def _run_path(self) -> Path:
-        """This run's session file, named at its first save."""
-        self.session_path = self.session_path or timestamped_path(self.session_dir, "session",
-                                                                  ".json")
-        return self.session_path
 
     def screenshot(self, snapshot: Snapshot | None, params: Params) -> None:
         """The frame shown, as a PNG stating what made it (all from the snapshot shown and

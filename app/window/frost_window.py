@@ -36,7 +36,7 @@ from app.window.record import Recorder
 from app.window.status import Status
 from app.window.view import PHONE, Sizes
 from sim import Params
-from sim.io.files import one_line, why
+from sim.io.files import one_line
 
 log = logging.getLogger("app.window")
 
@@ -162,10 +162,7 @@ class FrostWindow:
         """A running recording, the session and the summary (the thread has stopped)."""
         self.recorder.close()
         self._drain_notices()
-        try:
-            self.capture.save_session(self.latest)
-        except OSError as err:
-            log.warning("session NOT saved: %s", why(err, self.capture.session_path))
+        self.capture.save_session(self.latest)  # (a failure is said in the log)
         self.status.summary(self.latest, self.presenter.renders, self.snapshots,
                             len(self.capture.screenshots), self.exit_status)
 
