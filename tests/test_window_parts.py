@@ -230,6 +230,30 @@ def test_every_map_export_asked_for_is_written_even_in_one_tick_or_at_stop(tmp_p
     assert len(notices) == 5
 
 
+def test_a_subscriber_reads_every_snapshot_and_is_woken_after_each():
+    woken: list[str] = []
+    thread = SimThread(Params(), 0, [(380, 640)], wake=lambda: woken.append("maker"))
+    thread.tick()
+    drain = thread.subscribe(lambda: woken.append("reader"))
+    for _ in range(3):
+        thread.tick()
+    mine, theirs = thread.drain(), drain()
+    assert [s.stats.tick for s in mine] == [1, 2, 3, 4] and theirs == mine[1:]
+    assert woken == ["maker"] + ["maker", "reader"] * 3
+    thread.notify(logging.INFO, "a notice")  # (read by the maker, told to all)
+    assert woken[-2:] == ["maker", "reader"] and drain() == []
+
+
+def test_work_between_ticks_runs_once_after_the_snapshot_and_before_the_next_tick():
+    thread = SimThread(Params(), 0, [(380, 640)])
+    seen: list[tuple[int, int]] = []
+    thread.tick()
+    thread.between_ticks(lambda: seen.append((thread.sim.tick, thread.outbox.qsize())))
+    thread.tick()  # its snapshot is out, then the work, with the sim still at that tick
+    thread.tick()
+    assert seen == [(2, 2)] and thread.drain()[1].stats.tick == 2
+
+
 def test_pause_and_single_step():
     thread = SimThread(Params(), 0, [(380, 640)])
     thread.send("pause")

@@ -1,11 +1,12 @@
 """The simulation thread's snapshots, encoded once a tick and fanned out to every page.
 
-Runs on the asyncio loop, which the thread's `wake` schedules after each tick. A page that
-connects or resyncs needs the whole frost: the live ice is drawn anew
-(`FrostGeometry.redraw`, into a geometry of its own) inside that same `wake` while it runs on
-the simulation thread, right after a tick and before the next, so it reads a simulation
-that nothing changes meanwhile, and it is tagged with the (steps, events) of the snapshot it
-follows. The heights come from the encoder's grid (the sum of every delta sent).
+Runs on the asyncio loop, which the thread's wake-up schedules after each tick. A page
+that connects or resyncs needs the whole frost: the live ice is drawn anew
+(`FrostGeometry.redraw`, into a geometry of its own) on the simulation thread between two
+ticks (`SimThread.between_ticks`), so it reads a simulation that nothing changes
+meanwhile, and it is tagged with the (steps, events) of the snapshot it follows. The
+heights come from the encoder's grid (the sum of every delta sent). Beside the desktop
+window the feed is one more reader of the window's thread (`SimThread.subscribe`).
 """
 
 from __future__ import annotations
@@ -13,7 +14,6 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
-import queue
 import threading
 from collections import deque
 
@@ -40,17 +40,20 @@ class Feed:
     def __init__(self, params: Params, seed: int, touches=(), melt_radius: float = 24.0,
                  backdrop: str = "dusk", thread: SimThread | None = None):
         """A feed of a new simulation thread, or of `thread` (the desktop window's, which
-        starts it and reads its snapshots from this feed: `beside_window`)."""
-        self.thread = thread or SimThread(params, seed, touches, *SIZE)
-        self._wake_also = self.thread.wake  # (the window's wake; nothing for a thread of our own)
-        self.thread.wake = self._woken
+        starts it, reads its notices and keeps the session file)."""
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._pumping = threading.Event()  # a pump is scheduled
         self.own_thread = thread is None
-        self._drain = self.thread.drain  # (the window's drain reads this feed: beside_window)
+        if thread is None:
+            self.thread = SimThread(params, seed, touches, *SIZE, wake=self._woken)
+            self._drain = self.thread.drain
+        else:
+            self.thread = thread
+            self._drain = thread.subscribe(self._woken)
         geometry = self.thread.geometry
         self.encoder = protocol.Encoder(geometry.cols, geometry.rows)
         self.controls = Controls(self.thread, params, melt_radius, backdrop, self.notice,
                                  self.tick)
-        self._window: queue.Queue[Snapshot] | None = None  # the window's snapshots
         self.pages: set[Page] = set()
         self.latest: Snapshot | None = None
         self.key = (0, 0)  # (steps, events) of the latest snapshot published
@@ -60,24 +63,14 @@ class Feed:
         self.sizes: deque[int] = deque(maxlen=SIZES_KEPT)
         self.tick_ms: deque[float] = deque(maxlen=SIZES_KEPT)
         self._state: dict = {}
-        self._loop: asyncio.AbstractEventLoop | None = None
-        self._want_redraw = threading.Event()
+        self._want_redraw = threading.Event()  # a redraw is asked for and not begun
         self._lock = threading.Lock()
         self._redraw: tuple[tuple[int, int], GeometryDelta] | None = None
-        self._pumping = threading.Event()  # a pump is scheduled
 
     def start(self, loop: asyncio.AbstractEventLoop) -> None:
         self._loop = loop
         if self.own_thread:
             self.thread.start()
-
-    def beside_window(self) -> None:
-        """The thread is the desktop window's too: every snapshot this feed publishes is
-        handed on to the window's `drain`, which reads no other (the thread's outbox has
-        one reader), and the window reads the thread's notices."""
-        self._window = queue.Queue()
-        window = self._window
-        self.thread.drain = lambda: _everything(window)  # type: ignore[method-assign]
 
     def tick(self) -> int:
         return self.latest.stats.tick if self.latest else 0
@@ -85,19 +78,16 @@ class Feed:
     # ---- the simulation thread's side ---------------------------------------------------
 
     def _woken(self) -> None:
-        """The thread's wake: after every tick (on its thread) and for its notices."""
-        if threading.current_thread() is self.thread and self._want_redraw.is_set():
-            self._want_redraw.clear()
-            self._make_redraw()
+        """The thread's wake-up: after every tick (on its thread) and for its notices."""
         loop = self._loop
-        if loop is None:
-            self._wake_also()  # not serving yet: the window reads the notices itself
-        elif not self._pumping.is_set():
+        if loop is not None and not self._pumping.is_set():
             self._pumping.set()
             with contextlib.suppress(RuntimeError):  # the loop is closed: the end
                 loop.call_soon_threadsafe(self.pump)
 
     def _make_redraw(self) -> None:
+        """The live frost drawn anew, between two ticks (`SimThread.between_ticks`)."""
+        self._want_redraw.clear()
         thread = self.thread
         timeline = thread.timeline
         key = (timeline.steps, len(timeline.events))
@@ -112,7 +102,11 @@ class Feed:
     # ---- the loop's side -----------------------------------------------------------------
 
     def ask_redraw(self) -> None:
-        self._want_redraw.set()
+        """A snapshot of the whole frost for the pages waiting, drawn between the next two
+        ticks (once, however often it is asked meanwhile)."""
+        if not self._want_redraw.is_set():
+            self._want_redraw.set()
+            self.thread.between_ticks(self._make_redraw)
 
     def pump(self) -> None:
         """Publish every snapshot the thread made since the last pump."""
@@ -120,12 +114,9 @@ class Feed:
         for snap in self._drain():
             self._publish(snap)
             self._serve_redraw()
-            if self._window is not None:
-                self._window.put(snap)
         self._serve_redraw()
-        if self._window is not None:
-            self._wake_also()
-            return
+        if not self.own_thread:
+            return  # (the window reads the thread's notices)
         while not self.thread.notices.empty():
             level, text = self.thread.notices.get()
             log.log(level, "%s", text)
@@ -141,7 +132,7 @@ class Feed:
             reset = False
         if reset:
             messages.append(self.encoder.bare(snap.stats.tick, reset=True))
-        if snap.reset and self._window is not None:  # (the window's keys change them too)
+        if snap.reset and not self.own_thread:  # (the window's keys change them too)
             self.controls.params = snap.params
         self.latest, self.key = snap, (snap.steps, snap.events)
         self.sizes.append(sum(map(len, messages)))
@@ -213,11 +204,3 @@ class Feed:
             if not page.waiting:
                 page.text(message)
 
-
-def _everything(q: queue.Queue) -> list:
-    """What `q` holds now, oldest first."""
-    items = []
-    with contextlib.suppress(queue.Empty):
-        while True:
-            items.append(q.get_nowait())
-    return items

@@ -1,7 +1,7 @@
 """`frost serve --window`: the desktop window on the same frost as the pages. The window
 owns the main thread, the simulation thread and the session file, as it does alone; the
-server runs its asyncio loop on a thread of its own and feeds the window the snapshots it
-publishes (`Feed.beside_window`)."""
+server runs its asyncio loop on a thread of its own, and its feed reads the thread's
+snapshots beside the window (`SimThread.subscribe`)."""
 
 from __future__ import annotations
 
@@ -65,7 +65,6 @@ def serve_with_window(args, params, token: str | None) -> int:
     def attach(window) -> None:
         feed = Feed(params, args.seed, melt_radius=args.melt_radius, backdrop=args.background,
                     thread=window.thread)
-        feed.beside_window()
         server.start(feed)
 
     args.view = view_from(args)

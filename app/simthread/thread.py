@@ -3,7 +3,9 @@
 Input (touches, melts, parameter changes, clear, pause, single step) arrives on `inbox`
 and applies at the next tick; the simulation's events go through `sim.io.session.Timeline`
 (the same code headless runs and replays use), which records them with their ticks.
-After each tick an immutable `Snapshot` goes on `outbox`; the main thread applies every
+After each tick an immutable `Snapshot` goes on `outbox` (and to each reader that
+`subscribe`d: `frost serve --window` feeds pages beside the window), the work asked with
+`between_ticks` runs, and every reader's `wake` is called; the main thread applies every
 snapshot's geometry deltas in order. No GL here.
 """
 
@@ -92,11 +94,16 @@ class SimThread(threading.Thread):
                  script=()):
         super().__init__(name="frost-sim", daemon=True)
         self.inbox: queue.Queue[Command] = queue.Queue()
-        self.outbox: queue.Queue[Snapshot] = queue.Queue()
+        self.outbox: queue.Queue[Snapshot] = queue.Queue()  # the maker's snapshots (drain)
         # (logging level, text) from this thread's workers, for the HUD and the log.
         self.notices: queue.Queue[tuple[int, str]] = queue.Queue()
         self.size = (width, height)
-        self.seed, self.wake = seed, wake or (lambda: None)
+        self.seed = seed
+        # Who is told of a snapshot or a notice: the maker (`wake`), then the other readers,
+        # each with its own queue of snapshots (`subscribe`).
+        self._wakes: list[Callable[[], None]] = [wake] if wake is not None else []
+        self._readers: list[queue.Queue[Snapshot]] = []
+        self._between: queue.Queue[Callable[[], None]] = queue.Queue()
         self.first_params = params
         self.script, self._script_at = list(script), 0  # a replayed session's events
         self.paused = False
@@ -179,8 +186,28 @@ class SimThread(threading.Thread):
                             None if self.is_alive() else self.timeline, self.seed)
 
     def drain(self) -> list[Snapshot]:
-        """Every snapshot produced since the last call, oldest first."""
+        """Every snapshot produced since the last call, oldest first (the maker's)."""
         return take_all(self.outbox)
+
+    def subscribe(self, wake: Callable[[], None]) -> Callable[[], list[Snapshot]]:
+        """Another reader of the snapshots: each one published from now on goes to a queue
+        of its own too, and `wake()` is called after it (on this thread) and after each
+        notice (on the thread that made it). Returns the reader's drain."""
+        mine: queue.Queue[Snapshot] = queue.Queue()
+        self._readers.append(mine)
+        self._wakes.append(wake)
+        return lambda: take_all(mine)
+
+    def between_ticks(self, work: Callable[[], None]) -> None:
+        """`work()` once, on the thread that ticks, right after the tick under way (or the
+        next) has published its snapshot and before the next tick begins: the simulation
+        holds still while it runs (a page's snapshot is drawn from it there)."""
+        self._between.put(work)
+
+    def wake(self) -> None:
+        """Tell every reader that a snapshot or a notice is waiting."""
+        for wake in self._wakes:
+            wake()
 
     def notify(self, level: int, text: str) -> None:
         """A message for the main thread (any thread may call it)."""
@@ -194,8 +221,7 @@ class SimThread(threading.Thread):
             self.schedule.run(self.tick)
         except Exception as err:
             log.exception("simulation thread failed")
-            self.outbox.put(self._snapshot(None, error=f"{type(err).__name__}: {err}"))
-            self.wake()
+            self._publish(self._snapshot(None, error=f"{type(err).__name__}: {err}"))
 
     def tick(self) -> None:
         """One tick now: the input due applied, a step unless paused, the map exports
@@ -223,9 +249,17 @@ class SimThread(threading.Thread):
             self.backlog.stepped(self.backlog.clock() - step_started)
         self.exports.write_asked(self.timeline, self.seed)  # the tick the snapshot shows
         self.times.took((time.perf_counter() - started) * 1000.0)
-        self.outbox.put(self._snapshot(step.delta, reset=reset, clicks=step.clicks,
-                                       grown=step.grown, message=message,
-                                       melts=(*melts, *step.melts)))
+        self._publish(self._snapshot(step.delta, reset=reset, clicks=step.clicks,
+                                     grown=step.grown, message=message,
+                                     melts=(*melts, *step.melts)))
+
+    def _publish(self, snapshot: Snapshot) -> None:
+        """`snapshot` to every reader, the work asked between ticks, then the wake-ups."""
+        self.outbox.put(snapshot)
+        for reader in self._readers:
+            reader.put(snapshot)
+        for work in take_all(self._between):
+            work()
         self.wake()
 
     def _step(self) -> Step:

@@ -51,8 +51,9 @@ class FrostWindow:
     def __init__(self, window, args, params: Params):
         self.window, self.max_seconds = window, args.max_seconds
         self.sizes = Sizes(glfw.get_window_size(window), glfw.get_framebuffer_size(window))
-        self.thread = SimThread(params, args.seed, args.touch or (), *PHONE,
-                                wake=glfw.post_empty_event, script=getattr(args, "script", ()))
+        self.display_gone = False  # (lost_display: no GLFW call may meet the dead connection)
+        self.thread = SimThread(params, args.seed, args.touch or (), *PHONE, wake=self._wake,
+                                script=getattr(args, "script", ()))
         self.presenter = Presenter(moderngl.create_context(), params, getattr(args, "view", None))
         self.status = Status()
         self.recorder = Recorder(args.screenshot_dir, self.thread.notify)
@@ -95,6 +96,11 @@ class FrostWindow:
 
     def _on_window_size(self, _window, w: int, h: int) -> None:
         self.sizes.window = (w, h)
+
+    def _wake(self) -> None:
+        """The simulation thread's wake-up (any thread): the frame loop's wait ends."""
+        if not self.display_gone:
+            glfw.post_empty_event()
 
     def redraw(self) -> None:
         self.dirty = True
@@ -153,7 +159,7 @@ class FrostWindow:
         """The X connection is gone (lost_display): Xlib ends the process with status 1
         when this returns, so the files are written now, with no GLFW or GL call."""
         log.error("window: the display connection is lost (X server gone or window killed)")
-        self.thread.wake = lambda: None  # its wake-ups would meet the dead connection
+        self.display_gone = True  # the thread's wake-ups would meet the dead connection
         self.running, self.exit_status = False, 1
         self.thread.stop()
         self._write_out()
