@@ -18,7 +18,7 @@ LOOKS = ("paper", "glass")
 GRAIN_RULES = ("drift", "tip_hits", "side_hits", "side_gap", "order_hits", "max_order")
 # The fern rules: off (at their defaults) in the paper's look.
 FERN_RULES = ("grains", *GRAIN_RULES, "long_jumps", "launch")
-# Parameters that only mean something in window mode (sim/rules/pane.py).
+# Parameters that only mean something in window mode (sim/rules/window_mode.py).
 WINDOW_RULES = ("frame_sites", "pane_sites", "temperature", "water_far", "near_water",
                 "vapour_var", "frame_chill")
 # The frond rules (docs/method.md, section 8): off at their defaults; the window preset
@@ -120,7 +120,7 @@ class Params:
                              "moves from that area's pool onto the glass within 2 hc of its "
                              "seed, walkers (0: none, the paper)", 0, 1000)
 
-    # Beyond the paper: the frosted window (sim/rules/pane.py). Off by default.
+    # Beyond the paper: the frosted window (sim/rules/window_mode.py). Off by default.
     window_frost: bool = _p(False, "window_frost: frost nucleates on the screen's border and on a few "
                                    "pane sites and grows over the whole pane from one pool of "
                                    "humidity walkers (needs grains)", choices=(False, True))

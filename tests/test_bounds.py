@@ -295,7 +295,7 @@ def test_the_cap_holds_when_each_crystal_brings_much_work():
     count[cells] = 127
     frozen, parents = np.arange(10), np.zeros(10, np.int32)
     kept, _, over = budget.admit(frozen, parents, count, grid, lambda i: points[i], hc, work,
-                                 most=int(count.max()))
+                                 count_bound=int(count.max()))
     expected = admitted_slow(points, count, grid, hc, 10)
     assert kept.tolist() == expected == [0]
     assert over.tolist() == list(range(1, 10))

@@ -1,4 +1,4 @@
-"""Window mode (sim/rules/pane.py): seeds on the frame, one pane-wide pool, temperature, and a wiped
+"""Window mode (sim/rules/window_mode.py): seeds on the frame, one pane-wide pool, temperature, and a wiped
 path that refreezes from its edges, against brute-force oracles."""
 
 import numpy as np
@@ -8,7 +8,7 @@ from app.tools.measures import frosted_end
 from sim import FrostSim, Params, preset_name
 from sim.index.grid import CELL_MARGIN
 from sim.params import FROND_RULES
-from sim.rules.pane import BAND
+from sim.rules.window_mode import BAND
 
 WINDOW = Params.preset("window")
 W, H = 300, 400  # a small pane keeps full coverage within a few hundred ticks

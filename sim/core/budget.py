@@ -29,23 +29,24 @@ def work_per_crystal(hc: float, grid_spacing: float, spacing: float) -> int:
     return per_link * (2 * reach + 1) ** 2
 
 
-def admit(frozen: np.ndarray, parents: np.ndarray, count: np.ndarray, grid, at, hc: float,
-          work: int, most: int | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def admit(frozen: np.ndarray, parents: np.ndarray, count: np.ndarray, grid, position_of,
+          hc: float, work: int, count_bound: int | None = None,
+          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The freezes (walkers `frozen`, crystals `parents`) a tick takes: within FREEZE_WORK
     at `work` a crystal (the rest wait a tick), then those whose cells (`count` crystals
-    listed; `at(frozen)`: the walkers' positions) all stay within CELL_CAP. In walker
+    listed; `position_of(frozen)`: the walkers' positions) all stay within CELL_CAP. In walker
     order, so both neighbour searches admit the same. Returns (frozen, parents, over):
-    `over` the walkers whose freeze would overflow a cell. `most`: a bound on the
-    largest count, where known (`CellLists.most`), which spares a pass over the counts."""
+    `over` the walkers whose freeze would overflow a cell. `count_bound`: at least the
+    largest count, where known (`CellLists.count_bound`), which spares a pass over the counts."""
     take = max(1, FREEZE_WORK // work)
     frozen, parents = frozen[:take], parents[:take]
-    none = frozen[:0]
-    if (most is not None and most + len(frozen) <= CELL_CAP) or \
+    no_one = frozen[:0]
+    if (count_bound is not None and count_bound + len(frozen) <= CELL_CAP) or \
             count.max(initial=0) + len(frozen) <= CELL_CAP:
-        return frozen, parents, none  # no cell can fill up this tick (cheap: one pass, no cells)
-    cells, owner = grid.disc_cells(at(frozen), hc)
+        return frozen, parents, no_one  # no cell can fill up this tick (cheap: one pass, no cells)
+    cells, owner = grid.disc_cells(position_of(frozen), hc)
     if len(cells) == 0 or count[cells].max() + len(frozen) <= CELL_CAP:
-        return frozen, parents, none
+        return frozen, parents, no_one
     ok = within_cap(count, cells, owner, len(frozen))
     return frozen[ok], parents[ok], frozen[~ok]
 
@@ -55,7 +56,7 @@ def room_for(candidates, grid, pts: np.ndarray, hc: float) -> np.ndarray:
     them in (`grid`'s cells, `candidates`' lists) within CELL_CAP: a seed a touch plants,
     or a fern crystal, which grows one hc from its parent, away from the walker the cap
     was checked at."""
-    if candidates.most + len(pts) <= CELL_CAP:  # (no cell can fill up)
+    if candidates.count_bound + len(pts) <= CELL_CAP:  # (no cell can fill up)
         return np.ones(len(pts), bool)
     cells, owner = grid.disc_cells(pts, hc)
     return within_cap(candidates.count, cells, owner, len(pts))

@@ -89,7 +89,7 @@ class CellLists:
     def __init__(self, n_cells: int, width: int = 8):
         self.count = np.zeros(n_cells, dtype=np.int32)
         self.items = np.full((n_cells, width), -1, dtype=np.int32)
-        self.most = 0  # at least the largest count (removals leave it high)
+        self.count_bound = 0  # at least the largest count (removals leave it high)
 
     def insert(self, cells: np.ndarray, ids: np.ndarray) -> np.ndarray:
         """Add `ids[j]` to cell `cells[j]`; ids of one cell must come in ascending order.
@@ -104,7 +104,7 @@ class CellLists:
         slot = self.count[c] + rank
         top = int(slot.max()) + 1
         self._widen(top)
-        self.most = max(self.most, top)
+        self.count_bound = max(self.count_bound, top)
         self.items[c, slot] = i
         self.count[touched] = slot[last] + 1
         return opened

@@ -17,7 +17,7 @@ def drop_in_full_cells(water: Water, index: FreezingIndex) -> tuple[np.ndarray, 
     """Drop the walkers in cells that list CELL_CAP crystals: (the cells of the walkers
     kept, how many dropped)."""
     keys = index.grid.keys(water.x.raw(), water.y.raw())
-    if index.candidates.most < budget.CELL_CAP:  # (no cell can be full)
+    if index.candidates.count_bound < budget.CELL_CAP:  # (no cell can be full)
         return keys, 0
     full = index.candidates.count[keys] >= budget.CELL_CAP
     if not full.any():
@@ -42,7 +42,7 @@ def admitted(water: Water, index: FreezingIndex, hits: np.ndarray, parents: np.n
     cells' cap leaves `water`, and the kept walkers' indices move down to match."""
     candidates = index.candidates
     frozen, parents, over = budget.admit(hits, parents, candidates.count, index.grid, water.at,
-                                         hc, work_per_crystal, candidates.most)
+                                         hc, work_per_crystal, candidates.count_bound)
     if len(over):
         frozen = water.drop_before(over, frozen)
     return frozen, parents, len(over)

@@ -18,8 +18,8 @@ from ..index.freezing import FreezingIndex
 from ..index.periodic import image_near
 from ..params import Params
 from ..rules.fern import make_growth
-from ..rules.pane import chill
-from ..rules.panes import make_pane
+from ..rules.pane_choice import make_pane
+from ..rules.window_mode import chill
 from ..screen import HEIGHT, WIDTH, touch_problem
 from . import budget, placement
 from .areas import Areas

@@ -20,7 +20,7 @@ import numpy as np
 from ..core.placement import first_good
 from ..params import Params
 from .fronds import FRAME_PX, edge_distance
-from .pane import REFERENCE_C, TRIES, Pane
+from .window_mode import REFERENCE_C, TRIES, Pane
 
 # Walkers per far cell of glass. At 2.5 (the band's density without the fronds) a 40 px
 # wipe was 38 % back after 300 ticks in a prototype; 8 refroze it.

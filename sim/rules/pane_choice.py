@@ -1,5 +1,5 @@
 """Which pane a run's water belongs to: none (touch mode), the pane of window mode
-(sim/rules/pane.py), or its open glass under the frond rules (sim/rules/openglass.py)."""
+(sim/rules/window_mode.py), or its open glass under the frond rules (sim/rules/openglass.py)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import numpy as np
 
 from ..params import Params
 from .openglass import OpenGlass
-from .pane import NoPane, Pane
+from .window_mode import NoPane, Pane
 
 
 def make_pane(params: Params, rng: np.random.Generator, index, ice,
