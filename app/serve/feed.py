@@ -56,7 +56,9 @@ class Feed:
                                  self.tick)
         self.pages: set[Page] = set()
         self.latest: Snapshot | None = None
-        self.key = (0, 0)  # (steps, events) of the latest snapshot published
+        # Where the session stood at the latest snapshot published: (steps, events), as
+        # a session file of it would count them (a redraw is tagged with its own).
+        self.moment = (0, 0)
         self.error: str | None = None
         self.redraws = 0
         # For the bench: bytes sent a tick, the thread's tick time (ms)
@@ -90,14 +92,14 @@ class Feed:
         self._want_redraw.clear()
         thread = self.thread
         timeline = thread.timeline
-        key = (timeline.steps, len(timeline.events))
+        moment = (timeline.steps, len(timeline.events))
         try:
             delta = FrostGeometry(thread.params, *thread.size).redraw(thread.sim)
         except Exception:  # (the thread may have died in its tick)
             log.exception("serve: the snapshot of the frost failed")
             return
         with self._lock:
-            self._redraw = (key, delta)
+            self._redraw = (moment, delta)
 
     # ---- the loop's side -----------------------------------------------------------------
 
@@ -134,7 +136,7 @@ class Feed:
             messages.append(self.encoder.bare(snap.stats.tick, reset=True))
         if snap.reset and not self.own_thread:  # (the window's keys change them too)
             self.controls.params = snap.params
-        self.latest, self.key = snap, (snap.steps, snap.events)
+        self.latest, self.moment = snap, (snap.steps, snap.events)
         self.sizes.append(sum(map(len, messages)))
         self.tick_ms.append(snap.stats.tick_ms)
         self._send_state()
@@ -147,12 +149,12 @@ class Feed:
     def _serve_redraw(self) -> None:
         with self._lock:
             ready = self._redraw
-            if ready is None or ready[0] > self.key:
+            if ready is None or ready[0] > self.moment:
                 return  # none, or its snapshot is not published yet
             self._redraw = None
-        key, delta = ready
+        moment, delta = ready
         waiting = [p for p in self.pages if p.idle_waiting()]
-        if key < self.key:  # the frost moved on before it was published: draw it again
+        if moment < self.moment:  # the frost moved on before it was published: draw it again
             if waiting:
                 self.ask_redraw()
             return

@@ -138,10 +138,10 @@ async def _log_stats(feed: Feed, period: float) -> None:
     """A stats line in the log every `period` s, as the window logs one. Its rate counts
     the session's steps: a rebuild (a new preset) sets the tick back to 0."""
     loop = asyncio.get_running_loop()
-    steps, since = feed.key[0], loop.time()
+    steps, since = feed.moment[0], loop.time()
     while True:
         await asyncio.sleep(period)
-        now, ticks = loop.time(), feed.key[0] - steps
+        now, ticks = loop.time(), feed.moment[0] - steps
         n = max(0, min(ticks, len(feed.tick_ms)))
         log.info("serve: %s", stats_line(now - since, ticks, list(feed.tick_ms)[-n:] if n else [],
                                          list(feed.sizes)[-n:] if n else [], len(feed.pages),
