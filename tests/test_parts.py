@@ -7,6 +7,8 @@ import copy
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from sim import FrostSim, Params, walk_displacements
 from sim.core import placement
@@ -235,3 +237,26 @@ def test_each_part_of_version_7_draws_from_a_child_of_the_seed():
     old = FrostSim(Params(), seed=42, version=6).streams
     assert len({id(getattr(old, part)) for part in PARTS}) == 1
     assert old.walk.random(4).tolist() == np.random.default_rng(42).random(4).tolist()
+
+
+@given(st.integers(1, 40), st.integers(1, 12), st.floats(0.0, 1.0), st.integers(0, 2**32 - 1))
+def test_checking_tries_by_rounds_picks_what_checking_them_all_picks(tries, k, p, seed):
+    # The oracle: every draw checked at once (`first_good`). By rounds, a draw is checked
+    # at most once, and not when its walker had a good try in an earlier run of tries
+    # (runs double: try t's run starts at or after (t + 1) // 2).
+    good = np.random.default_rng(seed).random((tries, k)) < p
+    asked: list[int] = []
+
+    def check(flat):
+        asked.extend(flat.tolist())
+        return good.ravel()[flat]
+
+    placed, pick = placement.first_good_by_rounds(check, tries, k)
+    want_placed, want_pick = placement.first_good(good)
+    assert np.array_equal(placed, want_placed) and np.array_equal(pick, want_pick)
+    assert len(asked) == len(set(asked))
+    for flat in asked:
+        t, w = divmod(flat, k)
+        assert not good[:(t + 1) // 2, w].any()
+    if p == 1.0:
+        assert len(asked) == k  # every first try good: no other looked at

@@ -37,6 +37,25 @@ def first_good(good: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return placed, good.argmax(axis=0)[which] * good.shape[1] + which
 
 
+def first_good_by_rounds(check, tries: int, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """`first_good` of tries x k draws whose flags `check(flat)` gives for the flat indices
+    asked: every first try, then later tries only of those still without a good one, in
+    runs of tries that double (1, 1, 2, 4, ...). The same answer as checking every draw,
+    with a fraction of the checks where most first tries are good."""
+    placed, pick = np.zeros(k, bool), np.zeros(k, np.int64)
+    todo, start, size = np.arange(k), 0, 1
+    while start < tries and len(todo):
+        rounds = np.arange(start, min(tries, start + size))
+        good = check((rounds[:, None] * k + todo[None, :]).ravel()).reshape(len(rounds), -1)
+        hit = good.any(axis=0)
+        mine = todo[hit]
+        placed[mine] = True
+        pick[mine] = rounds[good.argmax(axis=0)[hit]] * k + mine
+        todo = todo[~hit]
+        start, size = start + size, size * 2 if start else 1
+    return placed, pick[placed]
+
+
 def disc_spots(rng: np.random.Generator, a: np.ndarray, launch: float,
                wrap: tuple[int, int] | None, m: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """A uniform point of the annulus of each area row of `a` (which may reach off the

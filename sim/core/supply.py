@@ -7,7 +7,7 @@ import numpy as np
 
 from ..index.periodic import wrap_into
 from . import budget
-from .placement import CELL_TRIES, first_good, ring_spots
+from .placement import CELL_TRIES, first_good_by_rounds, ring_spots
 
 # Draws for each walker a touch brings to its ring (`Supply.water_seed`): a seed tucked in
 # beside older ice is the nearest crystal to a sliver of its ring, where 8 draws placed 4
@@ -130,8 +130,11 @@ class Supply:
         if k == 0:
             return
         tries = TOUCH_TRIES if self.touch_creates else CELL_TRIES
-        px, py = ring_spots(self.rng, seed, self.params.hc, tries * k)  # every try at once
-        placed, pick = first_good(self._beside(seed, px, py).reshape(tries, k))
+        px, py = ring_spots(self.rng, seed, self.params.hc, tries * k)  # every try drawn at once
+        if self.index.grid.period is not None:  # a tile: onto it
+            px, py = wrap_into(px, self.index.width), wrap_into(py, self.index.height)
+        placed, pick = first_good_by_rounds(lambda flat: self._beside(seed, px[flat], py[flat]),
+                                            tries, k)
         which = np.flatnonzero(placed)
         moved = which < len(mine)  # the pool's walkers first, then the new ones
         self.water.move(mine[which[moved]], px[pick[moved]], py[pick[moved]])
@@ -141,11 +144,9 @@ class Supply:
             self.created += len(born)
 
     def _beside(self, seed: tuple[float, float], px: np.ndarray, py: np.ndarray) -> np.ndarray:
-        """Spots (wrapped onto a tile in place) on the screen, at least hc / 2 from every
-        live crystal and no nearer to any crystal than to the seed at `seed`."""
+        """Spots on the screen, at least hc / 2 from every live crystal and no nearer to
+        any crystal than to the seed at `seed`."""
         index = self.index
-        if index.grid.period is not None:
-            px[:], py[:] = wrap_into(px, index.width), wrap_into(py, index.height)
         good = (px >= 0) & (px < index.width) & (py >= 0) & (py < index.height)
         pts = np.column_stack((px[good], py[good]))
         d2 = index.nearest_d2(pts)
