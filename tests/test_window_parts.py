@@ -546,23 +546,53 @@ def test_the_lost_display_handler_rescues_once_and_never_waits_on_itself():
     assert other.is_alive() and rescues == [0]  # waits; no second rescue
 
 
-def test_a_lost_window_is_reported_once_and_later_errors_are_ignored():
+def test_a_lost_window_is_reported_once_and_later_errors_on_it_alone_are_ignored():
     """Errors before a window is lost go on to the handler there was; the first BadWindow
-    or BadDrawable is reported with its X id; every error after it is ignored."""
+    or BadDrawable is reported with its X id, and `lost` names the ids of that window (its
+    GLX drawable's too); later errors on those ids are ignored, others are not: another
+    error still goes on, and another window lost is reported in turn."""
     import ctypes
 
     lost, passed = [], []
-    handler = lost_display.reporting(lost.append, lambda d, e: passed.append(
+    panel, phone = (0x40000D, 0x40000E), (0x400007, 0x400008)  # (X window, GLX window)
+
+    def report(resource: int) -> tuple[int, ...]:
+        lost.append(resource)
+        return next(ids for ids in (panel, phone) if resource in ids)
+
+    handler = lost_display.reporting(report, lambda d, e: passed.append(
         e.contents.error_code) or 7)
 
     def error(code: int, resource: int) -> int:
         event = lost_display.XErrorEvent(error_code=code, resourceid=resource)
         return handler(None, ctypes.pointer(event))
 
+    glx_bad_window = 170  # GLX's error base + 12, met by glXDestroyWindow on a window gone
     assert error(8, 0x11) == 7 and passed == [8] and lost == []  # BadMatch: not ours
-    assert error(lost_display.BAD_DRAWABLE, 0x400007) == 0 and lost == [0x400007]
-    assert error(lost_display.BAD_WINDOW, 0x40000D) == 0 and error(8, 0x11) == 0
-    assert lost == [0x400007] and passed == [8]
+    assert error(lost_display.BAD_DRAWABLE, 0x40000D) == 0 and lost == [0x40000D]
+    assert error(lost_display.BAD_WINDOW, 0x40000D) == 0  # the panel again: ignored
+    assert error(glx_bad_window, 0x40000E) == 0  # its GLX drawable: ignored
+    assert lost == [0x40000D] and passed == [8]
+    assert error(8, 0x11) == 7 and passed == [8, 8]  # not the panel's: goes on
+    assert error(lost_display.BAD_WINDOW, 0x400007) == 0 and lost == [0x40000D, 0x400007]
+    assert error(glx_bad_window, 0x400008) == 0 and error(lost_display.BAD_DRAWABLE,
+                                                          0x400007) == 0
+    assert lost == [0x40000D, 0x400007] and passed == [8, 8]
+
+
+def test_a_lost_window_that_names_no_ids_has_its_own_ignored_and_a_failing_report_is_kept():
+    import ctypes
+
+    calls = []
+
+    def report(resource: int):
+        calls.append(resource)
+        raise RuntimeError("a bug in the report")  # must not unwind into Xlib
+
+    handler = lost_display.reporting(report, lambda d, e: 7)
+    event = lost_display.XErrorEvent(error_code=lost_display.BAD_WINDOW, resourceid=0x99)
+    assert handler(None, ctypes.pointer(event)) == 0 and handler(None, ctypes.pointer(event)) == 0
+    assert calls == [0x99]  # reported once, then ignored
 
 
 # ---- recording ----------------------------------------------------------------------------
@@ -800,8 +830,9 @@ def test_without_imgui_the_panel_key_says_why_and_the_panel_costs_nothing():
     assert said == [WHY] and "Python 3.11" in WHY
     panel.frame(True)
     assert not panel.needs_frame() and panel.readout(25) is None  # no cost on the stats line
+    assert panel.lost(0x400007) == ()  # no window of its own to lose
     host = pytest.importorskip("app.window.panel_host").PanelHost
-    used = {"toggle", "needs_frame", "frame", "readout", "close"}  # what FrostWindow calls
+    used = {"toggle", "needs_frame", "frame", "readout", "lost", "close"}  # FrostWindow's calls
     assert used <= {n for n in dir(host) if not n.startswith("_")}
     assert used <= {n for n in dir(NoPanel) if not n.startswith("_")}
 
