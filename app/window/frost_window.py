@@ -217,7 +217,7 @@ class FrostWindow:
         if drawn:
             self.presenter.render_phone()
         if self.new_ticks and self.recorder.active:  # each frame lasts until the next
-            self.recorder.offer(self.presenter.read_phone)
+            self.recorder.offer(self.presenter.read_phone, self.presenter.renders)
         self.new_ticks = 0
         if self.dirty or now >= self.status.hud_next or self.damaged:
             self._present(now)
