@@ -15,13 +15,14 @@ from hypothesis import example, given
 from hypothesis import strategies as st
 from PIL import Image
 
+from app import keys
+from app.keys import BINDINGS, Binding, help_lines, key_table
 from app.simthread import thread as simthread
 from app.simthread.backlog import Backlog
 from app.simthread.schedule import RATE_WINDOW
 from app.simthread.thread import SimThread
-from app.window import keys, lost_display
+from app.window import lost_display
 from app.window.capture import AUTOSAVE_PERIOD, Capture
-from app.window.keys import BINDINGS, Binding, help_lines, key_table
 from app.window.record import FRAME_GAP, Recorder
 from app.window.status import IDLE_GAP, DrawRate, Status
 from app.window.view import cursor_to_phone, fit_scale, letterbox

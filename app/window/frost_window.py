@@ -18,11 +18,11 @@ from collections.abc import Callable
 import glfw
 import moderngl
 
+from app.keys import help_lines
 from app.simthread.thread import SimThread, Snapshot
 from app.window.actions import Actions
 from app.window.capture import Capture
 from app.window.glfw_setup import WindowError, open_window, x_window_ids
-from app.window.keys import help_lines
 from app.window.lost_display import on_lost_display, on_lost_window
 from app.window.no_panel import NoPanel
 
