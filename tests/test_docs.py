@@ -76,3 +76,23 @@ def test_every_file_named_exists(page):
     missing = [name for name in NAMED_FILE.findall(page.read_text())
                if not (ROOT / name).exists() and not (page.parent / name).exists()]
     assert missing == []
+
+
+def sentences(page: Path) -> list[str]:
+    """The page's text but its headings, cut at each full stop or semicolon."""
+    text = " ".join(line for line in page.read_text().splitlines() if not line.startswith("#"))
+    return re.split(r"(?<=[.;])\s+", " ".join(text.split()))
+
+
+def test_the_window_page_gives_recordings_the_size_and_the_cap_they_have():
+    """docs/window.md against app/window/record.py: a sentence naming recordings and a
+    size names the recordings' own (they are the phone downscaled, not its 760×1280),
+    and the cap is MAX_FRAMES."""
+    from app.window.record import FRAME_SIZE, MAX_FRAMES
+
+    size, page = "{}×{}".format(*FRAME_SIZE), sentences(ROOT / "docs" / "window.md")
+    told = [s for s in page if "recording" in s.lower() and re.search(r"\d+×\d+", s)]
+    assert told, "docs/window.md says no recording's size"
+    for sentence in told:
+        assert size in sentence, sentence
+    assert f"at {MAX_FRAMES} distinct frames" in " ".join(page)

@@ -58,6 +58,15 @@ def test_the_server_loads_no_gl_and_no_window_library():
     assert under(loaded, *GL_AND_WINDOW, "app.gl", "app.tools") == set()
 
 
+def test_the_server_loads_nothing_of_the_window_package():
+    """The key table serves the window and the page: it lives outside app/window
+    (app/keys.py), so the server loads no module of the window (`--window` opens one only
+    when asked, at run time)."""
+    loaded = loaded_by("app.serve.server", "app.serve.controls", "app.serve.bench")
+    assert "app.keys" in loaded and "app.serve.controls" in loaded
+    assert under(loaded, "app.window") == set()
+
+
 def test_the_tools_load_no_window():
     loaded = loaded_by(*modules_of(app.tools))
     assert "app.tools.maps" in loaded and "moderngl" in loaded  # the renderer's GL is theirs

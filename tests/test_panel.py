@@ -279,6 +279,85 @@ def test_closing_the_panels_window_hides_it_and_keeps_it_for_later(host, monkeyp
     assert calls == [("set_window_should_close", False), ("hide_window",)]
 
 
+PANEL_IDS = (0x40000D, 0x40000E)  # its X window and GLX window
+PHONE_X_ID = 0x400007
+
+
+def gone_window(host, monkeypatch, calls: list):
+    """GLFW faked: the panel's window shown, destroyed from outside, so that reading its
+    size meets the X error (the handler calls `host.lost`, as Xlib would inside the call)."""
+    def size(window):
+        calls.append(("get_window_size", window))
+        host.lost(PANEL_IDS[0])
+        return 0, 0
+
+    monkeypatch.setattr(glfw, "get_window_size", size)
+    for name in ("make_context_current", "destroy_window", "swap_buffers"):
+        monkeypatch.setattr(glfw, name, lambda window, name=name: calls.append((name, window)))
+    host.window, host.ids, host.visible = "the panel's window", PANEL_IDS, True
+
+
+def test_a_panel_window_gone_is_only_marked_inside_xlib_and_names_its_ids(host, monkeypatch):
+    calls: list = []
+    gone_window(host, monkeypatch, calls)
+    assert host.lost(PHONE_X_ID) == () and not host.gone  # not the panel's
+    assert host.lost(PANEL_IDS[1]) == PANEL_IDS and host.gone  # its GLX window names it too
+    assert calls == [] and host.window is not None  # no GLFW call from inside Xlib
+    assert host.needs_frame()  # the frame loop comes back at once to forget it
+
+
+def test_a_panel_window_gone_is_forgotten_at_the_next_frame_and_m_opens_a_new_one(
+        host, monkeypatch):
+    """The redraw due reads the size first and meets the window gone: the dead window's
+    context is never made current (Mesa took seconds to refuse it); the GLFW window is
+    destroyed, the phone's context current again, and the ImGui context is a new one (the
+    old one counts its font texture as uploaded to the dead GL context)."""
+    calls: list = []
+    gone_window(host, monkeypatch, calls)
+    host.redraws.want()
+    host.deferred.run("clear")  # clicked before the window went: still done
+    done: list = []
+    monkeypatch.setattr(host.actions, "run", lambda *a: done.append(a), raising=False)
+    imgui.get_io().mouse_drag_threshold = 99.0  # a mark in the old context's state
+    host.frame(True)
+    assert calls == [("get_window_size", "the panel's window"),
+                     ("destroy_window", "the panel's window"), ("make_context_current", None)]
+    assert done == [("clear", None)]
+    assert host.window is None and host.ids == () and not host.visible and not host.gone
+    io = imgui.get_io()  # a new context, made as the first was
+    assert io.mouse_drag_threshold != 99.0 and not io.get_ini_filename()
+    assert not io.config_flags & imgui.ConfigFlags_.nav_enable_keyboard
+    assert host.input.redraws is host.redraws and not host.needs_frame()
+    assert host.readout(25) is None
+    opened: list = []
+    monkeypatch.setattr(host, "_open", lambda: opened.append(1) or False)
+    host.toggle()  # M: a new window (here one that cannot open)
+    assert opened == [1]
+
+
+def test_a_failing_redraw_is_no_loss_when_the_window_went_during_it(host, monkeypatch):
+    """The window goes between its size read and the draw: the draw's failure (ImGui's
+    check of the size the dead window read) is the loss already reported; a draw failing
+    with its window alive is a real error and raised."""
+    calls: list = []
+    gone_window(host, monkeypatch, calls)
+    monkeypatch.setattr(glfw, "get_window_size", lambda window: (400, 1280))
+
+    def failing(_size):
+        host.lost(PANEL_IDS[0])
+        raise RuntimeError("IM_ASSERT( g.IO.DisplaySize.x >= 0.0f )")
+
+    monkeypatch.setattr(host, "_draw", failing)
+    host.redraws.want()
+    host.frame(True)
+    assert ("destroy_window", "the panel's window") in calls and host.window is None
+    host.window, host.ids, host.visible = "the panel's window", PANEL_IDS, True
+    monkeypatch.setattr(host, "_draw", lambda _size: 1 / 0)
+    host.redraws.want()
+    with pytest.raises(ZeroDivisionError):
+        host.frame(True)
+
+
 def test_the_panels_cost_is_its_recent_redraws_shared_among_the_phones_frames(host):
     import time
 

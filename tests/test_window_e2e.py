@@ -8,7 +8,6 @@ then read its log, its screenshots and the driver's timings.
 
 from __future__ import annotations
 
-import contextlib
 import json
 import os
 import re
@@ -25,6 +24,7 @@ import pytest
 from PIL import Image
 
 from app.session_keeper import AUTOSAVE_PERIOD
+from sim import Params
 from sim.io.session import SessionLog
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -227,9 +227,8 @@ def interrupt(app: subprocess.Popen, log: Path, signum: int = signal.SIGINT) -> 
 
 def lost(app: subprocess.Popen, log: Path, how: str) -> dict:
     """A click and R, then (with E) the window killed at the X server (`xdotool windowkill`),
-    the phone's window or the panel's destroyed from outside (`xdotool windowclose`; the
-    panel's then hidden with M), or the process killed at once (SIGKILL) after the session
-    was last kept on disk."""
+    the phone's window destroyed from outside (`xdotool windowclose`), or the process
+    killed at once (SIGKILL) after the session was last kept on disk."""
     wid = window_id()
     wait_for(log, r"stats \(")
     xdo("mousemove", "--window", wid, "200", "300")
@@ -241,22 +240,35 @@ def lost(app: subprocess.Popen, log: Path, how: str) -> dict:
         return {"status": app.wait(timeout=20)}
     xdo("key", "e")  # the maps' writer started, not done: the closing waits for it
     wait_for(log, r"frost maps: exporting")
-    if how == "panelclose":
-        xdo("key", "m")
-        xdo("windowclose", window_id(name="^frost tuning"))
-        time.sleep(0.5)
-        # A redraw of the panel settling after M may have met the dead window first: the
-        # app then closes, its phone's window too, and there is no M to press.
-        with contextlib.suppress(subprocess.CalledProcessError):
-            xdo("key", "--window", wid, "m")
-    else:
-        xdo(how, wid)
+    xdo(how, wid)
     return {"status": app.wait(timeout=20)}
+
+
+def panel_gone(app: subprocess.Popen, log: Path) -> dict:
+    """A click, M, the panel's window destroyed from outside (`xdotool windowclose`:
+    XDestroyWindow, no window manager asked), then `=` (the panel's next redraw meets the
+    dead window), M again for a new panel, and Esc."""
+    wid = window_id()
+    wait_for(log, r"stats \(")
+    xdo("mousemove", "--window", wid, "200", "300")
+    xdo("click", "1")
+    xdo("key", "--window", wid, "m")
+    xdo("windowclose", window_id(name="^frost tuning"))
+    time.sleep(0.5)
+    xdo("key", "--window", wid, "equal")
+    wait_for(log, r"params: humidity=")
+    time.sleep(1.0)  # the panel's redraw for the change, then a few phone frames
+    xdo("key", "--window", wid, "m")
+    window_id(name="^frost tuning")  # a new panel, mapped
+    wait_for(log, r"panel: shown", 2)
+    running = app.poll() is None
+    xdo("key", "--window", wid, "Escape")
+    return {"status": app.wait(timeout=20), "running": running}
 
 
 DRIVES = {"windowkill": lambda app, log: lost(app, log, "windowkill"),
           "windowclose": lambda app, log: lost(app, log, "windowclose"),
-          "panelclose": lambda app, log: lost(app, log, "panelclose"),
+          "panelgone": panel_gone,
           "SIGKILL": lambda app, log: lost(app, log, "SIGKILL"), "session": session,
           "unwritable": unwritable, "interrupt": interrupt,
           "SIGTERM": lambda app, log: interrupt(app, log, signal.SIGTERM),
@@ -426,16 +438,33 @@ def test_a_lost_display_writes_the_session_and_the_recording_then_exits_1(tmp_pa
     assert Path(path).is_file()
 
 
-@pytest.mark.parametrize("how, which", [("windowclose", "the phone's window"),
-                                        ("panelclose", "the tuning panel's window")])
-def test_a_window_destroyed_from_outside_closes_as_esc_does_with_status_1(
-        tmp_path_factory, how, which):
-    got = driven(tmp_path_factory.mktemp(how), how)
+def test_the_phone_window_destroyed_from_outside_closes_as_esc_does_with_status_1(
+        tmp_path_factory):
+    got = driven(tmp_path_factory.mktemp("windowclose"), "windowclose")
     saved_on_signal(got, 1)
     log = got["log"]
-    assert len(re.findall(rf"ERROR app.window: window: {which} was destroyed from outside",
-                          log)) == 1, log[-3000:]
+    assert len(re.findall(r"ERROR app.window: window: the phone's window was destroyed "
+                          r"from outside", log)) == 1, log[-3000:]
     assert "X Error" not in log and "BadDrawable" not in log and "BadWindow" not in log
+
+
+def test_the_panel_window_destroyed_from_outside_closes_the_panel_and_the_app_runs_on(
+        tmp_path_factory):
+    """One line says so; `=` pressed after it lands in the session; M opens a new panel;
+    Esc ends the app with status 0; no X error reaches Xlib's default handler."""
+    got = driven(tmp_path_factory.mktemp("panelgone"), "panelgone")
+    log, result = got["log"], got["result"]
+    assert result.get("running") and result.get("status") == 0, (result, log[-3000:])
+    gone = re.findall(r"^(\w+) app.window: .*tuning panel's window was destroyed from outside.*$",
+                      log, re.M)
+    assert gone == ["WARNING"], log[-3000:]
+    assert len(re.findall(r"panel: shown", log)) == 2, log[-3000:]
+    assert re.search(r"summary: .*, exit status 0$", log, re.M), log[-3000:]
+    assert "Traceback" not in log and "X Error" not in log and "BadWindow" not in log
+    (path,) = (got["out"] / "sessions").glob("session-*.json")
+    saved = SessionLog.load(path)
+    assert [e["kind"] for e in saved.events] == ["touch", "params"]
+    assert saved.events[1]["params"]["humidity"] > Params.preset("c-3").humidity
 
 
 def test_a_killed_window_leaves_its_session_kept_on_disk(tmp_path_factory):

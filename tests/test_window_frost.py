@@ -230,7 +230,7 @@ def test_a_wipe_opens_all_six_slots_of_the_ice_at_its_edge():
 def test_the_app_opens_window_mode_and_its_keys_rebuild_it():
     from app.cli.options import params_from
     from app.cli.parser import build_parser
-    from app.window.keys import BINDINGS
+    from app.keys import BINDINGS
     from sim import tuning
 
     parse = build_parser().parse_args

@@ -15,14 +15,15 @@ from hypothesis import example, given
 from hypothesis import strategies as st
 from PIL import Image
 
+from app import keys
+from app.keys import BINDINGS, Binding, help_lines, key_table
 from app.session_keeper import AUTOSAVE_PERIOD
 from app.simthread import thread as simthread
 from app.simthread.backlog import Backlog
 from app.simthread.schedule import RATE_WINDOW
 from app.simthread.thread import SimThread
-from app.window import keys, lost_display
+from app.window import lost_display
 from app.window.capture import Capture
-from app.window.keys import BINDINGS, Binding, help_lines, key_table
 from app.window.record import FRAME_GAP, Recorder
 from app.window.status import IDLE_GAP, DrawRate, Status
 from app.window.view import cursor_to_phone, fit_scale, letterbox
@@ -588,23 +589,53 @@ def test_the_lost_display_handler_rescues_once_and_never_waits_on_itself():
     assert other.is_alive() and rescues == [0]  # waits; no second rescue
 
 
-def test_a_lost_window_is_reported_once_and_later_errors_are_ignored():
+def test_a_lost_window_is_reported_once_and_later_errors_on_it_alone_are_ignored():
     """Errors before a window is lost go on to the handler there was; the first BadWindow
-    or BadDrawable is reported with its X id; every error after it is ignored."""
+    or BadDrawable is reported with its X id, and `lost` names the ids of that window (its
+    GLX drawable's too); later errors on those ids are ignored, others are not: another
+    error still goes on, and another window lost is reported in turn."""
     import ctypes
 
     lost, passed = [], []
-    handler = lost_display.reporting(lost.append, lambda d, e: passed.append(
+    panel, phone = (0x40000D, 0x40000E), (0x400007, 0x400008)  # (X window, GLX window)
+
+    def report(resource: int) -> tuple[int, ...]:
+        lost.append(resource)
+        return next(ids for ids in (panel, phone) if resource in ids)
+
+    handler = lost_display.reporting(report, lambda d, e: passed.append(
         e.contents.error_code) or 7)
 
     def error(code: int, resource: int) -> int:
         event = lost_display.XErrorEvent(error_code=code, resourceid=resource)
         return handler(None, ctypes.pointer(event))
 
+    glx_bad_window = 170  # GLX's error base + 12, met by glXDestroyWindow on a window gone
     assert error(8, 0x11) == 7 and passed == [8] and lost == []  # BadMatch: not ours
-    assert error(lost_display.BAD_DRAWABLE, 0x400007) == 0 and lost == [0x400007]
-    assert error(lost_display.BAD_WINDOW, 0x40000D) == 0 and error(8, 0x11) == 0
-    assert lost == [0x400007] and passed == [8]
+    assert error(lost_display.BAD_DRAWABLE, 0x40000D) == 0 and lost == [0x40000D]
+    assert error(lost_display.BAD_WINDOW, 0x40000D) == 0  # the panel again: ignored
+    assert error(glx_bad_window, 0x40000E) == 0  # its GLX drawable: ignored
+    assert lost == [0x40000D] and passed == [8]
+    assert error(8, 0x11) == 7 and passed == [8, 8]  # not the panel's: goes on
+    assert error(lost_display.BAD_WINDOW, 0x400007) == 0 and lost == [0x40000D, 0x400007]
+    assert error(glx_bad_window, 0x400008) == 0 and error(lost_display.BAD_DRAWABLE,
+                                                          0x400007) == 0
+    assert lost == [0x40000D, 0x400007] and passed == [8, 8]
+
+
+def test_a_lost_window_that_names_no_ids_has_its_own_ignored_and_a_failing_report_is_kept():
+    import ctypes
+
+    calls = []
+
+    def report(resource: int):
+        calls.append(resource)
+        raise RuntimeError("a bug in the report")  # must not unwind into Xlib
+
+    handler = lost_display.reporting(report, lambda d, e: 7)
+    event = lost_display.XErrorEvent(error_code=lost_display.BAD_WINDOW, resourceid=0x99)
+    assert handler(None, ctypes.pointer(event)) == 0 and handler(None, ctypes.pointer(event)) == 0
+    assert calls == [0x99]  # reported once, then ignored
 
 
 # ---- recording ----------------------------------------------------------------------------
@@ -670,6 +701,106 @@ def test_the_last_frame_lasts_until_r_stopped_it_whatever_came_before(tmp_path):
     assert durations == [500, 2750]
 
 
+def test_a_still_scene_keeps_one_frame_in_memory_however_long_it_is_recorded(tmp_path):
+    """40 s of the same frame, offered 32 times a second: one frame held (not the 375 of
+    the cap, about 270 MB), no cap reached, and it lasts the 40 s (hand-worked). Every
+    third offer is read (3/32 s >= FRAME_GAP > 2/32 s): the thinning counts from the last
+    frame looked at, not the last kept."""
+    clock, said, reads = StepClock(), [], []
+    rec = Recorder(tmp_path, lambda level, text: said.append(text), clock=clock)
+    rec.toggle()
+    for k in range(1280):
+        clock.now = k / 32
+        rec.offer(lambda: reads.append(1) or np.full((1280, 760, 3), 90, np.uint8))
+    assert rec.count == 1 and rec.readout() == "REC 1 frames" and not rec.full
+    assert len(reads) == 427  # k = 0, 3, ..., 1278
+    clock.now = 40.0
+    rec.toggle()
+    rec.close()
+    assert not [t for t in said if "cap" in t]
+    assert webp_durations(tmp_path) == [40000]
+
+
+def one_pixel(grey: int) -> np.ndarray:
+    """A grey frame with one pixel white: after the downscale still another frame."""
+    frame = np.full((1280, 760, 3), grey, np.uint8)
+    frame[641, 379] = 255
+    return frame
+
+
+def test_an_unchanged_frame_lengthens_the_last_and_a_one_pixel_change_is_a_new_one(tmp_path):
+    # Hand-worked: A at 0 (again at 0.1), A with a pixel at 0.2 (again at 0.3), A at 0.4
+    # (0.5), B at 0.6, stopped at 1.0: four frames of 200, 200, 200 and 400 ms.
+    frames = [90, 90, "A+1", "A+1", 90, 90, 30]
+    clock = StepClock()
+    rec = Recorder(tmp_path, clock=clock)
+    rec.toggle()
+    for k, f in enumerate(frames):
+        clock.now = 0.1 * k
+        rec.offer(lambda f=f: one_pixel(90) if f == "A+1" else np.full((1280, 760, 3), f,
+                                                                        np.uint8))
+    assert rec.count == 4
+    clock.now = 1.0
+    rec.toggle()
+    rec.close()
+    assert webp_durations(tmp_path) == [200, 200, 200, 400]
+
+
+@pytest.mark.parametrize("fps, seconds, run", [(21.0, 4.0, 5), (3.6, 10.0, 3), (60.0, 2.0, 7)])
+def test_a_recording_with_repeated_frames_plays_as_long_as_it_was_recorded(
+        tmp_path, fps, seconds, run):
+    """Each grey offered `run` times in a row: it still plays R to R to the ms (the
+    durations rounded on the running total), one frame per grey kept."""
+    times = [100.0 + k / fps for k in range(int(seconds * fps))]
+    durations, _ = record(tmp_path, times, end=100.0 + seconds, grey=lambda i: 9 * (i // run))
+    assert sum(durations) == round(seconds * 1000)
+    if fps < 1 / FRAME_GAP:
+        assert len(durations) == -(-len(times) // run)
+
+
+def test_an_unchanged_render_count_reads_nothing_and_a_skipped_render_is_read_later(tmp_path):
+    """`drawn` (the phone's render count) the same as the frame last looked at: the same
+    frame, not read. A render offered within FRAME_GAP of the last look is skipped, and
+    read at the next offer though its count is unchanged since."""
+    clock, reads = StepClock(), []
+    rec = Recorder(tmp_path, clock=clock)
+    rec.toggle()
+
+    def offer(t: float, drawn: int, grey: int) -> None:
+        clock.now = t
+        rec.offer(lambda: reads.append(t) or np.full((1280, 760, 3), grey, np.uint8), drawn)
+
+    offer(0.0, 1, 10)
+    offer(0.1, 1, 10)  # no render since: nothing read
+    offer(0.2, 1, 10)
+    offer(0.25, 2, 50)  # a new render: read
+    offer(0.3, 3, 90)  # 0.05 after the last look (0.25): skipped
+    offer(0.34, 3, 90)  # its render not looked at yet: read now
+    offer(0.5, 3, 90)
+    assert reads == [0.0, 0.25, 0.34] and rec.count == 3
+    clock.now = 1.0
+    rec.toggle()
+    rec.close()
+    assert webp_durations(tmp_path) == [250, 90, 660]
+
+
+SMALL = np.random.default_rng(3).integers(1, 255, (640, 380, 3), np.uint8)  # a frame kept
+
+
+@given(st.integers(0, 639), st.integers(0, 379), st.integers(0, 2), st.sampled_from([-1, 1]))
+@example(0, 0, 0, 1)
+@example(639, 379, 2, -1)
+def test_two_frames_are_the_same_exactly_when_every_byte_is(y, x, channel, step):
+    """`same` against the obvious oracle: one channel of one pixel off by one differs."""
+    from app.window.record import same
+
+    other = SMALL.copy()
+    assert same(Image.fromarray(SMALL), Image.fromarray(other))
+    other[y, x, channel] = int(SMALL[y, x, channel]) + step  # (1..254: no wrap)
+    assert not np.array_equal(SMALL, other)
+    assert not same(Image.fromarray(SMALL), Image.fromarray(other))
+
+
 def test_a_full_recording_is_written_and_the_next_r_ends_it(tmp_path, monkeypatch):
     """At MAX_FRAMES (4 here) the recording is written, keeps no more frames and says
     so; R then ends it (no new recording), and the R after starts one."""
@@ -678,18 +809,19 @@ def test_a_full_recording_is_written_and_the_next_r_ends_it(tmp_path, monkeypatc
     clock, said = StepClock(), []
     rec = Recorder(tmp_path, lambda level, text: said.append(text), clock=clock)
     rec.toggle()
-    for k in range(6):
+    for k in range(10):  # each grey twice: the cap counts distinct frames
         clock.now = 0.1 * k
-        rec.offer(lambda k=k: np.full((1280, 760, 3), 40 * k, np.uint8))
+        rec.offer(lambda k=k: np.full((1280, 760, 3), 40 * (k // 2), np.uint8))
+        assert rec.full == (k >= 6)
     assert rec.count == 0 and not rec.active and rec.readout() == \
         "REC full (4 frames written, R ends)"
     rec.toggle()
     assert rec.readout() is None and not rec.active
     rec.close()
-    assert webp_durations(tmp_path) == [100, 100, 100, round(FRAME_GAP * 1000)]
+    assert webp_durations(tmp_path) == [200, 200, 200, round(FRAME_GAP * 1000)]
     assert "recording: 4 frames is the cap: written, no more kept (R ends it)" in said
     assert "recording: ended (written at the cap)" in said  # and the writer says it wrote:
-    assert f"recording: 4 frames (0.4 s) written to {next(tmp_path.glob('*.webp'))}" in said
+    assert f"recording: 4 frames (0.7 s) written to {next(tmp_path.glob('*.webp'))}" in said
     rec.toggle()
     assert rec.active and rec.readout() == "REC 0 frames"
 
@@ -842,8 +974,9 @@ def test_without_imgui_the_panel_key_says_why_and_the_panel_costs_nothing():
     assert said == [WHY] and "Python 3.11" in WHY
     panel.frame(True)
     assert not panel.needs_frame() and panel.readout(25) is None  # no cost on the stats line
+    assert panel.lost(0x400007) == ()  # no window of its own to lose
     host = pytest.importorskip("app.window.panel_host").PanelHost
-    used = {"toggle", "needs_frame", "frame", "readout", "close"}  # what FrostWindow calls
+    used = {"toggle", "needs_frame", "frame", "readout", "lost", "close"}  # FrostWindow's calls
     assert used <= {n for n in dir(host) if not n.startswith("_")}
     assert used <= {n for n in dir(NoPanel) if not n.startswith("_")}
 

@@ -9,7 +9,7 @@ import os
 
 from app.backdrops import BACKDROPS, DEFAULT_BACKDROP
 from app.cli import values
-from app.window.keys import DEFAULT_PRESET
+from app.keys import DEFAULT_PRESET
 from app.window.view import SCALES
 from sim import PRESETS, Params, all_presets
 from sim.io.paramsets import load_params

@@ -10,7 +10,7 @@ import argparse
 import textwrap
 
 from app.cli import options, values
-from app.window.keys import help_lines
+from app.keys import help_lines
 from sim import all_presets
 from sim.io.files import one_line
 from sim.screen import HEIGHT, WIDTH

@@ -8,10 +8,10 @@ import time
 from collections.abc import Callable
 
 from app.backdrops import BACKDROPS
+from app.keys import BINDINGS, Binding
 from app.serve.pages import POINT_RATE, TokenBucket
 from app.serve.protocol import Input
 from app.simthread.thread import SimThread
-from app.window.keys import BINDINGS, Binding
 from sim import Params, all_presets, preset_name, tuning
 from sim.io.gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
 from sim.params import LOOKS

@@ -201,7 +201,7 @@ function grewNear(delta, { x, y }, anyIce) {
 
 // ---- keys ----------------------------------------------------------------------------
 
-// A key as GLFW names it (app/window/keys.py), or null.
+// A key as GLFW names it (app/keys.py), or null.
 export function keyName(event) {
   const code = event.code;
   if (/^Key[A-Z]$/.test(code)) return code.slice(3);

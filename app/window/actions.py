@@ -10,9 +10,9 @@ from collections.abc import Callable
 import glfw
 
 from app.backdrops import next_backdrop
+from app.keys import DEFAULT_PRESET, key_table
 from app.simthread.thread import SimThread, Snapshot
 from app.window.capture import Capture
-from app.window.keys import DEFAULT_PRESET, key_table
 from app.window.presenter import Presenter
 from app.window.record import Recorder
 from app.window.status import Status, onoff

@@ -18,11 +18,11 @@ from collections.abc import Callable
 import glfw
 import moderngl
 
+from app.keys import help_lines
 from app.simthread.thread import SimThread, Snapshot
 from app.window.actions import Actions
 from app.window.capture import Capture
-from app.window.glfw_setup import WindowError, open_window, x_window_id
-from app.window.keys import help_lines
+from app.window.glfw_setup import WindowError, open_window, x_window_ids
 from app.window.lost_display import on_lost_display, on_lost_window
 from app.window.no_panel import NoPanel
 
@@ -75,7 +75,7 @@ class FrostWindow:
         self._connect()
         # Kept while the window is open and until GLFW has terminated.
         self._x_handlers = (on_lost_display(self.display_lost), on_lost_window(self.window_lost))
-        self.phone_id = x_window_id(window)
+        self.phone_ids = x_window_ids(window)  # the X ids naming it in X errors
 
     def _connect(self) -> None:
         # Sizes come from callbacks: each GLFW call from Python waits for the GIL, which the
@@ -146,14 +146,22 @@ class FrostWindow:
         self._write_out()
         self.panel.close()
 
-    def window_lost(self, resource: int) -> None:
+    def window_lost(self, resource: int) -> tuple[int, ...]:
         """A request failed on a window that is gone (destroyed from outside, e.g. by
-        `xdotool windowclose`; `resource`: its X id): the loop ends and closes as Esc
-        does, with status 1. Called inside Xlib: no GLFW or GL call."""
-        which = {self.phone_id: "the phone's window",
-                 self.panel.x_id: "the tuning panel's window"}.get(resource, "a window")
+        `xdotool windowclose`; `resource`: its X id); the X ids of that window, whose
+        errors are ignored from now on. The tuning panel's: the panel closes (M opens a new
+        one) and the app runs on; the phone's, or one unknown: the loop ends and closes as
+        Esc does, with status 1. Called inside Xlib: no GLFW or GL call."""
+        panel = self.panel.lost(resource)
+        if panel:
+            self.status.say(f"window: the tuning panel's window was destroyed from outside "
+                            f"(X id {resource:#x}): panel closed, M opens a new one",
+                            logging.WARNING)
+            return panel
+        which = "the phone's window" if resource in self.phone_ids else "a window"
         log.error("window: %s was destroyed from outside (X id %#x): closing", which, resource)
         self.running, self.exit_status, self.lost_window = False, 1, resource
+        return self.phone_ids if resource in self.phone_ids else (resource,)
 
     def display_lost(self) -> None:
         """The X connection is gone (lost_display): Xlib ends the process with status 1
@@ -212,7 +220,7 @@ class FrostWindow:
         if drawn:
             self.presenter.render_phone()
         if self.new_ticks and self.recorder.active:  # each frame lasts until the next
-            self.recorder.offer(self.presenter.read_phone)
+            self.recorder.offer(self.presenter.read_phone, self.presenter.renders)
         self.new_ticks = 0
         if self.dirty or now >= self.status.hud_next or self.damaged:
             self._present(now)

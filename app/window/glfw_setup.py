@@ -75,9 +75,13 @@ def _window_hints() -> None:
     glfw.window_hint(glfw.SCALE_TO_MONITOR, False)
 
 
-def x_window_id(window) -> int | None:
-    """The X window id of a GLFW window; None off X11."""
-    return glfw.get_x11_window(window) if glfw.get_platform() == glfw.PLATFORM_X11 else None
+def x_window_ids(window) -> tuple[int, ...]:
+    """The X ids that name a GLFW window in X errors: its X window, then the GLX window
+    GLFW made for its context (glXDestroyWindow meets that one when the window is gone);
+    () off X11."""
+    if glfw.get_platform() != glfw.PLATFORM_X11:
+        return ()
+    return tuple(i for i in (glfw.get_x11_window(window), glfw.get_glx_window(window)) if i)
 
 
 def _workarea() -> tuple[int, int]:

@@ -8,9 +8,11 @@ write what the user made.
 A window destroyed from outside (`xdotool windowclose`: the X window is gone, the
 connection is not): the next request on it fails with BadWindow or BadDrawable, and
 Xlib's default error handler prints the error and ends the process. The handler set here
-reports it instead, so the frame loop ends and closes as Esc does, with status 1; from
-then on every X error is expected (the dead window's GL context and GLFW's clean-up meet
-it again) and ignored.
+reports it instead (the phone's window: the frame loop ends and closes as Esc does, with
+status 1; the tuning panel's: the panel closes, the app runs on). From then on the errors
+on that window are expected (its GL context and GLFW's clean-up meet it again: its X
+window, and the GLX window GLFW made for it) and ignored; any other error is not, as
+another window still in use may yet go.
 
 X11 only (GLFW's other platforms report a lost display as an error to the frame loop)."""
 
@@ -19,7 +21,7 @@ from __future__ import annotations
 import ctypes
 import logging
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import Any
 
 import glfw
@@ -68,12 +70,12 @@ def on_lost_display(rescue: Callable[[], None]) -> Any:
     return handler
 
 
-def on_lost_window(lost: Callable[[int], None]) -> Any:
+def on_lost_window(lost: Callable[[int], Iterable[int]]) -> Any:
     """Have `lost(resource)` called when a request fails on a window or drawable that is
-    gone (`resource`: its X id), instead of Xlib's exit; it must call neither GLFW nor GL.
-    Other errors go to the handler there was, until a window is lost; after that every
-    error is ignored. Returns the handler, kept by the caller until GLFW has terminated;
-    None off X11."""
+    gone (`resource`: its X id), instead of Xlib's exit; it must call neither GLFW nor GL,
+    and returns the X ids of the window that went, whose errors are ignored from then on.
+    Other errors go to the handler there was. Returns the handler, kept by the caller until
+    GLFW has terminated; None off X11."""
     xlib = _xlib()
     if xlib is None:
         return None
@@ -85,22 +87,25 @@ def on_lost_window(lost: Callable[[int], None]) -> Any:
     return handler
 
 
-def reporting(lost: Callable[[int], None], otherwise: Callable[[Any, Any], int]
+def reporting(lost: Callable[[int], Iterable[int]], otherwise: Callable[[Any, Any], int]
               ) -> Callable[[Any, Any], int]:
-    """The error handler: the first error on a window that is gone reported to `lost`,
-    any other error to `otherwise` until then; afterwards every error ignored."""
-    gone: list[int] = []
+    """The error handler: an error on a window gone already is ignored; the first
+    BadWindow or BadDrawable on any other is reported to `lost`, which names that window's
+    ids (ignored from then on: the resource itself always is); any other error goes to
+    `otherwise`."""
+    gone: set[int] = set()
 
     def handler(display, event) -> int:
         error = event.contents
-        if not gone and error.error_code not in (BAD_WINDOW, BAD_DRAWABLE):
+        if error.resourceid in gone:
+            return 0
+        if error.error_code not in (BAD_WINDOW, BAD_DRAWABLE):
             return otherwise(display, event)
-        if not gone:
-            gone.append(error.resourceid)
-            try:
-                lost(error.resourceid)
-            except BaseException:  # nothing may unwind into Xlib's C frames
-                log.exception("reporting the lost window failed")
+        gone.add(error.resourceid)
+        try:
+            gone.update(lost(error.resourceid))
+        except BaseException:  # nothing may unwind into Xlib's C frames
+            log.exception("reporting the lost window failed")
         return 0
 
     return handler

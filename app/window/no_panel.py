@@ -14,7 +14,7 @@ WHY = ("the tuning panel needs imgui-bundle, which needs Python 3.11 or later "
 class NoPanel:
     """PanelHost's interface, doing nothing: input is never the panel's."""
 
-    x_id = None  # no window of its own
+    ids: tuple[int, ...] = ()  # no window of its own
 
     def __init__(self, say=None):
         self.say = say or (lambda text: log.warning("%s", text))
@@ -30,6 +30,9 @@ class NoPanel:
 
     def readout(self, phone_frames: int) -> str | None:
         return None
+
+    def lost(self, resource: int) -> tuple[int, ...]:
+        return ()
 
     def close(self) -> None:
         pass

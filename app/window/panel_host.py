@@ -8,7 +8,8 @@ screen. On llvmpipe under Xvfb a redraw costs several ms (mostly rasterizing its
 widgets), which a panel drawn with every phone frame would pay each frame. The panel's window
 has its own GL context (its draws never disturb the phone's state) and swaps without
 waiting for the screen. Closing it hides it, as M does; a click in it never reaches the
-phone.
+phone. Its window destroyed from outside (X11: `lost`) closes the panel, and M opens a new
+one.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ import moderngl
 from imgui_bundle import imgui
 
 from app.gl.imgui_renderer import ImGuiRenderer
-from app.window.glfw_setup import open_side_window, x_window_id
+from app.window.glfw_setup import open_side_window, x_window_ids
 from app.window.panel import TuningPanel
 from app.window.panel_input import FRAMES_AFTER_INPUT, PanelInput, Redraws
 
@@ -106,14 +107,12 @@ class PanelHost:
 
     def __init__(self, phone, actions):
         self.phone, self.actions = phone, actions
-        self.context = imgui.create_context()  # ImGui's; GL's is gl_context
-        io = imgui.get_io()
-        io.set_ini_filename(None)  # no imgui.ini beside the user's files
-        io.config_flags &= ~imgui.ConfigFlags_.nav_enable_keyboard
+        self.context = _imgui_context()  # ImGui's; GL's is gl_context
         self.deferred = Deferred(actions)
         self.panel = TuningPanel(self.deferred)
         self.window: Any = None  # a GLFW window once first shown
-        self.x_id: int | None = None  # its X window id
+        self.ids: tuple[int, ...] = ()  # the X ids naming it in X errors
+        self.gone = False  # its window was destroyed from outside (set inside Xlib)
         self.gl_context: moderngl.Context | None = None
         self.renderer: ImGuiRenderer | None = None
         self.visible = False
@@ -126,6 +125,7 @@ class PanelHost:
     # ---- showing and hiding ----------------------------------------------------------
 
     def toggle(self) -> None:
+        self._forget_if_gone()
         if self.window is None and not self._open():
             return
         self.visible = not self.visible
@@ -158,9 +158,40 @@ class PanelHost:
             self.renderer = ImGuiRenderer(self.gl_context)
         finally:
             glfw.make_context_current(self.phone)
-        self.window, self.x_id = window, x_window_id(window)
+        self.window, self.ids = window, x_window_ids(window)
         self.input.connect(window)
         return True
+
+    # ---- its window destroyed from outside ---------------------------------------------
+
+    def lost(self, resource: int) -> tuple[int, ...]:
+        """An X request failed on `resource`, a window gone: if it is the panel's, the
+        panel's X ids (the error handler ignores their errors from now on), and the panel
+        is closed at its next call from the frame loop; else (). Called inside Xlib: no
+        GLFW or GL call here."""
+        if resource not in self.ids:
+            return ()
+        self.gone = True
+        return self.ids
+
+    def _forget_if_gone(self) -> None:
+        """Its window destroyed from outside: closed, as if never opened (M opens a new
+        one). The GLFW window is destroyed (its GL context with it, and the GL objects
+        made in it: released one by one they would need that context current on a drawable
+        that is gone); the ImGui context is made anew, as its font atlas counts its
+        texture as uploaded to the dead context."""
+        if not self.gone:
+            return
+        if self.visible:
+            self.costs.shown_s += time.monotonic() - self.costs.shown_at
+        glfw.destroy_window(self.window)
+        glfw.make_context_current(self.phone)
+        self.window, self.ids, self.gone, self.visible = None, (), False, False
+        self.gl_context = self.renderer = None
+        imgui.destroy_context(self.context)
+        self.context = _imgui_context()
+        self.redraws = self.input.redraws = Redraws()  # no input left settling
+        log.debug("panel: its window's remains released")
 
     def _beside_phone(self) -> tuple[int, int]:
         """Just right of the phone's window, its frame included, tops level."""
@@ -171,8 +202,9 @@ class PanelHost:
         return x + width + right + left, y
 
     def needs_frame(self) -> bool:
-        """A redraw is waiting on input just given (the frame loop should not sleep)."""
-        return self.visible and self.redraws.wanted > 0
+        """A redraw is waiting on input just given (the frame loop should not sleep), or
+        the window is gone and must be forgotten."""
+        return self.gone or (self.visible and self.redraws.wanted > 0)
 
     # ---- a frame ---------------------------------------------------------------------
 
@@ -187,6 +219,7 @@ class PanelHost:
     def frame(self, phone_drawn: bool) -> None:
         """The panel redrawn in its window if something changed, timed (GL finished and
         the buffers swapped, the switches between the two contexts included)."""
+        self._forget_if_gone()
         if not self.visible:
             return
         self.costs.phone_frames += phone_drawn
@@ -194,23 +227,43 @@ class PanelHost:
         if not self.due(started):
             return
         state = self.state()
-        glfw.make_context_current(self.window)
-        try:
-            self._draw()
-            glfw.swap_buffers(self.window)
-            self.gl_context.finish()  # type: ignore[union-attr]
-        finally:
-            glfw.make_context_current(self.phone)
+        if not self._redraw():
+            self.deferred.flush()  # what was clicked before the window went still runs
+            self._forget_if_gone()
+            return
         now = time.perf_counter()
         self.panel.add_cost(1000.0 * (now - started))
         self.costs.add(now, 1000.0 * (now - started))
         self.redraws.drew(state, now)
         self.deferred.flush()
 
-    def _draw(self) -> None:
+    def _redraw(self) -> bool:
+        """Drawn and swapped; False when the window turned out to be gone. Its size is read
+        first, a round trip to the X server: a window gone is told there, before its GL
+        context is made current on a drawable that is gone (which Mesa's llvmpipe took
+        seconds to refuse under Xvfb, the frame loop stalled meanwhile). A window that goes
+        during the draw makes the draw fail (e.g. ImGui's check of the size it then reads)."""
+        size = glfw.get_window_size(self.window)
+        if self.gone:
+            return False
+        glfw.make_context_current(self.window)
+        try:
+            self._draw(size)
+            glfw.swap_buffers(self.window)
+            self.gl_context.finish()  # type: ignore[union-attr]
+        except Exception as err:
+            if not self.gone:
+                raise
+            log.debug("panel: the redraw under way met its window gone (%r)", err)
+        finally:
+            glfw.make_context_current(self.phone)
+        return not self.gone
+
+    def _draw(self, size: tuple[int, int]) -> None:
+        """The panel drawn into its window, `size` window px."""
         context, renderer = self.gl_context, self.renderer
         assert context is not None and renderer is not None  # opened before it was shown
-        (window_w, window_h) = glfw.get_window_size(self.window)
+        (window_w, window_h) = size
         (frame_w, frame_h) = glfw.get_framebuffer_size(self.window)
         context.screen.use()
         context.viewport = (0, 0, frame_w, frame_h)
@@ -246,6 +299,7 @@ class PanelHost:
                 rects_log.debug("panel: %s at %.0f,%.0f size %.0fx%.0f", name, x, y, w, h)
 
     def close(self) -> None:
+        self._forget_if_gone()
         self.costs.summary(self.panel.costs, self.visible)
         if self.window is not None:
             glfw.make_context_current(self.window)
@@ -253,3 +307,13 @@ class PanelHost:
             glfw.make_context_current(self.phone)
             glfw.destroy_window(self.window)
         imgui.destroy_context(self.context)
+
+
+def _imgui_context():
+    """A new Dear ImGui context, made current: no imgui.ini beside the user's files, no
+    keyboard navigation (keys over the panel are the phone's)."""
+    context = imgui.create_context()
+    io = imgui.get_io()
+    io.set_ini_filename(None)
+    io.config_flags &= ~imgui.ConfigFlags_.nav_enable_keyboard
+    return context

@@ -1,4 +1,5 @@
-"""Key bindings: one table drives both the key handler and the help overlay (H).
+"""Key bindings: one table drives the window's key handler, its help overlay (H) and
+`frost --help`, and what a page's keys do (`app.serve.controls`), so it lies outside both.
 
 Keys are GLFW key names without the `KEY_` prefix, so this module needs no GLFW;
 `app.window.actions` resolves them to key codes. An action is a name in the window's
@@ -10,7 +11,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from app.window.record import FRAME_GAP, MAX_FRAMES
 from sim import PRESETS
 from sim.screen import HEIGHT, WIDTH
 from sim.tuning import BUMP_STEP, HUMIDITY_FACTOR, LENGTH_STEP, TEMPERATURE_STEP
@@ -45,8 +45,8 @@ BINDINGS: tuple[Binding, ...] = (
     Binding(("N", "PERIOD"), "N .", "one tick while paused", "single_step"),
     Binding(("C",), "C", "clear the frost (and the touches)", "clear"),
     Binding(("S", "F12"), "S F12", f"screenshot ({WIDTH}x{HEIGHT} PNG)", "screenshot"),
-    Binding(("R",), "R", "record on / off (animated WebP; at most "
-            f"{MAX_FRAMES} frames, {MAX_FRAMES * FRAME_GAP:g} s)", "record"),
+    # (the recording's own figures are docs/window.md's: the window's, not the page's)
+    Binding(("R",), "R", "record on / off (animated WebP, written when R stops it)", "record"),
     Binding(("E",), "E", "export frost maps (height, normal, alpha PNGs)", "export_maps"),
     Binding(("EQUAL", "KP_ADD"), "=", f"humidity up (x{HUMIDITY_FACTOR})", "scale",
             ("humidity", HUMIDITY_FACTOR)),
