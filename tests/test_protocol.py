@@ -6,6 +6,8 @@ import struct
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from app.serve.protocol import (
     MAX_INPUT_BYTES,
@@ -141,3 +143,60 @@ def test_bad_input_names_the_problem(message, code, says):
     with pytest.raises(ProtocolError, match=says) as err:
         parse_input(message)
     assert err.value.code == code
+
+
+def parsed_or_refused(message) -> None:
+    """parse_input's promise: an Input, or ProtocolError (which closes the socket with its
+    code and a line): never another exception, which would reach aiohttp as a traceback."""
+    try:
+        got = parse_input(message)
+    except ProtocolError as err:
+        assert err.code in (1008, 1009) and err.reason
+    else:
+        assert got.kind in ("touch", "melt", "preset", "look", "backdrop", "key", "pause",
+                            "step", "clear", "ping")
+
+
+JSON = st.recursive(
+    st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=8)
+    | st.sampled_from(["touch", "melt", "down", "move", "up", "ping", "key", "preset"]),
+    lambda inner: st.lists(inner, max_size=4)
+    | st.dictionaries(st.sampled_from(["type", "x", "y", "id", "phase", "name", "key", "t"])
+                      | st.text(max_size=4), inner, max_size=5),
+    max_leaves=20)
+
+
+@given(st.text(max_size=1100))
+def test_any_text_is_parsed_or_refused(message):
+    parsed_or_refused(message)
+
+
+@given(JSON)
+def test_any_json_is_parsed_or_refused(value):
+    parsed_or_refused(json.dumps(value, allow_nan=True))
+    parsed_or_refused(json.dumps({"type": "touch", "x": value, "y": 1}, allow_nan=True))
+
+
+@given(st.binary(max_size=64))
+def test_any_bytes_are_refused(message):
+    with pytest.raises(ProtocolError):
+        parse_input(message)
+
+
+@pytest.mark.parametrize("message", [
+    "[" * 1000,  # json's RecursionError: a traceback per message, no close frame
+    "[" * 1023,
+    '{"type":"touch","x":' + "[" * 1000,
+])
+def test_nesting_too_deep_for_json_is_refused(message):
+    with pytest.raises(ProtocolError, match="not JSON") as err:
+        parse_input(message)
+    assert err.value.code == 1008
+
+
+def test_text_that_is_no_utf_8_is_refused():
+    # A lone surrogate: no str aiohttp hands over holds one (it refuses such a frame with
+    # 1007 itself), but parse_input takes any str.
+    with pytest.raises(ProtocolError, match="UTF-8") as err:
+        parse_input('{"type":"pause","pad":"\ud800"}')
+    assert err.value.code == 1008

@@ -868,3 +868,99 @@ def test_without_a_token_only_a_loopback_host_is_answered():
         resp = await client.get("/meta?token=s3cret", headers={"Host": "192.168.1.5:8025"})
         assert resp.status == 200
     serve(with_token, token="s3cret")
+
+
+@pytest.mark.parametrize("send, code, says", [
+    ("[" * 1000, 1008, "not JSON"),  # (a RecursionError in json: a traceback of 33 lines)
+    ('{"type":"touch","x":' + "[" * 990 + "1", 1008, "not JSON"),
+    ('{"type":"ping","t":' + "9" * 1000 + "}", 1008, "'t' must be a finite number"),
+    ('{"type":"touch","x":NaN,"y":1}', 1008, "not JSON"),
+    ('{"type":"touch","x":-Infinity,"y":1}', 1008, "not JSON"),
+    ('{"type":"touch","x":1,"y":2,"id":1e999}', 1008, "'id'"),
+    ('{"type":"touch","x":1,"y":2,"phase":["down"]}', 1008, "'phase'"),
+    ('{"type":["touch"]}', 1008, "string 'type'"),
+    # Not UTF-8: aiohttp closes it itself, with the standard's code for it (1007)
+    (b"\x81\x82\xff\xfe", 1007, "Invalid UTF-8"),
+])
+def test_a_malformed_message_of_any_shape_closes_its_socket_with_one_line_of_log(
+        caplog, send, code, says):
+    """Whatever its shape, a malformed message closes that socket with a close frame and
+    its reason, is one line in the log (no traceback), and the others tick on."""
+    async def test(client, feed):
+        good, page = await connect(client)
+        bad = await client.ws_connect("/ws")
+        if isinstance(send, bytes):  # a text frame whose bytes are no UTF-8, by hand
+            bad._writer.transport.write(send[:2] + b"mask" + bytes(
+                b ^ m for b, m in zip(send[2:], b"mask" * 4, strict=False)))
+        else:
+            await bad.send_str(send)
+        msg = await closing(bad)
+        assert msg.type == WSMsgType.CLOSE and bad.close_code == code, (msg, bad.close_code)
+        assert says in (msg.extra or "") or code == 1007
+        tick = page.tick
+        await read_until(good, page, lambda: page.tick > tick + 5)
+        await good.close()
+
+    with caplog.at_level(logging.INFO):
+        serve(test)
+    said = [r for r in caplog.records if "closed:" in r.getMessage()]
+    assert len(said) == 1 and says in said[0].getMessage(), [r.getMessage() for r in said]
+    assert not [r for r in caplog.records if r.exc_info or r.levelno >= logging.ERROR]
+
+
+def test_a_flood_of_deeply_nested_messages_is_a_few_lines_of_log():
+    """Sockets opened as fast as a client can, each sending '[' * 1000 (under 1 KiB): each
+    closed with 1008; the log says the first sixteen pages' comings and goings, then at
+    most a line a while (268 tracebacks of 33 lines before)."""
+    records: list[logging.LogRecord] = []
+
+    class Keep(logging.Handler):
+        def emit(self, record):
+            records.append(record)
+
+    async def test(client, feed):
+        for _ in range(60):
+            ws = await client.ws_connect("/ws")
+            await ws.send_str("[" * 1000)
+            await closing(ws)
+            assert ws.close_code == 1008
+
+    keep, root = Keep(logging.INFO), logging.getLogger()
+    level = root.level
+    root.addHandler(keep)
+    root.setLevel(logging.INFO)
+    try:
+        serve(test)
+    finally:
+        root.removeHandler(keep)
+        root.setLevel(level)
+    assert not [r for r in records if r.exc_info or r.levelno >= logging.ERROR]
+    pages = [r for r in records if "serve: page" in r.getMessage()]
+    assert len(pages) <= 16 + 1, len(pages)  # the house of 16, and one a PAGE_LOG_S at most
+
+
+def test_a_message_the_server_fails_on_closes_that_socket_alone_in_one_line(caplog, monkeypatch):
+    """A bug of the server's met by one page's message (here: handling a touch raises)
+    closes that socket with 1011 (internal error) and a line, no traceback; the others
+    tick on."""
+    from app.serve.controls import Controls
+
+    def broken(self, message, *args):
+        raise ValueError("a bug met")
+
+    async def test(client, feed):
+        good, page = await connect(client)
+        bad = await client.ws_connect("/ws")
+        monkeypatch.setattr(Controls, "handle", broken)
+        await bad.send_json({"type": "touch", "x": 10, "y": 10})
+        msg = await closing(bad)
+        assert bad.close_code == 1011 and "ValueError" in msg.extra
+        tick = page.tick
+        await read_until(good, page, lambda: page.tick > tick + 5)
+        await good.close()
+
+    with caplog.at_level(logging.INFO):
+        serve(test)
+    said = [r.getMessage() for r in caplog.records if "closed:" in r.getMessage()]
+    assert len(said) == 1 and "ValueError: a bug met" in said[0], said
+    assert not [r for r in caplog.records if r.exc_info or r.levelno >= logging.ERROR]

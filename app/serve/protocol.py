@@ -48,8 +48,9 @@ POINTER_KINDS = ("touch", "melt")
 NAMED_KINDS = ("preset", "look", "backdrop", "key")  # each carries a "name" ("key": "key")
 BARE_KINDS = ("pause", "step", "clear")
 MAX_NAME = 64
-# WebSocket close codes: 1008 policy violation (malformed), 1009 message too big.
-POLICY, TOO_BIG = 1008, 1009
+# WebSocket close codes: 1008 policy violation (malformed), 1009 message too big, 1011 the
+# server failed on a message (a bug of its own).
+POLICY, TOO_BIG, INTERNAL_ERROR = 1008, 1009, 1011
 
 
 class ProtocolError(ValueError):
@@ -213,12 +214,18 @@ def parse_input(message: str | bytes) -> Input:
     over MAX_INPUT_BYTES)."""
     if isinstance(message, bytes):
         raise ProtocolError("binary messages are not accepted")
-    if len(message.encode()) > MAX_INPUT_BYTES:
+    try:
+        size = len(message.encode())
+    except UnicodeEncodeError:  # a lone surrogate: aiohttp never hands one over
+        raise ProtocolError("not UTF-8 text") from None
+    if size > MAX_INPUT_BYTES:
         raise ProtocolError(f"message over {MAX_INPUT_BYTES} bytes", TOO_BIG)
     try:
         data = json.loads(message, parse_constant=_no_constant)
     except ValueError as err:
         raise ProtocolError(f"not JSON: {str(err)[:80]}") from None
+    except RecursionError:  # "[" * 1000 is under 1 KiB, and deeper than json can go
+        raise ProtocolError("not JSON: nested too deep") from None
     if not isinstance(data, dict) or not isinstance(data.get("type"), str):
         raise ProtocolError("a message must be a JSON object with a string 'type'")
     kind = data["type"]
