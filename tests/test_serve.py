@@ -419,6 +419,8 @@ def test_frost_serve_from_the_command_line(tmp_path):
         asyncio.run(main())
         proc.send_signal(signal.SIGINT)
         assert proc.wait(30) == 130
+        # as the window says it (the log's lines are in between)
+        assert "\nfrost: interrupted (Ctrl-C)\n" in proc.stderr.read()
     finally:
         proc.kill()
         proc.wait()

@@ -345,7 +345,10 @@ def serve(args, params) -> int:
         return serve_with_window(args, params, token)
     feed = Feed(params, args.seed, args.touch, args.melt_radius, args.background)
     app = make_app(feed, token, args.session_dir)
-    return asyncio.run(_serve(app, args.host, args.port, token, args.max_seconds))
+    status = asyncio.run(_serve(app, args.host, args.port, token, args.max_seconds))
+    if status == 128 + signal.SIGINT:  # closed and saved: the command line says so, as
+        raise KeyboardInterrupt        # it does for the window, and exits 130
+    return status
 
 
 async def _serve(app: web.Application, host: str, port: int, token: str | None,
