@@ -81,6 +81,30 @@ def test_reset_clears_the_encoders_grid():
     assert enc.bare(5, reset=True)[2] == 1 and not enc.heights.any()
 
 
+def test_a_change_within_a_half_float_step_sends_nothing():
+    """The pages hold half floats: near 1.0 they step by 1/1024, so 1.0001 is the 1.0 they
+    hold already (no run), while 1.001 is the next step (a run)."""
+    enc = Encoder(cols=2, rows=1)
+    enc.delta(delta(1, slice(0, 1), [[1.0, 2.0]]))
+    m = enc.delta(delta(2, slice(0, 1), [[1.0001, 2.0]]))
+    assert struct.unpack("<I", m[16:20]) == (0,) and len(m) == 40
+    m = enc.delta(delta(3, slice(0, 1), [[1.001, 2.0]]))
+    assert struct.unpack("<III", m[16:28])[::2] == (1, 0)  # one run, of (0, 1)
+    assert struct.unpack("<IIe", m[40:50]) == (0, 1, 1.0009765625)
+
+
+def test_a_delta_that_resets_tells_the_pages_to_clear_first():
+    """A rebuild's own delta (GeometryDelta.reset), not only the encoder's reset=True."""
+    enc = Encoder(cols=2, rows=1)
+    enc.delta(delta(1, slice(0, 1), [[1.0, 1.0]]))
+    m = enc.delta(delta(0, slice(0, 1), [[0.0, 1.0]], reset=True))
+    assert m[2] == 1  # flags: reset
+    assert struct.unpack("<I", m[16:20]) == (1,) and struct.unpack("<II", m[40:48]) == (1, 1)
+    page = np.array([1.0, 1.0], np.float32)
+    apply_geometry(page, decode_geometry(m))
+    assert page.tolist() == [0.0, 1.0]
+
+
 def test_a_snapshot_is_every_height_and_the_features_in_parts():
     enc = Encoder(cols=2, rows=2)
     enc.delta(delta(1, slice(0, 2), [[1, 0], [0, 3]]))
@@ -139,6 +163,8 @@ def test_good_input(message, kind, fields):
     ('{"type":"key"}', 1008, "'key'"),
     (b"\x00\x01", 1008, "binary"),
     (json.dumps({"type": "pause", "pad": "x" * MAX_INPUT_BYTES}), 1009, "over 1024 bytes"),
+    # 628 characters, 1 228 bytes in UTF-8 (the bound is the socket's, in bytes)
+    (json.dumps({"type": "pause", "pad": "é" * 600}, ensure_ascii=False), 1009, "over 1024 bytes"),
 ])
 def test_bad_input_names_the_problem(message, code, says):
     with pytest.raises(ProtocolError, match=says) as err:
