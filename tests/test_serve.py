@@ -195,6 +195,8 @@ def test_a_token_is_needed_when_one_is_in_force():
             assert resp.status == 403, url
             resp = await client.get(url + "?token=wrong")
             assert resp.status == 403, url
+        for wrong in ("s3cretX", "s3cre", "s3cret%20", "%20s3cret", "S3CRET", "x&token=s3cret"):
+            assert (await client.get(f"/meta?token={wrong}")).status == 403, wrong
         resp = await client.get("/shaders/ice.frag?token=s3cret")
         assert resp.status == 200 and "void main" in await resp.text()
         ws, _page = await connect(client, token="s3cret")
@@ -233,14 +235,18 @@ def test_origin_must_name_the_host():
     assert same_origin("http://192.168.1.5:8025", "192.168.1.5:8025")
     assert not same_origin("http://evil.example", "192.168.1.5:8025")
     assert not same_origin("null", "127.0.0.1:8025")
+    # another port of the same machine is another site (another program's page)
+    assert not same_origin("http://192.168.1.5:9000", "192.168.1.5:8025")
+    assert not same_origin("http://192.168.1.5", "192.168.1.5:8025")
 
     async def test(client, feed):
-        resp = await client.get("/ws", headers={"Origin": "http://evil.example",
-                                                "Connection": "Upgrade", "Upgrade": "websocket",
-                                                "Sec-WebSocket-Version": "13",
-                                                "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ=="})
-        assert resp.status == 403
         host = f"{client.server.host}:{client.server.port}"
+        for origin in ("http://evil.example", f"http://{client.server.host}:1"):
+            resp = await client.get("/ws", headers={"Origin": origin,
+                                                    "Connection": "Upgrade", "Upgrade": "websocket",
+                                                    "Sec-WebSocket-Version": "13",
+                                                    "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ=="})
+            assert resp.status == 403, origin
         ws = await client.ws_connect("/ws", origin=f"http://{host}")
         await ws.close()
     serve(test)
@@ -856,7 +862,8 @@ def test_without_a_token_only_a_loopback_host_is_answered():
                "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ=="}
 
     async def test(client, feed):
-        for host in ("evil.example:8025", "evil.example", "192.168.1.5:8025", "127.0.0.1.evil.example"):
+        for host in ("evil.example:8025", "evil.example", "192.168.1.5:8025", "127.0.0.1.evil.example",
+                     "evil-localhost", "evil-localhost:8025", "notlocalhost", "localhost.evil.example"):
             assert (await client.get("/meta", headers={"Host": host})).status == 403, host
             resp = await client.get("/ws", headers={"Host": host, "Origin": f"http://{host}", **upgrade})
             assert resp.status == 403, host
@@ -966,3 +973,50 @@ def test_a_message_the_server_fails_on_closes_that_socket_alone_in_one_line(capl
     said = [r.getMessage() for r in caplog.records if "closed:" in r.getMessage()]
     assert len(said) == 1 and "ValueError: a bug met" in said[0], said
     assert not [r for r in caplog.records if r.exc_info or r.levelno >= logging.ERROR]
+
+
+CHANGES = [{"type": "key", "key": "NOPE"}, {"type": "preset", "name": "nope"},
+           {"type": "look", "name": "nope"}, {"type": "backdrop", "name": "nope"},
+           {"type": "step"}, {"type": "pause"}, {"type": "clear"}]
+
+
+def test_every_kind_of_change_counts_against_the_change_limit():
+    """Twelve of one kind at once (each its own page): the burst of ten goes through (a
+    name refused or not), the rest are refused with a notice, whatever the kind; keys too,
+    which the window's key table turns into any change at all."""
+    async def test(client, feed):
+        for change in CHANGES:
+            ws, page = await connect(client)
+            for _ in range(12):
+                await ws.send_json(change)
+            await ws.send_json({"type": "ping", "t": 1})
+            await read_until(ws, page, lambda p=page: any(t["type"] == "pong" for t in p.texts))
+            refused = [t for t in page.texts if t["type"] == "notice"
+                       and "changes a second" in t["text"]]
+            assert 1 <= len(refused) <= 2, (change, refused)  # (a token may come back meanwhile)
+            await ws.close()
+    serve(test)
+
+
+def test_meta_states_the_tick_of_the_frame_published_not_the_simulations():
+    """/meta describes the frame the pages were sent last: a simulation that ticked on
+    since (its snapshots not yet published) is not that frame. The thread is ticked by
+    hand here (no schedule, no loop) and the feed published by hand."""
+    from aiohttp.test_utils import make_mocked_request
+
+    feed = Feed(PAPER, seed=1, touches=[CENTRE])
+    app = make_app(feed)
+    for _ in range(5):
+        feed.thread.tick()
+    feed.pump()
+    for _ in range(3):
+        feed.thread.tick()
+    assert feed.thread.sim.tick == 8 and feed.latest.stats.tick == 5
+
+    async def ask() -> dict:
+        request = make_mocked_request("GET", "/meta", app=app, headers={"Host": "127.0.0.1"})
+        match = await app.router.resolve(request)
+        return json.loads((await match.handler(request)).body)
+
+    meta = asyncio.run(ask())
+    assert meta["tick"] == 5 and meta["touches"] == [[0, *CENTRE]]

@@ -247,3 +247,28 @@ def test_an_upgrade_refused_for_its_token_stays_timed(short):
             assert await closed(reader, HEAD + 1.0)  # (aiohttp closes it at once)
             writer.close()
     run(test, token="secret")
+
+
+def masked_text(text: str) -> bytes:
+    """A client's WebSocket text frame (masked, as a client must send them)."""
+    data, mask = text.encode(), b"frst"
+    assert len(data) < 126
+    return bytes([0x81, 0x80 | len(data)]) + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(data))
+
+
+def test_a_pages_socket_is_never_timed_though_its_first_frame_came_with_its_head(short):
+    """A client may send its first frame right behind its upgrade request, before the 101:
+    the guard reads those bytes as the next head begun (its deadline running), and taking
+    the page's socket must stop that deadline, or the page is closed HEAD_S later."""
+    async def test(port, runner):
+        reader, writer = await asyncio.open_connection("127.0.0.1", port)
+        writer.write(f"GET /ws HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n"
+                     "Connection: Upgrade\r\nSec-WebSocket-Version: 13\r\n"
+                     "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n\r\n".encode()
+                     + masked_text('{"type":"ping","t":7}'))
+        head = await asyncio.wait_for(reader.readuntil(b"\r\n\r\n"), 5)
+        assert head.startswith(b"HTTP/1.1 101")
+        assert not await closed(reader, HEAD * 4)  # well past the head's deadline
+        assert [c.page for c in runner.conns] == [True] and runner.timed_out == 0
+        writer.close()
+    run(test)
