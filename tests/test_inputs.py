@@ -474,6 +474,23 @@ def test_an_existing_output_in_a_folder_not_searchable_is_refused(stubbed, tmp_p
     assert_refused_in_one_line(status, err, str(unsearchable), UNSEARCHABLE)
 
 
+@pytest.mark.parametrize("output", [*FILE_OUTPUTS, *FOLDER_OUTPUTS])
+def test_an_output_in_a_folder_searchable_but_not_writable_is_refused(stubbed, tmp_path, monkeypatch,
+                                                                     output):
+    """A folder of mode 0o500 (its files reached, no name added): os.access (root passes
+    every bit) refuses W_OK alone on it, as it does for a user."""
+    folder = tmp_path / "rx"
+    folder.mkdir()
+    real = os.access
+    monkeypatch.setattr(paths.os, "access", lambda p, m: real(p, m) and not (
+        m & os.W_OK and Path(p).name == "rx"))
+    template = {**FILE_OUTPUTS, **FOLDER_OUTPUTS}[output]
+    target = folder / ("x.png" if output not in FOLDER_OUTPUTS else "maps")
+    status, err = run_main(output_argv(template, target, tmp_path))
+    assert not stubbed
+    assert_refused_in_one_line(status, err, str(folder), "is not writable")
+
+
 def test_the_default_folder_not_searchable_is_refused(stubbed, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     (tmp_path / "frost-out").mkdir()

@@ -296,6 +296,32 @@ def test_fingers_become_touches_and_melts_in_screen_px(browser):
     assert abs(move["x"] - 390) < 0.5 and abs(move["y"] - 650) < 0.5
 
 
+def test_a_click_on_a_landscape_screen_lands_on_the_pane_under_it(browser):
+    """A landscape window (a desktop browser, a phone turned): the pane is letterboxed left
+    and right, so the pane's x offset counts; a click at the pane's px (100, 200) and a right
+    button's drag send those px."""
+    params = Params.preset("fern")
+    with Page(hello(params), [], viewport=(1280, 720), scale=1, browser=browser) as page:
+        pane = page.page.evaluate("frost.pane()")
+        assert pane["y"] == 0 and pane["x"] == (1280 - pane["w"]) // 2 > 300
+        css = lambda x, y: (pane["x"] + x * pane["scale"], pane["y"] + y * pane["scale"])  # noqa: E731
+        mouse = page.page.mouse
+        mouse.click(*css(100, 200))
+        mouse.move(*css(700, 1200))
+        mouse.down(button="right")
+        mouse.move(*css(650, 1100))
+        page.page.wait_for_timeout(100)
+        mouse.up(button="right")
+        page.page.wait_for_timeout(100)
+    sent = page.sent
+    down = next(m for m in sent if m["phase"] == "down" and m["type"] == "touch")
+    assert abs(down["x"] - 100) < 1 and abs(down["y"] - 200) < 1, down
+    melt = next(m for m in sent if m["phase"] == "down" and m["type"] == "melt")
+    assert abs(melt["x"] - 700) < 1 and abs(melt["y"] - 1200) < 1, melt
+    move = next(m for m in sent if m["phase"] == "move" and m["type"] == "melt")
+    assert abs(move["x"] - 650) < 1 and abs(move["y"] - 1100) < 1, move
+
+
 def test_a_tap_is_timed_to_its_first_drawn_frost_and_growth(browser):
     """After a tap, a delta with ice or a ridge far from it counts for nothing; ice within
     12 px of it, however thin or thick, is its first frost (frost.frostLatencies) but not
