@@ -586,7 +586,7 @@ def test_ctrl_c_with_a_page_connected_closes_it_and_writes_the_session(tmp_path)
 
 
 def test_an_ipv6_host_is_bracketed_in_the_url(capsys):
-    from app.serve.server import announce
+    from app.serve.listen import announce
 
     announce("::1", 8025, None)
     assert "http://[::1]:8025/" in capsys.readouterr().out

@@ -12,7 +12,8 @@ import pytest
 
 from app.serve import guard
 from app.serve.feed import Feed
-from app.serve.server import listen, make_app
+from app.serve.listen import listen
+from app.serve.server import make_app
 from sim import Params
 
 HEAD = 0.4  # the shortened deadline for a request's head, s

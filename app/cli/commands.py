@@ -221,7 +221,7 @@ def _bench_render(args: argparse.Namespace, params: Params) -> int:
 
 
 def _serve(args: argparse.Namespace, params: Params) -> int:
-    from app.serve.server import serve
+    from app.serve.command import serve
     return serve(args, params)
 
 

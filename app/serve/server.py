@@ -8,15 +8,11 @@ only from their own folders, and a page's bad input closes its socket alone.
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import io
 import ipaddress
 import logging
 import secrets
-import signal
-import socket
 import statistics
-import sys
 import time
 from pathlib import Path, PurePosixPath
 from urllib.parse import urlsplit
@@ -35,7 +31,6 @@ from app.serve.session import SessionFiles
 log = logging.getLogger("app.serve")
 
 WEB_DIR = Path(__file__).resolve().parent.parent / "web"
-LOOPBACK = ("127.0.0.1", "localhost", "::1")
 HEARTBEAT = 20.0  # s: a socket that answers no ping within half of it is closed
 TYPES = {".html": "text/html", ".js": "text/javascript", ".mjs": "text/javascript",
          ".css": "text/css", ".json": "application/json", ".png": "image/png",
@@ -333,114 +328,3 @@ def _take(feed: Feed, page: Page, msg) -> protocol.ProtocolError | None:
         feed.controls.handle(message, page.fingers,
                              lambda why: page.text(protocol.text("notice", text=why)), page.points)
     return None
-
-
-# ---- the command ------------------------------------------------------------------------
-
-def serve(args, params) -> int:
-    """`frost serve`: serve until Ctrl-C (or a signal, or --max-seconds); the exit status."""
-    token = None if args.host in LOOPBACK else secrets.token_urlsafe(16)
-    if args.window:
-        from app.serve.window import serve_with_window
-        return serve_with_window(args, params, token)
-    feed = Feed(params, args.seed, args.touch, args.melt_radius, args.background)
-    app = make_app(feed, token, args.session_dir)
-    status = asyncio.run(_serve(app, args.host, args.port, token, args.max_seconds))
-    if status == 128 + signal.SIGINT:  # closed and saved: the command line says so, as
-        raise KeyboardInterrupt        # it does for the window, and exits 130
-    return status
-
-
-async def _serve(app: web.Application, host: str, port: int, token: str | None,
-                 max_seconds: float | None) -> int:
-    runner = await listen(app, host, port, token)
-    if runner is None:
-        return 2
-    status = await _until_ended(app[FEED], max_seconds)
-    await runner.cleanup()
-    return status
-
-
-async def listen(app: web.Application, host: str, port: int,
-                 token: str | None) -> web.AppRunner | None:
-    """The app served on host:port and its URL printed; None (the error said) if it cannot
-    listen there."""
-    runner = guard.GuardedRunner(app, handle_signals=False, access_log=None)
-    await runner.setup()
-    try:
-        site = web.TCPSite(runner, host, port)
-        await site.start()
-    except OSError as err:
-        app[FILES].folder = None  # nothing was served: no word on a session
-        await runner.cleanup()
-        print(f"frost: error: {listen_problem(host, port, err)}", file=sys.stderr)
-        return None
-    announce(host, runner.addresses[0][1] if runner.addresses else port, token)
-    return runner
-
-
-def listen_problem(host: str, port: int, err: OSError | None = None) -> str | None:
-    """Why host:port cannot be listened on (None: it can now), from `err` if given, else
-    by binding a socket there and closing it."""
-    if err is None:
-        try:
-            family = socket.AF_INET6 if ":" in host else socket.AF_INET
-            socket.create_server((host, port), family=family).close()
-            return None
-        except (OSError, OverflowError) as error:
-            err = error if isinstance(error, OSError) else OSError(str(error))
-    return f"cannot listen on {url_host(host)}:{port}: {err.strerror or err}"
-
-
-async def _until_ended(feed: Feed, max_seconds: float | None) -> int:
-    """Wait for a signal (128 + its number, as the window exits), the deadline (0) or the
-    simulation thread's death (1)."""
-    loop, ended = asyncio.get_running_loop(), asyncio.Event()
-    got: list[int] = []
-
-    def on_signal(signum: int) -> None:
-        got.append(signum)
-        ended.set()
-
-    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
-        loop.add_signal_handler(sig, on_signal, sig)
-    deadline = time.monotonic() + (max_seconds if max_seconds is not None else float("inf"))
-    while not ended.is_set() and feed.error is None and time.monotonic() < deadline:
-        with contextlib.suppress(asyncio.TimeoutError):
-            await asyncio.wait_for(ended.wait(), 0.25)
-    if got:
-        log.info("serve: %s received: closing", signal.Signals(got[0]).name)
-        return 128 + got[0]
-    return 1 if feed.error else 0
-
-
-def lan_address() -> str:
-    """This machine's address on its network (where a phone can reach it); no packet is
-    sent (a UDP socket's connect only picks the route)."""
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        try:
-            s.connect(("10.254.254.254", 1))
-            return s.getsockname()[0]
-        except OSError:
-            return socket.gethostname()
-
-
-def url_host(host: str) -> str:
-    """A host as a URL writes it: an IPv6 address in brackets."""
-    return f"[{host}]" if ":" in host else host
-
-
-def announce(host: str, port: int, token: str | None) -> None:
-    """Print the URL to open (with the token, and its QR code for a phone's camera)."""
-    if token is None:
-        print(f"frost serve: open http://{url_host(host)}:{port}/ (Ctrl-C ends it)", flush=True)
-        return
-    shown = lan_address() if host in ("0.0.0.0", "::", "") else host
-    url = f"http://{url_host(shown)}:{port}/?token={token}"
-    print(f"frost serve: open {url} on a phone of this network (Ctrl-C ends it)", flush=True)
-    try:
-        import segno
-        segno.make(url, error="m").terminal(compact=True)
-    except ImportError:
-        print("frost serve: (no QR code: the segno package is missing)")
-    sys.stdout.flush()
