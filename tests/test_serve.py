@@ -14,10 +14,13 @@ import pytest
 from aiohttp import WSMsgType
 from aiohttp.test_utils import TestClient, TestServer
 
+from app.serve import MAX_PAGES
 from app.serve import pages as pages_module
 from app.serve.feed import Feed
 from app.serve.protocol import LAST_PART, RESET, SNAPSHOT, apply_geometry, decode_geometry
-from app.serve.server import MAX_PAGES, inside, make_app, same_origin
+from app.serve.routes import inside
+from app.serve.server import make_app
+from app.serve.sockets import same_origin
 from sim import Params
 from sim.io.session import SessionLog
 from sim.io.timeline import replay
@@ -797,9 +800,9 @@ def test_the_stats_line_counts_ticks_stepped_across_a_rebuild(monkeypatch, caplo
 def test_a_flood_of_bad_requests_is_a_line_in_the_log_now_and_then(caplog, monkeypatch):
     # A client sending bad heads as fast as it can wrote a line each, 6 600 lines a
     # second: the log says the first, then at most one a BAD_LOG_S with the count since.
-    from app.serve import server
+    from app.serve import logs
 
-    monkeypatch.setattr(server, "BAD_LOG_S", 60.0)
+    monkeypatch.setattr(logs, "BAD_LOG_S", 60.0)
 
     async def bad(client, count):
         for _ in range(count):
@@ -815,7 +818,7 @@ def test_a_flood_of_bad_requests_is_a_line_in_the_log_now_and_then(caplog, monke
         await bad(client, 50)
         await asyncio.sleep(0.1)
         assert len(said()) == 1 and "more" not in said()[0]
-        monkeypatch.setattr(server, "BAD_LOG_S", 0.0)  # the while since the last line is over
+        monkeypatch.setattr(logs, "BAD_LOG_S", 0.0)  # the while since the last line is over
         await bad(client, 1)
         await asyncio.sleep(0.1)
         assert len(said()) == 2 and said()[1].endswith("; 49 more refused since the last such line")
@@ -827,7 +830,8 @@ def test_pages_coming_and_going_in_a_flood_are_lines_in_the_log_now_and_then(cap
     # A client opening sockets as fast as it can (each reads its hello and goes) wrote a
     # line each, some 200 a second: sixteen pages are named as they come (a whole house at
     # once), then at most a line a PAGE_LOG_S, saying how many went unsaid before it.
-    from app.serve import server
+    from app.serve import logs
+    from app.serve.appkeys import PAGE_LINES
 
     clock = [0.0]
 
@@ -841,14 +845,14 @@ def test_pages_coming_and_going_in_a_flood_are_lines_in_the_log_now_and_then(cap
         return [r.getMessage() for r in caplog.records if "connected (" in r.getMessage()]
 
     async def test(client, feed):
-        lines = client.server.app[server.PAGE_LINES]
+        lines = client.server.app[PAGE_LINES]
         lines.bucket.clock, lines.bucket.at = (lambda: clock[0]), 0.0
         await come_and_go(client, 30)
-        assert len(said()) == server.PAGE_LOG_BURST and "unsaid" not in said()[-1]
-        clock[0] += server.PAGE_LOG_S  # a line's worth of time
+        assert len(said()) == logs.PAGE_LOG_BURST and "unsaid" not in said()[-1]
+        clock[0] += logs.PAGE_LOG_S  # a line's worth of time
         await come_and_go(client, 2)
-        assert len(said()) == server.PAGE_LOG_BURST + 1
-        assert said()[-1].endswith(f"({30 - server.PAGE_LOG_BURST} such lines unsaid before it)")
+        assert len(said()) == logs.PAGE_LOG_BURST + 1
+        assert said()[-1].endswith(f"({30 - logs.PAGE_LOG_BURST} such lines unsaid before it)")
     with caplog.at_level(logging.INFO, "app.serve"):
         serve(test)
 

@@ -13,9 +13,10 @@ import time
 
 from aiohttp import web
 
+from app.serve.appkeys import FEED
 from app.serve.feed import Feed
 from app.serve.listen import listen
-from app.serve.server import FEED, make_app
+from app.serve.server import make_app
 from app.serve.window import serve_with_window
 
 log = logging.getLogger("app.serve")

@@ -9,7 +9,7 @@ import sys
 from aiohttp import web
 
 from app.serve import guard
-from app.serve.server import FILES
+from app.serve.appkeys import FILES
 
 
 async def listen(app: web.Application, host: str, port: int,

@@ -50,8 +50,9 @@ NAMED_KINDS = ("preset", "look", "backdrop", "key")  # each carries a "name" ("k
 BARE_KINDS = ("pause", "step", "clear")
 MAX_NAME = 64
 # WebSocket close codes: 1008 policy violation (malformed), 1009 message too big, 1011 the
-# server failed on a message (a bug of its own).
-POLICY, TOO_BIG, INTERNAL_ERROR = 1008, 1009, 1011
+# server failed on a message (a bug of its own), 1013 try again later (every page's place
+# is taken).
+POLICY, TOO_BIG, INTERNAL_ERROR, TRY_AGAIN_LATER = 1008, 1009, 1011, 1013
 
 
 class ProtocolError(ValueError):
