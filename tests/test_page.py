@@ -64,6 +64,18 @@ def test_the_page_knows_each_looks_defines():
         assert page == {look: list(d) for look, d in table.items()}
 
 
+def test_the_page_draws_with_the_tile_and_depth_of_the_hello(browser):
+    """The page keeps no copy of the desktop's tile side and feature depth: it takes the
+    hello's (frost serve's are sim.look.material's TILE and MAX_DEPTH), here other ones."""
+    source = (WEB_DIR / "renderer.js").read_text() + (WEB_DIR / "main.js").read_text()
+    assert not re.search(r"\b(TILE|MAX_DEPTH)\b", source)
+    params = Params.preset("fern")
+    with Page({**hello(params), "tile": 32, "max_depth": 128.0}, [], browser=browser) as page:
+        got = page.page.evaluate("(r => [r.tile, r.tiles.cols, r.tiles.rows, r.damage.cols,"
+                                 " r.features.maxDepth])(frost.renderer)")
+    assert got == [32, 24, 40, 24, 128]  # 760 / 32 = 23.75 and 1280 / 32 columns and rows
+
+
 def test_half_floats_as_numpy(browser):
     """Every half decodes as numpy does; numbers round to the nearest half (ties to even,
     subnormals, overflow) as numpy's astype(float16)."""
