@@ -273,3 +273,48 @@ def test_a_pages_socket_is_never_timed_though_its_first_frame_came_with_its_head
         assert [c.page for c in runner.conns] == [True] and runner.timed_out == 0
         writer.close()
     run(test)
+
+
+def test_aiohttp_is_asked_whether_a_connection_waits_for_its_next_request():
+    """guard.awaits_request reads aiohttp's private RequestHandler._waiter (no public way
+    exists): it must say True for a connection kept alive between two requests and False
+    while a request is being answered. A change of aiohttp's makes this fail, not the guard
+    silently close busy connections first (or never the idle ones)."""
+    release = asyncio.Event()
+
+    async def slow(_request):
+        await release.wait()
+        return aiohttp.web.Response(text="slow")
+
+    async def quick(_request):
+        return aiohttp.web.Response(text="quick")
+
+    async def main():
+        app = aiohttp.web.Application()
+        app.router.add_get("/quick", quick)
+        app.router.add_get("/slow", slow)
+        runner = guard.GuardedRunner(app, access_log=None)
+        await runner.setup()
+        site = aiohttp.web.TCPSite(runner, "127.0.0.1", 0)
+        await site.start()
+        try:
+            reader, writer = await asyncio.open_connection("127.0.0.1", runner.addresses[0][1])
+            writer.write(b"GET /quick HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+            assert (await answered(reader)).startswith(b"HTTP/1.1 200")
+            [conn] = runner.conns
+            assert guard.awaits_request(conn.inner) and conn.idle()  # kept alive, idle
+            writer.write(b"GET /slow HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+            for _ in range(100):  # until aiohttp has taken it
+                await asyncio.sleep(0.01)
+                if not guard.awaits_request(conn.inner):
+                    break
+            assert not guard.awaits_request(conn.inner) and not conn.idle()  # answering
+            release.set()
+            assert (await answered(reader)).startswith(b"HTTP/1.1 200")
+            await asyncio.sleep(0.05)
+            assert guard.awaits_request(conn.inner) and conn.idle()
+            writer.close()
+        finally:
+            await runner.cleanup()
+
+    asyncio.run(main())
