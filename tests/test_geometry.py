@@ -129,3 +129,32 @@ def test_ice_far_apart_raises_and_melts_back_as_the_oracle_says():
     geo.melt(sim, sim.melt(60.0, 300.0, 400.0))
     assert not sim.crystal_alive.any()
     assert not geo.heights.any()
+
+
+def test_a_segment_melted_before_its_update_is_never_drawn():
+    """A melt between a step and the geometry's update (a replayed session's melt at its
+    tick, a page's warm finger) takes out links that tick grew: the update draws the live
+    ones only. Oracle: no triangle of the update is a dead segment's; each live new segment
+    gives its 12; the heights are the bumps of the live particles."""
+    params = Params.preset("c-2", active_radius=50.0, humidity=800, max_height=3.0)
+    sim = FrostSim(params, 160, 120, seed=3)
+    geo = FrostGeometry(params, 160, 120)
+    sim.touch(80, 60)
+    for _ in range(6):  # (growing fast: tens of links a step)
+        sim.step()
+        geo.update(sim)
+    new = sim.step().segments
+    assert new.stop - new.start >= 2
+    x, y = sim.segments[new.start, 2:]  # the child end of the tick's first new link
+    geo.melt(sim, sim.melt(float(x), float(y), 3.0))
+    dead = ~sim.segments_alive[new]
+    assert dead.any() and not dead.all()  # the melt took some of the tick's links, not all
+    delta = geo.update(sim)
+    assert len(delta.features) == 12 * int((~dead).sum())
+    killed = feature_triangles(sim.segments[new][dead], params.feature_width, params.feature_height)
+    drawn = {tuple(v) for v in delta.features.round(4).tolist()}
+    assert not any(tuple(v) in drawn for v in killed.round(4).tolist())
+    pts = np.concatenate((sim.crystals[sim.crystal_alive], sim.upsampled[sim.upsampled_alive]))
+    oracle = bump_heights(pts, geo.rows, geo.cols, params.grid_spacing, params.hc,
+                          params.bump, params.max_height)
+    np.testing.assert_allclose(geo.heights, oracle, atol=1e-4)

@@ -30,6 +30,8 @@ from sim.io.files import one_line
 from sim.io.session import SessionError, SessionLog, check_event
 from sim.io.timeline import replay
 
+REPLAY_RUN = replay_tool.run  # (before a test stubs it)
+
 FIXTURE_OK = settings(suppress_health_check=[HealthCheck.function_scoped_fixture])
 
 # ---- the command line -------------------------------------------------------------------
@@ -401,6 +403,23 @@ def test_replay_of_a_missing_file_or_a_folder_is_refused(stubbed, tmp_path, make
     assert_refused_in_one_line(status, err, str(path), problem)
 
 
+@pytest.mark.parametrize("windowed", [False, True])
+def test_replay_of_a_file_that_is_no_session_points_to_the_help(stubbed, tmp_path, monkeypatch,
+                                                                windowed):
+    """A file that is there but no session (or a session this screen cannot replay) is the
+    command line's mistake, as render's are: its line ends with where to look. Headless,
+    frost replay's own code reads it; windowed, the command line does before the window."""
+    if not windowed:
+        monkeypatch.setattr(replay_tool, "run", REPLAY_RUN)  # the real one: it fails first
+    small = SessionLog(0, Params().as_dict(), 10, 10, [], 0).save(tmp_path / "small.json")
+    (tmp_path / "x.json").write_text('{"x": 1}')
+    for path in (tmp_path / "x.json", small):
+        status, err = run_main(["replay", *(["--headless"] if not windowed else []), str(path)])
+        assert_refused_in_one_line(status, err, str(path))
+        assert err.endswith(" (see frost replay --help)\n"), err
+    assert not stubbed
+
+
 def test_a_fern_figure_into_a_blocked_folder_is_refused(stubbed, blocked):
     target, named = blocked["file as folder"]
     status, err = run_main(["figure", "fern", str(target)])
@@ -453,6 +472,23 @@ def test_an_existing_output_in_a_folder_not_searchable_is_refused(stubbed, tmp_p
     assert_refused_in_one_line(status, err, f"its folder {unsearchable}", UNSEARCHABLE)
     status, err = run_main(["maps", str(unsearchable)])
     assert_refused_in_one_line(status, err, str(unsearchable), UNSEARCHABLE)
+
+
+@pytest.mark.parametrize("output", [*FILE_OUTPUTS, *FOLDER_OUTPUTS])
+def test_an_output_in_a_folder_searchable_but_not_writable_is_refused(stubbed, tmp_path, monkeypatch,
+                                                                     output):
+    """A folder of mode 0o500 (its files reached, no name added): os.access (root passes
+    every bit) refuses W_OK alone on it, as it does for a user."""
+    folder = tmp_path / "rx"
+    folder.mkdir()
+    real = os.access
+    monkeypatch.setattr(paths.os, "access", lambda p, m: real(p, m) and not (
+        m & os.W_OK and Path(p).name == "rx"))
+    template = {**FILE_OUTPUTS, **FOLDER_OUTPUTS}[output]
+    target = folder / ("x.png" if output not in FOLDER_OUTPUTS else "maps")
+    status, err = run_main(output_argv(template, target, tmp_path))
+    assert not stubbed
+    assert_refused_in_one_line(status, err, str(folder), "is not writable")
 
 
 def test_the_default_folder_not_searchable_is_refused(stubbed, tmp_path, monkeypatch):

@@ -16,12 +16,15 @@ from aiohttp import WSMsgType
 from aiohttp.test_utils import TestClient, TestServer
 
 from app import session_keeper
+from app.serve import MAX_PAGES
 from app.serve import pages as pages_module
 from app.serve import session as session_module
 from app.serve.feed import Feed
 from app.serve.protocol import LAST_PART, RESET, SNAPSHOT, apply_geometry, decode_geometry
-from app.serve.server import MAX_PAGES, inside, make_app, same_origin
+from app.serve.routes import inside
+from app.serve.server import make_app
 from app.serve.session import SessionFiles
+from app.serve.sockets import same_origin
 from sim import Params
 from sim.io.session import SessionLog
 from sim.io.timeline import replay
@@ -199,6 +202,8 @@ def test_a_token_is_needed_when_one_is_in_force():
             assert resp.status == 403, url
             resp = await client.get(url + "?token=wrong")
             assert resp.status == 403, url
+        for wrong in ("s3cretX", "s3cre", "s3cret%20", "%20s3cret", "S3CRET", "x&token=s3cret"):
+            assert (await client.get(f"/meta?token={wrong}")).status == 403, wrong
         resp = await client.get("/shaders/ice.frag?token=s3cret")
         assert resp.status == 200 and "void main" in await resp.text()
         ws, _page = await connect(client, token="s3cret")
@@ -237,14 +242,18 @@ def test_origin_must_name_the_host():
     assert same_origin("http://192.168.1.5:8025", "192.168.1.5:8025")
     assert not same_origin("http://evil.example", "192.168.1.5:8025")
     assert not same_origin("null", "127.0.0.1:8025")
+    # another port of the same machine is another site (another program's page)
+    assert not same_origin("http://192.168.1.5:9000", "192.168.1.5:8025")
+    assert not same_origin("http://192.168.1.5", "192.168.1.5:8025")
 
     async def test(client, feed):
-        resp = await client.get("/ws", headers={"Origin": "http://evil.example",
-                                                "Connection": "Upgrade", "Upgrade": "websocket",
-                                                "Sec-WebSocket-Version": "13",
-                                                "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ=="})
-        assert resp.status == 403
         host = f"{client.server.host}:{client.server.port}"
+        for origin in ("http://evil.example", f"http://{client.server.host}:1"):
+            resp = await client.get("/ws", headers={"Origin": origin,
+                                                    "Connection": "Upgrade", "Upgrade": "websocket",
+                                                    "Sec-WebSocket-Version": "13",
+                                                    "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ=="})
+            assert resp.status == 403, origin
         ws = await client.ws_connect("/ws", origin=f"http://{host}")
         await ws.close()
     serve(test)
@@ -264,25 +273,57 @@ def test_at_most_sixteen_pages():
     serve(test)
 
 
+class Frame(bytes):
+    """A text frame's payload sent as it is, even if it is no UTF-8 (the client would not)."""
+
+
 @pytest.mark.parametrize("send, code, says", [
     ("not json", 1008, "not JSON"),
     ('{"type":"touch","x":"a","y":1}', 1008, "'x'"),
     ('{"type":"touch","x":1' + "0" * 400 + ',"y":1}', 1008, "'x' must be a finite number"),
     ('{"type":"warp"}', 1008, "unknown message type"),
-    ("x" * 2000, 1009, ""),
+    ("x" * 2000, 1009, "exceeds limit 1024"),
     (b"\x01\x02", 1008, "binary"),
+    # Whatever its shape: "[" * 1000 (under 1 KiB) raised RecursionError in json, which
+    # aiohttp logged as a traceback of 33 lines, and it sent no close frame.
+    ("[" * 1000, 1008, "not JSON"),
+    ('{"type":"touch","x":' + "[" * 990 + "1", 1008, "not JSON"),
+    ('{"type":"ping","t":' + "9" * 1000 + "}", 1008, "'t' must be a finite number"),
+    ('{"type":"touch","x":NaN,"y":1}', 1008, "not JSON"),
+    ('{"type":"touch","x":-Infinity,"y":1}', 1008, "not JSON"),
+    ('{"type":"touch","x":1,"y":2,"id":1e999}', 1008, "'id'"),
+    ('{"type":"touch","x":1,"y":2,"phase":["down"]}', 1008, "'phase'"),
+    ('{"type":["touch"]}', 1008, "string 'type'"),
+    # Not UTF-8: aiohttp closes it itself, with the standard's code for it (1007)
+    (Frame(b"\xff\xfe"), 1007, "Invalid UTF-8"),
 ])
-def test_bad_input_closes_that_socket_and_changes_nothing(send, code, says):
+def test_bad_input_closes_that_socket_in_one_line_of_log_and_changes_nothing(
+        caplog, send, code, says):
+    """A malformed message closes that socket with a close frame and its reason, is one
+    line in the log (no traceback), changes nothing, and the other pages tick on."""
     async def test(client, feed):
         good, page = await connect(client)
         bad = await client.ws_connect("/ws")
-        await (bad.send_bytes(send) if isinstance(send, bytes) else bad.send_str(send))
+        if isinstance(send, Frame):  # masked, as a client's frames are, by hand
+            bad._writer.transport.write(bytes([0x81, 0x80 | len(send)]) + b"mask" + bytes(
+                b ^ m for b, m in zip(send, b"mask" * 4, strict=False)))
+        elif isinstance(send, bytes):
+            await bad.send_bytes(send)
+        else:
+            await bad.send_str(send)
         msg = await closing(bad)
-        assert bad.close_code == code and says in (msg.extra or "")
+        assert msg.type == WSMsgType.CLOSE and bad.close_code == code, (msg, bad.close_code)
+        assert says in (msg.extra or "") or code in (1007, 1009)  # (aiohttp's own, no reason)
         tick = page.tick
         await read_until(good, page, lambda: page.tick > tick + 10)  # still ticking
         assert feed.thread.session().events == []
-    serve(test)
+        await good.close()
+
+    with caplog.at_level(logging.INFO):
+        serve(test)
+    said = [r for r in caplog.records if "closed:" in r.getMessage()]
+    assert len(said) == 1 and says in said[0].getMessage(), [r.getMessage() for r in said]
+    assert not [r for r in caplog.records if r.exc_info or r.levelno >= logging.ERROR]
 
 
 def test_a_flood_is_cut_off_and_the_server_ticks_on():
@@ -460,6 +501,8 @@ def test_frost_serve_from_the_command_line(tmp_path):
         asyncio.run(main())
         proc.send_signal(signal.SIGINT)
         assert proc.wait(30) == 130
+        # as the window says it (the log's lines are in between)
+        assert "\nfrost: interrupted (Ctrl-C)\n" in proc.stderr.read()
     finally:
         proc.kill()
         proc.wait()
@@ -619,7 +662,7 @@ def test_ctrl_c_with_a_page_connected_closes_it_and_writes_the_session(tmp_path)
 
 
 def test_an_ipv6_host_is_bracketed_in_the_url(capsys):
-    from app.serve.server import announce
+    from app.serve.listen import announce
 
     announce("::1", 8025, None)
     assert "http://[::1]:8025/" in capsys.readouterr().out
@@ -830,9 +873,9 @@ def test_the_stats_line_counts_ticks_stepped_across_a_rebuild(monkeypatch, caplo
 def test_a_flood_of_bad_requests_is_a_line_in_the_log_now_and_then(caplog, monkeypatch):
     # A client sending bad heads as fast as it can wrote a line each, 6 600 lines a
     # second: the log says the first, then at most one a BAD_LOG_S with the count since.
-    from app.serve import server
+    from app.serve import logs
 
-    monkeypatch.setattr(server, "BAD_LOG_S", 60.0)
+    monkeypatch.setattr(logs, "BAD_LOG_S", 60.0)
 
     async def bad(client, count):
         for _ in range(count):
@@ -848,7 +891,7 @@ def test_a_flood_of_bad_requests_is_a_line_in_the_log_now_and_then(caplog, monke
         await bad(client, 50)
         await asyncio.sleep(0.1)
         assert len(said()) == 1 and "more" not in said()[0]
-        monkeypatch.setattr(server, "BAD_LOG_S", 0.0)  # the while since the last line is over
+        monkeypatch.setattr(logs, "BAD_LOG_S", 0.0)  # the while since the last line is over
         await bad(client, 1)
         await asyncio.sleep(0.1)
         assert len(said()) == 2 and said()[1].endswith("; 49 more refused since the last such line")
@@ -860,7 +903,8 @@ def test_pages_coming_and_going_in_a_flood_are_lines_in_the_log_now_and_then(cap
     # A client opening sockets as fast as it can (each reads its hello and goes) wrote a
     # line each, some 200 a second: sixteen pages are named as they come (a whole house at
     # once), then at most a line a PAGE_LOG_S, saying how many went unsaid before it.
-    from app.serve import server
+    from app.serve import logs
+    from app.serve.appkeys import PAGE_LINES
 
     clock = [0.0]
 
@@ -874,14 +918,14 @@ def test_pages_coming_and_going_in_a_flood_are_lines_in_the_log_now_and_then(cap
         return [r.getMessage() for r in caplog.records if "connected (" in r.getMessage()]
 
     async def test(client, feed):
-        lines = client.server.app[server.PAGE_LINES]
+        lines = client.server.app[PAGE_LINES]
         lines.bucket.clock, lines.bucket.at = (lambda: clock[0]), 0.0
         await come_and_go(client, 30)
-        assert len(said()) == server.PAGE_LOG_BURST and "unsaid" not in said()[-1]
-        clock[0] += server.PAGE_LOG_S  # a line's worth of time
+        assert len(said()) == logs.PAGE_LOG_BURST and "unsaid" not in said()[-1]
+        clock[0] += logs.PAGE_LOG_S  # a line's worth of time
         await come_and_go(client, 2)
-        assert len(said()) == server.PAGE_LOG_BURST + 1
-        assert said()[-1].endswith(f"({30 - server.PAGE_LOG_BURST} such lines unsaid before it)")
+        assert len(said()) == logs.PAGE_LOG_BURST + 1
+        assert said()[-1].endswith(f"({30 - logs.PAGE_LOG_BURST} such lines unsaid before it)")
     with caplog.at_level(logging.INFO, "app.serve"):
         serve(test)
 
@@ -895,7 +939,8 @@ def test_without_a_token_only_a_loopback_host_is_answered():
                "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ=="}
 
     async def test(client, feed):
-        for host in ("evil.example:8025", "evil.example", "192.168.1.5:8025", "127.0.0.1.evil.example"):
+        for host in ("evil.example:8025", "evil.example", "192.168.1.5:8025", "127.0.0.1.evil.example",
+                     "evil-localhost", "evil-localhost:8025", "notlocalhost", "localhost.evil.example"):
             assert (await client.get("/meta", headers={"Host": host})).status == 403, host
             resp = await client.get("/ws", headers={"Host": host, "Origin": f"http://{host}", **upgrade})
             assert resp.status == 403, host
@@ -909,3 +954,108 @@ def test_without_a_token_only_a_loopback_host_is_answered():
         resp = await client.get("/meta?token=s3cret", headers={"Host": "192.168.1.5:8025"})
         assert resp.status == 200
     serve(with_token, token="s3cret")
+
+
+def test_a_flood_of_deeply_nested_messages_is_a_few_lines_of_log():
+    """Sockets opened as fast as a client can, each sending '[' * 1000 (under 1 KiB): each
+    closed with 1008; the log says the first sixteen pages' comings and goings, then at
+    most a line a while (268 tracebacks of 33 lines before)."""
+    records: list[logging.LogRecord] = []
+
+    class Keep(logging.Handler):
+        def emit(self, record):
+            records.append(record)
+
+    async def test(client, feed):
+        for _ in range(60):
+            ws = await client.ws_connect("/ws")
+            await ws.send_str("[" * 1000)
+            await closing(ws)
+            assert ws.close_code == 1008
+
+    keep, root = Keep(logging.INFO), logging.getLogger()
+    level = root.level
+    root.addHandler(keep)
+    root.setLevel(logging.INFO)
+    try:
+        serve(test)
+    finally:
+        root.removeHandler(keep)
+        root.setLevel(level)
+    assert not [r for r in records if r.exc_info or r.levelno >= logging.ERROR]
+    pages = [r for r in records if "serve: page" in r.getMessage()]
+    assert len(pages) <= 16 + 1, len(pages)  # the house of 16, and one a PAGE_LOG_S at most
+
+
+def test_a_message_the_server_fails_on_closes_that_socket_alone_in_one_line(caplog, monkeypatch):
+    """A bug of the server's met by one page's message (here: handling a touch raises)
+    closes that socket with 1011 (internal error) and a line, no traceback; the others
+    tick on."""
+    from app.serve.controls import Controls
+
+    def broken(self, message, *args):
+        raise ValueError("a bug met")
+
+    async def test(client, feed):
+        good, page = await connect(client)
+        bad = await client.ws_connect("/ws")
+        monkeypatch.setattr(Controls, "handle", broken)
+        await bad.send_json({"type": "touch", "x": 10, "y": 10})
+        msg = await closing(bad)
+        assert bad.close_code == 1011 and "ValueError" in msg.extra
+        tick = page.tick
+        await read_until(good, page, lambda: page.tick > tick + 5)
+        await good.close()
+
+    with caplog.at_level(logging.INFO):
+        serve(test)
+    said = [r.getMessage() for r in caplog.records if "closed:" in r.getMessage()]
+    assert len(said) == 1 and "ValueError: a bug met" in said[0], said
+    assert not [r for r in caplog.records if r.exc_info or r.levelno >= logging.ERROR]
+
+
+CHANGES = [{"type": "key", "key": "NOPE"}, {"type": "preset", "name": "nope"},
+           {"type": "look", "name": "nope"}, {"type": "backdrop", "name": "nope"},
+           {"type": "step"}, {"type": "pause"}, {"type": "clear"}]
+
+
+def test_every_kind_of_change_counts_against_the_change_limit():
+    """Twelve of one kind at once (each its own page): the burst of ten goes through (a
+    name refused or not), the rest are refused with a notice, whatever the kind; keys too,
+    which the window's key table turns into any change at all."""
+    async def test(client, feed):
+        for change in CHANGES:
+            ws, page = await connect(client)
+            for _ in range(12):
+                await ws.send_json(change)
+            await ws.send_json({"type": "ping", "t": 1})
+            await read_until(ws, page, lambda p=page: any(t["type"] == "pong" for t in p.texts))
+            refused = [t for t in page.texts if t["type"] == "notice"
+                       and "changes a second" in t["text"]]
+            assert 1 <= len(refused) <= 2, (change, refused)  # (a token may come back meanwhile)
+            await ws.close()
+    serve(test)
+
+
+def test_meta_states_the_tick_of_the_frame_published_not_the_simulations():
+    """/meta describes the frame the pages were sent last: a simulation that ticked on
+    since (its snapshots not yet published) is not that frame. The thread is ticked by
+    hand here (no schedule, no loop) and the feed published by hand."""
+    from aiohttp.test_utils import make_mocked_request
+
+    feed = Feed(PAPER, seed=1, touches=[CENTRE])
+    app = make_app(feed)
+    for _ in range(5):
+        feed.thread.tick()
+    feed.pump()
+    for _ in range(3):
+        feed.thread.tick()
+    assert feed.thread.sim.tick == 8 and feed.latest.stats.tick == 5
+
+    async def ask() -> dict:
+        request = make_mocked_request("GET", "/meta", app=app, headers={"Host": "127.0.0.1"})
+        match = await app.router.resolve(request)
+        return json.loads((await match.handler(request)).body)
+
+    meta = asyncio.run(ask())
+    assert meta["tick"] == 5 and meta["touches"] == [[0, *CENTRE]]

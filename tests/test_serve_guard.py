@@ -12,7 +12,8 @@ import pytest
 
 from app.serve import guard
 from app.serve.feed import Feed
-from app.serve.server import listen, make_app
+from app.serve.listen import listen
+from app.serve.server import make_app
 from sim import Params
 
 HEAD = 0.4  # the shortened deadline for a request's head, s
@@ -247,3 +248,73 @@ def test_an_upgrade_refused_for_its_token_stays_timed(short):
             assert await closed(reader, HEAD + 1.0)  # (aiohttp closes it at once)
             writer.close()
     run(test, token="secret")
+
+
+def masked_text(text: str) -> bytes:
+    """A client's WebSocket text frame (masked, as a client must send them)."""
+    data, mask = text.encode(), b"frst"
+    assert len(data) < 126
+    return bytes([0x81, 0x80 | len(data)]) + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(data))
+
+
+def test_a_pages_socket_is_never_timed_though_its_first_frame_came_with_its_head(short):
+    """A client may send its first frame right behind its upgrade request, before the 101:
+    the guard reads those bytes as the next head begun (its deadline running), and taking
+    the page's socket must stop that deadline, or the page is closed HEAD_S later."""
+    async def test(port, runner):
+        reader, writer = await asyncio.open_connection("127.0.0.1", port)
+        writer.write(f"GET /ws HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n"
+                     "Connection: Upgrade\r\nSec-WebSocket-Version: 13\r\n"
+                     "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n\r\n".encode()
+                     + masked_text('{"type":"ping","t":7}'))
+        head = await asyncio.wait_for(reader.readuntil(b"\r\n\r\n"), 5)
+        assert head.startswith(b"HTTP/1.1 101")
+        assert not await closed(reader, HEAD * 4)  # well past the head's deadline
+        assert [c.page for c in runner.conns] == [True] and runner.timed_out == 0
+        writer.close()
+    run(test)
+
+
+def test_aiohttp_is_asked_whether_a_connection_waits_for_its_next_request():
+    """guard.awaits_request reads aiohttp's private RequestHandler._waiter (no public way
+    exists): it must say True for a connection kept alive between two requests and False
+    while a request is being answered. A change of aiohttp's makes this fail, not the guard
+    silently close busy connections first (or never the idle ones)."""
+    release = asyncio.Event()
+
+    async def slow(_request):
+        await release.wait()
+        return aiohttp.web.Response(text="slow")
+
+    async def quick(_request):
+        return aiohttp.web.Response(text="quick")
+
+    async def main():
+        app = aiohttp.web.Application()
+        app.router.add_get("/quick", quick)
+        app.router.add_get("/slow", slow)
+        runner = guard.GuardedRunner(app, access_log=None)
+        await runner.setup()
+        site = aiohttp.web.TCPSite(runner, "127.0.0.1", 0)
+        await site.start()
+        try:
+            reader, writer = await asyncio.open_connection("127.0.0.1", runner.addresses[0][1])
+            writer.write(b"GET /quick HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+            assert (await answered(reader)).startswith(b"HTTP/1.1 200")
+            [conn] = runner.conns
+            assert guard.awaits_request(conn.inner) and conn.idle()  # kept alive, idle
+            writer.write(b"GET /slow HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+            for _ in range(100):  # until aiohttp has taken it
+                await asyncio.sleep(0.01)
+                if not guard.awaits_request(conn.inner):
+                    break
+            assert not guard.awaits_request(conn.inner) and not conn.idle()  # answering
+            release.set()
+            assert (await answered(reader)).startswith(b"HTTP/1.1 200")
+            await asyncio.sleep(0.05)
+            assert guard.awaits_request(conn.inner) and conn.idle()
+            writer.close()
+        finally:
+            await runner.cleanup()
+
+    asyncio.run(main())

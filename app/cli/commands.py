@@ -175,8 +175,8 @@ def _replay(args: argparse.Namespace, params: Params) -> int:
     try:
         params = _windowed_replay(args, what_if)
     except SessionError as err:
-        print(f"{PROG}: error: {err}", file=sys.stderr)
-        return 2
+        from app.tools.replay import refuse
+        return refuse(err)
     from app.window import frost_window
     return frost_window.run(args, params)
 
@@ -221,7 +221,7 @@ def _bench_render(args: argparse.Namespace, params: Params) -> int:
 
 
 def _serve(args: argparse.Namespace, params: Params) -> int:
-    from app.serve.server import serve
+    from app.serve.command import serve
     return serve(args, params)
 
 

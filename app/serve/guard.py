@@ -42,6 +42,16 @@ LOG_S = 10.0  # s: at most one line a while on connections closed to make room
 END_OF_HEAD = b"\r\n\r\n"
 
 
+def awaits_request(handler: asyncio.Protocol) -> bool:
+    """Whether aiohttp's handler of a connection waits for its next request (kept alive
+    between two, or new), as aiohttp itself tells before it closes an idle connection
+    (RequestHandler._process_keepalive). aiohttp has no public way to ask (its docs and
+    issues offer none): this reads its private `_waiter`, here alone, and
+    tests/test_serve_guard.py fails the day aiohttp changes it."""
+    waiter = getattr(handler, "_waiter", None)
+    return waiter is not None and not waiter.done()
+
+
 def untimed(transport) -> None:
     """`transport` (a request's) carries a page's WebSocket from now on."""
     protocol = transport.get_protocol() if transport is not None else None
@@ -120,11 +130,10 @@ class Guarded(asyncio.Protocol):
         self.inner.connection_made(transport)
 
     def idle(self) -> bool:
-        """Whether aiohttp waits for this connection's next request (kept alive between two;
-        aiohttp's own test before it closes an idle one), its head not begun."""
-        waiter = getattr(self.inner, "_waiter", None)
+        """Whether aiohttp waits for this connection's next request (kept alive between two),
+        its head not begun."""
         return (self.served and not self.page and self.timer is None
-                and waiter is not None and not waiter.done())
+                and awaits_request(self.inner))
 
     def close(self) -> None:
         self._stop_timer()

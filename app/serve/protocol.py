@@ -22,6 +22,7 @@ VERSION = 1
 GEOMETRY = 1  # the binary message type
 # flags of a geometry message
 RESET, CLEAR_BOX, SNAPSHOT, LAST_PART = 1, 2, 4, 8
+ALL_FLAGS = RESET | CLEAR_BOX | SNAPSHOT | LAST_PART
 LOOKS = ("paper", "glass")  # the look byte: its index here
 # u8 version, u8 type, u8 flags, u8 look; u32 tick; u16 cols, u16 rows (the grid);
 # f32 height_scale; u32 runs, u32 vertices; f32 x 4 clear box (x0, y0, x1, y1 px).
@@ -48,8 +49,10 @@ POINTER_KINDS = ("touch", "melt")
 NAMED_KINDS = ("preset", "look", "backdrop", "key")  # each carries a "name" ("key": "key")
 BARE_KINDS = ("pause", "step", "clear")
 MAX_NAME = 64
-# WebSocket close codes: 1008 policy violation (malformed), 1009 message too big.
-POLICY, TOO_BIG = 1008, 1009
+# WebSocket close codes: 1008 policy violation (malformed), 1009 message too big, 1011 the
+# server failed on a message (a bug of its own), 1013 try again later (every page's place
+# is taken).
+POLICY, TOO_BIG, INTERNAL_ERROR, TRY_AGAIN_LATER = 1008, 1009, 1011, 1013
 
 
 class ProtocolError(ValueError):
@@ -170,15 +173,19 @@ def decode_geometry(data: bytes) -> dict[str, Any]:
      *box) = HEADER.unpack_from(data)
     if version != VERSION or kind != GEOMETRY:
         raise ValueError(f"not a version {VERSION} geometry message")
-    at = HEADER.size
-    runs = [RUN.unpack_from(data, at + i * RUN.size) for i in range(nruns)]
-    at += nruns * RUN.size
+    if look >= len(LOOKS) or flags & ~ALL_FLAGS:
+        raise ValueError(f"geometry message with look {look} and flags {flags}: unknown")
+    runs = _runs(data, nruns, cols * rows)
     nvalues = sum(n for _s, n in runs)
+    at = HEADER.size + nruns * RUN.size
+    verts_at = at + 2 * nvalues + (-2 * nvalues) % 4
+    if verts_at + nverts * VERTEX.itemsize != len(data):
+        raise ValueError(f"geometry message of {len(data)} bytes, not the "
+                         f"{verts_at + nverts * VERTEX.itemsize} its header says")
+    if nverts % 3:
+        raise ValueError(f"geometry message of {nverts} vertices: not whole triangles")
     values = np.frombuffer(data, "<f2", nvalues, at).astype(np.float32)
-    at += 2 * nvalues + (-2 * nvalues) % 4
-    rec = np.frombuffer(data, VERTEX, nverts, at)
-    if at + nverts * VERTEX.itemsize != len(data):
-        raise ValueError("geometry message length does not match its header")
+    rec = np.frombuffer(data, VERTEX, nverts, verts_at)
     verts = np.empty((nverts, VERTEX_FLOATS), np.float32)
     verts[:, :2] = rec["xy"] / SUBPIXEL
     verts[:, 2] = rec["z"]
@@ -186,6 +193,21 @@ def decode_geometry(data: bytes) -> dict[str, Any]:
     return {"flags": flags, "look": LOOKS[look], "tick": tick, "grid": (cols, rows),
             "height_scale": scale, "runs": runs, "heights": values, "vertices": verts,
             "clear_box": tuple(box) if flags & CLEAR_BOX else None}
+
+
+def _runs(data: bytes, nruns: int, cells: int) -> list[tuple[int, int]]:
+    """The `nruns` runs after the header, each inside a grid of `cells` values; ValueError
+    if the message is too short to hold them (checked first: a header may ask for 2**32
+    of them) or one leaves the grid."""
+    end = HEADER.size + nruns * RUN.size
+    if end > len(data):
+        raise ValueError(f"geometry message of {len(data)} bytes is shorter than its {nruns} runs")
+    runs = list(RUN.iter_unpack(data[HEADER.size:end]))
+    outside = next(((s, n) for s, n in runs if s + n > cells), None)
+    if outside is not None:
+        raise ValueError(f"a run of {outside[1]} heights at {outside[0]} leaves the grid of "
+                         f"{cells}")
+    return runs
 
 
 def apply_geometry(heights: np.ndarray, message: dict[str, Any]) -> None:
@@ -213,12 +235,18 @@ def parse_input(message: str | bytes) -> Input:
     over MAX_INPUT_BYTES)."""
     if isinstance(message, bytes):
         raise ProtocolError("binary messages are not accepted")
-    if len(message.encode()) > MAX_INPUT_BYTES:
+    try:
+        size = len(message.encode())
+    except UnicodeEncodeError:  # a lone surrogate: aiohttp never hands one over
+        raise ProtocolError("not UTF-8 text") from None
+    if size > MAX_INPUT_BYTES:
         raise ProtocolError(f"message over {MAX_INPUT_BYTES} bytes", TOO_BIG)
     try:
         data = json.loads(message, parse_constant=_no_constant)
     except ValueError as err:
         raise ProtocolError(f"not JSON: {str(err)[:80]}") from None
+    except RecursionError:  # "[" * 1000 is under 1 KiB, and deeper than json can go
+        raise ProtocolError("not JSON: nested too deep") from None
     if not isinstance(data, dict) or not isinstance(data.get("type"), str):
         raise ProtocolError("a message must be a JSON object with a string 'type'")
     kind = data["type"]

@@ -11,7 +11,8 @@ import sys
 import threading
 
 from app.serve.feed import Feed
-from app.serve.server import listen, listen_problem, make_app
+from app.serve.listen import listen, listen_problem
+from app.serve.server import make_app
 
 log = logging.getLogger("app.serve")
 

@@ -29,7 +29,7 @@ from app.tools.bench_sim import count
 from app.tools.taps import GAP_S, tap_spots
 from sim import Params, all_presets
 from sim.look.geometry import GeometryDelta
-from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, Material
+from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, MAX_DEPTH, TILE, Material
 from sim.screen import HEIGHT, WIDTH
 
 CHROMIUM = "/usr/bin/chromium"
@@ -76,7 +76,7 @@ def hello(params: Params, backdrop: str = DEFAULT_BACKDROP) -> dict:
                      "bumps": True, "background": backdrop},
             "uniforms": uniforms,
             "defines": {look: {"ice": list(LOOK_DEFINES[look]), "feature": list(FEATURE_DEFINES[look])}
-                        for look in LOOK_DEFINES}}
+                        for look in LOOK_DEFINES}, "tile": TILE, "max_depth": MAX_DEPTH}
 
 
 def bench_events(ticks: int) -> list[dict]:

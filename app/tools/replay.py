@@ -58,6 +58,13 @@ def replay_offscreen(ctx, log_: SessionLog, steps: int | None = None,
     return offscreen
 
 
+def refuse(problem) -> int:
+    """The session named on the command line cannot be replayed: a one-line error that
+    points to the help, as the command line's other mistakes do; the exit status (2)."""
+    error(f"{problem} (see frost replay --help)")
+    return 2
+
+
 def run(args, what_if: Params | None = None) -> int:
     """`frost replay FILE.json` when headless (under `what_if`'s parameters if given, see
     `under`); returns the exit status."""
@@ -66,15 +73,16 @@ def run(args, what_if: Params | None = None) -> int:
         if what_if is not None:
             log_ = under(log_, what_if, args.params_file)
         ctx = make_context()
-    except (SessionError, RuntimeError) as err:
+    except SessionError as err:
+        return refuse(err)
+    except RuntimeError as err:  # no OpenGL context: not the command line's mistake
         error(err)
-        return 2 if isinstance(err, SessionError) else 1
+        return 1
     progress = Progress(log_.steps if args.ticks is None else args.ticks)
     try:
         offscreen = replay_offscreen(ctx, log_, args.ticks, progress, args.background)
     except ValueError as err:  # an event the simulation refuses
-        error(f"{args.replay}: cannot replay: {err}")
-        return 2
+        return refuse(f"{args.replay}: cannot replay: {err}")
     timeline = offscreen.timeline
     offscreen.meta = {"session": str(args.replay), "replayed_steps": timeline.steps}
     if what_if is not None:

@@ -125,8 +125,10 @@ async function onText(msg) {
     const [cols, rows] = msg.grid;
     const r = state.renderer;
     if (gl.isContextLost()) return;
-    if (!r || r.gridSize[0] !== cols || r.gridSize[1] !== rows || r.spacing !== msg.spacing) {
-      state.renderer = new Renderer(gl, state.sources, { width: SCREEN[0], height: SCREEN[1], grid: msg.grid, spacing: msg.spacing });
+    if (!r || r.gridSize[0] !== cols || r.gridSize[1] !== rows || r.spacing !== msg.spacing
+        || r.tile !== msg.tile || r.maxDepth !== msg.max_depth) {
+      state.renderer = new Renderer(gl, state.sources, { width: SCREEN[0], height: SCREEN[1], grid: msg.grid,
+        spacing: msg.spacing, tile: msg.tile, maxDepth: msg.max_depth });
       if (msg.defines) state.renderer.setDefines(msg.defines);
     } else {
       r.reset();  // the snapshot that follows holds the whole frost

@@ -16,8 +16,6 @@ export const FEATURE_DEFINES = { paper: [], glass: ["EDGE_AA"] };
 export const SHADERS = ["fullscreen.vert", "background.frag", "tile.vert", "ice.frag",
   "feature.vert", "feature.frag", "blit.vert", "blit.frag"];
 export const FEATURE_HEIGHT_SCALE = 16.0;
-export const MAX_DEPTH = 64.0;  // px; features higher than this share the nearest depth
-export const TILE = 16;  // side of a screen tile of the ice pass, px
 // The ice's material (sim.look.material.Material) and the light, until the server says.
 export const MATERIAL = {
   ice_color: [0.93, 0.96, 1.0], ambient: 0.72, diffuse: 0.38, specular: 1.3, shininess: 12.0,
@@ -95,9 +93,14 @@ export function defaultLight() {
 
 export class Renderer {
   // gl: a WebGL2 context; sources: the shader files' text (fetchShaders); grid: [cols, rows]
-  // of the height grid, spacing px apart.
-  constructor(gl, sources, { width = 760, height = 1280, grid, spacing }) {
+  // of the height grid, spacing px apart; tile: the side of a screen tile of the ice pass
+  // (px), maxDepth: the height (px) above which features share the nearest depth. All but
+  // the screen's size are the hello's (grid, spacing, tile, max_depth): the desktop's own.
+  constructor(gl, sources, { width = 760, height = 1280, grid, spacing, tile, maxDepth }) {
+    if (!(tile > 0) || !(maxDepth > 0)) throw new Error(`a tile of ${tile} px, a depth of ${maxDepth} px: the hello's are needed`);
     this.gl = gl;
+    this.tile = tile;
+    this.maxDepth = maxDepth;
     this.sources = sources;
     this.size = [width, height];
     this.spacing = spacing;
@@ -112,17 +115,17 @@ export class Renderer {
     this.grid = new Float32Array(grid[0] * grid[1]);  // mirror of the heights, row-major
     this.texels = new Uint16Array(grid[0] * grid[1] * 3);  // mirror of the height texture
     this.heights = texture(gl, grid[0], grid[1], gl.RGB16F, gl.LINEAR);
-    this.features = new FeatureLayer(gl, sources, this.size);
+    this.features = new FeatureLayer(gl, sources, this.size, maxDepth);
     this.backgroundProg = new Program(gl, sources, "fullscreen.vert", "background.frag");
     this.emptyArray = gl.createVertexArray();
     this.iceProgs = {};
     this.defines = { ice: LOOK_DEFINES, feature: FEATURE_DEFINES };
-    this.tiles = new TileSet(gl, this.size, spacing);
+    this.tiles = new TileSet(gl, this.size, spacing, tile);
     // The frame: RGBA8 of the screen's size, as the desktop's offscreen framebuffer.
     this.frame = texture(gl, width, height, gl.RGBA8, gl.LINEAR);
     // The tiles of the frame to draw again: only what changed is drawn (the frame texture
     // keeps the rest), the same pixels a whole frame gives.
-    this.damage = new TileDamage(this.size);
+    this.damage = new TileDamage(this.size, tile);
     this.frameFbo = gl.createFramebuffer();
     gl.bindFramebuffer(gl.FRAMEBUFFER, this.frameFbo);
     gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, this.frame, 0);
@@ -272,7 +275,7 @@ export class Renderer {
     bindTexture(gl, 0, this.background);
     if (tiles) {
       this.backgroundTiles ||= new Program(gl, this.sources, "tile.vert", "background.frag");
-      this.backgroundTiles.use({ u_background: 0, u_screen: this.size, u_tile: TILE });
+      this.backgroundTiles.use({ u_background: 0, u_screen: this.size, u_tile: this.tile });
       this.tiles.renderSome(this.backgroundTiles, tiles, false);
     } else {
       this.backgroundProg.use({ u_background: 0, u_screen: this.size });
@@ -316,7 +319,7 @@ export class Renderer {
     const m = this.material;
     const n = Math.hypot(...this.light);
     return {
-      u_heights: 1, u_ice: 2, u_tile: TILE, u_screen: this.size, u_grid_size: this.gridSize,
+      u_heights: 1, u_ice: 2, u_tile: this.tile, u_screen: this.size, u_grid_size: this.gridSize,
       u_spacing: this.spacing, u_height_scale: this.heightScale, u_background: 0,
       u_refraction: m.refraction, u_show_bumps: this.showBumps ? 1 : 0,
       u_show_features: this.showFeatures ? 1 : 0, u_light: this.light.map((c) => c / n),
@@ -344,10 +347,12 @@ export class Renderer {
 // The sharp features: queued as they arrive, rasterized once into a persistent
 // screen-sized ice texture (normal xy, height, coverage), the higher surface winning.
 export class FeatureLayer {
-  constructor(gl, sources, size) {
+  // maxDepth: px; features higher than this share the nearest depth
+  constructor(gl, sources, size, maxDepth) {
     this.gl = gl;
     this.sources = sources;
     this.size = size;
+    this.maxDepth = maxDepth;
     this.texture = texture(gl, size[0], size[1], gl.RGBA8, gl.LINEAR);
     const depth = gl.createRenderbuffer();
     gl.bindRenderbuffer(gl.RENDERBUFFER, depth);
@@ -410,7 +415,7 @@ export class FeatureLayer {
     const { prog, array } = this.program(this.look);
     gl.bindBuffer(gl.ARRAY_BUFFER, this.vbo);
     gl.bufferData(gl.ARRAY_BUFFER, all, gl.STREAM_DRAW);
-    prog.use({ u_screen: this.size, u_max_depth: MAX_DEPTH, u_height_scale: this.heightScale });
+    prog.use({ u_screen: this.size, u_max_depth: this.maxDepth, u_height_scale: this.heightScale });
     gl.bindFramebuffer(gl.FRAMEBUFFER, this.fbo);
     gl.viewport(0, 0, ...this.size);
     gl.disable(gl.BLEND);
@@ -442,12 +447,13 @@ export class FeatureLayer {
   }
 }
 
-// The tiles (TILE px) of the frame that changed since it was drawn: a mask, or `all`.
+// The tiles (`tile` px a side) of the frame that changed since it was drawn: a mask, or `all`.
 export class TileDamage {
-  constructor(size) {
+  constructor(size, tile) {
     this.size = size;
-    this.cols = Math.ceil(size[0] / TILE);
-    this.rows = Math.ceil(size[1] / TILE);
+    this.tile = tile;
+    this.cols = Math.ceil(size[0] / tile);
+    this.rows = Math.ceil(size[1] / tile);
     this.mask = new Uint8Array(this.cols * this.rows);
     this.any = false;
     this.all = false;
@@ -455,9 +461,10 @@ export class TileDamage {
 
   // The tiles under a px box (y down, x1 and y1 excluded; clipped to the frame already).
   mark(x0, y0, x1, y1) {
-    const tx1 = Math.ceil(x1 / TILE), ty1 = Math.ceil(y1 / TILE);
-    for (let ty = Math.floor(y0 / TILE); ty < ty1; ty++) {
-      this.mask.fill(1, ty * this.cols + Math.floor(x0 / TILE), ty * this.cols + tx1);
+    const t = this.tile;
+    const tx1 = Math.ceil(x1 / t), ty1 = Math.ceil(y1 / t);
+    for (let ty = Math.floor(y0 / t); ty < ty1; ty++) {
+      this.mask.fill(1, ty * this.cols + Math.floor(x0 / t), ty * this.cols + tx1);
     }
     this.any = true;
   }
@@ -472,14 +479,14 @@ export class TileDamage {
       return { tiles: null, box: [0, 0, w, h] };
     }
     if (!this.any) return null;
-    const box = [w, h, 0, 0];
+    const box = [w, h, 0, 0], t = this.tile;
     for (let i = 0; i < this.mask.length; i++) {
       if (!this.mask[i]) continue;
-      const x = (i % this.cols) * TILE, y = Math.floor(i / this.cols) * TILE;
+      const x = (i % this.cols) * t, y = Math.floor(i / this.cols) * t;
       box[0] = Math.min(box[0], x);
       box[1] = Math.min(box[1], y);
-      box[2] = Math.max(box[2], Math.min(x + TILE, w));
-      box[3] = Math.max(box[3], Math.min(y + TILE, h));
+      box[2] = Math.max(box[2], Math.min(x + t, w));
+      box[3] = Math.max(box[3], Math.min(y + t, h));
     }
     const tiles = this.mask;
     this.mask = new Uint8Array(tiles.length);
@@ -488,13 +495,15 @@ export class TileDamage {
   }
 }
 
-// The screen tiles that hold ice, drawn as instanced quads; only added until a reset.
+// The screen tiles (`tile` px a side) that hold ice, drawn as instanced quads; only added
+// until a reset.
 export class TileSet {
-  constructor(gl, size, spacing) {
+  constructor(gl, size, spacing, tile) {
     this.gl = gl;
     this.spacing = spacing;
-    this.rows = Math.ceil(size[1] / TILE);
-    this.cols = Math.ceil(size[0] / TILE);
+    this.tile = tile;
+    this.rows = Math.ceil(size[1] / tile);
+    this.cols = Math.ceil(size[0] / tile);
     this.mask = new Uint8Array(this.rows * this.cols);
     this.corners = gl.createBuffer();
     gl.bindBuffer(gl.ARRAY_BUFFER, this.corners);
@@ -537,7 +546,7 @@ export class TileSet {
   }
 
   markBox(x0, y0, x1, y1) {
-    const clip = (v, n) => Math.min(Math.max(Math.floor(v / TILE), 0), n - 1);
+    const clip = (v, n) => Math.min(Math.max(Math.floor(v / this.tile), 0), n - 1);
     const tx0 = clip(x0, this.cols), tx1 = clip(x1, this.cols);
     const ty0 = clip(y0, this.rows), ty1 = clip(y1, this.rows);
     for (let ty = ty0; ty <= ty1; ty++) {

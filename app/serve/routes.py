@@ -1,0 +1,112 @@
+"""The server's HTTP side (docs/protocol.md, HTTP): the token or the Host checked on every
+request, static files from their own folders only, the backdrops, /meta."""
+
+from __future__ import annotations
+
+import asyncio
+import io
+import ipaddress
+import secrets
+from pathlib import Path, PurePosixPath
+from urllib.parse import urlsplit
+
+from aiohttp import web
+
+from app.backdrops import BACKDROPS, load_backdrop
+from app.images import frost_meta
+from app.serve.appkeys import BACKDROP_PNGS, FEED, TOKEN
+from app.serve.feed import Feed
+
+WEB_DIR = Path(__file__).resolve().parent.parent / "web"
+TYPES = {".html": "text/html", ".js": "text/javascript", ".mjs": "text/javascript",
+         ".css": "text/css", ".json": "application/json", ".png": "image/png",
+         ".svg": "image/svg+xml", ".vert": "text/plain", ".frag": "text/plain",
+         ".glsl": "text/plain", ".webmanifest": "application/manifest+json"}
+
+
+@web.middleware
+async def token_check(request: web.Request, handler):
+    """The token, where one is in force; else (a server on loopback) a Host naming this
+    machine: a page of another site whose name its DNS turns to 127.0.0.1 (DNS rebinding)
+    sends its own name as Host and as Origin, and would pass the Origin check."""
+    token = request.app[TOKEN]
+    given = request.query.get("token", "")
+    if token and not secrets.compare_digest(given.encode(), token.encode()):
+        raise web.HTTPForbidden(text="frost: this server needs the token of the URL "
+                                     "frost serve printed\n")
+    host = request.headers.get("Host")
+    if not token and host is not None and not loopback_name(host):
+        raise web.HTTPForbidden(text="frost: this server answers only to this machine's "
+                                     "names (127.0.0.1, localhost)\n")
+    return await handler(request)
+
+
+def loopback_name(host: str) -> bool:
+    """Whether a request's Host header names this machine: localhost or a loopback
+    address, any port."""
+    try:
+        name = urlsplit("//" + host).hostname
+    except ValueError:  # an unclosed bracket
+        return False
+    if name == "localhost":
+        return True
+    try:
+        return name is not None and ipaddress.ip_address(name).is_loopback
+    except ValueError:
+        return False
+
+
+def inside(folder: Path, rel: str) -> Path | None:
+    """The file `rel` names under `folder`, or None if it is not a file there (a path that
+    climbs out with '..', is absolute, or is a link leading out)."""
+    if not rel or "\\" in rel or "\0" in rel or rel.startswith("/"):
+        return None
+    if any(part in ("..", ".") for part in PurePosixPath(rel).parts):
+        return None
+    root = folder.resolve()
+    try:
+        path = (root / rel).resolve()
+        return path if path.is_relative_to(root) and path.is_file() else None
+    except OSError:  # a name too long for the file system, a loop of links
+        return None
+
+
+def folder_files(folder: Path, name: str | None = None):
+    """A handler serving the files of `folder` (the path's {path}, or always `name`)."""
+    async def handler(request: web.Request) -> web.StreamResponse:
+        rel = name or request.match_info["path"]
+        path = inside(folder, rel)
+        if path is None:
+            raise web.HTTPNotFound(text=f"frost: no file {rel[:80]!r}\n")
+        headers = {"Cache-Control": "no-cache"}
+        if path.suffix in TYPES:
+            headers["Content-Type"] = TYPES[path.suffix]
+        return web.FileResponse(path, headers=headers)
+    return handler
+
+
+async def meta(request: web.Request) -> web.Response:
+    """What a page's screenshot states beside its own view (app.images.frost_meta's keys):
+    the parameters, seed, tick and touches of the frame published last (not of the
+    simulation, which may have ticked on since)."""
+    feed: Feed = request.app[FEED]
+    snap, thread = feed.latest, feed.thread
+    about = frost_meta("page", snap.params if snap else feed.controls.params, thread.seed,
+                       snap.stats.tick if snap else 0, thread.touch_ticks(snap))
+    return web.json_response(about, headers={"Cache-Control": "no-cache"})
+
+
+async def backdrop(request: web.Request) -> web.Response:
+    name, cache = request.match_info["name"], request.app[BACKDROP_PNGS]
+    if name not in BACKDROPS:
+        raise web.HTTPNotFound(text=f"frost: no backdrop {name[:40]!r}\n")
+    if name not in cache:
+        cache[name] = await asyncio.to_thread(_png, name)
+    return web.Response(body=cache[name], content_type="image/png")
+
+
+def _png(name: str) -> bytes:
+    from PIL import Image
+    out = io.BytesIO()
+    Image.fromarray(load_backdrop(name)).save(out, "PNG")
+    return out.getvalue()

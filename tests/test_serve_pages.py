@@ -1,0 +1,91 @@
+"""One page's outgoing queue and its input limits (app/serve/pages.py) by hand: a socket
+that takes whatever it is sent, a clock the test moves. The oracles are the figures of
+docs/phone.md (a page 50 ticks or 6 MB behind is resynced) and token counts worked out by
+hand."""
+
+from __future__ import annotations
+
+import asyncio
+
+from app.serve.pages import Page, TokenBucket
+
+MB = 1 << 20
+
+
+class Wire:
+    """A page's socket that takes every message at once."""
+
+    def __init__(self):
+        self.sent: list[str | bytes] = []
+
+    async def send_bytes(self, data):
+        self.sent.append(data)
+
+    send_str = send_bytes
+
+
+def live_page(asks: list) -> tuple[Page, Wire]:
+    wire = Wire()
+    page = Page(wire, "p", lambda: asks.append("snapshot"))
+    page.start([], '{"type":"state"}')  # a snapshot of nothing: live from here on
+    return page, wire
+
+
+def test_a_page_six_mb_behind_is_resynced_before_fifty_ticks():
+    """A page whose socket takes nothing while big ticks come (a frosted pane's p99 is 29 kB,
+    a snapshot's part 768 kB): 6 ticks of 1 MB are within the bound, the 7th finds 6 MB
+    queued and drops the page to a resync, 43 ticks before the bound on ticks."""
+    page, _wire = live_page([])
+    megabyte = bytes(MB)
+    for _ in range(6):
+        page.tick([megabyte])
+    assert not page.waiting and page.resyncs == 0
+    page.tick([megabyte])
+    assert page.waiting and page.resyncs == 1
+
+
+def test_a_resync_drops_what_was_queued_and_says_so_first():
+    """A page 50 ticks behind is resynced: what it is sent next is the resync message
+    alone (none of the stale ticks, which a snapshot replaces), then it asks for that
+    snapshot."""
+    asks: list[str] = []
+    page, wire = live_page(asks)
+    for i in range(51):  # the 51st finds 50 ticks queued
+        page.tick([b"tick %d" % i])
+    assert page.waiting
+
+    async def write_out():
+        writer = asyncio.create_task(page.write())
+        for _ in range(1000):
+            if asks:
+                break
+            await asyncio.sleep(0)
+        page.close()
+        await writer
+
+    asyncio.run(write_out())
+    assert asks and len(wire.sent) == 1, wire.sent[:3]
+    assert wire.sent[0] == '{"type":"resync","reason":"fell behind"}'
+
+
+def test_a_token_bucket_holds_no_more_than_its_burst():
+    now = [0.0]
+    bucket = TokenBucket(rate=8.0, burst=5.0, clock=lambda: now[0])
+    now[0] = 100.0  # 800 tokens' worth of quiet
+    assert [bucket.take() for _ in range(6)] == [True] * 5 + [False]
+    now[0] += 0.125  # one token's worth (times exact in binary)
+    assert [bucket.take() for _ in range(2)] == [True, False]
+
+
+def test_a_token_bucket_grants_whole_tokens_only():
+    now = [0.0]
+    bucket = TokenBucket(rate=1.0, burst=3.0, clock=lambda: now[0])
+    assert bucket.grant(3) == 3 and not bucket.take()
+    now[0] = 0.625  # 0.625 of a token: none yet (rounded up or to nearest: one)
+    assert not bucket.take()
+    now[0] = 1.0  # 1.0
+    assert bucket.take() and not bucket.take()
+    now[0] = 3.5  # 2.5 tokens: two whole ones
+    assert bucket.grant(3) == 2
+    now[0] = 4.0  # the half left, and half a token more
+    assert bucket.grant(3) == 1
