@@ -1,5 +1,5 @@
 """The feed (app/serve/feed.py) ticked by hand: the simulation thread runs on its own
-thread, as when it serves (a snapshot's drawing happens on it, between two ticks), but
+thread, as when it serves (a snapshot's ice is copied on it, between two ticks), but
 each tick waits for the test, and the test publishes what the thread made (`Feed.pump`)
 when it chooses, so that orders the loop meets only now and then are met every time.
 
@@ -9,7 +9,6 @@ queued) must hold the thread's height grid (as half floats) and the live ice dra
 from __future__ import annotations
 
 import queue
-import threading
 
 import numpy as np
 from test_serve import CENTRE, PAPER, PageModel
@@ -118,36 +117,67 @@ def test_melts_of_a_tick_reach_the_pages_before_its_growth():
         ticks.stop()
 
 
-def test_a_snapshot_drawn_before_the_frost_moved_on_is_drawn_again(monkeypatch):
-    """The snapshot of a page that connects is drawn on the thread right after a tick; the
-    loop may have published that tick's frost before the drawing is done, and the next
-    tick's too before it serves the drawing: the drawing is then of a frost older than the
-    last one published, whose ticks the page would miss. It is drawn again."""
+def test_a_snapshot_copied_ticks_before_it_is_drawn_starts_the_page_with_those_ticks():
+    """The ice is copied on the thread right after a tick; the loop may publish that tick
+    and several more before it draws the copy. The page gets the snapshot, then the ticks
+    published since it, and holds the frost; nothing is drawn twice."""
     feed, ticks, page = fed()
-    entered, go = threading.Event(), threading.Event()
-
-    class Slow(FrostGeometry):
-        """The drawing, held until the loop has published its tick."""
-
-        def redraw(self, sim):
-            entered.set()
-            assert go.wait(30)
-            return super().redraw(sim)
-
     try:
         ticks.tick(feed, 40)  # a frost growing every tick
-        monkeypatch.setattr(feed_module, "FrostGeometry", Slow)
         feed.ask_redraw()
-        ticks.order()
-        assert entered.wait(30)
-        feed.pump()  # publishes that tick while its snapshot is being drawn
-        go.set()
-        ticks.done()
-        monkeypatch.setattr(feed_module, "FrostGeometry", FrostGeometry)
-        ticks.tick(feed)  # a tick more published, then the drawing found: one tick old
-        ticks.tick(feed, 5)
+        for _ in range(6):  # the copy after the first; none published yet
+            ticks.order()
+            ticks.done()
+        feed.pump()
         assert not page.waiting and feed.redraws == 1
         assert_holds_the_frost(held(page), feed)
     finally:
-        go.set()
+        ticks.stop()
+
+
+def test_a_kept_snapshot_starts_later_pages_until_the_ticks_since_it_are_dropped():
+    """A page that connects while the ticks since the last snapshot are kept starts from
+    it, with no drawing (a flood of sockets drew one every tick); once more than
+    SINCE_TICKS ticks have changed the frost since, a new one is drawn."""
+    feed, ticks, first = fed()
+    try:
+        ticks.tick(feed, 20)
+        feed.ask_redraw()
+        ticks.tick(feed)
+        assert not first.waiting and feed.redraws == 1
+        for late in range(3):
+            ticks.tick(feed, 10)
+            page = Page(Wire(), f"late {late}", feed.ask_redraw)
+            feed.pages.add(page)
+            page.ask_snapshot()
+            feed.pump()  # (served at the next pump)
+            assert not page.waiting and feed.redraws == 1
+            assert_holds_the_frost(held(page), feed)
+        ticks.tick(feed, feed_module.SINCE_TICKS)
+        last = Page(Wire(), "last", feed.ask_redraw)
+        feed.pages.add(last)
+        last.ask_snapshot()
+        feed.pump()
+        assert last.waiting  # the kept snapshot is too old: a copy is asked for
+        ticks.tick(feed)
+        assert not last.waiting and feed.redraws == 2
+        assert_holds_the_frost(held(last), feed)
+    finally:
+        ticks.stop()
+
+
+def test_a_snapshot_whose_next_ticks_were_dropped_before_it_was_drawn_is_copied_anew():
+    feed, ticks, page = fed()
+    try:
+        ticks.tick(feed, 40)
+        feed.ask_redraw()
+        for _ in range(feed_module.SINCE_TICKS + 6):  # more ticks than are kept, unpublished
+            ticks.order()
+            ticks.done()
+        feed.pump()
+        assert page.waiting and feed.redraws == 1  # drawn, but the page would miss ticks
+        ticks.tick(feed)
+        assert not page.waiting and feed.redraws == 2
+        assert_holds_the_frost(held(page), feed)
+    finally:
         ticks.stop()

@@ -17,6 +17,7 @@ class Wire:
 
     def __init__(self):
         self.sent: list[str | bytes] = []
+        self.closed = False  # (aiohttp's: True from the moment its close frame is sent)
 
     async def send_bytes(self, data):
         self.sent.append(data)
@@ -89,3 +90,21 @@ def test_a_token_bucket_grants_whole_tokens_only():
     assert bucket.grant(3) == 2
     now[0] = 4.0  # the half left, and half a token more
     assert bucket.grant(3) == 1
+
+
+def test_nothing_is_sent_after_the_socket_began_to_close():
+    """aiohttp sends a close frame of its own on a frame too big or not UTF-8, while the
+    page's writer may still have its snapshot queued: a frame after the close frame makes
+    the browser see an abnormal closure (1006) instead of the code sent."""
+    async def run():
+        page, wire = live_page([])
+        page.tick([b"one"])
+        writer = asyncio.create_task(page.write())
+        await asyncio.sleep(0.01)
+        wire.closed = True
+        page.tick([b"two"])
+        await asyncio.sleep(0.01)
+        assert page.closed and writer.done()
+        return wire.sent
+
+    assert asyncio.run(run()) == ['{"type":"state"}', b"one"]

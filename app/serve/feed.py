@@ -1,12 +1,16 @@
 """The simulation thread's snapshots, encoded once a tick and fanned out to every page.
 
 Runs on the asyncio loop, which the thread's wake-up schedules after each tick. A page
-that connects or resyncs needs the whole frost: the live ice is drawn anew
-(`FrostGeometry.redraw`, into a geometry of its own) on the simulation thread between two
-ticks (`SimThread.between_ticks`), so it reads a simulation that nothing changes
-meanwhile, and it is tagged with the (steps, events) of the snapshot it follows. The
-heights come from the encoder's grid (the sum of every delta sent). Beside the desktop
-window the feed is one more reader of the window's thread (`SimThread.subscribe`).
+that connects or resyncs needs the whole frost: a snapshot. The live ice is copied on the
+simulation thread between two ticks (`SimThread.between_ticks`: a millisecond, while
+nothing changes it), with the height grid as the pages hold it then, and tagged with the
+(steps, events) of the tick it follows; its features are drawn from the copy on a worker,
+and the snapshot serves every page that asks for one while the ticks published since it
+are all still kept (SINCE_TICKS, SINCE_BYTES): each page gets the snapshot, then those
+ticks. Drawn on the simulation thread for every page, a client opening sockets as fast as
+it could had a snapshot drawn every tick (25-60 ms each) and halved everyone's tick rate.
+Beside the desktop window the feed is one more reader of the window's thread
+(`SimThread.subscribe`).
 """
 
 from __future__ import annotations
@@ -16,6 +20,9 @@ import contextlib
 import logging
 import threading
 from collections import deque
+from dataclasses import dataclass
+
+import numpy as np
 
 from app.backdrops import BACKDROPS
 from app.serve import protocol
@@ -23,7 +30,7 @@ from app.serve.controls import Controls
 from app.serve.pages import Page
 from app.simthread.thread import SimThread, Snapshot
 from sim import Params, all_presets
-from sim.look.geometry import FrostGeometry, GeometryDelta
+from sim.look.geometry import IceCopy, feature_scale, live_features
 from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, MAX_DEPTH, TILE, Material, default_light
 from sim.params import LOOKS
 from sim.screen import SIZE
@@ -32,6 +39,36 @@ log = logging.getLogger("app.serve")
 
 # Per-tick figures kept for the bench (six minutes).
 SIZES_KEPT = 9000
+# A snapshot serves new pages while the ticks since it are kept: at most this many ticks
+# with changes (2 s of growth) and bytes (a page that far behind would be resynced), and
+# while they add up to no more than the snapshot itself (or SINCE_LEAST bytes): a page
+# never loads more than twice what a fresh snapshot costs it.
+SINCE_TICKS = 50
+SINCE_BYTES = 6 << 20
+SINCE_LEAST = 256 << 10
+
+
+@dataclass
+class Kept:
+    """A snapshot drawn, kept for the pages to come."""
+
+    moment: tuple[int, int]  # (steps, events) of the tick it shows
+    parts: list[bytes]
+    since: int = 0  # bytes of the ticks published since it
+
+    def worth(self) -> bool:
+        """Whether it and the ticks since cost a page less than twice a fresh snapshot."""
+        return self.since <= max(sum(map(len, self.parts)), SINCE_LEAST)
+
+
+@dataclass(frozen=True)
+class Copied:
+    """The ice copied between two ticks, for a snapshot (`Feed`)."""
+
+    moment: tuple[int, int]  # (steps, events) of the tick it follows
+    ice: IceCopy
+    heights: np.ndarray  # the height grid as the pages held it then (half floats, flat)
+    params: Params
 
 
 class Feed:
@@ -60,14 +97,21 @@ class Feed:
         # a session file of it would count them (a redraw is tagged with its own).
         self.moment = (0, 0)
         self.error: str | None = None
-        self.redraws = 0
+        self.redraws = 0  # snapshots drawn
         # For the bench: bytes sent a tick, the thread's tick time (ms)
         self.sizes: deque[int] = deque(maxlen=SIZES_KEPT)
         self.tick_ms: deque[float] = deque(maxlen=SIZES_KEPT)
         self._state: dict = {}
-        self._want_redraw = threading.Event()  # a redraw is asked for and not begun
+        self._want_copy = threading.Event()  # a copy of the ice is asked for and not made
         self._lock = threading.Lock()
-        self._redraw: tuple[tuple[int, int], GeometryDelta] | None = None
+        self._copied: Copied | None = None  # made on the thread, not drawn yet
+        self._drawing = False
+        # The snapshot that serves new pages (`Kept`), and the messages of every tick
+        # published lately (moment, messages).
+        self._snapshot: Kept | None = None
+        self._since: deque[tuple[tuple[int, int], list[bytes]]] = deque()
+        self._since_bytes = 0
+        self._dropped_to = (-1, -1)  # the moment of the newest tick dropped from `_since`
 
     def start(self, loop: asyncio.AbstractEventLoop) -> None:
         self._loop = loop
@@ -87,36 +131,37 @@ class Feed:
             with contextlib.suppress(RuntimeError):  # the loop is closed: the end
                 loop.call_soon_threadsafe(self.pump)
 
-    def _make_redraw(self) -> None:
-        """The live frost drawn anew, between two ticks (`SimThread.between_ticks`)."""
-        self._want_redraw.clear()
-        thread = self.thread
-        timeline = thread.timeline
-        moment = (timeline.steps, len(timeline.events))
+    def _copy_ice(self) -> None:
+        """The live ice and heights copied, between two ticks (`SimThread.between_ticks`)."""
+        self._want_copy.clear()
+        timeline = self.thread.timeline
         try:
-            delta = FrostGeometry(thread.params, *thread.size).redraw(thread.sim)
+            copied = Copied((timeline.steps, len(timeline.events)), IceCopy.of(timeline.sim),
+                            timeline.geometry.heights.ravel().astype(np.float16), timeline.params)
         except Exception:  # (the thread may have died in its tick)
-            log.exception("serve: the snapshot of the frost failed")
+            log.exception("serve: the copy of the frost failed")
             return
         with self._lock:
-            self._redraw = (moment, delta)
+            self._copied = copied
 
     # ---- the loop's side -----------------------------------------------------------------
 
     def ask_redraw(self) -> None:
-        """A snapshot of the whole frost for the pages waiting, drawn between the next two
-        ticks (once, however often it is asked meanwhile)."""
-        if not self._want_redraw.is_set():
-            self._want_redraw.set()
-            self.thread.between_ticks(self._make_redraw)
+        """A snapshot of the whole frost for the pages waiting, at the next pump: the one
+        kept, if the ticks since it are; else the ice is copied between the next two ticks
+        (once, however often it is asked meanwhile) and drawn."""
+        if self._snapshot is None and not self._want_copy.is_set() and not self._drawing:
+            self._want_copy.set()
+            self.thread.between_ticks(self._copy_ice)
 
     def pump(self) -> None:
         """Publish every snapshot the thread made since the last pump."""
         self._pumping.clear()
         for snap in self._drain():
             self._publish(snap)
-            self._serve_redraw()
-        self._serve_redraw()
+        self._draw_copied()
+        if self._snapshot is not None:
+            self._serve_snapshot()
         if not self.own_thread:
             return  # (the window reads the thread's notices)
         while not self.thread.notices.empty():
@@ -143,26 +188,74 @@ class Feed:
         if snap.message:
             self.notice(snap.message)
         if messages:
+            self._keep_since(messages)
             for page in self.pages:
                 page.tick(messages)
 
-    def _serve_redraw(self) -> None:
+    def _keep_since(self, messages: list[bytes]) -> None:
+        """A tick's messages kept for the pages a snapshot will start (the oldest dropped
+        beyond SINCE_TICKS or SINCE_BYTES, and with them the snapshot older than they)."""
+        size = sum(map(len, messages))
+        self._since.append((self.moment, messages))
+        self._since_bytes += size
+        while len(self._since) > SINCE_TICKS or self._since_bytes > SINCE_BYTES:
+            self._dropped_to, old = self._since.popleft()
+            self._since_bytes -= sum(map(len, old))
+        kept = self._snapshot
+        if kept is not None:
+            kept.since += size
+            if self._dropped_to > kept.moment or not kept.worth():
+                self._snapshot = None  # (a page it started would miss a tick, or load more)
+
+    def _draw_copied(self) -> None:
+        """Draw the copy made between two ticks, if any: on a worker while serving (the
+        loop and the simulation go on), here otherwise (a test's pump)."""
         with self._lock:
-            ready = self._redraw
-            if ready is None or ready[0] > self.moment:
-                return  # none, or its snapshot is not published yet
-            self._redraw = None
-        moment, delta = ready
-        waiting = [p for p in self.pages if p.idle_waiting()]
-        if moment < self.moment:  # the frost moved on before it was published: draw it again
-            if waiting:
-                self.ask_redraw()
+            copied, self._copied = self._copied, None
+        if copied is None:
+            return
+        if self._loop is None or not self._loop.is_running():
+            self._drawn(copied, self._draw(copied))
+            return
+        self._drawing = True
+        future = self._loop.run_in_executor(None, self._draw, copied)
+        future.add_done_callback(lambda f: self._drawn(copied, f.result()))
+
+    def _draw(self, copied: Copied) -> list[bytes] | None:
+        """The snapshot's messages, of the copied ice and heights (any thread); None if
+        drawing failed (said in the log)."""
+        params = copied.params
+        try:
+            features = live_features(copied.ice, params)
+            return self.encoder.snapshot(copied.ice.tick, features, params.look,
+                                         feature_scale(params), heights=copied.heights)
+        except Exception:
+            log.exception("serve: the snapshot of the frost failed")
+            return None
+
+    def _drawn(self, copied: Copied, parts: list[bytes] | None) -> None:
+        """A snapshot drawn: it serves the pages waiting, and those to come while the ticks
+        since it are kept; one whose next ticks were dropped meanwhile is copied anew."""
+        self._drawing = False
+        if parts is None:
             return
         self.redraws += 1
-        parts = self.encoder.snapshot(delta.tick, delta.features, delta.look, delta.height_scale)
+        if self._dropped_to > copied.moment:
+            self.ask_redraw()
+            return
+        since = sum(len(m) for at, messages in self._since if at > copied.moment for m in messages)
+        self._snapshot = Kept(copied.moment, parts, since)
+        self._serve_snapshot()
+
+    def _serve_snapshot(self) -> None:
+        """The kept snapshot and the ticks since it, to every page waiting for one."""
+        assert self._snapshot is not None
+        moment, parts = self._snapshot.moment, self._snapshot.parts
+        since = [m for at, messages in self._since if at > moment for m in messages]
         state = protocol.text("state", **self.state())
-        for page in waiting:
-            page.start(parts, state)
+        for page in self.pages:
+            if page.idle_waiting():
+                page.start(parts, state, since)
 
     # ---- JSON ----------------------------------------------------------------------------
 

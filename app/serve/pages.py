@@ -8,7 +8,7 @@ import asyncio
 import logging
 import time
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 from aiohttp import web
 
@@ -91,11 +91,12 @@ class Page:
         self.waiting, self.resyncs = True, self.resyncs + 1
         self.text(protocol.text("resync", reason=reason))
 
-    def start(self, parts: list[bytes], state: str) -> None:
-        """The snapshot (its parts) and the state now: the page is live from here on."""
+    def start(self, parts: list[bytes], state: str, since: Sequence[bytes] = ()) -> None:
+        """The snapshot (its parts), the state now and the ticks' messages published since
+        the snapshot's tick (`since`): the page is live from here on."""
         self.waiting = False
         self.text(state)
-        for p in parts:
+        for p in (*parts, *since):
             self._put(p, False)
 
     def idle_waiting(self) -> bool:
@@ -111,10 +112,13 @@ class Page:
     async def write(self) -> None:
         """Send the queue as it fills, until the socket closes."""
         while not self.closed:
+            if self.ws.closed:  # closing: nothing may follow its close frame
+                self.closed = True
+                break
             if not self.queue:
+                self._ready.clear()  # (before asking: a kept snapshot is queued at once)
                 if self.waiting:
                     self.ask_snapshot()
-                self._ready.clear()
                 await self._ready.wait()
                 continue
             message, ends_tick = self.queue.popleft()

@@ -147,18 +147,20 @@ class Encoder:
         return _message(RESET if reset else 0, self.look, tick, self.grid, self.height_scale,
                         [], self.heights[:0], b"", None)
 
-    def snapshot(self, tick: int, features: np.ndarray, look: str,
-                 height_scale: float) -> list[bytes]:
-        """The whole frost a page must hold: a reset, every height (one run) and
-        `features`, cut into parts of at most PART_VERTICES vertices."""
+    def snapshot(self, tick: int, features: np.ndarray, look: str, height_scale: float,
+                 heights: np.ndarray | None = None) -> list[bytes]:
+        """The whole frost a page must hold: a reset, every height (one run; `heights`,
+        half floats as the pages hold them, default this grid's now) and `features`, cut
+        into parts of at most PART_VERTICES vertices."""
+        heights = self.heights if heights is None else heights
         verts = pack_vertices(features)
         step = PART_VERTICES * VERTEX.itemsize
         chunks = [verts[i:i + step] for i in range(0, len(verts), step)] or [b""]
-        whole = [(0, len(self.heights))]
+        whole = [(0, len(heights))]
         parts = []
         for i, chunk in enumerate(chunks):
             flags = SNAPSHOT | (RESET if i == 0 else 0) | (LAST_PART if i == len(chunks) - 1 else 0)
-            runs, values = (whole, self.heights) if i == 0 else ([], self.heights[:0])
+            runs, values = (whole, heights) if i == 0 else ([], heights[:0])
             parts.append(_message(flags, look, tick, self.grid, height_scale, runs, values,
                                   chunk, None))
         return parts

@@ -44,6 +44,29 @@ class GeometryDelta:
     height_scale: float = 16.0  # px that the feature texture's 8-bit height 1.0 stands for
 
 
+@dataclass(frozen=True)
+class IceCopy:
+    """What drawing the live ice's features reads of a simulation (`live_features`),
+    copied at one tick: taken between two ticks of a running simulation, it may be drawn
+    on another thread while the simulation goes on."""
+
+    tick: int
+    width: int
+    height: int
+    wrap: bool
+    crystals: np.ndarray
+    crystal_alive: np.ndarray
+    parents: np.ndarray
+    segments: np.ndarray
+    segments_alive: np.ndarray
+
+    @classmethod
+    def of(cls, sim) -> IceCopy:
+        return cls(int(sim.tick), int(sim.width), int(sim.height), bool(getattr(sim, "wrap", False)),
+                   sim.crystals.copy(), sim.crystal_alive.copy(), sim.parents.copy(),
+                   sim.segments.copy(), sim.segments_alive.copy())
+
+
 def _feature_points(seg: np.ndarray, width: float, height: float) -> np.ndarray:
     """s x 5 x 3 points (p, q, m, s1, s2) of the sharp features of segments s x 4."""
     p, q = seg[:, 0:2].astype(np.float64), seg[:, 2:4].astype(np.float64)
