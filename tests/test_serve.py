@@ -530,7 +530,7 @@ def test_a_clear_while_paused_clears_every_page():
 
 def test_the_bench_prints_its_figures(capsys):
     """frost bench serve runs (briefly) and says each figure; no speed is asserted."""
-    from app.serve import bench
+    from app.bench import serve as bench
     bench.bytes_offline("c-2", 30, scribble=True)
     assert bench.main(["--skip-bytes", "--seconds", "3", "--pages", "2"]) == 0
     out = capsys.readouterr().out
