@@ -9,6 +9,15 @@
    one tapping clear glass to time touch-to-first-delta, the others only reading. Printed:
    the simulation thread's tick median and p99, ticks a second, bytes a tick, the pages'
    resyncs, this process's memory (RSS) over time, and the taps' latency median and p95.
+3. Attacks (--attack, --grid), each on a new server for --seconds: hostile pages that keep
+   within every limit a page has (app/bench/attacks.py): one socket tapping one spot 86
+   times a second (one-spot), and a finger swept over the whole pane leaving the page's
+   most touches a second, every one at a fresh spot, from one page (all-over) and from
+   16 (all-over-16); on the preset and on the finest grid its checks allow (FINEST).
+   Printed: tick median and p99, ticks a second (over the phase and per tenth of it), the
+   crystals in the fullest hash cell at the end and the crystals, the touches applied,
+   dropped (too much input waiting), skipped (over a page's bound) and still waiting at
+   the end (never applied), memory, and what the pages sent.
 Figures only; nothing is asserted.
 """
 
@@ -17,36 +26,33 @@ from __future__ import annotations
 import argparse
 import asyncio
 import math
-import multiprocessing
 import statistics
 import sys
-import time
 
 import numpy as np
 
-from app.serve import guard, protocol
-from app.serve.feed import Feed
-from app.serve.protocol import Encoder, Input
-from app.serve.server import make_app
+from app.bench.clients import Plan, scribble_point
+from app.bench.loopback import phase
+from app.serve import MAX_PAGES
+from app.serve.pages import POINT_RATE
+from app.serve.protocol import Encoder
 from sim import Params, all_presets
 from sim.io.timeline import Timeline
 from sim.look.geometry import FrostGeometry
-from sim.screen import HEIGHT, WIDTH
+from sim.params import MAX_HC_PER_SPACING, MAX_UPSAMPLE
 
-SCRIBBLE_HZ = 50.0  # pointer events a second of the scribbling finger
-TAP_PERIOD = 0.6  # s between the latency page's taps
-NEAR = 40.0  # px: a delta's vertex this near a tap shows its growth
-
-
-def scribble_point(t: float) -> tuple[float, float]:
-    """Where the scribbling finger is at time t (s): a slow Lissajous over the screen."""
-    return (WIDTH / 2 + 0.4 * WIDTH * math.sin(0.9 * t),
-            HEIGHT / 2 + 0.4 * HEIGHT * math.sin(0.55 * t + 0.3))
-
-
-def tap_point(k: int) -> tuple[float, float]:
-    """The latency page's k-th tap: a grid of spots away from the scribble's path."""
-    return (60.0 + (k * 97) % (WIDTH - 120), 60.0 + (k * 211) % (HEIGHT - 120))
+# The finest grid sim/params.py lets a preset have: the largest hc (its range's top, 16 px:
+# hash cells of 2 hc, so the most crystals one cell can gather), the smallest D at that hc
+# (hc / MAX_UPSAMPLE: the most upsample particles a link has) and the smallest geometry
+# spacing at it (hc / MAX_HC_PER_SPACING, whole px: the most grid vertices a particle
+# raises at that hc). As `frost serve --hc 16 --D 1 --grid-spacing 2`.
+HC_MAX = 16.0
+FINEST = {"hc": HC_MAX, "D": HC_MAX / MAX_UPSAMPLE,
+          "grid_spacing": math.ceil(HC_MAX / MAX_HC_PER_SPACING)}
+# Each attack: (its pages' plan, the pages).
+ATTACKS = {"one-spot": ("one-spot", 1), "all-over": ("all-over", 1),
+           "all-over-16": ("all-over", MAX_PAGES)}
+GRIDS = ("default", "fine")
 
 
 def _figures(sizes) -> str:
@@ -72,140 +78,6 @@ def bytes_offline(preset: str, ticks: int, scribble: bool, seed: int = 0) -> Non
           f"({len(redraw.features) // 3} triangles)")
 
 
-def rss_mb() -> float:
-    with open("/proc/self/status") as f:
-        for line in f:
-            if line.startswith("VmRSS:"):
-                return int(line.split()[1]) / 1024.0
-    return float("nan")
-
-
-# ---- the pages (a child process) ------------------------------------------------------------
-
-def pages_main(url: str, pages: int, seconds: float, out) -> None:
-    out.put(asyncio.run(_pages(url, pages, seconds)))
-
-
-async def _pages(url: str, pages: int, seconds: float) -> dict:
-    from aiohttp import ClientSession
-    got = {"bytes": 0, "latency": []}
-    async with ClientSession() as http:
-        sockets = [await http.ws_connect(url, max_msg_size=0) for _ in range(pages)]
-        end = time.monotonic() + seconds + 0.5  # the server times `seconds` from here
-        tasks = [asyncio.create_task(_read(ws, got, end, None)) for ws in sockets[2:]]
-        tasks.append(asyncio.create_task(_scribble(sockets[0], got, end)))
-        if pages > 1:
-            tasks.append(asyncio.create_task(_taps(sockets[1], got, end)))
-        await asyncio.gather(*tasks)
-        for ws in sockets:
-            await ws.close()
-    return got
-
-
-async def _read(ws, got: dict, end: float, on_binary) -> None:
-    while time.monotonic() < end:
-        try:
-            msg = await asyncio.wait_for(ws.receive(), max(0.01, end - time.monotonic()))
-        except asyncio.TimeoutError:
-            return
-        if msg.type.name != "BINARY" and msg.type.name != "TEXT":
-            return
-        got["bytes"] += len(msg.data)
-        if on_binary is not None and msg.type.name == "BINARY":
-            on_binary(msg.data)
-
-
-async def _scribble(ws, got: dict, end: float) -> None:
-    reader = asyncio.create_task(_read(ws, got, end, None))
-    t0, phase = time.monotonic(), "down"
-    while time.monotonic() < end:
-        x, y = scribble_point(time.monotonic() - t0)
-        await ws.send_json({"type": "touch", "x": x, "y": y, "phase": phase})
-        phase = "move"
-        await asyncio.sleep(1.0 / SCRIBBLE_HZ)
-    await reader
-
-
-async def _taps(ws, got: dict, end: float) -> None:
-    """Tap clear glass; the time until the first message with a vertex near the tap."""
-    pending: dict = {}
-
-    def seen(data: bytes) -> None:
-        if not pending:
-            return
-        xy = protocol.decode_geometry(data)["vertices"][:, :2]
-        (x, y), t = pending["spot"], pending["t"]
-        if len(xy) and (np.hypot(xy[:, 0] - x, xy[:, 1] - y) < NEAR).any():
-            got["latency"].append(time.monotonic() - t)
-            pending.clear()
-
-    reader = asyncio.create_task(_read(ws, got, end, seen))
-    k = 0
-    while time.monotonic() < end - 1.0:
-        spot = tap_point(k)
-        pending.update(spot=spot, t=time.monotonic())
-        await ws.send_json({"type": "touch", "x": spot[0], "y": spot[1], "id": 1})
-        await ws.send_json({"type": "touch", "phase": "up", "id": 1})
-        k += 1
-        await asyncio.sleep(TAP_PERIOD)
-    await reader
-
-
-# ---- the server (this process) -------------------------------------------------------------
-
-async def _phase(params: Params, pages: int, seconds: float) -> dict:
-    from aiohttp import web
-    feed = Feed(params, seed=0)
-    runner = guard.GuardedRunner(make_app(feed), access_log=None)  # as frost serve's
-    await runner.setup()
-    site = web.TCPSite(runner, "127.0.0.1", 0)
-    await site.start()
-    port = runner.addresses[0][1]
-    child, out = None, None
-    if pages:
-        ctx = multiprocessing.get_context("spawn")
-        out = ctx.Queue()
-        child = ctx.Process(target=pages_main, args=(f"http://127.0.0.1:{port}/ws", pages,
-                                                      seconds, out))
-        child.start()
-        while len(feed.pages) < pages and child.is_alive():
-            await asyncio.sleep(0.05)
-    else:
-        asyncio.get_running_loop().create_task(_self_scribble(feed, seconds))
-    feed.tick_ms.clear()  # timed from here: every page connected
-    feed.sizes.clear()
-    ticks0, rss, t0 = feed.tick(), [], time.monotonic()
-    while time.monotonic() - t0 < seconds:
-        rss.append(rss_mb())
-        await asyncio.sleep(min(seconds / 10, 30.0))
-    wall, ticks = time.monotonic() - t0, feed.tick() - ticks0
-    resyncs = sum(p.resyncs for p in feed.pages)
-    got = out.get(timeout=60) if out is not None else {"bytes": 0, "latency": []}
-    if child is not None:
-        child.join(30)
-    figures = {"tick_ms": list(feed.tick_ms), "sizes": list(feed.sizes), "rate": ticks / wall,
-               "rss": rss + [rss_mb()], "latency": got["latency"], "received": got["bytes"],
-               "resyncs": resyncs, "redraws": feed.redraws, "wall": wall}
-    await runner.cleanup()
-    return figures
-
-
-async def _self_scribble(feed: Feed, seconds: float) -> None:
-    """The pages' input played by the server itself: the scribble and the taps."""
-    t0, phase, k = time.monotonic(), "down", 0
-    fingers: dict = {}
-    while time.monotonic() - t0 < seconds:
-        now = time.monotonic() - t0
-        x, y = scribble_point(now)
-        feed.controls.handle(Input("touch", x, y, phase), fingers)
-        phase = "move"
-        if now >= k * TAP_PERIOD and now < seconds - 1.0:
-            feed.controls.handle(Input("touch", *tap_point(k), "down", 1), fingers)
-            feed.controls.handle(Input("touch", phase="up", finger=1), fingers)
-            k += 1
-        await asyncio.sleep(1.0 / SCRIBBLE_HZ)
-
-
 def _print_phase(name: str, f: dict) -> None:
     t = np.asarray(f["tick_ms"], float)
     print(f"  {name}: tick median {np.median(t):.2f} ms, p99 {np.percentile(t, 99):.2f} ms, "
@@ -213,8 +85,8 @@ def _print_phase(name: str, f: dict) -> None:
     rss = f["rss"]
     print(f"    memory (RSS) {rss[0]:.0f} -> {rss[-1]:.0f} MB (max {max(rss):.0f}; samples "
           f"{', '.join(f'{v:.0f}' for v in rss)})")
-    if f["received"]:
-        print(f"    pages received {f['received'] / 1e6:.1f} MB; resyncs {f['resyncs']}, "
+    if f["bytes"]:
+        print(f"    pages received {f['bytes'] / 1e6:.1f} MB; resyncs {f['resyncs']}, "
               f"snapshots drawn {f['redraws']}")
     lat = f["latency"]
     if lat:
@@ -233,19 +105,75 @@ def main(argv: list[str] | None = None, prog: str = "frost bench serve") -> int:
     p.add_argument("--skip-bytes", action="store_true", help="skip the offline byte counts")
     p.add_argument("--skip-baseline", action="store_true",
                    help="skip the server phase with no page (e.g. for a long memory run)")
+    p.add_argument("--skip-pages", action="store_true",
+                   help="skip the server phase with --pages pages")
+    p.add_argument("--attack", choices=[*ATTACKS, "none"], action="append",
+                   help="an attack to run (repeatable; default: " + ", ".join(ATTACKS)
+                        + "; none: no attack)")
+    p.add_argument("--grid", choices=GRIDS, action="append",
+                   help="the attacks' grid: the preset's (default) or the finest legal one, "
+                        "hc 16, D 1, grid spacing 2 (fine) (repeatable; default: both)")
     args = p.parse_args(argv)
     if not args.skip_bytes:
         print("bytes (offline, the server's encoder):")
         bytes_offline("window", 2250, scribble=False)
         bytes_offline("fern", 1500, scribble=True)
     params = Params.preset(args.preset)
-    print(f"server on loopback ({args.preset}, seed 0, a finger scribbling):")
+    if not (args.skip_baseline and args.skip_pages):
+        print(f"server on loopback ({args.preset}, seed 0, a finger scribbling):")
     if not args.skip_baseline:
         _print_phase("no page (the server plays the same input)",
-                     asyncio.run(_phase(params, 0, args.seconds)))
-    _print_phase(f"{args.pages} pages", asyncio.run(_phase(params, args.pages, args.seconds)))
+                     asyncio.run(phase(params, None, args.seconds)))
+    if not args.skip_pages:
+        _print_phase(f"{args.pages} pages",
+                     asyncio.run(phase(params, Plan("house", args.pages) if args.pages else None,
+                                        args.seconds)))
+    run_attacks(args.preset, _chosen(args.attack, list(ATTACKS)), args.grid or list(GRIDS),
+                args.seconds)
     sys.stdout.flush()
     return 0
+
+
+def _chosen(asked: list[str] | None, default: list[str]) -> list[str]:
+    """The attacks asked for, in their order, once each (none: the default; "none": none)."""
+    if not asked:
+        return default
+    return [a for a in dict.fromkeys(asked) if a != "none"]
+
+
+def run_attacks(preset: str, names: list[str], grids: list[str], seconds: float) -> None:
+    if not names:
+        return
+    print(f"attacks on loopback (a new server each, seed 0; the pages in a child process, "
+          f"within a page's limits; {seconds:g} s each):")
+    for grid in dict.fromkeys(grids):
+        params = Params.preset(preset, **FINEST) if grid == "fine" else Params.preset(preset)
+        where = (f"{preset}, hc {params.hc:g}, D {params.D:g}, grid spacing "
+                 f"{params.grid_spacing}" + (" (the finest legal grid)" if grid == "fine" else ""))
+        for name in names:
+            kind, pages = ATTACKS[name]
+            figures = asyncio.run(phase(params, Plan(kind, pages, params.hc), seconds))
+            print_attack(f"{name} ({where})", figures, pages)
+            sys.stdout.flush()
+
+
+def print_attack(name: str, f: dict, pages: int) -> None:
+    t = np.asarray(f["tick_ms"], float)
+    print(f"  {name}: tick median {np.median(t):.2f} ms, p99 {np.percentile(t, 99):.2f} ms, "
+          f"{f['rate']:.1f} ticks/s over {f['wall']:.0f} s")
+    rates, medians = zip(*f["samples"], strict=True) if f["samples"] else ((), ())
+    print(f"    each tenth: ticks/s {' '.join(f'{r:.1f}' for r in rates)}; tick median ms "
+          f"{' '.join(f'{m:.0f}' for m in medians)}")
+    print(f"    fullest hash cell {f['fullest']} crystals; {f['crystals']} crystals "
+          f"({f['alive']} alive); touches applied {f['planted']}; touch messages dropped "
+          f"{f['dropped']} (too much input waiting), touches skipped {f['skipped']} (over a "
+          f"page's {POINT_RATE:g} a second); input waiting at the end {f['waiting']} (never "
+          "applied)")
+    rss, sent = f["rss"], f["sent"]
+    print(f"    memory (RSS) {rss[0]:.0f} -> {rss[-1]:.0f} MB (max {max(rss):.0f}); the pages "
+          f"sent {sent} messages ({sent / pages / f['sending_s']:.0f} a second each), "
+          f"received {f['bytes'] / 1e6:.1f} MB; closed by the server: "
+          + (", ".join(f["closed"]) or "none"))
 
 
 if __name__ == "__main__":

@@ -217,8 +217,9 @@ def _bench(root: Parser, subs) -> None:
               "frame time: every argument goes to python -m app.bench.page",
               usage="[ARGS ...]", add_help=False, own_prefix=True)
     p.command(kinds, "serve", "frost serve's benchmark: bytes a tick and of a snapshot, tick time "
-              "with 0 and 16 pages, memory, touch-to-first-delta latency; every argument goes "
-              "to python -m app.bench.serve", usage="[ARGS ...]", add_help=False, own_prefix=True)
+              "with 0 and 16 pages, memory, touch-to-first-delta latency, hostile pages' "
+              "attacks; every argument goes to python -m app.bench.serve", usage="[ARGS ...]",
+              add_help=False, own_prefix=True)
     _bench_render(p.command(kinds, "render", "the renderer's benchmark: frame, geometry and "
                             f"upload times at about half the screen frosted (headless, {WIDTH}x{HEIGHT})"))
 
