@@ -8,23 +8,23 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from app import cli
-from app.tools import bench_sim as bench
+from app.bench import growth, simulation
 from sim.params import Params
 
 
-@pytest.mark.parametrize("humidity", bench.BUSY_HUMIDITIES)
+@pytest.mark.parametrize("humidity", growth.BUSY_HUMIDITIES)
 def test_busy_ticks_are_timed_with_the_whole_pool_walking(humidity, monkeypatch):
     """Each timed tick starts with >= 90 % of `humidity` walkers (a screen budget below
     the humidity would cap the pool and leave no busy tick to time)."""
     pools = []
-    step = bench.FrostSim.step
+    step = growth.FrostSim.step
 
     def counted(sim):
         pools.append(len(sim.water_area))
         step(sim)
 
-    monkeypatch.setattr(bench.FrostSim, "step", counted)
-    times = bench.busy_ticks(humidity, 3)
+    monkeypatch.setattr(growth.FrostSim, "step", counted)
+    times = growth.busy_ticks(humidity, 3)
     assert len(times) == 3 == len(pools)
     assert min(pools) >= 0.9 * humidity
 
@@ -33,12 +33,12 @@ def test_a_busy_tick_that_cannot_happen_is_refused():
     """A budget below the humidity is said, not looped on forever."""
     small = Params.preset("c-2", humidity=3000, water_budget=1000)
     with pytest.raises(ValueError, match="no tick of it can be busy"):
-        bench.busy_ticks_for(small, 3)
+        growth.busy_ticks_for(small, 3)
 
 
 def test_each_section_runs_alone(capsys):
     """`--section memory` prints that section's figures and its JSON, and no other."""
-    assert bench.main(["--quick", "--section", "memory"]) == 0
+    assert simulation.main(["--quick", "--section", "memory"]) == 0
     out = capsys.readouterr().out
     figures = json.loads(out.strip().splitlines()[-1])
     assert set(figures) == {"memory"}
@@ -68,7 +68,7 @@ def test_frost_bench_sim_runs_or_is_refused_in_one_line(monkeypatch, argv):
         ran.append(args)
         return {}
 
-    monkeypatch.setattr(bench, "SECTIONS", dict.fromkeys(bench.SECTIONS, section))
+    monkeypatch.setattr(simulation, "SECTIONS", dict.fromkeys(simulation.SECTIONS, section))
     err, out = io.StringIO(), io.StringIO()
     status: int | str | None
     with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
@@ -91,9 +91,9 @@ def test_frost_bench_sim_runs_or_is_refused_in_one_line(monkeypatch, argv):
 def test_the_phase_profiles_time_every_phase_a_tick_calls(preset):
     """Each phase the profiles name is one the simulation has and calls in a tick (the
     sections timed methods that a refactor had renamed, and crashed)."""
-    sim = bench.FrostSim(Params.preset(preset), seed=0)
-    sim.touch(*bench.CENTRE)
-    spent = bench.time_phases(sim, more=True)
+    sim = growth.FrostSim(Params.preset(preset), seed=0)
+    sim.touch(*growth.CENTRE)
+    spent = growth.time_phases(sim, more=True)
     for _ in range(30):
         sim.step()
     called = {name for name, s in spent.items() if s > 0}
@@ -107,7 +107,7 @@ def test_the_phase_profiles_time_every_phase_a_tick_calls(preset):
 def test_a_taps_wait_is_the_ticks_until_its_seed_has_a_child(preset, version):
     """`taps.waits` against a run driven tap by tap: each tap applied before its tick, its
     seed's wait the ticks until some crystal has it for a parent (every crystal looked at)."""
-    from app.tools import taps
+    from app.bench import taps
     from sim import FrostSim
 
     n = 4

@@ -9,8 +9,8 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from app.bench.scribble import scribble, storm
 from app.simthread.backlog import MIN_INPUT_S, STEP_SAMPLES, Backlog
-from app.tools.scribble import scribble, storm
 from sim import FrostSim, Params
 from sim.core import budget, frost
 from sim.index.grid import CELL_MARGIN, HashGrid

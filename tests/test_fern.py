@@ -8,9 +8,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from app.bench.morphology import link_angles
 from app.cli.options import params_from
 from app.cli.parser import build_parser
-from app.tools.morphology import link_angles
 from sim import PRESETS, FrostSim, Params, preset_name, tuning
 from sim.rules.fern import SIXTH, FernGrowth, _first_apart
 

@@ -1,5 +1,5 @@
 """The frond rules (docs/method.md, section 8; sim/rules/fronds.py, sim/rules/openglass.py) and the pane's
-measures (app/tools/measures.py), against stored pre-change hashes, hand-worked cases and
+measures (app/bench/measures.py), against stored pre-change hashes, hand-worked cases and
 brute-force oracles."""
 
 import json
@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from app.tools.measures import (
+from app.bench.measures import (
     END_GAIN,
     END_TICKS,
     MAIN_PX,

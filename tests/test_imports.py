@@ -10,6 +10,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import app.bench
 import app.tools
 import sim
 
@@ -53,7 +54,7 @@ def test_sim_loads_nothing_of_the_app_nor_gl_nor_images():
 
 
 def test_the_server_loads_no_gl_and_no_window_library():
-    loaded = loaded_by("app.serve.command", "app.serve.bench")
+    loaded = loaded_by("app.serve.command", "app.bench.serve")
     assert "aiohttp" in loaded and "app.serve.feed" in loaded
     assert under(loaded, *GL_AND_WINDOW, "app.gl", "app.tools") == set()
 
@@ -62,7 +63,7 @@ def test_the_server_loads_nothing_of_the_window_package():
     """The key table serves the window and the page: it lives outside app/window
     (app/keys.py), so the server loads no module of the window (`--window` opens one only
     when asked, at run time)."""
-    loaded = loaded_by("app.serve.server", "app.serve.controls", "app.serve.bench")
+    loaded = loaded_by("app.serve.server", "app.serve.controls", "app.bench.serve")
     assert "app.keys" in loaded and "app.serve.controls" in loaded
     assert under(loaded, "app.window") == set()
 
@@ -71,6 +72,14 @@ def test_the_tools_load_no_window():
     loaded = loaded_by(*modules_of(app.tools))
     assert "app.tools.maps" in loaded and "moderngl" in loaded  # the renderer's GL is theirs
     assert under(loaded, "glfw", "app.window") == set()
+
+
+def test_the_benchmarks_load_no_window_and_nothing_of_the_app_loads_them():
+    loaded = loaded_by(*modules_of(app.bench))
+    assert "app.bench.simulation" in loaded and "app.bench.serve" in loaded  # it did import
+    assert under(loaded, "glfw", "app.window") == set()
+    users = {part for part, parts in app_imports().items() if "app.bench" in parts}
+    assert users == {"app.cli"}  # the command line runs them; no other part leans on them
 
 
 def app_part(module: str) -> str | None:

@@ -1,5 +1,5 @@
 """The phone page (app/web) in headless Chromium, without a server: Playwright serves its
-files from disk and stands in for the WebSocket (app.tools.page_bench.Page). The desktop
+files from disk and stands in for the WebSocket (app.bench.page.Page). The desktop
 renderer (EGL) and numpy are the oracles."""
 
 from __future__ import annotations
@@ -12,8 +12,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.resources import WEB_DIR
-from app.tools.page_bench import (
+from app.bench.page import (
     Page,
     browser_problem,
     compare,
@@ -24,6 +23,7 @@ from app.tools.page_bench import (
     launch,
     wire_deltas,
 )
+from app.resources import WEB_DIR
 from sim import Params
 from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES
 

@@ -480,7 +480,7 @@ def test_figure8_grows_each_preset_under_the_sets_other_fields(tmp_path, monkeyp
     (["--params", "SET"], A_SET),
 ])
 def test_bench_render_grows_the_set_or_its_preset(tmp_path, monkeypatch, argv, want):
-    from app.tools import bench
+    from app.bench import render as bench
 
     path = save_params(tmp_path / "set.json", A_SET)
     seen = []

@@ -24,7 +24,7 @@ import pytest
 from PIL import Image
 
 from app.backdrops import load_backdrop
-from app.tools.page_bench import browser_problem, compare, launch
+from app.bench.page import browser_problem, compare, launch
 from sim.screen import HEIGHT, WIDTH
 
 PROBLEM = browser_problem()

@@ -532,14 +532,59 @@ def test_a_clear_while_paused_clears_every_page():
 
 
 def test_the_bench_prints_its_figures(capsys):
-    """frost bench serve runs (briefly) and says each figure; no speed is asserted."""
-    from app.serve import bench
+    """frost bench serve runs (briefly) and says each figure, its attacks' too; no speed is
+    asserted."""
+    from app.bench import serve as bench
     bench.bytes_offline("c-2", 30, scribble=True)
-    assert bench.main(["--skip-bytes", "--seconds", "3", "--pages", "2"]) == 0
+    attacks = [a for name in bench.ATTACKS for a in ("--attack", name)]
+    assert bench.main(["--skip-bytes", "--seconds", "3", "--pages", "2", *attacks,
+                       "--grid", "fine"]) == 0
     out = capsys.readouterr().out
     for says in ("per tick p50", "snapshot", "no page", "2 pages: tick median", "memory (RSS)",
                  "pages received", "touch to first delta"):
         assert says in out, says
+    fine = "(fern, hc 16, D 1, grid spacing 2 (the finest legal grid)): tick median"
+    for name in bench.ATTACKS:
+        assert f"  {name} {fine}" in out, name
+    for says in ("each tenth: ticks/s", "fullest hash cell", "touches applied",
+                 "input waiting at the end", "sent", "closed by the server"):
+        assert out.count(says) == len(bench.ATTACKS), says
+
+
+@pytest.mark.parametrize("hc", [7.0, 16.0])
+def test_the_all_over_attack_asks_a_page_s_most_touches_at_fresh_spots_all_over(hc):
+    """The attack's drag, cut into touches as the server cuts it (DRAG_SPACING_HC * hc
+    apart along each move), stays within a page's message rate and asks for more touches
+    a second than a page may leave, every spot on the screen and none twice, and reaches
+    most hash cells (2 hc) inside the pane's margin within a few passes (those it misses
+    are at its turns, by the pane's sides)."""
+    import itertools
+
+    from app.bench import attacks
+    from sim.io.gestures import DRAG_SPACING_HC, path_points
+    from sim.screen import HEIGHT, SIZE, WIDTH, touch_problem
+
+    spots = list(itertools.islice(attacks.sweep(attacks.Page(0, 1, hc)), 4000))
+    at, touches = spots[0], [spots[0]]
+    for spot in spots[1:]:
+        assert touch_problem(*spot, SIZE) is None
+        points = path_points(at, spot, DRAG_SPACING_HC * hc)
+        touches += points
+        at = points[-1] if points else at  # as the server's finger goes on
+    assert attacks.MESSAGES_PER_S < pages_module.RATE
+    assert len(touches) / len(spots) * attacks.MESSAGES_PER_S > pages_module.POINT_RATE
+    assert len(set(touches)) == len(touches)
+    cell, margin = 2 * hc, attacks.MARGIN
+    cells = {(int((x - margin) // cell), int((y - margin) // cell)) for x, y in touches}
+    assert len(cells) >= 0.85 * ((WIDTH - 2 * margin) // cell) * ((HEIGHT - 2 * margin) // cell)
+
+
+def test_the_attacks_pages_each_start_at_their_own_rows():
+    """Page k of 16 begins k/16 of the way down the pane, so the pages sweep apart."""
+    from app.bench import attacks
+
+    firsts = [next(attacks.sweep(attacks.Page(k, 16, 7.0)))[1] for k in range(16)]
+    assert firsts == sorted(firsts) and len(set(firsts)) == 16
 
 
 def test_menu_and_keys_change_the_shared_frost_and_every_page_hears():

@@ -198,7 +198,7 @@ def test_a_rebuild_regrows_a_scribble_as_it_grew_live():
     # The fern look, drags from tick 0 with pauses of 5 ticks: a rebuild with the same
     # parameters must give back the very frost the scribble grew (the touches once went
     # all at tick 0, and the water split over every area at once left sparse twigs).
-    from app.tools.scribble import STROKE_GAP, stroke
+    from app.bench.scribble import STROKE_GAP, stroke
     from sim.io.gestures import DRAG_SPACING_HC
 
     params = Params.preset("fern")

@@ -8,10 +8,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from app.bench import scribble as scribble_module
+from app.bench.scribble import play, spread, storm
 from app.simthread import backlog
 from app.simthread.backlog import Backlog
-from app.tools import scribble as scribble_module
-from app.tools.scribble import play, spread, storm
 from sim import FrostSim, Params
 from sim.core import budget, frost, placement
 from sim.io.session import SessionLog

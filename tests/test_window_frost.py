@@ -4,7 +4,7 @@ path that refreezes from its edges, against brute-force oracles."""
 import numpy as np
 import pytest
 
-from app.tools.measures import frosted_end
+from app.bench.measures import frosted_end
 from sim import FrostSim, Params, preset_name
 from sim.index.grid import CELL_MARGIN
 from sim.params import FROND_RULES
@@ -179,7 +179,7 @@ def test_a_wiped_path_is_clear_then_refreezes_from_its_edges(mode):
         sim.touch(x, y)
     cells = path_cells(sim)
     cover: list[float] = []
-    for _ in range(2500):  # to the frosted end (app/tools/measures.py), or full coverage
+    for _ in range(2500):  # to the frosted end (app/bench/measures.py), or full coverage
         sim.step()
         cover.append(coverage(sim, np.arange(sim.grid.size)))
         if cover[-1] >= 0.95 or frosted_end(cover) is not None:

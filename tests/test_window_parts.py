@@ -949,9 +949,9 @@ def test_a_session_saved_after_the_thread_ticked_past_the_frame_shown_replays_th
 
 @pytest.mark.parametrize("start", ["fern", "window", "c-2"])
 def test_the_scripted_scribble_presses_the_windows_own_tuning_keys(start):
-    """app.tools.scribble's tuning changes are what the window's key table does, key by key
+    """app.bench.scribble's tuning changes are what the window's key table does, key by key
     (from fern, key 1 is Table 1's a-1 with the fern rules off, as in the window)."""
-    from app.tools.scribble import tuning_changes
+    from app.bench.scribble import tuning_changes
 
     by_label = {b.label: b for b in BINDINGS}
     act = {"scale": lambda p, a: tuning.scaled(p, *a), "shift": lambda p, a: tuning.shifted(p, *a),

@@ -30,14 +30,14 @@ def main(argv: list[str] | None = None) -> int:
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
     argv = sys.argv[1:] if argv is None else list(argv)
     try:
-        if argv[:2] == ["bench", "sim"]:  # its arguments are bench_sim's to parse
-            from app.tools.bench_sim import main as bench_sim
+        if argv[:2] == ["bench", "sim"]:  # its arguments are the benchmark's to parse
+            from app.bench.simulation import main as bench_sim
             return bench_sim(argv[2:], prog="frost bench sim")
         if argv[:2] == ["bench", "page"]:  # so are the page bench's
-            from app.tools.page_bench import main as page_bench
+            from app.bench.page import main as page_bench
             return page_bench(argv[2:], prog="frost bench page")
         if argv[:2] == ["bench", "serve"]:
-            from app.serve.bench import main as bench_serve
+            from app.bench.serve import main as bench_serve
             return bench_serve(argv[2:])
         args, params = _parse(argv)
         return RUN[args.command](args, params)
@@ -216,7 +216,7 @@ def _maps(args: argparse.Namespace, params: Params) -> int:
 
 
 def _bench_render(args: argparse.Namespace, params: Params) -> int:
-    from app.tools.bench import run
+    from app.bench.render import run
     return run(args, params)
 
 

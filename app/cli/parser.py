@@ -208,17 +208,18 @@ def _bench(root: Parser, subs) -> None:
                      "the phone server (serve)",
                      usage="WHAT [options]")
     kinds = p.add_subparsers(dest="bench", title="benchmarks", metavar="WHAT", required=True)
-    # Never parsed here (app.cli.commands hands its arguments to app.tools.bench_sim, as argparse
+    # Never parsed here (app.cli.commands hands its arguments to app.bench.simulation, as argparse
     # cannot pass on options it does not know); listed so that frost bench --help names it.
     p.command(kinds, "sim", "the simulation's benchmark: every argument, --help too, goes to "
-              "python -m app.tools.bench_sim", usage="[ARGS ...]", add_help=False,
+              "python -m app.bench.simulation", usage="[ARGS ...]", add_help=False,
               own_prefix=True)
     p.command(kinds, "page", "the phone page against the desktop renderer (parity) and its "
-              "frame time: every argument goes to python -m app.tools.page_bench",
+              "frame time: every argument goes to python -m app.bench.page",
               usage="[ARGS ...]", add_help=False, own_prefix=True)
     p.command(kinds, "serve", "frost serve's benchmark: bytes a tick and of a snapshot, tick time "
-              "with 0 and 16 pages, memory, touch-to-first-delta latency; every argument goes "
-              "to python -m app.serve.bench", usage="[ARGS ...]", add_help=False, own_prefix=True)
+              "with 0 and 16 pages, memory, touch-to-first-delta latency, hostile pages' "
+              "attacks; every argument goes to python -m app.bench.serve", usage="[ARGS ...]",
+              add_help=False, own_prefix=True)
     _bench_render(p.command(kinds, "render", "the renderer's benchmark: frame, geometry and "
                             f"upload times at about half the screen frosted (headless, {WIDTH}x{HEIGHT})"))
 

@@ -1,9 +1,9 @@
 """The tile figures of docs/engine-maps.md: a window-preset tile grown to its frosted end (the share
 of hash cells holding a crystal gains less than END_GAIN over END_TICKS ticks,
-app.tools.measures), timed as `frost maps --tile` grows it (simulation, geometry, growth clock),
+app.bench.measures), timed as `frost maps --tile` grows it (simulation, geometry, growth clock),
 then its maps computed and written, with the peak memory of the process.
 
-python -m app.tools.tile_bench [SIZE] [--max-ticks N] [--out DIR]
+python -m app.bench.tiles [SIZE] [--max-ticks N] [--out DIR]
 """
 
 from __future__ import annotations
@@ -15,9 +15,9 @@ import time
 
 import numpy as np
 
+from app.bench.measures import frosted_end
 from app.tools.engine_maps import EngineRun, write_engine_maps
 from app.tools.maps import tile_window
-from app.tools.measures import frosted_end
 from sim import Params
 from sim.io.timeline import Timeline
 from sim.look.growthmap import GrowthClock
@@ -52,7 +52,7 @@ def grow_to_end(params: Params, size: tuple[int, int], max_ticks: int):
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m app.tools.tile_bench")
+    p = argparse.ArgumentParser(prog="python -m app.bench.tiles")
     p.add_argument("size", type=int, nargs="?", default=2048, help="tile side, px (default 2048)")
     p.add_argument("--max-ticks", type=int, default=6000, help="give up after (default 6000)")
     p.add_argument("--out", help="write the maps here (default a temporary folder)")

@@ -6,7 +6,7 @@ The page is driven without a server: Playwright serves app/web, the shaders and 
 backdrops from disk and stands in for the WebSocket, sending the hello and the geometry
 messages of the protocol (app.serve.protocol) for the deltas the desktop renderer applied.
 
-python -m app.tools.page_bench [--preset fern] [--look paper] [--ticks 300] [--frames 60]
+python -m app.bench.page [--preset fern] [--look paper] [--ticks 300] [--frames 60]
     [--out DIR]
 """
 
@@ -24,9 +24,9 @@ import numpy as np
 from PIL import Image
 
 from app.backdrops import DEFAULT_BACKDROP, load_backdrop
+from app.bench.options import count
+from app.bench.taps import GAP_S, tap_spots
 from app.resources import SHADER_DIR, WEB_DIR
-from app.tools.bench_sim import count
-from app.tools.taps import GAP_S, tap_spots
 from sim import Params, all_presets
 from sim.look.geometry import GeometryDelta
 from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, MAX_DEPTH, TILE, Material
@@ -323,7 +323,7 @@ def touch_latency(taps: int, preset: str = "fern", gap_s: float = GAP_S) -> tupl
     return np.asarray(got[0]), np.asarray(got[1])
 
 
-def main(argv: list[str] | None = None, prog: str = "python -m app.tools.page_bench") -> int:
+def main(argv: list[str] | None = None, prog: str = "python -m app.bench.page") -> int:
     p = argparse.ArgumentParser(prog=prog, description=__doc__.split("\n\n")[0])
     p.add_argument("--preset", default="fern", choices=list(all_presets()), metavar="NAME",
                    help="parameter set to grow (default fern)")
