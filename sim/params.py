@@ -241,8 +241,8 @@ PRESETS: dict[str, dict[str, Any]] = {
 }
 
 # Looks beyond the paper, selectable by name like Table 1's (which PRESETS alone lists).
-# "fern": window frost's fronds (docs/method.md, section 6); values tuned with `python -m
-# app.tools.bench_sim --section fern` (docs/benchmarks.md has the figures).
+# "fern": window frost's fronds (docs/method.md, section 6); values tuned with `frost bench
+# sim --section fern` (docs/benchmarks.md has the figures).
 EXTRA_PRESETS: dict[str, dict[str, Any]] = {
     # Rendered with narrower, taller sharp features on links split in three (D 2.5): glossy
     # stems with a fine texture; the paper's 1.5 made every link a hairy perpendicular rung.
@@ -257,7 +257,7 @@ EXTRA_PRESETS: dict[str, dict[str, Any]] = {
 # hit counts 1 / 3 at -10 C, x 3 per branch order, no side branches from order 3; water on
 # glass 2 cell rings from the ice, a humidity field of log-variance 1, a frame chill of 3.
 # The pool of 4 000 follows the temperature (x 2 at -20 C): the budget leaves it room.
-# Measured with `python -m app.tools.bench_sim --section window`.
+# Measured with `frost bench sim --section window`.
 EXTRA_PRESETS["window"] = {**EXTRA_PRESETS["fern"], "window_frost": True,
                            "tip_hits": 1, "side_hits": 3, "order_hits": 3.0, "max_order": 3,
                            "water_far": 2, "vapour_var": 1.0, "frame_chill": 3.0,

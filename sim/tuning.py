@@ -1,5 +1,5 @@
 """What the tuning keys do to the parameters: pure functions, no window needed. The
-window's keys and the scripted scribbles (app/tools/scribble.py) both use them, so a benchmark's
+window's keys and the scripted scribbles (app/bench/scribble.py) both use them, so a benchmark's
 key presses are a user's.
 
 Each returns a new, validated Params or raises ValueError saying why not.
