@@ -547,8 +547,10 @@ def test_the_bench_prints_its_figures(capsys):
     for name in bench.ATTACKS:
         assert f"  {name} {fine}" in out, name
     for says in ("each tenth: ticks/s", "fullest hash cell", "touches applied",
-                 "input waiting at the end", "sent", "closed by the server"):
+                 "input waiting at the end", "the attack", "closed by the server",
+                 "a person's taps beside it"):
         assert out.count(says) == len(bench.ATTACKS), says
+    assert "the attack opened" in out  # (sockets: connections, not messages)
 
 
 @pytest.mark.parametrize("hc", [7.0, 16.0])

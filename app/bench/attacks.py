@@ -8,6 +8,8 @@ its socket (which the reader notes).
   the same hash cell.
 - all-over: one finger dragged over the whole pane, row after row of hash cells, each move
   leaving PER_MOVE touches: the page's whole POINT_RATE, every touch at a fresh spot.
+- sockets: no page of its own; a client opening sockets as fast as it can, each reading
+  its hello and closing (a page needs the whole frost: a snapshot each).
 """
 
 from __future__ import annotations
@@ -109,4 +111,24 @@ def sweep(page: Page) -> Iterator[tuple[float, float]]:
         yield MARGIN + across * width, MARGIN + (at + along + turn * GOLDEN % 1.0) * cell
 
 
+async def sockets(http, url: str, got: dict, end: float) -> None:
+    """Open a socket, read its hello, close it; again until `end` (each within the time
+    left: a connection that hangs must not hold the bench past its end)."""
+    while (left := end - time.monotonic()) > 0:
+        try:
+            await asyncio.wait_for(_open_once(http, url), left)
+            got["sent"] += 1
+        except (asyncio.TimeoutError, ConnectionError, OSError):
+            await asyncio.sleep(0.01)
+
+
+async def _open_once(http, url: str) -> None:
+    ws = await http.ws_connect(url, max_msg_size=0)
+    try:
+        await ws.receive()
+    finally:
+        await ws.close()
+
+
 SENDERS = {"one-spot": one_spot, "all-over": all_over}
+OPENERS = {"sockets": sockets}  # attacks by connections: (session, url, got, end)

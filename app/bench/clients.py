@@ -1,7 +1,9 @@
 """The pages of `frost bench serve`, run in a child process (aiohttp clients) so that they do
 not share the server's interpreter lock: the house's pages (one scribbling, one tapping
 clear glass to time touch-to-first-delta, the others only reading) or the hostile pages of
-an attack (app/bench/attacks.py). Every page reads what the server sends it."""
+an attack (app/bench/attacks.py) with a person's page beside them, tapping clear glass as
+the house's does: what the attack costs a person. Every page reads what the server sends
+it."""
 
 from __future__ import annotations
 
@@ -49,16 +51,26 @@ def pages_main(url: str, plan: Plan, seconds: float, out) -> None:
 
 async def _pages(url: str, plan: Plan, seconds: float) -> dict:
     from aiohttp import ClientSession
-    got: dict = {"bytes": 0, "latency": [], "sent": 0, "closed": [], "sending_s": seconds + 0.5}
+    got: dict = {"bytes": 0, "latency": [], "taps": 0, "sent": 0, "closed": [],
+                 "sending_s": seconds + 0.5}
     async with ClientSession() as http:
-        sockets = [await http.ws_connect(url, max_msg_size=0) for _ in range(plan.pages)]
+        sockets = [await http.ws_connect(url, max_msg_size=0) for _ in range(plan_pages(plan))]
         end = time.monotonic() + seconds + 0.5  # the server times `seconds` from here
-        jobs = _house(sockets, got, end) if plan.kind == "house" else _attack(plan, sockets,
-                                                                               got, end)
+        if plan.kind == "house":
+            jobs = _house(sockets, got, end)
+        else:
+            jobs = [*_attack(plan, sockets[1:], got, end), _taps(sockets[0], got, end)]
+            if plan.kind in attacks.OPENERS:
+                jobs.append(attacks.OPENERS[plan.kind](http, url, got, end))
         await asyncio.gather(*(asyncio.create_task(job) for job in jobs))
         for ws in sockets:
             await ws.close()
     return got
+
+
+def plan_pages(plan: Plan) -> int:
+    """The pages `plan` keeps connected: its own, and with an attack a person's."""
+    return plan.pages + (plan.kind != "house")
 
 
 def _house(sockets: list, got: dict, end: float) -> list[Coroutine]:
@@ -70,7 +82,9 @@ def _house(sockets: list, got: dict, end: float) -> list[Coroutine]:
 
 
 def _attack(plan: Plan, sockets: list, got: dict, end: float) -> list[Coroutine]:
-    send = attacks.SENDERS[plan.kind]
+    send = attacks.SENDERS.get(plan.kind)
+    if send is None:  # (an attack by connections, not by a page's messages)
+        return [_read(ws, got, end, None) for ws in sockets]
     return [*(_read(ws, got, end, None) for ws in sockets),
             *(send(ws, attacks.Page(k, plan.pages, plan.hc), got, end)
               for k, ws in enumerate(sockets))]
@@ -120,6 +134,7 @@ async def _taps(ws, got: dict, end: float) -> None:
     while time.monotonic() < end - 1.0:
         spot = tap_point(k)
         pending.update(spot=spot, t=time.monotonic())
+        got["taps"] += 1
         await ws.send_json({"type": "touch", "x": spot[0], "y": spot[1], "id": 1})
         await ws.send_json({"type": "touch", "phase": "up", "id": 1})
         k += 1

@@ -9,7 +9,7 @@ import multiprocessing
 import statistics
 import time
 
-from app.bench.clients import SCRIBBLE_HZ, TAP_PERIOD, Plan, pages_main, scribble_point, tap_point
+from app.bench.clients import SCRIBBLE_HZ, TAP_PERIOD, Plan, pages_main, plan_pages, scribble_point, tap_point
 from app.serve import guard
 from app.serve.feed import Feed
 from app.serve.protocol import Input
@@ -44,12 +44,12 @@ async def phase(params: Params, plan: Plan | None, seconds: float) -> dict:
         child = ctx.Process(target=pages_main, args=(
             f"http://127.0.0.1:{runner.addresses[0][1]}/ws", plan, seconds, out))
         child.start()
-        while len(feed.pages) < plan.pages and child.is_alive():
+        while len(feed.pages) < plan_pages(plan) and child.is_alive():
             await asyncio.sleep(0.05)
     else:
         asyncio.get_running_loop().create_task(_self_scribble(feed, seconds))
     figures = await _watch(feed, seconds)
-    got = out.get(timeout=60) if out is not None else {"bytes": 0, "latency": []}
+    got = out.get(timeout=60) if out is not None else {"bytes": 0, "latency": [], "taps": 0}
     if child is not None:
         child.join(30)
     figures["redraws"] = feed.redraws

@@ -11,13 +11,16 @@
    resyncs, this process's memory (RSS) over time, and the taps' latency median and p95.
 3. Attacks (--attack, --grid), each on a new server for --seconds: hostile pages that keep
    within every limit a page has (app/bench/attacks.py): one socket tapping one spot 86
-   times a second (one-spot), and a finger swept over the whole pane leaving the page's
-   most touches a second, every one at a fresh spot, from one page (all-over) and from
-   16 (all-over-16); on the preset and on the finest grid its checks allow (FINEST).
+   times a second (one-spot), a finger swept over the whole pane leaving the page's most
+   touches a second, every one at a fresh spot, from one page (all-over) and from 15
+   (all-over-15), and a client opening sockets as fast as it can (sockets); each with a
+   person's page beside it tapping clear glass (the 16th page); on the preset and on the
+   finest grid its checks allow (FINEST).
    Printed: tick median and p99, ticks a second (over the phase and per tenth of it), the
    crystals in the fullest hash cell at the end and the crystals, the touches applied,
    dropped (too much input waiting), skipped (over a page's bound) and still waiting at
-   the end (never applied), memory, and what the pages sent.
+   the end (never applied), memory, what the attack sent, and the person's touch to first
+   delta (and how many of their taps showed).
 Figures only; nothing is asserted.
 """
 
@@ -51,7 +54,7 @@ FINEST = {"hc": HC_MAX, "D": HC_MAX / MAX_UPSAMPLE,
           "grid_spacing": math.ceil(HC_MAX / MAX_HC_PER_SPACING)}
 # Each attack: (its pages' plan, the pages).
 ATTACKS = {"one-spot": ("one-spot", 1), "all-over": ("all-over", 1),
-           "all-over-16": ("all-over", MAX_PAGES)}
+           "all-over-15": ("all-over", MAX_PAGES - 1), "sockets": ("sockets", 0)}
 GRIDS = ("default", "fine")
 
 
@@ -170,10 +173,16 @@ def print_attack(name: str, f: dict, pages: int) -> None:
           f"page's {POINT_RATE:g} a second); input waiting at the end {f['waiting']} (never "
           "applied)")
     rss, sent = f["rss"], f["sent"]
-    print(f"    memory (RSS) {rss[0]:.0f} -> {rss[-1]:.0f} MB (max {max(rss):.0f}); the pages "
-          f"sent {sent} messages ({sent / pages / f['sending_s']:.0f} a second each), "
-          f"received {f['bytes'] / 1e6:.1f} MB; closed by the server: "
-          + (", ".join(f["closed"]) or "none"))
+    what = (f"opened {sent} sockets ({sent / f['sending_s']:.0f} a second)" if not pages else
+            f"sent {sent} messages ({sent / pages / f['sending_s']:.0f} a second each)")
+    print(f"    memory (RSS) {rss[0]:.0f} -> {rss[-1]:.0f} MB (max {max(rss):.0f}); the attack "
+          f"{what}, the pages received {f['bytes'] / 1e6:.1f} MB; snapshots drawn "
+          f"{f['redraws']}; closed by the server: " + (", ".join(f["closed"]) or "none"))
+    lat, taps = f["latency"], f["taps"]
+    said = (f"median {1e3 * statistics.median(lat):.0f} ms, p95 "
+            f"{1e3 * float(np.percentile(lat, 95)):.0f} ms, " if lat else "")
+    print(f"    a person's taps beside it: touch to first delta {said}{len(lat)} of {taps} "
+          f"taps seen")
 
 
 if __name__ == "__main__":
