@@ -76,7 +76,8 @@ async def _watch(feed: Feed, seconds: float) -> dict:
     return {"tick_ms": list(feed.tick_ms), "sizes": list(feed.sizes), "rate": ticks / wall,
             "rss": rss + [rss_mb()], "wall": wall, "samples": samples,
             "resyncs": sum(p.resyncs for p in feed.pages), "dropped": controls.dropped,
-            "skipped": controls.skipped, "waiting": thread.sent - thread.handled}
+            "skipped": controls.skipped,
+            "waiting": thread.sent - thread.handled + controls.turns.waiting()}
 
 
 def _since(feed: Feed, t0: float, ticks0: int) -> tuple[float, float]:

@@ -11,6 +11,7 @@ from app.backdrops import BACKDROPS
 from app.keys import BINDINGS, Binding
 from app.serve.pages import POINT_RATE, TokenBucket
 from app.serve.protocol import Input
+from app.serve.turns import PAGE_WAITING, PageQueue, Turns
 from app.simthread.thread import SimThread
 from sim import Params, all_presets, preset_name, tuning
 from sim.io.gestures import DRAG_SPACING_HC, MELT_SPACING, path_points
@@ -22,10 +23,9 @@ from sim.screen import SIZE, touch_problem
 KEY_TUNES = {"scale": tuning.scaled, "shift": tuning.shifted, "toggle_param": tuning.toggled,
              "cycle_param": tuning.cycled}
 KEY_COMMANDS = {"pause": "pause", "single_step": "step", "clear": "clear"}
-# Most commands that may wait for the simulation thread before a page's touches and melts
-# are dropped (the finger still moves on): within its message rate a page can drag corner to
-# corner 200 times a second, 25 000 melts a second, and the thread applies a few hundred,
-# so without it the waiting input (and the memory it holds) grows without bound.
+# Input not of a page (the bench's own scribble): most commands that may wait for the
+# simulation thread before its touches and melts are dropped (the finger still moves on).
+# A page's wait in its own queue (app/serve/turns.py, PAGE_WAITING).
 MAX_WAITING = 2000
 
 
@@ -42,6 +42,8 @@ class Controls:
         self.dropped = 0  # touches and melts dropped while too much input waited
         self.skipped = self.skipped_told = 0  # touches and melts over a page's bound
         self.points: TokenBucket | None = None  # the bound of the page being handled
+        self.turns = Turns(thread)  # the pages' commands, sent to the thread in turns
+        self.queue: PageQueue | None = None  # the queue of the page being handled
         self.keys: dict[str, Binding] = {name: b for b in BINDINGS for name in b.keys}
         self._handlers: dict[str, Callable[[Input, dict], None]] = {
             "touch": self._pointer, "melt": self._pointer,
@@ -60,16 +62,32 @@ class Controls:
 
     def handle(self, message: Input, fingers: dict,
                reply: Callable[[str], None] | None = None,
-               points: TokenBucket | None = None) -> None:
+               points: TokenBucket | None = None, queue: PageQueue | None = None) -> None:
         """Apply one page message; `fingers` holds that page's drags, `reply` tells that
         page why a change was refused (default: every page), `points` (a TokenBucket, or
-        None: no bound) how many touches and melts its fingers may still leave."""
+        None: no bound) how many touches and melts its fingers may still leave, `queue`
+        (`turns.open()`; None: straight to the thread) where its commands wait their turn."""
         self.notice = reply or self.tell_all
-        self.points = points
+        self.points, self.queue = points, queue
         self._handlers[message.kind](message, fingers)
 
+    def _submit(self, kind: str, arg=None) -> None:
+        """A command for the thread: in the page's turn, or at once (no page)."""
+        if self.queue is None:
+            self.thread.send(kind, arg)
+        else:
+            self.turns.put(self.queue, kind, arg)
+
+    def _too_much_waiting(self) -> str | None:
+        """Why a touch or melt of the page is dropped now (its queue, or the thread's, is
+        full), or None."""
+        if self.queue is not None:
+            return f"{PAGE_WAITING} or more of this page's" if self.queue.full() else None
+        full = self.thread.sent - self.thread.handled >= MAX_WAITING
+        return f"{MAX_WAITING} or more" if full else None
+
     def _command(self, m: Input, _fingers: dict) -> None:
-        self.thread.send(m.kind)
+        self._submit(m.kind)
 
     def _pointer(self, m: Input, fingers: dict) -> None:
         key = (m.kind, m.finger)
@@ -79,12 +97,12 @@ class Controls:
         spot = (m.x, m.y)
         if touch_problem(*spot, SIZE) is not None:
             return  # off the screen, as a click beside the phone
-        if self.thread.sent - self.thread.handled >= MAX_WAITING:
+        full = self._too_much_waiting()
+        if full is not None:
             fingers[key] = spot  # the next move goes on from here, not from the last spot sent
             self.dropped += 1
             if self.dropped % 100 == 1:
-                self.notice(f"too much input waiting ({MAX_WAITING} or more): some of it "
-                            "was dropped")
+                self.notice(f"too much input waiting ({full}): some of it was dropped")
             return
         if m.phase == "down" or key not in fingers:
             fingers[key] = spot
@@ -117,16 +135,16 @@ class Controls:
 
     def _send(self, kind: str, spot: tuple[float, float], timed: bool) -> None:
         if kind == "melt":
-            self.thread.send("melt", (*spot, self.melt_radius))
+            self._submit("melt", (*spot, self.melt_radius))
         else:
-            self.thread.send("touch", (spot, (self.tick(), time.monotonic()) if timed else None))
+            self._submit("touch", (spot, (self.tick(), time.monotonic()) if timed else None))
 
     def _key(self, name: str) -> None:
         binding = self.keys.get(name)
         if binding is None:
             self.notice(f"key {name[:16]} is not one of the window's keys")
         elif binding.action in KEY_COMMANDS:
-            self.thread.send(KEY_COMMANDS[binding.action])
+            self._submit(KEY_COMMANDS[binding.action])
         elif binding.action == "preset":
             self._preset(binding.arg)
         elif binding.action in KEY_TUNES:
@@ -163,4 +181,4 @@ class Controls:
             return
         if tuning.differences(self.params, params):
             self.params = params
-            self.thread.send("params", params)
+            self._submit("params", params)

@@ -14,6 +14,7 @@ from app.serve import MAX_PAGES, guard, protocol
 from app.serve.appkeys import FEED, PAGE_LINES
 from app.serve.feed import Feed
 from app.serve.pages import CHANGE_RATE, Page
+from app.serve.turns import PageQueue
 
 log = logging.getLogger("app.serve")
 
@@ -44,11 +45,12 @@ async def socket(request: web.Request) -> web.WebSocketResponse:
     feed.pages.add(page)
     page.text(feed.hello())
     writer = asyncio.create_task(page.write())
+    queue = feed.controls.turns.open()  # its commands, sent to the thread in turns
     lines = request.app[PAGE_LINES]
     lines.info("serve: page %s connected (%d pages)", page.name, len(feed.pages))
     try:
         async for msg in ws:
-            problem = _handle_message(feed, page, msg)
+            problem = _handle_message(feed, page, queue, msg)
             if problem is not None:
                 lines.info("serve: page %s closed: %s", page.name, problem.reason)
                 await ws.close(code=problem.code, message=problem.reason.encode()[:120])
@@ -56,24 +58,27 @@ async def socket(request: web.Request) -> web.WebSocketResponse:
     finally:
         page.close()
         feed.pages.discard(page)
+        feed.controls.dropped += feed.controls.turns.close(queue)
         writer.cancel()
     return ws
 
 
-def _handle_message(feed: Feed, page: Page, msg) -> protocol.ProtocolError | None:
+def _handle_message(feed: Feed, page: Page, queue: PageQueue,
+                    msg) -> protocol.ProtocolError | None:
     """`_apply_message`, where a failure of the server's own (a bug met by one page's
     message) closes that page's socket alone (1011), in the one line its closing writes:
     aiohttp would log a traceback of 30 lines for each such message, a flood of them past
     any rate limit."""
     try:
-        return _apply_message(feed, page, msg)
+        return _apply_message(feed, page, queue, msg)
     except Exception as err:
         log.debug("serve: page %s: handling its message failed", page.name, exc_info=True)
         return protocol.ProtocolError(f"the server failed on its message ({type(err).__name__}: "
                                       f"{str(err)[:60]})", protocol.INTERNAL_ERROR)
 
 
-def _apply_message(feed: Feed, page: Page, msg) -> protocol.ProtocolError | None:
+def _apply_message(feed: Feed, page: Page, queue: PageQueue,
+                   msg) -> protocol.ProtocolError | None:
     """Apply one message of a page; the error that closes its socket, if any."""
     if msg.type == WSMsgType.ERROR:
         return protocol.ProtocolError(f"socket error: {msg.data}"[:100], protocol.TOO_BIG)
@@ -92,5 +97,6 @@ def _apply_message(feed: Feed, page: Page, msg) -> protocol.ProtocolError | None
                                 f"{CHANGE_RATE:g} changes a second"))
     else:
         feed.controls.handle(message, page.fingers,
-                             lambda why: page.text(protocol.text("notice", text=why)), page.points)
+                             lambda why: page.text(protocol.text("notice", text=why)), page.points,
+                             queue)
     return None
