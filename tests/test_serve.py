@@ -548,7 +548,7 @@ def test_the_bench_prints_its_figures(capsys):
         assert f"  {name} {fine}" in out, name
     for says in ("each tenth: ticks/s", "fullest hash cell", "touches applied",
                  "input waiting at the end", "the attack", "closed by the server",
-                 "a person's taps beside it"):
+                 "a person's taps beside it: tap to the tick"):
         assert out.count(says) == len(bench.ATTACKS), says
     assert "the attack opened" in out  # (sockets: connections, not messages)
 

@@ -19,41 +19,54 @@ class Counting:
         return self.sent
 
 
-def test_pages_take_turns_and_the_thread_holds_at_most_ahead(monkeypatch):
-    monkeypatch.setattr(turns, "AHEAD", 4)
+def test_each_command_goes_to_the_page_with_the_fewest_in_the_thread():
     thread = Counting()
     t = Turns(thread)  # type: ignore[arg-type]
     a, b, c = t.open(), t.open(), t.open()
     for k in range(6):
         a.waiting.append(("touch", f"a{k}"))
     b.waiting.append(("touch", "b0"))
-    t.release()  # a first: a0 b0 a1 a2 (c has none)
-    assert thread.got == ["a0", "b0", "a1", "a2"] and t.waiting() == 3
-    t.release()  # nothing applied: nothing more (b first this time)
-    assert thread.sent == 4
-    thread.handled = 2  # a0 and b0 applied: room for two
+    t.release()  # the thread may hold MIN_AHEAD (4): a0, then b0 (b has fewer), a1, a2
+    assert turns.MIN_AHEAD == 4 and thread.got == ["a0", "b0", "a1", "a2"]
+    t.release()  # nothing applied: nothing more
+    assert thread.sent == 4 and t.waiting() == 3
+    thread.handled = 2  # a0 and b0 applied: two in the thread, room for two
     c.waiting.append(("touch", "c0"))
-    t.release()  # c first now: c0, then a3
+    t.release(ticked=True)  # c has none there: c0 first, then a3
     assert thread.got[4:] == ["c0", "a3"]
     thread.handled = 6
-    t.put(c, "touch", "c1")  # a first again: a4, (b none), c1, then a5
-    assert thread.got[6:] == ["a4", "c1", "a5"] and t.waiting() == 0
+    t.put(c, "touch", "c1")  # none there: among equals the order moved on (b, c, a)
+    assert thread.got[6:] == ["c1", "a4", "a5"] and t.waiting() == 0
 
 
-def test_a_page_that_goes_takes_its_waiting_commands_with_it(monkeypatch):
-    monkeypatch.setattr(turns, "AHEAD", 1)
+def test_the_thread_holds_twice_what_it_applied_in_its_last_tick():
+    thread = Counting()
+    t = Turns(thread)  # type: ignore[arg-type]
+    q = t.open()
+    for applied, ahead in ((0, turns.MIN_AHEAD), (1, turns.MIN_AHEAD), (20, 40),
+                           (100, turns.AHEAD)):
+        thread.handled += applied
+        t.release(ticked=True)
+        assert t.ahead == ahead, applied
+    for k in range(100):
+        q.waiting.append(("touch", k))
+    t.release()
+    assert thread.sent == turns.AHEAD  # (the thread holds nothing else)
+
+
+def test_a_page_that_goes_takes_its_waiting_commands_with_it():
     thread = Counting()
     t = Turns(thread)  # type: ignore[arg-type]
     a, b = t.open(), t.open()
-    for k in range(3):
+    for k in range(6):
         a.waiting.append(("touch", f"a{k}"))
-    b.waiting.append(("touch", "b0"))
     t.release()
-    assert thread.got == ["a0"]
+    assert thread.got == ["a0", "a1", "a2", "a3"]
     assert t.close(a) == 2
-    thread.handled = 1
+    b.waiting.append(("touch", "b0"))
+    thread.handled = 4
     t.release()
-    assert thread.got == ["a0", "b0"] and t.waiting() == 0
+    assert thread.got[4:] == ["b0"] and t.waiting() == 0
 
 
 def test_a_pages_queue_is_full_at_page_waiting(monkeypatch):

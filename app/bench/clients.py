@@ -52,14 +52,14 @@ def pages_main(url: str, plan: Plan, seconds: float, out) -> None:
 async def _pages(url: str, plan: Plan, seconds: float) -> dict:
     from aiohttp import ClientSession
     got: dict = {"bytes": 0, "latency": [], "taps": 0, "sent": 0, "closed": [],
-                 "sending_s": seconds + 0.5}
+                 "sending_s": seconds + 0.5, "tapped": [], "tick_at": {}}
     async with ClientSession() as http:
         sockets = [await http.ws_connect(url, max_msg_size=0) for _ in range(plan_pages(plan))]
         end = time.monotonic() + seconds + 0.5  # the server times `seconds` from here
         if plan.kind == "house":
             jobs = _house(sockets, got, end)
         else:
-            jobs = [*_attack(plan, sockets[1:], got, end), _taps(sockets[0], got, end)]
+            jobs = [*_attack(plan, sockets[1:], got, end), _taps(sockets[0], got, end, True)]
             if plan.kind in attacks.OPENERS:
                 jobs.append(attacks.OPENERS[plan.kind](http, url, got, end))
         await asyncio.gather(*(asyncio.create_task(job) for job in jobs))
@@ -116,11 +116,15 @@ async def _scribble(ws, got: dict, end: float) -> None:
     await reader
 
 
-async def _taps(ws, got: dict, end: float) -> None:
-    """Tap clear glass; the time until the first message with a vertex near the tap."""
+async def _taps(ws, got: dict, end: float, ticks: bool = False) -> None:
+    """Tap clear glass; the time until the first message with a vertex near the tap. With
+    `ticks`, also each tap's spot and time, and when each tick's first message came
+    (`got`'s "tapped" and "tick_at"), for the server's session to tell when each showed."""
     pending: dict = {}
 
     def seen(data: bytes) -> None:
+        if ticks:
+            got["tick_at"].setdefault(protocol.HEADER.unpack_from(data)[4], time.monotonic())
         if not pending:
             return
         xy = protocol.decode_geometry(data)["vertices"][:, :2]
@@ -135,6 +139,7 @@ async def _taps(ws, got: dict, end: float) -> None:
         spot = tap_point(k)
         pending.update(spot=spot, t=time.monotonic())
         got["taps"] += 1
+        got["tapped"].append((*spot, pending["t"]))
         await ws.send_json({"type": "touch", "x": spot[0], "y": spot[1], "id": 1})
         await ws.send_json({"type": "touch", "phase": "up", "id": 1})
         k += 1

@@ -92,9 +92,10 @@ def _frost(feed: Feed) -> dict:
     candidate cells' count), its crystals (and those alive), the touches it applied."""
     timeline = feed.thread.timeline
     sim = timeline.sim
+    touches = [e for e in timeline.events if e["kind"] == "touch"]
     return {"fullest": int(sim.index.candidates.count.max()), "crystals": len(sim.crystals),
-            "alive": int(sim.crystal_alive.sum()),
-            "planted": sum(1 for e in timeline.events if e["kind"] == "touch")}
+            "alive": int(sim.crystal_alive.sum()), "planted": len(touches),
+            "touch_ticks": {(e["x"], e["y"]): e["tick"] for e in reversed(touches)}}
 
 
 async def _self_scribble(feed: Feed, seconds: float) -> None:

@@ -159,7 +159,7 @@ class Feed:
         self._pumping.clear()
         for snap in self._drain():
             self._publish(snap)
-        self.controls.turns.release()  # (the thread applied some: the pages' next turns)
+        self.controls.turns.release(ticked=True)  # (the thread applied some: next turns)
         self._draw_copied()
         if self._snapshot is not None:
             self._serve_snapshot()

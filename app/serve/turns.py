@@ -1,13 +1,15 @@
 """Pages' input in turns: each page's commands wait in a queue of its own and go to the
-simulation thread a page at a time, while fewer than AHEAD of them wait there.
+simulation thread one at a time, each to the page with the fewest already there, while
+fewer wait there than the thread lately applies in two ticks (at least MIN_AHEAD, at most
+AHEAD).
 
 The thread applies what a tick's budget takes (app/simthread/backlog.py), oldest first. Sent
 to it as they came, one page sweeping the pane at its full rate kept 2 000 commands
 waiting there, so a person's tap on another page waited behind all of them (or was
-dropped with them) while the frost ticked on time: in `frost bench serve`, 2 of 5 taps of
-a person's page beside 15 such pages showed within the run. In turns, a command waits
-behind at most AHEAD others and one of each other page's; a page's own queue holds at most
-PAGE_WAITING, more is dropped (its finger goes on from where it is)."""
+dropped with them) while the frost ticked on time. In turns, a person's tap goes to the
+thread at the next command's turn (its page has none there) and waits behind about two
+ticks' worth; a page's own queue holds at most PAGE_WAITING, more is dropped (its finger
+goes on from where it is)."""
 
 from __future__ import annotations
 
@@ -16,9 +18,10 @@ from typing import Any
 
 from app.simthread.thread import SimThread
 
-# Pages' commands the thread may hold at once: a tick's worth of cheap touches and more (a
-# touch costs 0.2-3 ms of a tick's 10 ms of input), so the thread never waits for the loop.
-AHEAD = 32
+# Pages' commands the thread may hold at once: twice what it applied in its last tick,
+# within these bounds (a touch costs 0.2-10 ms of a tick's 3-10 ms of input: 1 to 40 a
+# tick), so the thread has its next tick's input and a person's tap waits behind little.
+MIN_AHEAD, AHEAD = 4, 64
 # A page's own commands waiting for their turn: half a second of its fingers' most
 # (POINT_RATE, app/serve/pages.py).
 PAGE_WAITING = 250
@@ -42,7 +45,9 @@ class Turns:
     def __init__(self, thread: SimThread):
         self.thread = thread
         self.queues: list[PageQueue] = []
-        self._first = 0  # the page whose turn comes first at the next release
+        self._first = 0  # the page first among equals at the next release
+        self._handled = 0  # the thread's `handled` at the last tick
+        self.ahead = MIN_AHEAD  # pages' commands the thread may hold now
 
     def open(self) -> PageQueue:
         queue = PageQueue()
@@ -63,20 +68,28 @@ class Turns:
         """Commands waiting for their turn, all pages'."""
         return sum(len(q.waiting) for q in self.queues)
 
-    def release(self) -> None:
-        """Send waiting commands to the thread, one of each page in turn (the first page
-        moving on by one each time), while fewer than AHEAD of the pages' wait there."""
+    def release(self, ticked: bool = False) -> None:
+        """Send waiting commands to the thread while it holds fewer than `ahead` of the
+        pages', each to the page with the fewest there (among equals, the first in an order
+        that moves on by one each tick). `ticked`: the thread ticked since the last such
+        call, so `ahead` follows what it applied."""
         handled = self.thread.handled
-        ahead = 0
+        if ticked:
+            self.ahead = min(AHEAD, max(MIN_AHEAD, 2 * (handled - self._handled)))
+            self._handled = handled
+        there = 0
         for q in self.queues:
             while q.sent and q.sent[0] <= handled:
                 q.sent.popleft()
-            ahead += len(q.sent)
+            there += len(q.sent)
         n = len(self.queues)
         order = [self.queues[(self._first + k) % n] for k in range(n)]
-        self._first = (self._first + 1) % n if n else 0
-        while ahead < AHEAD and any(q.waiting for q in order):
-            for q in order:
-                if q.waiting and ahead < AHEAD:
-                    q.sent.append(self.thread.send(*q.waiting.popleft()))
-                    ahead += 1
+        if ticked and n:
+            self._first = (self._first + 1) % n
+        while there < self.ahead:
+            waiting = [q for q in order if q.waiting]
+            if not waiting:
+                return
+            q = min(waiting, key=lambda q: len(q.sent))
+            q.sent.append(self.thread.send(*q.waiting.popleft()))
+            there += 1
