@@ -181,3 +181,26 @@ def test_a_snapshot_whose_next_ticks_were_dropped_before_it_was_drawn_is_copied_
         assert_holds_the_frost(held(page), feed)
     finally:
         ticks.stop()
+
+
+def test_a_snapshot_not_worth_loading_is_drawn_anew_but_not_within_the_gap(monkeypatch):
+    """Past the bytes it is worth, the kept snapshot still starts the pages that come within
+    REDRAW_GAP of its drawing (a flood of sockets is not a drawing each), a new one after."""
+    monkeypatch.setattr(feed_module.Kept, "worth", lambda self: False)
+    feed, ticks, first = fed()
+    try:
+        ticks.tick(feed, 10)
+        feed.ask_redraw()
+        ticks.tick(feed)
+        assert feed.redraws == 1
+        for gap, redraws in ((1e9, 1), (0.0, 2)):
+            monkeypatch.setattr(feed_module, "REDRAW_GAP", gap)
+            ticks.tick(feed, 3)
+            page = Page(Wire(), f"gap {gap}", feed.ask_redraw)
+            feed.pages.add(page)
+            page.ask_snapshot()
+            ticks.tick(feed)
+            assert not page.waiting and feed.redraws == redraws
+            assert_holds_the_frost(held(page), feed)
+    finally:
+        ticks.stop()

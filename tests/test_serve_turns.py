@@ -19,23 +19,23 @@ class Counting:
         return self.sent
 
 
-def test_each_command_goes_to_the_page_with_the_fewest_in_the_thread():
+def test_each_command_goes_to_the_page_served_longest_ago():
     thread = Counting()
     t = Turns(thread)  # type: ignore[arg-type]
     a, b, c = t.open(), t.open(), t.open()
     for k in range(6):
         a.waiting.append(("touch", f"a{k}"))
     b.waiting.append(("touch", "b0"))
-    t.release()  # the thread may hold MIN_AHEAD (4): a0, then b0 (b has fewer), a1, a2
+    t.release()  # the thread may hold MIN_AHEAD (4): a0, then b0 (never served), a1, a2
     assert turns.MIN_AHEAD == 4 and thread.got == ["a0", "b0", "a1", "a2"]
     t.release()  # nothing applied: nothing more
     assert thread.sent == 4 and t.waiting() == 3
     thread.handled = 2  # a0 and b0 applied: two in the thread, room for two
     c.waiting.append(("touch", "c0"))
-    t.release(ticked=True)  # c has none there: c0 first, then a3
+    t.release(ticked=True)  # c never served: c0 first, then a3
     assert thread.got[4:] == ["c0", "a3"]
     thread.handled = 6
-    t.put(c, "touch", "c1")  # none there: among equals the order moved on (b, c, a)
+    t.put(c, "touch", "c1")  # c served before a's last: c1, then a4 and a5
     assert thread.got[6:] == ["c1", "a4", "a5"] and t.waiting() == 0
 
 

@@ -64,6 +64,7 @@ async def _watch(feed: Feed, seconds: float) -> dict:
     median since the one before; the input dropped and waiting at the end."""
     feed.tick_ms.clear()  # timed from here: every page connected
     feed.sizes.clear()
+    feed.tap_ms.clear()
     ticks0, t0 = feed.tick(), time.monotonic()
     rss, samples, at = [], [], (t0, ticks0)
     while time.monotonic() - t0 < seconds:
@@ -74,6 +75,7 @@ async def _watch(feed: Feed, seconds: float) -> dict:
     wall, ticks = time.monotonic() - t0, feed.tick() - ticks0
     controls, thread = feed.controls, feed.thread
     return {"tick_ms": list(feed.tick_ms), "sizes": list(feed.sizes), "rate": ticks / wall,
+            "tap_ms": list(feed.tap_ms),
             "rss": rss + [rss_mb()], "wall": wall, "samples": samples,
             "resyncs": sum(p.resyncs for p in feed.pages), "dropped": controls.dropped,
             "skipped": controls.skipped,

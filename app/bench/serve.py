@@ -185,6 +185,11 @@ def print_attack(name: str, f: dict, pages: int) -> None:
             f"{1e3 * float(np.percentile(shown, 95)):.0f} ms, " if shown else "")
     print(f"    a person's taps beside it: tap to the tick that applied it on the page "
           f"{said}{len(shown)} of {len(f['tapped'])} applied")
+    tap = f["tap_ms"]
+    if tap:
+        print(f"    taps (every page's) in the server: received to their tick published median "
+              f"{statistics.median(tap):.0f} ms, p95 {float(np.percentile(tap, 95)):.0f} ms "
+              f"({len(tap)} taps)")
 
 
 def tap_shown(f: dict) -> list[float]:

@@ -19,8 +19,9 @@ import asyncio
 import contextlib
 import logging
 import threading
+import time
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -40,12 +41,15 @@ log = logging.getLogger("app.serve")
 # Per-tick figures kept for the bench (six minutes).
 SIZES_KEPT = 9000
 # A snapshot serves new pages while the ticks since it are kept: at most this many ticks
-# with changes (2 s of growth) and bytes (a page that far behind would be resynced), and
-# while they add up to no more than the snapshot itself (or SINCE_LEAST bytes): a page
-# never loads more than twice what a fresh snapshot costs it.
+# with changes (2 s of growth) and bytes (a page that far behind would be resynced). While
+# they add up to no more than the snapshot itself (or SINCE_LEAST bytes), a page never
+# loads more than twice what a fresh one costs it; past that a new one is drawn for the
+# next page, but not within REDRAW_GAP of the last drawing (a client opening sockets as
+# fast as it could on the finest grid had one drawn every second).
 SINCE_TICKS = 50
 SINCE_BYTES = 6 << 20
 SINCE_LEAST = 256 << 10
+REDRAW_GAP = 2.0  # s
 
 
 @dataclass
@@ -55,6 +59,7 @@ class Kept:
     moment: tuple[int, int]  # (steps, events) of the tick it shows
     parts: list[bytes]
     since: int = 0  # bytes of the ticks published since it
+    at: float = field(default_factory=time.monotonic)  # when it was drawn
 
     def worth(self) -> bool:
         """Whether it and the ticks since cost a page less than twice a fresh snapshot."""
@@ -98,9 +103,11 @@ class Feed:
         self.moment = (0, 0)
         self.error: str | None = None
         self.redraws = 0  # snapshots drawn
-        # For the bench: bytes sent a tick, the thread's tick time (ms)
+        # For the bench: bytes sent a tick, the thread's tick time (ms), and the time from a
+        # tap reaching the server to the tick that shows it being published (ms)
         self.sizes: deque[int] = deque(maxlen=SIZES_KEPT)
         self.tick_ms: deque[float] = deque(maxlen=SIZES_KEPT)
+        self.tap_ms: deque[float] = deque(maxlen=SIZES_KEPT)
         self._state: dict = {}
         self._want_copy = threading.Event()  # a copy of the ice is asked for and not made
         self._lock = threading.Lock()
@@ -148,9 +155,14 @@ class Feed:
 
     def ask_redraw(self) -> None:
         """A snapshot of the whole frost for the pages waiting, at the next pump: the one
-        kept, if the ticks since it are; else the ice is copied between the next two ticks
-        (once, however often it is asked meanwhile) and drawn."""
-        if self._snapshot is None and not self._want_copy.is_set() and not self._drawing:
+        kept, while the ticks since it are and it is worth loading (or was drawn within
+        REDRAW_GAP); else the ice is copied between the next two ticks (once, however
+        often it is asked meanwhile) and drawn."""
+        kept = self._snapshot
+        if kept is not None and (kept.worth() or time.monotonic() - kept.at < REDRAW_GAP):
+            return  # (served at the next pump)
+        self._snapshot = None
+        if not self._want_copy.is_set() and not self._drawing:
             self._want_copy.set()
             self.thread.between_ticks(self._copy_ice)
 
@@ -185,6 +197,8 @@ class Feed:
         self.latest, self.moment = snap, (snap.steps, snap.events)
         self.sizes.append(sum(map(len, messages)))
         self.tick_ms.append(snap.stats.tick_ms)
+        now = time.monotonic()
+        self.tap_ms.extend((now - at) * 1000.0 for _tick, at in snap.clicks)
         self._send_state()
         if snap.message:
             self.notice(snap.message)
@@ -205,8 +219,8 @@ class Feed:
         kept = self._snapshot
         if kept is not None:
             kept.since += size
-            if self._dropped_to > kept.moment or not kept.worth():
-                self._snapshot = None  # (a page it started would miss a tick, or load more)
+            if self._dropped_to > kept.moment:
+                self._snapshot = None  # (a page it started would miss a tick)
 
     def _draw_copied(self) -> None:
         """Draw the copy made between two ticks, if any: on a worker while serving (the

@@ -1,15 +1,15 @@
 """Pages' input in turns: each page's commands wait in a queue of its own and go to the
-simulation thread one at a time, each to the page with the fewest already there, while
-fewer wait there than the thread lately applies in two ticks (at least MIN_AHEAD, at most
-AHEAD).
+simulation thread one at a time, each to the page served longest ago, while fewer wait
+there than the thread lately applies in two ticks (at least MIN_AHEAD, at most AHEAD).
 
 The thread applies what a tick's budget takes (app/simthread/backlog.py), oldest first. Sent
 to it as they came, one page sweeping the pane at its full rate kept 2 000 commands
 waiting there, so a person's tap on another page waited behind all of them (or was
-dropped with them) while the frost ticked on time. In turns, a person's tap goes to the
-thread at the next command's turn (its page has none there) and waits behind about two
-ticks' worth; a page's own queue holds at most PAGE_WAITING, more is dropped (its finger
-goes on from where it is)."""
+dropped with them) while the frost ticked on time. In turns, pages that send without end
+share the thread's input in rotation, and a person's tap (their page served less lately
+than any of those) goes to the thread at the next command's turn and waits behind about
+two ticks' worth; a page's own queue holds at most PAGE_WAITING, more is dropped (its
+finger goes on from where it is)."""
 
 from __future__ import annotations
 
@@ -34,6 +34,7 @@ class PageQueue:
     def __init__(self) -> None:
         self.waiting: deque[tuple[str, Any]] = deque()
         self.sent: deque[int] = deque()
+        self.served = -1  # the number of the page's command sent last (-1: none yet)
 
     def full(self) -> bool:
         return len(self.waiting) >= PAGE_WAITING
@@ -45,7 +46,6 @@ class Turns:
     def __init__(self, thread: SimThread):
         self.thread = thread
         self.queues: list[PageQueue] = []
-        self._first = 0  # the page first among equals at the next release
         self._handled = 0  # the thread's `handled` at the last tick
         self.ahead = MIN_AHEAD  # pages' commands the thread may hold now
 
@@ -70,9 +70,9 @@ class Turns:
 
     def release(self, ticked: bool = False) -> None:
         """Send waiting commands to the thread while it holds fewer than `ahead` of the
-        pages', each to the page with the fewest there (among equals, the first in an order
-        that moves on by one each tick). `ticked`: the thread ticked since the last such
-        call, so `ahead` follows what it applied."""
+        pages', each of the page served longest ago (pages that never were first, in the
+        order they came). `ticked`: the thread ticked since the last such call, so `ahead`
+        follows what it applied."""
         handled = self.thread.handled
         if ticked:
             self.ahead = min(AHEAD, max(MIN_AHEAD, 2 * (handled - self._handled)))
@@ -82,14 +82,11 @@ class Turns:
             while q.sent and q.sent[0] <= handled:
                 q.sent.popleft()
             there += len(q.sent)
-        n = len(self.queues)
-        order = [self.queues[(self._first + k) % n] for k in range(n)]
-        if ticked and n:
-            self._first = (self._first + 1) % n
         while there < self.ahead:
-            waiting = [q for q in order if q.waiting]
+            waiting = [q for q in self.queues if q.waiting]
             if not waiting:
                 return
-            q = min(waiting, key=lambda q: len(q.sent))
-            q.sent.append(self.thread.send(*q.waiting.popleft()))
+            q = min(waiting, key=lambda q: q.served)
+            q.served = self.thread.send(*q.waiting.popleft())
+            q.sent.append(q.served)
             there += 1
