@@ -234,7 +234,7 @@ class Feed:
             return
         self._drawing = True
         future = self._loop.run_in_executor(None, self._draw, copied)
-        future.add_done_callback(lambda f: self._drawn(copied, f.result()))
+        future.add_done_callback(lambda f: None if f.cancelled() else self._drawn(copied, f.result()))
 
     def _draw(self, copied: Copied) -> list[bytes] | None:
         """The snapshot's messages, of the copied ice and heights (any thread); None if
@@ -265,12 +265,14 @@ class Feed:
     def _serve_snapshot(self) -> None:
         """The kept snapshot and the ticks since it, to every page waiting for one."""
         assert self._snapshot is not None
+        waiting = [page for page in self.pages if page.idle_waiting()]
+        if not waiting:
+            return
         moment, parts = self._snapshot.moment, self._snapshot.parts
         since = [m for at, messages in self._since if at > moment for m in messages]
         state = protocol.text("state", **self.state())
-        for page in self.pages:
-            if page.idle_waiting():
-                page.start(parts, state, since)
+        for page in waiting:
+            page.start(parts, state, since)
 
     # ---- JSON ----------------------------------------------------------------------------
 
