@@ -355,3 +355,35 @@ def test_under_a_macs_opengl_every_program_compiles_and_draws_the_frost(gl_ctx, 
     es = test_look.paper_frame(gl_ctx, "c-2").astype(np.int16)
     off = np.abs(np.load(out).astype(np.int16) - es).max(axis=2)
     assert (off <= 1).mean() >= 0.999, ((off > 1).mean(), off.max())
+
+
+@pytest.mark.parametrize("platform, tried", [("linux", ["egl", None]), ("darwin", [None]),
+                                             ("win32", [None])])
+def test_the_headless_context_comes_from_the_platforms_backends_in_turn(monkeypatch, platform,
+                                                                        tried):
+    """EGL on Linux, then GLX; a Mac's and Windows' own default (they have no EGL); each
+    failure named in one line when none gives a context."""
+    import moderngl
+
+    from app.tools import offscreen
+
+    asked = []
+
+    def refuse(require=None, backend=None):
+        asked.append(backend)
+        assert require == 330
+        raise Exception(f"no {backend or 'default'}\nsecond line")
+
+    monkeypatch.setattr(offscreen.sys, "platform", platform)
+    monkeypatch.setattr(moderngl, "create_standalone_context", refuse)
+    with pytest.raises(RuntimeError) as err:
+        offscreen.make_context()
+    assert asked == tried and "\n" not in str(err.value)
+    assert all(f"no {b or 'default'}" in str(err.value) for b in tried)
+    asked.clear()
+
+    def no_egl(require=None, backend=None):
+        return refuse(require, backend) if backend == "egl" else asked.append(backend) or "ctx"
+
+    monkeypatch.setattr(moderngl, "create_standalone_context", no_egl)
+    assert offscreen.make_context() == "ctx" and asked == tried  # (EGL gone: the next one)

@@ -3,6 +3,7 @@ offline tool (render, replay, figure sheets) draws from."""
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -11,20 +12,35 @@ from app.gl.renderer import Renderer
 from app.images import frost_meta, read_image, save_image
 from app.tools.progress import Progress
 from sim import Params
+from sim.io.files import one_line
 from sim.io.session import VERSION
 from sim.io.timeline import Applied, Timeline, grow
 from sim.screen import HEIGHT, SIZE, WIDTH
 
+# The standalone contexts tried in turn, by platform: on Linux EGL (no display needed),
+# then GLX (a display); elsewhere the platform's own (CGL on a Mac, WGL on Windows: they
+# have no EGL). Each an OpenGL 3.3 core context, as the shaders need (app/gl/shaders.py).
+BACKENDS = {"linux": ("egl", None), "other": (None,)}
+GL_REQUIRED = 330
+
 
 def make_context():
-    """A standalone OpenGL context with no window (EGL), or RuntimeError saying why not."""
+    """A standalone OpenGL 3.3 context with no window from the first backend of BACKENDS
+    that gives one, or RuntimeError naming why each could not, in one line."""
     try:
         import moderngl
-
-        # moderngl types **settings as one dict argument; backend is a keyword it reads
-        return moderngl.create_standalone_context(backend="egl")  # type: ignore[arg-type]
-    except Exception as err:  # moderngl raises bare Exceptions for missing EGL/drivers
-        raise RuntimeError(f"no OpenGL available: {err}") from err
+    except ImportError as err:
+        raise RuntimeError(f"no OpenGL: moderngl does not import ({err})") from err
+    why = []
+    for backend in BACKENDS["linux" if sys.platform.startswith("linux") else "other"]:
+        settings = {"backend": backend} if backend else {}
+        try:
+            # moderngl types **settings as one dict argument; backend is a keyword it reads
+            return moderngl.create_standalone_context(require=GL_REQUIRED,
+                                                      **settings)  # type: ignore[arg-type]
+        except Exception as err:  # moderngl raises bare Exceptions for missing EGL/drivers
+            why.append(f"{backend or 'the platform default'}: {one_line(str(err))}")
+    raise RuntimeError("no OpenGL 3.3 context could be made here (" + "; ".join(why) + ")")
 
 
 class Offscreen:
