@@ -194,3 +194,13 @@ def test_no_module_of_the_project_imports_itself_through_others():
     graph = import_graph(ROOT, "app", "sim")
     assert "app.serve.feed" in graph["app.serve.server"]  # (the graph is the project's)
     assert circle(graph) == [], " -> ".join(circle(graph))
+
+
+def test_every_module_imports_as_on_windows():
+    """No SIGHUP, no `resource`, no `fcntl` (tests/windows_like.py): a module that reads one
+    at import (the window read signal.SIGHUP) would stop `frost` on Windows."""
+
+    script = Path(__file__).resolve().parent / "windows_like.py"
+    run = subprocess.run([sys.executable, str(script), "--import-all"], capture_output=True,
+                         text=True, timeout=120)
+    assert run.returncode == 0 and "every module imported" in run.stdout, run.stdout + run.stderr

@@ -9,6 +9,7 @@ import logging
 import re
 import socket
 import threading
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -30,6 +31,7 @@ from sim.io.session import SessionLog
 from sim.io.timeline import replay
 
 PAPER = Params.preset("c-2")
+WINDOWS_LIKE = Path(__file__).resolve().parent / "windows_like.py"
 CENTRE = (380.0, 640.0)
 
 
@@ -478,14 +480,17 @@ def test_an_autosave_in_flight_never_replaces_the_last_save(tmp_path, monkeypatc
     assert writes == [1, 2] and len(SessionLog.load(path).events) == 2
 
 
-def test_frost_serve_from_the_command_line(tmp_path):
+@pytest.mark.parametrize("frost", [["-m", "app"], [str(WINDOWS_LIKE)]],
+                         ids=["here", "as-on-windows"])
+def test_frost_serve_from_the_command_line(tmp_path, frost):
     """The command: it prints its URL, a page grows frost, Ctrl-C writes the session and
-    exits 130 (as the window does), and the session replays to the frost the page saw."""
+    exits 130 (as the window does), and the session replays to the frost the page saw; also
+    as on Windows (tests/windows_like.py), whose event loops take no signal handlers."""
     import signal
     import subprocess
     import sys
 
-    proc = subprocess.Popen([sys.executable, "-m", "app", "serve", "--port", "0", "--preset",
+    proc = subprocess.Popen([sys.executable, *frost, "serve", "--port", "0", "--preset",
                              "c-2", "--session-dir", str(tmp_path)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:

@@ -129,7 +129,8 @@ def drive(out: Path, mode: str = "session") -> None:
         (out / "afile").write_text("not a folder")
         folder = out / "afile"
     # c-3 (humidity 5000) with seed 1 freezes onto the seed within half a second.
-    cmd = [sys.executable, "-m", "app", "--preset", "c-3", "--seed", "1",
+    frost = [str(ROOT / "tests" / "windows_like.py")] if mode.endswith("-windows") else ["-m", "app"]
+    cmd = [sys.executable, *frost, "--preset", "c-3", "--seed", "1",
            "--screenshot-dir", str(folder / "shots"), "--max-seconds", "60",
            "--session-dir", str(folder / "sessions"), "--melt-radius", str(MELT_RADIUS)]
     if mode == "unwritable":  # it clicks nowhere; a run with no event writes no session
@@ -271,6 +272,7 @@ DRIVES = {"windowkill": lambda app, log: lost(app, log, "windowkill"),
           "panelgone": panel_gone,
           "SIGKILL": lambda app, log: lost(app, log, "SIGKILL"), "session": session,
           "unwritable": unwritable, "interrupt": interrupt,
+          "interrupt-windows": interrupt,  # (as on Windows: tests/windows_like.py)
           "SIGTERM": lambda app, log: interrupt(app, log, signal.SIGTERM),
           "SIGHUP": lambda app, log: interrupt(app, log, signal.SIGHUP)}
 
@@ -425,6 +427,14 @@ def saved_on_signal(got: dict, status: int) -> None:
 
 def test_ctrl_c_ends_the_window_with_130_saving_the_session(tmp_path_factory):
     got = driven(tmp_path_factory.mktemp("interrupt"), "interrupt")
+    saved_on_signal(got, 130)
+    assert "frost: interrupted" in got["log"]
+
+
+def test_ctrl_c_ends_the_window_with_130_saving_the_session_as_on_windows(tmp_path_factory):
+    """No SIGHUP, no `resource`, no `fcntl` (tests/windows_like.py): the window opens,
+    grows, and Ctrl-C still ends it with the session saved."""
+    got = driven(tmp_path_factory.mktemp("interrupt-windows"), "interrupt-windows")
     saved_on_signal(got, 130)
     assert "frost: interrupted" in got["log"]
 

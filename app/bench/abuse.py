@@ -4,11 +4,11 @@ and a spread of touches, played as the window's simulation thread plays them
 
 from __future__ import annotations
 
-import resource
 import tracemalloc
 
 import numpy as np
 
+from app.bench.memory import mb, peak_rss_mb
 from app.bench.scribble import play, scribble, spread, storm
 from sim import Params
 from sim.screen import TICKS_PER_SECOND
@@ -67,7 +67,7 @@ def print_abuse(rows: list[dict]) -> None:
               f"{r['crystals']:9} {r['backlog_max']:8} {r['drained_s']:9.1f} "
               f"{r['traced_peak_mb']:10.1f} "
               f"{r['wait_median']:12.0f} {r['wait_p95']:9.0f} {r['on_ice']:8} ({r['on_ice_grown']})")
-    print(f"process peak RSS {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
+    print(f"process peak RSS {mb(peak_rss_mb())}")
 
 
 def section_abuse(args) -> dict:

@@ -10,6 +10,7 @@ import statistics
 import time
 
 from app.bench.clients import SCRIBBLE_HZ, TAP_PERIOD, Plan, pages_main, plan_pages, scribble_point, tap_point
+from app.bench.memory import rss_mb
 from app.serve import guard
 from app.serve.feed import Feed
 from app.serve.protocol import Input
@@ -17,14 +18,6 @@ from app.serve.server import make_app
 from sim import Params
 
 SAMPLES = 10  # memory and rate samples a phase
-
-
-def rss_mb() -> float:
-    with open("/proc/self/status") as f:
-        for line in f:
-            if line.startswith("VmRSS:"):
-                return int(line.split()[1]) / 1024.0
-    return float("nan")
 
 
 async def phase(params: Params, plan: Plan | None, seconds: float) -> dict:

@@ -38,6 +38,7 @@ import numpy as np
 
 from app.bench.clients import Plan, scribble_point
 from app.bench.loopback import phase
+from app.bench.memory import mb
 from app.serve import MAX_PAGES
 from app.serve.pages import POINT_RATE
 from app.serve.protocol import Encoder
@@ -88,8 +89,8 @@ def _print_phase(name: str, f: dict) -> None:
     print(f"  {name}: tick median {np.median(t):.2f} ms, p99 {np.percentile(t, 99):.2f} ms, "
           f"{f['rate']:.1f} ticks/s over {f['wall']:.0f} s; bytes a tick {_figures(f['sizes'])}")
     rss = f["rss"]
-    print(f"    memory (RSS) {rss[0]:.0f} -> {rss[-1]:.0f} MB (max {max(rss):.0f}; samples "
-          f"{', '.join(f'{v:.0f}' for v in rss)})")
+    print(f"    memory (RSS) {_rss(rss)}" + (f" (samples {', '.join(f'{v:.0f}' for v in rss)})"
+                                          if None not in rss else ""))
     if f["bytes"]:
         print(f"    pages received {f['bytes'] / 1e6:.1f} MB; resyncs {f['resyncs']}, "
               f"snapshots drawn {f['redraws']}")
@@ -97,6 +98,13 @@ def _print_phase(name: str, f: dict) -> None:
     if lat:
         print(f"    touch to first delta: median {1e3 * statistics.median(lat):.0f} ms, "
               f"p95 {1e3 * float(np.percentile(lat, 95)):.0f} ms ({len(lat)} taps)")
+
+
+def _rss(rss: list) -> str:
+    """Resident memory over a phase: first -> last (max), or that it is unavailable."""
+    if None in rss:
+        return mb(None)
+    return f"{rss[0]:.0f} -> {rss[-1]:.0f} MB (max {max(rss):.0f})"
 
 
 def main(argv: list[str] | None = None, prog: str = "frost bench serve") -> int:
@@ -177,7 +185,7 @@ def print_attack(name: str, f: dict, pages: int) -> None:
     rss, sent = f["rss"], f["sent"]
     what = (f"opened {sent} sockets ({sent / f['sending_s']:.0f} a second)" if not pages else
             f"sent {sent} messages ({sent / pages / f['sending_s']:.0f} a second each)")
-    print(f"    memory (RSS) {rss[0]:.0f} -> {rss[-1]:.0f} MB (max {max(rss):.0f}); the attack "
+    print(f"    memory (RSS) {_rss(rss)}; the attack "
           f"{what}, the pages received {f['bytes'] / 1e6:.1f} MB; snapshots drawn "
           f"{f['redraws']}; closed by the server: " + (", ".join(f["closed"]) or "none"))
     shown = tap_shown(f)

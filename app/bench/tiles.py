@@ -9,13 +9,13 @@ python -m app.bench.tiles [SIZE] [--max-ticks N] [--out DIR]
 from __future__ import annotations
 
 import argparse
-import resource
 import tempfile
 import time
 
 import numpy as np
 
 from app.bench.measures import frosted_end
+from app.bench.memory import mb, peak_rss_mb
 from app.tools.engine_maps import EngineRun, write_engine_maps
 from app.tools.maps import tile_window
 from sim import Params
@@ -62,16 +62,15 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     timeline, clock, end = grow_to_end(params, size, args.max_ticks)
     grown = time.perf_counter() - t0
-    print(f"peak RSS after growing: {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
+    print(f"peak RSS after growing: {mb(peak_rss_mb())}")
     job = EngineRun(timeline.sim, timeline.geometry, clock, params, 0, [], True, "up",
                     timeline.tick)
     with tempfile.TemporaryDirectory() as tmp:
         write_engine_maps(args.out or tmp, job)
     written = time.perf_counter() - t0 - grown
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(f"{args.size}x{args.size} window tile: frosted end at tick {end} "
           f"(ran {timeline.tick}); grown in {grown:.1f} s, maps written in {written:.1f} s, "
-          f"peak RSS {peak:.0f} MB")
+          f"peak RSS {mb(peak_rss_mb())}")
     return 0
 
 

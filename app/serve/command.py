@@ -24,6 +24,11 @@ log = logging.getLogger("app.serve")
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
 
 
+def ending_signals() -> list[signal.Signals]:
+    """The signals that end the server (as the window), those this platform has."""
+    return [s for s in (getattr(signal, n, None) for n in ("SIGINT", "SIGTERM", "SIGHUP")) if s]
+
+
 def serve(args, params) -> int:
     """`frost serve`: serve until Ctrl-C (or a signal, or --max-seconds); the exit status."""
     token = None if args.host in LOOPBACK else secrets.token_urlsafe(16)
@@ -42,9 +47,10 @@ async def _serve(app: web.Application, host: str, port: int, token: str | None,
     runner = await listen(app, host, port, token)
     if runner is None:
         return 2
-    status = await _until_ended(app[FEED], max_seconds)
-    await runner.cleanup()
-    return status
+    try:
+        return await _until_ended(app[FEED], max_seconds)
+    finally:  # (also when Ctrl-C cancels this where the loop takes no signal handlers)
+        await runner.cleanup()
 
 
 async def _until_ended(feed: Feed, max_seconds: float | None) -> int:
@@ -57,8 +63,12 @@ async def _until_ended(feed: Feed, max_seconds: float | None) -> int:
         got.append(signum)
         ended.set()
 
-    for sig in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
-        loop.add_signal_handler(sig, on_signal, sig)
+    for sig in ending_signals():
+        # Windows' event loops take no signal handlers: there Ctrl-C cancels the main task
+        # (asyncio.run; from Python 3.11) or raises KeyboardInterrupt in the loop (3.10),
+        # and `_serve` cleans up (the session written) either way.
+        with contextlib.suppress(NotImplementedError, RuntimeError):
+            loop.add_signal_handler(sig, on_signal, sig)
     deadline = time.monotonic() + (max_seconds if max_seconds is not None else float("inf"))
     while not ended.is_set() and feed.error is None and time.monotonic() < deadline:
         with contextlib.suppress(asyncio.TimeoutError):

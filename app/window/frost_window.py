@@ -288,10 +288,12 @@ def _run(app: FrostWindow) -> int:
 
 
 # Signals that end the window as Esc does, and the handler each has by default (a signal
-# the parent set to be ignored, as nohup does with SIGHUP, is left alone).
+# the parent set to be ignored, as nohup does with SIGHUP, is left alone); those this
+# platform has (Windows has no SIGHUP).
 ENDING_SIGNALS: dict[signal.Signals, Callable | int] = {
-    signal.SIGINT: signal.default_int_handler, signal.SIGTERM: signal.SIG_DFL,
-    signal.SIGHUP: signal.SIG_DFL}
+    sig: default for sig, default in ((getattr(signal, name, None), default) for name, default in (
+        ("SIGINT", signal.default_int_handler), ("SIGTERM", signal.SIG_DFL),
+        ("SIGHUP", signal.SIG_DFL))) if sig is not None}
 
 
 @contextlib.contextmanager
