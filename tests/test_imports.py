@@ -199,7 +199,6 @@ def test_no_module_of_the_project_imports_itself_through_others():
 def test_every_module_imports_as_on_windows():
     """No SIGHUP, no `resource`, no `fcntl` (tests/windows_like.py): a module that reads one
     at import (the window read signal.SIGHUP) would stop `frost` on Windows."""
-
     script = Path(__file__).resolve().parent / "windows_like.py"
     run = subprocess.run([sys.executable, str(script), "--import-all"], capture_output=True,
                          text=True, timeout=120)
