@@ -557,3 +557,20 @@ def test_a_set_missing_many_fields_names_the_first_and_counts_the_rest(tmp_path)
 def test_a_session_file_lacking_newer_parameters_loads_with_them_off(tmp_path):
     log = SessionLog(3, {"D": 7.0, "hc": 7.0, "humidity": 500})  # a file older than most parameters
     assert load_params(log.save(tmp_path / "old.json")) == Params.preset("c-1")
+
+
+@pytest.mark.parametrize("content_scale, ratio, ui", [(1.0, 1.0, 1.0), (1.5, 1.0, 1.5),
+                                                      (2.0, 1.0, 2.0), (2.0, 2.0, 1.0),
+                                                      (1.25, 1.0, 1.25)])
+def test_the_panel_is_laid_out_at_the_screens_scale(monkeypatch, content_scale, ratio, ui):
+    """Widgets and text times the content scale where window coordinates are pixels
+    (Windows, X11 at 150 %: 1.5), once where they are points and the framebuffer is already
+    that much denser (a Retina Mac: 2 and 2)."""
+    import glfw
+
+    from app.window import panel_host
+
+    monkeypatch.setattr(glfw, "get_window_content_scale", lambda w: (content_scale,) * 2)
+    monkeypatch.setattr(glfw, "get_window_size", lambda w: (400, 800))
+    monkeypatch.setattr(glfw, "get_framebuffer_size", lambda w: (400 * ratio, 800 * ratio))
+    assert panel_host.ui_scale(object()) == pytest.approx(ui)

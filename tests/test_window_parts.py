@@ -26,7 +26,7 @@ from app.window import lost_display
 from app.window.capture import Capture
 from app.window.record import FRAME_GAP, Recorder
 from app.window.status import IDLE_GAP, DrawRate, Status
-from app.window.view import cursor_to_phone, fit_scale, letterbox
+from app.window.view import cursor_to_phone, fit_scale, letterbox, screen_scale
 from sim import Params, preset_name, tuning
 from sim.io.gestures import path_points
 from sim.io.session import SessionLog
@@ -84,6 +84,51 @@ def test_key_names_are_glfw_keys():
 def test_fit_scale_shrinks_to_a_small_work_area_and_never_grows():
     assert fit_scale((1920, 2000)) == 1.0
     assert fit_scale((1920, 1080)) == pytest.approx(0.95 * 1080 / 1280)
+
+
+@pytest.mark.parametrize("workarea", [(1366, 768), (1920, 1080), (2560, 1600), (3840, 2160)])
+@pytest.mark.parametrize("content_scale", [1.0, 1.25, 1.5, 2.0])
+@pytest.mark.parametrize("points", [False, True], ids=["pixels", "points"])
+def test_the_window_opens_at_the_screens_scale_as_large_as_fits(workarea, content_scale, points):
+    """760x1280 times the content scale where screen coordinates are pixels (Windows, X11),
+    as it is where they are points (a Mac), no larger than 95 % of the work area."""
+    scale = fit_scale(workarea, most=screen_scale(content_scale, points))
+    w, h = round(760 * scale), round(1280 * scale)
+    assert w <= 0.95 * workarea[0] + 1 and h <= 0.95 * workarea[1] + 1  # it fits
+    wanted = 1.0 if points else content_scale
+    if 1280 * wanted <= 0.95 * workarea[1] and 760 * wanted <= 0.95 * workarea[0]:
+        assert scale == wanted  # room for all of it: the phone at the screen's scale
+    else:
+        assert h == pytest.approx(0.95 * workarea[1], abs=1)  # else as tall as fits
+    if (workarea, content_scale) == ((3840, 2160), 1.5):  # worked by hand: 1140 x 1920
+        assert (w, h) == ((1140, 1920) if not points else (760, 1280))
+
+
+@pytest.mark.parametrize("ratio", [2.0, 1.5])
+def test_a_click_lands_on_the_phone_point_under_it_whatever_the_framebuffers_density(ratio):
+    """A framebuffer `ratio` times the window (a Retina Mac: 2; 1.5): the window's cursor
+    maps through it to the phone point drawn under it."""
+    window = (500, 1000)  # letterboxed: the phone 500 x 842.1 window px, 78.9 above and below
+    framebuffer = (round(500 * ratio), round(1000 * ratio))
+    phone_h = 500 * 1280 / 760
+    top = (1000 - phone_h) / 2
+    for px, py in ((2.0, 2.0), (380.0, 640.0), (756.0, 1276.0), (100.0, 1200.0)):
+        cursor = (px * 500 / 760, top + py * phone_h / 1280)  # the window point over it
+        got = cursor_to_phone(cursor, window, framebuffer)
+        assert got is not None and got == pytest.approx((px, py), abs=1.5 / ratio + 0.6)
+    assert cursor_to_phone((250.0, top - 5.0), window, framebuffer) is None  # the bar
+
+
+def test_hud_text_is_drawn_at_the_windows_content_scale():
+    from PIL import ImageFont
+
+    from app.window.hud import FONT_SIZE, text_image
+
+    lines = ["tick 1234\t25.0/s", "a longer second line\tx"]
+    one = text_image(lines, ImageFont.load_default(size=FONT_SIZE), 1.0)
+    two = text_image(lines, ImageFont.load_default(size=2 * FONT_SIZE), 2.0)
+    assert two.size[0] == pytest.approx(2 * one.size[0], rel=0.08)
+    assert two.size[1] == pytest.approx(2 * one.size[1], rel=0.08)
 
 
 def test_letterbox_keeps_the_aspect_and_centres():

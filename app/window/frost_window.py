@@ -55,6 +55,7 @@ class FrostWindow:
         self.thread = SimThread(params, args.seed, args.touch or (), *PHONE, wake=self._wake,
                                 script=getattr(args, "script", ()))
         self.presenter = Presenter(moderngl.create_context(), params, getattr(args, "view", None))
+        self.presenter.hud.set_scale(glfw.get_window_content_scale(window)[0])
         self.status = Status()
         self.recorder = Recorder(args.screenshot_dir, self.thread.notify)
         self.capture = Capture(self.thread, self.presenter, self.status.say, args.screenshot_dir,
@@ -89,6 +90,7 @@ class FrostWindow:
         glfw.set_window_iconify_callback(window,
                                          lambda _window, on: setattr(self, "iconified", bool(on)))
         glfw.set_window_refresh_callback(window, lambda *_: setattr(self, "damaged", True))
+        glfw.set_window_content_scale_callback(window, self._on_content_scale)
 
     def _on_framebuffer(self, _window, w: int, h: int) -> None:
         self.sizes.framebuffer = (w, h)
@@ -96,6 +98,11 @@ class FrostWindow:
 
     def _on_window_size(self, _window, w: int, h: int) -> None:
         self.sizes.window = (w, h)
+
+    def _on_content_scale(self, _window, x_scale: float, _y_scale: float) -> None:
+        """The window moved to a screen of another scale: the HUD's text follows."""
+        self.presenter.hud.set_scale(x_scale)
+        self.damaged = True
 
     def _wake(self) -> None:
         """The simulation thread's wake-up (any thread): the frame loop's wait ends."""

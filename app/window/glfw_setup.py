@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import sys
+
 import glfw
 
-from app.window.view import PHONE, fit_scale, scale_problem
+from app.window.view import PHONE, SCALES, fit_scale, scale_problem, screen_scale
 
 TITLE = "frost"
 
@@ -34,7 +36,7 @@ def open_window(scale: float | None) -> tuple:
     glfw.set_error_callback(lambda code, text: errors.append(f"{glfw_text(text)} ({code:#x})"))
     if not glfw.init():
         raise WindowError(f"GLFW could not start: {'; '.join(errors) or 'no reason given'}")
-    scale = scale or fit_scale(_workarea())
+    scale = scale or opening_scale()
     size = (max(1, round(PHONE[0] * scale)), max(1, round(PHONE[1] * scale)))
     _window_hints()
     window = glfw.create_window(*size, TITLE, None, None)
@@ -84,12 +86,20 @@ def x_window_ids(window) -> tuple[int, ...]:
     return tuple(i for i in (glfw.get_x11_window(window), glfw.get_glx_window(window)) if i)
 
 
-def _workarea() -> tuple[int, int]:
+def opening_scale() -> float:
+    """The window's scale when --scale does not say: the phone at the primary monitor's
+    content scale (`screen_scale`), as large as fits its work area, within SCALES."""
     monitor = glfw.get_primary_monitor()
     if not monitor:
-        return 0, 0
+        return 1.0
     _, _, w, h = glfw.get_monitor_workarea(monitor)
-    return w, h
+    most = screen_scale(glfw.get_monitor_content_scale(monitor)[0], points_not_pixels())
+    return max(SCALES[0], min(SCALES[1], fit_scale((w, h), most=most)))
+
+
+def points_not_pixels() -> bool:
+    """Whether screen coordinates are points the system scales (a Mac), not pixels."""
+    return sys.platform == "darwin"
 
 
 def glfw_text(text) -> str:

@@ -121,6 +121,7 @@ class PanelHost:
                                 self.hide)
         self.last = time.monotonic()
         self.logged: tuple[int, int] | None = None  # the window size the rects were logged at
+        self.ui = 1.0  # its widgets' and text's size, times their size at content scale 1
 
     # ---- showing and hiding ----------------------------------------------------------
 
@@ -148,7 +149,8 @@ class PanelHost:
 
     def _open(self) -> bool:
         _, height = glfw.get_window_size(self.phone)
-        window = open_side_window((WIDTH, height), TITLE)
+        self.ui = ui_scale(self.phone)
+        window = open_side_window((round(WIDTH * self.ui), height), TITLE)
         if window is None:
             glfw.make_context_current(self.phone)
             log.warning("panel: its window could not open")
@@ -160,6 +162,9 @@ class PanelHost:
             glfw.make_context_current(self.phone)
         self.window, self.ids = window, x_window_ids(window)
         self.input.connect(window)
+        style = imgui.get_style()  # (this context's: laid out for the screen's scale)
+        style.scale_all_sizes(self.ui)
+        style.font_scale_dpi = self.ui
         return True
 
     # ---- its window destroyed from outside ---------------------------------------------
@@ -278,7 +283,7 @@ class PanelHost:
         imgui.set_next_window_pos((0, 0))
         imgui.set_next_window_size((window_w, window_h))
         imgui.begin(TITLE, None, WINDOW_FLAGS)
-        imgui.push_item_width(ITEM_WIDTH)
+        imgui.push_item_width(ITEM_WIDTH * self.ui)
         self.panel.draw()
         imgui.pop_item_width()
         imgui.end()
@@ -307,6 +312,16 @@ class PanelHost:
             glfw.make_context_current(self.phone)
             glfw.destroy_window(self.window)
         imgui.destroy_context(self.context)
+
+
+def ui_scale(window) -> float:
+    """How much larger than at content scale 1 the panel's widgets are laid out, in its
+    window's coordinates: the content scale where they are pixels (Windows, X11: 1.5 at
+    150 %), 1 where they are points (a Mac, whose framebuffer is already twice the
+    window and ImGui draws into it at that scale)."""
+    scale = glfw.get_window_content_scale(window)[0]
+    (width, _), (frame, _) = glfw.get_window_size(window), glfw.get_framebuffer_size(window)
+    return max(1.0, scale / max(1.0, frame / max(1, width)))
 
 
 def _imgui_context():

@@ -20,12 +20,22 @@ def scale_problem(scale: float) -> str | None:
     return None if lo <= scale <= hi else f"scale {scale:g} must be in [{lo:g}, {hi:g}]"
 
 
-def fit_scale(workarea: tuple[int, int], phone: tuple[int, int] = PHONE) -> float:
-    """The largest scale <= 1 at which the phone fits the work area, aspect kept."""
+def fit_scale(workarea: tuple[int, int], phone: tuple[int, int] = PHONE,
+              most: float = 1.0) -> float:
+    """The largest scale <= `most` at which the phone fits the work area (screen
+    coordinates), aspect kept."""
     (ww, wh), (pw, ph) = workarea, phone
     if ww <= 0 or wh <= 0:
-        return 1.0
-    return min(1.0, WORKAREA_MARGIN * ww / pw, WORKAREA_MARGIN * wh / ph)
+        return most
+    return min(most, WORKAREA_MARGIN * ww / pw, WORKAREA_MARGIN * wh / ph)
+
+
+def screen_scale(content_scale: float, points: bool) -> float:
+    """Screen coordinates a phone px takes at a monitor's content scale: as many as the
+    scale where screen coordinates are pixels (Windows, X11: 1.5 at 150 %), one where they
+    are points the system scales itself (a Mac: its Retina framebuffer is twice the
+    window)."""
+    return 1.0 if points or not content_scale > 0 else float(content_scale)
 
 
 def letterbox(framebuffer_size: tuple[int, int],
