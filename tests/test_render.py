@@ -387,3 +387,21 @@ def test_the_headless_context_comes_from_the_platforms_backends_in_turn(monkeypa
 
     monkeypatch.setattr(moderngl, "create_standalone_context", no_egl)
     assert offscreen.make_context() == "ctx" and asked == tried  # (EGL gone: the next one)
+
+
+@pytest.mark.parametrize("limits", [False, True], ids=["here", "macs-limits"])
+def test_frost_info_says_what_a_bug_report_needs(limits):
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    run = subprocess.run([sys.executable, "-m", "app", "info"], capture_output=True, text=True,
+                         env={**env, **(MAC_LIMITS if limits else {})}, timeout=120,
+                         cwd=Path(__file__).resolve().parent.parent)
+    assert run.returncode == 0, run.stdout + run.stderr
+    said = dict(line.split(": ", 1) for line in run.stdout.splitlines())
+    assert set(said) >= {"frost", "platform", "python", "packages", "shader dialect",
+                         "headless OpenGL", "its shaders", "GLFW"}
+    assert said["shader dialect"].startswith("GLSL core")
+    assert "no display" in said["GLFW"]
+    if limits:  # the Mac's: 4.1, and the page's ES 3.00 refused on the desktop
+        assert said["headless OpenGL"].startswith("4.1") and "es: refused" in said["its shaders"]
+    else:
+        assert "core: compiles" in said["its shaders"]

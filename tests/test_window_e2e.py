@@ -587,6 +587,18 @@ def test_no_window_is_a_clear_error_with_status_1(tmp_path):
     assert "cannot open a" in proc.stderr and "Traceback" not in proc.stderr
 
 
+def test_frost_info_names_the_screen_and_the_windows_opengl(tmp_path):
+    """On a display (and after a window's context, the headless one: in that order both
+    work in one process)."""
+    proc = xvfb([sys.executable, "-m", "app", "info"], cwd=ROOT, timeout=120)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    said = dict(line.split(": ", 1) for line in proc.stdout.splitlines())
+    assert said["GLFW"].endswith("platform x11")
+    assert said["monitor"] == "work area 1280x1400, content scale 1x1"  # Xvfb's SCREEN
+    assert said["window OpenGL"].startswith("4.") and "core: compiles" in said["its shaders"]
+    assert said["window"] == "64x64 screen coordinates, framebuffer 64x64, content scale 1"
+
+
 # A window that reports itself minimized the whole run; prints the CPU time it used.
 MINIMIZED = """
 import sys, time

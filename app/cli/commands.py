@@ -225,8 +225,14 @@ def _serve(args: argparse.Namespace, params: Params) -> int:
     return serve(args, params)
 
 
+def _info(args: argparse.Namespace, params: Params) -> int:
+    from app.tools.info import run
+    return run(args, params)
+
+
 RUN = {None: _window, "render": _render, "replay": _replay, "figure8": _figure8,
-       "figure": _figure, "maps": _maps, "bench": _bench_render, "serve": _serve}
+       "figure": _figure, "maps": _maps, "bench": _bench_render, "serve": _serve,
+       "info": _info}
 
 
 def no_display_words(env) -> str:

@@ -53,9 +53,18 @@ def build_parser() -> Parser:
     root = _window()
     subs = root.add_subparsers(dest="command", title="commands (frost COMMAND --help for each)",
                                metavar="COMMAND")
-    for add in (_render, _replay, _figure8, _figure, _maps, _bench, _serve):
+    for add in (_render, _replay, _figure8, _figure, _maps, _bench, _serve, _info):
         add(root, subs)
     return root
+
+
+def _info(root: Parser, subs) -> None:
+    root.command(subs, "info", "what a bug report needs: platform, Python, GLFW, the screen's "
+                 "scale, the OpenGL contexts and the shader dialect",
+                 "Print what a bug report needs, a line each: the platform, Python and the "
+                 "libraries, the shader dialect, the headless OpenGL context, GLFW's platform, "
+                 "the primary monitor's work area and content scale, and a window's OpenGL "
+                 "context and framebuffer (or why there is no display).")
 
 
 def parser_for(root: Parser, args: argparse.Namespace) -> Parser:
