@@ -108,3 +108,22 @@ def test_an_error_names_the_callers_path_not_the_temporary():
         write_atomic(path, new)
     assert refused.value.filename == path and refused.value.filename2 is None
     assert ".tmp" not in why(refused.value)
+
+
+def test_a_file_another_program_holds_is_one_line_not_a_traceback(monkeypatch, capsys, tmp_path):
+    """Windows refuses to replace a file another program holds open (PermissionError on
+    os.replace): the command says so in one line."""
+    import os
+
+    from app.cli import main
+
+    def held(_src, dst):
+        raise PermissionError(13, "The process cannot access the file because it is being "
+                                  "used by another process", str(dst))
+
+    monkeypatch.setattr(os, "replace", held)
+    status = main(["render", "--ticks", "2", "--touch", "380,640", "--out",
+                   str(tmp_path / "held.png")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert status == 2 and len(err) == 1 and "being used by another process" in err[0], err
+    assert err[0].startswith("frost: error: cannot write ") and "Traceback" not in err[0]

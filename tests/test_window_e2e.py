@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
+from test_render import MAC_LIMITS
 
 from app.session_keeper import AUTOSAVE_PERIOD
 from sim import Params
@@ -136,8 +137,9 @@ def drive(out: Path, mode: str = "session") -> None:
     if mode == "unwritable":  # it clicks nowhere; a run with no event writes no session
         cmd += ["--touch", "380,640"]
     with open(log, "w") as sink:
+        env = {**os.environ, **(MAC_LIMITS if mode.endswith("-mac") else {})}
         app = subprocess.Popen(cmd, cwd=ROOT, stdout=sink, stderr=subprocess.STDOUT,
-                               preexec_fn=default_signals)
+                               preexec_fn=default_signals, env=env)
     result: dict = {}
     try:
         result = DRIVES[mode](app, log)
@@ -273,6 +275,7 @@ DRIVES = {"windowkill": lambda app, log: lost(app, log, "windowkill"),
           "SIGKILL": lambda app, log: lost(app, log, "SIGKILL"), "session": session,
           "unwritable": unwritable, "interrupt": interrupt,
           "interrupt-windows": interrupt,  # (as on Windows: tests/windows_like.py)
+          "interrupt-mac": interrupt,  # (Mesa with a Mac's OpenGL limits)
           "SIGTERM": lambda app, log: interrupt(app, log, signal.SIGTERM),
           "SIGHUP": lambda app, log: interrupt(app, log, signal.SIGHUP)}
 
@@ -437,6 +440,15 @@ def test_ctrl_c_ends_the_window_with_130_saving_the_session_as_on_windows(tmp_pa
     got = driven(tmp_path_factory.mktemp("interrupt-windows"), "interrupt-windows")
     saved_on_signal(got, 130)
     assert "frost: interrupted" in got["log"]
+
+
+def test_the_window_runs_under_a_macs_opengl_limits(tmp_path_factory):
+    """Mesa with a Mac's limits (OpenGL 4.1 core, no ES 3.00): the window opens, a click
+    grows frost, a screenshot and a recording are written, Ctrl-C saves the session."""
+    got = driven(tmp_path_factory.mktemp("interrupt-mac"), "interrupt-mac")
+    saved_on_signal(got, 130)
+    shot = np.asarray(Image.open(got["shots"][0]))
+    assert shot.shape == (1280, 760, 3) and shot.std() > 5  # (a frame drawn, not black)
 
 
 def test_a_lost_display_writes_the_session_and_the_recording_then_exits_1(tmp_path_factory):
