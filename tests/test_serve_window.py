@@ -7,6 +7,7 @@ import asyncio
 import json
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -41,6 +42,53 @@ def drive(out: Path) -> None:
                                                  "stderr": app.stderr.read()[-3000:]}))
 
 
+def drive_changes(out: Path) -> None:
+    """Under Xvfb: a page chooses preset c-3, then the window's `=` (humidity up); the
+    window closes at --max-seconds."""
+    from test_serve import PageModel, read_until
+    from test_window_e2e import window_id, xdo
+
+    app = subprocess.Popen([sys.executable, "-m", "app", "serve", "--window", "--port", "0",
+                            "--preset", "fern", "--max-seconds", "14", "--session-dir", str(out),
+                            "--screenshot-dir", str(out)], cwd=ROOT, stdout=subprocess.PIPE,
+                           stderr=subprocess.PIPE, text=True)
+    url = app.stdout.readline().split()[3]
+    page = PageModel()
+
+    async def main():
+        from aiohttp import ClientSession
+        async with ClientSession() as http, http.ws_connect(url + "ws") as ws:
+            await read_until(ws, page, lambda: page.snapshots >= 1, timeout=60)
+            await ws.send_json({"type": "preset", "name": "c-3"})
+            await read_until(ws, page, lambda: page.state("preset") == "c-3" and page.resets)
+            later = time.monotonic() + 1.5  # the window has had the reset's snapshot too
+            await read_until(ws, page, lambda: time.monotonic() > later)
+            xdo("key", "--window", window_id(), "equal")
+            await read_until(ws, page, lambda: page.resets >= 2)
+    asyncio.run(main())
+    status = app.wait(60)
+    (out / "result.json").write_text(json.dumps({"status": status,
+                                                 "stderr": app.stderr.read()[-3000:]}))
+
+
+def test_a_window_key_changes_the_parameters_a_page_chose_not_the_window_s_own(tmp_path):
+    """With `frost serve --window`, a page's change (preset c-3) is the window's too: its
+    `=` raised the humidity of its own stale parameters (fern's) and so undid the page's
+    preset, silently, for every page and in the session."""
+    from test_window_e2e import xvfb
+    run = xvfb([sys.executable, __file__, str(tmp_path), "changes"], cwd=ROOT, timeout=180)
+    assert run.returncode == 0, run.stderr[-3000:]
+    result = json.loads((tmp_path / "result.json").read_text())
+    assert result["status"] == 0, result["stderr"]
+    from sim import Params
+    from sim.io.session import SessionLog
+    [path] = tmp_path.glob("session-*.json")
+    changes = [e["params"] for e in SessionLog.load(path).events if e["kind"] == "params"]
+    c3 = Params.preset("c-3")
+    assert len(changes) == 2 and changes[0]["D"] == c3.D, changes
+    assert changes[1]["D"] == c3.D and changes[1]["humidity"] == c3.humidity * 1.5, changes[1]
+
+
 def test_a_page_and_the_window_share_the_frost(tmp_path):
     from test_window_e2e import xvfb
     run = xvfb([sys.executable, __file__, str(tmp_path)], cwd=ROOT, timeout=180)
@@ -59,4 +107,4 @@ def test_a_page_and_the_window_share_the_frost(tmp_path):
 
 if __name__ == "__main__":
     sys.path.insert(0, str(ROOT / "tests"))
-    drive(Path(sys.argv[1]))
+    (drive_changes if sys.argv[2:] == ["changes"] else drive)(Path(sys.argv[1]))

@@ -269,9 +269,32 @@ def panel_gone(app: subprocess.Popen, log: Path) -> dict:
     return {"status": app.wait(timeout=20), "running": running}
 
 
+def panel_gone_idle(app: subprocess.Popen, log: Path) -> dict:
+    """M, the panel left idle (its redraws after the key done: nothing touches its window),
+    its window destroyed from outside, then M at once: a new panel, not the M spent on
+    hiding the window that is gone."""
+    wid = window_id()
+    wait_for(log, r"stats \(")
+    xdo("key", "--window", wid, "m")
+    window_id(name="^frost tuning")
+    wait_for(log, r"panel: shown")
+    time.sleep(1.5)
+    xdo("windowclose", window_id(name="^frost tuning"))
+    time.sleep(0.3)
+    xdo("key", "--window", wid, "m")
+    try:
+        wait_for(log, r"panel: shown", 2, timeout=5)
+        reopened = True
+    except TimeoutError:
+        reopened = False
+    running = app.poll() is None
+    xdo("key", "--window", wid, "Escape")
+    return {"status": app.wait(timeout=20), "running": running, "reopened": reopened}
+
+
 DRIVES = {"windowkill": lambda app, log: lost(app, log, "windowkill"),
           "windowclose": lambda app, log: lost(app, log, "windowclose"),
-          "panelgone": panel_gone,
+          "panelgone": panel_gone, "panelidle": panel_gone_idle,
           "SIGKILL": lambda app, log: lost(app, log, "SIGKILL"), "session": session,
           "unwritable": unwritable, "interrupt": interrupt,
           "interrupt-windows": interrupt,  # (as on Windows: tests/windows_like.py)
@@ -487,6 +510,22 @@ def test_the_panel_window_destroyed_from_outside_closes_the_panel_and_the_app_ru
     saved = SessionLog.load(path)
     assert [e["kind"] for e in saved.events] == ["touch", "params"]
     assert saved.events[1]["params"]["humidity"] > Params.preset("c-3").humidity
+
+
+def test_m_opens_a_new_panel_after_the_idle_panel_s_window_was_destroyed(tmp_path_factory):
+    """The panel shown and idle when its window is destroyed from outside: nothing met the
+    dead window, and the next M hid it ("panel: hidden") instead of opening a new one (a
+    second M did). Now that M meets it, says so in one line and opens a new panel."""
+    got = driven(tmp_path_factory.mktemp("panelidle"), "panelidle")
+    log, result = got["log"], got["result"]
+    assert result.get("running") and result.get("status") == 0, (result, log[-3000:])
+    assert result.get("reopened"), log[-3000:]
+    assert len(re.findall(r"panel: shown", log)) == 2, log[-3000:]
+    assert "panel: hidden" not in log, log[-3000:]
+    gone = re.findall(r"^(\w+) app.window: .*tuning panel's window was destroyed from outside.*$",
+                      log, re.M)
+    assert gone == ["WARNING"], log[-3000:]
+    assert "Traceback" not in log and "X Error" not in log and "BadWindow" not in log
 
 
 def test_a_killed_window_leaves_its_session_kept_on_disk(tmp_path_factory):

@@ -51,6 +51,7 @@ class Actions:
         self.own_backdrop: str | None = None
         self.keys = key_table(lambda name: getattr(glfw, f"KEY_{name}"))
         self.preset = first_preset(params)  # the last chosen: the panel's reset goes to it
+        self.params_sent = 0  # the thread's number of the last change sent (`_tune`)
         self.toggle_panel: Callable[[], None] = lambda: None  # the window sets it
         self.table: dict[str, Callable] = {
             "pause": lambda _: thread.send("pause"),
@@ -161,8 +162,22 @@ class Actions:
             self.status.say(f"{said}: unchanged")
             return
         self.params = params
-        self.thread.send("params", params)
+        self.params_sent = self.thread.send("params", params)
         self.status.say(f"{said}: " + " ".join(f"{k}={_number(v)}" for k, v in changed.items()))
+
+    def follow(self, params: Params, applied: int) -> None:
+        """The parameters of a rebuild the thread made (`applied`: the commands it had
+        applied by then), taken as the keys' own once every change they sent is applied,
+        so the next key builds on them: with `frost serve --window` a page changes them too
+        (its preset or look), and a key built on its own older ones undid that change. A
+        change not of the keys' making is said in the HUD."""
+        if applied < self.params_sent:
+            return  # (a change of the keys' own is on its way; its rebuild follows)
+        changed = tuning.differences(self.params, params)
+        self.params = params
+        if changed:
+            self.status.say("params (a page's change): "
+                            + " ".join(f"{k}={_number(v)}" for k, v in changed.items()))
 
 
 def first_preset(params: Params) -> str:

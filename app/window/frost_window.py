@@ -210,6 +210,8 @@ class FrostWindow:
             self.dirty = True
             if self.thread.script:  # a replayed parameter change
                 self.actions.params = snapshot.params
+            else:  # the keys' own change, or a page's (frost serve --window)
+                self.actions.follow(snapshot.params, snapshot.stats.handled)
         for melt in snapshot.melts:
             renderer.apply(melt)
             self.dirty = True

@@ -126,6 +126,12 @@ class PanelHost:
     # ---- showing and hiding ----------------------------------------------------------
 
     def toggle(self) -> None:
+        """M: shown or hidden; a window destroyed from outside is met first, so M opens a
+        new one rather than hide the one that is gone."""
+        self._meet_if_gone()
+        self._toggle()
+
+    def _toggle(self) -> None:
         self._forget_if_gone()
         if self.window is None and not self._open():
             return
@@ -144,8 +150,9 @@ class PanelHost:
             log.info("panel: hidden")
 
     def hide(self) -> None:
+        """Hidden (its window asked to close: there to hide)."""
         if self.visible:
-            self.toggle()
+            self._toggle()
 
     def _open(self) -> bool:
         _, height = glfw.get_window_size(self.phone)
@@ -178,6 +185,14 @@ class PanelHost:
             return ()
         self.gone = True
         return self.ids
+
+    def _meet_if_gone(self) -> None:
+        """A round trip to the X server on its window (shown or hidden), so one destroyed
+        from outside is met now: an idle panel's window gets no request, and M would
+        otherwise hide the window that is gone (the error met only then) instead of
+        opening a new one."""
+        if self.window is not None and not self.gone:
+            glfw.get_window_pos(self.window)  # (XTranslateCoordinates: waits for its reply)
 
     def _forget_if_gone(self) -> None:
         """Its window destroyed from outside: closed, as if never opened (M opens a new
