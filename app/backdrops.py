@@ -1,6 +1,7 @@
 """The view behind the glass: the built-in backdrops by name, or any PNG or JPEG file,
 scaled to cover the screen and centre-cropped. Shared by the window, every offline
-command and the command line's check of --background."""
+command and the command line's check of --background. The lock screen's clock box is
+drawn at a minute (app/lockscreen.py): DEFAULT_MINUTE unless one is given."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
+from app.lockscreen import DEFAULT_MINUTE, with_clock
 from app.resources import ASSET_DIR
 from sim.io.files import one_line
 from sim.screen import HEIGHT, WIDTH
@@ -17,11 +19,23 @@ from sim.screen import HEIGHT, WIDTH
 BACKDROPS = {"dusk": ("background.png", "make_background.py"),
              "lockscreen": ("lockscreen.png", "make_lockscreen.py")}
 DEFAULT_BACKDROP = "dusk"
+LIVE = "lockscreen"  # the backdrop with a live clock (its static parts in its PNG)
 
 
-def load_backdrop(name: str, size: tuple[int, int] = (WIDTH, HEIGHT)) -> np.ndarray:
+def load_backdrop(name: str, size: tuple[int, int] = (WIDTH, HEIGHT),
+                  minute: str | None = DEFAULT_MINUTE) -> np.ndarray:
     """Backdrop `name` (built-in, or a file) as H x W x 3 uint8, top row first, covering
-    `size` (width, height); ValueError in one line if it cannot be read."""
+    `size` (width, height); the lock screen with its clock at `minute` (None: its static
+    parts only, the clock box bare). ValueError in one line if it cannot be read."""
+    image = read_backdrop(name)
+    if name == LIVE and minute is not None:
+        image = Image.fromarray(with_clock(np.asarray(image), minute))
+    return np.asarray(cover(image, size))
+
+
+def read_backdrop(name: str) -> Image.Image:
+    """The image of backdrop `name` as it is stored (RGB); ValueError in one line if it
+    cannot be read."""
     path = backdrop_path(name)
     try:
         with Image.open(path) as im:
@@ -30,7 +44,10 @@ def load_backdrop(name: str, size: tuple[int, int] = (WIDTH, HEIGHT)) -> np.ndar
     except (OSError, ValueError, Image.DecompressionBombError) as err:
         raise ValueError(f"background {one_line(name)}: cannot read it as an image "
                          f"({one_line(str(err))})") from err
-    return np.asarray(cover(image, size))
+    if name == LIVE and image.size != (WIDTH, HEIGHT):
+        raise ValueError(f"background image {path} is {image.size[0]}x{image.size[1]}, not "
+                         f"{WIDTH}x{HEIGHT}; make it with: python3 assets/make_lockscreen.py")
+    return image
 
 
 def backdrop_path(name: str) -> Path:

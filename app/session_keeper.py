@@ -50,7 +50,7 @@ class SessionKeeper:
             return
         self._next = now + AUTOSAVE_PERIOD  # looked at again then, changed or not
         session = make()
-        if not session.events or self.saved == _what(session):
+        if not session.replayable() or self.saved == _what(session):
             return  # (no event: no file, as at the end)
         path = self._run_path()
         self.saved = None
@@ -72,7 +72,7 @@ class SessionKeeper:
         a failure said too (None). No file while it has no event: it would replay bare glass."""
         if self.folder is None:
             return None
-        if not session.events:
+        if not session.replayable():  # (the clock's minutes alone: nothing to replay)
             self.log.info("session: no touch, melt or change to replay, so no session file")
             return None
         self.wait()

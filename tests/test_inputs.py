@@ -290,7 +290,7 @@ HELP_LISTS = {
                "--screenshot-dir", "--scale", "--max-seconds", "--background"},
     "figure8": {"--help", "--params", "--seed", "--ticks", "--touch", "--background"} | OVERRIDES,
     "render": {"--help", "--preset", "--window-frost", "--params", "--seed", "--touch", "--ticks", "--out",
-               "--melt", "--melt-path", "--melt-radius", "--background"} | OVERRIDES,
+               "--melt", "--melt-path", "--melt-radius", "--background", "--clock"} | OVERRIDES,
     "bench render": {"--help", "--preset", "--params", "--seed", "--frames", "--cover", "--max-ticks",
                      "--background"},
     "maps": {"--help", "--preset", "--window-frost", "--params", "--seed", "--size", "--tile", "--normal-y",

@@ -10,6 +10,7 @@ import os
 from app.backdrops import BACKDROPS, DEFAULT_BACKDROP
 from app.cli import values
 from app.keys import DEFAULT_PRESET
+from app.lockscreen import DEFAULT_MINUTE
 from app.window.view import SCALES
 from sim import PRESETS, Params, all_presets
 from sim.io.paramsets import load_params
@@ -115,6 +116,22 @@ def add_window(p) -> None:
                         f"{SCALES[1]:g} (default: fit the monitor)")
     p.add_argument("--max-seconds", type=values.seconds, metavar="S",
                    help="close by itself after S seconds, exit status 0 (default: stay open)")
+
+
+def add_clock_start(p) -> None:
+    """The live clock's start (the window, frost serve): for demos and tests."""
+    p.add_argument("--clock-start", type=values.clock, metavar="TIME",
+                   help="for demos and tests: the lock screen's clock reads TIME (HH:MM[:SS] on "
+                        f"{DEFAULT_MINUTE[:10]}, or YYYY-MM-DDTHH:MM[:SS]) at the start and runs "
+                        "on in real time from there (default: this machine's local time)")
+
+
+def add_clock(p) -> None:
+    p.add_argument("--clock", type=values.clock, metavar="TIME",
+                   help="the minute the lock screen's clock shows (--background lockscreen): "
+                        f"HH:MM (on {DEFAULT_MINUTE[:10]}) or YYYY-MM-DDTHH:MM (default "
+                        f"{DEFAULT_MINUTE[11:]} on {DEFAULT_MINUTE[:10]}, a Thursday: a render is "
+                        "the same every time)")
 
 
 def add_overrides(p, looks: tuple[str, ...] = (DEFAULT_PRESET, "window")) -> None:

@@ -92,12 +92,13 @@ def _window() -> Parser:
     options.add_seed(p)
     options.add_touch(p, options.PLANT, "none")
     options.add_window(p)
+    options.add_clock_start(p)
     options.add_background(p)
     options.add_ticks(p, options.DEFAULT_TICKS,
                       "with no display: how long the PNG render done instead grows")
     options.add_overrides(p)
     # What the no-display fallback (frost render's code) reads and the window has no options for.
-    p.set_defaults(replay=None, melt=[], melt_path=[], out=None)
+    p.set_defaults(replay=None, melt=[], melt_path=[], out=None, clock=None)
     return p
 
 
@@ -114,6 +115,7 @@ def _render(root: Parser, subs) -> None:
     options.add_out(p, demo=True)
     options.add_melts(p)
     options.add_background(p)
+    options.add_clock(p)
     options.add_overrides(p)
 
 
@@ -209,6 +211,7 @@ def _serve(root: Parser, subs) -> None:
                    help="also open the desktop window on the same frost (it then writes the "
                         "session, as it does alone; default off)")
     options.add_window(p)
+    options.add_clock_start(p)
     options.add_overrides(p)
 
 

@@ -25,6 +25,16 @@ def backdrop(text: str) -> str:
     return text
 
 
+def clock(text: str):
+    """A time for the lock screen's clock: HH:MM, YYYY-MM-DDTHH:MM or YYYY-MM-DDTHH:MM:SS."""
+    from app.lockscreen import parse_clock  # PIL: only when the option is used
+
+    try:
+        return parse_clock(text)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
+
+
 def touch(text: str) -> tuple[float, float]:
     try:
         x, y = (float(v) for v in text.split(","))

@@ -22,8 +22,9 @@ import moderngl
 import numpy as np
 from PIL import Image
 
-from app.backdrops import DEFAULT_BACKDROP, load_backdrop
+from app.backdrops import DEFAULT_BACKDROP, LIVE, load_backdrop, read_backdrop
 from app.gl.shaders import load_program
+from app.lockscreen import CLOCK_BOX, DEFAULT_MINUTE, clock_patch
 from app.resources import ASSET_DIR
 from sim.look.geometry import VERTEX_FLOATS, GeometryDelta
 from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, MAX_DEPTH, TILE, Material, default_light
@@ -60,6 +61,8 @@ class Renderer:
         self.show_bumps = True
         self.look, self.height_scale = params.look, FEATURE_HEIGHT_SCALE
         self.backdrop = DEFAULT_BACKDROP  # the background's name (or file), for the view
+        self.minute = DEFAULT_MINUTE  # the lock screen's clock (app/lockscreen.py)
+        self._static: np.ndarray | None = None  # the lock screen's static parts, once read
         spacing = params.grid_spacing
         self.grid_size = (width // spacing + 1, height // spacing + 1)
         self._background = self._background_texture(background)
@@ -92,8 +95,27 @@ class Renderer:
             self.set_backdrop(view["background"])
 
     def set_backdrop(self, name: str) -> None:
-        """The view behind the glass: a built-in backdrop's name or an image file."""
-        self.set_background_image(load_backdrop(name, self.size), name)
+        """The view behind the glass: a built-in backdrop's name or an image file (the
+        lock screen with its clock at `minute`)."""
+        self.set_background_image(load_backdrop(name, self.size, self.minute), name)
+
+    def set_minute(self, minute: str) -> None:
+        """The lock screen's clock shows `minute` ("YYYY-MM-DDTHH:MM"): over the lock
+        screen, its clock box alone is drawn and uploaded (texture rows are the image's,
+        top row first); any other backdrop keeps it for when the lock screen is shown."""
+        if minute == self.minute:
+            return
+        self.minute = minute
+        if self.backdrop != LIVE:
+            return
+        if self.size != (WIDTH, HEIGHT):  # scaled: the whole backdrop again
+            self.set_backdrop(LIVE)
+            return
+        if self._static is None:
+            self._static = np.asarray(read_backdrop(LIVE))
+        x0, y0, x1, y1 = CLOCK_BOX
+        patch = np.ascontiguousarray(clock_patch(self._static, minute))
+        self._background.write(patch.tobytes(), viewport=(x0, y0, x1 - x0, y1 - y0))
 
     def set_background_image(self, image: np.ndarray, name: str) -> None:
         """The view behind the glass from an H x W x 3 uint8 image (top row first)."""

@@ -13,6 +13,7 @@ import time
 
 from aiohttp import web
 
+from app.lockscreen import clock_from
 from app.serve.appkeys import FEED
 from app.serve.feed import Feed
 from app.serve.listen import listen
@@ -34,7 +35,8 @@ def serve(args, params) -> int:
     token = None if args.host in LOOPBACK else secrets.token_urlsafe(16)
     if args.window:
         return serve_with_window(args, params, token)
-    feed = Feed(params, args.seed, args.touch, args.melt_radius, args.background)
+    feed = Feed(params, args.seed, args.touch, args.melt_radius, args.background,
+                clock=clock_from(getattr(args, "clock_start", None)))
     app = make_app(feed, token, args.session_dir)
     status = asyncio.run(_serve(app, args.host, args.port, token, args.max_seconds))
     if status == 128 + signal.SIGINT:  # closed and saved: the command line says so, as

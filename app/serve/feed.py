@@ -10,22 +10,28 @@ are all still kept (SINCE_TICKS, SINCE_BYTES): each page gets the snapshot, then
 ticks. Drawn on the simulation thread for every page, a client opening sockets as fast as
 it could had a snapshot drawn every tick (25-60 ms each) and halved everyone's tick rate.
 Beside the desktop window the feed is one more reader of the window's thread
-(`SimThread.subscribe`).
+(`SimThread.subscribe`). Over the lock screen, each minute the thread records is sent as
+the clock box's new pixels only (`protocol.clock_message`, drawn and encoded on a worker),
+to every live page and to each page that a snapshot starts.
 """
 
 from __future__ import annotations
 
 import asyncio
 import contextlib
+import io
 import logging
 import threading
 import time
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+from PIL import Image
 
-from app.backdrops import BACKDROPS
+from app.backdrops import BACKDROPS, LIVE, read_backdrop
+from app.lockscreen import CLOCK_BOX, DEFAULT_MINUTE, clock_patch
 from app.serve import protocol
 from app.serve.controls import Controls
 from app.serve.pages import Page
@@ -80,15 +86,19 @@ class Feed:
     """One simulation thread, its encoder and the pages it feeds."""
 
     def __init__(self, params: Params, seed: int, touches=(), melt_radius: float = 24.0,
-                 backdrop: str = "dusk", thread: SimThread | None = None):
+                 backdrop: str = "dusk", thread: SimThread | None = None,
+                 clock: Callable | None = None):
         """A feed of a new simulation thread, or of `thread` (the desktop window's, which
-        starts it, reads its notices and keeps the session file)."""
+        starts it, reads its notices and keeps the session file, and whose clock it is).
+        `clock`: the lock screen's time source for a new thread (default local time)."""
         self._loop: asyncio.AbstractEventLoop | None = None
         self._pumping = threading.Event()  # a pump is scheduled
         self.own_thread = thread is None
         if thread is None:
             self.thread = SimThread(params, seed, touches, *SIZE, wake=self._woken)
             self._drain = self.thread.drain
+            if clock is not None:
+                self.thread.clock = clock
         else:
             self.thread = thread
             self._drain = thread.subscribe(self._woken)
@@ -119,6 +129,12 @@ class Feed:
         self._since: deque[tuple[tuple[int, int], list[bytes]]] = deque()
         self._since_bytes = 0
         self._dropped_to = (-1, -1)  # the moment of the newest tick dropped from `_since`
+        # The lock screen's clock: the minute asked for last, and the message of the
+        # latest drawn (minute, bytes); the static lock screen, read once.
+        self._minute: str | None = None
+        self.clock_message: tuple[str, bytes] | None = None
+        self.clock_bytes: deque[int] = deque(maxlen=SIZES_KEPT)  # for the bench
+        self._static: np.ndarray | None = None
 
     def start(self, loop: asyncio.AbstractEventLoop) -> None:
         self._loop = loop
@@ -200,12 +216,55 @@ class Feed:
         now = time.monotonic()
         self.tap_ms.extend((now - at) * 1000.0 for _tick, at in snap.clicks)
         self._send_state()
+        self._tell_clock(snap)
         if snap.message:
             self.notice(snap.message)
         if messages:
             self._keep_since(messages)
             for page in self.pages:
                 page.tick(messages)
+
+    def _tell_clock(self, snap: Snapshot) -> None:
+        """Over the lock screen: the thread records the minutes (`show_clock`), and a
+        minute not sent yet is drawn and sent to the pages (on a worker while serving)."""
+        live = self.controls.backdrop == LIVE
+        self.thread.show_clock("pages", live)
+        if not live:
+            self._minute = None  # (sent again when the lock screen comes back)
+            return
+        minute = snap.minute or DEFAULT_MINUTE  # (the thread records one from its next tick)
+        if minute == self._minute:
+            return
+        self._minute = minute
+        if self._loop is None or not self._loop.is_running():
+            self._clock_drawn(minute, self._draw_clock(minute))
+            return
+        future = self._loop.run_in_executor(None, self._draw_clock, minute)
+        future.add_done_callback(
+            lambda f: None if f.cancelled() else self._clock_drawn(minute, f.result()))
+
+    def _draw_clock(self, minute: str) -> bytes | None:
+        """The clock message of `minute` (any thread); None if drawing failed (logged)."""
+        try:
+            if self._static is None:
+                self._static = np.asarray(read_backdrop(LIVE))
+            out = io.BytesIO()
+            Image.fromarray(clock_patch(self._static, minute)).save(out, "PNG", compress_level=6)
+            return protocol.clock_message(CLOCK_BOX, minute, out.getvalue())
+        except Exception:
+            log.exception("serve: the lock screen's clock failed")
+            return None
+
+    def _clock_drawn(self, minute: str, message: bytes | None) -> None:
+        """A minute's message drawn: to every live page, unless a newer minute was asked
+        for meanwhile or the lock screen has gone."""
+        if message is None or minute != self._minute:
+            return
+        self.clock_message = (minute, message)
+        self.clock_bytes.append(len(message))
+        for page in self.pages:
+            if not page.waiting:
+                page.binary(message)
 
     def _keep_since(self, messages: list[bytes]) -> None:
         """A tick's messages kept for the pages a snapshot will start (the oldest dropped
@@ -271,8 +330,11 @@ class Feed:
         moment, parts = self._snapshot.moment, self._snapshot.parts
         since = [m for at, messages in self._since if at > moment for m in messages]
         state = protocol.text("state", **self.state())
+        clock = self.clock_message if self._minute is not None else None
         for page in waiting:
             page.start(parts, state, since)
+            if clock is not None:  # (a resync may have dropped the minute's message)
+                page.binary(clock[1])
 
     # ---- JSON ----------------------------------------------------------------------------
 

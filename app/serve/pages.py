@@ -72,6 +72,10 @@ class Page:
     def text(self, message: str) -> None:
         self._put(message, False)
 
+    def binary(self, message: bytes) -> None:
+        """A binary message outside the ticks (the lock screen's clock)."""
+        self._put(message, False)
+
     def tick(self, messages: list[bytes]) -> None:
         """One tick's messages, unless the page waits for a snapshot; a page too far behind
         is resynced instead."""

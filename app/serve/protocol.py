@@ -40,6 +40,14 @@ RUN_GAP = 4
 # triangles each.
 PART_VERTICES = 3 * 21845
 
+# The lock screen's clock box at a new minute (docs/protocol.md): u8 version, u8 type 2;
+# u16 x, y, w, h (px, y down: where the picture goes on the backdrop); the minute as 16
+# ASCII bytes ("YYYY-MM-DDTHH:MM"); 2 zero bytes; then the box's pixels as a PNG (RGB,
+# w x h: lossless, so the page's backdrop is the server's pixel for pixel).
+CLOCK = 2
+CLOCK_HEADER = struct.Struct("<2B4H16s2x")
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
 # Page -> server
 MAX_INPUT_BYTES = 1024
 RATE_TEXT = 200  # messages a second a page may send (app.serve.pages.TokenBucket)
@@ -195,6 +203,30 @@ def decode_geometry(data: bytes) -> dict[str, Any]:
     return {"flags": flags, "look": LOOKS[look], "tick": tick, "grid": (cols, rows),
             "height_scale": scale, "runs": runs, "heights": values, "vertices": verts,
             "clear_box": tuple(box) if flags & CLEAR_BOX else None}
+
+
+def clock_message(box: tuple[int, int, int, int], minute: str, png: bytes) -> bytes:
+    """The clock message: the PNG `png` of the box (x0, y0, x1, y1) at `minute`."""
+    x0, y0, x1, y1 = box
+    return CLOCK_HEADER.pack(VERSION, CLOCK, x0, y0, x1 - x0, y1 - y0, minute.encode("ascii")) + png
+
+
+def decode_clock(data: bytes) -> dict[str, Any]:
+    """A clock message's fields: x, y, w, h, minute, png (bytes); ValueError if malformed."""
+    if len(data) < CLOCK_HEADER.size + len(PNG_SIGNATURE):
+        raise ValueError(f"clock message of {len(data)} bytes is too short")
+    version, kind, x, y, w, h, minute = CLOCK_HEADER.unpack_from(data)
+    if version != VERSION or kind != CLOCK:
+        raise ValueError(f"not a version {VERSION} clock message")
+    png = data[CLOCK_HEADER.size:]
+    if not png.startswith(PNG_SIGNATURE):
+        raise ValueError("a clock message's picture is not a PNG")
+    return {"x": x, "y": y, "w": w, "h": h, "minute": minute.decode("ascii"), "png": png}
+
+
+def message_type(data: bytes) -> int:
+    """The type byte of a binary message (GEOMETRY or CLOCK); 0 if too short to have one."""
+    return data[1] if len(data) > 1 else 0
 
 
 def _runs(data: bytes, nruns: int, cells: int) -> list[tuple[int, int]]:

@@ -108,5 +108,6 @@ async def backdrop(request: web.Request) -> web.Response:
 def _png(name: str) -> bytes:
     from PIL import Image
     out = io.BytesIO()
-    Image.fromarray(load_backdrop(name)).save(out, "PNG")
+    # (the lock screen's static parts: each page gets its clock box as a clock message)
+    Image.fromarray(load_backdrop(name, minute=None)).save(out, "PNG")
     return out.getvalue()

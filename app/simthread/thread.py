@@ -18,8 +18,10 @@ import time
 from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass
+from datetime import datetime
 from typing import Any
 
+from app.lockscreen import minute_name
 from app.simthread.backlog import Backlog, group_melts
 from app.simthread.clicks import Click, Clicks
 from app.simthread.export import MapExports
@@ -67,6 +69,7 @@ class Snapshot:
     melts: tuple[GeometryDelta, ...] = ()  # melt deltas, applied before `delta`
     steps: int = 0  # steps taken by the session so far
     events: int = 0  # events recorded so far (a session file of this frame keeps these)
+    minute: str | None = None  # the minute the lock screen's clock shows (None: none yet)
 
 
 @dataclass(frozen=True)
@@ -120,6 +123,11 @@ class SimThread(threading.Thread):
         # commands wait here when more arrive than a tick takes
         self.backlog = Backlog(kind=_command_kind)
         self.timeline = Timeline(params, seed, width, height)
+        # The lock screen's clock: while something shows it (`show_clock`), each tick
+        # whose minute (of `clock()`, local time) differs from the last recorded records
+        # a clock event. None: no live clock (a replay's minutes are its own).
+        self.clock: Callable[[], datetime] | None = datetime.now
+        self._clock_shown: set[str] = set()
         events = [{"kind": "touch", "x": float(x), "y": float(y)} for x, y in touches]
         self.timeline.apply(events)
 
@@ -204,6 +212,14 @@ class SimThread(threading.Thread):
         holds still while it runs (a page's snapshot is drawn from it there)."""
         self._between.put(work)
 
+    def show_clock(self, who: str, shown: bool) -> None:
+        """`who` (the window, the pages) shows the lock screen's clock or not (any thread):
+        its minutes are recorded while one does."""
+        if shown:
+            self._clock_shown.add(who)
+        else:
+            self._clock_shown.discard(who)
+
     def wake(self) -> None:
         """Tell every reader that a snapshot or a notice is waiting."""
         for wake in self._wakes:
@@ -232,6 +248,7 @@ class SimThread(threading.Thread):
         notes: dict[str, Any] = {"applied": []}
         self._script_at = apply_due(self.timeline, self.script, self._script_at,
                                     notes["applied"].append)
+        self._tell_time(notes)
         # (a tuning change waiting right behind another replaces it: a page or a held key
         # can ask for hundreds, and each applied would regrow the frost)
         self.handled += self.backlog.extend(group_melts(take_all(self.inbox), _disc, _melts),
@@ -253,6 +270,15 @@ class SimThread(threading.Thread):
                                      grown=step.grown, message=message,
                                      melts=(*melts, *step.melts)))
 
+    def _tell_time(self, notes: dict) -> None:
+        """The clock's minute recorded, if it is shown and turned since the last."""
+        clock = self.clock
+        if clock is None or not self._clock_shown:
+            return
+        minute = minute_name(clock())
+        if minute != self.timeline.minute:
+            notes["applied"].append(self.timeline.apply([{"kind": "clock", "minute": minute}]))
+
     def _publish(self, snapshot: Snapshot) -> None:
         """`snapshot` to every reader, the work asked between ticks, then the wake-ups."""
         self.outbox.put(snapshot)
@@ -271,7 +297,7 @@ class SimThread(threading.Thread):
 
     def _snapshot(self, delta, **extra) -> Snapshot:
         return Snapshot(delta, self._stats(), self.params, self.touches, steps=self.timeline.steps,
-                        events=len(self.timeline.events), **extra)
+                        events=len(self.timeline.events), minute=self.timeline.minute, **extra)
 
     def _stats(self) -> Stats:
         return Stats(self.sim.tick, self.times.last_ms, len(self.sim.crystals),

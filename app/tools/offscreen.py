@@ -47,9 +47,13 @@ class Offscreen:
     """A Timeline (simulation, geometry, events) and a renderer fed every delta in order."""
 
     def __init__(self, ctx, params: Params, seed: int, view: dict | None = None,
-                 version: int = VERSION):
+                 version: int = VERSION, minute: str | None = None):
+        """`minute`: the lock screen's clock until a clock event says otherwise (default
+        app.lockscreen.DEFAULT_MINUTE)."""
         self.timeline = Timeline(params, seed, WIDTH, HEIGHT, version=version)
         self.renderer = Renderer(ctx, params, WIDTH, HEIGHT)
+        if minute is not None:
+            self.renderer.minute = minute
         self.renderer.set_view(view)
         self.fbo = ctx.simple_framebuffer(SIZE, components=4)
         self.meta: dict = {}  # more PNG metadata, e.g. the session file replayed
@@ -70,7 +74,10 @@ class Offscreen:
         return grow(self.timeline, steps, events, self.show, self.renderer.apply, tick)
 
     def show(self, applied: Applied) -> None:
-        """Hand an event result to the renderer: a rebuild clears it, melts update it."""
+        """Hand an event result to the renderer: a rebuild clears it, melts update it, a
+        clock event redraws the lock screen's clock."""
+        if applied.minute is not None:
+            self.renderer.set_minute(applied.minute)
         if applied.reset:
             self.renderer.reset()
         for delta in applied.deltas:

@@ -8,6 +8,7 @@ from pathlib import Path
 
 from app.backdrops import view_from
 from app.images import DEFAULT_FOLDER, timestamped_path
+from app.lockscreen import minute_name
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
 from sim import Params
@@ -46,7 +47,9 @@ def run(args, params: Params) -> int:
     except RuntimeError as err:
         error(err)
         return 1
-    offscreen = Offscreen(ctx, params, args.seed, view_from(args))
+    clock = getattr(args, "clock", None) or getattr(args, "clock_start", None)
+    offscreen = Offscreen(ctx, params, args.seed, view_from(args),
+                          minute=None if clock is None else minute_name(clock))
     offscreen.progress = Progress(args.ticks)
     if args.touch or params.window_frost:  # a window frosts from its frame untouched
         offscreen.grow(args.ticks, touch_events(args.touch) + melt_events(args))

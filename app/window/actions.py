@@ -9,7 +9,7 @@ from collections.abc import Callable
 
 import glfw
 
-from app.backdrops import next_backdrop
+from app.backdrops import LIVE, next_backdrop
 from app.keys import DEFAULT_PRESET, key_table
 from app.simthread.thread import SimThread, Snapshot
 from app.window.capture import Capture
@@ -117,6 +117,7 @@ class Actions:
         except ValueError as err:  # the file went away since the start
             self.status.say(f"refused: {err}", logging.WARNING)
             return
+        self.thread.show_clock("window", name == LIVE)  # its minutes recorded while shown
         self.redraw()
         self.status.say(f"background {name}")
 

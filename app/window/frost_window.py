@@ -18,7 +18,9 @@ from collections.abc import Callable
 import glfw
 import moderngl
 
+from app.backdrops import LIVE
 from app.keys import help_lines
+from app.lockscreen import clock_from
 from app.simthread.thread import SimThread, Snapshot
 from app.window.actions import Actions
 from app.window.capture import Capture
@@ -54,7 +56,10 @@ class FrostWindow:
         self.display_gone = False  # (lost_display: no GLFW call may meet the dead connection)
         self.thread = SimThread(params, args.seed, args.touch or (), *PHONE, wake=self._wake,
                                 script=getattr(args, "script", ()))
+        # The lock screen's clock: local time, or --clock-start's; a replay's own minutes.
+        self.thread.clock = None if self.thread.script else clock_from(getattr(args, "clock_start", None))
         self.presenter = Presenter(moderngl.create_context(), params, getattr(args, "view", None))
+        self.thread.show_clock("window", self.presenter.renderer.backdrop == LIVE)
         self.presenter.hud.set_scale(glfw.get_window_content_scale(window)[0])
         self.status = Status()
         self.recorder = Recorder(args.screenshot_dir, self.thread.notify)
@@ -212,6 +217,9 @@ class FrostWindow:
                 self.actions.params = snapshot.params
             else:  # the keys' own change, or a page's (frost serve --window)
                 self.actions.follow(snapshot.params, snapshot.stats.handled)
+        if snapshot.minute is not None and snapshot.minute != renderer.minute:
+            renderer.set_minute(snapshot.minute)  # (its clock box alone, over the lock screen)
+            self.dirty = True
         for melt in snapshot.melts:
             renderer.apply(melt)
             self.dirty = True

@@ -19,6 +19,9 @@ the newest. What each version changed:
    whose seed would list a cell past it plants nothing (no seed, no water). Before, a page
    tapping one spot piled thousands of seeds into one cell, and every walker near it
    searched them all.
+10. The lock screen's clock: "clock" events name the minute (local time, as
+   "YYYY-MM-DDTHH:MM") the lock screen showed from their tick on, so a replay or a render
+   of the session shows the minutes it showed. The frost itself grows as in version 9.
 """
 
 from __future__ import annotations
@@ -27,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-NEWEST = 9
+NEWEST = 10
 # Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
 REGROW_GAP = 12
 # The parts that draw random numbers, in the order their streams are spawned.
@@ -48,6 +51,7 @@ class Rules:
     own_streams: bool  # 7
     opening_rings: bool  # 8: a touch that opens an area brings its ring of water too
     capped_touches: bool  # 9: a touch into a full cell plants nothing
+    clock_events: bool  # 10: "clock" events (the lock screen's minutes) may be recorded
 
 
 def rules_of(version: int) -> Rules:
@@ -57,7 +61,7 @@ def rules_of(version: int) -> Rules:
         raise ValueError(f"version={version!r} must be a whole number in [1, {NEWEST}]")
     v = int(version)
     return Rules(v, REGROW_GAP if v >= 2 else 0, v >= 3, v >= 4, v >= 5, v >= 5, v >= 6, v >= 7,
-                 v >= 8, v >= 9)
+                 v >= 8, v >= 9, v >= 10)
 
 
 @dataclass(frozen=True)

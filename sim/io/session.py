@@ -2,14 +2,17 @@
 back with every entry checked (`SessionLog`); sim.io.timeline applies the events.
 
 Kinds of event: "touch" (x, y), "melt" (x, y, r), "params" (params: a dict; rebuilds the
-simulation) and "clear" (drops the touches and melts, rebuilds). Each has its "tick": the
-tick of its timeline it applied at (a rebuild starts a new timeline at tick 0).
+simulation), "clear" (drops the touches and melts, rebuilds) and, from version 10, "clock"
+(minute: the lock screen's clock shows that minute from here on, "YYYY-MM-DDTHH:MM", local
+time; the frost is untouched). Each has its "tick": the tick of its timeline it applied at
+(a rebuild starts a new timeline at tick 0).
 """
 
 from __future__ import annotations
 
 import json
 from dataclasses import dataclass, field, fields
+from datetime import datetime
 from pathlib import Path
 from typing import Any
 
@@ -24,8 +27,13 @@ FORMAT = "frost-session"
 VERSION = FROST_VERSION
 # The keys each event kind needs besides "tick" and "kind".
 EVENT_FIELDS = {"touch": ("x", "y"), "melt": ("x", "y", "r"), "params": ("params",),
-                "clear": ()}
+                "clear": (), "clock": ("minute",)}
 REBUILDS = ("params", "clear")  # kinds that start a new timeline at tick 0
+# Kinds that change only what is shown, not the frost: a session of these alone has
+# nothing to replay (no file is written for it).
+SHOWN_ONLY = ("clock",)
+CLOCK_VERSION = 10  # the first version whose files may hold "clock" events
+MINUTE_FORMAT = "%Y-%m-%dT%H:%M"  # a clock event's minute, local time
 
 
 class SessionError(ValueError):
@@ -84,13 +92,21 @@ class SessionLog:
         size = _whole(data, "width", 1, 16384, WIDTH), _whole(data, "height", 1, 16384, HEIGHT)
         events = [check_event(e, size) for e in data["events"]]
         _check_order(events, params)
+        version = _whole(data, "version", 1, VERSION, VERSION)
+        clock = next((e for e in events if e["kind"] == "clock"), None)
+        if clock is not None and version < CLOCK_VERSION:
+            raise SessionError(f"event {clock!r}: a clock event needs version {CLOCK_VERSION} "
+                               f"or later (this file is version {version})")
         try:
             view = None if data.get("view") is None else check_view(data["view"])
         except ValueError as err:
             raise SessionError(str(err)) from None
         return cls(_whole(data, "seed", 0, MAX_SEED), dict(data["params"]), *size,
-                   events, _whole(data, "steps", 0, MAX_TICK, 0), view,
-                   _whole(data, "version", 1, VERSION, VERSION))
+                   events, _whole(data, "steps", 0, MAX_TICK, 0), view, version)
+
+    def replayable(self) -> bool:
+        """Whether it holds an event that changes the frost (not only clock minutes)."""
+        return any(e["kind"] not in SHOWN_ONLY for e in self.events)
 
 
 # Coordinates and radii beyond this many px are refused before their range is checked:
@@ -184,7 +200,20 @@ def check_event(event: Any, size: tuple[int, int] = (WIDTH, HEIGHT)) -> dict[str
         raise SessionError(f"event {event!r}: {problem}")
     if event["kind"] == "params":
         _params(event["params"], f"event at tick {tick}")
+    if event["kind"] == "clock" and not _minute(event["minute"]):
+        raise SessionError(f"event {event!r}: 'minute' must be a local time as "
+                           "YYYY-MM-DDTHH:MM")
     return event
+
+
+def _minute(v: Any) -> bool:
+    """Whether `v` names a minute as "YYYY-MM-DDTHH:MM" exactly (a real date and time)."""
+    if not isinstance(v, str) or len(v) != 16:
+        return False
+    try:
+        return datetime.strptime(v, MINUTE_FORMAT).strftime(MINUTE_FORMAT) == v
+    except ValueError:
+        return False
 
 
 def _coordinate(v: Any) -> bool:

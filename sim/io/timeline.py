@@ -51,6 +51,7 @@ class Applied:
     reset: bool = False
     deltas: tuple[GeometryDelta, ...] = ()
     message: str | None = None
+    minute: str | None = None  # a clock event's minute: the lock screen shows it from now
 
 
 def rebuilt_words(ticks: list[int], melts: int) -> str:
@@ -86,7 +87,9 @@ class Timeline:
         # Touches and melts a rebuild scheduled, in tick order.
         self._pending: list[dict[str, Any]] = touch_events(self.touches)
         self._handlers = {"touch": self._touch, "melt": self._melt,
-                          "params": self._params, "clear": self._clear}
+                          "params": self._params, "clear": self._clear, "clock": self._clock}
+        # The minute the lock screen shows (the last clock event's; None before any).
+        self.minute: str | None = None
         self._groups = 0  # melt groups applied (their ids in the recorded events)
         self._build(params)
 
@@ -105,7 +108,7 @@ class Timeline:
         a "group" (the window's warm finger: a tick's drag), or recorded with the same
         "group" (a replay); every melt is recorded with its group's id, so a replay groups
         them as they were."""
-        notes: dict[str, Any] = {"reset": False, "deltas": [], "message": None}
+        notes: dict[str, Any] = {"reset": False, "deltas": [], "message": None, "minute": None}
         events, i = list(events), 0
         while i < len(events):
             j = self._group_end(events, i)
@@ -115,7 +118,7 @@ class Timeline:
                 self.events.append(self._record(events[i]))
                 self._handlers[events[i]["kind"]](events[i], notes)
             i = j
-        return Applied(notes["reset"], tuple(notes["deltas"]), notes["message"])
+        return Applied(notes["reset"], tuple(notes["deltas"]), notes["message"], notes["minute"])
 
     def _group_end(self, events: list, i: int) -> int:
         """The end of the run of melts of one group that starts at `i` (i + 1 if none)."""
@@ -210,6 +213,13 @@ class Timeline:
         self.params, self.geometry = params, FrostGeometry(params, *self.size, wrap=self.wrap)
         notes["reset"] = True
         notes["deltas"][:] = [self.geometry.redraw(self.sim)]
+
+    def _clock(self, event: dict, notes: dict) -> None:
+        """The lock screen's clock shows `minute` from this tick on (the frost is untouched;
+        a rebuild keeps it: the clock is the screen's, not the frost's)."""
+        if not self.rules.clock_events:
+            raise ValueError(f"a clock event needs session version 10 or later, not {self.version}")
+        self.minute = notes["minute"] = event["minute"]
 
     def _clear(self, _event: dict, notes: dict) -> None:
         self.touches, self.melts, self._pending, self._planted = (), [], [], []

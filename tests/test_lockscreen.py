@@ -1,0 +1,241 @@
+"""The lock screen's live clock (app/lockscreen.py): its minutes as session events
+(version 10), recorded by the simulation thread from a clock the test sets, shown by
+renders and replays at the ticks the session showed them, and sent to the pages as the
+clock box's pixels only.
+
+The oracle for what a picture shows is the clock function drawn directly at that minute
+over the lock screen's static parts (`clock_patch`): with no ice on the pane the glass is
+clear and the frame is the backdrop exactly (docs/looks.md), so the frame's clock box
+must equal it pixel for pixel."""
+
+from __future__ import annotations
+
+import io
+import json
+import subprocess
+import sys
+from datetime import datetime, timedelta
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from app.backdrops import LIVE, load_backdrop, read_backdrop
+from app.lockscreen import CLOCK_BOX, DEFAULT_MINUTE, clock_patch, parse_clock, with_clock
+from sim import Params
+from sim.io.session import SessionError, SessionLog
+from sim.io.timeline import Timeline
+from tests import frozen_runs
+
+ROOT = Path(__file__).resolve().parent.parent
+STATIC = np.asarray(read_backdrop(LIVE))
+X0, Y0, X1, Y1 = CLOCK_BOX
+
+
+def box(image: np.ndarray) -> np.ndarray:
+    return image[Y0:Y1, X0:X1]
+
+
+# ---- the picture ---------------------------------------------------------------------
+
+def test_a_minute_changes_the_clock_box_and_nothing_else():
+    a, b = with_clock(STATIC, "2026-11-26T15:41"), with_clock(STATIC, "2026-11-26T15:42")
+    changed = np.argwhere((a != b).any(axis=2))
+    assert len(changed) > 200  # the last digit, redrawn
+    (top, left), (bottom, right) = changed.min(axis=0), changed.max(axis=0)
+    assert Y0 <= top <= bottom < Y1 and X0 <= left <= right < X1
+    outside = np.ones(STATIC.shape[:2], bool)
+    outside[Y0:Y1, X0:X1] = False
+    assert np.array_equal(a[outside], STATIC[outside])
+
+
+def test_the_date_follows_the_day_and_the_static_box_is_bare_wallpaper():
+    # Another day, the same time: the date line (the box's top 100 px) differs, the time
+    # line does not.
+    a, b = clock_patch(STATIC, "2026-11-26T15:41"), clock_patch(STATIC, "2026-11-27T15:41")
+    assert (a[:100] != b[:100]).any() and np.array_equal(a[110:], b[110:])
+    # The asset holds no clock: no white figures in its box (a few stars), the clock
+    # draws thousands of white pixels there.
+    assert (box(STATIC).min(axis=2) > 240).sum() < 100
+    assert (box(with_clock(STATIC, DEFAULT_MINUTE)).min(axis=2) > 240).sum() > 5000
+
+
+def test_load_backdrop_draws_the_default_minute_or_none():
+    assert np.array_equal(load_backdrop(LIVE), with_clock(STATIC, DEFAULT_MINUTE))
+    assert np.array_equal(load_backdrop(LIVE, minute=None), STATIC)
+    assert np.array_equal(load_backdrop(LIVE, minute="2026-01-02T03:04"),
+                          with_clock(STATIC, "2026-01-02T03:04"))
+
+
+def test_clock_times_on_the_command_line():
+    assert parse_clock("15:42") == datetime(2026, 11, 26, 15, 42)
+    assert parse_clock("23:59:50") == datetime(2026, 11, 26, 23, 59, 50)
+    assert parse_clock("2027-02-03T04:05") == datetime(2027, 2, 3, 4, 5)
+    assert parse_clock("2027-02-03T04:05:58") == datetime(2027, 2, 3, 4, 5, 58)
+    for bad in ("25:00", "15h42", "", "2027-02-30T04:05"):
+        with pytest.raises(ValueError, match="clock"):
+            parse_clock(bad)
+
+
+# ---- sessions ----------------------------------------------------------------------------
+
+def session(events, version=10, steps=40) -> dict:
+    return {"format": "frost-session", "version": version, "seed": 2, "params": {},
+            "steps": steps, "events": events}
+
+
+def test_clock_events_are_checked_and_need_version_10():
+    clock = {"tick": 0, "kind": "clock", "minute": "2026-11-26T15:41"}
+    assert SessionLog.from_json(session([clock])).events == [clock]
+    with pytest.raises(SessionError, match="needs version 10"):
+        SessionLog.from_json(session([clock], version=9))
+    for minute in ("15:41", "2026-11-26 15:41", "2026-02-30T15:41", 1541, "2026-11-26T15:41:00"):
+        with pytest.raises(SessionError, match="minute"):
+            SessionLog.from_json(session([{**clock, "minute": minute}]))
+    # A session of minutes alone has nothing to replay (no file is written for it).
+    assert not SessionLog.from_json(session([clock])).replayable()
+    touch = {"tick": 3, "kind": "touch", "x": 100.0, "y": 100.0}
+    assert SessionLog.from_json(session([clock, touch])).replayable()
+
+
+def test_a_clock_event_leaves_the_frost_as_version_9_grew_it():
+    # The frost of version 10 is version 9's: the same touches with minutes between them
+    # grow the same ice, tick for tick.
+    def grown(version, minutes):
+        timeline = Timeline(Params.preset("fern"), 4, version=version)
+        for k in range(30):
+            if k % 10 == 0:
+                timeline.apply([{"kind": "touch", "x": 200.0 + 10 * k, "y": 500.0}])
+            if minutes and k % 7 == 0:
+                timeline.apply([{"kind": "clock", "minute": f"2026-11-26T15:{k:02d}"}])
+            timeline.step()
+        return frozen_runs.state_hash(timeline.sim), timeline.geometry.heights.copy()
+
+    (a, heights_a), (b, heights_b) = grown(9, False), grown(10, True)
+    assert a == b and np.array_equal(heights_a, heights_b)
+    with pytest.raises(ValueError, match="version 10"):
+        Timeline(Params(), 1, version=9).apply([{"kind": "clock", "minute": DEFAULT_MINUTE}])
+
+
+def test_version_10_grows_the_frost_stored_for_version_9():
+    stored = json.loads((ROOT / "tests" / "data" / "frozen_runs.json").read_text())
+    assert frozen_runs.state_hash(frozen_runs.one_spot(version=10)) == stored["v9/one-spot"]
+
+
+# ---- the simulation thread records the minutes shown ---------------------------------------
+
+class FakeClock:
+    def __init__(self, start: datetime):
+        self.now = start
+
+    def __call__(self) -> datetime:
+        return self.now
+
+
+def test_the_thread_records_each_minute_shown_at_its_tick():
+    from app.simthread.thread import SimThread
+
+    clock = FakeClock(datetime(2026, 11, 26, 15, 41, 50))
+    thread = SimThread(Params.preset("fern"), 1, [(380.0, 640.0)])
+    thread.clock = clock
+    for _ in range(3):
+        thread.tick()  # not shown: nothing recorded
+    assert [e for e in thread.timeline.events if e["kind"] == "clock"] == []
+    thread.show_clock("pages", True)
+    for k in range(20):
+        clock.now += timedelta(seconds=1)  # 15:41:51 ... 15:42:10
+        thread.tick()
+        if k == 12:
+            thread.show_clock("pages", False)  # hidden from 15:42:04 ...
+        if k == 15:
+            thread.show_clock("window", True)  # ... and shown again at 15:42:07
+    snapshot = thread.drain()[-1]
+    clocks = [e for e in thread.timeline.events if e["kind"] == "clock"]
+    assert [(e["tick"], e["minute"]) for e in clocks] == [(3, "2026-11-26T15:41"),
+                                                          (12, "2026-11-26T15:42")]
+    assert snapshot.minute == "2026-11-26T15:42"
+    # (the session saved holds them, and checks as a version 10 file)
+    saved = SessionLog.from_json(json.loads(json.dumps(thread.session().as_json())))
+    assert saved.version == 10 and [e for e in saved.events if e["kind"] == "clock"] == clocks
+
+
+# ---- renders and replays show the session's minutes --------------------------------------
+
+@pytest.mark.gl
+def test_a_replay_shows_the_minute_the_session_showed_at_each_tick(gl_ctx):
+    from app.tools.replay import replay_offscreen
+
+    # A touch far below the clock: its ice never reaches the box within 40 ticks.
+    log_ = SessionLog.from_json({
+        **session([{"tick": 0, "kind": "clock", "minute": "2026-11-26T15:41"},
+                   {"tick": 0, "kind": "touch", "x": 380.0, "y": 1150.0},
+                   {"tick": 20, "kind": "clock", "minute": "2026-11-26T15:42"}]),
+        "view": {"light": [0.4, 0.5, 1.0], "features": True, "bumps": True,
+                 "background": "lockscreen"}})
+    shown = {}
+    for ticks in (10, 19, 20, 40):
+        offscreen = replay_offscreen(gl_ctx, log_, ticks)
+        shown[ticks] = box(offscreen.frame())
+        offscreen.release()
+    first, second = (clock_patch(STATIC, f"2026-11-26T15:4{m}") for m in (1, 2))
+    assert not np.array_equal(first, second)
+    for ticks, want in ((10, first), (19, first), (20, second), (40, second)):
+        assert np.array_equal(shown[ticks], want), ticks
+
+
+@pytest.mark.gl
+def test_frost_render_shows_the_clock_it_is_given_and_the_same_every_time(tmp_path):
+    def render(*extra: str) -> np.ndarray:
+        out = tmp_path / f"r{len(list(tmp_path.iterdir()))}.png"
+        subprocess.run([sys.executable, "-m", "app", "render", "--background", "lockscreen",
+                        "--touch", "380,1150", "--ticks", "15", "--out", str(out), *extra],
+                       cwd=ROOT, check=True, capture_output=True, timeout=300)
+        return np.asarray(Image.open(out).convert("RGB"))
+
+    given, default, again = render("--clock", "07:05"), render(), render()
+    assert np.array_equal(box(given), clock_patch(STATIC, "2026-11-26T07:05"))
+    assert np.array_equal(box(default), clock_patch(STATIC, DEFAULT_MINUTE))
+    assert np.array_equal(default, again)
+    bad = subprocess.run([sys.executable, "-m", "app", "render", "--clock", "7h05"], cwd=ROOT,
+                         capture_output=True, text=True, timeout=120)
+    assert bad.returncode == 2 and "clock '7h05'" in bad.stderr
+    assert len(bad.stderr.strip().splitlines()) <= 2  # (usage, then the one-line error)
+
+
+# ---- the pages get the clock box only ---------------------------------------------------------
+
+def test_the_feed_sends_the_clock_box_of_each_minute_to_the_pages():
+    from test_serve_feed import ByHand, Wire
+
+    from app.serve.feed import Feed
+    from app.serve.pages import Page
+    from app.serve.protocol import CLOCK, decode_clock, message_type
+    from app.simthread.thread import SimThread
+
+    clock = FakeClock(datetime(2026, 11, 26, 15, 41, 58))
+    params = Params.preset("fern")
+    thread = SimThread(params, 1, [(380.0, 640.0)])
+    feed = Feed(params, 1, backdrop="lockscreen", thread=thread)
+    thread.clock = clock
+    page = Page(Wire(), "page", feed.ask_redraw)
+    page.waiting = False  # (live: it gets what is broadcast)
+    feed.pages.add(page)
+    by_hand = ByHand(thread)
+    try:
+        by_hand.tick(feed, 2)  # the thread records 15:41 at its first tick shown
+        clock.now += timedelta(seconds=3)
+        by_hand.tick(feed, 2)
+    finally:
+        by_hand.stop()
+    sent = [m for m, _end in page.queue if isinstance(m, bytes) and message_type(m) == CLOCK]
+    minutes = [decode_clock(m)["minute"] for m in sent]
+    assert minutes[-2:] == ["2026-11-26T15:41", "2026-11-26T15:42"]
+    whole = io.BytesIO()
+    Image.fromarray(load_backdrop(LIVE)).save(whole, "PNG")
+    for m in sent:
+        fields = decode_clock(m)
+        assert (fields["x"], fields["y"], fields["x"] + fields["w"], fields["y"] + fields["h"]) == CLOCK_BOX
+        picture = np.asarray(Image.open(io.BytesIO(fields["png"])).convert("RGB"))
+        assert np.array_equal(picture, clock_patch(STATIC, fields["minute"]))
+        assert len(m) < len(whole.getvalue()) / 2
