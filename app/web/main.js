@@ -6,6 +6,7 @@ import { Program, Renderer, fetchShaders } from "./renderer.js";
 import { Pointers } from "./input.js";
 import { Menu } from "./menu.js";
 import { withText } from "./png.js";
+import { Clock, isClock } from "./clock.js";
 
 const SCREEN = [760, 1280];
 const RETRY_FIRST = 250, RETRY_MOST = 8000;  // ms between reconnects: doubling up to this
@@ -24,6 +25,7 @@ const state = {
   messages: 0, bytes: 0, hellos: 0, lost: 0, watch: null, latencies: [], frostLatencies: [], backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
 };
 window.frost = state;
+state.clock = new Clock();
 
 function status(text) {
   document.getElementById("status").textContent = text;
@@ -83,6 +85,7 @@ function connect(retry) {
     state.messages += 1;
     if (typeof event.data === "string") return onText(JSON.parse(event.data));
     state.bytes += event.data.byteLength;
+    if (isClock(event.data)) return void state.clock.receive(event.data, state).catch((err) => console.error(err));
     if (!state.renderer || gl.isContextLost()) return;
     try {
       const delta = decodeDelta(event.data);
@@ -175,6 +178,7 @@ async function loadBackdrop(name) {
   if (state.backdrop !== name) return;  // another came meanwhile
   state.renderer.setBackgroundImage(image);
   state.shownBackdrop = name;
+  state.clock.showOn(state);  // (the lock screen's PNG holds no clock)
 }
 
 // Touch to first drawn growth (the bench reads frost.latencies, ms): whether a delta

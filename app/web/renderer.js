@@ -158,6 +158,18 @@ export class Renderer {
     this.damageAll();
   }
 
+  // A rectangle of the view behind the glass (the lock screen's clock box): `image` at
+  // (x, y) px, y down. Everything is drawn again (the glass bends the view from afar).
+  setBackgroundRect(x, y, image) {
+    const gl = this.gl;
+    gl.bindTexture(gl.TEXTURE_2D, this.background);
+    gl.pixelStorei(gl.UNPACK_COLORSPACE_CONVERSION_WEBGL, gl.NONE);
+    gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
+    gl.pixelStorei(gl.UNPACK_FLIP_Y_WEBGL, false);
+    gl.texSubImage2D(gl.TEXTURE_2D, 0, x, y, gl.RGB, gl.UNSIGNED_BYTE, image);
+    this.damageAll();
+  }
+
   // Upload a tick's changes (a decoded message): its dirty height rows and new features.
   apply(delta) {
     if (delta.reset) this.reset();
