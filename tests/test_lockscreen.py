@@ -239,3 +239,50 @@ def test_the_feed_sends_the_clock_box_of_each_minute_to_the_pages():
         picture = np.asarray(Image.open(io.BytesIO(fields["png"])).convert("RGB"))
         assert np.array_equal(picture, clock_patch(STATIC, fields["minute"]))
         assert len(m) < len(whole.getvalue()) / 2
+
+
+# ---- the window ------------------------------------------------------------------------------
+
+WINDOW_RUN = """
+"$PY" -m app --preset fern --seed 1 --background lockscreen --clock-start "$START" \\
+    --touch 380,1150 --screenshot-dir "$OUT/shots" --session-dir "$OUT/sessions" \\
+    --max-seconds 90 > "$OUT/app.log" 2>&1 &
+APP=$!
+W=$(xdotool search --sync --onlyvisible --name '^frost$' | head -1)
+until grep -q 'stats (' "$OUT/app.log"; do sleep 0.2; done
+xdotool mousemove --window "$W" 5 5 key --clearmodifiers s
+until grep -q 'screenshot: ' "$OUT/app.log"; do sleep 0.2; done
+xdotool key --clearmodifiers Escape
+wait $APP
+"""
+
+
+@pytest.mark.window
+def test_the_window_shows_and_records_the_clock_it_is_given(tmp_path):
+    """The window under Xvfb with --clock-start: its screenshot's clock box is the clock
+    function drawn directly at the minute that screenshot's own session file says was
+    shown last, and the session at exit records that minute (version 10)."""
+    import shlex
+    import shutil
+
+    from test_window_e2e import xvfb
+
+    if shutil.which("xdotool") is None or shutil.which("Xvfb") is None:
+        pytest.fail("Xvfb and xdotool are dependencies: apt-get install xvfb xdotool")
+    given = {"PY": sys.executable, "START": "2026-11-26T07:05", "OUT": str(tmp_path),
+             "PYTHONPATH": str(ROOT)}
+    script = " ".join(f"{k}={shlex.quote(v)}" for k, v in given.items()) + "; export PYTHONPATH\n"
+    done = xvfb(["sh", "-c", script + WINDOW_RUN], cwd=ROOT, timeout=180)
+    log = (tmp_path / "app.log").read_text()
+    assert done.returncode == 0, log
+    shots = sorted((tmp_path / "shots").glob("*.png"))
+    assert shots, log
+    beside = json.loads((tmp_path / "sessions" / f"{shots[0].stem}.json").read_text())
+    minutes = [e["minute"] for e in beside["events"] if e["kind"] == "clock"]
+    assert minutes and minutes[0] == "2026-11-26T07:05"
+    shot = np.asarray(Image.open(shots[0]).convert("RGB"))
+    assert np.array_equal(box(shot), clock_patch(STATIC, minutes[-1]))
+    saved = json.loads(next((tmp_path / "sessions").glob("session-*.json")).read_text())
+    assert saved["version"] == 10
+    assert [e for e in saved["events"] if e["kind"] == "clock"][:1] == \
+        [e for e in beside["events"] if e["kind"] == "clock"][:1]
