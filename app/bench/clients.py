@@ -123,6 +123,8 @@ async def _taps(ws, got: dict, end: float, ticks: bool = False) -> None:
     pending: dict = {}
 
     def seen(data: bytes) -> None:
+        if protocol.message_type(data) != protocol.GEOMETRY:  # (the lock screen's clock)
+            return
         if ticks:
             got["tick_at"].setdefault(protocol.HEADER.unpack_from(data)[4], time.monotonic())
         if not pending:
