@@ -17,6 +17,7 @@ from datetime import datetime, timedelta
 import numpy as np
 from PIL import Image, ImageDraw, ImageFilter, ImageFont
 
+from sim.io.session import MINUTE_FORMAT
 from sim.screen import HEIGHT, WIDTH
 
 # The clock's rectangle on the 760x1280 backdrop: x0, y0, x1, y1 (px, y down). The
@@ -25,7 +26,6 @@ CLOCK_BOX = (40, 150, 720, 470)
 # The minute `frost render` and a session with no minute of its own show (a render is
 # the same every time): a Thursday morning, 09:41.
 DEFAULT_MINUTE = "2026-11-26T09:41"
-MINUTE_FORMAT = "%Y-%m-%dT%H:%M"
 TEXT = (248, 249, 252)
 SHADOW = (8, 14, 34)
 
