@@ -64,8 +64,9 @@ def test_wheel_holds_every_module_the_shaders_the_background_and_the_page(wheel)
     data = {f"app/_data/shaders/{p.name}": p for p in (ROOT / "shaders").iterdir()}
     assert any(name.endswith(".frag") for name in data)
     data["app/_data/assets/background.png"] = ROOT / "assets" / "background.png"
-    data.update({f"app/web/{p.name}": p for p in (ROOT / "app" / "web").iterdir()})
-    assert "app/web/index.html" in data
+    web = ROOT / "app" / "web"  # the page, its worker and its icons (the installed app's)
+    data.update({f"app/web/{p.relative_to(web).as_posix()}": p for p in web.rglob("*") if p.is_file()})
+    assert {"app/web/index.html", "app/web/sw.js", "app/web/icons/maskable-512.png"} <= set(data)
     with zipfile.ZipFile(wheel) as whl:
         names = set(whl.namelist())
         assert set(modules) - names == set()

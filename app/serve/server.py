@@ -16,7 +16,7 @@ from pathlib import Path
 from aiohttp import web
 
 from app.resources import SHADER_DIR
-from app.serve import routes, sockets
+from app.serve import install, routes, sockets
 from app.serve.appkeys import BACKDROP_PNGS, FEED, FILES, PAGE_LINES, STATS, TOKEN
 from app.serve.feed import Feed
 from app.serve.logs import RateLimitedLog, quiet_bad_requests
@@ -37,7 +37,7 @@ def make_app(feed: Feed, token: str | None = None, session_dir=None,
     app[FILES] = SessionFiles(feed, session_dir)
     app[BACKDROP_PNGS] = {}
     app[PAGE_LINES] = RateLimitedLog()
-    app.router.add_get("/", routes.folder_files(web_dir, "index.html"))
+    install.routes_for(app, web_dir)  # the page, its manifest and its worker (/sw.js)
     app.router.add_get("/web/{path:.*}", routes.folder_files(web_dir))
     app.router.add_get("/shaders/{path:.*}", routes.folder_files(SHADER_DIR))
     app.router.add_get("/backdrops/{name}.png", routes.backdrop)

@@ -78,7 +78,8 @@ function connect(retry) {
   const ws = new WebSocket(url);
   ws.binaryType = "arraybuffer";
   state.socket = ws;
-  ws.onopen = () => { retry = RETRY_FIRST; };
+  let opened = false;
+  ws.onopen = () => { retry = RETRY_FIRST; opened = true; };
   ws.onmessage = (event) => {
     state.messages += 1;
     if (typeof event.data === "string") return onText(JSON.parse(event.data));
@@ -104,6 +105,8 @@ function connect(retry) {
     state.socket = null;
     if (event.code === 1008 || event.code === 1009 || event.code === 4403) {
       status(`refused: ${event.reason || event.code}`);
+    } else if (!opened && !event.reason) {  // gone (the page may have opened from the cache)
+      status("frost serve is not reachable: trying again");
     } else {
       status(`reconnecting (${event.reason || "connection lost"})`);
     }
