@@ -9,9 +9,11 @@ from __future__ import annotations
 
 import base64
 import io
+import json
 import re
 import shutil
 import socket
+import urllib.error
 import urllib.request
 from pathlib import Path
 
@@ -113,6 +115,14 @@ def test_chromium_finds_the_page_installable(pw, servers, tmp_path, host):
     s = servers(tmp_path, "--host", host)
     assert (s.token is None) == (host == "127.0.0.1")
     assert installability(pw, s.local, tmp_path / "profile") == []
+    if s.token:  # the app's files need the token like every request; the app keeps it
+        bare = f"http://127.0.0.1:{s.port}/"
+        for path in ("sw.js", "manifest.webmanifest", "web/icons/icon-192.png", "web/icons/maskable-512.png"):
+            with pytest.raises(urllib.error.HTTPError) as err:
+                urllib.request.urlopen(bare + path, timeout=10)
+            assert err.value.code == 403, path
+        with urllib.request.urlopen(f"{bare}manifest.webmanifest?token={s.token}", timeout=10) as r:
+            assert json.loads(r.read())["start_url"] == f"/?token={s.token}"
 
 
 def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, servers, tmp_path):
