@@ -37,9 +37,11 @@ def free_port() -> int:
 
 
 def persistent(pw, profile: Path, **context):
-    """Chromium with a profile kept in `profile` (not incognito), as a phone."""
+    """Chromium with a profile kept in `profile` (not incognito), as a phone (`context`:
+    more of launch_persistent_context's options; `args` are added to the WebGL ones)."""
+    args = [*ANGLE["swiftshader"], *context.pop("args", [])]
     return pw.chromium.launch_persistent_context(str(profile), executable_path=CHROMIUM, headless=True,
-                                                 args=ANGLE["swiftshader"], **{**PHONE, **context})
+                                                 args=args, **{**PHONE, **context})
 
 
 def installability_errors(context, page) -> list[dict]:

@@ -64,12 +64,14 @@ function cached(request) {
 
 async function page(event) {
   const network = fetch(event.request);
+  network.catch(() => {});  // (answered by the cache meanwhile: no unhandled rejection)
   const late = new Promise((resolve) => setTimeout(resolve, NAVIGATION_WAIT, null));
   let response = null;
   try {
     response = await Promise.race([network, late]);
   } catch { /* the server is not reachable */ }
   const client = event.resultingClientId;
+  await forgetClosed();
   if (response) {
     const same = response.headers.get("X-Frost-Shell") === SHELL.hash;
     if (client) sources.set(client, same ? "cache" : "network");
@@ -79,6 +81,13 @@ async function page(event) {
   if (!kept) return network;  // nothing cached yet: the network's answer, or its error
   if (client) sources.set(client, "cache");
   return kept;
+}
+
+// The pages gone since (a page's id is never used again).
+async function forgetClosed() {
+  if (sources.size < 32) return;
+  const open = new Set((await self.clients.matchAll()).map((c) => c.id));
+  for (const id of sources.keys()) if (!open.has(id)) sources.delete(id);
 }
 
 async function file(event) {
