@@ -10,7 +10,6 @@ from __future__ import annotations
 import base64
 import io
 import json
-import re
 import shutil
 import socket
 import urllib.error
@@ -107,9 +106,15 @@ def status(page) -> str:
     return page.evaluate("document.getElementById('status').textContent")
 
 
+def worker_shell(s: Serve) -> dict:
+    """The first line of the server's worker: {"hash": ..., "files": [...]}."""
+    query = f"?token={s.token}" if s.token else ""
+    with urllib.request.urlopen(f"http://127.0.0.1:{s.port}/sw.js{query}", timeout=10) as r:
+        return json.loads(r.read().decode().split("\n", 1)[0][len("const SHELL = "):-1])
+
+
 def shell_hash(s: Serve) -> str:
-    with urllib.request.urlopen(f"http://127.0.0.1:{s.port}/sw.js", timeout=10) as r:
-        return re.search(r'"hash": "(\w+)"', r.read().decode()).group(1)
+    return worker_shell(s)["hash"]
 
 
 @pytest.mark.parametrize("host", ["127.0.0.1", "0.0.0.0"])
@@ -134,11 +139,20 @@ def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, server
     try:
         page = open_page(ctx, s.local)
         wait_for_shell(page)
+        files = worker_shell(s)["files"]
+        assert page.evaluate("fetch('meta').then((r) => r.ok)")  # as the page's screenshot asks it
         s.stop()
         page.reload()  # no server: the page, its modules and shaders from the cache
         page.wait_for_function(f"document.getElementById('status').textContent.includes('{NOT_REACHABLE}')",
                                timeout=30_000)
         assert page.evaluate("window.frost.error") is None and page.evaluate("frost.sources") is not None
+        # The cache holds the shell and nothing else; the live data is the server's alone.
+        kept = page.evaluate("""async () => {
+            const [name] = (await caches.keys()).filter((n) => n.startsWith('frost-shell-'));
+            return (await (await caches.open(name)).keys()).map((r) => new URL(r.url).pathname);
+        }""")
+        assert sorted(kept) == sorted(f"/{f}" for f in files)
+        assert page.evaluate("fetch('meta').then(() => 'answered', () => 'failed')") == "failed"
         page.screenshot(path=str(tmp_path / "offline.png"))
         back = servers(tmp_path, "--port", port)
         assert back.port == s.port
