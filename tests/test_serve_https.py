@@ -229,6 +229,10 @@ def test_the_lan_server_answers_over_https_with_the_kept_authoritys_certificate_
     leaf.verify_directly_issued_by(ca)
     hostname = socket.gethostname().lower()
     assert {"127.0.0.1", "localhost", hostname} <= set(trust.san_names(leaf))
+    # the address the terminal printed for a phone (the LAN's) verifies too
+    printed = re.search(r"https://([^/:]+):", first.https).group(1)
+    assert printed in trust.san_names(leaf)
+    presented(first.https_port, ctx, name=printed)
     local = f"127.0.0.1:{first.https_port}"
 
     async def first_run():
