@@ -39,7 +39,8 @@ def serve(args, params) -> int:
         return 2
     if args.window:
         return serve_with_window(args, params, token, https, ca_der)
-    feed = Feed(params, args.seed, args.touch, args.melt_radius, args.background)
+    feed = Feed(params, args.seed, args.touch, args.melt_radius, args.background,
+                preset=args.preset or "")
     app = make_app(feed, token, args.session_dir, ca_der=ca_der)
     status = asyncio.run(_serve(app, args.host, args.port, token, args.max_seconds, https))
     if status == 128 + signal.SIGINT:  # closed and saved: the command line says so, as
