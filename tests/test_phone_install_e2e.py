@@ -10,6 +10,7 @@ from __future__ import annotations
 import base64
 import io
 import json
+import os
 import shutil
 import socket
 import urllib.error
@@ -132,15 +133,38 @@ def test_chromium_finds_the_page_installable(pw, servers, tmp_path, host):
             assert json.loads(r.read())["start_url"] == f"/?token={s.token}"
 
 
-def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, servers, tmp_path):
+def test_chromium_finds_the_https_page_installable(pw, tmp_path):
+    """On the LAN's HTTPS address (the machine's host name, mapped to this machine: no
+    loopback name), in a Chromium whose NSS database trusts the kept authority."""
+    from test_serve_https import Serve as LanServe
+    from test_serve_https import browser_problem as https_problem
+    from test_serve_https import trusting_home
+
+    if https_problem() is not None:
+        pytest.skip(str(https_problem()))
+    s = LanServe(tmp_path / "config")
+    try:
+        name = socket.gethostname().lower()
+        home = trusting_home(tmp_path / "home", tmp_path / "config" / "frost" / "ca.crt")
+        url = f"https://{name}:{s.https_port}/?token={s.token}"
+        assert installability(pw, url, tmp_path / "profile", env={**os.environ, "HOME": str(home)},
+                              args=[f"--host-resolver-rules=MAP {name} 127.0.0.1"]) == []
+    finally:
+        s.stop()
+
+
+# Loopback, and the LAN's server (its token kept across runs) opened on this machine.
+@pytest.mark.parametrize("host", ["127.0.0.1", "0.0.0.0"])
+def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, servers, tmp_path, host):
     port = str(free_port())
-    s = servers(tmp_path, "--port", port)
+    s = servers(tmp_path, "--port", port, "--host", host, "--no-https")
     ctx = persistent(pw, tmp_path / "profile")
     try:
         page = open_page(ctx, s.local)
         wait_for_shell(page)
         files = worker_shell(s)["files"]
-        assert page.evaluate("fetch('meta').then((r) => r.ok)")  # as the page's screenshot asks it
+        meta = "fetch('meta' + location.search).then((r) => r.ok, () => 'failed')"
+        assert page.evaluate(meta) is True  # as the page's screenshot asks it
         s.stop()
         page.reload()  # no server: the page, its modules and shaders from the cache
         page.wait_for_function(f"document.getElementById('status').textContent.includes('{NOT_REACHABLE}')",
@@ -152,10 +176,10 @@ def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, server
             return (await (await caches.open(name)).keys()).map((r) => new URL(r.url).pathname);
         }""")
         assert sorted(kept) == sorted(f"/{f}" for f in files)
-        assert page.evaluate("fetch('meta').then(() => 'answered', () => 'failed')") == "failed"
+        assert page.evaluate(meta) == "failed"
         page.screenshot(path=str(tmp_path / "offline.png"))
-        back = servers(tmp_path, "--port", port)
-        assert back.port == s.port
+        back = servers(tmp_path, "--port", port, "--host", host, "--no-https")
+        assert (back.port, back.token) == (s.port, s.token)
         # main.js retries with backoff (at most 8 s apart): synced again, nothing reloaded
         page.wait_for_function("frost.synced && frost.frames > 0 && frost.shownBackdrop", timeout=60_000)
         assert status(page) == ""

@@ -6,6 +6,7 @@ import { Program, Renderer, fetchShaders } from "./renderer.js";
 import { Pointers } from "./input.js";
 import { Menu } from "./menu.js";
 import { withText } from "./png.js";
+import { makeApp } from "./makeapp.js";
 
 const SCREEN = [760, 1280];
 const RETRY_FIRST = 250, RETRY_MOST = 8000;  // ms between reconnects: doubling up to this
@@ -52,6 +53,7 @@ async function main() {
   };
   state.menu = new Menu(document.getElementById("menu"), send, screenshot);
   state.menu.pointers = pointers;
+  makeApp(document.getElementById("menu"), query, state);
   addEventListener("keydown", onKey);
   addEventListener("resize", () => { state.dirty = true; });
   // A phone may take the GPU away (in the background): start again when it gives it back,
