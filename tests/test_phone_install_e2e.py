@@ -133,9 +133,11 @@ def test_chromium_finds_the_page_installable(pw, servers, tmp_path, host):
             assert json.loads(r.read())["start_url"] == f"/?token={s.token}"
 
 
-def test_chromium_finds_the_https_page_installable(pw, tmp_path):
+def test_chromium_finds_the_https_page_installable_and_it_opens_without_the_server(pw, tmp_path):
     """On the LAN's HTTPS address (the machine's host name, mapped to this machine: no
-    loopback name), in a Chromium whose NSS database trusts the kept authority."""
+    loopback name), in a Chromium whose NSS database trusts the kept authority. Opened from
+    the cache, the page says the server is not reachable, and not the certificate's steps
+    an HTTPS page whose socket never opened shows (this phone trusted it, to cache it)."""
     from test_serve_https import Serve as LanServe
     from test_serve_https import browser_problem as https_problem
     from test_serve_https import trusting_home
@@ -147,8 +149,22 @@ def test_chromium_finds_the_https_page_installable(pw, tmp_path):
         name = socket.gethostname().lower()
         home = trusting_home(tmp_path / "home", tmp_path / "config" / "frost" / "ca.crt")
         url = f"https://{name}:{s.https_port}/?token={s.token}"
-        assert installability(pw, url, tmp_path / "profile", env={**os.environ, "HOME": str(home)},
-                              args=[f"--host-resolver-rules=MAP {name} 127.0.0.1"]) == []
+        ctx = persistent(pw, tmp_path / "profile", env={**os.environ, "HOME": str(home)},
+                         args=[f"--host-resolver-rules=MAP {name} 127.0.0.1"])
+        try:
+            page = open_page(ctx, url)
+            assert installability_errors(ctx, page) == []
+            wait_for_shell(page)
+            s.stop()
+            page.reload()
+            page.wait_for_function("window.frostInstall.openedOffline === true", timeout=30_000)
+            page.wait_for_timeout(10_000)  # past makeapp.js's 8 s without a socket
+            assert NOT_REACHABLE in status(page)
+            assert page.evaluate("window.frost.makeApp.shown") is None
+            assert not page.locator("#makeapp").is_visible()
+            page.screenshot(path=str(tmp_path / "https-offline.png"))
+        finally:
+            ctx.close()
     finally:
         s.stop()
 

@@ -18,4 +18,21 @@ export async function register() {
   }
 }
 
+// Whether the worker opened this page from its cache because the server did not answer:
+// then `frostInstall.openedOffline` (the status line says the server is not reachable, and the
+// HTTPS page's "no connection" steps stay hidden: a page the phone once cached over HTTPS
+// trusts the certificate, so it is not the cause).
+function askHowOpened() {
+  const worker = navigator.serviceWorker && navigator.serviceWorker.controller;
+  if (!worker) return;
+  navigator.serviceWorker.addEventListener("message", (event) => {
+    const data = event.data;
+    if (data && "openedOffline" in data) window.frostInstall.openedOffline = data.openedOffline;
+  });
+  navigator.serviceWorker.startMessages();
+  worker.postMessage("opened-how?");
+}
+
+window.frostInstall = { openedOffline: null };  // (main.js's `frost` may come later)
+askHowOpened();
 register();

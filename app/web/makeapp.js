@@ -54,7 +54,7 @@ export function makeApp(menu, query, state) {
 
   if (secure) {
     setTimeout(() => {
-      if (state.hellos) return;
+      if (state.hellos || window.frostInstall?.openedOffline) return;  // (the cache opened it: install.js)
       show("never-opened");
       // Hidden again by itself once the socket opens after all (trusted, or the server back).
       const watch = setInterval(() => {

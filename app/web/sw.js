@@ -19,6 +19,7 @@ const ROOT = new URL("./", self.location.href);
 const PATHS = new Set(SHELL.files.map((file) => new URL(file, ROOT).pathname));
 const NAVIGATION_WAIT = 4000;
 const sources = new Map();  // a page (client id) -> "cache" | "network"
+const unanswered = new Set();  // the pages opened from the cache as the server did not answer
 
 self.addEventListener("install", (event) => {
   event.waitUntil(fill().then(() => self.skipWaiting()));
@@ -79,7 +80,10 @@ async function page(event) {
   }
   const kept = await cached(event.request);
   if (!kept) return network;  // nothing cached yet: the network's answer, or its error
-  if (client) sources.set(client, "cache");
+  if (client) {
+    sources.set(client, "cache");
+    unanswered.add(client);
+  }
   return kept;
 }
 
@@ -88,7 +92,16 @@ async function forgetClosed() {
   if (sources.size < 32) return;
   const open = new Set((await self.clients.matchAll()).map((c) => c.id));
   for (const id of sources.keys()) if (!open.has(id)) sources.delete(id);
+  for (const id of unanswered) if (!open.has(id)) unanswered.delete(id);
 }
+
+// A page asks how it was opened (install.js): from the cache because the server did not
+// answer, or not.
+self.addEventListener("message", (event) => {
+  if (event.data === "opened-how?" && event.source) {
+    event.source.postMessage({ openedOffline: unanswered.has(event.source.id) });
+  }
+});
 
 async function file(event) {
   const source = sources.get(event.clientId);
