@@ -27,7 +27,9 @@ self.addEventListener("install", (event) => {
 
 // The shell into a new cache; the page's own request last: its hash must still be this
 // worker's, or the files fetched may be of two versions (the install fails; the browser
-// tries again at the next visit).
+// tries again at the next visit, and the next worker to take over deletes what is left:
+// never deleted here, as a worker of the same hash under another token's address fills
+// the cache the active one serves, with the same bytes).
 async function fill() {
   const cache = await caches.open(CACHE);
   const files = SHELL.files.filter((f) => f !== "").concat([""]);
@@ -35,7 +37,6 @@ async function fill() {
     const response = await fetch(new Request(new URL(file + QUERY, ROOT), { cache: "no-store" }));
     if (!response.ok) throw new Error(`${file || "/"}: HTTP ${response.status}`);
     if (file === "" && response.headers.get("X-Frost-Shell") !== SHELL.hash) {
-      await caches.delete(CACHE);
       throw new Error("the page changed while it was being cached");
     }
     await cache.put(new URL(file, ROOT).href, response);
