@@ -68,6 +68,19 @@ def test_touches_join_the_area_that_holds_them_and_water_stays_in_budget(points,
     assert len(sim.areas) == len(areas)
 
 
+def test_the_water_a_touch_brings_stays_in_the_budget():
+    # Two areas share a budget of 200: 100 walkers each, both pools short of humidity
+    # 150. A touch into the first brings its ring (touch_water 48) from its own walkers:
+    # the budget has no room for new ones.
+    params = Params.preset("fern").replace(water_budget=200, humidity=150)
+    assert params.touch_water == 48
+    sim = FrostSim(params, seed=0)
+    assert [sim.touch(200.0, 300.0), sim.touch(560.0, 1000.0)] == [0, 1]
+    assert np.bincount(sim.water_area).tolist() == [100, 100]
+    assert sim.touch(205.0, 300.0) == 0
+    assert np.bincount(sim.water_area).tolist() == [100, 100]
+
+
 def test_batch_planting_assigns_areas_like_touches_one_by_one():
     rng = np.random.default_rng(3)
     pts = rng.uniform((0, 0), (760, 1280), (300, 2))
