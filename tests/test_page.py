@@ -288,10 +288,13 @@ def test_the_pages_metadata_json_reads_back_as_pythons_would_write_it(browser):
         written, zero = page.page.evaluate("""async ([values]) => {
             const m = await import('./web/png.js');
             return [m.pyJson(values), m.pyJson({zero: -0, list: [-0, 1]})]; }""", [values])
+        floats = [1e-7, 1.5e-7, 1e-6, 1e-5, 0.0001, 0.000123, 123.456, 2.5e15 + 0.5, 1.5e-300,
+                  -3.25e-9, 0.1 + 0.2, 1 / 3, 5e-324, 1.7976931348623157e308]
+        spelled = page.page.evaluate("""async ([xs]) => {
+            const m = await import('./web/png.js'); return m.pyJson(xs); }""", [floats])
     assert written == json.dumps(values)
-    back = json.loads(zero)
-    assert back == {"zero": 0.0, "list": [0.0, 1]}
-    assert type(back["zero"]) is float and type(back["list"][0]) is float
+    assert zero == json.dumps({"zero": -0.0, "list": [-0.0, 1]})
+    assert spelled == json.dumps(floats)  # Python's repr of each (none whole: a whole one is an int)
 
 
 def test_screenshot_png_carries_the_desktops_keys(browser, grown):
