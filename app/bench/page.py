@@ -8,6 +8,7 @@ messages of the protocol (app.serve.protocol) for the deltas the desktop rendere
 
 python -m app.bench.page [--preset fern] [--look paper] [--ticks 300] [--frames 60]
     [--out DIR]
+python -m app.bench.page --phone-app [--out DIR]   (app/bench/phoneapp.py)
 """
 
 from __future__ import annotations
@@ -340,12 +341,18 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.bench.page") 
                         "OpenGL through EGL (gl-egl)")
     p.add_argument("--taps", type=count, help="instead: touch to first drawn growth through frost "
                    "serve on loopback, over this many taps")
+    p.add_argument("--phone-app", action="store_true", help="instead: the page as a phone app through "
+                   "frost serve (black share of the screen, tilt, screenshots in --out as .webp)")
     p.add_argument("--out", help="write desktop.png, page.png, difference.png here")
     args = p.parse_args(argv)
     problem = browser_problem()
     if problem:
         print(f"frost: error: {problem}")
         return 2
+    if args.phone_app:
+        from app.bench.phoneapp import run as phone_app
+
+        return phone_app(args.out, args.angle)
     if args.taps:
         growth, frost = touch_latency(args.taps, args.preset)
         for what, ms in (("growth", growth), ("frost (the seed's own ice)", frost)):
