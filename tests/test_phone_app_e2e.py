@@ -304,3 +304,52 @@ def test_a_taps_first_frost_buzzes_unless_switched_off(serve, phones):
     page.reload()  # remembered
     page.wait_for_function("window.frost && frost.synced", timeout=30_000)
     assert not page.is_checked("#buzz")
+
+
+# iOS's DeviceOrientationEvent.requestPermission as a stub: counts its calls and answers
+# window.answer (a refusal at first, as iOS answers a page that asks without a tap).
+ASK = ("window.answer = 'denied'; window.asked = 0; DeviceOrientationEvent.requestPermission ="
+       " async () => { window.asked += 1; return window.answer; }")
+
+
+def test_where_the_browser_asks_the_switch_asks(serve, phones):
+    """iOS grants motion sensors only from a tap: tried at load and refused, the switch
+    stays off without a word; turned on, it asks again, and a refusal is said; granted, the
+    tilt moves the light."""
+    s = serve()
+    page = phones(s.local, init=ASK)
+    page.wait_for_function("window.asked === 1")
+    assert not page.evaluate("frost.phone.tilt.on")
+    page.click("#open")
+    assert not page.is_checked("#tilt") and page.is_hidden("#tilt-why")
+    page.click("#tilt")  # a tap: asked, refused
+    page.wait_for_function("window.asked === 2")
+    page.wait_for_function("document.getElementById('tilt-why').textContent.includes('refused')")
+    assert not page.is_checked("#tilt") and not page.evaluate("frost.phone.tilt.on")
+    page.evaluate("window.answer = 'granted'")
+    page.click("#tilt")
+    page.wait_for_function("window.asked === 3 && frost.phone.tilt.on")
+    assert page.is_checked("#tilt") and page.is_hidden("#tilt-why")
+    cdp = page.context.new_cdp_session(page)
+    _tilt(cdp, 50)
+    page.wait_for_function("frost.phone.tilt.rest && frost.phone.tilt.rest.beta === 50")
+    _tilt(cdp, 80)
+    page.wait_for_function("frost.phone.tilt.drawn[1] === 30")
+    assert page.evaluate("frost.renderer.light") != page.evaluate("frost.serverLight")
+
+
+def test_the_menu_and_the_status_line_keep_clear_of_notches(serve, phones):
+    """Safe-area insets as a notched phone's (Chromium's override over CDP): the menu's
+    button below the notch and inside a side inset, the status line above the home bar."""
+    s = serve()
+    page = phones(s.local)
+    page.evaluate("document.getElementById('status').textContent = 'reconnecting'")
+    box = "id => document.getElementById(id).getBoundingClientRect().toJSON()"
+    bare = page.evaluate(box, "menu"), page.evaluate(box, "status")
+    assert bare[0]["top"] == 8 and bare[0]["right"] == 390 - 8 and bare[1]["bottom"] == 844 - 12
+    cdp = page.context.new_cdp_session(page)
+    insets = {"top": 47, "bottom": 34, "left": 0, "right": 30}
+    cdp.send("Emulation.setSafeAreaInsetsOverride", {"insets": insets})
+    page.wait_for_function("document.getElementById('menu').getBoundingClientRect().top === 47")
+    menu, status = page.evaluate(box, "menu"), page.evaluate(box, "status")
+    assert menu["right"] == 390 - 30 and status["bottom"] == 844 - 34 - 12 and status["height"] > 0
