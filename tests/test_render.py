@@ -403,5 +403,6 @@ def test_frost_info_says_what_a_bug_report_needs(limits):
     assert "no display" in said["GLFW"]
     if limits:  # the Mac's: 4.1, and the page's ES 3.00 refused on the desktop
         assert said["headless OpenGL"].startswith("4.1") and "es: refused" in said["its shaders"]
+        assert "\\n" not in said["its shaders"] and "main" in said["its shaders"]  # the error
     else:
         assert "core: compiles" in said["its shaders"]

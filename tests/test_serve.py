@@ -503,6 +503,7 @@ def test_frost_serve_from_the_command_line(tmp_path, frost):
             from aiohttp import ClientSession
             async with ClientSession() as http, http.ws_connect(url + "ws") as ws:
                 await read_until(ws, page, lambda: page.snapshots >= 1)
+                assert page.texts[0]["preset"] == "c-2"  # as asked (not its twin b-2)
                 await ws.send_json({"type": "touch", "x": CENTRE[0], "y": CENTRE[1]})
                 await read_until(ws, page, lambda: near(page, CENTRE) and page.tick > 30)
                 await pause(ws, page)

@@ -59,8 +59,15 @@ def _compiles(ctx) -> str:
             load_program(ctx, "fullscreen.vert", "background.frag", dialect=dialect).release()
             said.append(f"{dialect}: compiles")
         except Exception as err:  # moderngl raises its own Error with the compiler's log
-            said.append(f"{dialect}: refused ({one_line(str(err))[:80]})")
+            said.append(f"{dialect}: refused ({compiler_says(str(err))[:80]})")
     return "; ".join(said)
+
+
+def compiler_says(log: str) -> str:
+    """A compiler's log in one line: its lines that say an error (the headings and rules
+    around them dropped), else the whole log's words."""
+    errors = [line.strip() for line in log.splitlines() if "error" in line.lower()]
+    return one_line("; ".join(errors) if errors else " ".join(log.split()))
 
 
 def _screen() -> list[tuple[str, str]]:

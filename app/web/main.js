@@ -6,6 +6,7 @@ import { Program, Renderer, fetchShaders } from "./renderer.js";
 import { Pointers } from "./input.js";
 import { Menu } from "./menu.js";
 import { withText } from "./png.js";
+import { makeApp } from "./makeapp.js";
 import { paneRect as fitPane, visiblePane } from "./fit.js";
 import { PhoneApp } from "./phone.js";
 
@@ -54,6 +55,7 @@ async function main() {
   };
   state.menu = new Menu(document.getElementById("menu"), send, screenshot);
   state.menu.pointers = pointers;
+  makeApp(document.getElementById("menu"), query, state);
   state.phone = new PhoneApp(state, document.getElementById("menu"));
   addEventListener("keydown", onKey);
   addEventListener("resize", () => { state.dirty = true; });
