@@ -318,16 +318,16 @@ def test_screenshot_png_carries_the_desktops_keys(browser, grown):
 
 
 def test_fingers_become_touches_and_melts_in_screen_px(browser):
-    """A phone (390x844 CSS px, 3 device px each): the pane is letterboxed and drawn at the
-    device's resolution; a tap sends a touch at the pane's px under it, a second finger
-    melts, a drag sends moves, each finger its own id."""
+    """A phone (390x844 CSS px, 3 device px each): the pane covers the screen (cropped left
+    and right) and is drawn at the device's resolution; a tap sends a touch at the pane's px
+    under it, a second finger melts, a drag sends moves, each finger its own id."""
     params = Params.preset("fern")
     with Page(hello(params), [], viewport=(390, 844), scale=3, browser=browser, touch=True) as page:
         size = page.page.evaluate("[frost.canvasSize(), frost.pane()]")
         assert size[0] == [1170, 2532]
-        pane = size[1]  # device px: 1170 wide, 760 * 1170 / 760 ... letterboxed top and bottom
-        assert pane["w"] == 1170 and pane["h"] == round(1280 * 1170 / 760)
-        assert pane["y"] == (2532 - pane["h"]) // 2
+        pane = size[1]  # device px: 2532 / 1280 = 1.978125 a pane px; 1503.4 wide, cropped
+        assert pane["h"] == 2532 and pane["w"] == 1503 and pane["scale"] == 1.978125
+        assert pane["y"] == 0 and pane["x"] == (1170 - 1503) // 2 == -167
         # CSS px of pane px (x, y).
         css = lambda x, y: ((pane["x"] + x * pane["scale"]) / 3, (pane["y"] + y * pane["scale"]) / 3)  # noqa: E731
         cdp = page.context.new_cdp_session(page.page)
@@ -357,11 +357,12 @@ def test_fingers_become_touches_and_melts_in_screen_px(browser):
 
 
 def test_a_click_on_a_landscape_screen_lands_on_the_pane_under_it(browser):
-    """A landscape window (a desktop browser, a phone turned): the pane is letterboxed left
-    and right, so the pane's x offset counts; a click at the pane's px (100, 200) and a right
-    button's drag send those px."""
+    """A landscape window (a desktop browser, a phone turned) with the menu's "whole pane"
+    remembered: the pane is letterboxed left and right, so the pane's x offset counts; a
+    click at the pane's px (100, 200) and a right button's drag send those px."""
     params = Params.preset("fern")
-    with Page(hello(params), [], viewport=(1280, 720), scale=1, browser=browser) as page:
+    with Page(hello(params), [], viewport=(1280, 720), scale=1, browser=browser,
+              init="localStorage.setItem('frost.fit', 'pane')") as page:
         pane = page.page.evaluate("frost.pane()")
         assert pane["y"] == 0 and pane["x"] == (1280 - pane["w"]) // 2 > 300
         css = lambda x, y: (pane["x"] + x * pane["scale"], pane["y"] + y * pane["scale"])  # noqa: E731

@@ -8,6 +8,7 @@ messages of the protocol (app.serve.protocol) for the deltas the desktop rendere
 
 python -m app.bench.page [--preset fern] [--look paper] [--ticks 300] [--frames 60]
     [--out DIR]
+python -m app.bench.page --phone-app [--out DIR]   (app/bench/phoneapp.py)
 """
 
 from __future__ import annotations
@@ -124,14 +125,16 @@ class Page:
 
     def __init__(self, hello_message: dict, messages: list[bytes], viewport=(WIDTH, HEIGHT),
                  scale: float = 1.0, browser=None, touch: bool = False, later=(),
-                 angle: str = "swiftshader", hang_up: bool = True, meta: dict | None = None):
+                 angle: str = "swiftshader", hang_up: bool = True, meta: dict | None = None,
+                 init: str | None = None):
         # `later`: what each later connection gets (with `hang_up` a socket is closed once
         # its messages are sent, while a later connection is to come). `meta`: what GET /meta
-        # answers (as frost serve's), else 404.
+        # answers (as frost serve's), else 404. `init`: a script run before the page's own
+        # (e.g. a choice in localStorage).
         self.hello, self.messages, self.meta = hello_message, messages, meta
         self.connections, self.hang_up = [messages, *later], hang_up
         self.viewport, self.scale, self.touch = viewport, scale, touch
-        self.browser, self.angle = browser, angle
+        self.browser, self.angle, self.init = browser, angle, init
         self._pw: Any = None  # playwright, when this page started its own
         self.sent: list[dict] = []
 
@@ -144,6 +147,8 @@ class Page:
         self.context = self.browser.new_context(
             viewport={"width": self.viewport[0], "height": self.viewport[1]},
             device_scale_factor=self.scale, has_touch=self.touch, is_mobile=self.touch)
+        if self.init:
+            self.context.add_init_script(self.init)
         self.page = self.context.new_page()
         self.page.route(f"{ORIGIN}/**", self._serve)
         self.page.route_web_socket(f"{ORIGIN.replace('http', 'ws')}/ws**", self._socket)
@@ -336,12 +341,18 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.bench.page") 
                         "OpenGL through EGL (gl-egl)")
     p.add_argument("--taps", type=count, help="instead: touch to first drawn growth through frost "
                    "serve on loopback, over this many taps")
+    p.add_argument("--phone-app", action="store_true", help="instead: the page as a phone app through "
+                   "frost serve (black share of the screen, tilt, screenshots in --out as .webp)")
     p.add_argument("--out", help="write desktop.png, page.png, difference.png here")
     args = p.parse_args(argv)
     problem = browser_problem()
     if problem:
         print(f"frost: error: {problem}")
         return 2
+    if args.phone_app:
+        from app.bench.phoneapp import run as phone_app
+
+        return phone_app(args.out, args.angle)
     if args.taps:
         growth, frost = touch_latency(args.taps, args.preset)
         for what, ms in (("growth", growth), ("frost (the seed's own ice)", frost)):
