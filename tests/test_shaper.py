@@ -280,7 +280,8 @@ def test_a_server_that_is_not_there_closes_the_client():
 
 
 @pytest.mark.parametrize("argv, says", [
-    (["--taps", "3", "--network", "5g"], "argument --network: no network profile '5g' (choose from wifi, 4g)"),
+    (["--taps", "3", "--network", "5g"],
+     "argument --network: no network profile '5g' (choose from wifi, 4g)"),
     (["--taps", "3", "--cpu-slowdown", "0"], "argument --cpu-slowdown: '0' must be a number from 1 to 20"),
     (["--join", "2", "--cpu-slowdown", "x"], "argument --cpu-slowdown: 'x' must be a number from 1 to 20"),
     (["--network", "wifi"], "--network and --cpu-slowdown go with --taps, --join or --scribble"),

@@ -19,6 +19,7 @@ requestAnimationFrame (each frame's main-thread time, the tick it showed) and We
 from __future__ import annotations
 
 import json
+import os
 import re
 import signal
 import subprocess
@@ -30,6 +31,7 @@ import urllib.request
 from collections.abc import Iterator
 from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -84,9 +86,13 @@ def served(preset: str, network: Profile | None = None) -> Iterator[Served]:
     """`frost serve --preset P` on a free loopback port (in a child process), with the
     shaper in front of it when `network` is given; stopped (SIGINT) at the end."""
     with tempfile.TemporaryDirectory() as tmp, ExitStack() as stack:
+        # The server of this checkout (the one this module is part of), whatever is installed.
+        root = str(Path(__file__).resolve().parents[2])
+        env = {**os.environ, "PYTHONPATH": os.pathsep.join(
+            [root, *filter(None, [os.environ.get("PYTHONPATH")])]), "PYTHONUNBUFFERED": "1"}
         proc = subprocess.Popen([sys.executable, "-m", "app", "serve", "--port", "0",
-                                 "--preset", preset, "--session-dir", tmp],
-                                cwd=tmp, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+                                 "--preset", preset, "--session-dir", tmp], cwd=tmp, env=env,
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         log: list[str] = []
         try:
             url = None
@@ -121,16 +127,35 @@ def server_tick(s: Served) -> int:
         return int(json.load(r)["tick"])
 
 
-def phone(browser, cpu_slowdown: float = 1.0):
-    """(context, page, CDP session): a new phone with the probe, its CPU slowed `cpu_slowdown`
-    times (Chromium's Emulation.setCPUThrottlingRate) from before the page loads."""
-    context = browser.new_context(**PHONE)
-    page = context.new_page()
-    page.add_init_script(PROBE)
-    cdp = context.new_cdp_session(page)
-    if cpu_slowdown != 1:
-        cdp.send("Emulation.setCPUThrottlingRate", {"rate": cpu_slowdown})
-    return context, page, cdp
+class Phone:
+    """A new phone (a browser context) with the probe and its page, its CPU slowed
+    `cpu_slowdown` times (Chromium's Emulation.setCPUThrottlingRate) from before the page
+    loads; a context manager."""
+
+    def __init__(self, browser, cpu_slowdown: float = 1.0):
+        self.context = browser.new_context(**PHONE)
+        self.page = self.context.new_page()
+        self.page.add_init_script(PROBE)
+        self.cdp = self.context.new_cdp_session(self.page)
+        self.rate = cpu_slowdown
+        self._slow()
+
+    def _slow(self) -> None:
+        if self.rate != 1:
+            self.cdp.send("Emulation.setCPUThrottlingRate", {"rate": self.rate})
+
+    def open(self, url: str, until: str = "window.__probe && __probe.synced !== null") -> None:
+        """Open `url` and wait for `until` (default: the first frame drawn synced). The rate
+        is set again once the page is there: a navigation may move it to a new renderer."""
+        self.page.goto(url)
+        self._slow()
+        self.page.wait_for_function(until, timeout=120_000)
+
+    def __enter__(self) -> Phone:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.context.close()
 
 
 def css_point(page, x: float, y: float) -> tuple[float, float]:
@@ -144,31 +169,23 @@ def taps(browser, s: Served, n: int, cpu_slowdown: float = 1.0,
     """Ms from each of `n` taps (`gap_s` apart at `tap_spots`) to the frame that first drew
     growth near it, and to the one that first drew frost near it (the page's own timing:
     frost.latencies, frost.frostLatencies)."""
-    context, page, _ = phone(browser, cpu_slowdown)
-    try:
-        page.goto(s.url)
-        page.wait_for_function("window.frost && frost.synced", timeout=120_000)
+    with Phone(browser, cpu_slowdown) as phone:
+        page = phone.page
+        phone.open(s.url)
         for x, y in tap_spots(n):
             page.touchscreen.tap(*css_point(page, x, y))
             page.wait_for_timeout(gap_s * 1000)
         got = page.evaluate("[frost.latencies, frost.frostLatencies || []]")
-    finally:
-        context.close()
     return np.asarray(got[0]), np.asarray(got[1])
 
 
 def join(browser, s: Served, cpu_slowdown: float = 1.0) -> dict:
     """One page opened on the server's pane: ms from the navigation's start to its socket
     open and to the first frame drawn with the whole snapshot; the bytes it received by then."""
-    context, page, _ = phone(browser, cpu_slowdown)
-    try:
-        page.goto(s.url)
-        page.wait_for_function("window.__probe && __probe.synced !== null", timeout=120_000)
-        got = page.evaluate("({opened: __probe.opened, synced: __probe.synced, bytes: frost.bytes,"
-                            " tick: frost.tick})")
-    finally:
-        context.close()
-    return got
+    with Phone(browser, cpu_slowdown) as phone:
+        phone.open(s.url)
+        return phone.page.evaluate("({opened: __probe.opened, synced: __probe.synced,"
+                                   " bytes: frost.bytes, tick: frost.tick})")
 
 
 def strokes(seconds: float, seed: int = 0) -> list[tuple[float, float, float]]:
@@ -194,10 +211,9 @@ def scribble(browser, s: Served, seconds: float, cpu_slowdown: float = 1.0) -> d
     """A finger dragged over the pane for `seconds` (touch events through CDP, as the
     page's own tests send them, each sent at its time or skipped when the page is behind),
     and what the page did meanwhile."""
-    context, page, cdp = phone(browser, cpu_slowdown)
-    try:
-        page.goto(s.url)
-        page.wait_for_function("window.__probe && __probe.synced !== null", timeout=120_000)
+    with Phone(browser, cpu_slowdown) as phone:
+        page, cdp = phone.page, phone.cdp
+        phone.open(s.url)
         hellos = page.evaluate("frost.hellos")
         page.evaluate("__probe.frames = []; __probe.ticks = []; __probe.resyncs = 0")
         start_tick = server_tick(s)
@@ -226,8 +242,6 @@ def scribble(browser, s: Served, seconds: float, cpu_slowdown: float = 1.0) -> d
         end_tick = server_tick(s)
         got = page.evaluate("({frames: __probe.frames, ticks: __probe.ticks, resyncs: __probe.resyncs,"
                             " hellos: frost.hellos, synced: frost.synced, tick: frost.tick})")
-    finally:
-        context.close()
     frames = np.asarray(got["frames"]) if got["frames"] else np.zeros((0, 3))
     received = set(got["ticks"])
     drawn = set(frames[:, 2].astype(int).tolist()) & received

@@ -176,7 +176,16 @@ class Shaper:
         self.handshake = handshake
         self.server: asyncio.Server | None = None
         self.connections: set[asyncio.Task] = set()
-        self.down_bytes = self.up_bytes = 0  # forwarded so far, all connections
+        self.pipes: list[tuple[_Pipe, _Pipe]] = []  # (up, down) of every connection so far
+
+    @property
+    def up_bytes(self) -> int:
+        """Bytes forwarded from the page's side to the server's so far, all connections."""
+        return sum(up.bytes for up, _ in self.pipes)
+
+    @property
+    def down_bytes(self) -> int:
+        return sum(down.bytes for _, down in self.pipes)
 
     async def start(self) -> Shaper:
         self.server = await asyncio.start_server(self._connection, self.host, self.port)
@@ -208,6 +217,7 @@ class Shaper:
             hold = loop.time() + (2 * p.delay if self.handshake else 0.0)
             up = _Pipe(reader, far_writer, self.up, hold)
             down = _Pipe(far_reader, writer, self.down, hold)
+            self.pipes.append((up, down))
             ways = [asyncio.ensure_future(up.run()), asyncio.ensure_future(down.run())]
             try:
                 # Both ways to their end; a reset (or any failure) on one ends both.
@@ -218,8 +228,6 @@ class Shaper:
             finally:
                 for task_ in ways:
                     task_.cancel()
-                self.up_bytes += up.bytes
-                self.down_bytes += down.bytes
                 for w in (far_writer, writer):
                     w.close()
         except asyncio.CancelledError:
