@@ -47,7 +47,7 @@ FINGER_SPEED = 800.0  # pane px a second: a brisk drag
 MOVE_EVERY = 1 / 60  # s between a finger's moves (a phone reports touches once a frame)
 
 PROBE = """(() => {
-  const probe = { frames: [], ticks: [], resyncs: 0, opened: null, synced: null };
+  const probe = { frames: [], ticks: [], handled: [], resyncs: 0, opened: null, synced: null };
   window.__probe = probe;
   const raf = window.requestAnimationFrame.bind(window);
   window.requestAnimationFrame = (callback) => raf((t) => {
@@ -65,10 +65,16 @@ PROBE = """(() => {
     constructor(...args) {
       super(...args);
       this.addEventListener("open", () => { if (probe.opened === null) probe.opened = performance.now(); });
+      let t0 = 0;
       this.addEventListener("message", (e) => {
+        t0 = performance.now();
         if (e.data instanceof ArrayBuffer) probe.ticks.push(new DataView(e.data).getUint32(4, true));
         else if (typeof e.data === "string" && JSON.parse(e.data).type === "resync") probe.resyncs += 1;
       });
+      // After the page's own handler (set right after the socket is made): its time.
+      queueMicrotask(() => this.addEventListener("message", (e) => {
+        if (e.data instanceof ArrayBuffer) probe.handled.push(performance.now() - t0);
+      }));
     }
   };
 })();"""
@@ -215,7 +221,7 @@ def scribble(browser, s: Served, seconds: float, cpu_slowdown: float = 1.0) -> d
         page, cdp = phone.page, phone.cdp
         phone.open(s.url)
         hellos = page.evaluate("frost.hellos")
-        page.evaluate("__probe.frames = []; __probe.ticks = []; __probe.resyncs = 0")
+        page.evaluate("__probe.frames = []; __probe.ticks = []; __probe.handled = []; __probe.resyncs = 0")
         start_tick = server_tick(s)
         r = page.evaluate("frost.pane()")
         css = lambda x, y: {"x": (r["x"] + x * r["scale"]) / DPR,  # noqa: E731
@@ -240,7 +246,8 @@ def scribble(browser, s: Served, seconds: float, cpu_slowdown: float = 1.0) -> d
             cdp.send("Input.dispatchTouchEvent", {"type": "touchEnd", "touchPoints": []})
         elapsed = time.monotonic() - t0
         end_tick = server_tick(s)
-        got = page.evaluate("({frames: __probe.frames, ticks: __probe.ticks, resyncs: __probe.resyncs,"
+        got = page.evaluate("({frames: __probe.frames, ticks: __probe.ticks, handled: __probe.handled,"
+                            " resyncs: __probe.resyncs,"
                             " hellos: frost.hellos, synced: frost.synced, tick: frost.tick})")
     frames = np.asarray(got["frames"]) if got["frames"] else np.zeros((0, 3))
     received = set(got["ticks"])
@@ -248,6 +255,7 @@ def scribble(browser, s: Served, seconds: float, cpu_slowdown: float = 1.0) -> d
     return {"seconds": elapsed, "moves": sent, "skipped": skipped, "resyncs": got["resyncs"],
             "reconnects": got["hellos"] - hellos, "synced": got["synced"],
             "work_ms": frames[:, 1], "interval_ms": np.diff(frames[:, 0]),
+            "message_ms": np.asarray(got["handled"]),
             "received": len(received), "drawn": len(drawn), "server_ticks": end_tick - start_tick,
             "behind": end_tick - got["tick"]}
 
@@ -255,8 +263,10 @@ def scribble(browser, s: Served, seconds: float, cpu_slowdown: float = 1.0) -> d
 def stats(ms: np.ndarray) -> str:
     if not len(ms):
         return "none"
-    return (f"median {np.median(ms):.0f} ms, p95 {np.percentile(ms, 95):.0f} ms, "
-            f"p99 {np.percentile(ms, 99):.0f} ms, max {ms.max():.0f} ms")
+    def f(v: float) -> str:
+        return f"{v:.1f}" if v < 10 else f"{v:.0f}"
+    return (f"median {f(np.median(ms))} ms, p95 {f(np.percentile(ms, 95))} ms, "
+            f"p99 {f(np.percentile(ms, 99))} ms, max {f(ms.max())} ms")
 
 
 def load() -> str:
@@ -310,7 +320,9 @@ def run(args, network: Profile | None, launch) -> int:
                       f"finger moves sent, {got['skipped']} skipped as late):")
                 print(f"  kept up: {got['resyncs']} resyncs, {got['reconnects']} reconnects, synced "
                       f"at the end: {got['synced']}, the page {got['behind']} ticks behind the server")
-                print(f"  frame work on the page's main thread: {stats(work)} ({len(work)} frames drawn)")
+                print(f"  a message's handling on the page's main thread (decoded, applied): "
+                      f"{stats(got['message_ms'])} ({len(got['message_ms'])} messages)")
+                print(f"  a frame's work on the page's main thread: {stats(work)} ({len(work)} frames drawn)")
                 print(f"  time between drawn frames: {stats(gaps)}")
                 print(f"  ticks drawn in a frame of their own: {got['drawn']} of the {got['received']} "
                       f"received ({got['drawn'] / max(got['received'], 1):.1%}; the server ticked "
