@@ -292,3 +292,18 @@ def test_a_bad_network_option_is_one_line(argv, says, capsys):
     assert stop.value.code == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith(f"frost bench page: error: {says}")
+
+
+@pytest.mark.parametrize("argv, says", [
+    (["--to", "127.0.0.1:8025", "--network", "5g"], "no network profile '5g' (choose from wifi, 4g)"),
+    (["--to", "nowhere"], "--to 'nowhere' must be HOST:PORT"),
+    (["--to", "127.0.0.1:8025", "--port", "70000"], "--port 70000 must be from 0 to 65535"),
+])
+def test_the_proxys_own_bad_command_line_is_one_line(argv, says, capsys):
+    from app.bench import shaper
+
+    with pytest.raises(SystemExit) as stop:
+        shaper.main(argv)
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and says in err

@@ -279,8 +279,10 @@ def main(argv: list[str] | None = None) -> int:
     except ValueError as err:
         p.error(str(err))
     host, _, port = args.to.rpartition(":")
-    if not host or not port.isdigit():
-        p.error(f"--to {args.to!r} must be HOST:PORT")
+    if not host or not port.isdigit() or not 0 < int(port) < 65536:
+        p.error(f"--to {args.to!r} must be HOST:PORT (a port from 1 to 65535)")
+    if not 0 <= args.port < 65536:
+        p.error(f"--port {args.port} must be from 0 to 65535")
 
     async def serve() -> None:
         shaper = await Shaper((host, int(port)), chosen, port=args.port).start()
