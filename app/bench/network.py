@@ -185,11 +185,12 @@ def taps(browser, s: Served, n: int, cpu_slowdown: float = 1.0,
     return np.asarray(got[0]), np.asarray(got[1])
 
 
-def join(browser, s: Served, cpu_slowdown: float = 1.0) -> dict:
-    """One page opened on the server's pane: ms from the navigation's start to its socket
-    open and to the first frame drawn with the whole snapshot; the bytes it received by then."""
+def join(browser, url: str, cpu_slowdown: float = 1.0) -> dict:
+    """One page opened on the server's pane at `url`: ms from the navigation's start to
+    its socket open and to the first frame drawn with the whole snapshot; the bytes it
+    received by then."""
     with Phone(browser, cpu_slowdown) as phone:
-        phone.open(s.url)
+        phone.open(url)
         return phone.page.evaluate("({opened: __probe.opened, synced: __probe.synced,"
                                    " bytes: frost.bytes, tick: frost.tick})")
 
@@ -305,14 +306,21 @@ def run(args, network: Profile | None, launch) -> int:
                       flush=True)
                 while server_tick(s) < ticks:
                     time.sleep(1)
-                joins = [join(browser, s, args.cpu_slowdown) for _ in range(args.join)]
-                synced = np.array([j["synced"] for j in joins])
-                opened = np.array([j["opened"] for j in joins])
-                print(f"late join ({preset} at ticks {joins[0]['tick']}-{joins[-1]['tick']}, "
-                      f"{where}{slow}, {len(joins)} pages one after another, snapshot and ticks "
-                      f"since: {np.median([j['bytes'] for j in joins]) / 1e6:.2f} MB):")
-                print(f"  navigation to socket open: {stats(opened)}")
-                print(f"  navigation to the first frame drawn synced: {stats(synced)}")
+                # With a network, joins on loopback too (to the server directly), taken in
+                # turn with the shaped ones: the same pane, the same machine's load.
+                ways = {where: s.url, **({"loopback": s.server} if network else {})}
+                joins: dict[str, list[dict]] = {name: [] for name in ways}
+                for _ in range(args.join):
+                    for name, url in ways.items():
+                        joins[name].append(join(browser, url, args.cpu_slowdown))
+                for name, pages in joins.items():
+                    synced = np.array([j["synced"] for j in pages])
+                    opened = np.array([j["opened"] for j in pages])
+                    print(f"late join ({preset} at ticks {pages[0]['tick']}-{pages[-1]['tick']}, "
+                          f"{name}{slow}, {len(pages)} new pages, snapshot and the ticks since: "
+                          f"{np.median([j['bytes'] for j in pages]) / 1e6:.2f} MB):")
+                    print(f"  navigation to socket open: {stats(opened)}")
+                    print(f"  navigation to the first frame drawn synced: {stats(synced)}")
             if args.scribble:
                 got = scribble(browser, s, args.scribble, args.cpu_slowdown)
                 work, gaps = got["work_ms"], got["interval_ms"]
