@@ -2,14 +2,15 @@
 on loopback, the proxy in front of it, the page on an emulated phone in headless Chromium.
 The proxy forwards bytes unchanged, so the page's requests name the proxy's address in
 Host and Origin (127.0.0.1, the proxy's port), which a loopback server accepts: the page
-loads, its socket opens and syncs, a tap draws growth, and every byte went through the
-proxy. Nothing here is timed."""
+loads, its socket opens and syncs, a ping's pong takes at least the link's round trip less
+its jitter, a tap draws growth, and every byte went through the proxy. No speed is held,
+only that lower bound."""
 
 from __future__ import annotations
 
 import pytest
 
-from app.bench.network import Phone, css_point, served
+from app.bench.network import PINGS, Phone, css_point, served
 from app.bench.page import browser_problem, launch
 from app.bench.shaper import PROFILES
 
@@ -29,6 +30,11 @@ def test_the_page_works_through_the_shaper():
                 phone.open(s.url)
                 socket = page.evaluate("frost.socket.url")
                 assert socket.startswith(f"ws://127.0.0.1:{s.shaper.port}/ws")
+                # A ping's pong crossed the link both ways: at least twice its delay less
+                # its jitter (a lower bound: load only adds).
+                link = PROFILES["4g"]
+                pings = page.evaluate(PINGS, 5)
+                assert len(pings) == 5 and min(pings) >= 2e3 * (link.delay - link.jitter)
                 page.touchscreen.tap(*css_point(page, 380, 640))
                 page.wait_for_function("frost.latencies.length >= 1", timeout=120_000)
                 meta = page.evaluate("fetch('meta').then((r) => r.status)")

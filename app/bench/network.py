@@ -47,7 +47,8 @@ FINGER_SPEED = 800.0  # pane px a second: a brisk drag
 MOVE_EVERY = 1 / 60  # s between a finger's moves (a phone reports touches once a frame)
 
 PROBE = """(() => {
-  const probe = { frames: [], ticks: [], handled: [], resyncs: 0, opened: null, synced: null };
+  const probe = { frames: [], ticks: [], handled: [], pongs: {}, resyncs: 0,
+    opened: null, snapshot: null, snapshotEnd: null, synced: null };
   window.__probe = probe;
   const raf = window.requestAnimationFrame.bind(window);
   window.requestAnimationFrame = (callback) => raf((t) => {
@@ -68,8 +69,16 @@ PROBE = """(() => {
       let t0 = 0;
       this.addEventListener("message", (e) => {
         t0 = performance.now();
-        if (e.data instanceof ArrayBuffer) probe.ticks.push(new DataView(e.data).getUint32(4, true));
-        else if (typeof e.data === "string" && JSON.parse(e.data).type === "resync") probe.resyncs += 1;
+        if (e.data instanceof ArrayBuffer) {
+          const v = new DataView(e.data), flags = v.getUint8(2);
+          probe.ticks.push(v.getUint32(4, true));
+          if (flags & 4 && probe.snapshot === null) probe.snapshot = t0;  // its first part
+          if (flags & 8 && probe.snapshotEnd === null) probe.snapshotEnd = t0;  // its last
+        } else if (typeof e.data === "string") {
+          const m = JSON.parse(e.data);
+          if (m.type === "resync") probe.resyncs += 1;
+          if (m.type === "pong") probe.pongs[m.t] = t0;
+        }
       });
       // After the page's own handler (set right after the socket is made): its time.
       queueMicrotask(() => this.addEventListener("message", (e) => {
@@ -170,19 +179,34 @@ def css_point(page, x: float, y: float) -> tuple[float, float]:
     return (r["x"] + x * r["scale"]) / DPR, (r["y"] + y * r["scale"]) / DPR
 
 
+PINGS = """async (n) => {
+  const out = [];
+  for (let i = 0; i < n; i++) {
+    const t = performance.now();
+    frost.socket.send(JSON.stringify({ type: "ping", t }));
+    while (!(t in __probe.pongs)) await new Promise((resolve) => setTimeout(resolve, 1));
+    out.push(__probe.pongs[t] - t);
+    await new Promise((resolve) => setTimeout(resolve, 100));
+  }
+  return out;
+}"""
+
+
 def taps(browser, s: Served, n: int, cpu_slowdown: float = 1.0,
-         gap_s: float = GAP_S) -> tuple[np.ndarray, np.ndarray]:
+         gap_s: float = GAP_S) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Ms from each of `n` taps (`gap_s` apart at `tap_spots`) to the frame that first drew
     growth near it, and to the one that first drew frost near it (the page's own timing:
-    frost.latencies, frost.frostLatencies)."""
+    frost.latencies, frost.frostLatencies); before them, the round trip of 20 pings on the
+    page's socket (the server answers a ping on its loop, at once)."""
     with Phone(browser, cpu_slowdown) as phone:
         page = phone.page
         phone.open(s.url)
+        pings = page.evaluate(PINGS, 20)
         for x, y in tap_spots(n):
             page.touchscreen.tap(*css_point(page, x, y))
             page.wait_for_timeout(gap_s * 1000)
         got = page.evaluate("[frost.latencies, frost.frostLatencies || []]")
-    return np.asarray(got[0]), np.asarray(got[1])
+    return np.asarray(got[0]), np.asarray(got[1]), np.asarray(pings)
 
 
 def join(browser, url: str, cpu_slowdown: float = 1.0) -> dict:
@@ -191,7 +215,8 @@ def join(browser, url: str, cpu_slowdown: float = 1.0) -> dict:
     received by then."""
     with Phone(browser, cpu_slowdown) as phone:
         phone.open(url)
-        return phone.page.evaluate("({opened: __probe.opened, synced: __probe.synced,"
+        return phone.page.evaluate("({opened: __probe.opened, snapshot: __probe.snapshot,"
+                                   " snapshotEnd: __probe.snapshotEnd, synced: __probe.synced,"
                                    " bytes: frost.bytes, tick: frost.tick})")
 
 
@@ -291,7 +316,9 @@ def run(args, network: Profile | None, launch) -> int:
         browser = launch(pw)
         try:
             if args.taps:
-                growth, frost = taps(browser, s, args.taps, args.cpu_slowdown)
+                growth, frost, pings = taps(browser, s, args.taps, args.cpu_slowdown)
+                print(f"the page's socket, ping to pong ({where}{slow}, {len(pings)} pings): "
+                      f"{stats(pings)}")
                 for what, ms in (("growth", growth), ("frost (the seed's own ice)", frost)):
                     print(f"touch to first drawn {what} ({preset}, {where}{slow}, {len(ms)} of "
                           f"{args.taps} taps seen): {stats(ms)}")
@@ -319,7 +346,14 @@ def run(args, network: Profile | None, launch) -> int:
                     print(f"late join ({preset} at ticks {pages[0]['tick']}-{pages[-1]['tick']}, "
                           f"{name}{slow}, {len(pages)} new pages, snapshot and the ticks since: "
                           f"{np.median([j['bytes'] for j in pages]) / 1e6:.2f} MB):")
-                    print(f"  navigation to socket open: {stats(opened)}")
+                    parts = {k: np.array([j[k] for j in pages]) for k in ("snapshot", "snapshotEnd")}
+                    print(f"  navigation to socket open (the page's files loaded): {stats(opened)}")
+                    print(f"  socket open to the snapshot's first part: "
+                          f"{stats(parts['snapshot'] - opened)}")
+                    print(f"  the snapshot's first part to its last: "
+                          f"{stats(parts['snapshotEnd'] - parts['snapshot'])}")
+                    print(f"  its last part to the first frame drawn synced: "
+                          f"{stats(synced - parts['snapshotEnd'])}")
                     print(f"  navigation to the first frame drawn synced: {stats(synced)}")
             if args.scribble:
                 got = scribble(browser, s, args.scribble, args.cpu_slowdown)
