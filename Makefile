@@ -6,7 +6,7 @@ VENV    ?= .venv
 PY      := $(VENV)/bin/python
 STAMP   := $(VENV)/.installed
 SETUP_LOG := $(VENV)/setup.log
-APT_PKGS := xvfb xauth xdotool libegl1 libgles2 libgl1 glslang-tools chromium
+APT_PKGS := xvfb xauth xdotool libegl1 libgles2 libgl1 glslang-tools chromium libnss3-tools
 
 .PHONY: run test test-deep bench bench-sim bench-render lint system clean
 

@@ -28,6 +28,12 @@ settings.load_profile(os.environ.get("FROST_HYPOTHESIS", "frost"))
 _HYPOTHESIS_HOME = tempfile.mkdtemp(prefix="frost-hypothesis-")
 set_hypothesis_home_dir(_HYPOTHESIS_HOME)  # its caches too
 atexit.register(shutil.rmtree, _HYPOTHESIS_HOME, True)
+# `frost serve --host 0.0.0.0` keeps its token and local authority in the user's config
+# folder: tests (and the servers they start, which inherit this) keep theirs in a folder of
+# the run's own, never the user's.
+_CONFIG_HOME = tempfile.mkdtemp(prefix="frost-config-")
+os.environ["XDG_CONFIG_HOME"] = _CONFIG_HOME
+atexit.register(shutil.rmtree, _CONFIG_HOME, True)
 
 
 @pytest.fixture(scope="session")

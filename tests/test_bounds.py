@@ -68,6 +68,19 @@ def test_touches_join_the_area_that_holds_them_and_water_stays_in_budget(points,
     assert len(sim.areas) == len(areas)
 
 
+def test_the_water_a_touch_brings_stays_in_the_budget():
+    # Two areas share a budget of 200: 100 walkers each, both pools short of humidity
+    # 150. A touch into the first brings its ring (touch_water 48) from its own walkers:
+    # the budget has no room for new ones.
+    params = Params.preset("fern").replace(water_budget=200, humidity=150)
+    assert params.touch_water == 48
+    sim = FrostSim(params, seed=0)
+    assert [sim.touch(200.0, 300.0), sim.touch(560.0, 1000.0)] == [0, 1]
+    assert np.bincount(sim.water_area).tolist() == [100, 100]
+    assert sim.touch(205.0, 300.0) == 0
+    assert np.bincount(sim.water_area).tolist() == [100, 100]
+
+
 def test_batch_planting_assigns_areas_like_touches_one_by_one():
     rng = np.random.default_rng(3)
     pts = rng.uniform((0, 0), (760, 1280), (300, 2))
@@ -299,6 +312,38 @@ def test_the_cap_holds_when_each_crystal_brings_much_work():
     expected = admitted_slow(points, count, grid, hc, 10)
     assert kept.tolist() == expected == [0]
     assert over.tolist() == list(range(1, 10))
+
+
+def test_a_crystal_that_alone_brings_more_than_the_ticks_work_still_freezes_one_a_tick():
+    # work beyond FREEZE_WORK: the tick takes the first walker in order (the rest wait a
+    # tick), never none, or the frost would stop growing for good.
+    hc = 7.0
+    grid = HashGrid(760, 1280, hc)
+    points = np.array([(100.0 + i, 100.0) for i in range(3)], np.float32)
+    count = np.zeros(grid.size, np.int32)
+    frozen, parents = np.array([5, 6, 7]), np.array([0, 0, 1], np.int32)
+    kept, kept_parents, over = budget.admit(frozen, parents, count, grid,
+                                            lambda i: points[i - 5], hc, 2 * budget.FREEZE_WORK)
+    assert kept.tolist() == [5] and kept_parents.tolist() == [0] and len(over) == 0
+
+
+def level_slow(counts, need: int, floor: int) -> int:
+    """The water-filling level by trying every level from the top down."""
+    for level in range(max(counts, default=0), floor - 1, -1):
+        if sum(max(c - level, 0) for c in counts) >= need:
+            return max(level, floor)
+    return floor
+
+
+def test_the_cut_level_frees_exactly_what_is_needed_where_it_can():
+    # Pools of 10 and 20, 5 to free: cut to 15 frees exactly 5 (16 would free 4).
+    assert budget.level(np.array([10, 20]), 5, 0) == 15
+    rng = np.random.default_rng(3)
+    for _ in range(300):
+        counts = rng.integers(0, 40, rng.integers(1, 6))
+        need, floor = int(rng.integers(1, 60)), int(rng.integers(0, 20))
+        assert budget.level(counts, need, floor) == level_slow(counts.tolist(), need, floor), (
+            counts, need, floor)
 
 
 # ---- input spread over ticks -------------------------------------------------------------------

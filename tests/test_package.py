@@ -3,10 +3,13 @@ fresh virtualenv, its `frost` command run from a folder that is not the checkout
 
 from __future__ import annotations
 
+import json
 import os
+import re
 import shutil
 import subprocess
 import sys
+import urllib.request
 import zipfile
 from pathlib import Path
 
@@ -64,8 +67,9 @@ def test_wheel_holds_every_module_the_shaders_the_background_and_the_page(wheel)
     data = {f"app/_data/shaders/{p.name}": p for p in (ROOT / "shaders").iterdir()}
     assert any(name.endswith(".frag") for name in data)
     data["app/_data/assets/background.png"] = ROOT / "assets" / "background.png"
-    data.update({f"app/web/{p.name}": p for p in (ROOT / "app" / "web").iterdir()})
-    assert "app/web/index.html" in data
+    web = ROOT / "app" / "web"  # the page, its worker and its icons (the installed app's)
+    data.update({f"app/web/{p.relative_to(web).as_posix()}": p for p in web.rglob("*") if p.is_file()})
+    assert {"app/web/index.html", "app/web/sw.js", "app/web/icons/maskable-512.png"} <= set(data)
     with zipfile.ZipFile(wheel) as whl:
         names = set(whl.namelist())
         assert set(modules) - names == set()
@@ -111,3 +115,34 @@ def test_installed_frost_renders_the_touch_from_another_folder(venv, elsewhere):
     assert x0 < TOUCH[0] < x1 and y0 < TOUCH[1] < y1, "the frost is not around the touch"
     # the checkout's own render is the oracle for the installed shaders and background
     assert np.array_equal(frosted, _render([sys.executable, "-m", "app"], elsewhere))
+
+
+def test_installed_frost_serve_answers_every_file_of_the_page_s_shell(venv, elsewhere):
+    """The installed app's files (the worker's list: the page, its modules, icons, shaders,
+    backdrops) all come from the installed package, the page's as the checkout has them."""
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME", "VIRTUAL_ENV")}
+    proc = subprocess.Popen([str(venv / "frost"), "serve", "--port", "0", "--max-seconds", "120"],
+                            cwd=elsewhere, env={**env, "PYTHONUNBUFFERED": "1"}, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+    try:
+        line = proc.stdout.readline()
+        found = re.search(r"open (http://\S+)", line)
+        assert found, line
+        url = found.group(1)
+        with urllib.request.urlopen(url + "sw.js", timeout=30) as r:
+            shell = json.loads(r.read().decode().split("\n", 1)[0][len("const SHELL = "):-1])
+        web = ROOT / "app" / "web"
+        assert {"web/install.js", "web/icons/icon-512.png", "shaders/ice.frag"} <= set(shell["files"])
+        for file in shell["files"]:
+            with urllib.request.urlopen(url + file, timeout=30) as r:
+                assert r.status == 200, file
+                body = r.read()
+            if file.startswith("web/"):
+                assert body == (web / file[len("web/"):]).read_bytes(), file
+        with urllib.request.urlopen(url + "manifest.webmanifest", timeout=30) as r:
+            for icon in json.loads(r.read())["icons"]:
+                with urllib.request.urlopen(url + icon["src"], timeout=30) as got:
+                    assert got.status == 200, icon
+    finally:
+        proc.terminate()
+        proc.communicate(timeout=60)

@@ -121,6 +121,30 @@ def test_the_page_decodes_what_the_server_encodes(browser, grown):
             assert np.array_equal(np.array(got["features"], np.float32).reshape(-1, 6), m["vertices"])
 
 
+def test_the_page_refuses_a_run_that_reaches_past_the_grid_as_the_server_does(browser):
+    """A run that starts on the grid's last height and runs two long leaves the grid: the
+    page refuses it, as decode_geometry does (the oracle); one ending on that height is
+    taken."""
+    from app.serve.protocol import _message, decode_geometry
+
+    params = Params.preset("fern")
+    cols, rows = hello(params)["grid"]
+    cells = cols * rows
+    bad, good = ((_message(0, "glass", 7, (cols, rows), 16.0, [run], np.ones(run[1], np.float16),
+                           b"", None)) for run in ((cells - 1, 2), (cells - 2, 2)))
+    with pytest.raises(ValueError, match="leaves the grid"):
+        decode_geometry(bad)
+    assert decode_geometry(good)["runs"] == [(cells - 2, 2)]
+    with Page(hello(params), [], browser=browser) as page:
+        got = page.page.evaluate("""async (messages) => {
+            const p = await import('./web/protocol.js');
+            return messages.map((bytes) => {
+                try { return p.decodeDelta(new Uint8Array(bytes).buffer).runs; }
+                catch (err) { return err instanceof p.ProtocolError ? 'refused' : String(err); } }); }""",
+                                 [list(bad), list(good)])
+    assert got == ["refused", [[cells - 2, 2]]]
+
+
 def test_the_page_draws_the_frost_as_the_desktop_does(browser, grown):
     """The page's frame of the messages against the desktop renderer's frame of the same
     messages: only the two rasterisers differ (SwiftShader, llvmpipe)."""
@@ -255,6 +279,24 @@ def test_drawing_only_what_changed_gives_the_whole_frames_pixels(browser, grown)
         assert p.screenshot() == parts
 
 
+def test_the_pages_metadata_json_reads_back_as_pythons_would_write_it(browser):
+    """The screenshot's JSON (png.js pyJson) as Python's json.dumps writes it (the oracle):
+    whole numbers as ints, other numbers as floats, a negative zero (a light's component)
+    still a float, never the int 0."""
+    values = {"light": [0.5, -1.25, 3], "n": 7, "name": "é"}
+    with Page(hello(Params.preset("fern")), [], browser=browser) as page:
+        written, zero = page.page.evaluate("""async ([values]) => {
+            const m = await import('./web/png.js');
+            return [m.pyJson(values), m.pyJson({zero: -0, list: [-0, 1]})]; }""", [values])
+        floats = [1e-7, 1.5e-7, 1e-6, 1e-5, 0.0001, 0.000123, 123.456, 2.5e15 + 0.5, 1.5e-300,
+                  -3.25e-9, 0.1 + 0.2, 1 / 3, 5e-324, 1.7976931348623157e308]
+        spelled = page.page.evaluate("""async ([xs]) => {
+            const m = await import('./web/png.js'); return m.pyJson(xs); }""", [floats])
+    assert written == json.dumps(values)
+    assert zero == json.dumps({"zero": -0.0, "list": [-0.0, 1]})
+    assert spelled == json.dumps(floats)  # Python's repr of each (none whole: a whole one is an int)
+
+
 def test_screenshot_png_carries_the_desktops_keys(browser, grown):
     from app.images import frost_meta
 
@@ -276,16 +318,16 @@ def test_screenshot_png_carries_the_desktops_keys(browser, grown):
 
 
 def test_fingers_become_touches_and_melts_in_screen_px(browser):
-    """A phone (390x844 CSS px, 3 device px each): the pane is letterboxed and drawn at the
-    device's resolution; a tap sends a touch at the pane's px under it, a second finger
-    melts, a drag sends moves, each finger its own id."""
+    """A phone (390x844 CSS px, 3 device px each): the pane covers the screen (cropped left
+    and right) and is drawn at the device's resolution; a tap sends a touch at the pane's px
+    under it, a second finger melts, a drag sends moves, each finger its own id."""
     params = Params.preset("fern")
     with Page(hello(params), [], viewport=(390, 844), scale=3, browser=browser, touch=True) as page:
         size = page.page.evaluate("[frost.canvasSize(), frost.pane()]")
         assert size[0] == [1170, 2532]
-        pane = size[1]  # device px: 1170 wide, 760 * 1170 / 760 ... letterboxed top and bottom
-        assert pane["w"] == 1170 and pane["h"] == round(1280 * 1170 / 760)
-        assert pane["y"] == (2532 - pane["h"]) // 2
+        pane = size[1]  # device px: 2532 / 1280 = 1.978125 a pane px; 1503.4 wide, cropped
+        assert pane["h"] == 2532 and pane["w"] == 1503 and pane["scale"] == 1.978125
+        assert pane["y"] == 0 and pane["x"] == (1170 - 1503) // 2 == -167
         # CSS px of pane px (x, y).
         css = lambda x, y: ((pane["x"] + x * pane["scale"]) / 3, (pane["y"] + y * pane["scale"]) / 3)  # noqa: E731
         cdp = page.context.new_cdp_session(page.page)
@@ -315,11 +357,12 @@ def test_fingers_become_touches_and_melts_in_screen_px(browser):
 
 
 def test_a_click_on_a_landscape_screen_lands_on_the_pane_under_it(browser):
-    """A landscape window (a desktop browser, a phone turned): the pane is letterboxed left
-    and right, so the pane's x offset counts; a click at the pane's px (100, 200) and a right
-    button's drag send those px."""
+    """A landscape window (a desktop browser, a phone turned) with the menu's "whole pane"
+    remembered: the pane is letterboxed left and right, so the pane's x offset counts; a
+    click at the pane's px (100, 200) and a right button's drag send those px."""
     params = Params.preset("fern")
-    with Page(hello(params), [], viewport=(1280, 720), scale=1, browser=browser) as page:
+    with Page(hello(params), [], viewport=(1280, 720), scale=1, browser=browser,
+              init="localStorage.setItem('frost.fit', 'pane')") as page:
         pane = page.page.evaluate("frost.pane()")
         assert pane["y"] == 0 and pane["x"] == (1280 - pane["w"]) // 2 > 300
         css = lambda x, y: (pane["x"] + x * pane["scale"], pane["y"] + y * pane["scale"])  # noqa: E731
@@ -338,6 +381,37 @@ def test_a_click_on_a_landscape_screen_lands_on_the_pane_under_it(browser):
     assert abs(melt["x"] - 700) < 1 and abs(melt["y"] - 1200) < 1, melt
     move = next(m for m in sent if m["phase"] == "move" and m["type"] == "melt")
     assert abs(move["x"] - 650) < 1 and abs(move["y"] - 1100) < 1, move
+
+
+def test_a_finger_lifted_before_a_frame_sends_its_last_move_and_one_off_the_pane_its_edge(browser):
+    """Moves go out once a frame, but a finger lifted before the next frame still sends
+    where it went before its up; a finger dragged past the pane's right edge (onto the
+    black beside it) moves to the edge's last px, not nowhere."""
+    params = Params.preset("fern")
+    with Page(hello(params), [], viewport=(1280, 720), scale=1, browser=browser) as page:
+        p = page.page
+        pane = p.evaluate("frost.pane()")
+        css = lambda x, y: (pane["x"] + x * pane["scale"], pane["y"] + y * pane["scale"])  # noqa: E731
+        p.evaluate("""([events]) => {
+            const c = document.getElementById('frost');
+            for (const [type, id, x, y] of events) {
+                c.dispatchEvent(new PointerEvent(type, {clientX: x, clientY: y, pointerId: id,
+                    button: 0, bubbles: true, cancelable: true}));
+            } }""", [[["pointerdown", 7, *css(100, 200)], ["pointermove", 7, *css(300, 400)],
+                      ["pointerup", 7, *css(300, 400)]]])  # one task: no frame between them
+        p.wait_for_timeout(100)
+        mouse = p.mouse
+        mouse.move(*css(700, 600))
+        mouse.down()
+        mouse.move(pane["x"] + pane["w"] + 100, css(700, 600)[1])  # beside the pane
+        p.wait_for_timeout(100)
+        mouse.up()
+        p.wait_for_timeout(100)
+    sent = page.sent
+    first = [(m["phase"], round(m.get("x", -1)), round(m.get("y", -1))) for m in sent[:3]]
+    assert first == [("down", 100, 200), ("move", 300, 400), ("up", -1, -1)], sent[:3]
+    edge = [m for m in sent[3:] if m["phase"] == "move"]
+    assert edge and all(759.9 < m["x"] < 760 and abs(m["y"] - 600) < 1 for m in edge), edge
 
 
 def test_a_tap_is_timed_to_its_first_drawn_frost_and_growth(browser):

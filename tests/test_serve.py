@@ -514,6 +514,7 @@ def test_frost_serve_from_the_command_line(tmp_path, frost):
             from aiohttp import ClientSession
             async with ClientSession() as http, http.ws_connect(url + "ws") as ws:
                 await read_until(ws, page, lambda: page.snapshots >= 1)
+                assert page.texts[0]["preset"] == "c-2"  # as asked (not its twin b-2)
                 await ws.send_json({"type": "touch", "x": CENTRE[0], "y": CENTRE[1]})
                 await read_until(ws, page, lambda: near(page, CENTRE) and page.tick > 30)
                 await pause(ws, page)
@@ -872,9 +873,11 @@ class _Sends:
 
     def __init__(self):
         self.kinds: list[str] = []
+        self.args: list = []
 
-    def send(self, kind, _arg=None):
+    def send(self, kind, arg=None):
         self.kinds.append(kind)
+        self.args.append(arg)
 
 
 def _controls():
@@ -924,6 +927,37 @@ def test_a_person_dragging_loses_no_melt_or_touch_to_the_bound():
         bucket = TokenBucket(POINT_RATE, POINT_BURST, clock=lambda at=now: at[0])
         bounded = drag(kind, bucket, now)
         assert bounded == drag(kind, None, [0.0]) and len(bounded) > 100
+
+
+def test_a_drag_leaves_melts_evenly_spaced_along_its_path_from_where_it_landed():
+    """The warm finger of radius 24 melts every 12 px (MELT_SPACING) along its path: landed
+    at x = 100 and moved to 130 then 150, it melts at 100, 112, 124, 136 and 148 (each move
+    goes on from the last melt, not from where the finger was seen)."""
+    from app.serve.protocol import Input
+
+    controls, fingers = _controls(), {}
+    for phase, x in (("down", 100.0), ("move", 130.0), ("move", 150.0)):
+        controls.handle(Input("melt", x, 640.0, phase, 1), fingers)
+    assert [(round(x, 6), y, r) for x, y, r in controls.thread.args] == [
+        (100.0, 640.0, 24.0), (112.0, 640.0, 24.0), (124.0, 640.0, 24.0), (136.0, 640.0, 24.0),
+        (148.0, 640.0, 24.0)]
+
+
+def test_a_change_to_what_is_in_force_sends_the_thread_nothing():
+    """Each change of the parameters regrows the whole frost: a look or preset that leaves
+    them as they are (the look in force, the preset they follow) is no rebuild; a change
+    that is one is sent once, and asked again it is in force."""
+    from app.serve.protocol import Input
+
+    controls, fingers = _controls(), {}
+    look = PAPER.look
+    controls.handle(Input("look", name=look), fingers)
+    controls.handle(Input("preset", name="c-2"), fingers)
+    assert controls.thread.kinds == []
+    other = next(name for name in ("paper", "glass") if name != look)
+    controls.handle(Input("look", name=other), fingers)
+    controls.handle(Input("look", name=other), fingers)
+    assert controls.thread.kinds == ["params"] and controls.thread.args[0].look == other
 
 
 def test_a_stats_line_in_words():
@@ -1034,6 +1068,49 @@ def test_pages_coming_and_going_in_a_flood_are_lines_in_the_log_now_and_then(cap
         assert said()[-1].endswith(f"({30 - logs.PAGE_LOG_BURST} such lines unsaid before it)")
     with caplog.at_level(logging.INFO, "app.serve"):
         serve(test)
+
+
+def test_each_line_on_a_flood_counts_the_lines_unsaid_since_the_last_one():
+    """RateLimitedLog by hand: a house of lines (PAGE_LOG_BURST), 20 more unsaid, a line a
+    PAGE_LOG_S later saying those 20; 3 more unsaid, and the next line says those 3 (not
+    23); a line after a quiet while, with none unsaid, says none."""
+    from app.serve import logs
+
+    clock = [0.0]
+    lines = logs.RateLimitedLog()
+    lines.bucket.clock, lines.bucket.at = (lambda: clock[0]), 0.0
+    said: list[str] = []
+
+    class Keep(logging.Handler):
+        def emit(self, record):
+            said.append(record.getMessage())
+
+    handler = Keep()
+    logs.log.addHandler(handler)
+    try:
+        with_level = logs.log.level
+        logs.log.setLevel(logging.INFO)
+        for burst, wait in ((logs.PAGE_LOG_BURST + 20, logs.PAGE_LOG_S), (4, logs.PAGE_LOG_S),
+                            (1, 100 * logs.PAGE_LOG_S)):
+            for _ in range(burst):
+                lines.info("page %s", "p")
+            clock[0] += wait
+        lines.info("page %s", "q")
+    finally:
+        logs.log.setLevel(with_level)
+        logs.log.removeHandler(handler)
+    assert said == ["page p"] * logs.PAGE_LOG_BURST + [
+        "page p (20 such lines unsaid before it)", "page p (3 such lines unsaid before it)",
+        "page q"]
+
+
+def test_an_origin_of_another_scheme_is_not_the_pages():
+    """Only a page the server served (http or https) names it as its Origin: the same host
+    and port under another scheme is not the page's."""
+    for scheme in ("http", "https"):
+        assert same_origin(f"{scheme}://192.168.1.5:8025", "192.168.1.5:8025")
+    for scheme in ("ws", "ftp", "chrome-extension", "file"):
+        assert not same_origin(f"{scheme}://192.168.1.5:8025", "192.168.1.5:8025"), scheme
 
 
 def test_without_a_token_only_a_loopback_host_is_answered():

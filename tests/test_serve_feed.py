@@ -135,6 +135,26 @@ def test_a_snapshot_copied_ticks_before_it_is_drawn_starts_the_page_with_those_t
         ticks.stop()
 
 
+def test_a_snapshot_and_the_ticks_after_it_give_each_triangle_once():
+    """Growth only (no melt, whose survivors are sent again): the page's snapshot holds the
+    tick it was copied after, so that tick is not sent again; the page holds each of the
+    live ice's triangles once, none twice."""
+    feed, ticks, page = fed()
+    try:
+        ticks.tick(feed, 40)
+        feed.ask_redraw()
+        for _ in range(6):  # the copy after the first of these; none published yet
+            ticks.order()
+            ticks.done()
+        feed.pump()
+        model = held(page)
+        assert_holds_the_frost(model, feed)
+        live = FrostGeometry(feed.thread.params, *feed.thread.size).redraw(feed.thread.sim)
+        assert len(model.tris) == len(live.features) // 3
+    finally:
+        ticks.stop()
+
+
 def test_a_kept_snapshot_starts_later_pages_until_the_ticks_since_it_are_dropped():
     """A page that connects while the ticks since the last snapshot are kept starts from
     it, with no drawing (a flood of sockets drew one every tick); once more than

@@ -114,6 +114,24 @@ def test_a_kept_alive_connection_is_timed_again_for_its_next_head(short):
     run(test)
 
 
+def test_a_heads_end_split_across_two_reads_finishes_it(short):
+    # The blank line's first three bytes end one read and its last byte starts the next:
+    # the head is whole, its timer stopped, and the connection lives on past the deadline.
+    async def test(port, runner):
+        reader, writer = await asyncio.open_connection("127.0.0.1", port)
+        writer.write(GET[:-1])
+        await writer.drain()
+        await asyncio.sleep(HEAD / 4)  # (two reads on the server's side)
+        writer.write(GET[-1:])
+        assert (await answered(reader)).startswith(b"HTTP/1.1 200")
+        assert not await closed(reader, HEAD * 1.5)
+        writer.write(GET)  # the next request, on the same connection
+        assert (await answered(reader)).startswith(b"HTTP/1.1 200")
+        assert runner.timed_out == 0
+        writer.close()
+    run(test)
+
+
 def test_a_full_house_makes_room_for_a_request_but_never_drops_a_page(short):
     async def test(port, runner):
         hung = []
@@ -227,6 +245,24 @@ def test_a_head_longer_than_any_page_sends_is_closed_at_once(short):
                 await asyncio.sleep(0.005)
             assert (await answered(reader)).startswith(b"HTTP/1.1 200")
         writer.write(GET[:-2] + line * (within + 2))  # past the mark, unfinished
+        assert await closed(reader, HEAD / 4)
+        assert runner.timed_out == 0 and runner.too_long == 1
+        writer.close()
+    run(test)
+
+
+def test_a_head_too_long_is_closed_though_it_came_a_line_at_a_time(short):
+    # No read holds more than a line (8 KiB), yet the head's bytes add up past
+    # MAX_HEAD_BYTES: it is closed once they do, not when its deadline comes.
+    line = b"X-Long: " + b"a" * 7990 + b"\r\n"
+    lines = guard.MAX_HEAD_BYTES // len(line) + 2
+
+    async def test(port, runner):
+        reader, writer = await asyncio.open_connection("127.0.0.1", port)
+        for part in (GET[:-2], *[line] * lines):
+            writer.write(part)
+            await writer.drain()
+            await asyncio.sleep(0.005)
         assert await closed(reader, HEAD / 4)
         assert runner.timed_out == 0 and runner.too_long == 1
         writer.close()

@@ -108,3 +108,25 @@ def test_nothing_is_sent_after_the_socket_began_to_close():
         return wire.sent
 
     assert asyncio.run(run()) == ['{"type":"state"}', b"one"]
+
+
+def test_a_page_that_reads_every_tick_is_never_resynced_however_much_it_was_sent():
+    """A page whose socket takes each tick as it comes holds nothing queued: 10 ticks of
+    1 MB, each written out before the next, are 10 MB sent and never 6 MB behind."""
+    async def run():
+        page, wire = live_page([])
+        writer = asyncio.create_task(page.write())
+        megabyte = bytes(MB)
+        for _ in range(10):
+            page.tick([megabyte])
+            for _ in range(100):
+                if not page.queue:
+                    break
+                await asyncio.sleep(0)
+        page.close()
+        await writer
+        return page, wire
+
+    page, wire = asyncio.run(run())
+    assert page.resyncs == 0 and not page.waiting
+    assert len(wire.sent) == 11 and page.behind_bytes == 0 and page.behind_ticks == 0

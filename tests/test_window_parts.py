@@ -969,6 +969,21 @@ def test_input_still_waiting_at_exit_is_reported_by_kind():
     assert thread.session().events == [{"kind": "touch", "x": 380.0, "y": 640.0, "tick": 0}]
 
 
+def test_tuning_changes_replaced_before_their_tick_are_told_at_exit_and_the_last_is_kept():
+    thread = SimThread(Params.preset("c-3"), 0, [(380, 640)])
+    for name in ("c-1", "c-2", "fern"):  # three keys within one tick: the last one stands
+        thread.send("params", Params.preset(name))
+    thread.send("touch", ((100.0, 300.0), None))
+    thread.send("params", Params.preset("c-3"))  # a touch between: not replaced
+    thread.tick()
+    thread.stop()
+    notices = [thread.notices.get() for _ in range(thread.notices.qsize())]
+    assert (logging.INFO, "2 parameter changes were replaced by the next before their tick "
+            "(the session holds the later)") in notices
+    params = [e for e in thread.session().events if e["kind"] == "params"]
+    assert len(params) == 2 and thread.sent == 5
+
+
 def test_a_session_saved_after_the_thread_ticked_past_the_frame_shown_replays_that_frame(tmp_path):
     """The window saves the frame it shows while the thread has gone on: a touch, a melt
     and a tuning change (a rebuild) applied after that frame must not reach its file."""

@@ -23,3 +23,14 @@ def count(text: str) -> int:
     if not 1 <= n <= 100_000:
         raise argparse.ArgumentTypeError(f"{text!r} must be a whole number from 1 to 100000")
     return n
+
+
+def slowdown(text: str) -> float:
+    """How many times slower the page's CPU runs (--cpu-slowdown): a number from 1 to 20."""
+    try:
+        n = float(text)
+    except ValueError:
+        n = 0.0
+    if not 1 <= n <= 20:
+        raise argparse.ArgumentTypeError(f"{text!r} must be a number from 1 to 20")
+    return n

@@ -8,15 +8,17 @@ messages of the protocol (app.serve.protocol) for the deltas the desktop rendere
 
 python -m app.bench.page [--preset fern] [--look paper] [--ticks 300] [--frames 60]
     [--out DIR]
+python -m app.bench.page --phone-app [--out DIR]   (app/bench/phoneapp.py)
+Or, through `frost serve` (app/bench/network.py), on loopback or a phone-like network:
+python -m app.bench.page --taps N | --join N | --scribble S [--network wifi|4g]
+    [--cpu-slowdown 4]
 """
 
 from __future__ import annotations
 
-import argparse
 import io
 import json
 import mimetypes
-import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -24,8 +26,9 @@ import numpy as np
 from PIL import Image
 
 from app.backdrops import DEFAULT_BACKDROP, load_backdrop
-from app.bench.options import count
-from app.bench.taps import GAP_S, tap_spots
+from app.bench.network import JOIN_TICKS
+from app.bench.options import Parser, count, slowdown
+from app.bench.shaper import PROFILES, profile
 from app.resources import SHADER_DIR, WEB_DIR
 from sim import Params, all_presets
 from sim.look.geometry import GeometryDelta
@@ -124,14 +127,16 @@ class Page:
 
     def __init__(self, hello_message: dict, messages: list[bytes], viewport=(WIDTH, HEIGHT),
                  scale: float = 1.0, browser=None, touch: bool = False, later=(),
-                 angle: str = "swiftshader", hang_up: bool = True, meta: dict | None = None):
+                 angle: str = "swiftshader", hang_up: bool = True, meta: dict | None = None,
+                 init: str | None = None):
         # `later`: what each later connection gets (with `hang_up` a socket is closed once
         # its messages are sent, while a later connection is to come). `meta`: what GET /meta
-        # answers (as frost serve's), else 404.
+        # answers (as frost serve's), else 404. `init`: a script run before the page's own
+        # (e.g. a choice in localStorage).
         self.hello, self.messages, self.meta = hello_message, messages, meta
         self.connections, self.hang_up = [messages, *later], hang_up
         self.viewport, self.scale, self.touch = viewport, scale, touch
-        self.browser, self.angle = browser, angle
+        self.browser, self.angle, self.init = browser, angle, init
         self._pw: Any = None  # playwright, when this page started its own
         self.sent: list[dict] = []
 
@@ -144,6 +149,8 @@ class Page:
         self.context = self.browser.new_context(
             viewport={"width": self.viewport[0], "height": self.viewport[1]},
             device_scale_factor=self.scale, has_touch=self.touch, is_mobile=self.touch)
+        if self.init:
+            self.context.add_init_script(self.init)
         self.page = self.context.new_page()
         self.page.route(f"{ORIGIN}/**", self._serve)
         self.page.route_web_socket(f"{ORIGIN.replace('http', 'ws')}/ws**", self._socket)
@@ -276,83 +283,58 @@ def difference_image(a: np.ndarray, b: np.ndarray, gain: float = 8.0) -> np.ndar
     return np.clip(d * gain, 0, 255).astype(np.uint8)
 
 
-def touch_latency(taps: int, preset: str = "fern", gap_s: float = GAP_S) -> tuple[np.ndarray, np.ndarray]:
-    """Milliseconds from a finger down on the page (an emulated phone in headless Chromium)
-    to the frame that first draws growth near it (a ridge: a link frozen onto the seed),
-    and to the frame that first draws frost near it (the seed's own ice: the first step
-    after the touch), through `frost serve` on loopback (started here, on a free port):
-    `taps` taps `gap_s` apart at `tap_spots` (`frost bench sim --section taps` counts the
-    same taps' ticks through the simulation alone)."""
-    import re
-    import signal
-    import subprocess
-    import sys
-
-    from playwright.sync_api import sync_playwright
-
-    with tempfile.TemporaryDirectory() as tmp:
-        proc = subprocess.Popen([sys.executable, "-m", "app", "serve", "--port", "0",
-                                 "--preset", preset, "--session-dir", tmp],
-                                cwd=tmp, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        try:
-            url = None
-            for line in proc.stdout or ():
-                found = re.search(r"open (http://\S+)", line)
-                if found:
-                    url = found.group(1)
-                    break
-            if url is None:
-                raise RuntimeError("frost serve did not start")
-            with sync_playwright() as pw:
-                browser = launch(pw)
-                context = browser.new_context(viewport={"width": 390, "height": 844},
-                                              device_scale_factor=3, has_touch=True, is_mobile=True)
-                page = context.new_page()
-                page.goto(url)
-                page.wait_for_function("window.frost && frost.synced", timeout=30_000)
-                r = page.evaluate("frost.pane()")
-                for x, y in tap_spots(taps):
-                    page.touchscreen.tap((r["x"] + x * r["scale"]) / 3, (r["y"] + y * r["scale"]) / 3)
-                    page.wait_for_timeout(gap_s * 1000)
-                got = page.evaluate("[frost.latencies, frost.frostLatencies || []]")
-                context.close()
-                browser.close()
-        finally:
-            proc.send_signal(signal.SIGINT)
-            proc.communicate(timeout=60)
-    return np.asarray(got[0]), np.asarray(got[1])
-
-
 def main(argv: list[str] | None = None, prog: str = "python -m app.bench.page") -> int:
-    p = argparse.ArgumentParser(prog=prog, description=__doc__.split("\n\n")[0])
-    p.add_argument("--preset", default="fern", choices=list(all_presets()), metavar="NAME",
-                   help="parameter set to grow (default fern)")
+    p = Parser(prog=prog, description=__doc__.split("\n\n")[0])
+    p.add_argument("--preset", choices=list(all_presets()), metavar="NAME",
+                   help="parameter set to grow (default fern; window with --join)")
     p.add_argument("--look", choices=("paper", "glass"), help="default: the preset's")
     p.add_argument("--seed", type=int, default=1)
-    p.add_argument("--ticks", type=count, default=300, help="ticks to grow (default 300)")
+    p.add_argument("--ticks", type=count, help="ticks to grow (default 300; with --join "
+                   f"{JOIN_TICKS}: the frosted window pane)")
     p.add_argument("--frames", type=count, default=60, help="page frames timed (default 60)")
     p.add_argument("--angle", choices=list(ANGLE), default="swiftshader",
                    help="the page's WebGL: Chromium's SwiftShader (default) or the system's "
                         "OpenGL through EGL (gl-egl)")
     p.add_argument("--taps", type=count, help="instead: touch to first drawn growth through frost "
                    "serve on loopback, over this many taps")
+    p.add_argument("--phone-app", action="store_true", help="instead: the page as a phone app through "
+                   "frost serve (black share of the screen, tilt, screenshots in --out as .webp)")
+    p.add_argument("--join", type=count, metavar="N", help="instead: N pages opened one after "
+                   "another on a pane grown --ticks ticks: time to a synced page")
+    p.add_argument("--scribble", type=count, metavar="S", help="instead: a finger dragged over "
+                   "the pane for S seconds: whether the page keeps up, its frame times, the "
+                   "share of ticks it draws")
+    p.add_argument("--network", metavar="PROFILE", help="with --taps, --join, --scribble: the "
+                   "page reaches the server through a shaping proxy: " + "; ".join(
+                       x.describe() for x in PROFILES.values()) + " (default: loopback)")
+    p.add_argument("--cpu-slowdown", type=slowdown, default=1.0, metavar="N",
+                   help="with --taps, --join, --scribble: the page's CPU N times slower "
+                   "(Chromium's throttling; 4 is Lighthouse's phone; default 1)")
     p.add_argument("--out", help="write desktop.png, page.png, difference.png here")
     args = p.parse_args(argv)
+    network = None
+    if args.network is not None:
+        try:
+            network = profile(args.network)
+        except ValueError as err:
+            p.error(f"argument --network: {err}")
+    served = args.taps or args.join or args.scribble
+    if not served and (network or args.cpu_slowdown != 1):
+        p.error("--network and --cpu-slowdown go with --taps, --join or --scribble "
+                "(the parity bench has no server)")
     problem = browser_problem()
     if problem:
         print(f"frost: error: {problem}")
         return 2
-    if args.taps:
-        growth, frost = touch_latency(args.taps, args.preset)
-        for what, ms in (("growth", growth), ("frost (the seed's own ice)", frost)):
-            print(f"touch to first drawn {what} ({args.preset}, loopback, {len(ms)} of "
-                  f"{args.taps} taps seen): " + (f"median {np.median(ms):.0f} ms, p95 "
-                  f"{np.percentile(ms, 95):.0f} ms, max {ms.max():.0f} ms" if len(ms) else "none"))
-        if len(growth) < args.taps:
-            print(f"{args.taps - len(growth)} of the taps drew no growth before the next tap "
-                  f"({GAP_S} s later): a seed in finished ice has no open slot ('never' in "
-                  "`frost bench sim --section taps`, the same taps through the simulation alone)")
-        return 0
+    if args.phone_app:
+        from app.bench.phoneapp import run as phone_app
+
+        return phone_app(args.out, args.angle)
+    if served:
+        from app.bench.network import run
+        return run(args, network, launch)
+    args.preset = args.preset or "fern"
+    args.ticks = args.ticks or 300
     params = Params.preset(args.preset)
     if args.look:
         params = params.replace(look=args.look)

@@ -195,13 +195,28 @@ def _serve(root: Parser, subs) -> None:
                      "and WebSockets", "Run the simulation and serve it to phones and browsers "
                      f"(docs/phone.md): every page (at most {MAX_PAGES}) shows the same pane and "
                      "every touch grows it; the session is saved as the window saves it. Binds "
-                     "127.0.0.1 unless told; any other --host prints a URL with a random token, "
-                     "and its QR code, and refuses requests without it.")
+                     "127.0.0.1 unless told; any other --host prints a URL with a token (kept "
+                     "across runs) and its QR code, refuses requests without it, and serves "
+                     "HTTPS too on a second port, with a certificate of a local authority "
+                     "frost keeps, which a phone can trust.")
     p.add_argument("--host", default="127.0.0.1", metavar="H",
                    help="address to listen on, e.g. 0.0.0.0 for a phone on the same network "
                         "(default 127.0.0.1: this machine only)")
     p.add_argument("--port", type=lambda text: values.whole(text, 65535), default=DEFAULT_PORT,
                    metavar="P", help=f"TCP port, 0 for any free one (default {DEFAULT_PORT})")
+    p.add_argument("--https-port", type=lambda text: values.whole(text, 65535), default=None,
+                   metavar="P", help="TCP port of HTTPS and WSS (served with any --host but "
+                        "127.0.0.1, or when asked), 0 for any free one (default: --port + 1; "
+                        "with --port 0 a free one)")
+    p.add_argument("--cert", metavar="FILE", default=None,
+                   help="serve HTTPS with this certificate (PEM; e.g. mkcert's or a real "
+                        "domain's) instead of one from frost's own local authority; needs --key")
+    p.add_argument("--key", metavar="FILE", default=None, help="the private key of --cert (PEM)")
+    p.add_argument("--no-https", action="store_true",
+                   help="serve plain HTTP alone, even with --host 0.0.0.0 (default off)")
+    p.add_argument("--new-token", action="store_true",
+                   help="replace the token kept across runs (pages opened with the old one, "
+                        "installed ones too, are refused from now on; default off)")
     options.add_preset(p)
     options.add_seed(p)
     options.add_touch(p, options.PLANT, "none")

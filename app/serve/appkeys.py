@@ -18,3 +18,5 @@ FILES = web.AppKey("files", SessionFiles)
 BACKDROP_PNGS = web.AppKey("backdrops", dict)  # name: PNG bytes, made at the first ask
 STATS = web.AppKey("stats", asyncio.Task)
 PAGE_LINES = web.AppKey("page_lines", RateLimitedLog)  # pages connected and closed
+CA_DER = web.AppKey("ca_der", bytes)  # the local authority's public certificate; b"": none
+PORTS = web.AppKey("ports", dict)  # {"http": N, "https": N or None}, filled once listening

@@ -86,11 +86,13 @@ class Feed:
     """One simulation thread, its encoder and the pages it feeds."""
 
     def __init__(self, params: Params, seed: int, touches=(), melt_radius: float = 24.0,
-                 backdrop: str = "dusk", thread: SimThread | None = None,
+                 backdrop: str = "dusk", thread: SimThread | None = None, preset: str = "",
                  clock: Callable | None = None):
         """A feed of a new simulation thread, or of `thread` (the desktop window's, which
-        starts it, reads its notices and keeps the session file, and whose clock it is).
-        `clock`: the lock screen's time source for a new thread (default local time)."""
+        starts it, reads its notices and keeps the session file, and whose clock it is);
+        `preset`, the name the command line chose (of Table 1's twins b-2 and c-2, the one
+        the pages say); `clock`, the lock screen's time source for a new thread (default
+        local time)."""
         self._loop: asyncio.AbstractEventLoop | None = None
         self._pumping = threading.Event()  # a pump is scheduled
         self.own_thread = thread is None
@@ -106,6 +108,7 @@ class Feed:
         self.encoder = protocol.Encoder(geometry.cols, geometry.rows)
         self.controls = Controls(self.thread, params, melt_radius, backdrop, self.notice,
                                  self.tick)
+        self.controls.chosen = preset
         self.pages: set[Page] = set()
         self.latest: Snapshot | None = None
         # Where the session stood at the latest snapshot published: (steps, events), as

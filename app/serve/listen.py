@@ -1,32 +1,67 @@
-"""The server's app listening on a host and port, and the URL to open said (with the token
-and its QR code for a phone's camera)."""
+"""The server's app listening on a host and port (and on a second port over HTTPS), and
+the URLs to open said (with the token and their QR codes for a phone's camera)."""
 
 from __future__ import annotations
 
+import asyncio
 import socket
+import ssl
 import sys
+from dataclasses import dataclass
 
 from aiohttp import web
 
 from app.serve import guard
-from app.serve.appkeys import FILES
+from app.serve.appkeys import FILES, PORTS
+
+HANDSHAKE_S = guard.HEAD_S  # s a TLS handshake may take (asyncio's own default: 60 s)
 
 
-async def listen(app: web.Application, host: str, port: int,
-                 token: str | None) -> web.AppRunner | None:
-    """The app served on host:port and its URL printed; None (the error said) if it cannot
-    listen there."""
+@dataclass
+class Https:
+    """HTTPS and WSS on a second port (0: any free one) with this TLS context."""
+    port: int
+    context: ssl.SSLContext
+
+
+class TLSSite(web.TCPSite):
+    """aiohttp's TCPSite whose TLS handshakes must end within HANDSHAKE_S: a connection
+    that never finishes its handshake is under no guard until it does (guard.py sees a
+    connection once TLS hands it over), and asyncio would hold it a minute. aiohttp's
+    site takes no handshake timeout: its start is redone here with its own fields."""
+
+    async def start(self) -> None:
+        await web.BaseSite.start(self)  # registers the site with its runner
+        server = self._runner.server
+        assert server is not None
+        self._server = await asyncio.get_running_loop().create_server(
+            server, self._host, self._port, ssl=self._ssl_context, backlog=self._backlog,
+            ssl_handshake_timeout=HANDSHAKE_S)
+
+
+async def listen(app: web.Application, host: str, port: int, token: str | None,
+                 https: Https | None = None) -> web.AppRunner | None:
+    """The app served on host:port (and over HTTPS on host:https.port) and its URLs
+    printed; None (the error said) if it cannot listen there."""
     runner = guard.GuardedRunner(app, handle_signals=False, access_log=None)
     await runner.setup()
+    ports: list[int] = []
+    sites = [(port, None)] + ([(https.port, https.context)] if https else [])
     try:
-        site = web.TCPSite(runner, host, port)
-        await site.start()
+        for asked, context in sites:
+            before = len(runner.addresses)
+            site = TLSSite(runner, host, asked, ssl_context=context) if context \
+                else web.TCPSite(runner, host, asked)
+            await site.start()
+            bound = runner.addresses[before:]
+            ports.append(bound[0][1] if bound else asked)
     except OSError as err:
         app[FILES].folder = None  # nothing was served: no word on a session
         await runner.cleanup()
-        print(f"frost: error: {listen_problem(host, port, err)}", file=sys.stderr)
+        print(f"frost: error: {listen_problem(host, asked, err)}", file=sys.stderr)
         return None
-    announce(host, runner.addresses[0][1] if runner.addresses else port, token)
+    app[PORTS].update(http=ports[0], https=ports[1] if https else None)
+    announce(host, ports[0], token, ports[1] if https else None)
     return runner
 
 
@@ -59,17 +94,29 @@ def url_host(host: str) -> str:
     return f"[{host}]" if ":" in host else host
 
 
-def announce(host: str, port: int, token: str | None) -> None:
-    """Print the URL to open (with the token, and its QR code for a phone's camera)."""
+def announce(host: str, port: int, token: str | None, https_port: int | None = None) -> None:
+    """Print the URLs to open (with the token, and their QR codes for a phone's camera):
+    the HTTP one, then the HTTPS one where it is served."""
     if token is None:
         print(f"frost serve: open http://{url_host(host)}:{port}/ (Ctrl-C ends it)", flush=True)
+        if https_port is not None:
+            print(f"frost serve: over HTTPS: https://{url_host(host)}:{https_port}/", flush=True)
         return
     shown = lan_address() if host in ("0.0.0.0", "::", "") else host
     url = f"http://{url_host(shown)}:{port}/?token={token}"
     print(f"frost serve: open {url} on a phone of this network (Ctrl-C ends it)", flush=True)
+    _qr(url)
+    if https_port is not None:
+        url = f"https://{url_host(shown)}:{https_port}/?token={token}"
+        print(f"frost serve: as an app: {url} once the phone trusts this computer "
+              "(the page's menu: Make it an app)", flush=True)
+        _qr(url)
+    sys.stdout.flush()
+
+
+def _qr(url: str) -> None:
     try:
         import segno
         segno.make(url, error="m").terminal(compact=True)
     except ImportError:
         print("frost serve: (no QR code: the segno package is missing)")
-    sys.stdout.flush()

@@ -14,7 +14,7 @@ from aiohttp import web
 
 from app.backdrops import BACKDROPS, load_backdrop
 from app.images import frost_meta
-from app.serve.appkeys import BACKDROP_PNGS, FEED, TOKEN
+from app.serve.appkeys import BACKDROP_PNGS, CA_DER, FEED, PORTS, TOKEN
 from app.serve.feed import Feed
 
 WEB_DIR = Path(__file__).resolve().parent.parent / "web"
@@ -22,13 +22,18 @@ TYPES = {".html": "text/html", ".js": "text/javascript", ".mjs": "text/javascrip
          ".css": "text/css", ".json": "application/json", ".png": "image/png",
          ".svg": "image/svg+xml", ".vert": "text/plain", ".frag": "text/plain",
          ".glsl": "text/plain", ".webmanifest": "application/manifest+json"}
+CA_PATH = "/frost-ca.crt"  # the local authority's public certificate: served without the token
 
 
 @web.middleware
 async def token_check(request: web.Request, handler):
     """The token, where one is in force; else (a server on loopback) a Host naming this
     machine: a page of another site whose name its DNS turns to 127.0.0.1 (DNS rebinding)
-    sends its own name as Host and as Origin, and would pass the Origin check."""
+    sends its own name as Host and as Origin, and would pass the Origin check. The local
+    authority's public certificate alone is served to anyone: a phone installs it before
+    it opens the page."""
+    if request.path == CA_PATH:
+        return await handler(request)
     token = request.app[TOKEN]
     given = request.query.get("token", "")
     if token and not secrets.compare_digest(given.encode(), token.encode()):
@@ -111,3 +116,22 @@ def _png(name: str) -> bytes:
     # (the lock screen's static parts: each page gets its clock box as a clock message)
     Image.fromarray(load_backdrop(name, minute=None)).save(out, "PNG")
     return out.getvalue()
+
+
+async def authority(request: web.Request) -> web.Response:
+    """GET /frost-ca.crt: the local authority's certificate (DER), to install on a phone
+    (its private key never leaves its file); 404 where there is none (no HTTPS, or a
+    certificate of the user's own)."""
+    der = request.app[CA_DER]
+    if not der:
+        raise web.HTTPNotFound(text="frost: this server has no local authority to trust\n")
+    return web.Response(body=der, content_type="application/x-x509-ca-cert", headers={
+        "Content-Disposition": 'attachment; filename="frost-ca.crt"', "Cache-Control": "no-cache"})
+
+
+async def app_info(request: web.Request) -> web.Response:
+    """GET /app.json: the ports this server listens on ({"http": N, "https": N or null})
+    and whether it serves a local authority to trust ("ca": "frost-ca.crt" or null)."""
+    ports: dict = request.app[PORTS]
+    info = {**ports, "ca": CA_PATH.lstrip("/") if request.app[CA_DER] else None}
+    return web.json_response(info, headers={"Cache-Control": "no-store"})

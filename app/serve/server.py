@@ -16,8 +16,8 @@ from pathlib import Path
 from aiohttp import web
 
 from app.resources import SHADER_DIR
-from app.serve import routes, sockets
-from app.serve.appkeys import BACKDROP_PNGS, FEED, FILES, PAGE_LINES, STATS, TOKEN
+from app.serve import install, routes, sockets
+from app.serve.appkeys import BACKDROP_PNGS, CA_DER, FEED, FILES, PAGE_LINES, PORTS, STATS, TOKEN
 from app.serve.feed import Feed
 from app.serve.logs import RateLimitedLog, quiet_bad_requests
 from app.serve.session import SessionFiles
@@ -28,20 +28,24 @@ STATS_PERIOD = 10.0  # s between the log's stats lines
 
 
 def make_app(feed: Feed, token: str | None = None, session_dir=None,
-             web_dir: Path = routes.WEB_DIR) -> web.Application:
+             web_dir: Path = routes.WEB_DIR, ca_der: bytes = b"") -> web.Application:
     """The server's app: its routes, the token check, the feed started with it and stopped
-    (the session written to `session_dir`, if given) when it is cleaned up."""
+    (the session written to `session_dir`, if given) when it is cleaned up; `ca_der`, the
+    local authority's public certificate (served as /frost-ca.crt) where HTTPS uses it."""
     app = web.Application(middlewares=[routes.token_check])
     quiet_bad_requests()
     app[FEED], app[TOKEN] = feed, token or ""
     app[FILES] = SessionFiles(feed, session_dir)
     app[BACKDROP_PNGS] = {}
     app[PAGE_LINES] = RateLimitedLog()
-    app.router.add_get("/", routes.folder_files(web_dir, "index.html"))
+    app[CA_DER], app[PORTS] = ca_der, {"http": None, "https": None}
+    install.routes_for(app, web_dir)  # the page, its manifest and its worker (/sw.js)
     app.router.add_get("/web/{path:.*}", routes.folder_files(web_dir))
     app.router.add_get("/shaders/{path:.*}", routes.folder_files(SHADER_DIR))
     app.router.add_get("/backdrops/{name}.png", routes.backdrop)
     app.router.add_get("/meta", routes.meta)
+    app.router.add_get("/app.json", routes.app_info)
+    app.router.add_get(routes.CA_PATH, routes.authority)
     app.router.add_get("/ws", sockets.socket)
     app.on_startup.append(_start)
     app.on_shutdown.append(_close_pages)  # before aiohttp waits on the open handlers

@@ -21,17 +21,18 @@ log = logging.getLogger("app.serve")
 HEARTBEAT = 20.0  # s: a socket that answers no ping within half of it is closed
 
 
-def same_origin(origin: str, host: str) -> bool:
-    """A WebSocket's Origin header names the host (and port) the request was made to."""
+def same_origin(origin: str, host: str, scheme: str = "http") -> bool:
+    """A WebSocket's Origin header names the scheme (http on the HTTP port, https on the
+    HTTPS one), host and port the request was made to."""
     parts = urlsplit(origin)
-    return parts.scheme in ("http", "https") and parts.netloc.lower() == host.lower()
+    return parts.scheme == scheme and parts.netloc.lower() == host.lower()
 
 
 async def socket(request: web.Request) -> web.WebSocketResponse:
     """GET /ws: a page's socket, from its hello to its close."""
     feed: Feed = request.app[FEED]
     origin = request.headers.get("Origin")
-    if origin is not None and not same_origin(origin, request.host):
+    if origin is not None and not same_origin(origin, request.host, request.scheme):
         raise web.HTTPForbidden(text="frost: the page's origin is not this server\n")
     ws = web.WebSocketResponse(max_msg_size=protocol.MAX_INPUT_BYTES, heartbeat=HEARTBEAT)
     if len(feed.pages) >= MAX_PAGES:  # closed at once, with words the page can show (a 503

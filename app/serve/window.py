@@ -11,7 +11,7 @@ import sys
 import threading
 
 from app.serve.feed import Feed
-from app.serve.listen import listen, listen_problem
+from app.serve.listen import Https, listen, listen_problem
 from app.serve.server import make_app
 
 log = logging.getLogger("app.serve")
@@ -20,8 +20,10 @@ log = logging.getLogger("app.serve")
 class Background:
     """The server's loop on a thread of its own."""
 
-    def __init__(self, host: str, port: int, token: str | None):
+    def __init__(self, host: str, port: int, token: str | None, https: Https | None = None,
+                 ca_der: bytes = b""):
         self.host, self.port, self.token = host, port, token
+        self.https, self.ca_der = https, ca_der
         self._loop: asyncio.AbstractEventLoop | None = None
         self._ended: asyncio.Event | None = None
         self._ready = threading.Event()
@@ -37,7 +39,8 @@ class Background:
             raise RuntimeError(f"frost serve cannot listen on {self.host}:{self.port}")
 
     async def _main(self, feed: Feed) -> None:
-        runner = await listen(make_app(feed, self.token, None), self.host, self.port, self.token)
+        runner = await listen(make_app(feed, self.token, None, ca_der=self.ca_der), self.host,
+                              self.port, self.token, self.https)
         if runner is None:
             self._ready.set()
             return
@@ -52,20 +55,22 @@ class Background:
             self._thread.join(10)
 
 
-def serve_with_window(args, params, token: str | None) -> int:
+def serve_with_window(args, params, token: str | None, https: Https | None = None,
+                      ca_der: bytes = b"") -> int:
     """The window (its exit status) with the server beside it until it closes."""
     from app.backdrops import view_from
     from app.window import frost_window
 
-    problem = listen_problem(args.host, args.port)  # before a window opens for nothing
-    if problem:
-        print(f"frost: error: {problem}", file=sys.stderr)
-        return 2
-    server = Background(args.host, args.port, token)
+    for port in [args.port] + ([https.port] if https else []):
+        problem = listen_problem(args.host, port)  # before a window opens for nothing
+        if problem:
+            print(f"frost: error: {problem}", file=sys.stderr)
+            return 2
+    server = Background(args.host, args.port, token, https, ca_der)
 
     def attach(window) -> None:
         feed = Feed(params, args.seed, melt_radius=args.melt_radius, backdrop=args.background,
-                    thread=window.thread)
+                    thread=window.thread, preset=args.preset or "")
         server.start(feed)
 
     args.view = view_from(args)

@@ -111,6 +111,7 @@ class SimThread(threading.Thread):
         self.script, self._script_at = list(script), 0  # a replayed session's events
         self.paused = False
         self.sent = self.handled = 0  # commands sent (main thread), applied (this thread)
+        self.replaced = 0  # tuning changes replaced by the next before their tick
         self._stop_event = threading.Event()
         self.schedule = Schedule(dt, self._stop_event.wait)
         self.times = TickTimes()
@@ -190,6 +191,9 @@ class SimThread(threading.Thread):
         if lost:
             self.notify(logging.WARNING, "input still waiting at exit, never applied (not in "
                         "the session): " + ", ".join(f"{n} {k}" for k, n in lost.items()))
+        if self.replaced:
+            self.notify(logging.INFO, f"{self.replaced} parameter changes were replaced by the "
+                        "next before their tick (the session holds the later)")
         self.exports.finish([command.arg for command in waiting if command.kind == "export"],
                             None if self.is_alive() else self.timeline, self.seed)
 
@@ -251,8 +255,10 @@ class SimThread(threading.Thread):
         self._tell_time(notes)
         # (a tuning change waiting right behind another replaces it: a page or a held key
         # can ask for hundreds, and each applied would regrow the frost)
-        self.handled += self.backlog.extend(group_melts(take_all(self.inbox), _disc, _melts),
-                                            replaces=_superseded)
+        replaced = self.backlog.extend(group_melts(take_all(self.inbox), _disc, _melts),
+                                       replaces=_superseded)
+        self.handled += replaced
+        self.replaced += replaced
         done = self.backlog.run(lambda command: self._handlers[command.kind](command.arg, notes))
         self.handled += done  # (a group of melts added the rest of its commands)
         reset, melts, message = _merged(notes["applied"])

@@ -6,6 +6,9 @@ import { Program, Renderer, fetchShaders } from "./renderer.js";
 import { Pointers } from "./input.js";
 import { Menu } from "./menu.js";
 import { withText } from "./png.js";
+import { makeApp } from "./makeapp.js";
+import { paneRect as fitPane, visiblePane } from "./fit.js";
+import { PhoneApp } from "./phone.js";
 import { Clock, isClock } from "./clock.js";
 
 const SCREEN = [760, 1280];
@@ -54,6 +57,8 @@ async function main() {
   };
   state.menu = new Menu(document.getElementById("menu"), send, screenshot);
   state.menu.pointers = pointers;
+  makeApp(document.getElementById("menu"), query, state);
+  state.phone = new PhoneApp(state, document.getElementById("menu"));
   addEventListener("keydown", onKey);
   addEventListener("resize", () => { state.dirty = true; });
   // A phone may take the GPU away (in the background): start again when it gives it back,
@@ -80,7 +85,8 @@ function connect(retry) {
   const ws = new WebSocket(url);
   ws.binaryType = "arraybuffer";
   state.socket = ws;
-  ws.onopen = () => { retry = RETRY_FIRST; };
+  let opened = false;
+  ws.onopen = () => { retry = RETRY_FIRST; opened = true; };
   ws.onmessage = (event) => {
     state.messages += 1;
     if (typeof event.data === "string") return onText(JSON.parse(event.data));
@@ -103,10 +109,13 @@ function connect(retry) {
   };
   ws.onclose = (event) => {
     state.connected = false;
+    state.phone.connected(false);
     state.synced = false;
     state.socket = null;
     if (event.code === 1008 || event.code === 1009 || event.code === 4403) {
       status(`refused: ${event.reason || event.code}`);
+    } else if (!opened && !event.reason) {  // gone (the page may have opened from the cache)
+      status("frost serve is not reachable: trying again");
     } else {
       status(`reconnecting (${event.reason || "connection lost"})`);
     }
@@ -124,6 +133,7 @@ async function onText(msg) {
     state.hello = msg;
     state.hellos += 1;
     state.connected = true;
+    state.phone.connected(true);
     status("");
     const [cols, rows] = msg.grid;
     const r = state.renderer;
@@ -168,6 +178,7 @@ function applyView(hello) {
   if ("light" in view) r.light = view.light;
   if ("features" in view) r.showFeatures = !!view.features;
   if ("bumps" in view) r.showBumps = !!view.bumps;
+  state.serverLight = r.light;  // the page's tilt turns it (phone.js), for this page alone
 }
 
 async function loadBackdrop(name) {
@@ -234,12 +245,10 @@ function onKey(event) {
 
 // ---- drawing -------------------------------------------------------------------------
 
-// Where the 760x1280 pane lies on the canvas, device px: letterboxed, centred.
+// Where the 760x1280 pane lies on the canvas, device px: covering it, centred, cropped
+// (state.fit "fill"), or whole and letterboxed ("pane"); fit.js.
 function paneRect() {
-  const w = canvas.width, h = canvas.height;
-  const scale = Math.min(w / SCREEN[0], h / SCREEN[1]);
-  const pw = Math.round(SCREEN[0] * scale), ph = Math.round(SCREEN[1] * scale);
-  return { x: Math.floor((w - pw) / 2), y: Math.floor((h - ph) / 2), w: pw, h: ph, scale };
+  return fitPane(canvas.width, canvas.height, state.fit, SCREEN);
 }
 
 function fitCanvas() {
@@ -261,6 +270,7 @@ function drawPane(all = false) {
 
 function frame() {
   fitCanvas();
+  if (state.renderer && state.serverLight) state.phone.frame(state.renderer, state.serverLight);
   if (state.renderer) drawPane();
   if (state.renderer && (state.dirty || state.blitDamage)) {
     state.blitter.draw(state.renderer.frame, paneRect(), state.dirty ? null : state.blitDamage);
@@ -271,7 +281,10 @@ function frame() {
     if (w && (w.seen || (w.frost && !w.frostDrawn))) {  // the tap's first frost or growth is drawn
       gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
       const ms = performance.now() - w.t0;
-      if (!w.frostDrawn) state.frostLatencies.push(ms);
+      if (!w.frostDrawn) {
+        state.frostLatencies.push(ms);
+        state.phone.tapped();  // a short buzz: the tap took
+      }
       w.frostDrawn = true;
       if (w.seen) {
         state.latencies.push(ms);
@@ -298,10 +311,12 @@ class Blitter {
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     if (damage) {
       // Its canvas px, and two more each way (linear filtering reaches a texel further).
-      const x0 = Math.max(Math.floor(rect.x + damage[0] * rect.scale) - 2, rect.x);
-      const y0 = Math.max(Math.floor(rect.y + damage[1] * rect.scale) - 2, rect.y);
-      const x1 = Math.min(Math.ceil(rect.x + damage[2] * rect.scale) + 2, rect.x + rect.w);
-      const y1 = Math.min(Math.ceil(rect.y + damage[3] * rect.scale) + 2, rect.y + rect.h);
+      // Within the pane's rect and the canvas (a covering pane reaches past it).
+      const x0 = Math.max(Math.floor(rect.x + damage[0] * rect.scale) - 2, rect.x, 0);
+      const y0 = Math.max(Math.floor(rect.y + damage[1] * rect.scale) - 2, rect.y, 0);
+      const x1 = Math.min(Math.ceil(rect.x + damage[2] * rect.scale) + 2, rect.x + rect.w, gl.drawingBufferWidth);
+      const y1 = Math.min(Math.ceil(rect.y + damage[3] * rect.scale) + 2, rect.y + rect.h, H);
+      if (x1 <= x0 || y1 <= y0) return;  // changed where the screen does not show
       gl.enable(gl.SCISSOR_TEST);
       gl.scissor(x0, H - y1, x1 - x0, y1 - y0);
     } else {
@@ -326,15 +341,17 @@ class Blitter {
 
 // ---- screenshot ----------------------------------------------------------------------
 
-// The pane (760x1280) as PNG bytes with the desktop's metadata keys.
+// What the screen shows of the pane, in pane px (all 760x1280 of it in "whole pane", the
+// part the screen crops it to in "fill"), as PNG bytes with the desktop's metadata keys.
 async function screenshotPng() {
   const r = state.renderer;
   drawPane();
   const pixels = r.readFrame();
   for (let i = 3; i < pixels.length; i += 4) pixels[i] = 255;
+  const [x0, y0, x1, y1] = visiblePane(paneRect(), canvas.width, canvas.height, SCREEN);
   const c = document.createElement("canvas");
-  [c.width, c.height] = SCREEN;
-  c.getContext("2d").putImageData(new ImageData(new Uint8ClampedArray(pixels.buffer), ...SCREEN), 0, 0);
+  [c.width, c.height] = [x1 - x0, y1 - y0];
+  c.getContext("2d").putImageData(new ImageData(new Uint8ClampedArray(pixels.buffer), ...SCREEN), -x0, -y0);
   const blob = await new Promise((resolve) => c.toBlob(resolve, "image/png"));
   const png = new Uint8Array(await blob.arrayBuffer());
   // frost_meta's keys in its order; parameters, seed and touches as the server gives them
@@ -347,6 +364,8 @@ async function screenshotPng() {
     "Creation Time": local.toISOString().slice(0, 19),
     view: { light: r.light, features: r.showFeatures, bumps: r.showBumps, background: state.backdrop },
   };
+  // A crop: where its px lie on the pane (the touches' px are the pane's).
+  if (c.width !== SCREEN[0] || c.height !== SCREEN[1]) meta.view.crop = [x0, y0, c.width, c.height];
   return withText(png, meta);
 }
 

@@ -30,11 +30,19 @@ export function pyJson(value) {
   return ascii(JSON.stringify(value));
 }
 
-// A float as Python's repr writes it (1.0, not 1).
+// A float as Python's repr writes it: the shortest digits that read back (as JavaScript's),
+// positional from 1e-4 to below 1e16 (1.0, not 1; 0.0001), else with an exponent of at least
+// two digits and its sign (1e-05, 1.5e+16); a negative zero is -0.0.
 function pyFloat(x) {
   if (!Number.isFinite(x)) return x > 0 ? "Infinity" : x < 0 ? "-Infinity" : "NaN";
-  const s = String(x);
-  return /[.e]/.test(s) ? s : s + ".0";
+  if (Object.is(x, -0)) return "-0.0";
+  const [digits, power] = x.toExponential().split("e");
+  const exponent = Number(power);
+  if (exponent < -4 || exponent >= 16) {
+    return `${digits}e${exponent < 0 ? "-" : "+"}${String(Math.abs(exponent)).padStart(2, "0")}`;
+  }
+  const s = String(x);  // positional in this range
+  return s.includes(".") ? s : s + ".0";
 }
 
 function chunk(type, data) {

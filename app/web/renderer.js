@@ -138,6 +138,18 @@ export class Renderer {
     this.damage.all = true;
   }
 
+  // Draw again next frame the tiles that hold ice alone (a page's own new light: clear
+  // glass is the backdrop's whatever the light).
+  damageIce() {
+    const iced = this.tiles.mask, d = this.damage;
+    for (let i = 0; i < iced.length; i++) {
+      if (iced[i]) {
+        d.mask[i] = 1;
+        d.any = true;
+      }
+    }
+  }
+
   addDamage(x0, y0, x1, y1) {
     const [w, h] = this.size;
     x0 = Math.max(Math.floor(x0), 0);

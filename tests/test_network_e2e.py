@@ -1,0 +1,54 @@
+"""The phone page through the shaping proxy (`frost bench page --network`): `frost serve`
+on loopback, the proxy in front of it, the page on an emulated phone in headless Chromium.
+The proxy forwards bytes unchanged, so the page's requests name the proxy's address in
+Host and Origin (127.0.0.1, the proxy's port), which a loopback server accepts: the page
+loads, its socket opens and syncs, a ping's pong takes at least the link's round trip less
+its jitter, a tap draws growth, and every byte went through the proxy. No speed is held,
+only that lower bound."""
+
+from __future__ import annotations
+
+import pytest
+
+from app.bench.network import PINGS, Phone, css_point, served
+from app.bench.page import browser_problem, launch
+from app.bench.shaper import PROFILES
+
+PROBLEM = browser_problem()
+pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
+
+
+def test_the_page_works_through_the_shaper():
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as pw, served("fern", PROFILES["4g"]) as s:
+        assert s.shaper is not None and f":{s.shaper.port}/" in s.url and s.url != s.server
+        browser = launch(pw)
+        try:
+            with Phone(browser, cpu_slowdown=2) as phone:
+                page = phone.page
+                phone.open(s.url)
+                socket = page.evaluate("frost.socket.url")
+                assert socket.startswith(f"ws://127.0.0.1:{s.shaper.port}/ws")
+                # A ping's pong crossed the link both ways: at least twice its delay less
+                # its jitter (a lower bound: load only adds).
+                link = PROFILES["4g"]
+                pings = page.evaluate(PINGS, 5)
+                assert len(pings) == 5 and min(pings) >= 2e3 * (link.delay - link.jitter)
+                page.touchscreen.tap(*css_point(page, 380, 640))
+                page.wait_for_function("frost.latencies.length >= 1", timeout=120_000)
+                meta = page.evaluate("fetch('meta').then((r) => r.status)")
+                assert meta == 200
+                assert page.evaluate("frost.hellos") == 1  # never refused, never reconnected
+                assert page.evaluate("__probe.ticks.length") > 0  # the probe saw the messages
+        finally:
+            browser.close()
+        shaper = s.shaper.shaper
+        assert shaper.down_bytes > page_bytes_floor() and shaper.up_bytes > 0
+
+
+def page_bytes_floor() -> int:
+    """The page's own files alone weigh more than this (its HTML and modules)."""
+    from app.resources import WEB_DIR
+
+    return sum(f.stat().st_size for f in WEB_DIR.glob("*.js"))

@@ -1,0 +1,355 @@
+"""The page as a phone app, end to end (`frost serve` in a subprocess, the page in headless
+Chromium on emulated phones): the pane covers the screen and a tap lands on the pane px
+under it (the oracle: the touch the session file records, against the cover maths worked
+here by hand), or whole and letterboxed when the menu says so; tilt (a DeviceOrientation
+override over CDP) turns this page's light alone; the screen's wake lock follows
+visibility and the connection; a tap's first frost buzzes unless switched off. And the
+tilt maths (app/web/tilt.js) against hand-worked cases."""
+
+from __future__ import annotations
+
+import io
+import json
+import math
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from app.bench.page import Page, browser_problem, hello, launch
+from sim import Params
+from tests.test_phone_e2e import BACKDROP, PHONE, Serve, open_page, pause_and_settle, pixels
+
+PROBLEM = browser_problem()
+pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
+
+PANE = (760, 1280)
+WHOLE_PANE = "localStorage.setItem('frost.fit', 'pane')"
+# navigator.vibrate as a recorder (a headless page has no motor to ask).
+VIBRATE = ("Object.defineProperty(Navigator.prototype, 'vibrate', {configurable: true,"
+           " value: function (ms) { (window.buzzes ||= []).push(ms); return true; }})")
+
+
+@pytest.fixture(scope="module")
+def browser():
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as pw:
+        b = launch(pw)
+        yield b
+        b.close()
+
+
+@pytest.fixture
+def serve(tmp_path):
+    started: list[Serve] = []
+
+    def start(*args: str) -> Serve:
+        s = Serve(tmp_path, *args)
+        started.append(s)
+        return s
+
+    yield start
+    for s in started:
+        s.stop()
+
+
+@pytest.fixture
+def phones(browser, serve):
+    """Opens pages on emulated phones (`viewport` CSS px, 3 device px each), an init
+    script run before the page's own if given; closed before the server stops."""
+    contexts = []
+
+    def open_(url: str, viewport=(390, 844), init: str | None = None):
+        context = browser.new_context(**{**PHONE, "viewport": {"width": viewport[0], "height": viewport[1]}})
+        contexts.append(context)
+        if init:
+            context.add_init_script(init)
+        return open_page(context, url)
+
+    yield open_
+    for context in contexts:
+        context.close()
+
+
+def cover(w: int, h: int, whole: bool = False) -> tuple[float, float, float]:
+    """(scale, x, y): a pane px's size on a w x h device-px canvas and where the pane's
+    corner lies, worked by hand: covering (or, `whole`, fitting) and centred."""
+    scale = (min if whole else max)(w / PANE[0], h / PANE[1])
+    return scale, (w - PANE[0] * scale) / 2, (h - PANE[1] * scale) / 2
+
+
+def screen(page) -> np.ndarray:
+    """What the screen shows, device px, H x W x 3."""
+    return np.asarray(Image.open(io.BytesIO(page.screenshot())).convert("RGB")).astype(int)
+
+
+def session_touches(tmp_path) -> list[tuple[float, float]]:
+    files = sorted(tmp_path.glob("session-*.json"))
+    assert files
+    events = json.loads(files[-1].read_text())["events"]
+    return [(e["x"], e["y"]) for e in events if e["kind"] == "touch"]
+
+
+@pytest.mark.parametrize("viewport, whole", [((390, 844), False), ((390, 844), True), ((844, 390), False)],
+                         ids=["portrait-fill", "portrait-whole-pane", "landscape-fill"])
+def test_the_pane_covers_the_screen_and_a_tap_lands_under_the_finger(serve, phones, tmp_path, viewport,
+                                                                     whole):
+    s = serve()
+    page = phones(s.local, viewport, WHOLE_PANE if whole else None)
+    w, h = viewport[0] * 3, viewport[1] * 3
+    scale, x0, y0 = cover(w, h, whole)
+    shot = screen(page)
+    assert shot.shape == (h, w, 3)
+    black = shot.max(axis=2) < 8  # the backdrop (dusk) has no px this dark
+    for cy, cx in ((2, 2), (2, w - 3), (h - 3, 2), (h - 3, w - 3)):  # the screen's corners
+        px, py = (cx + 0.5 - x0) / scale, (cy + 0.5 - y0) / scale
+        on_pane = 0 <= px < PANE[0] and 0 <= py < PANE[1]
+        assert on_pane == (not whole)
+        if on_pane:  # the backdrop's px there (linear filtering: within a few levels)
+            assert np.abs(shot[cy, cx] - BACKDROP[int(py), int(px)]).max() <= 12, (cx, cy)
+        else:
+            assert black[cy, cx], (cx, cy)
+    if whole:  # the letterbox: the bars above and below and nothing else
+        assert abs(black.mean() - (1 - PANE[1] * scale / h)) < 0.005
+    else:
+        assert black.mean() == 0
+    # Taps at screen points (CSS px) off the centre, one near a corner of the screen.
+    taps = [(viewport[0] * 0.3, viewport[1] * 0.6), (14, viewport[1] - 14)]
+    if whole:
+        taps[1] = (viewport[0] - 12, (y0 + 40 * scale) / 3)  # on the pane, near its top (below the menu)
+    for x, y in taps:
+        page.touchscreen.tap(x, y)
+        page.wait_for_timeout(400)
+    page.wait_for_function("frost.frostLatencies.length >= 2", timeout=30_000)
+    page.context.close()
+    s.stop()
+    got = session_touches(tmp_path)
+    assert len(got) == 2, got
+    for (x, y), (gx, gy) in zip(taps, got, strict=True):
+        # The tap's device px centre, through the crop, in pane px; the page rounds the
+        # pane's size and offset to whole device px: within a device px, 1/scale pane px.
+        ex, ey = (x * 3 - x0) / scale, (y * 3 - y0) / scale
+        assert abs(gx - ex) <= 1 / scale + 0.01 and abs(gy - ey) <= 1 / scale + 0.01, ((gx, gy), (ex, ey))
+
+
+def test_the_menu_remembers_whole_pane(serve, phones):
+    s = serve()
+    page = phones(s.local)
+    assert page.evaluate("frost.pane().h") == 844 * 3
+    page.click("#open")
+    page.check("#whole")
+    page.wait_for_function("frost.pane().w === 390 * 3")
+    page.reload()
+    page.wait_for_function("window.frost && frost.synced && frost.frames > 0", timeout=30_000)
+    assert page.is_checked("#whole")
+    assert page.evaluate("frost.pane()")["w"] == 390 * 3
+    assert (screen(page).max(axis=2) < 8).mean() > 0.15  # the bars
+
+
+def test_the_screenshot_saves_what_the_screen_shows(serve, phones):
+    """In fill mode the menu's screenshot is the part of the pane on the screen, in pane px,
+    its place on the pane in the metadata."""
+    s = serve()
+    page = phones(s.local)
+    png = bytes(page.evaluate("async () => Array.from(await frost.screenshotPng())"))
+    with Image.open(io.BytesIO(png)) as im:
+        shot, text = np.asarray(im.convert("RGB")), dict(im.text)
+    scale, x0, _ = cover(1170, 2532)
+    left = math.floor(-x0 / scale)  # 84.2 pane px cropped each side
+    assert shot.shape == (1280, PANE[0] - 2 * left, 3)
+    assert json.loads(text["view"])["crop"] == [left, 0, PANE[0] - 2 * left, 1280]
+    assert {"parameters", "seed", "tick", "touches", "Software", "Creation Time", "view"} == set(text)
+    assert np.array_equal(shot, pixels(page)[:, left:PANE[0] - left])
+
+
+def _tilt(cdp, beta: float, gamma: float = 0.0) -> None:
+    cdp.send("DeviceOrientation.setDeviceOrientationOverride", {"alpha": 0, "beta": beta, "gamma": gamma})
+
+
+def test_tilt_turns_this_pages_light_alone(serve, phones):
+    s = serve()
+    a, b = phones(s.local), phones(s.local)
+    for x, y in ((0.3, 0.4), (0.6, 0.6)):
+        a.touchscreen.tap(390 * x, 844 * y)
+    a.wait_for_timeout(2500)
+    pause_and_settle([a, b])
+    light = a.evaluate("frost.renderer.light")
+    before_a, before_b = pixels(a), pixels(b)
+    cdp = a.context.new_cdp_session(a)
+    _tilt(cdp, 50)  # the rest pose (a phone held up)
+    a.wait_for_function("frost.phone.tilt.rest && frost.phone.tilt.rest.beta === 50")
+    _tilt(cdp, 5)  # its top lowered 45 degrees
+    a.wait_for_function("frost.phone.tilt.drawn[1] === -45 && !frost.renderer.damage.any", timeout=10_000)
+    turned = a.evaluate("frost.renderer.light")
+    # The light turned 45 degrees about the screen's x axis toward its bottom (+y), the
+    # server's kept as it was.
+    x, y, z = (c / math.hypot(*light) for c in light)
+    k = math.sqrt(0.5)  # cos 45 = sin 45
+    assert np.allclose(turned, [x, y * k + z * k, -y * k + z * k], atol=1e-12)
+    assert turned[1] > 0 > light[1]
+    assert a.evaluate("frost.serverLight") == light
+    after_a, after_b = pixels(a), pixels(b)
+    ice = np.abs(before_a - BACKDROP).max(axis=2) > 0
+    changed = np.abs(after_a.astype(int) - before_a).max(axis=2) > 0
+    assert ice.mean() > 0.01
+    assert changed[ice].mean() > 0.5, changed[ice].mean()
+    # Clear glass: a px and its 8 neighbours all the backdrop's (the edge of thin ice may
+    # shade to the backdrop's colour in one light and not in another).
+    near = np.pad(ice, 1)
+    near = np.any([near[1 + dy:near.shape[0] - 1 + dy, 1 + dx:near.shape[1] - 1 + dx]
+                   for dy in (-1, 0, 1) for dx in (-1, 0, 1)], axis=0)
+    assert not changed[~near].any()  # clear glass unchanged
+    a.evaluate("frost.renderer.damageAll()")  # the ice's tiles alone drew what a whole frame draws
+    assert np.array_equal(pixels(a), after_a)
+    assert np.array_equal(after_b, before_b)  # the other page keeps its light
+    assert b.evaluate("frost.renderer.light") == light
+    # Back to the rest pose: the light comes back to the server's, the frame as before.
+    _tilt(cdp, 50)
+    a.wait_for_function("frost.phone.tilt.drawn[1] === 0 && !frost.renderer.damage.any", timeout=10_000)
+    assert np.array_equal(pixels(a), before_a)
+
+
+def test_the_tilt_switch_turns_it_off_and_a_plain_http_page_says_why(serve, phones, browser):
+    s = serve()
+    page = phones(s.local)
+    cdp = page.context.new_cdp_session(page)
+    page.click("#open")
+    page.uncheck("#tilt")
+    _tilt(cdp, 10)
+    _tilt(cdp, 40)
+    page.wait_for_timeout(500)
+    assert page.evaluate("frost.renderer.light") == page.evaluate("frost.serverLight")
+    assert page.is_hidden("#tilt-why")
+    page.reload()  # remembered
+    page.wait_for_function("window.frost && frost.synced", timeout=30_000)
+    assert not page.is_checked("#tilt")
+    # A page on a plain HTTP address that is not this machine's (http://frost.test) is no
+    # secure context: no tilt, and the menu says why.
+    with Page(hello(Params.preset("fern")), [], viewport=(390, 844), scale=3, browser=browser,
+              touch=True) as p:
+        assert p.page.evaluate("window.isSecureContext") is False
+        p.page.click("#open")
+        assert p.page.is_disabled("#tilt") and not p.page.is_checked("#tilt")
+        assert "HTTPS" in p.page.inner_text("#tilt-why")
+        cdp = p.context.new_cdp_session(p.page)
+        _tilt(cdp, 10)
+        _tilt(cdp, 50)
+        p.page.wait_for_timeout(300)
+        assert p.page.evaluate("frost.renderer.light") == p.page.evaluate("frost.serverLight")
+
+
+def test_tilt_maths_against_hand_worked_cases(browser):
+    with Page(hello(Params.preset("fern")), [], viewport=(390, 844), scale=3, browser=browser) as p:
+        got = p.page.evaluate("""async () => {
+            const t = await import("./web/tilt.js");
+            const rest = { beta: 0, gamma: 0 };
+            const f = new t.LowPass(40);
+            f.step([0], 0);
+            const lp = [f.step([1], 40)[0], f.step([1], 40)[0]];
+            return {
+              up: t.screenTilt(30, 0, rest, 0), left: t.screenTilt(0, 20, rest, 0),
+              landUp: t.screenTilt(30, 0, rest, 90), landGamma: t.screenTilt(0, 20, rest, 90),
+              wrap: t.screenTilt(-170, 0, { beta: 170, gamma: 0 }, 0),
+              cone: t.screenTilt(60, -80, rest, 0),
+              right30: t.tiltLight([0, 0, 1], [30, 0]), up30: t.tiltLight([0, 0, 2], [0, 30]),
+              flat: t.tiltLight([0, 0, 1], [0, 90]), lp };
+        }""")
+    close = lambda a, b: np.allclose(a, b, atol=1e-12)  # noqa: E731
+    assert close(got["up"], [0, 30])          # top lifted: the light toward the top
+    assert close(got["left"], [-20, 0])       # right edge down (gamma +): toward the left
+    assert close(got["landUp"], [-30, 0])     # screen turned 90 (top to the left): the top is left
+    assert close(got["landGamma"], [0, -20])  # and the phone's right edge the screen's top
+    assert close(got["wrap"], [0, 20])        # -170 is 20 past 170
+    assert close(got["cone"], [36, 27])       # (80, 60) is 100 degrees: held to 45
+    h = math.sqrt(3) / 2
+    assert close(got["right30"], [0.5, 0, h]) and close(got["up30"], [0, -0.5, h])
+    assert close(got["flat"], [0, -math.sin(math.radians(75)), math.cos(math.radians(75))])
+    assert close(got["lp"], [1 - math.exp(-1), 1 - math.exp(-2)])
+
+
+def test_the_screen_stays_on_while_visible_and_connected(serve, phones):
+    s = serve()
+    page = phones(s.local)
+    page.wait_for_function("frost.phone.awake.held", timeout=10_000)
+    hide = ("v => { Object.defineProperty(document, 'visibilityState', {configurable: true, get: () => v});"
+            " document.dispatchEvent(new Event('visibilitychange')); }")
+    page.evaluate("window.lock = frost.phone.awake.sentinel")
+    page.evaluate(hide, "hidden")
+    page.wait_for_function("!frost.phone.awake.held && window.lock.released", timeout=10_000)
+    page.evaluate(hide, "visible")  # back to the front: asked again
+    page.wait_for_function("frost.phone.awake.held && frost.phone.awake.sentinel !== window.lock",
+                           timeout=10_000)
+    assert page.evaluate("frost.phone.awake.requests") == 2
+    page.evaluate("window.lock = frost.phone.awake.sentinel")
+    s.stop()  # disconnected: released
+    page.wait_for_function("!frost.connected && !frost.phone.awake.held && window.lock.released",
+                           timeout=30_000)
+
+
+def test_a_taps_first_frost_buzzes_unless_switched_off(serve, phones):
+    s = serve()
+    page = phones(s.local, init=VIBRATE)
+    page.touchscreen.tap(120, 300)
+    page.wait_for_function("frost.frostLatencies.length === 1", timeout=30_000)
+    page.wait_for_function("window.buzzes && window.buzzes.length === 1")
+    assert page.evaluate("window.buzzes") == [12]
+    page.click("#open")
+    page.uncheck("#buzz")
+    page.click("#open")
+    page.touchscreen.tap(280, 600)
+    page.wait_for_function("frost.frostLatencies.length === 2", timeout=30_000)
+    page.wait_for_timeout(300)
+    assert page.evaluate("window.buzzes.length") == 1
+    page.reload()  # remembered
+    page.wait_for_function("window.frost && frost.synced", timeout=30_000)
+    assert not page.is_checked("#buzz")
+
+
+# iOS's DeviceOrientationEvent.requestPermission as a stub: counts its calls and answers
+# window.answer (a refusal at first, as iOS answers a page that asks without a tap).
+ASK = ("window.answer = 'denied'; window.asked = 0; DeviceOrientationEvent.requestPermission ="
+       " async () => { window.asked += 1; return window.answer; }")
+
+
+def test_where_the_browser_asks_the_switch_asks(serve, phones):
+    """iOS grants motion sensors only from a tap: tried at load and refused, the switch
+    stays off without a word; turned on, it asks again, and a refusal is said; granted, the
+    tilt moves the light."""
+    s = serve()
+    page = phones(s.local, init=ASK)
+    page.wait_for_function("window.asked === 1")
+    assert not page.evaluate("frost.phone.tilt.on")
+    page.click("#open")
+    assert not page.is_checked("#tilt") and page.is_hidden("#tilt-why")
+    page.click("#tilt")  # a tap: asked, refused
+    page.wait_for_function("window.asked === 2")
+    page.wait_for_function("document.getElementById('tilt-why').textContent.includes('refused')")
+    assert not page.is_checked("#tilt") and not page.evaluate("frost.phone.tilt.on")
+    page.evaluate("window.answer = 'granted'")
+    page.click("#tilt")
+    page.wait_for_function("window.asked === 3 && frost.phone.tilt.on")
+    assert page.is_checked("#tilt") and page.is_hidden("#tilt-why")
+    cdp = page.context.new_cdp_session(page)
+    _tilt(cdp, 50)
+    page.wait_for_function("frost.phone.tilt.rest && frost.phone.tilt.rest.beta === 50")
+    _tilt(cdp, 80)
+    page.wait_for_function("frost.phone.tilt.drawn[1] === 30")
+    assert page.evaluate("frost.renderer.light") != page.evaluate("frost.serverLight")
+
+
+def test_the_menu_and_the_status_line_keep_clear_of_notches(serve, phones):
+    """Safe-area insets as a notched phone's (Chromium's override over CDP): the menu's
+    button below the notch and inside a side inset, the status line above the home bar."""
+    s = serve()
+    page = phones(s.local)
+    page.evaluate("document.getElementById('status').textContent = 'reconnecting'")
+    box = "id => document.getElementById(id).getBoundingClientRect().toJSON()"
+    bare = page.evaluate(box, "menu"), page.evaluate(box, "status")
+    assert bare[0]["top"] == 8 and bare[0]["right"] == 390 - 8 and bare[1]["bottom"] == 844 - 12
+    cdp = page.context.new_cdp_session(page)
+    insets = {"top": 47, "bottom": 34, "left": 0, "right": 30}
+    cdp.send("Emulation.setSafeAreaInsetsOverride", {"insets": insets})
+    page.wait_for_function("document.getElementById('menu').getBoundingClientRect().top === 47")
+    menu, status = page.evaluate(box, "menu"), page.evaluate(box, "status")
+    assert menu["right"] == 390 - 30 and status["bottom"] == 844 - 34 - 12 and status["height"] > 0

@@ -1,0 +1,290 @@
+"""The page as an installed app, end to end: `frost serve` in a subprocess, the page in
+headless Chromium with a persistent profile (a service worker and the installability check
+need one: incognito reports `in-incognito`). Chromium finds the page installable; with the
+server gone the page opens from the worker's cache and says so, and syncs again by itself
+when the server is back on the same port; a changed page replaces the cached one after one
+reload, whole."""
+
+from __future__ import annotations
+
+import base64
+import io
+import json
+import os
+import shutil
+import socket
+import urllib.error
+import urllib.request
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+from test_phone_e2e import PHONE, PROBLEM, Serve, open_page
+
+from app.bench.page import ANGLE, CHROMIUM
+
+pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
+
+ROOT = Path(__file__).resolve().parent.parent
+NOT_REACHABLE = "frost serve is not reachable"
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def persistent(pw, profile: Path, **context):
+    """Chromium with a profile kept in `profile` (not incognito), as a phone (`context`:
+    more of launch_persistent_context's options; `args` are added to the WebGL ones)."""
+    args = [*ANGLE["swiftshader"], *context.pop("args", [])]
+    return pw.chromium.launch_persistent_context(str(profile), executable_path=CHROMIUM, headless=True,
+                                                 args=args, **{**PHONE, **context})
+
+
+def installability_errors(context, page) -> list[dict]:
+    """What Chromium says stands between `page` and its installation (none: installable),
+    once the page's service worker is active."""
+    page.wait_for_function("navigator.serviceWorker && navigator.serviceWorker.controller", timeout=30_000)
+    cdp = context.new_cdp_session(page)
+    try:
+        return cdp.send("Page.getInstallabilityErrors")["installabilityErrors"]
+    finally:
+        cdp.detach()
+
+
+def installability(pw, url: str, profile: Path, **context) -> list[dict]:
+    """Installability errors of the page at `url` (any address: loopback, HTTPS), opened
+    in a fresh persistent profile (`context`: more of launch_persistent_context's options)."""
+    ctx = persistent(pw, profile, **context)
+    try:
+        return installability_errors(ctx, open_page(ctx, url))
+    finally:
+        ctx.close()
+
+
+@pytest.fixture(scope="module")
+def pw():
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        yield p
+
+
+@pytest.fixture
+def servers():
+    started: list[Serve] = []
+
+    def start(folder: Path, *args: str) -> Serve:
+        s = Serve(folder, *args)
+        started.append(s)
+        return s
+
+    yield start
+    for s in started:
+        s.stop()
+
+
+def cached_shells(page) -> list[str]:
+    return page.evaluate("caches.keys().then((k) => k.filter((n) => n.startsWith('frost-shell-')))")
+
+
+def wait_for_shell(page, digest: str | None = None) -> None:
+    """Until a worker controls the page and its cache (of `digest`, if given) is the only one."""
+    page.wait_for_function("navigator.serviceWorker.controller !== null", timeout=30_000)
+    want = [f"frost-shell-{digest}"] if digest else None
+    for _ in range(300):
+        names = cached_shells(page)
+        if (names == want) if want else len(names) == 1:
+            return
+        page.wait_for_timeout(100)
+    raise AssertionError(f"the shell's cache is {names}, not {want}")
+
+
+def status(page) -> str:
+    return page.evaluate("document.getElementById('status').textContent")
+
+
+def worker_shell(s: Serve) -> dict:
+    """The first line of the server's worker: {"hash": ..., "files": [...]}."""
+    query = f"?token={s.token}" if s.token else ""
+    with urllib.request.urlopen(f"http://127.0.0.1:{s.port}/sw.js{query}", timeout=10) as r:
+        return json.loads(r.read().decode().split("\n", 1)[0][len("const SHELL = "):-1])
+
+
+def shell_hash(s: Serve) -> str:
+    return worker_shell(s)["hash"]
+
+
+@pytest.mark.parametrize("host", ["127.0.0.1", "0.0.0.0"])
+def test_chromium_finds_the_page_installable(pw, servers, tmp_path, host):
+    s = servers(tmp_path, "--host", host)
+    assert (s.token is None) == (host == "127.0.0.1")
+    assert installability(pw, s.local, tmp_path / "profile") == []
+    if s.token:  # the app's files need the token like every request; the app keeps it
+        bare = f"http://127.0.0.1:{s.port}/"
+        for path in ("sw.js", "manifest.webmanifest", "web/icons/icon-192.png", "web/icons/maskable-512.png"):
+            with pytest.raises(urllib.error.HTTPError) as err:
+                urllib.request.urlopen(bare + path, timeout=10)
+            assert err.value.code == 403, path
+        with urllib.request.urlopen(f"{bare}manifest.webmanifest?token={s.token}", timeout=10) as r:
+            assert json.loads(r.read())["start_url"] == f"/?token={s.token}"
+
+
+def test_chromium_finds_the_https_page_installable_and_it_opens_without_the_server(pw, tmp_path):
+    """On the LAN's HTTPS address (the machine's host name, mapped to this machine: no
+    loopback name), in a Chromium whose NSS database trusts the kept authority. Opened from
+    the cache, the page says the server is not reachable, and not the certificate's steps
+    an HTTPS page whose socket never opened shows (this phone trusted it, to cache it)."""
+    from test_serve_https import Serve as LanServe
+    from test_serve_https import browser_problem as https_problem
+    from test_serve_https import trusting_home
+
+    if https_problem() is not None:
+        pytest.skip(str(https_problem()))
+    s = LanServe(tmp_path / "config")
+    try:
+        name = socket.gethostname().lower()
+        home = trusting_home(tmp_path / "home", tmp_path / "config" / "frost" / "ca.crt")
+        url = f"https://{name}:{s.https_port}/?token={s.token}"
+        ctx = persistent(pw, tmp_path / "profile", env={**os.environ, "HOME": str(home)},
+                         args=[f"--host-resolver-rules=MAP {name} 127.0.0.1"])
+        try:
+            page = open_page(ctx, url)
+            assert installability_errors(ctx, page) == []
+            wait_for_shell(page)
+            s.stop()
+            page.reload()
+            page.wait_for_function("window.frostInstall.openedOffline === true", timeout=30_000)
+            page.wait_for_timeout(10_000)  # past makeapp.js's 8 s without a socket
+            assert NOT_REACHABLE in status(page)
+            assert page.evaluate("window.frost.makeApp.shown") is None
+            assert not page.locator("#makeapp").is_visible()
+            page.screenshot(path=str(tmp_path / "https-offline.png"))
+        finally:
+            ctx.close()
+    finally:
+        s.stop()
+
+
+# Loopback, and the LAN's server (its token kept across runs) opened on this machine.
+@pytest.mark.parametrize("host", ["127.0.0.1", "0.0.0.0"])
+def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, servers, tmp_path, host):
+    port = str(free_port())
+    s = servers(tmp_path, "--port", port, "--host", host, "--no-https")
+    ctx = persistent(pw, tmp_path / "profile")
+    try:
+        page = open_page(ctx, s.local)
+        wait_for_shell(page)
+        files = worker_shell(s)["files"]
+        meta = "fetch('meta' + location.search).then((r) => r.ok, () => 'failed')"
+        assert page.evaluate(meta) is True  # as the page's screenshot asks it
+        s.stop()
+        page.reload()  # no server: the page, its modules and shaders from the cache
+        page.wait_for_function(f"document.getElementById('status').textContent.includes('{NOT_REACHABLE}')",
+                               timeout=30_000)
+        assert page.evaluate("window.frost.error") is None and page.evaluate("frost.sources") is not None
+        # The cache holds the shell and nothing else; the live data is the server's alone.
+        kept = page.evaluate("""async () => {
+            const [name] = (await caches.keys()).filter((n) => n.startsWith('frost-shell-'));
+            return (await (await caches.open(name)).keys()).map((r) => new URL(r.url).pathname);
+        }""")
+        assert sorted(kept) == sorted(f"/{f}" for f in files)
+        assert page.evaluate(meta) == "failed"
+        page.screenshot(path=str(tmp_path / "offline.png"))
+        back = servers(tmp_path, "--port", port, "--host", host, "--no-https")
+        assert (back.port, back.token) == (s.port, s.token)
+        # main.js retries with backoff (at most 8 s apart): synced again, nothing reloaded
+        page.wait_for_function("frost.synced && frost.frames > 0 && frost.shownBackdrop", timeout=60_000)
+        assert status(page) == ""
+        page.screenshot(path=str(tmp_path / "back.png"))
+    finally:
+        ctx.close()
+
+
+def marked_copy(folder: Path, mark: str) -> Path:
+    """The package (app, sim, shaders, assets) copied to `folder`, every file of the page's
+    shell marked with `mark`: each module sets it, the CSS, the HTML and each shader say it,
+    and version B's dusk backdrop has a pixel of its own. `python -m app` run there runs it."""
+    for name in ("app", "sim", "shaders", "assets"):
+        shutil.copytree(ROOT / name, folder / name, ignore=shutil.ignore_patterns("__pycache__"))
+    web = folder / "app" / "web"
+    for js in web.glob("*.js"):
+        if js.name != "sw.js":
+            js.write_text(js.read_text() + f"\nglobalThis.frostMarks = [...(globalThis.frostMarks || []),"
+                                           f" '{js.stem}:{mark}'];\n")
+    css = web / "page.css"
+    css.write_text(css.read_text() + f'\n:root {{ --frost-mark: "{mark}"; }}\n')
+    html = web / "index.html"
+    meta = f'<meta name="frost-mark" content="{mark}">\n'
+    html.write_text(html.read_text().replace("<title>", meta + "<title>"))
+    for shader in (folder / "shaders").iterdir():
+        shader.write_text(shader.read_text() + f"\n// mark {mark}\n")
+    if mark == "B":
+        png = folder / "assets" / "background.png"
+        image = np.array(Image.open(png).convert("RGB"))
+        image[0, 0] = (1, 2, 3)
+        Image.fromarray(image).save(png)
+    return folder
+
+
+def versions(page) -> dict[str, str]:
+    """Which version each file of the page's shell the page runs came from."""
+    return page.evaluate("""() => {
+        const found = {};
+        for (const m of globalThis.frostMarks || []) {
+            const [name, v] = m.split(':');
+            found[name + '.js'] = v;
+        }
+        found.css = getComputedStyle(document.documentElement).getPropertyValue('--frost-mark').trim()
+            .replaceAll('"', '');
+        found.html = document.querySelector('meta[name=frost-mark]')?.content;
+        for (const [name, text] of Object.entries(frost.sources || {})) {
+            found[name] = (text.match(/\\/\\/ mark (\\w)/) || [])[1];
+        }
+        return found;
+    }""")
+
+
+def backdrop_pixel(page) -> tuple[int, ...]:
+    """The first pixel of the dusk backdrop as the page fetches it now."""
+    data = page.evaluate("""async () => {
+        const r = await fetch('backdrops/dusk.png' + location.search);
+        const bytes = new Uint8Array(await r.arrayBuffer());
+        let s = '';
+        for (const b of bytes) s += String.fromCharCode(b);
+        return btoa(s);
+    }""")
+    return tuple(Image.open(io.BytesIO(base64.b64decode(data))).convert("RGB").getpixel((0, 0)))
+
+
+def test_a_changed_page_replaces_the_cached_one_after_one_reload(pw, servers, tmp_path):
+    port = str(free_port())
+    a = marked_copy(tmp_path / "a", "A")
+    b = marked_copy(tmp_path / "b", "B")
+    old = servers(a, "--port", port)
+    ctx = persistent(pw, tmp_path / "profile")
+    try:
+        page = open_page(ctx, old.local)
+        shell = versions(page)
+        modules = {f"{m}.js" for m in ("main", "protocol", "renderer", "input", "menu", "png", "install")}
+        assert modules <= set(shell) and len(shell) >= len(modules) + 2 + 8, shell  # + css, html, shaders
+        assert set(shell.values()) == {"A"}, shell
+        wait_for_shell(page, shell_hash(old))
+        old.stop()
+        new = servers(b, "--port", port)  # an upgraded server
+        page.reload()  # one reload: the new page, whole (from the network, the worker's
+        page.wait_for_function("frost.synced && frost.frames > 0", timeout=60_000)  # cache is A's)
+        assert versions(page) == {**shell, **dict.fromkeys(shell, "B")}
+        assert backdrop_pixel(page) == (1, 2, 3)
+        wait_for_shell(page, shell_hash(new))  # the new worker's cache replaced A's
+        new.stop()
+        page.reload()  # and what opens without the server is B, whole
+        page.wait_for_function(f"document.getElementById('status').textContent.includes('{NOT_REACHABLE}')",
+                               timeout=30_000)
+        assert versions(page) == dict.fromkeys(shell, "B")
+        assert backdrop_pixel(page) == (1, 2, 3)
+    finally:
+        ctx.close()

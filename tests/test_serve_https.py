@@ -1,0 +1,529 @@
+"""HTTPS on the LAN that a phone trusts (app/serve/trust.py, docs/phone.md "HTTPS on your
+network"): the local authority made once and kept in the config folder, the server's
+certificate it issues, `frost serve --host 0.0.0.0` on two ports. The oracles are
+independent of the code under test: Python's own TLS client trusting the kept authority's
+file alone (ssl.create_default_context(cafile=...)), the certificates read back with
+`cryptography`, the file modes from the file system, a system Chromium told to trust the
+authority through its NSS database (certutil)."""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import datetime as dt
+import json
+import os
+import re
+import signal
+import socket
+import ssl
+import stat
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import aiohttp
+import pytest
+from cryptography import x509
+from cryptography.hazmat.primitives import serialization
+from cryptography.x509.oid import ExtendedKeyUsageOID
+
+from app.serve import trust
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def cert_of(path: Path) -> x509.Certificate:
+    return x509.load_pem_x509_certificate(path.read_bytes())
+
+
+# ---- the authority and the certificate, in process ------------------------------------------
+
+def test_the_config_folder_is_the_platforms_own():
+    home = Path("/home/ann")
+    assert trust.config_dir({"XDG_CONFIG_HOME": "/x/cfg"}, "linux", home) == Path("/x/cfg/frost")
+    assert trust.config_dir({}, "linux", home) == Path("/home/ann/.config/frost")
+    assert trust.config_dir({"XDG_CONFIG_HOME": "rel"}, "linux", home) == Path("/home/ann/.config/frost")
+    assert trust.config_dir({}, "darwin", home) == Path("/home/ann/Library/Application Support/frost")
+    assert trust.config_dir({"APPDATA": "C:/Users/ann/AppData/Roaming"}, "win32", home) == \
+        Path("C:/Users/ann/AppData/Roaming/frost")
+
+
+NAMES = sorted(["127.0.0.1", "::1", "localhost", "192.168.1.20", "pane", "pane.local"])
+
+
+def test_the_authority_is_made_once_and_issues_a_certificate_apple_accepts(tmp_path):
+    folder = tmp_path / "frost"
+    now = dt.datetime(2026, 11, 26, 12, tzinfo=dt.timezone.utc)
+    issued = trust.local_certificate(folder, NAMES, now)
+    ca, leaf = cert_of(folder / "ca.crt"), cert_of(folder / "server.pem")
+    assert issued.ca_der == ca.public_bytes(serialization.Encoding.DER)
+    # the authority: a CA that may sign servers only (path length 0), for ten years
+    bc = ca.extensions.get_extension_for_class(x509.BasicConstraints)
+    assert bc.critical and bc.value.ca and bc.value.path_length == 0
+    assert ca.extensions.get_extension_for_class(x509.KeyUsage).value.key_cert_sign
+    assert ca.subject == ca.issuer
+    # the server's: signed by it, its names in the SANs, serverAuth, at most 825 days
+    leaf.verify_directly_issued_by(ca)
+    assert not leaf.extensions.get_extension_for_class(x509.BasicConstraints).value.ca
+    san = leaf.extensions.get_extension_for_class(x509.SubjectAlternativeName).value
+    assert sorted(san.get_values_for_type(x509.DNSName)) == ["localhost", "pane", "pane.local"]
+    assert sorted(map(str, san.get_values_for_type(x509.IPAddress))) == ["127.0.0.1", "192.168.1.20", "::1"]
+    assert list(leaf.extensions.get_extension_for_class(x509.ExtendedKeyUsage).value) == \
+        [ExtendedKeyUsageOID.SERVER_AUTH]
+    life = leaf.not_valid_after_utc - leaf.not_valid_before_utc
+    assert dt.timedelta(days=700) < life <= dt.timedelta(days=825)
+    assert leaf.not_valid_before_utc <= now < leaf.not_valid_after_utc
+    # the private keys readable by the user alone, in a folder of the user alone
+    for name in ("ca.key", "server.pem"):
+        assert stat.S_IMODE((folder / name).stat().st_mode) == 0o600, name
+    assert stat.S_IMODE(folder.stat().st_mode) == 0o700
+    assert b"PRIVATE KEY" not in (folder / "ca.crt").read_bytes()
+
+
+def test_the_certificate_is_kept_and_issued_again_when_names_change_or_it_nears_its_end(tmp_path):
+    folder = tmp_path / "frost"
+    now = dt.datetime(2026, 11, 26, 12, tzinfo=dt.timezone.utc)
+    trust.local_certificate(folder, NAMES, now)
+    ca_bytes, first = (folder / "ca.crt").read_bytes(), (folder / "server.pem").read_bytes()
+    trust.local_certificate(folder, NAMES, now + dt.timedelta(days=100))  # nothing changed
+    assert (folder / "server.pem").read_bytes() == first
+    moved = sorted(NAMES + ["10.0.0.7"])  # the laptop on another network
+    trust.local_certificate(folder, moved, now + dt.timedelta(days=100))
+    second = (folder / "server.pem").read_bytes()
+    assert second != first and trust.san_names(cert_of(folder / "server.pem")) == moved
+    # 20 days before its end (fewer than 30 left): issued anew, valid from then
+    late = cert_of(folder / "server.pem").not_valid_after_utc - dt.timedelta(days=20)
+    trust.local_certificate(folder, moved, late)
+    assert (folder / "server.pem").read_bytes() != second
+    assert cert_of(folder / "server.pem").not_valid_after_utc > late + dt.timedelta(days=700)
+    # the same authority throughout, which signed each
+    assert (folder / "ca.crt").read_bytes() == ca_bytes
+    cert_of(folder / "server.pem").verify_directly_issued_by(cert_of(folder / "ca.crt"))
+
+
+def test_a_certificate_of_another_authority_is_replaced_by_one_of_the_kept_one(tmp_path):
+    trust.local_certificate(tmp_path / "a", NAMES)
+    trust.local_certificate(tmp_path / "b", NAMES)
+    (tmp_path / "b" / "server.pem").write_bytes((tmp_path / "a" / "server.pem").read_bytes())
+    trust.local_certificate(tmp_path / "b", NAMES)
+    cert_of(tmp_path / "b" / "server.pem").verify_directly_issued_by(cert_of(tmp_path / "b" / "ca.crt"))
+
+
+def test_a_damaged_authority_is_one_clear_error_not_a_silent_new_one(tmp_path):
+    trust.local_certificate(tmp_path, NAMES)
+    (tmp_path / "ca.key").write_bytes(b"not a key")
+    with pytest.raises(trust.TrustError, match="move that folder away"):
+        trust.local_certificate(tmp_path, NAMES)
+
+
+def test_the_token_is_kept_and_replaced_when_asked(tmp_path):
+    token = trust.kept_token(tmp_path)
+    assert re.fullmatch(r"[\w-]{22}", token)
+    assert trust.kept_token(tmp_path) == token
+    assert stat.S_IMODE((tmp_path / "token").stat().st_mode) == 0o600
+    new = trust.kept_token(tmp_path, new=True)
+    assert new != token and trust.kept_token(tmp_path) == new
+
+
+def test_the_machines_names_hold_its_host_name_lan_address_and_loopback():
+    names = trust.machine_names("0.0.0.0", lan="192.168.1.20", hostname="Pane")
+    assert {"localhost", "127.0.0.1", "::1", "pane", "pane.local", "192.168.1.20"} <= set(names)
+    assert "0.0.0.0" not in names
+    assert "10.1.2.3" in trust.machine_names("10.1.2.3", lan=None, hostname="pane")
+    assert "bad_name" not in trust.machine_names("0.0.0.0", lan=None, hostname="bad_name")
+
+
+# ---- frost serve --host 0.0.0.0, end to end ---------------------------------------------------
+
+class Serve:
+    """`frost serve --host 0.0.0.0 --port 0` with its config folder under tmp; its two URLs."""
+
+    def __init__(self, config: Path, *args: str):
+        env = {**os.environ, "XDG_CONFIG_HOME": str(config), "PYTHONUNBUFFERED": "1"}
+        self.proc = subprocess.Popen(
+            [sys.executable, "-m", "app", "serve", "--host", "0.0.0.0", "--port", "0",
+             "--preset", "c-2", *args], cwd=ROOT, env=env, text=True,
+            stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+        self.lines: list[str] = []
+        self.http = self.https = None
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and not (self.http and (self.https or "--no-https" in args)):
+            line = self.proc.stdout.readline()
+            if not line:
+                break
+            self.lines.append(line)
+            if m := re.search(r"open (http://\S+)", line):
+                self.http = m.group(1)
+            if m := re.search(r"as an app: (https://\S+)", line):
+                self.https = m.group(1)
+        if not self.http:
+            self.stop()
+            raise AssertionError("frost serve did not start:\n" + "".join(self.lines))
+        self.token = re.search(r"token=([\w-]+)", self.http).group(1)
+        self.http_port = int(re.search(r":(\d+)/", self.http).group(1))
+        self.https_port = int(re.search(r":(\d+)/", self.https).group(1)) if self.https else None
+
+    def stop(self) -> str:
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGINT)
+        try:
+            out, _ = self.proc.communicate(timeout=30)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            out, _ = self.proc.communicate()
+        return "".join(self.lines) + (out or "")
+
+
+@pytest.fixture
+def serve(tmp_path):
+    started: list[Serve] = []
+
+    def start(*args: str, config: Path = tmp_path / "config") -> Serve:
+        started.append(Serve(config, *args))
+        return started[-1]
+
+    yield start
+    for s in started:
+        s.stop()
+
+
+def trusting(cafile: Path) -> ssl.SSLContext:
+    """A client that trusts this authority alone (no system roots)."""
+    return ssl.create_default_context(cafile=str(cafile))
+
+
+def presented(port: int, ctx: ssl.SSLContext, name: str = "127.0.0.1") -> x509.Certificate:
+    """The certificate the server presents on `port`, the handshake verified by `ctx`."""
+    with socket.create_connection(("127.0.0.1", port), timeout=30) as raw, \
+            ctx.wrap_socket(raw, server_hostname=name) as tls:
+        return x509.load_der_x509_certificate(tls.getpeercert(binary_form=True))
+
+
+async def hello_over(url: str, ctx: ssl.SSLContext | None, origin: str | None = None) -> dict:
+    """The first message of the socket at `url` (ws:// or wss://)."""
+    headers = {"Origin": origin} if origin else {}
+    async with aiohttp.ClientSession() as http, \
+            http.ws_connect(url, ssl=ctx if ctx else False, headers=headers) as ws:
+        msg = await ws.receive(timeout=30)
+        return json.loads(msg.data)
+
+
+async def status_of(url: str, ctx: ssl.SSLContext | None = None) -> tuple[int, str, bytes]:
+    async with aiohttp.ClientSession() as http, \
+            http.get(url, ssl=ctx if ctx else False) as r:
+        return r.status, r.headers.get("Content-Type", ""), await r.read()
+
+
+def test_the_lan_server_answers_over_https_with_the_kept_authoritys_certificate_in_two_runs(
+        serve, tmp_path):
+    config = tmp_path / "config"
+    folder = config / "frost"
+    first = serve()
+    assert first.https_port not in (None, first.http_port)  # --port 0: two free ports, stated
+    cafile = folder / "ca.crt"
+    ca = cert_of(cafile)
+    ctx = trusting(cafile)  # Python's own TLS client, trusting that file alone
+    leaf = presented(first.https_port, ctx)
+    leaf.verify_directly_issued_by(ca)
+    hostname = socket.gethostname().lower()
+    assert {"127.0.0.1", "localhost", hostname} <= set(trust.san_names(leaf))
+    # the address the terminal printed for a phone (the LAN's) verifies too
+    printed = re.search(r"https://([^/:]+):", first.https).group(1)
+    assert printed in trust.san_names(leaf)
+    presented(first.https_port, ctx, name=printed)
+    local = f"127.0.0.1:{first.https_port}"
+
+    async def first_run():
+        q = f"?token={first.token}"
+        status, kind, body = await status_of(f"https://{local}/{q}", ctx)
+        assert (status, kind) == (200, "text/html") and b"<canvas" in body
+        hello = await hello_over(f"wss://{local}/ws{q}", ctx, origin=f"https://{local}")
+        assert hello["type"] == "hello"
+        # the plain HTTP page and its socket still work, as before
+        status, _, body = await status_of(f"http://127.0.0.1:{first.http_port}/{q}")
+        assert status == 200 and b"<canvas" in body
+        assert (await hello_over(f"ws://127.0.0.1:{first.http_port}/ws{q}", None))["type"] == "hello"
+        # the page learns the ports
+        status, _, body = await status_of(f"http://127.0.0.1:{first.http_port}/app.json{q}")
+        assert json.loads(body) == {"http": first.http_port, "https": first.https_port,
+                                    "ca": "frost-ca.crt"}
+    asyncio.run(first_run())
+    token = first.token
+    first.stop()
+
+    second = serve()
+    assert second.token == token  # kept across runs: an installed page keeps working
+    assert cafile.read_bytes() == ca.public_bytes(serialization.Encoding.PEM)  # the same authority
+    presented(second.https_port, trusting(cafile)).verify_directly_issued_by(ca)
+    assert asyncio.run(hello_over(f"wss://127.0.0.1:{second.https_port}/ws?token={token}",
+                                  trusting(cafile)))["type"] == "hello"
+    second.stop()
+
+    third = serve("--new-token")
+    assert third.token != token
+
+    async def old_token_refused():
+        for port, ctx_ in ((third.http_port, None), (third.https_port, trusting(cafile))):
+            scheme = "https" if ctx_ else "http"
+            assert (await status_of(f"{scheme}://127.0.0.1:{port}/?token={token}", ctx_))[0] == 403
+            assert (await status_of(f"{scheme}://127.0.0.1:{port}/?token={third.token}", ctx_))[0] == 200
+    asyncio.run(old_token_refused())
+    assert (folder / "token").read_text().strip() == third.token
+
+
+def test_without_the_token_only_the_authoritys_public_certificate_is_served_on_both_ports(
+        serve, tmp_path):
+    s = serve()
+    folder = tmp_path / "config" / "frost"
+    ctx = trusting(folder / "ca.crt")
+    ca_der = cert_of(folder / "ca.crt").public_bytes(serialization.Encoding.DER)
+    secret = serialization.load_pem_private_key((folder / "ca.key").read_bytes(), None) \
+        .private_numbers().private_value.to_bytes(32, "big")  # the key's secret scalar
+
+    async def main():
+        for scheme, port, c in (("http", s.http_port, None), ("https", s.https_port, ctx)):
+            base = f"{scheme}://127.0.0.1:{port}"
+            for path in ("/", "/web/main.js", "/web/makeapp.js", "/shaders/ice.frag", "/meta",
+                         "/app.json", "/backdrops/dusk.png", "/ws", "/ca.key", "/frost-ca.key"):
+                assert (await status_of(base + path, c))[0] == 403, (scheme, path)
+            status, kind, body = await status_of(base + "/frost-ca.crt", c)
+            assert (status, kind) == (200, "application/x-x509-ca-cert"), scheme
+            assert body == ca_der  # the public certificate, as the file holds it
+            assert secret not in body and b"PRIVATE" not in body
+    asyncio.run(main())
+
+
+def test_the_socket_on_the_https_port_takes_https_origins_of_that_port_only(serve, tmp_path):
+    s = serve()
+    ctx = trusting(tmp_path / "config" / "frost" / "ca.crt")
+    url = f"wss://127.0.0.1:{s.https_port}/ws?token={s.token}"
+
+    async def refused(origin: str) -> bool:
+        try:
+            await hello_over(url, ctx, origin=origin)
+        except aiohttp.WSServerHandshakeError as err:
+            return err.status == 403
+        return False
+    assert asyncio.run(hello_over(url, ctx, origin=f"https://127.0.0.1:{s.https_port}"))["type"] == "hello"
+    assert asyncio.run(refused(f"http://127.0.0.1:{s.https_port}"))  # not this scheme
+    assert asyncio.run(refused(f"https://127.0.0.1:{s.http_port}"))  # not this port
+    assert asyncio.run(refused("https://evil.example"))
+
+
+def test_no_https_serves_http_alone_and_no_authority(serve, tmp_path):
+    s = serve("--no-https")
+    out = s.stop()
+    assert s.https is None and "https://" not in out
+    assert not (tmp_path / "config" / "frost" / "ca.key").exists()
+
+
+def test_a_certificate_of_the_users_own_is_served_on_loopback_when_asked(tmp_path):
+    mine = tmp_path / "mine"
+    trust.local_certificate(mine, ["127.0.0.1", "localhost"])
+    env = {**os.environ, "XDG_CONFIG_HOME": str(tmp_path / "config"), "PYTHONUNBUFFERED": "1"}
+    proc = subprocess.Popen([sys.executable, "-m", "app", "serve", "--port", "0", "--https-port",
+                             "0", "--cert", str(mine / "server.pem"), "--key", str(mine / "server.pem")],
+                            cwd=ROOT, env=env, text=True, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    try:
+        proc.stdout.readline()
+        line = proc.stdout.readline()
+        port = int(re.search(r"over HTTPS: https://127\.0\.0\.1:(\d+)/", line).group(1))
+        ctx = trusting(mine / "ca.crt")
+        presented(port, ctx).verify_directly_issued_by(cert_of(mine / "ca.crt"))
+        assert asyncio.run(status_of(f"https://127.0.0.1:{port}/", ctx))[0] == 200
+        assert asyncio.run(status_of(f"https://127.0.0.1:{port}/frost-ca.crt", ctx))[0] == 404
+    finally:
+        proc.send_signal(signal.SIGINT)
+        proc.communicate(timeout=30)
+    assert not (tmp_path / "config").exists()  # loopback: no token, no authority made
+
+
+@pytest.mark.parametrize("args, says", [
+    (["--cert", "c.pem"], "--cert and --key go together"),
+    (["--no-https", "--https-port", "9"], "--no-https serves HTTP alone"),
+    (["--port", "9000", "--https-port", "9000"], "--https-port 9000 is --port too"),
+    (["--port", "65535"], "--port 65535 leaves no next port"),
+    (["--cert", "/no/such.pem", "--key", "/no/such.pem"], "cannot use the certificate /no/such.pem"),
+])
+def test_bad_https_command_lines_are_one_clear_error(tmp_path, args, says):
+    run = subprocess.run([sys.executable, "-m", "app", "serve", "--host", "0.0.0.0",
+                          "--max-seconds", "5", *args], cwd=ROOT, capture_output=True, text=True,
+                         timeout=60, env={**os.environ, "XDG_CONFIG_HOME": str(tmp_path)})
+    assert (run.returncode, run.stderr.count("\n")) == (2, 1), run.stderr
+    assert run.stderr.startswith("frost: error: ") and says in run.stderr
+
+
+def test_a_tls_handshake_never_finished_is_closed(tmp_path, monkeypatch):
+    """A connection that opens and sends nothing holds no file descriptor for asyncio's
+    default minute: the HTTPS port ends its handshake after HANDSHAKE_S."""
+    from app.serve import listen as listening
+    from app.serve.feed import Feed
+    from app.serve.server import make_app
+    from sim import Params
+
+    monkeypatch.setattr(listening, "HANDSHAKE_S", 0.5)
+    issued = trust.local_certificate(tmp_path, ["127.0.0.1"])
+
+    async def main():
+        feed = Feed(Params.preset("c-2"), seed=1)
+        runner = await listening.listen(make_app(feed, "t" * 22), "127.0.0.1", 0, "t" * 22,
+                                        listening.Https(0, issued.context()))
+        assert runner is not None
+        try:
+            port = runner.addresses[1][1]
+            reader, writer = await asyncio.open_connection("127.0.0.1", port)
+            with contextlib.suppress(ConnectionResetError):  # closed: EOF or reset
+                assert await asyncio.wait_for(reader.read(), 10) == b""
+            writer.close()
+        finally:
+            await runner.cleanup()
+    asyncio.run(main())
+
+
+# ---- a browser told to trust the authority ----------------------------------------------------
+
+def browser_problem() -> str | None:
+    from app.bench.page import browser_problem as problem
+
+    found = problem()
+    if found is None and not Path("/usr/bin/certutil").is_file():
+        return "certutil is missing (apt-get install libnss3-tools; `make test` does)"
+    return found
+
+
+PHONE = {"viewport": {"width": 390, "height": 844}, "device_scale_factor": 3,
+         "has_touch": True, "is_mobile": True}
+browser = pytest.mark.skipif(browser_problem() is not None, reason=str(browser_problem()))
+
+
+def chromium(pw, home: Path, name: str):
+    """The system Chromium with `home` as its HOME (its NSS database of trusted
+    authorities is home/.pki/nssdb) and `name` resolved to this machine: a name that is no
+    loopback name, so that only HTTPS makes the page a secure context."""
+    from app.bench.page import CHROMIUM, CHROMIUM_ARGS
+
+    return pw.chromium.launch(executable_path=CHROMIUM, headless=True,
+                              args=[*CHROMIUM_ARGS, f"--host-resolver-rules=MAP {name} 127.0.0.1"],
+                              env={**os.environ, "HOME": str(home)})
+
+
+def trusting_home(home: Path, cafile: Path | None) -> Path:
+    """A HOME whose NSS database trusts `cafile` as an authority for web sites (or nothing)."""
+    db = home / ".pki" / "nssdb"
+    db.mkdir(parents=True)
+    subprocess.run(["certutil", "-d", f"sql:{db}", "-N", "--empty-password"], check=True)
+    if cafile is not None:
+        subprocess.run(["certutil", "-d", f"sql:{db}", "-A", "-t", "C,,", "-n", "frost",
+                        "-i", str(cafile)], check=True)
+    return home
+
+
+def synced(page) -> None:
+    page.wait_for_function("window.frost && (window.frost.error || (window.frost.synced"
+                           " && window.frost.frames > 0))", timeout=60_000)
+    assert page.evaluate("window.frost.error") is None
+
+
+@pytest.mark.browser
+@browser
+def test_a_chromium_trusting_the_authority_opens_the_https_page_as_a_secure_context(serve, tmp_path):
+    from playwright.sync_api import Error, sync_playwright
+
+    s = serve()
+    cafile = tmp_path / "config" / "frost" / "ca.crt"
+    name = socket.gethostname().lower()  # in the certificate's names (the machine's own)
+    assert not trust.ip_or_loopback(name), name
+    https = f"https://{name}:{s.https_port}/?token={s.token}"
+    with sync_playwright() as pw:
+        # Not trusting it: the certificate is refused (the oracle that trust is what counts).
+        b = chromium(pw, trusting_home(tmp_path / "stranger", None), name)
+        with pytest.raises(Error, match="ERR_CERT_AUTHORITY_INVALID"):
+            b.new_context(**PHONE).new_page().goto(https)
+        b.close()
+        b = chromium(pw, trusting_home(tmp_path / "home", cafile), name)
+        page = b.new_context(**PHONE).new_page()
+        failed: list[str] = []
+        page.on("response", lambda r: r.status >= 400 and failed.append(f"{r.status} {r.url}"))
+        page.goto(https)
+        synced(page)
+        assert page.evaluate("window.isSecureContext") is True
+        assert page.evaluate("window.frost.socket.url").startswith(f"wss://{name}:{s.https_port}/ws?")
+        assert page.evaluate("window.frost.connected") is True
+        # over HTTPS the menu offers no steps: this is the app's address already
+        page.click("#open")
+        assert page.locator("#makeapp-open").count() == 0
+        assert page.evaluate("window.frost.makeApp.shown") is None
+        page.screenshot(path=str(tmp_path / "https-page.png"))
+        # the plain page: no secure context, its menu offers the steps and the HTTPS address
+        page.goto(f"http://{name}:{s.http_port}/?token={s.token}")
+        synced(page)
+        assert page.evaluate("window.isSecureContext") is False
+        assert page.evaluate("window.frost.socket.url").startswith("ws://")
+        page.click("#open")
+        page.click("#makeapp-open")
+        assert page.locator("#makeapp").is_visible()
+        cert = page.get_attribute("#makeapp-cert", "href")
+        assert cert == "frost-ca.crt"
+        assert page.get_attribute("#makeapp-https", "href") == https
+        text = page.inner_text("#makeapp")
+        for words in ("Install a certificate", "CA certificate", "Android 11",
+                      "Profile Downloaded", "Certificate Trust Settings"):
+            assert words in text, words
+        page.screenshot(path=str(tmp_path / "makeapp.png"))
+        got = page.request.get(f"http://{name}:{s.http_port}/frost-ca.crt")  # no token
+        assert got.status == 200 and got.body() == cert_of(cafile).public_bytes(serialization.Encoding.DER)
+        assert failed == []
+        b.close()
+    if os.environ.get("FROST_KEEP_SHOTS"):
+        import shutil
+        for shot in ("https-page.png", "makeapp.png"):
+            shutil.copy(tmp_path / shot, Path(os.environ["FROST_KEEP_SHOTS"]) / shot)
+
+
+@pytest.mark.browser
+@browser
+def test_an_https_page_whose_socket_never_opens_shows_the_steps(serve, tmp_path):
+    """A page cannot learn that the certificate failed its socket (iOS refuses the WSS of
+    an untrusted authority after the page loaded): after a while with no hello it shows the
+    steps by itself, and hides them once the socket opens after all."""
+    from playwright.sync_api import sync_playwright
+
+    s = serve()
+    cafile = tmp_path / "config" / "frost" / "ca.crt"
+    name = socket.gethostname().lower()
+    with sync_playwright() as pw:
+        b = chromium(pw, trusting_home(tmp_path / "home", cafile), name)
+        page = b.new_context(**PHONE).new_page()
+        # Every socket fails at once, as an untrusted certificate makes it fail; until the
+        # test lets it through.
+        page.add_init_script("""
+            const Real = window.WebSocket;
+            window.WebSocket = function (url) {
+              if (window.letThrough) return new Real(url);
+              const fake = { readyState: 3, close() {}, send() {} };
+              setTimeout(() => fake.onclose && fake.onclose({ code: 1006, reason: "" }), 10);
+              return fake;
+            };
+            window.WebSocket.OPEN = 1;
+        """)
+        page.goto(f"https://{name}:{s.https_port}/?token={s.token}")
+        page.wait_for_function("window.frost && window.frost.makeApp", timeout=30_000)
+        assert page.evaluate("window.frost.makeApp.shown") is None  # not at once
+        page.wait_for_function("window.frost.makeApp.shown === 'never-opened'", timeout=30_000)
+        assert page.locator("#makeapp").is_visible()
+        text = page.inner_text("#makeapp")
+        assert "never opened" in text and "Install a certificate" in text
+        assert "Certificate Trust Settings" in text
+        assert page.get_attribute("#makeapp-next a", "href") == \
+            f"http://{name}:{s.http_port}/?token={s.token}"
+        page.screenshot(path=str(tmp_path / "never-opened.png"))
+        page.evaluate("window.letThrough = true")
+        page.wait_for_function("window.frost.hellos > 0 && window.frost.makeApp.shown === null",
+                               timeout=60_000)
+        assert not page.locator("#makeapp").is_visible()
+        b.close()
+    if os.environ.get("FROST_KEEP_SHOTS"):
+        import shutil
+        shutil.copy(tmp_path / "never-opened.png", Path(os.environ["FROST_KEEP_SHOTS"]) / "never-opened.png")
