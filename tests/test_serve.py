@@ -1105,12 +1105,13 @@ def test_each_line_on_a_flood_counts_the_lines_unsaid_since_the_last_one():
 
 
 def test_an_origin_of_another_scheme_is_not_the_pages():
-    """Only a page the server served (http or https) names it as its Origin: the same host
-    and port under another scheme is not the page's."""
-    for scheme in ("http", "https"):
-        assert same_origin(f"{scheme}://192.168.1.5:8025", "192.168.1.5:8025")
-    for scheme in ("ws", "ftp", "chrome-extension", "file"):
-        assert not same_origin(f"{scheme}://192.168.1.5:8025", "192.168.1.5:8025"), scheme
+    """Only a page the server served names it as its Origin, under the scheme of the port
+    the socket came to (http on the HTTP port, https on the HTTPS one): the same host and
+    port under another scheme is not the page's."""
+    for port in ("http", "https"):
+        assert same_origin(f"{port}://192.168.1.5:8025", "192.168.1.5:8025", port)
+        for scheme in {"http", "https", "ws", "wss", "ftp", "chrome-extension", "file"} - {port}:
+            assert not same_origin(f"{scheme}://192.168.1.5:8025", "192.168.1.5:8025", port), scheme
 
 
 def test_without_a_token_only_a_loopback_host_is_answered():

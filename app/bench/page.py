@@ -329,7 +329,7 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.bench.page") 
     if args.phone_app:
         from app.bench.phoneapp import run as phone_app
 
-        return phone_app(args.out, args.angle)
+        return phone_app(args.out, args.angle, launch)
     if served:
         from app.bench.network import run
         return run(args, network, launch)

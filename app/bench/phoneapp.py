@@ -146,10 +146,10 @@ def print_lag(what: str, lags: np.ndarray, frames: np.ndarray) -> None:
           f"max {lags.max():.0f} ms, {np.median(frames):.0f} frames (median)")
 
 
-def run(out: str | None = None, angle: str = "swiftshader") -> int:
+def run(out: str | None, angle: str, launch) -> int:
+    """The measures, printed; `launch(playwright, angle)` starts the browser (app.bench.page's,
+    which runs this: passed in, not imported back)."""
     from playwright.sync_api import sync_playwright
-
-    from app.bench.page import launch
 
     backdrop = load_backdrop(DEFAULT_BACKDROP).astype(int)
     with serving() as url, sync_playwright() as pw:
