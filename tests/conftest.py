@@ -93,3 +93,21 @@ def pytest_collection_modifyitems(config, items):
 def deep(request) -> bool:
     """True under --deep: tests that scale their run (ticks, seeds) take the long one."""
     return bool(request.config.getoption("--deep"))
+
+
+@pytest.fixture
+def serve(tmp_path):
+    """Starts `frost serve` (tests/test_phone_e2e.py's Serve) with these arguments, as many
+    as a test asks for; each stopped after the test."""
+    from tests.test_phone_e2e import Serve
+
+    started: list = []
+
+    def start(*args: str):
+        s = Serve(tmp_path, *args)
+        started.append(s)
+        return s
+
+    yield start
+    for s in started:
+        s.stop()

@@ -18,7 +18,7 @@ from PIL import Image
 
 from app.bench.page import Page, browser_problem, hello, launch
 from sim import Params
-from tests.test_phone_e2e import BACKDROP, PHONE, Serve, open_page, pause_and_settle, pixels
+from tests.test_phone_e2e import BACKDROP, PHONE, open_page, pause_and_settle, pixels
 
 PROBLEM = browser_problem()
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
@@ -38,20 +38,6 @@ def browser():
         b = launch(pw)
         yield b
         b.close()
-
-
-@pytest.fixture
-def serve(tmp_path):
-    started: list[Serve] = []
-
-    def start(*args: str) -> Serve:
-        s = Serve(tmp_path, *args)
-        started.append(s)
-        return s
-
-    yield start
-    for s in started:
-        s.stop()
 
 
 @pytest.fixture

@@ -79,20 +79,6 @@ class Serve:
         return "".join(self.output) + (rest or "")
 
 
-@pytest.fixture
-def serve(tmp_path):
-    started: list[Serve] = []
-
-    def start(*args: str) -> Serve:
-        s = Serve(tmp_path, *args)
-        started.append(s)
-        return s
-
-    yield start
-    for s in started:
-        s.stop()
-
-
 @pytest.fixture(scope="module")
 def browser():
     from playwright.sync_api import sync_playwright
