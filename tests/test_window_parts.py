@@ -4,6 +4,7 @@ mapping, the simulation thread's schedule, snapshots, rebuilds and failures."""
 from __future__ import annotations
 
 import dataclasses
+import json
 import logging
 import re
 import threading
@@ -1068,3 +1069,42 @@ def test_a_frame_that_fails_after_its_window_was_destroyed_is_no_new_error(lost,
     else:  # the window's loss was said already: one line, no traceback
         assert tracebacks == []
         assert any("ended with the window gone" in r.getMessage() for r in caplog.records)
+
+
+def test_a_replayed_session_grows_in_the_window_by_its_own_versions_rules():
+    """The window replays a session (`frost replay` with a display) on its simulation
+    thread: an older session must grow as it grew, by its version's rules (the headless
+    replay, sim.io.timeline.replay, is the oracle), and the file the window keeps says that
+    version. One spot tapped 20 times a tick past the cells' cap: version 9 caps it, 8 not."""
+    from sim.io.session import SessionLog
+    from sim.io.timeline import replay
+    from tests.frozen_runs import state_hash
+
+    params = Params.preset("fern", hc=16.0, D=1.0, grid_spacing=2)
+    events = [{"kind": "touch", "x": 380.0, "y": 640.0, "tick": t} for t in range(15)
+              for _ in range(20)]
+    grown = {}
+    for version in (8, 9):
+        want = replay(SessionLog(11, params.as_dict(), events=events, steps=15, version=version))
+        thread = SimThread(params, 11, (), script=events, version=version)
+        for _ in range(15):
+            thread.tick()
+        grown[version] = state_hash(thread.timeline.sim)
+        assert grown[version] == state_hash(want.sim), version
+        assert thread.session().version == version
+    assert grown[8] != grown[9]
+
+
+def test_the_windowed_replay_takes_the_sessions_version(tmp_path):
+    import argparse
+
+    from app.cli import commands
+    from sim.io.session import SessionLog
+
+    path = tmp_path / "old.json"
+    log_ = SessionLog(3, Params.preset("c-2").as_dict(), events=[], steps=5, version=8)
+    path.write_text(json.dumps(log_.as_json()))
+    args = argparse.Namespace(replay=str(path), background=None, light=None, features=None,
+                              bumps=None, params_file=None)
+    commands._windowed_replay(args)
+    assert args.session_version == 8 and args.seed == 3

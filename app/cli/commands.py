@@ -190,6 +190,7 @@ def _windowed_replay(args: argparse.Namespace, what_if: Params | None = None) ->
     if what_if is not None:
         log_ = under(log_, what_if, args.params_file)
     args.seed, args.touch, args.script = log_.seed, [], log_.events
+    args.session_version = log_.version  # its rules, not the newest
     args.view = view_from(args, log_.view)
     background = (args.view or {}).get("background")
     if background is not None:  # a session's own file may have gone since it was saved

@@ -27,7 +27,7 @@ from app.simthread.clicks import Click, Clicks
 from app.simthread.export import MapExports
 from app.simthread.schedule import Schedule, TickTimes
 from sim import Params
-from sim.io.session import SessionLog
+from sim.io.session import VERSION, SessionLog
 from sim.io.timeline import Applied, Timeline, apply_due
 from sim.look.geometry import GeometryDelta
 from sim.screen import HEIGHT, TICKS_PER_SECOND, WIDTH
@@ -94,7 +94,7 @@ class SimThread(threading.Thread):
 
     def __init__(self, params: Params, seed: int, touches=(), width=WIDTH, height=HEIGHT,
                  wake: Callable[[], None] | None = None, dt: float = 1.0 / TICKS_PER_SECOND,
-                 script=()):
+                 script=(), version: int = VERSION):
         super().__init__(name="frost-sim", daemon=True)
         self.inbox: queue.Queue[Command] = queue.Queue()
         self.outbox: queue.Queue[Snapshot] = queue.Queue()  # the maker's snapshots (drain)
@@ -123,7 +123,8 @@ class SimThread(threading.Thread):
                           "export": lambda folder, _notes: self.exports.ask(folder)}
         # commands wait here when more arrive than a tick takes
         self.backlog = Backlog(kind=_command_kind)
-        self.timeline = Timeline(params, seed, width, height)
+        # (a replayed session's version: its rules, and those of what is added to it)
+        self.timeline = Timeline(params, seed, width, height, version=version)
         # The lock screen's clock: while something shows it (`show_clock`), each tick
         # whose minute (of `clock()`, local time) differs from the last recorded records
         # a clock event. None: no live clock (a replay's minutes are its own).
@@ -154,7 +155,7 @@ class SimThread(threading.Thread):
         timeline = self.timeline
         return SessionLog(self.seed, self.first_params.as_dict(), *self.size,
                           list(timeline.events[:events]),
-                          timeline.steps if steps is None else steps)
+                          timeline.steps if steps is None else steps, version=timeline.version)
 
     # ---- main-thread side -------------------------------------------------------
 

@@ -27,6 +27,7 @@ from app.window.capture import Capture
 from app.window.glfw_setup import WindowError, open_window, x_window_ids
 from app.window.lost_display import on_lost_display, on_lost_window
 from app.window.no_panel import NoPanel
+from sim.io.session import VERSION
 
 try:  # imgui-bundle has wheels for Python 3.11 on only (docs/dependencies.md)
     from app.window.panel_host import PanelHost
@@ -55,7 +56,8 @@ class FrostWindow:
         self.sizes = Sizes(glfw.get_window_size(window), glfw.get_framebuffer_size(window))
         self.display_gone = False  # (lost_display: no GLFW call may meet the dead connection)
         self.thread = SimThread(params, args.seed, args.touch or (), *PHONE, wake=self._wake,
-                                script=getattr(args, "script", ()))
+                                script=getattr(args, "script", ()),
+                                version=getattr(args, "session_version", VERSION))
         # The lock screen's clock: local time, or --clock-start's; a replay's own minutes.
         self.thread.clock = None if self.thread.script else clock_from(getattr(args, "clock_start", None))
         self.presenter = Presenter(moderngl.create_context(), params, getattr(args, "view", None))
