@@ -97,17 +97,31 @@ def deep(request) -> bool:
 
 @pytest.fixture
 def serve(tmp_path):
-    """Starts `frost serve` (tests/test_phone_e2e.py's Serve) with these arguments, as many
-    as a test asks for; each stopped after the test."""
+    """Starts `frost serve` (tests/test_phone_e2e.py's Serve) with these arguments, in
+    `folder` (default the test's tmp_path), as many as a test asks for; each stopped after
+    the test."""
     from tests.test_phone_e2e import Serve
 
     started: list = []
 
-    def start(*args: str):
-        s = Serve(tmp_path, *args)
+    def start(*args: str, folder=None):
+        s = Serve(folder or tmp_path, *args)
         started.append(s)
         return s
 
     yield start
     for s in started:
         s.stop()
+
+
+@pytest.fixture(scope="module")
+def browser():
+    """Headless Chromium (app.bench.page.launch), one for each test module that asks."""
+    from playwright.sync_api import sync_playwright
+
+    from app.bench.page import launch
+
+    with sync_playwright() as pw:
+        b = launch(pw)
+        yield b
+        b.close()

@@ -15,7 +15,7 @@ from datetime import datetime, timedelta
 import numpy as np
 import pytest
 from PIL import Image
-from test_phone_e2e import PROBLEM, ROOT, browser, phones, pixels, tap  # noqa: F401, F811
+from test_phone_e2e import PROBLEM, ROOT, phones, pixels, tap  # noqa: F401, F811
 
 from app.backdrops import LIVE, load_backdrop, read_backdrop
 from app.lockscreen import CLOCK_BOX, MINUTE_FORMAT, with_clock

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.bench.page import Page, browser_problem, hello, launch
+from app.bench.page import Page, browser_problem, hello
 from sim import Params
 from tests.test_phone_e2e import BACKDROP, PHONE, open_page, pause_and_settle, pixels
 
@@ -28,16 +28,6 @@ WHOLE_PANE = "localStorage.setItem('frost.fit', 'pane')"
 # navigator.vibrate as a recorder (a headless page has no motor to ask).
 VIBRATE = ("Object.defineProperty(Navigator.prototype, 'vibrate', {configurable: true,"
            " value: function (ms) { (window.buzzes ||= []).push(ms); return true; }})")
-
-
-@pytest.fixture(scope="module")
-def browser():
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as pw:
-        b = launch(pw)
-        yield b
-        b.close()
 
 
 @pytest.fixture

@@ -24,7 +24,7 @@ import pytest
 from PIL import Image
 
 from app.backdrops import load_backdrop
-from app.bench.page import browser_problem, compare, launch
+from app.bench.page import browser_problem, compare
 from sim.screen import HEIGHT, WIDTH
 
 PROBLEM = browser_problem()
@@ -77,16 +77,6 @@ class Serve:
             self.proc.kill()
             rest, _ = self.proc.communicate()
         return "".join(self.output) + (rest or "")
-
-
-@pytest.fixture(scope="module")
-def browser():
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as pw:
-        b = launch(pw)
-        yield b
-        b.close()
 
 
 @pytest.fixture

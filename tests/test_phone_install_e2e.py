@@ -73,20 +73,6 @@ def pw():
         yield p
 
 
-@pytest.fixture
-def servers():
-    started: list[Serve] = []
-
-    def start(folder: Path, *args: str) -> Serve:
-        s = Serve(folder, *args)
-        started.append(s)
-        return s
-
-    yield start
-    for s in started:
-        s.stop()
-
-
 def cached_shells(page) -> list[str]:
     return page.evaluate("caches.keys().then((k) => k.filter((n) => n.startsWith('frost-shell-')))")
 
@@ -119,8 +105,8 @@ def shell_hash(s: Serve) -> str:
 
 
 @pytest.mark.parametrize("host", ["127.0.0.1", "0.0.0.0"])
-def test_chromium_finds_the_page_installable(pw, servers, tmp_path, host):
-    s = servers(tmp_path, "--host", host)
+def test_chromium_finds_the_page_installable(pw, serve, tmp_path, host):
+    s = serve("--host", host, folder=tmp_path)
     assert (s.token is None) == (host == "127.0.0.1")
     assert installability(pw, s.local, tmp_path / "profile") == []
     if s.token:  # the app's files need the token like every request; the app keeps it
@@ -171,9 +157,9 @@ def test_chromium_finds_the_https_page_installable_and_it_opens_without_the_serv
 
 # Loopback, and the LAN's server (its token kept across runs) opened on this machine.
 @pytest.mark.parametrize("host", ["127.0.0.1", "0.0.0.0"])
-def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, servers, tmp_path, host):
+def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, serve, tmp_path, host):
     port = str(free_port())
-    s = servers(tmp_path, "--port", port, "--host", host, "--no-https")
+    s = serve("--port", port, "--host", host, "--no-https", folder=tmp_path)
     ctx = persistent(pw, tmp_path / "profile")
     try:
         page = open_page(ctx, s.local)
@@ -194,7 +180,7 @@ def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, server
         assert sorted(kept) == sorted(f"/{f}" for f in files)
         assert page.evaluate(meta) == "failed"
         page.screenshot(path=str(tmp_path / "offline.png"))
-        back = servers(tmp_path, "--port", port, "--host", host, "--no-https")
+        back = serve("--port", port, "--host", host, "--no-https", folder=tmp_path)
         assert (back.port, back.token) == (s.port, s.token)
         # main.js retries with backoff (at most 8 s apart): synced again, nothing reloaded
         page.wait_for_function("frost.synced && frost.frames > 0 && frost.shownBackdrop", timeout=60_000)
@@ -260,11 +246,11 @@ def backdrop_pixel(page) -> tuple[int, ...]:
     return tuple(Image.open(io.BytesIO(base64.b64decode(data))).convert("RGB").getpixel((0, 0)))
 
 
-def test_a_changed_page_replaces_the_cached_one_after_one_reload(pw, servers, tmp_path):
+def test_a_changed_page_replaces_the_cached_one_after_one_reload(pw, serve, tmp_path):
     port = str(free_port())
     a = marked_copy(tmp_path / "a", "A")
     b = marked_copy(tmp_path / "b", "B")
-    old = servers(a, "--port", port)
+    old = serve("--port", port, folder=a)
     ctx = persistent(pw, tmp_path / "profile")
     try:
         page = open_page(ctx, old.local)
@@ -274,7 +260,7 @@ def test_a_changed_page_replaces_the_cached_one_after_one_reload(pw, servers, tm
         assert set(shell.values()) == {"A"}, shell
         wait_for_shell(page, shell_hash(old))
         old.stop()
-        new = servers(b, "--port", port)  # an upgraded server
+        new = serve("--port", port, folder=b)  # an upgraded server
         page.reload()  # one reload: the new page, whole (from the network, the worker's
         page.wait_for_function("frost.synced && frost.frames > 0", timeout=60_000)  # cache is A's)
         assert versions(page) == {**shell, **dict.fromkeys(shell, "B")}

@@ -17,15 +17,20 @@ pytestmark = pytest.mark.window
 ROOT = Path(__file__).resolve().parent.parent
 
 
+def start_with_window(out: Path, preset: str, seconds: int) -> tuple[subprocess.Popen, str]:
+    """`frost serve --window` (files in `out`, closing at `seconds`) and the URL it printed."""
+    app = subprocess.Popen([sys.executable, "-m", "app", "serve", "--window", "--port", "0",
+                            "--preset", preset, "--max-seconds", str(seconds), "--session-dir",
+                            str(out), "--screenshot-dir", str(out)], cwd=ROOT,
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    return app, app.stdout.readline().split()[3]
+
+
 def drive(out: Path) -> None:
     """Under Xvfb: start the command, be a page, let the window close at --max-seconds."""
     from test_serve import CENTRE, PageModel, near, pause, read_until
 
-    app = subprocess.Popen([sys.executable, "-m", "app", "serve", "--window", "--port", "0",
-                            "--preset", "c-2", "--max-seconds", "12", "--session-dir", str(out),
-                            "--screenshot-dir", str(out)], cwd=ROOT, stdout=subprocess.PIPE,
-                           stderr=subprocess.PIPE, text=True)
-    url = app.stdout.readline().split()[3]
+    app, url = start_with_window(out, "c-2", 12)
     page = PageModel()
 
     async def main():
@@ -48,11 +53,7 @@ def drive_changes(out: Path) -> None:
     from test_serve import PageModel, read_until
     from test_window_e2e import window_id, xdo
 
-    app = subprocess.Popen([sys.executable, "-m", "app", "serve", "--window", "--port", "0",
-                            "--preset", "fern", "--max-seconds", "14", "--session-dir", str(out),
-                            "--screenshot-dir", str(out)], cwd=ROOT, stdout=subprocess.PIPE,
-                           stderr=subprocess.PIPE, text=True)
-    url = app.stdout.readline().split()[3]
+    app, url = start_with_window(out, "fern", 14)
     page = PageModel()
 
     async def main():

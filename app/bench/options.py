@@ -13,24 +13,23 @@ class Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
+def _within(text: str, kind, lowest, highest, what: str):
+    """`text` read as `kind` if it lies in [lowest, highest]; else the argument's error."""
+    try:
+        n = kind(text)
+    except ValueError:
+        n = lowest - 1
+    if not lowest <= n <= highest:
+        raise argparse.ArgumentTypeError(f"{text!r} must be {what} from {lowest} to {highest}")
+    return n
+
+
 def count(text: str) -> int:
     """How many of something a benchmark does (--repeats, --samples, ...): a whole number
     from 1 to 100 000."""
-    try:
-        n = int(text)
-    except ValueError:
-        n = 0
-    if not 1 <= n <= 100_000:
-        raise argparse.ArgumentTypeError(f"{text!r} must be a whole number from 1 to 100000")
-    return n
+    return _within(text, int, 1, 100_000, "a whole number")
 
 
 def slowdown(text: str) -> float:
     """How many times slower the page's CPU runs (--cpu-slowdown): a number from 1 to 20."""
-    try:
-        n = float(text)
-    except ValueError:
-        n = 0.0
-    if not 1 <= n <= 20:
-        raise argparse.ArgumentTypeError(f"{text!r} must be a number from 1 to 20")
-    return n
+    return _within(text, float, 1, 20, "a number")
