@@ -202,21 +202,26 @@ def test_two_pages_see_the_same_frost_and_a_late_one_gets_it_whole(serve, phones
     assert got["within8"] > 0.999 and got["mad"] < 0.2, got
 
 
-def test_a_request_without_the_token_is_refused(serve, phones, browser):
-    s = serve("--host", "0.0.0.0")
-    assert s.token
+def token_needed(s: Serve, paths) -> None:
+    """Each of `paths` on server `s` is refused (403) without its token and served with it."""
     bare = f"http://127.0.0.1:{s.port}/"
-    for path in ("", "web/main.js", "shaders/ice.frag", "backdrops/dusk.png"):
+    for path in paths:
         with pytest.raises(urllib.error.HTTPError) as err:
             urllib.request.urlopen(bare + path, timeout=10)
         assert err.value.code == 403, path
         with urllib.request.urlopen(f"{bare}{path}?token={s.token}", timeout=10) as r:
-            assert r.status == 200
+            assert r.status == 200, path
+
+
+def test_a_request_without_the_token_is_refused(serve, phones, browser):
+    s = serve("--host", "0.0.0.0")
+    assert s.token
+    token_needed(s, ("", "web/main.js", "shaders/ice.frag", "backdrops/dusk.png"))
     page = phones(s.local)  # with the token the page runs
     assert page.evaluate("frost.connected")
     wrong = browser.new_context(**PHONE)
     try:
-        assert wrong.new_page().goto(f"{bare}?token=x{s.token}").status == 403
+        assert wrong.new_page().goto(f"http://127.0.0.1:{s.port}/?token=x{s.token}").status == 403
     finally:
         wrong.close()
 
