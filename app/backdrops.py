@@ -1,5 +1,6 @@
-"""The view behind the glass: the built-in backdrops by name, or any PNG or JPEG file,
-scaled to cover the screen and centre-cropped. Shared by the window, every offline
+"""The view behind the glass: the built-in backdrops by name, a photo kept in a folder of
+backdrops by its name (app/photos.py), or any PNG or JPEG file, scaled to cover the
+screen and centre-cropped. Shared by the window, every offline
 command and the command line's check of --background. The lock screen's clock box is
 drawn at a minute (app/lockscreen.py): DEFAULT_MINUTE unless one is given."""
 
@@ -11,6 +12,7 @@ import numpy as np
 from PIL import Image
 
 from app.lockscreen import DEFAULT_MINUTE, with_clock
+from app.photos import is_photo, photo_file
 from app.resources import ASSET_DIR
 from sim.io.files import one_line
 from sim.screen import HEIGHT, WIDTH
@@ -23,20 +25,21 @@ LIVE = "lockscreen"  # the backdrop with a live clock (its static parts in its P
 
 
 def load_backdrop(name: str, size: tuple[int, int] = (WIDTH, HEIGHT),
-                  minute: str | None = DEFAULT_MINUTE) -> np.ndarray:
-    """Backdrop `name` (built-in, or a file) as H x W x 3 uint8, top row first, covering
-    `size` (width, height); the lock screen with its clock at `minute` (None: its static
-    parts only, the clock box bare). ValueError in one line if it cannot be read."""
-    image = read_backdrop(name)
+                  minute: str | None = DEFAULT_MINUTE, photos: Path | None = None) -> np.ndarray:
+    """Backdrop `name` (built-in, a photo kept in the folder `photos`, or a file) as
+    H x W x 3 uint8, top row first, covering `size` (width, height); the lock screen with
+    its clock at `minute` (None: its static parts only, the clock box bare). ValueError in
+    one line if it cannot be read."""
+    image = read_backdrop(name, photos)
     if name == LIVE and minute is not None:
         image = Image.fromarray(with_clock(np.asarray(image), minute))
     return np.asarray(cover(image, size))
 
 
-def read_backdrop(name: str) -> Image.Image:
+def read_backdrop(name: str, photos: Path | None = None) -> Image.Image:
     """The image of backdrop `name` as it is stored (RGB); ValueError in one line if it
     cannot be read."""
-    path = backdrop_path(name)
+    path = backdrop_path(name, photos)
     try:
         with Image.open(path) as im:
             im.load()
@@ -50,8 +53,16 @@ def read_backdrop(name: str) -> Image.Image:
     return image
 
 
-def backdrop_path(name: str) -> Path:
-    """The file of backdrop `name`: a built-in's PNG in assets/, else `name` as a path."""
+def backdrop_path(name: str, photos: Path | None = None) -> Path:
+    """The file of backdrop `name`: a built-in's PNG in assets/, a photo's in the folder
+    `photos` (a session folder's backdrops/), else `name` as a path."""
+    if is_photo(name):
+        if photos is None:
+            raise ValueError(f"backdrop {name}: a photo, and no folder of photos to find it in")
+        path = photo_file(name, photos)
+        if not path.is_file():
+            raise ValueError(f"backdrop {name}: its file {path} is missing")
+        return path
     if name in BACKDROPS:
         file, script = BACKDROPS[name]
         path = ASSET_DIR / file

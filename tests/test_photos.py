@@ -1,0 +1,174 @@
+"""Photos taken as backdrops (app/photos.py): crafted and hostile files refused with a
+reason, good ones turned upright, covered to the pane, stripped of their metadata and
+kept once under their hash."""
+
+from __future__ import annotations
+
+import hashlib
+import io
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from app import photos
+from app.backdrops import load_backdrop
+from sim.screen import HEIGHT, WIDTH
+
+SIZE = (WIDTH, HEIGHT)
+
+
+def encoded(image: Image.Image, fmt: str, **kwargs) -> bytes:
+    out = io.BytesIO()
+    image.save(out, fmt, **kwargs)
+    return out.getvalue()
+
+
+def quadrants(w: int, h: int) -> Image.Image:
+    """Top-left red, top-right green, bottom-left blue, bottom-right white."""
+    a = np.zeros((h, w, 3), np.uint8)
+    a[: h // 2, : w // 2] = (255, 0, 0)
+    a[: h // 2, w // 2:] = (0, 255, 0)
+    a[h // 2:, : w // 2] = (0, 0, 255)
+    a[h // 2:, w // 2:] = (255, 255, 255)
+    return Image.fromarray(a)
+
+
+def colour_at(jpeg: bytes, fx: float, fy: float) -> tuple[int, ...]:
+    with Image.open(io.BytesIO(jpeg)) as im:
+        a = np.asarray(im.convert("RGB"))
+    return tuple(int(v) for v in a[int(fy * a.shape[0]), int(fx * a.shape[1])])
+
+
+def near(colour, want, tol=40) -> bool:
+    return all(abs(int(c) - w) <= tol for c, w in zip(colour, want, strict=True))
+
+
+@pytest.mark.parametrize("fmt", ["PNG", "JPEG", "WEBP"])
+def test_each_taken_format_is_kept_as_a_jpeg_covering_the_pane(fmt):
+    data = encoded(quadrants(600, 1000), fmt)
+    jpeg = photos.prepare(data)
+    with Image.open(io.BytesIO(jpeg)) as im:
+        assert (im.format, im.size, im.mode) == ("JPEG", SIZE, "RGB")
+    # 600x1000 covers 760x1280 scaled by 1.28 (1280/1000): 768 wide, 4 px cut each side
+    assert near(colour_at(jpeg, 0.25, 0.25), (255, 0, 0))
+    assert near(colour_at(jpeg, 0.75, 0.75), (255, 255, 255))
+
+
+def test_the_format_comes_from_the_bytes_not_the_name():
+    # A PNG sent as "photo.jpg" (image/jpeg) is read as the PNG it is...
+    assert photos.sniff(encoded(quadrants(40, 40), "PNG")) == "PNG"
+    photos.prepare(encoded(quadrants(40, 40), "PNG"))
+    # ...and a page, a GIF or a script named like a photo is refused from its first bytes
+    for data in (b"<html><script>alert(1)</script></html>", encoded(quadrants(40, 40), "GIF"),
+                 b"RIFF\x00\x00\x00\x00WAVEfmt ", b"", b"\xff\xd8"):
+        with pytest.raises(photos.PhotoError, match="not a PNG, JPEG or WebP"):
+            photos.prepare(data)
+
+
+def test_a_truncated_jpeg_is_refused_with_a_reason():
+    data = encoded(quadrants(800, 800), "JPEG", quality=95)
+    for cut in (len(data) // 2, 200, 20):
+        with pytest.raises(photos.PhotoError, match="JPEG image cannot be decoded"):
+            photos.prepare(data[:cut])
+
+
+def test_a_png_bomb_is_refused_from_its_header_before_any_decoding(monkeypatch):
+    # 20 000 x 20 000 one-bit pixels: 50 kB of PNG, 1.2 GB once decoded to RGB
+    data = encoded(Image.new("1", (20_000, 20_000)), "PNG", optimize=True)
+    assert len(data) < photos.MAX_BYTES
+    alarm = encoded(Image.new("1", (8_000, 6_000)), "PNG", optimize=True)
+    decoded = []
+    monkeypatch.setattr(Image.Image, "load", lambda self: decoded.append(self) or None)
+    with pytest.raises(photos.PhotoError, match="too many pixels; at most 40 million"):
+        photos.prepare(data)
+    assert decoded == []
+    # under Pillow's own alarm, our limit still comes first, from the header
+    with pytest.raises(photos.PhotoError, match="8000x6000 pixels; at most 40 million"):
+        photos.prepare(alarm)
+    assert decoded == []
+
+
+def test_just_over_the_pixel_limit_is_refused_and_at_it_taken(monkeypatch):
+    monkeypatch.setattr(photos, "MAX_PIXELS", 100 * 100)
+    photos.prepare(encoded(quadrants(100, 100), "PNG"))
+    with pytest.raises(photos.PhotoError, match="100x101 pixels"):
+        photos.prepare(encoded(quadrants(100, 101), "PNG"))
+
+
+def test_a_file_over_the_byte_limit_is_refused_unread(monkeypatch):
+    monkeypatch.setattr(photos, "MAX_BYTES", 1000)
+    with pytest.raises(photos.PhotoError, match="at most 0 MB"):
+        photos.prepare(b"\x89PNG\r\n\x1a\n" + bytes(1000))
+
+
+def exif_photo(orientation: int, gps: bool = False) -> bytes:
+    """A landscape JPEG of quadrants whose EXIF says `orientation` (and a GPS position)."""
+    exif = Image.Exif()
+    exif[0x0112] = orientation
+    exif[0x010F] = "PhoneMaker"
+    if gps:
+        exif[0x8825] = {1: "N", 2: (51.0, 30.0, 0.0), 3: "W", 4: (0.0, 7.0, 0.0)}
+    return encoded(quadrants(1600, 1200), "JPEG", exif=exif.tobytes(), quality=95)
+
+
+@pytest.mark.parametrize("orientation, top_left", [
+    (1, (255, 0, 0)),  # as stored: red top left
+    (6, (0, 0, 255)),  # turned 90 degrees clockwise to be upright: blue comes to the top left
+    (8, (0, 255, 0)),  # turned counter-clockwise: green comes to the top left
+    (3, (255, 255, 255)),  # turned half way: white top left
+])
+def test_exif_orientation_is_applied(orientation, top_left):
+    jpeg = photos.prepare(exif_photo(orientation))
+    assert near(colour_at(jpeg, 0.1, 0.05), top_left)
+
+
+def test_no_metadata_is_kept_gps_least_of_all(tmp_path):
+    data = exif_photo(6, gps=True)
+    with Image.open(io.BytesIO(data)) as im:  # (the crafted file does carry them)
+        assert im.getexif().get_ifd(0x8825)
+    name = photos.keep(data, tmp_path)
+    stored = photos.photo_file(name, tmp_path).read_bytes()
+    with Image.open(io.BytesIO(stored)) as im:
+        assert not im.getexif()
+        assert "exif" not in im.info and "icc_profile" not in im.info
+    assert b"Exif" not in stored and b"PhoneMaker" not in stored
+
+
+def test_transparency_is_laid_over_black():
+    a = np.zeros((50, 50, 4), np.uint8)
+    a[..., 0] = 255  # red, wholly transparent on the left half
+    a[:, 25:, 3] = 255
+    jpeg = photos.prepare(encoded(Image.fromarray(a, "RGBA"), "PNG"))
+    assert near(colour_at(jpeg, 0.1, 0.5), (0, 0, 0))
+    assert near(colour_at(jpeg, 0.9, 0.5), (255, 0, 0))
+
+
+def test_a_photo_is_kept_once_under_the_hash_of_its_file(tmp_path):
+    data = encoded(quadrants(300, 500), "PNG")
+    name = photos.keep(data, tmp_path / "backdrops")
+    path = photos.photo_file(name, tmp_path / "backdrops")
+    assert photos.is_photo(name)
+    assert name == "photo-" + hashlib.sha256(path.read_bytes()).hexdigest()[:32]
+    assert [p.name for p in (tmp_path / "backdrops").iterdir()] == [path.name]
+    # the same photo again (another session): the same name, the one file
+    assert photos.keep(data, tmp_path / "backdrops") == name
+    assert len(list((tmp_path / "backdrops").iterdir())) == 1
+    # and the backdrop loads from it by name
+    shown = load_backdrop(name, photos=tmp_path / "backdrops")
+    assert shown.shape == (HEIGHT, WIDTH, 3)
+    assert near(tuple(shown[10, 10]), (255, 0, 0))
+
+
+def test_a_missing_photo_is_named_in_one_line(tmp_path):
+    name = "photo-" + "0" * 32
+    with pytest.raises(ValueError, match=f"backdrop {name}: its file .*{'0' * 32}.jpg is missing"):
+        load_backdrop(name, photos=tmp_path)
+
+
+@pytest.mark.parametrize("name", ["photo-" + "0" * 31, "photo-" + "G" * 32, "photo-../../etc",
+                                  "photo-" + "0" * 32 + "/x", "dusk", "", None, 7])
+def test_only_photo_names_name_photos(name):
+    assert not photos.is_photo(name)
+    with pytest.raises(ValueError):
+        photos.photo_file(name, photos.Path("/tmp"))
