@@ -14,7 +14,7 @@ import urllib.request
 import numpy as np
 import pytest
 from PIL import Image
-from test_phone_e2e import PROBLEM, pause_and_settle, phones, pixels, tap  # noqa: F401, F811
+from test_phone_e2e import PROBLEM, open_page, pause_and_settle, phones, pixels, tap  # noqa: F401, F811
 
 from app import photos
 from app.backdrops import load_backdrop
@@ -24,6 +24,25 @@ pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reaso
 
 QUADRANTS = {(0.25, 0.25): (220, 30, 30), (0.75, 0.25): (30, 200, 40),
              (0.25, 0.75): (30, 40, 210), (0.75, 0.75): (240, 240, 240)}
+
+
+@pytest.fixture(scope="module")
+def pw():
+    """One Playwright for the module: its pages' browser and the installed page's profile."""
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        yield p
+
+
+@pytest.fixture(scope="module")
+def browser(pw):
+    """Headless Chromium (app.bench.page.launch), as conftest's, of this module's Playwright."""
+    from app.bench.page import launch
+
+    b = launch(pw)
+    yield b
+    b.close()
 
 
 def quadrant_photo(path, w: int = 1200, h: int = 1600) -> None:
@@ -110,3 +129,30 @@ def test_a_photo_chosen_on_one_page_is_behind_the_frost_on_another(serve, phones
 def photos_gap_ms() -> int:
     from app.serve.photo import MIN_GAP_S
     return int(MIN_GAP_S * 1000) + 300
+
+
+def test_the_installed_pages_worker_never_answers_or_keeps_a_photo(pw, serve, tmp_path):
+    from test_phone_install_e2e import persistent, wait_for_shell, worker_shell
+
+    s = serve()
+    good = tmp_path / "photo.jpg"
+    quadrant_photo(good, 300, 400)
+    ctx = persistent(pw, tmp_path / "profile")
+    try:
+        page = open_page(ctx, s.local)
+        wait_for_shell(page)
+        answered: list = []
+        page.on("response", lambda r: "/backdrops/" in r.url and answered.append(
+            (r.url, r.from_service_worker)))
+        name = choose(page, good)["backdrop"]
+        page.wait_for_function(f"frost.shownBackdrop === {json.dumps(name)}", timeout=30_000)
+        photo = [by_worker for url, by_worker in answered if f"/backdrops/{name}.jpg" in url]
+        assert photo == [False]  # from the server, past the worker
+        kept = page.evaluate("""async () => {
+            const [name] = (await caches.keys()).filter((n) => n.startsWith('frost-shell-'));
+            return (await (await caches.open(name)).keys()).map((r) => new URL(r.url).pathname);
+        }""")
+        assert sorted(kept) == sorted(f"/{f}" for f in worker_shell(s)["files"])
+        assert not [p for p in kept if p.startswith("/backdrops/photo") or p.endswith(".jpg")]
+    finally:
+        ctx.close()

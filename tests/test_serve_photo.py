@@ -22,7 +22,7 @@ from app.serve.server import make_app
 from sim import Params
 from sim.screen import HEIGHT, WIDTH
 from tests.test_photos import encoded, exif_photo, quadrants
-from tests.test_serve import PageModel, read_quiet, read_until
+from tests.test_serve import PageModel, pause, read_quiet, read_until
 
 
 def run(test, tmp_path, gap: float | None = None):
@@ -169,6 +169,7 @@ def test_a_bad_file_is_told_to_its_sender_alone_and_changes_nothing(tmp_path, ki
     async def test(port, runner, feed, store):
         async with aiohttp.ClientSession() as session:
             ws, p = await page(session, port)
+            await pause(ws, p)  # (then quiet: all it receives is about the photo)
             status, _, body = await upload(port, make())
             assert status == want_status and want_text in error_line(body), body
             await read_quiet(ws, p)
@@ -328,5 +329,5 @@ def test_the_offline_shell_never_holds_a_photo(tmp_path):
         shell = json.loads(worker.split("\n", 1)[0].removeprefix("const SHELL = ").rstrip(";"))
         kept = [f for f in shell["files"] if f.startswith("backdrops/")]
         assert kept == ["backdrops/dusk.png", "backdrops/lockscreen.png"]
-        assert not [f for f in shell["files"] if "photo" in f or f.endswith(".jpg")]
+        assert not [f for f in shell["files"] if f.startswith("backdrops/photo") or f.endswith(".jpg")]
     run(test, tmp_path)

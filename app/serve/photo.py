@@ -56,15 +56,20 @@ class PhotoDesk:
         return 0.0 if at is None else max(0.0, at + self.gap - now)
 
 
-def refusal(status: int, text: str, closing: bool = True, retry: int | None = None) -> web.Response:
+def refusal(status: int, text: str, retry: int | None = None) -> web.Response:
     """A 4xx/5xx answer carrying {"error": text} (one line: the page shows it as it is);
-    `closing`: the connection closes after it (its body, unread, is not waited for);
     `retry`: the seconds its Retry-After says."""
     headers = {} if retry is None else {"Retry-After": str(retry)}
-    response = web.Response(status=status, text=json.dumps({"error": text}),
-                            content_type="application/json", headers=headers)
-    if closing:
-        response.force_close()
+    return web.Response(status=status, text=json.dumps({"error": text}),
+                        content_type="application/json", headers=headers)
+
+
+def unread(status: int, text: str) -> web.Response:
+    """`refusal` of a body the server will not read (none or too long): the connection
+    closes after the answer (aiohttp drops what comes of the body meanwhile, for at most
+    its lingering time, 10 s, so that the client gets the answer whole)."""
+    response = refusal(status, text)
+    response.force_close()
     return response
 
 
@@ -87,10 +92,10 @@ async def upload(request: web.Request) -> web.Response:
         return refusal(403, problem)
     length = request.content_length
     if length is None:
-        return refusal(411, "a photo must come with its Content-Length")
+        return unread(411, "a photo must come with its Content-Length")
     if length > photos.MAX_BYTES:
-        return refusal(413, f"the file is {length / 2**20:.1f} MB; at most "
-                            f"{photos.MAX_BYTES // 2**20} MB is taken")
+        return unread(413, f"the file is {length:,} bytes; at most "
+                           f"{photos.MAX_BYTES // 2**20} MB ({photos.MAX_BYTES:,} bytes) is taken")
     if desk.store is None:
         return refusal(503, "this server keeps no photos (it has no session folder)")
     loop = asyncio.get_running_loop()
@@ -117,10 +122,10 @@ async def upload(request: web.Request) -> web.Response:
     except photos.PhotoError as err:
         desk.refused += 1
         status = 415 if photos.sniff(data) is None else 400  # (not an image; or a bad one)
-        return refusal(status, str(err), closing=False)
+        return refusal(status, str(err))
     except OSError as err:
         log.error("serve: a photo cannot be kept in %s: %s", desk.store, err)
-        return refusal(500, "the server cannot keep the photo (see its log)", closing=False)
+        return refusal(500, "the server cannot keep the photo (see its log)")
     finally:
         desk.waiting -= 1
     desk.kept += 1
