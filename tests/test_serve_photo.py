@@ -100,6 +100,7 @@ def test_a_photo_becomes_every_pages_backdrop_and_is_kept(tmp_path):
         async with aiohttp.ClientSession() as session:
             (ws1, p1), (ws2, p2) = await page(session, port), await page(session, port)
             assert p1.state("backdrop") == "dusk"
+            await pause(ws1, p1)  # (quiet sockets: what comes is about the photo)
             status, headers, body = await upload(port, encoded(quadrants(600, 1000), "PNG"))
             assert status == 200, body
             name = json.loads(body)["backdrop"]
