@@ -54,7 +54,9 @@ export async function paneJpeg(file) {
 
 // The menu's "Use a photo…" button and its file input; `say(text)` the page's status
 // line (it stays), `notice(text)` a line that goes after a while. `last` says how the last
-// photo went (the tests read it): {status, backdrop} or {status, error}.
+// photo went (the tests and `frost bench page --photo` read it): {status, backdrop, bytes,
+// answered} or {status, error, answered} (`answered`: when the server's answer came, ms
+// since the epoch; null if none came).
 export class PhotoPicker {
   constructor(panel, query, say, notice) {
     this.query = query;
@@ -96,8 +98,9 @@ export class PhotoPicker {
       try {
         answer = await response.json();
       } catch { /* not the server's JSON (a proxy's page) */ }
-      if (!response.ok) return this.failed(response.status, answer.error || `HTTP ${response.status}`);
-      this.last = { status: response.status, backdrop: answer.backdrop, bytes: body.size };
+      const answered = performance.timeOrigin + performance.now();  // (ms since the epoch)
+      if (!response.ok) return this.failed(response.status, answer.error || `HTTP ${response.status}`, answered);
+      this.last = { status: response.status, backdrop: answer.backdrop, bytes: body.size, answered };
       this.say("");  // every page's state names the photo: it loads as any backdrop does
     } finally {
       this.sending = false;
@@ -105,8 +108,8 @@ export class PhotoPicker {
     }
   }
 
-  failed(status, text) {
-    this.last = { status, error: text };
+  failed(status, text, answered = null) {
+    this.last = { status, error: text, answered };
     this.say("");
     this.notice(`photo refused: ${text}`);
   }
