@@ -15,12 +15,12 @@ from app.lockscreen import DEFAULT_MINUTE, with_clock
 from app.photos import is_photo, photo_file
 from app.resources import ASSET_DIR
 from sim.io.files import one_line
+from sim.io.session import DEFAULT_BACKDROP  # noqa: F401 (the default, named here too)
 from sim.screen import HEIGHT, WIDTH
 
 # Name -> file in assets/ and the script that draws it.
 BACKDROPS = {"dusk": ("background.png", "make_background.py"),
              "lockscreen": ("lockscreen.png", "make_lockscreen.py")}
-DEFAULT_BACKDROP = "dusk"
 LIVE = "lockscreen"  # the backdrop with a live clock (its static parts in its PNG)
 
 

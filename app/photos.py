@@ -36,6 +36,11 @@ class PhotoError(ValueError):
         super().__init__(one_line(message))
 
 
+def store_of(session_dir) -> Path:
+    """The folder of photos of a session folder (the folder a session file is in)."""
+    return Path(session_dir) / FOLDER
+
+
 def is_photo(name: object) -> bool:
     """Whether `name` is a photo's backdrop name (`photo-` and 32 hex digits)."""
     return isinstance(name, str) and NAME.match(name) is not None
@@ -118,6 +123,21 @@ def keep(data: bytes, store: Path, size: tuple[int, int] = (WIDTH, HEIGHT)) -> s
     if not path.is_file():
         write_atomic(path, lambda f: f.write(jpeg))
     return name
+
+
+def copy_photos(names, source: Path, target: Path) -> None:
+    """The photos among `names` kept in `source` copied to `target` where it lacks them
+    (a replayed session's, to the folder of the session the window keeps)."""
+    if Path(source).resolve() == Path(target).resolve():
+        return
+    for name in dict.fromkeys(n for n in names if is_photo(n)):
+        there, here = photo_file(name, source), photo_file(name, target)
+        if there.is_file() and not here.is_file():
+            write_atomic(here, _writer(there.read_bytes()))
+
+
+def _writer(data: bytes):
+    return lambda f: f.write(data)
 
 
 def read_file(path: Path) -> bytes:

@@ -62,6 +62,7 @@ class Renderer:
         self.look, self.height_scale = params.look, FEATURE_HEIGHT_SCALE
         self.backdrop = DEFAULT_BACKDROP  # the background's name (or file), for the view
         self.minute = DEFAULT_MINUTE  # the lock screen's clock (app/lockscreen.py)
+        self.photos: Path | None = None  # the folder photos are found in by name (app/photos.py)
         self._static: np.ndarray | None = None  # the lock screen's static parts, once read
         spacing = params.grid_spacing
         self.grid_size = (width // spacing + 1, height // spacing + 1)
@@ -97,7 +98,7 @@ class Renderer:
     def set_backdrop(self, name: str) -> None:
         """The view behind the glass: a built-in backdrop's name or an image file (the
         lock screen with its clock at `minute`)."""
-        self.set_background_image(load_backdrop(name, self.size, self.minute), name)
+        self.set_background_image(load_backdrop(name, self.size, self.minute, self.photos), name)
 
     def set_minute(self, minute: str) -> None:
         """The lock screen's clock shows `minute` ("YYYY-MM-DDTHH:MM"): over the lock

@@ -37,6 +37,7 @@ class Controls:
                  notice: Callable[[str], None], tick: Callable[[], int]):
         self.thread, self.params, self.melt_radius = thread, params, melt_radius
         self.backdrop, self.tick = backdrop, tick
+        thread.show_backdrop(backdrop)  # (the session records what it starts on)
         self.notice = self.tell_all = notice
         self.chosen = ""  # the preset a page chose last
         self.dropped = 0  # touches and melts dropped while too much input waited
@@ -167,6 +168,7 @@ class Controls:
             self.notice(f"backdrop {name[:16]!r} refused: one of {', '.join(BACKDROPS)}")
             return
         self.backdrop = name
+        self.thread.show_backdrop(name)  # (the session records it)
 
     def _tune(self, change, *args, check=None) -> None:
         """The window's way to change the parameters (Actions._tune); the grid's spacing
