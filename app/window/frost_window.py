@@ -26,6 +26,7 @@ from app.photos import PhotoError, is_photo, keep, read_file, store_of
 from app.simthread.thread import SimThread, Snapshot
 from app.window.actions import Actions
 from app.window.capture import Capture
+from app.window.clock import ClockDrawer
 from app.window.drop import PhotoDrop
 from app.window.glfw_setup import WindowError, open_window, x_window_ids
 from app.window.lost_display import on_lost_display, on_lost_window
@@ -66,6 +67,7 @@ class FrostWindow:
         self.presenter = Presenter(moderngl.create_context(), params, getattr(args, "view", None),
                                    photos=store_of(args.session_dir))
         self.drop = PhotoDrop(self.thread, store_of(args.session_dir))  # a photo dropped on it
+        self.clock = ClockDrawer(self.presenter.renderer.clock_box, self._wake)
         self.thread.show_clock("window", self.presenter.renderer.backdrop == LIVE)
         self.presenter.hud.set_scale(glfw.get_window_content_scale(window)[0])
         self.status = Status()
@@ -182,6 +184,7 @@ class FrostWindow:
 
     def close(self) -> None:
         self.thread.stop()
+        self.clock.close()
         self._write_out()
         self.panel.close()
 
@@ -224,6 +227,10 @@ class FrostWindow:
     def _drain(self) -> None:
         for snapshot in self.thread.drain():
             self._apply(snapshot)
+        drawn = self.clock.ready()
+        if drawn is not None and drawn[0] != self.presenter.renderer.minute:
+            self.presenter.renderer.set_minute(*drawn)
+            self.dirty = True
         self._drain_notices()
 
     def _drain_notices(self) -> None:
@@ -247,7 +254,10 @@ class FrostWindow:
         if self.actions.follow_backdrop(snapshot.backdrop, snapshot.stats.handled):
             self.dirty = True
         if snapshot.minute is not None and snapshot.minute != renderer.minute:
-            renderer.set_minute(snapshot.minute)  # (its clock box alone, over the lock screen)
+            if renderer.patches_clock():  # (its clock box alone, drawn on a worker)
+                self.clock.ask(snapshot.minute)
+            else:
+                renderer.set_minute(snapshot.minute)
             self.dirty = True
         for melt in snapshot.melts:
             renderer.apply(melt)
