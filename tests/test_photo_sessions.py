@@ -210,3 +210,70 @@ def test_a_photo_dropped_on_the_window_is_kept_recorded_and_shown(tmp_path):
     assert any(f"the photo holiday.JPG (photo-{name})" in n for n in said)
     dropped(drop, [tmp_path / "nowhere.png"])
     assert any("nowhere.png: refused: " in n and "cannot read it" in n for n in notes.said())
+
+
+# ---- the window follows the backdrop the thread says ---------------------------------
+
+class _Renderer:
+    """The renderer's backdrop alone: a photo named "photo-" and zeros is missing."""
+
+    def __init__(self):
+        self.backdrop, self.shown = "dusk", []
+
+    def set_backdrop(self, name):
+        if name == "photo-" + "0" * 32:
+            raise ValueError(f"backdrop {name}: its file x.jpg is missing")
+        self.backdrop = name
+        self.shown.append(name)
+
+
+def test_the_window_follows_a_photo_the_thread_shows_and_cycles_it_with_x():
+    import glfw
+
+    from app.simthread.thread import SimThread
+    from app.window.actions import Actions
+    from app.window.status import Status
+
+    thread, status, renderer = SimThread(PARAMS, 0, [(380, 640)]), Status(), _Renderer()
+    presenter = type("P", (), {"renderer": renderer})()
+    actions = Actions(PARAMS, thread, presenter, status, None, None, lambda: None,
+                      lambda: None, lambda: None)
+
+    def tick_and_follow():
+        thread.tick()
+        snap = thread.drain()[-1]
+        return actions.follow_backdrop(snap.backdrop, snap.stats.handled), snap
+
+    def x():
+        actions.on_key(None, glfw.KEY_X, 0, glfw.PRESS, 0)
+
+    photo = "photo-" + "c" * 32
+    x()  # dusk -> lockscreen, at once in the window
+    assert renderer.backdrop == "lockscreen"
+    thread.show_backdrop(photo)  # a page's photo (or a drop) after it, in the same tick
+    followed, _ = tick_and_follow()
+    assert followed and renderer.backdrop == photo
+    assert backdrop_events(thread) == [(0, "lockscreen"), (0, photo)]
+    # the photo joins X's cycle: lockscreen -> dusk -> ... -> the photo again
+    seen = []
+    for _ in range(3):
+        x()
+        seen.append(renderer.backdrop)
+        tick_and_follow()
+        assert renderer.backdrop == seen[-1]  # (the window's own choice is not undone)
+    assert seen == ["dusk", "lockscreen", photo]
+    # a snapshot from before the window's last choice is not followed
+    x()
+    assert renderer.backdrop == "dusk"
+    assert not actions.follow_backdrop(photo, thread.handled)
+    assert renderer.backdrop == "dusk"
+    # a photo whose file is gone: said once, the backdrop kept
+    thread.show_backdrop("photo-" + "0" * 32)
+    for _ in range(3):
+        _, snap = tick_and_follow()
+    assert renderer.backdrop == "dusk"
+    lines = status.lines(time.monotonic(), snap, PARAMS, _View, None, 1.0)
+    assert sum("x.jpg is missing" in line for line in lines) == 1
+
+
+_View = type("View", (), {"show_features": True, "show_bumps": False, "light": (0.0, 0.0, 1.0)})()

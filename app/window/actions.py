@@ -9,7 +9,7 @@ from collections.abc import Callable
 
 import glfw
 
-from app.backdrops import LIVE, next_backdrop
+from app.backdrops import BACKDROPS, LIVE, next_backdrop
 from app.keys import DEFAULT_PRESET, key_table
 from app.simthread.thread import SimThread, Snapshot
 from app.window.capture import Capture
@@ -142,6 +142,8 @@ class Actions:
             self.status.say(str(err), logging.WARNING)
             return False
         self.thread.show_clock("window", name == LIVE)
+        if name not in BACKDROPS:  # a photo: it joins the X key's cycle (the latest one)
+            self.own_backdrop = name
         return True
 
     def _preset(self, name: str) -> None:
