@@ -17,6 +17,7 @@ from pathlib import Path
 
 from PIL import Image, ImageOps
 
+from app.images import cover
 from sim.io.files import one_line, write_atomic
 from sim.screen import HEIGHT, WIDTH
 
@@ -69,8 +70,6 @@ def prepare(data: bytes, size: tuple[int, int] = (WIDTH, HEIGHT)) -> bytes:
     """The JPEG we keep of the image file `data`: upright, covering `size` (centre-cropped),
     RGB (any transparency over black), with no metadata. PhotoError saying why if it is
     not a PNG, JPEG or WebP, is larger than MAX_BYTES or MAX_PIXELS, or cannot be decoded."""
-    from app.backdrops import cover  # (app.backdrops resolves photo names with this module)
-
     if len(data) > MAX_BYTES:
         raise PhotoError(f"the file is {len(data) / 2**20:.1f} MB; at most "
                          f"{MAX_BYTES // 2**20} MB is taken")

@@ -22,8 +22,8 @@ import pytest
 from PIL import Image
 from test_phone_e2e import PHONE, PROBLEM, Serve, open_page, token_needed
 
-from app.backdrops import cover
 from app.bench.page import ANGLE, CHROMIUM
+from app.images import cover
 from app.resources import ASSET_DIR
 
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
