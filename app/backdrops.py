@@ -11,16 +11,17 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
+from app.images import cover
 from app.lockscreen import DEFAULT_MINUTE, with_clock
 from app.photos import is_photo, photo_file
 from app.resources import ASSET_DIR
 from sim.io.files import one_line
+from sim.io.session import DEFAULT_BACKDROP  # noqa: F401 (the default, named here too)
 from sim.screen import HEIGHT, WIDTH
 
 # Name -> file in assets/ and the script that draws it.
 BACKDROPS = {"dusk": ("background.png", "make_background.py"),
              "lockscreen": ("lockscreen.png", "make_lockscreen.py")}
-DEFAULT_BACKDROP = "dusk"
 LIVE = "lockscreen"  # the backdrop with a live clock (its static parts in its PNG)
 
 
@@ -75,18 +76,6 @@ def backdrop_path(name: str, photos: Path | None = None) -> Path:
         raise ValueError(f"background {one_line(name)}: no such file (built-in: "
                          f"{', '.join(BACKDROPS)})")
     return path
-
-
-def cover(image: Image.Image, size: tuple[int, int]) -> Image.Image:
-    """`image` scaled (keeping its aspect) to cover `size`, centre-cropped to it."""
-    w, h = image.size
-    if (w, h) == size:
-        return image
-    scale = max(size[0] / w, size[1] / h)
-    sw, sh = max(size[0], round(w * scale)), max(size[1], round(h * scale))
-    image = image.resize((sw, sh), Image.Resampling.LANCZOS)
-    left, top = (sw - size[0]) // 2, (sh - size[1]) // 2
-    return image.crop((left, top, left + size[0], top + size[1]))
 
 
 def next_backdrop(current: str, extra: str | None = None) -> str:

@@ -142,3 +142,15 @@ def export_maps(folder, grid: np.ndarray, segments: np.ndarray, params: Params,
                                                              "encoding": MEANING[name]})
                       for name in MAP_NAMES})
     return paths
+
+
+def cover(image: Image.Image, size: tuple[int, int]) -> Image.Image:
+    """`image` scaled (keeping its aspect) to cover `size`, centre-cropped to it."""
+    w, h = image.size
+    if (w, h) == size:
+        return image
+    scale = max(size[0] / w, size[1] / h)
+    sw, sh = max(size[0], round(w * scale)), max(size[1], round(h * scale))
+    image = image.resize((sw, sh), Image.Resampling.LANCZOS)
+    left, top = (sw - size[0]) // 2, (sh - size[1]) // 2
+    return image.crop((left, top, left + size[0], top + size[1]))

@@ -17,6 +17,7 @@ from pathlib import Path
 
 from PIL import Image, ImageOps
 
+from app.images import cover
 from sim.io.files import one_line, write_atomic
 from sim.screen import HEIGHT, WIDTH
 
@@ -34,6 +35,11 @@ class PhotoError(ValueError):
 
     def __init__(self, message: str):
         super().__init__(one_line(message))
+
+
+def store_of(session_dir) -> Path:
+    """The folder of photos of a session folder (the folder a session file is in)."""
+    return Path(session_dir) / FOLDER
 
 
 def is_photo(name: object) -> bool:
@@ -64,8 +70,6 @@ def prepare(data: bytes, size: tuple[int, int] = (WIDTH, HEIGHT)) -> bytes:
     """The JPEG we keep of the image file `data`: upright, covering `size` (centre-cropped),
     RGB (any transparency over black), with no metadata. PhotoError saying why if it is
     not a PNG, JPEG or WebP, is larger than MAX_BYTES or MAX_PIXELS, or cannot be decoded."""
-    from app.backdrops import cover  # (app.backdrops resolves photo names with this module)
-
     if len(data) > MAX_BYTES:
         raise PhotoError(f"the file is {len(data) / 2**20:.1f} MB; at most "
                          f"{MAX_BYTES // 2**20} MB is taken")
@@ -118,6 +122,21 @@ def keep(data: bytes, store: Path, size: tuple[int, int] = (WIDTH, HEIGHT)) -> s
     if not path.is_file():
         write_atomic(path, lambda f: f.write(jpeg))
     return name
+
+
+def copy_photos(names, source: Path, target: Path) -> None:
+    """The photos among `names` kept in `source` copied to `target` where it lacks them
+    (a replayed session's, to the folder of the session the window keeps)."""
+    if Path(source).resolve() == Path(target).resolve():
+        return
+    for name in dict.fromkeys(n for n in names if is_photo(n)):
+        there, here = photo_file(name, source), photo_file(name, target)
+        if there.is_file() and not here.is_file():
+            write_atomic(here, _writer(there.read_bytes()))
+
+
+def _writer(data: bytes):
+    return lambda f: f.write(data)
 
 
 def read_file(path: Path) -> bytes:

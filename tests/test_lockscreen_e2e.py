@@ -70,7 +70,7 @@ def test_the_page_shows_each_minute_from_the_clock_box_alone(serve, phones, tmp_
     assert sessions, out
     recorded = json.loads(sessions[-1].read_text())
     minutes = [e["minute"] for e in recorded["events"] if e["kind"] == "clock"]
-    assert recorded["version"] == 10 and minutes[-2:] == [first, second]
+    assert recorded["version"] >= 10 and minutes[-2:] == [first, second]
     png = tmp_path / "replay.png"
     subprocess.run([sys.executable, "-m", "app", "replay", str(sessions[-1]), "--out", str(png)],
                    cwd=tmp_path, check=True, capture_output=True, timeout=300)

@@ -227,7 +227,10 @@ def test_tilt_maths_against_hand_worked_cases(browser):
               up: t.screenTilt(30, 0, rest, 0), left: t.screenTilt(0, 20, rest, 0),
               landUp: t.screenTilt(30, 0, rest, 90), landGamma: t.screenTilt(0, 20, rest, 90),
               wrap: t.screenTilt(-170, 0, { beta: 170, gamma: 0 }, 0),
-              cone: t.screenTilt(60, -80, rest, 0),
+              cone: t.screenTilt(60, 0, rest, 0), both: t.screenTilt(45, 45, rest, 0),
+              upright: t.screenTilt(90, 30, { beta: 90, gamma: 0 }, 0),
+              back: t.screenTilt(60, 0, { beta: 90, gamma: 0 }, 0),
+              upVector: t.upVector(90, 0),
               right30: t.tiltLight([0, 0, 1], [30, 0]), up30: t.tiltLight([0, 0, 2], [0, 30]),
               flat: t.tiltLight([0, 0, 1], [0, 90]), lp };
         }""")
@@ -237,7 +240,15 @@ def test_tilt_maths_against_hand_worked_cases(browser):
     assert close(got["landUp"], [-30, 0])     # screen turned 90 (top to the left): the top is left
     assert close(got["landGamma"], [0, -20])  # and the phone's right edge the screen's top
     assert close(got["wrap"], [0, 20])        # -170 is 20 past 170
-    assert close(got["cone"], [36, 27])       # (80, 60) is 100 degrees: held to 45
+    assert close(got["cone"], [0, 45])        # 60 degrees: held to 45
+    # top up 45 and right edge down 45: up is (-1/2, 1/sqrt 2, 1/2) on the phone, 60 degrees
+    # from the rest's (0, 0, 1) about (-1/sqrt 2, -1/2, 0): held to 45, split 1 : sqrt 2
+    assert close(got["both"], [-45 / math.sqrt(3), 45 * math.sqrt(2 / 3)])
+    # held upright, a turn about the vertical (gamma, at beta 90) moves nothing (beta and
+    # gamma taken as angles, it read as a tilt of 30, and gamma is unsteady there)
+    assert close(got["upright"], [0, 0])
+    assert close(got["back"], [0, -30])       # upright, the top tipped 30 away: toward the bottom
+    assert close(got["upVector"], [0, 1, math.cos(math.pi / 2)])
     h = math.sqrt(3) / 2
     assert close(got["right30"], [0.5, 0, h]) and close(got["up30"], [0, -0.5, h])
     assert close(got["flat"], [0, -math.sin(math.radians(75)), math.cos(math.radians(75))])

@@ -23,6 +23,8 @@ from PIL import Image
 from test_phone_e2e import PHONE, PROBLEM, Serve, open_page, token_needed
 
 from app.bench.page import ANGLE, CHROMIUM
+from app.images import cover
+from app.resources import ASSET_DIR
 
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
 
@@ -178,6 +180,13 @@ def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, serve,
         assert sorted(kept) == sorted(f"/{f}" for f in files)
         assert page.evaluate(meta) == "failed"
         page.screenshot(path=str(tmp_path / "offline.png"))
+        # Not a black screen: the backdrop it showed last (dusk), from the cache, covering
+        # the screen as the pane would (CSS's cover against Pillow's cover of the PNG)
+        shot = np.asarray(Image.open(tmp_path / "offline.png").convert("RGB")).astype(int)
+        want = np.asarray(cover(Image.open(ASSET_DIR / "background.png").convert("RGB"),
+                                shot.shape[1::-1])).astype(int)
+        below = slice(shot.shape[0] // 4, None)  # (under the status line and the menu)
+        assert np.abs(shot[below] - want[below]).mean() < 6, np.abs(shot[below] - want[below]).mean()
         back = serve("--port", port, "--host", host, "--no-https", folder=tmp_path)
         assert (back.port, back.token) == (s.port, s.token)
         # main.js retries with backoff (at most 8 s apart): synced again, nothing reloaded

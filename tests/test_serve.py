@@ -630,10 +630,12 @@ def test_menu_and_keys_change_the_shared_frost_and_every_page_hears():
         await b.send_json({"type": "ping", "t": 2})  # (after a's notices, were they b's too)
         await read_until(b, pb, lambda: pb.texts[-1]["type"] == "pong")
         assert not any("refused" in t.get("text", "") for t in pb.texts)  # a's alone
-        kinds = [e["kind"] for e in feed.thread.session().events]
+        events = feed.thread.session().events
+        kinds = [e["kind"] for e in events]
         # look, preset, key V; nothing else changed the frost (the lock screen, chosen,
-        # has its minutes recorded: clock events, docs/sessions.md)
-        assert [k for k in kinds if k != "clock"] == ["params", "params", "params"]
+        # is recorded, and has its minutes recorded: docs/sessions.md)
+        assert [k for k in kinds if k not in ("clock", "backdrop")] == ["params"] * 3
+        assert [e["name"] for e in events if e["kind"] == "backdrop"] == ["lockscreen"]
         assert feed.controls.params == Params.preset("window").replace(look="paper")
     serve(test)
 
@@ -878,6 +880,9 @@ class _Sends:
     def send(self, kind, arg=None):
         self.kinds.append(kind)
         self.args.append(arg)
+
+    def show_backdrop(self, name):
+        self.backdrops = [*getattr(self, "backdrops", []), name]
 
 
 def _controls():

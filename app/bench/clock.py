@@ -79,7 +79,7 @@ def desktop(samples: int) -> None:
             off.fbo.read_into(one, viewport=(0, 0, 1, 1), components=4)
 
         frame()
-        plain, minute, upload = [], [], []
+        plain, minute, upload, loop = [], [], [], []
         for m in minutes(samples):
             t0 = time.perf_counter()
             frame()
@@ -91,10 +91,20 @@ def desktop(samples: int) -> None:
             plain.append((t1 - t0) * 1000)
             upload.append((t2 - t1) * 1000)
             minute.append((t3 - t1) * 1000)
+            # the window: the box drawn on its worker (app/window/clock.py), the loop's
+            # part the upload and the frame
+            later = m.replace("T1", "T2", 1)  # (another minute than the one shown)
+            box = off.renderer.clock_box(later)
+            t4 = time.perf_counter()
+            off.renderer.set_minute(later, box)
+            frame()
+            loop.append((time.perf_counter() - t4) * 1000)
         print(f"desktop ({look}, {ctx.info['GL_RENDERER']}):")
         print("  " + figures("a frame, no new minute", plain))
         print("  " + figures("the box drawn and uploaded", upload))
         print("  " + figures("the minute's frame (box drawn, uploaded, frame drawn)", minute))
+        print("  " + figures("the window's minute frame (box drawn on its worker: "
+                             "uploaded, frame drawn)", loop))
         off.release()
 
 

@@ -48,8 +48,14 @@ MOVE_EVERY = 1 / 60  # s between a finger's moves (a phone reports touches once 
 
 PROBE = """(() => {
   const probe = { frames: [], ticks: [], handled: [], pongs: {}, resyncs: 0,
-    opened: null, snapshot: null, snapshotEnd: null, synced: null };
+    opened: null, snapshot: null, snapshotEnd: null, synced: null, picked: [], shown: [] };
   window.__probe = probe;
+  // (absolute ms, comparable between pages: when a file was chosen, when a backdrop showed)
+  const now = () => performance.timeOrigin + performance.now();
+  document.addEventListener("change", (e) => {
+    if (e.target && e.target.type === "file") probe.picked.push(now());
+  }, true);
+  let backdrop = null;
   const raf = window.requestAnimationFrame.bind(window);
   window.requestAnimationFrame = (callback) => raf((t) => {
     const before = window.frost ? window.frost.frames : 0, t0 = performance.now();
@@ -58,6 +64,10 @@ PROBE = """(() => {
       if (f && f.frames > before) {
         probe.frames.push([t0, t1 - t0, f.tick]);
         if (f.synced && probe.synced === null) probe.synced = t1;
+        if (f.shownBackdrop && f.shownBackdrop !== backdrop) {  // drawn in this frame
+          backdrop = f.shownBackdrop;
+          probe.shown.push([backdrop, now()]);
+        }
       }
     }
   });
@@ -286,6 +296,72 @@ def scribble(browser, s: Served, seconds: float, cpu_slowdown: float = 1.0) -> d
             "behind": end_tick - got["tick"]}
 
 
+def phone_photo(path: Path, tint: int, size=(4000, 3000), target=4_000_000) -> int:
+    """A phone camera's JPEG at `path`: `size` px of soft gradients, a few shapes and the
+    sensor's grain (which is what makes a phone photo weigh 4 MB), its colours tinted by
+    `tint` (each photo another); the quality is picked to land near `target` bytes. Its
+    size in bytes."""
+    from PIL import Image, ImageDraw, ImageFilter
+
+    w, h = size
+    rng = np.random.default_rng(tint)
+    y = np.linspace(0, 1, h)[:, None, None]
+    x = np.linspace(0, 1, w)[None, :, None]
+    base = np.array([40 + tint * 37 % 120, 90, 180], float)
+    sky = base * (1 - 0.6 * y) + np.array([250, 170, 90]) * 0.5 * y * (1 - x * 0.3)
+    image = Image.fromarray(np.clip(sky, 0, 255).astype(np.uint8))
+    draw = ImageDraw.Draw(image)
+    for _ in range(12):
+        cx, cy, r = rng.integers(0, w), rng.integers(h // 3, h), rng.integers(80, 600)
+        draw.ellipse([cx - r, cy - r, cx + r, cy + r], fill=tuple(int(v) for v in rng.integers(20, 250, 3)))
+    image = image.filter(ImageFilter.GaussianBlur(6))
+    grain = rng.normal(0, 9, (h, w, 1))
+    image = Image.fromarray(np.clip(np.asarray(image, float) + grain, 0, 255).astype(np.uint8))
+    for quality in (95, 92, 89, 86, 83, 80, 75, 70):
+        image.save(path, "JPEG", quality=quality)
+        if path.stat().st_size <= target * 1.1:
+            break
+    return path.stat().st_size
+
+
+def photos(browser, s: Served, n: int, cpu_slowdown: float = 1.0) -> dict:
+    """`n` phone photos chosen one after another on one page's "Use a photo…" (6 s apart:
+    the server takes one every 5 s from an address), a second page open beside it: for
+    each, ms from the choice to the sender's POST answered and to each page's first frame
+    drawn with it."""
+    from app.photos import MAX_BYTES
+
+    out: dict[str, list[float]] = {"answered": [], "sender": [], "other": [], "all": []}
+    with tempfile.TemporaryDirectory() as tmp, Phone(browser, cpu_slowdown) as a, \
+            Phone(browser, cpu_slowdown) as b:
+        a.open(s.url)
+        b.open(s.url)
+        files = [Path(tmp) / f"IMG_{k:04d}.jpg" for k in range(n)]
+        sizes = [phone_photo(f, k) for k, f in enumerate(files)]
+        assert max(sizes) <= MAX_BYTES
+        for file in files:
+            a.page.set_input_files("#photo-file", str(file))
+            a.page.wait_for_function("frost.photo && frost.photo.last && frost.photo.last.status",
+                                     timeout=120_000)
+            last = a.page.evaluate("frost.photo.last")
+            if last.get("error"):
+                raise RuntimeError(f"the photo was refused: {last['error']}")
+            name = last["backdrop"]
+            shown = f"__probe.shown.some(([n]) => n === {json.dumps(name)})"
+            for phone in (a, b):
+                phone.page.wait_for_function(shown, timeout=120_000)
+            picked = a.page.evaluate("__probe.picked[__probe.picked.length - 1]")
+            when = [phone.page.evaluate(f"__probe.shown.find(([n]) => n === {json.dumps(name)})[1]")
+                    for phone in (a, b)]
+            out["answered"].append(a.page.evaluate("frost.photo.last.answered") - picked)
+            out["sender"].append(when[0] - picked)
+            out["other"].append(when[1] - picked)
+            out["all"].append(max(when) - picked)
+            a.page.evaluate("frost.photo.last = null")
+            a.page.wait_for_timeout(6000)
+    return {**{k: np.asarray(v) for k, v in out.items()}, "sizes": sizes}
+
+
 def stats(ms: np.ndarray) -> str:
     if not len(ms):
         return "none"
@@ -355,6 +431,16 @@ def run(args, network: Profile | None, launch) -> int:
                     print(f"  its last part to the first frame drawn synced: "
                           f"{stats(synced - parts['snapshotEnd'])}")
                     print(f"  navigation to the first frame drawn synced: {stats(synced)}")
+            if args.photo:
+                got = photos(browser, s, args.photo, args.cpu_slowdown)
+                mb = np.median(got["sizes"]) / 1e6
+                print(f"a phone photo chosen on one page ({mb:.1f} MB JPEG, 4000x3000; {where}{slow}, "
+                      f"{args.photo} photos, two pages):")
+                print(f"  chosen to the server's answer (scaled and encoded on the page, sent, "
+                      f"checked and kept): {stats(got['answered'])}")
+                print(f"  chosen to drawn on the sending page: {stats(got['sender'])}")
+                print(f"  chosen to drawn on the other page: {stats(got['other'])}")
+                print(f"  chosen to drawn on every page: {stats(got['all'])}")
             if args.scribble:
                 got = scribble(browser, s, args.scribble, args.cpu_slowdown)
                 work, gaps = got["work_ms"], got["interval_ms"]

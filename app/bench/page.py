@@ -10,7 +10,7 @@ python -m app.bench.page [--preset fern] [--look paper] [--ticks 300] [--frames 
     [--out DIR]
 python -m app.bench.page --phone-app [--out DIR]   (app/bench/phoneapp.py)
 Or, through `frost serve` (app/bench/network.py), on loopback or a phone-like network:
-python -m app.bench.page --taps N | --join N | --scribble S [--network wifi|4g]
+python -m app.bench.page --taps N | --join N | --scribble S | --photo N [--network wifi|4g]
     [--cpu-slowdown 4]
 """
 
@@ -304,11 +304,13 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.bench.page") 
     p.add_argument("--scribble", type=count, metavar="S", help="instead: a finger dragged over "
                    "the pane for S seconds: whether the page keeps up, its frame times, the "
                    "share of ticks it draws")
-    p.add_argument("--network", metavar="PROFILE", help="with --taps, --join, --scribble: the "
+    p.add_argument("--photo", type=count, metavar="N", help="instead: N phone photos (4 MB "
+                   "JPEGs, 4000x3000) chosen on one page: time until every page (two) shows it")
+    p.add_argument("--network", metavar="PROFILE", help="with --taps, --join, --scribble, --photo: the "
                    "page reaches the server through a shaping proxy: " + "; ".join(
                        x.describe() for x in PROFILES.values()) + " (default: loopback)")
     p.add_argument("--cpu-slowdown", type=slowdown, default=1.0, metavar="N",
-                   help="with --taps, --join, --scribble: the page's CPU N times slower "
+                   help="with --taps, --join, --scribble, --photo: the page's CPU N times slower "
                    "(Chromium's throttling; 4 is Lighthouse's phone; default 1)")
     p.add_argument("--out", help="write desktop.png, page.png, difference.png here")
     args = p.parse_args(argv)
@@ -318,9 +320,9 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.bench.page") 
             network = profile(args.network)
         except ValueError as err:
             p.error(f"argument --network: {err}")
-    served = args.taps or args.join or args.scribble
+    served = args.taps or args.join or args.scribble or args.photo
     if not served and (network or args.cpu_slowdown != 1):
-        p.error("--network and --cpu-slowdown go with --taps, --join or --scribble "
+        p.error("--network and --cpu-slowdown go with --taps, --join, --scribble or --photo "
                 "(the parity bench has no server)")
     problem = browser_problem()
     if problem:

@@ -8,6 +8,7 @@ import logging
 import os
 import re
 import sys
+from pathlib import Path
 
 from app.backdrops import load_backdrop, view_from
 from app.cli.options import WINDOW_DEFAULTS, has_display, params_from
@@ -184,14 +185,26 @@ def _replay(args: argparse.Namespace, params: Params) -> int:
 def _windowed_replay(args: argparse.Namespace, what_if: Params | None = None) -> Params:
     """Load the replay's session into args (seed, events) for the window; its parameters
     (those of `what_if` if given, see replay.under)."""
-    from app.tools.replay import load_session, under
+    from app.photos import copy_photos, store_of
+    from app.tools.replay import load_session, missing_photo, start_view, under
 
     log_ = load_session(args.replay)
     if what_if is not None:
         log_ = under(log_, what_if, args.params_file)
     args.seed, args.touch, args.script = log_.seed, [], log_.events
     args.session_version = log_.version  # its rules, not the newest
-    args.view = view_from(args, log_.view)
+    args.view = start_view(log_, getattr(args, "background", None))
+    args.fixed_backdrop = getattr(args, "background", None) is not None
+    photos = store_of(Path(args.replay).parent)
+    missing = None if args.fixed_backdrop else missing_photo(log_, photos)
+    if missing:
+        raise SessionError(f"{one_line(str(args.replay))}: cannot replay: {missing}")
+    keeps = store_of(getattr(args, "session_dir", WINDOW_DEFAULTS["session_dir"]))
+    try:  # (the session the window keeps, in its own folder, shows them too)
+        copy_photos([e["name"] for e in log_.events if e["kind"] == "backdrop"], photos, keeps)
+    except OSError as err:
+        logging.getLogger("app.replay").warning(
+            "the replayed session's photos could not be copied to %s: %s", keeps, err)
     background = (args.view or {}).get("background")
     if background is not None:  # a session's own file may have gone since it was saved
         try:

@@ -62,6 +62,7 @@ class Renderer:
         self.look, self.height_scale = params.look, FEATURE_HEIGHT_SCALE
         self.backdrop = DEFAULT_BACKDROP  # the background's name (or file), for the view
         self.minute = DEFAULT_MINUTE  # the lock screen's clock (app/lockscreen.py)
+        self.photos: Path | None = None  # the folder photos are found in by name (app/photos.py)
         self._static: np.ndarray | None = None  # the lock screen's static parts, once read
         spacing = params.grid_spacing
         self.grid_size = (width // spacing + 1, height // spacing + 1)
@@ -97,25 +98,37 @@ class Renderer:
     def set_backdrop(self, name: str) -> None:
         """The view behind the glass: a built-in backdrop's name or an image file (the
         lock screen with its clock at `minute`)."""
-        self.set_background_image(load_backdrop(name, self.size, self.minute), name)
+        self.set_background_image(load_backdrop(name, self.size, self.minute, self.photos), name)
 
-    def set_minute(self, minute: str) -> None:
+    def set_minute(self, minute: str, patch: np.ndarray | None = None) -> None:
         """The lock screen's clock shows `minute` ("YYYY-MM-DDTHH:MM"): over the lock
-        screen, its clock box alone is drawn and uploaded (texture rows are the image's,
-        top row first); any other backdrop keeps it for when the lock screen is shown."""
+        screen, its clock box alone is drawn (unless `patch` is it, drawn already: see
+        `clock_box`) and uploaded (texture rows are the image's, top row first); any other
+        backdrop keeps it for when the lock screen is shown."""
         if minute == self.minute:
             return
         self.minute = minute
         if self.backdrop != LIVE:
             return
-        if self.size != (WIDTH, HEIGHT):  # scaled: the whole backdrop again
+        if not self.patches_clock():  # scaled: the whole backdrop again
             self.set_backdrop(LIVE)
             return
+        x0, y0, x1, y1 = CLOCK_BOX
+        patch = self.clock_box(minute) if patch is None else patch
+        self._background.write(np.ascontiguousarray(patch).tobytes(),
+                               viewport=(x0, y0, x1 - x0, y1 - y0))
+
+    def patches_clock(self) -> bool:
+        """Whether a new minute is drawn as the clock box alone (the lock screen shown at
+        its own size)."""
+        return self.backdrop == LIVE and self.size == (WIDTH, HEIGHT)
+
+    def clock_box(self, minute: str) -> np.ndarray:
+        """The lock screen's clock box at `minute` (any thread: it draws no GL; the static
+        lock screen is read at the first call)."""
         if self._static is None:
             self._static = np.asarray(read_backdrop(LIVE))
-        x0, y0, x1, y1 = CLOCK_BOX
-        patch = np.ascontiguousarray(clock_patch(self._static, minute))
-        self._background.write(patch.tobytes(), viewport=(x0, y0, x1 - x0, y1 - y0))
+        return clock_patch(self._static, minute)
 
     def set_background_image(self, image: np.ndarray, name: str) -> None:
         """The view behind the glass from an H x W x 3 uint8 image (top row first)."""

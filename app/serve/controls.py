@@ -41,6 +41,7 @@ class Controls:
                  notice: Callable[[str], None], tick: Callable[[], int]):
         self.thread, self.params, self.melt_radius = thread, params, melt_radius
         self.backdrop, self.tick = backdrop, tick
+        thread.show_backdrop(backdrop)  # (the session records what it starts on)
         self.notice = self.tell_all = notice
         self.chosen = ""  # the preset a page chose last
         self.store: Path | None = None  # the folder of photos (app/serve/photo.py)
@@ -186,6 +187,7 @@ class Controls:
                         f"{', '.join(BACKDROPS)} or a photo shown since frost serve started")
             return
         self.backdrop = name
+        self.thread.show_backdrop(name)  # (the session records it)
 
     def _kept(self, name: str) -> bool:
         """Whether `name` is a photo of this run whose file is still in the store."""

@@ -27,7 +27,7 @@ from app.simthread.clicks import Click, Clicks
 from app.simthread.export import MapExports
 from app.simthread.schedule import Schedule, TickTimes
 from sim import Params
-from sim.io.session import VERSION, SessionLog
+from sim.io.session import BACKDROP_NAME, DEFAULT_BACKDROP, VERSION, SessionLog
 from sim.io.timeline import Applied, Timeline, apply_due
 from sim.look.geometry import GeometryDelta
 from sim.screen import HEIGHT, TICKS_PER_SECOND, WIDTH
@@ -70,6 +70,7 @@ class Snapshot:
     steps: int = 0  # steps taken by the session so far
     events: int = 0  # events recorded so far (a session file of this frame keeps these)
     minute: str | None = None  # the minute the lock screen's clock shows (None: none yet)
+    backdrop: str | None = None  # the backdrop shown (None: none said yet, the default)
 
 
 @dataclass(frozen=True)
@@ -117,9 +118,11 @@ class SimThread(threading.Thread):
         self.times = TickTimes()
         self._clicks = Clicks()  # for the latency log
         self.exports = MapExports(self.notify)
-        self._handlers = {"touch": self._touch, "melt": self._melt, "melts": self._melts,
+        self._handlers: dict[str, Callable[[Any, dict], None]] = {
+            "touch": self._touch, "melt": self._melt, "melts": self._melts,
                           "params": self._set_params, "clear": self._clear,
                           "pause": self._pause, "step": self._single,
+                          "backdrop": self._show_backdrop,
                           "export": lambda folder, _notes: self.exports.ask(folder)}
         # commands wait here when more arrive than a tick takes
         self.backlog = Backlog(kind=_command_kind)
@@ -130,6 +133,9 @@ class SimThread(threading.Thread):
         # a clock event. None: no live clock (a replay's minutes are its own).
         self.clock: Callable[[], datetime] | None = datetime.now
         self._clock_shown: set[str] = set()
+        # The backdrop shown where the session's rules record no backdrop events (older
+        # versions replayed) or its name is not a backdrop's (a file given by path).
+        self._unrecorded_backdrop: str | None = None
         events = [{"kind": "touch", "x": float(x), "y": float(y)} for x, y in touches]
         self.timeline.apply(events)
 
@@ -225,6 +231,17 @@ class SimThread(threading.Thread):
         else:
             self._clock_shown.discard(who)
 
+    def show_backdrop(self, name: str) -> int:
+        """The backdrop shown is now `name` (any thread): recorded as a backdrop event at the
+        next tick (a name of the protocol's, by a session version that records them), and
+        every snapshot from then on says it. Returns `send`'s count."""
+        return self.send("backdrop", name)
+
+    @property
+    def backdrop(self) -> str | None:
+        """The backdrop shown, as the last snapshot says it (None: the default)."""
+        return self._unrecorded_backdrop or self.timeline.backdrop
+
     def wake(self) -> None:
         """Tell every reader that a snapshot or a notice is waiting."""
         for wake in self._wakes:
@@ -304,7 +321,8 @@ class SimThread(threading.Thread):
 
     def _snapshot(self, delta, **extra) -> Snapshot:
         return Snapshot(delta, self._stats(), self.params, self.touches, steps=self.timeline.steps,
-                        events=len(self.timeline.events), minute=self.timeline.minute, **extra)
+                        events=len(self.timeline.events), minute=self.timeline.minute,
+                        backdrop=self.backdrop, **extra)
 
     def _stats(self) -> Stats:
         return Stats(self.sim.tick, self.times.last_ms, len(self.sim.crystals),
@@ -343,6 +361,15 @@ class SimThread(threading.Thread):
 
     def _single(self, _arg, notes: dict) -> None:
         notes["single"] = True
+
+    def _show_backdrop(self, name: str, notes: dict) -> None:
+        if name == (self.backdrop or DEFAULT_BACKDROP):
+            return
+        if self.timeline.rules.backdrop_events and BACKDROP_NAME.match(name):
+            self._unrecorded_backdrop = None
+            notes["applied"].append(self.timeline.apply([{"kind": "backdrop", "name": name}]))
+        else:
+            self._unrecorded_backdrop = name
 
 
 def _inputs(command: Command) -> int:

@@ -47,11 +47,14 @@ class Offscreen:
     """A Timeline (simulation, geometry, events) and a renderer fed every delta in order."""
 
     def __init__(self, ctx, params: Params, seed: int, view: dict | None = None,
-                 version: int = VERSION, minute: str | None = None):
+                 version: int = VERSION, minute: str | None = None, photos: Path | None = None,
+                 backdrops: bool = True):
         """`minute`: the lock screen's clock until a clock event says otherwise (default
-        app.lockscreen.DEFAULT_MINUTE)."""
+        app.lockscreen.DEFAULT_MINUTE); `photos`: the folder photo backdrops are found in;
+        `backdrops`: whether backdrop events change the backdrop (not when one is imposed)."""
         self.timeline = Timeline(params, seed, WIDTH, HEIGHT, version=version)
         self.renderer = Renderer(ctx, params, WIDTH, HEIGHT)
+        self.renderer.photos, self.backdrops = photos, backdrops
         if minute is not None:
             self.renderer.minute = minute
         self.renderer.set_view(view)
@@ -75,7 +78,9 @@ class Offscreen:
 
     def show(self, applied: Applied) -> None:
         """Hand an event result to the renderer: a rebuild clears it, melts update it, a
-        clock event redraws the lock screen's clock."""
+        clock event redraws the lock screen's clock, a backdrop event changes the backdrop."""
+        if applied.backdrop is not None and self.backdrops:
+            self.renderer.set_backdrop(applied.backdrop)
         if applied.minute is not None:
             self.renderer.set_minute(applied.minute)
         if applied.reset:

@@ -9,11 +9,12 @@ import sys
 from pathlib import Path
 
 from app.images import timestamped_path
+from app.photos import is_photo, photo_file, store_of
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
 from app.tools.render import DEFAULT_FOLDER, error, write
 from sim import Params
-from sim.io.session import SessionError, SessionLog
+from sim.io.session import DEFAULT_BACKDROP, SessionError, SessionLog
 from sim.screen import HEIGHT, WIDTH
 
 log = logging.getLogger("app.replay")
@@ -45,12 +46,36 @@ def _with_look(params: Params, recorded: dict) -> dict:
     return params.replace(look=recorded.get("look", Params.look)).as_dict()
 
 
+def start_view(log_: SessionLog, background: str | None = None) -> dict | None:
+    """The view a replay of `log_` starts with: the session's (its light, its toggles),
+    with `background` if one is imposed; a session with backdrop events (version 11 on)
+    starts on the default one, and its events change it (its view's background is the
+    last one shown); one without shows its view's background throughout."""
+    if background is not None:
+        return {**(log_.view or {}), "background": background}
+    if log_.view is not None and any(e["kind"] == "backdrop" for e in log_.events):
+        return {**log_.view, "background": DEFAULT_BACKDROP}
+    return log_.view
+
+
+def missing_photo(log_: SessionLog, store: Path) -> str | None:
+    """Why a photo the session shows cannot be drawn (the first whose file is not in
+    `store`, named), or None."""
+    names = [e["name"] for e in log_.events if e["kind"] == "backdrop"]
+    for name in dict.fromkeys(n for n in names if is_photo(n)):
+        if not photo_file(name, store).is_file():
+            return f"backdrop {name}: its file {photo_file(name, store)} is missing"
+    return None
+
+
 def replay_offscreen(ctx, log_: SessionLog, steps: int | None = None,
-                     progress: Progress | None = None, background: str | None = None) -> Offscreen:
+                     progress: Progress | None = None, background: str | None = None,
+                     photos: Path | None = None) -> Offscreen:
     """An Offscreen that went through `log_` for `steps` steps (default: as recorded),
-    shown with the session's view (and `background` instead of its own, if given)."""
-    view = log_.view if background is None else {**(log_.view or {}), "background": background}
-    offscreen = Offscreen(ctx, Params(**log_.params), log_.seed, view, log_.version)
+    shown with the session's view and backdrops (the photos found in `photos`), or
+    `background` throughout if given."""
+    offscreen = Offscreen(ctx, Params(**log_.params), log_.seed, start_view(log_, background),
+                          log_.version, photos=photos, backdrops=background is None)
     offscreen.progress = progress
     steps = log_.steps if steps is None else steps
     if offscreen.grow(steps, log_.events) < len(log_.events):
@@ -72,6 +97,10 @@ def run(args, what_if: Params | None = None) -> int:
         log_ = load_session(args.replay)
         if what_if is not None:
             log_ = under(log_, what_if, args.params_file)
+        photos = store_of(Path(args.replay).parent)
+        missing = None if args.background else missing_photo(log_, photos)
+        if missing:
+            raise SessionError(f"{args.replay}: cannot replay: {missing}")
         ctx = make_context()
     except SessionError as err:
         return refuse(err)
@@ -80,7 +109,7 @@ def run(args, what_if: Params | None = None) -> int:
         return 1
     progress = Progress(log_.steps if args.ticks is None else args.ticks)
     try:
-        offscreen = replay_offscreen(ctx, log_, args.ticks, progress, args.background)
+        offscreen = replay_offscreen(ctx, log_, args.ticks, progress, args.background, photos)
     except ValueError as err:  # an event the simulation refuses
         return refuse(f"{args.replay}: cannot replay: {err}")
     timeline = offscreen.timeline

@@ -10,6 +10,7 @@ import { makeApp } from "./makeapp.js";
 import { paneRect as fitPane, visiblePane } from "./fit.js";
 import { PhoneApp } from "./phone.js";
 import { Clock, isClock } from "./clock.js";
+import { rememberBackdrop, showOffline } from "./offline.js";
 import { PhotoPicker, backdropUrl } from "./photo.js";
 
 const SCREEN = [760, 1280];
@@ -118,6 +119,7 @@ function connect(retry) {
       status(`refused: ${event.reason || event.code}`);
     } else if (!opened && !event.reason) {  // gone (the page may have opened from the cache)
       status("frost serve is not reachable: trying again");
+      if (!state.renderer) showOffline(true, canvas, query, state.fit);
     } else {
       status(`reconnecting (${event.reason || "connection lost"})`);
     }
@@ -137,6 +139,7 @@ async function onText(msg) {
     state.connected = true;
     state.phone.connected(true);
     status("");
+    showOffline(false, canvas);
     const [cols, rows] = msg.grid;
     const r = state.renderer;
     if (gl.isContextLost()) return;
@@ -191,6 +194,7 @@ async function loadBackdrop(name) {
   if (state.backdrop !== name) return;  // another came meanwhile
   state.renderer.setBackgroundImage(image);
   state.shownBackdrop = name;
+  rememberBackdrop(name);
   state.clock.showOn(state);  // (the lock screen's PNG holds no clock)
 }
 

@@ -1,6 +1,6 @@
 // Tilting the phone moves this page's light, as a lamp fixed in the room lights a pane
 // turned under it: the light's direction on the screen turns against the phone's tilt
-// (DeviceOrientation's beta and gamma), measured from the pose the phone had when tilt was
+// (DeviceOrientation's beta and gamma, as the way up on the phone's axes), measured from the pose the phone had when tilt was
 // switched on (or the page came back to the front, or the screen turned). The light is the
 // page's own: the server's (every other page's) is never touched. Pure maths first (the
 // tests check it against hand-worked cases), then the controller.
@@ -12,29 +12,33 @@ export const STEP_DEG = 0.2;   // a filtered tilt this close to the drawn one is
 
 const RAD = Math.PI / 180;
 
-// An angle's difference in (-180, 180].
-function wrap(deg) {
-  const d = ((deg + 180) % 360 + 360) % 360 - 180;
-  return d === -180 ? 180 : d;
+// Which way is up, on the phone's own axes (x to its right edge, y to its top, z out of
+// its screen), for DeviceOrientation's beta and gamma (degrees): the earth's up turned by
+// the inverse of the phone's rotation (Rx(beta) then Ry(gamma)). Continuous in every pose:
+// upright (beta 90) gamma is a turn about the vertical, which moves nothing here.
+export function upVector(beta, gamma) {
+  const b = beta * RAD, g = gamma * RAD;
+  return [-Math.cos(b) * Math.sin(g), Math.sin(b), Math.cos(b) * Math.cos(g)];
 }
 
-// The tilt from `rest` to (beta, gamma) (degrees, DeviceOrientation's) as a turn of the
-// light on the screen: [right, up] degrees (the light moves toward the edge the user lifts),
-// turned by the screen's orientation `angle` (screen.orientation.angle: 90 when the phone's
-// top points left) and held within CONE.
+// The tilt from `rest` to (beta, gamma) as a turn of the light on the screen: [right, up]
+// degrees (the light moves toward the edge the user lifts, as a lamp fixed in the room
+// would), turned by the screen's orientation `angle` (screen.orientation.angle: 90 when the
+// phone's top points left) and held within CONE. The turn is the shortest rotation taking
+// the rest pose's up to this one's: its part about the phone's y axis moves the light
+// right, about its x axis up (a turn about the vertical cannot be sensed, and counts none).
 export function screenTilt(beta, gamma, rest, angle = 0) {
-  // On the phone's own axes (x to its right edge, y to its top): lifting the top (beta up)
-  // brings the light toward the top, lifting the left edge (gamma up) toward the left.
-  const dx = -wrap(gamma - rest.gamma), dy = wrap(beta - rest.beta);
+  const u = upVector(rest.beta, rest.gamma), v = upVector(beta, gamma);
+  const axis = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+  const sin = Math.hypot(...axis), cos = u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+  if (sin < 1e-12) return [0, 0];  // no turn (or half a turn, which has no one direction)
+  const turn = Math.min(Math.atan2(sin, cos) / RAD, CONE);
+  const dx = turn * axis[1] / sin, dy = -turn * axis[0] / sin;
   const a = angle * RAD;
-  let right = dx * Math.cos(a) - dy * Math.sin(a);
-  let up = dx * Math.sin(a) + dy * Math.cos(a);
-  const n = Math.hypot(right, up);
-  if (n > CONE) {
-    right *= CONE / n;
-    up *= CONE / n;
-  }
-  return [right, up];
+  const right = dx * Math.cos(a) - dy * Math.sin(a);
+  const up = dx * Math.sin(a) + dy * Math.cos(a);
+  // (to a nano-degree: a turn of exactly 45 reads 45, not 45.00000000000001)
+  return [right, up].map((d) => Math.round(d * 1e9) / 1e9 + 0);
 }
 
 // `base` (the light, shader axes: x right, y down, z to the viewer) turned `right` degrees

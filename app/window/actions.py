@@ -9,7 +9,7 @@ from collections.abc import Callable
 
 import glfw
 
-from app.backdrops import LIVE, next_backdrop
+from app.backdrops import BACKDROPS, LIVE, next_backdrop
 from app.keys import DEFAULT_PRESET, key_table
 from app.simthread.thread import SimThread, Snapshot
 from app.window.capture import Capture
@@ -49,6 +49,11 @@ class Actions:
         self.status, self.redraw = status, redraw
         # The backdrop shown at the start (a --background file joins the X key's cycle).
         self.own_backdrop: str | None = None
+        # The count of the window's last backdrop sent to the thread: snapshots older than
+        # its tick still say the one before, and are not followed (`follow_backdrop`).
+        self.backdrop_sent = 0
+        self._refused: str | None = None  # a backdrop a snapshot said that could not be read
+        self.follows_backdrops = True  # False: --background imposed on a replay
         self.keys = key_table(lambda name: getattr(glfw, f"KEY_{name}"))
         self.preset = first_preset(params)  # the last chosen: the panel's reset goes to it
         self.params_sent = 0  # the thread's number of the last change sent (`_tune`)
@@ -118,8 +123,28 @@ class Actions:
             self.status.say(f"refused: {err}", logging.WARNING)
             return
         self.thread.show_clock("window", name == LIVE)  # its minutes recorded while shown
+        self.backdrop_sent = self.thread.show_backdrop(name)  # (the session records it)
         self.redraw()
         self.status.say(f"background {name}")
+
+    def follow_backdrop(self, name: str | None, handled: int) -> bool:
+        """Show the backdrop a snapshot says (`name`, after `handled` commands): one a page
+        chose (frost serve --window), a photo dropped on the window, a replay's; not while
+        the window's own last choice is still on its way. Whether the picture changed."""
+        renderer = self.presenter.renderer
+        if name is None or name in (renderer.backdrop, self._refused) \
+                or handled < self.backdrop_sent or not self.follows_backdrops:
+            return False
+        try:
+            renderer.set_backdrop(name)
+        except ValueError as err:  # a photo whose file is gone: said once
+            self._refused = name
+            self.status.say(str(err), logging.WARNING)
+            return False
+        self.thread.show_clock("window", name == LIVE)
+        if name not in BACKDROPS:  # a photo: it joins the X key's cycle (the latest one)
+            self.own_backdrop = name
+        return True
 
     def _preset(self, name: str) -> None:
         self.preset = name

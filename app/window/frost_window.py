@@ -14,16 +14,20 @@ import math
 import signal
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 import glfw
 import moderngl
 
-from app.backdrops import LIVE
+from app.backdrops import BACKDROPS, LIVE
 from app.keys import help_lines
 from app.lockscreen import clock_from
+from app.photos import PhotoError, is_photo, keep, read_file, store_of
 from app.simthread.thread import SimThread, Snapshot
 from app.window.actions import Actions
 from app.window.capture import Capture
+from app.window.clock import ClockDrawer
+from app.window.drop import PhotoDrop
 from app.window.glfw_setup import WindowError, open_window, x_window_ids
 from app.window.lost_display import on_lost_display, on_lost_window
 from app.window.no_panel import NoPanel
@@ -60,7 +64,10 @@ class FrostWindow:
                                 version=getattr(args, "session_version", VERSION))
         # The lock screen's clock: local time, or --clock-start's; a replay's own minutes.
         self.thread.clock = None if self.thread.script else clock_from(getattr(args, "clock_start", None))
-        self.presenter = Presenter(moderngl.create_context(), params, getattr(args, "view", None))
+        self.presenter = Presenter(moderngl.create_context(), params, getattr(args, "view", None),
+                                   photos=store_of(args.session_dir))
+        self.drop = PhotoDrop(self.thread, store_of(args.session_dir))  # a photo dropped on it
+        self.clock = ClockDrawer(self.presenter.renderer.clock_box, self._wake)
         self.thread.show_clock("window", self.presenter.renderer.backdrop == LIVE)
         self.presenter.hud.set_scale(glfw.get_window_content_scale(window)[0])
         self.status = Status()
@@ -69,6 +76,7 @@ class FrostWindow:
                                args.session_dir)
         self.actions = Actions(params, self.thread, self.presenter, self.status, self.capture,
                                self.recorder, lambda: self.latest, self.redraw, self.stop)
+        self._first_backdrop(args)
         self.pointer = Pointer(window, self.sizes, self.thread, args.melt_radius,
                                lambda: self.actions.params.hc, self.shown_tick, self.status.melted)
         self.panel = PanelHost(window, self.actions) if PanelHost is not None \
@@ -85,6 +93,23 @@ class FrostWindow:
         self._x_handlers = (on_lost_display(self.display_lost), on_lost_window(self.window_lost))
         self.phone_ids = x_window_ids(window)  # the X ids naming it in X errors
 
+    def _first_backdrop(self, args) -> None:
+        """The session records the backdrop it starts on (a replay's come from its own
+        events, or stay as --background imposes them). A --background file is kept as a
+        photo in the session folder first, so that the session can be replayed anywhere."""
+        renderer = self.presenter.renderer
+        if getattr(args, "fixed_backdrop", False):
+            self.actions.follows_backdrops = False
+        if self.thread.script:
+            return
+        if renderer.backdrop not in BACKDROPS and not is_photo(renderer.backdrop):
+            try:
+                renderer.set_backdrop(keep(read_file(Path(renderer.backdrop)), self.drop.store))
+            except (PhotoError, OSError) as err:
+                log.warning("background %s shown, but not kept for the session (a replay "
+                            "elsewhere will lack it): %s", renderer.backdrop, err)
+        self.actions.backdrop_sent = self.thread.show_backdrop(renderer.backdrop)
+
     def _connect(self) -> None:
         # Sizes come from callbacks: each GLFW call from Python waits for the GIL, which the
         # simulation thread may hold for a few ms, so the frame loop makes as few as it can.
@@ -98,6 +123,8 @@ class FrostWindow:
                                          lambda _window, on: setattr(self, "iconified", bool(on)))
         glfw.set_window_refresh_callback(window, lambda *_: setattr(self, "damaged", True))
         glfw.set_window_content_scale_callback(window, self._on_content_scale)
+        # (pyGLFW hands the callback the list of paths, whatever its type stubs say)
+        glfw.set_drop_callback(window, self.drop.on_drop)  # type: ignore[arg-type]
 
     def _on_framebuffer(self, _window, w: int, h: int) -> None:
         self.sizes.framebuffer = (w, h)
@@ -157,6 +184,7 @@ class FrostWindow:
 
     def close(self) -> None:
         self.thread.stop()
+        self.clock.close()
         self._write_out()
         self.panel.close()
 
@@ -199,6 +227,10 @@ class FrostWindow:
     def _drain(self) -> None:
         for snapshot in self.thread.drain():
             self._apply(snapshot)
+        drawn = self.clock.ready()
+        if drawn is not None and drawn[0] != self.presenter.renderer.minute:
+            self.presenter.renderer.set_minute(*drawn)
+            self.dirty = True
         self._drain_notices()
 
     def _drain_notices(self) -> None:
@@ -219,8 +251,13 @@ class FrostWindow:
                 self.actions.params = snapshot.params
             else:  # the keys' own change, or a page's (frost serve --window)
                 self.actions.follow(snapshot.params, snapshot.stats.handled)
+        if self.actions.follow_backdrop(snapshot.backdrop, snapshot.stats.handled):
+            self.dirty = True
         if snapshot.minute is not None and snapshot.minute != renderer.minute:
-            renderer.set_minute(snapshot.minute)  # (its clock box alone, over the lock screen)
+            if renderer.patches_clock():  # (its clock box alone, drawn on a worker)
+                self.clock.ask(snapshot.minute)
+            else:
+                renderer.set_minute(snapshot.minute)
             self.dirty = True
         for melt in snapshot.melts:
             renderer.apply(melt)

@@ -21,9 +21,11 @@ BACKDROP = (0.08, 0.08, 0.09)  # the letterbox bars
 class Presenter:
     """Owns the window's GL objects: the renderer, the phone framebuffer, the blit, the HUD."""
 
-    def __init__(self, ctx: moderngl.Context, params: Params, view: dict | None = None):
+    def __init__(self, ctx: moderngl.Context, params: Params, view: dict | None = None,
+                 photos=None):
         self.ctx = ctx
         self.renderer = Renderer(ctx, params, *PHONE)
+        self.renderer.photos = photos  # (the folder a photo backdrop is found in by name)
         self.renderer.set_view(view)  # a replayed session's view
         self.texture = ctx.texture(PHONE, 4)
         self.texture.filter = (moderngl.LINEAR, moderngl.LINEAR)

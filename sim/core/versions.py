@@ -22,6 +22,11 @@ the newest. What each version changed:
 10. The lock screen's clock: "clock" events name the minute (local time, as
    "YYYY-MM-DDTHH:MM") the lock screen showed from their tick on, so a replay or a render
    of the session shows the minutes it showed. The frost itself grows as in version 9.
+11. The backdrop: "backdrop" events name the backdrop shown from their tick on (a
+   built-in's name, or a photo's, `photo-` and 32 hex digits: app/photos.py), so a replay
+   or a render shows what the session showed, a photo brought from a phone included. A
+   session starts on the default backdrop (dusk) unless one at tick 0 says otherwise. The
+   frost itself grows as in version 9.
 """
 
 from __future__ import annotations
@@ -30,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-NEWEST = 10
+NEWEST = 11
 # Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
 REGROW_GAP = 12
 # The parts that draw random numbers, in the order their streams are spawned.
@@ -52,6 +57,7 @@ class Rules:
     opening_rings: bool  # 8: a touch that opens an area brings its ring of water too
     capped_touches: bool  # 9: a touch into a full cell plants nothing
     clock_events: bool  # 10: "clock" events (the lock screen's minutes) may be recorded
+    backdrop_events: bool  # 11: "backdrop" events (the backdrop shown) may be recorded
 
 
 def rules_of(version: int) -> Rules:
@@ -61,7 +67,7 @@ def rules_of(version: int) -> Rules:
         raise ValueError(f"version={version!r} must be a whole number in [1, {NEWEST}]")
     v = int(version)
     return Rules(v, REGROW_GAP if v >= 2 else 0, v >= 3, v >= 4, v >= 5, v >= 5, v >= 6, v >= 7,
-                 v >= 8, v >= 9, v >= 10)
+                 v >= 8, v >= 9, v >= 10, v >= 11)
 
 
 @dataclass(frozen=True)

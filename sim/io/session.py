@@ -4,13 +4,15 @@ back with every entry checked (`SessionLog`); sim.io.timeline applies the events
 Kinds of event: "touch" (x, y), "melt" (x, y, r), "params" (params: a dict; rebuilds the
 simulation), "clear" (drops the touches and melts, rebuilds) and, from version 10, "clock"
 (minute: the lock screen's clock shows that minute from here on, "YYYY-MM-DDTHH:MM", local
-time; the frost is untouched). Each has its "tick": the tick of its timeline it applied at
-(a rebuild starts a new timeline at tick 0).
+time; the frost is untouched) and, from version 11, "backdrop" (name: the backdrop shown
+from here on, a built-in's or a photo's name; the frost is untouched). Each has its
+"tick": the tick of its timeline it applied at (a rebuild starts a new timeline at tick 0).
 """
 
 from __future__ import annotations
 
 import json
+import re
 from dataclasses import dataclass, field, fields
 from datetime import datetime
 from pathlib import Path
@@ -27,12 +29,17 @@ FORMAT = "frost-session"
 VERSION = FROST_VERSION
 # The keys each event kind needs besides "tick" and "kind".
 EVENT_FIELDS = {"touch": ("x", "y"), "melt": ("x", "y", "r"), "params": ("params",),
-                "clear": (), "clock": ("minute",)}
+                "clear": (), "clock": ("minute",), "backdrop": ("name",)}
 REBUILDS = ("params", "clear")  # kinds that start a new timeline at tick 0
 # Kinds that change only what is shown, not the frost: a session of these alone has
 # nothing to replay (no file is written for it).
-SHOWN_ONLY = ("clock",)
-CLOCK_VERSION = 10  # the first version whose files may hold "clock" events
+SHOWN_ONLY = ("clock", "backdrop")
+# The first version whose files may hold each kind of event (kinds not named: all).
+SINCE = {"clock": 10, "backdrop": 11}
+# A backdrop event's name: a built-in's ("dusk") or a photo's ("photo-" and 32 hex digits):
+# the names the pages' protocol carries, never a path.
+BACKDROP_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]{0,63}\Z")
+DEFAULT_BACKDROP = "dusk"  # what a session shows before its first backdrop event
 MINUTE_FORMAT = "%Y-%m-%dT%H:%M"  # a clock event's minute, local time
 
 
@@ -93,10 +100,10 @@ class SessionLog:
         events = [check_event(e, size) for e in data["events"]]
         _check_order(events, params)
         version = _whole(data, "version", 1, VERSION, VERSION)
-        clock = next((e for e in events if e["kind"] == "clock"), None)
-        if clock is not None and version < CLOCK_VERSION:
-            raise SessionError(f"event {clock!r}: a clock event needs version {CLOCK_VERSION} "
-                               f"or later (this file is version {version})")
+        late = next((e for e in events if version < SINCE.get(e["kind"], 1)), None)
+        if late is not None:
+            raise SessionError(f"event {late!r}: a {late['kind']} event needs version "
+                               f"{SINCE[late['kind']]} or later (this file is version {version})")
         try:
             view = None if data.get("view") is None else check_view(data["view"])
         except ValueError as err:
@@ -203,6 +210,10 @@ def check_event(event: Any, size: tuple[int, int] = (WIDTH, HEIGHT)) -> dict[str
     if event["kind"] == "clock" and not _minute(event["minute"]):
         raise SessionError(f"event {event!r}: 'minute' must be a local time as "
                            "YYYY-MM-DDTHH:MM")
+    if event["kind"] == "backdrop" and not (isinstance(event["name"], str)
+                                            and BACKDROP_NAME.match(event["name"])):
+        raise SessionError(f"event {event!r}: 'name' must be a backdrop's name (1 to 64 "
+                           "letters, digits, '-' or '_')")
     return event
 
 

@@ -52,6 +52,7 @@ class Applied:
     deltas: tuple[GeometryDelta, ...] = ()
     message: str | None = None
     minute: str | None = None  # a clock event's minute: the lock screen shows it from now
+    backdrop: str | None = None  # a backdrop event's name: shown from now
 
 
 def rebuilt_words(ticks: list[int], melts: int) -> str:
@@ -87,9 +88,12 @@ class Timeline:
         # Touches and melts a rebuild scheduled, in tick order.
         self._pending: list[dict[str, Any]] = touch_events(self.touches)
         self._handlers = {"touch": self._touch, "melt": self._melt,
-                          "params": self._params, "clear": self._clear, "clock": self._clock}
+                          "params": self._params, "clear": self._clear, "clock": self._clock,
+                          "backdrop": self._backdrop}
         # The minute the lock screen shows (the last clock event's; None before any).
         self.minute: str | None = None
+        # The backdrop shown (the last backdrop event's; None before any).
+        self.backdrop: str | None = None
         self._groups = 0  # melt groups applied (their ids in the recorded events)
         self._build(params)
 
@@ -108,7 +112,8 @@ class Timeline:
         a "group" (the window's warm finger: a tick's drag), or recorded with the same
         "group" (a replay); every melt is recorded with its group's id, so a replay groups
         them as they were."""
-        notes: dict[str, Any] = {"reset": False, "deltas": [], "message": None, "minute": None}
+        notes: dict[str, Any] = {"reset": False, "deltas": [], "message": None, "minute": None,
+                                 "backdrop": None}
         events, i = list(events), 0
         while i < len(events):
             j = self._group_end(events, i)
@@ -118,7 +123,8 @@ class Timeline:
                 self.events.append(self._record(events[i]))
                 self._handlers[events[i]["kind"]](events[i], notes)
             i = j
-        return Applied(notes["reset"], tuple(notes["deltas"]), notes["message"], notes["minute"])
+        return Applied(notes["reset"], tuple(notes["deltas"]), notes["message"], notes["minute"],
+                       notes["backdrop"])
 
     def _group_end(self, events: list, i: int) -> int:
         """The end of the run of melts of one group that starts at `i` (i + 1 if none)."""
@@ -220,6 +226,13 @@ class Timeline:
         if not self.rules.clock_events:
             raise ValueError(f"a clock event needs session version 10 or later, not {self.version}")
         self.minute = notes["minute"] = event["minute"]
+
+    def _backdrop(self, event: dict, notes: dict) -> None:
+        """The backdrop `name` is shown from this tick on (the frost is untouched; a
+        rebuild keeps it)."""
+        if not self.rules.backdrop_events:
+            raise ValueError(f"a backdrop event needs session version 11 or later, not {self.version}")
+        self.backdrop = notes["backdrop"] = event["name"]
 
     def _clear(self, _event: dict, notes: dict) -> None:
         self.touches, self.melts, self._pending, self._planted = (), [], [], []
