@@ -6,9 +6,11 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 from app.backdrops import BACKDROPS
 from app.keys import BINDINGS, Binding
+from app.photos import photo_file
 from app.serve.pages import POINT_RATE, TokenBucket
 from app.serve.protocol import Input
 from app.serve.turns import PAGE_WAITING, PageQueue, Turns
@@ -27,6 +29,8 @@ KEY_COMMANDS = {"pause": "pause", "single_step": "step", "clear": "clear"}
 # simulation thread before its touches and melts are dropped (the finger still moves on).
 # A page's wait in its own queue (app/serve/turns.py, PAGE_WAITING).
 MAX_WAITING = 2000
+# The photos shown in a run that a page may choose again (the hello's list): the latest.
+MAX_PHOTOS = 8
 
 
 class Controls:
@@ -40,6 +44,8 @@ class Controls:
         thread.show_backdrop(backdrop)  # (the session records what it starts on)
         self.notice = self.tell_all = notice
         self.chosen = ""  # the preset a page chose last
+        self.store: Path | None = None  # the folder of photos (app/serve/photo.py)
+        self.photos: list[str] = []  # those shown in this run, oldest first (MAX_PHOTOS)
         self.dropped = 0  # touches and melts dropped while too much input waited
         self.skipped = self.skipped_told = 0  # touches and melts over a page's bound
         self.points: TokenBucket | None = None  # the bound of the page being handled
@@ -163,12 +169,30 @@ class Controls:
             self.chosen = name
         self._tune(tuning.preset, name, check=all_presets())
 
+    def backdrops(self) -> list[str]:
+        """The backdrops a page may choose: the built-ins, then the photos of this run."""
+        return [*BACKDROPS, *self.photos]
+
+    def show_photo(self, name: str) -> None:
+        """Photo `name`, kept in the store, becomes every page's backdrop (and the latest of
+        the photos a page may choose again)."""
+        if name in self.photos:
+            self.photos.remove(name)
+        self.photos = [*self.photos, name][-MAX_PHOTOS:]
+        self._backdrop(name)
+
     def _backdrop(self, name: str) -> None:
-        if name not in BACKDROPS:
-            self.notice(f"backdrop {name[:16]!r} refused: one of {', '.join(BACKDROPS)}")
+        if not (name in BACKDROPS or self._kept(name)):
+            self.notice(f"backdrop {name[:40]!r} refused: one of "
+                        f"{', '.join(BACKDROPS)} or a photo shown since frost serve started")
             return
         self.backdrop = name
         self.thread.show_backdrop(name)  # (the session records it)
+
+    def _kept(self, name: str) -> bool:
+        """Whether `name` is a photo of this run whose file is still in the store."""
+        return (name in self.photos and self.store is not None
+                and photo_file(name, self.store).is_file())
 
     def _tune(self, change, *args, check=None) -> None:
         """The window's way to change the parameters (Actions._tune); the grid's spacing

@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from PIL import Image
 
-from app.backdrops import BACKDROPS, LIVE, read_backdrop
+from app.backdrops import LIVE, read_backdrop
 from app.lockscreen import CLOCK_BOX, DEFAULT_MINUTE, clock_patch
 from app.serve import protocol
 from app.serve.controls import Controls
@@ -344,7 +344,12 @@ class Feed:
     def state(self) -> dict:
         snap, c = self.latest, self.controls
         return {"paused": bool(snap and snap.stats.paused), "preset": c.preset(),
-                "look": c.params.look, "backdrop": c.backdrop, "tick": self.tick()}
+                "look": c.params.look, "backdrop": c.backdrop, "backdrops": c.backdrops(),
+                "tick": self.tick()}
+
+    def send_state(self) -> None:
+        """What changed of the state, to every page now (not at the next tick)."""
+        self._send_state()
 
     def _send_state(self) -> None:
         state = self.state()
@@ -364,7 +369,7 @@ class Feed:
         return protocol.text(
             "hello", protocol=protocol.VERSION, screen=list(SIZE),
             grid=list(self.encoder.grid), spacing=self.controls.params.grid_spacing,
-            presets=list(all_presets()), looks=list(LOOKS), backdrops=list(BACKDROPS),
+            presets=list(all_presets()), looks=list(LOOKS),
             view=self.view(), uniforms=uniforms, defines=defines, tile=TILE, max_depth=MAX_DEPTH,
             melt_radius=self.controls.melt_radius, **self.state())
 

@@ -19,13 +19,18 @@ connect, even after they were gone. Here each connection is wrapped:
 - a head longer than MAX_HEAD_BYTES is closed as its bytes pass the mark;
 - an idle connection between requests is closed after IDLE_S (aiohttp's keep-alive).
 
-A request this server takes has no body, so any byte after a head starts the next head.
+Only `POST /photo` (app/serve/photo.py) has a body: its head's Content-Length bytes after
+it are passed on as they are, not read as heads, and must arrive within BODY_S of the
+head's end, else the connection is closed; without a Content-Length (a chunked body) all
+that follows is its body, under the same deadline (the route answers 411 and closes).
+Any other request has no body, so any byte after its head starts the next head.
 """
 
 from __future__ import annotations
 
 import asyncio
 import logging
+import re
 
 from aiohttp import web
 
@@ -40,6 +45,22 @@ MAX_CONNECTIONS = 256
 MAX_HEAD_BYTES = 64 * 1024
 LOG_S = 10.0  # s: at most one line a while on connections closed to make room
 END_OF_HEAD = b"\r\n\r\n"
+# The one route with a body, and the time its body may take (a few MB over a slow link).
+BODY_PATH = b"/photo"
+BODY_S = 120.0
+UNTIL_CLOSE = -1  # a body without a Content-Length: the rest of the connection
+_LENGTH = re.compile(rb"\r\ncontent-length:[ \t]*([0-9]{1,18})[ \t]*(?=\r\n)", re.IGNORECASE)
+
+
+def body_length(head: bytes) -> int:
+    """The bytes of body that follow the head `head` (its request line and headers, up to
+    the blank line): 0 but for a POST to BODY_PATH (any query), its Content-Length, or
+    UNTIL_CLOSE where it has none (or says it twice)."""
+    line = head.split(b"\r\n", 1)[0].split(b" ")
+    if len(line) < 2 or line[0] != b"POST" or line[1].split(b"?", 1)[0] != BODY_PATH:
+        return 0
+    found = _LENGTH.findall(b"\r\n" + head + b"\r\n")
+    return int(found[0]) if len(found) == 1 else UNTIL_CLOSE
 
 
 def awaits_request(handler: asyncio.Protocol) -> bool:
@@ -83,7 +104,7 @@ class GuardedRunner(web.AppRunner):
         """Whether `conn` gets a slot, an older one closed for it where all are taken."""
         if len(self.conns) >= MAX_CONNECTIONS:
             victim = next((c for c in self.conns if c.idle()), None) \
-                or next((c for c in self.conns if c.timer is not None), None) \
+                or next((c for c in self.conns if c.timer is not None and not c.body), None) \
                 or next((c for c in self.conns if not c.page), None)
             if victim is None:
                 self.refused += 1
@@ -115,8 +136,10 @@ class Guarded(asyncio.Protocol):
         self.inner, self.runner = inner, runner
         self.transport: asyncio.Transport | None = None
         self.timer: asyncio.TimerHandle | None = None
-        self.tail = b""  # the unfinished head's last bytes
-        self.head = 0  # the unfinished head's bytes so far
+        self.parts: list[bytes] = []  # the unfinished head's bytes so far
+        self.head = 0  # their length
+        self.tail = b""  # their last bytes (an end of head may straddle two reads)
+        self.body = 0  # bytes of a body still to pass (UNTIL_CLOSE: all that follows)
         self.page = False  # a page's WebSocket: no longer timed
         self.served = False  # connection_made reached aiohttp
 
@@ -145,15 +168,26 @@ class Guarded(asyncio.Protocol):
             self.inner.data_received(data)
 
     def _watch(self, data: bytes) -> bool:
-        """Follow the heads in `data`: each one finished stops its timer, a byte after it
-        starts the next one's; False (the connection closed) if a head grew too long."""
+        """Follow the heads (and the photo's body) in `data`: each head finished stops its
+        timer, a body starts its own, a byte after them starts the next head's; False (the
+        connection closed) if a head grew too long."""
         while data:
+            if self.body:
+                if self.body == UNTIL_CLOSE:
+                    return True
+                taken = min(self.body, len(data))
+                self.body -= taken
+                data = data[taken:]
+                if not self.body:
+                    self._stop_timer()
+                continue
             if self.timer is None:
                 self._start_timer()
             seen = self.tail + data
             end = seen.find(END_OF_HEAD)
             if end < 0:
-                self.tail = seen[-(len(END_OF_HEAD) - 1):]  # an end may straddle two reads
+                self.tail = seen[-(len(END_OF_HEAD) - 1):]
+                self.parts.append(data)
                 self.head += len(data)
                 if self.head > MAX_HEAD_BYTES:
                     self.runner.too_long += 1
@@ -161,19 +195,25 @@ class Guarded(asyncio.Protocol):
                     return False
                 return True
             self._stop_timer()
-            self.tail, self.head = b"", 0
+            cut = end - len(self.tail)  # where the end begins in `data` (< 0: in the tail)
+            head = b"".join(self.parts) + data[:max(cut, 0)]
+            head = head[:len(head) + cut] if cut < 0 else head
+            self.parts, self.head, self.tail = [], 0, b""
             data = seen[end + len(END_OF_HEAD):]
+            self.body = body_length(head)
+            if self.body:
+                self._start_timer(BODY_S)
         return True
 
     def untimed(self) -> None:
         """The connection is a page's WebSocket now: its bytes are frames, not heads."""
         self.page = True
         self._stop_timer()
-        self.tail = b""
+        self.parts, self.head, self.tail, self.body = [], 0, b"", 0
 
-    def _start_timer(self) -> None:
+    def _start_timer(self, seconds: float | None = None) -> None:
         loop = asyncio.get_running_loop()
-        self.timer = loop.call_later(HEAD_S, self._expire)
+        self.timer = loop.call_later(HEAD_S if seconds is None else seconds, self._expire)
 
     def _stop_timer(self) -> None:
         if self.timer is not None:

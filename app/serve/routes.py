@@ -93,11 +93,12 @@ def folder_files(folder: Path, name: str | None = None):
 async def meta(request: web.Request) -> web.Response:
     """What a page's screenshot states beside its own view (app.images.frost_meta's keys):
     the parameters, seed, tick and touches of the frame published last (not of the
-    simulation, which may have ticked on since)."""
+    simulation, which may have ticked on since), and the backdrop shown (`background`)."""
     feed: Feed = request.app[FEED]
     snap, thread = feed.latest, feed.thread
     about = frost_meta("page", snap.params if snap else feed.controls.params, thread.seed,
-                       snap.stats.tick if snap else 0, thread.touch_ticks(snap))
+                       snap.stats.tick if snap else 0, thread.touch_ticks(snap),
+                       background=feed.controls.backdrop)
     return web.json_response(about, headers={"Cache-Control": "no-cache"})
 
 

@@ -15,8 +15,9 @@ from pathlib import Path
 
 from aiohttp import web
 
+from app import photos
 from app.resources import SHADER_DIR
-from app.serve import install, routes, sockets
+from app.serve import install, photo, routes, sockets
 from app.serve.appkeys import BACKDROP_PNGS, CA_DER, FEED, FILES, PAGE_LINES, PORTS, STATS, TOKEN
 from app.serve.feed import Feed
 from app.serve.logs import RateLimitedLog, quiet_bad_requests
@@ -28,10 +29,13 @@ STATS_PERIOD = 10.0  # s between the log's stats lines
 
 
 def make_app(feed: Feed, token: str | None = None, session_dir=None,
-             web_dir: Path = routes.WEB_DIR, ca_der: bytes = b"") -> web.Application:
+             web_dir: Path = routes.WEB_DIR, ca_der: bytes = b"",
+             photo_dir: Path | None = None) -> web.Application:
     """The server's app: its routes, the token check, the feed started with it and stopped
     (the session written to `session_dir`, if given) when it is cleaned up; `ca_der`, the
-    local authority's public certificate (served as /frost-ca.crt) where HTTPS uses it."""
+    local authority's public certificate (served as /frost-ca.crt) where HTTPS uses it;
+    `photo_dir`, the folder of the photos pages send (default `session_dir`'s backdrops/;
+    neither: no photos taken)."""
     app = web.Application(middlewares=[routes.token_check])
     quiet_bad_requests()
     app[FEED], app[TOKEN] = feed, token or ""
@@ -39,6 +43,10 @@ def make_app(feed: Feed, token: str | None = None, session_dir=None,
     app[BACKDROP_PNGS] = {}
     app[PAGE_LINES] = RateLimitedLog()
     app[CA_DER], app[PORTS] = ca_der, {"http": None, "https": None}
+    if photo_dir is None and session_dir is not None:
+        photo_dir = Path(session_dir) / photos.FOLDER
+    feed.controls.store = photo_dir
+    photo.routes_for(app, photo_dir)  # POST /photo, GET /backdrops/<photo>.jpg
     install.routes_for(app, web_dir)  # the page, its manifest and its worker (/sw.js)
     app.router.add_get("/web/{path:.*}", routes.folder_files(web_dir))
     app.router.add_get("/shaders/{path:.*}", routes.folder_files(SHADER_DIR))

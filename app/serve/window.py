@@ -21,8 +21,8 @@ class Background:
     """The server's loop on a thread of its own."""
 
     def __init__(self, host: str, port: int, token: str | None, https: Https | None = None,
-                 ca_der: bytes = b""):
-        self.host, self.port, self.token = host, port, token
+                 ca_der: bytes = b"", photo_dir=None):
+        self.host, self.port, self.token, self.photo_dir = host, port, token, photo_dir
         self.https, self.ca_der = https, ca_der
         self._loop: asyncio.AbstractEventLoop | None = None
         self._ended: asyncio.Event | None = None
@@ -39,7 +39,8 @@ class Background:
             raise RuntimeError(f"frost serve cannot listen on {self.host}:{self.port}")
 
     async def _main(self, feed: Feed) -> None:
-        runner = await listen(make_app(feed, self.token, None, ca_der=self.ca_der), self.host,
+        runner = await listen(make_app(feed, self.token, None, ca_der=self.ca_der,
+                                       photo_dir=self.photo_dir), self.host,
                               self.port, self.token, self.https)
         if runner is None:
             self._ready.set()
@@ -66,7 +67,11 @@ def serve_with_window(args, params, token: str | None, https: Https | None = Non
         if problem:
             print(f"frost: error: {problem}", file=sys.stderr)
             return 2
-    server = Background(args.host, args.port, token, https, ca_der)
+    from pathlib import Path
+
+    from app.photos import FOLDER
+    server = Background(args.host, args.port, token, https, ca_der,
+                        Path(args.session_dir) / FOLDER)  # (the window's session folder)
 
     def attach(window) -> None:
         feed = Feed(params, args.seed, melt_radius=args.melt_radius, backdrop=args.background,

@@ -11,6 +11,7 @@ import { paneRect as fitPane, visiblePane } from "./fit.js";
 import { PhoneApp } from "./phone.js";
 import { Clock, isClock } from "./clock.js";
 import { rememberBackdrop, showOffline } from "./offline.js";
+import { PhotoPicker, backdropUrl } from "./photo.js";
 
 const SCREEN = [760, 1280];
 const RETRY_FIRST = 250, RETRY_MOST = 8000;  // ms between reconnects: doubling up to this
@@ -58,6 +59,7 @@ async function main() {
   };
   state.menu = new Menu(document.getElementById("menu"), send, screenshot);
   state.menu.pointers = pointers;
+  state.photo = new PhotoPicker(document.getElementById("panel"), query, status, notice);
   makeApp(document.getElementById("menu"), query, state);
   state.phone = new PhoneApp(state, document.getElementById("menu"));
   addEventListener("keydown", onKey);
@@ -186,7 +188,7 @@ function applyView(hello) {
 
 async function loadBackdrop(name) {
   state.backdrop = name;
-  const r = await fetch(`backdrops/${encodeURIComponent(name)}.png${query}`);
+  const r = await fetch(backdropUrl(name, query));
   if (!r.ok) return status(`backdrop ${name}: HTTP ${r.status}`);
   const image = await createImageBitmap(await r.blob(), { colorSpaceConversion: "none", premultiplyAlpha: "none" });
   if (state.backdrop !== name) return;  // another came meanwhile

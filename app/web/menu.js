@@ -1,6 +1,8 @@
 // The page's small menu: preset, look, backdrop, warm finger, pause, clear, screenshot.
 // Choices go to the server (which tells every page what changed); the menu shows its state.
 
+import { backdropLabels } from "./photo.js";
+
 export class Menu {
   constructor(root, send, screenshot) {
     this.root = root;
@@ -30,7 +32,8 @@ export class Menu {
       const select = this.$(kind);
       const wanted = (names || []).join("\n");
       if (select.dataset.names !== wanted) {
-        select.replaceChildren(...(names || []).map((n) => new Option(n, n)));
+        const labels = kind === "backdrop" ? backdropLabels(names || []) : names || [];
+        select.replaceChildren(...(names || []).map((n, i) => new Option(labels[i], n)));
         select.dataset.names = wanted;
       }
       if (hello[kind] !== undefined) select.value = hello[kind];
