@@ -277,3 +277,42 @@ def test_the_window_follows_a_photo_the_thread_shows_and_cycles_it_with_x():
 
 
 _View = type("View", (), {"show_features": True, "show_bumps": False, "light": (0.0, 0.0, 1.0)})()
+
+
+# ---- frost serve --window: the window's choice becomes every page's ------------------
+
+def test_the_pages_follow_the_windows_backdrop_but_not_past_their_own_choice(tmp_path):
+    from app.serve.feed import Feed
+    from app.simthread.thread import SimThread
+
+    thread = SimThread(PARAMS, 1, [(380.0, 640.0)])
+    feed = Feed(PARAMS, 1, thread=thread)  # (the window's thread: frost serve --window)
+    feed.controls.store = store = photos.store_of(tmp_path)
+
+    def tick():
+        thread.tick()
+        for snap in thread.drain():
+            feed._publish(snap)
+
+    thread.show_backdrop("lockscreen")  # the window's X key
+    tick()
+    assert feed.controls.backdrop == "lockscreen" and feed.state()["backdrop"] == "lockscreen"
+    name = photos.keep(photo_bytes(), store)
+    thread.show_backdrop(name)  # a file dropped on the window: every page shows it, and
+    tick()                      # may choose it again from the list
+    assert feed.controls.backdrop == name and feed.state()["backdrops"][-1] == name
+    thread.show_backdrop(str(tmp_path / "mine.png"))  # a path: the pages cannot load it
+    tick()
+    assert feed.controls.backdrop == name
+    # the window chose the lock screen, and a page dusk while the tick that applied the
+    # window's was on its way to the feed: that tick's snapshot is older than the page's
+    # choice, and the pages keep dusk (never flicking back to the lock screen)
+    thread.show_backdrop("lockscreen")
+    thread.tick()
+    older = thread.drain()
+    feed.controls._backdrop("dusk")
+    for snap in older:
+        feed._publish(snap)
+    assert feed.controls.backdrop == "dusk"
+    tick()
+    assert feed.controls.backdrop == "dusk" and thread.backdrop == "dusk"

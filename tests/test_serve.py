@@ -883,6 +883,7 @@ class _Sends:
 
     def show_backdrop(self, name):
         self.backdrops = [*getattr(self, "backdrops", []), name]
+        return len(self.backdrops)
 
 
 def _controls():

@@ -284,7 +284,7 @@ def test_a_server_that_is_not_there_closes_the_client():
      "argument --network: no network profile '5g' (choose from wifi, 4g)"),
     (["--taps", "3", "--cpu-slowdown", "0"], "argument --cpu-slowdown: '0' must be a number from 1 to 20"),
     (["--join", "2", "--cpu-slowdown", "x"], "argument --cpu-slowdown: 'x' must be a number from 1 to 20"),
-    (["--network", "wifi"], "--network and --cpu-slowdown go with --taps, --join or --scribble"),
+    (["--network", "wifi"], "--network and --cpu-slowdown go with --taps, --join, --scribble or --photo"),
 ])
 def test_a_bad_network_option_is_one_line(argv, says, capsys):
     with pytest.raises(SystemExit) as stop:

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from app.backdrops import BACKDROPS
 from app.keys import BINDINGS, Binding
-from app.photos import photo_file
+from app.photos import is_photo, photo_file
 from app.serve.pages import POINT_RATE, TokenBucket
 from app.serve.protocol import Input
 from app.serve.turns import PAGE_WAITING, PageQueue, Turns
@@ -41,7 +41,9 @@ class Controls:
                  notice: Callable[[str], None], tick: Callable[[], int]):
         self.thread, self.params, self.melt_radius = thread, params, melt_radius
         self.backdrop, self.tick = backdrop, tick
-        thread.show_backdrop(backdrop)  # (the session records what it starts on)
+        # The count of the last backdrop sent to the thread (`follow_backdrop`); the session
+        # records the one it starts on.
+        self.backdrop_sent = thread.show_backdrop(backdrop)
         self.notice = self.tell_all = notice
         self.chosen = ""  # the preset a page chose last
         self.store: Path | None = None  # the folder of photos (app/serve/photo.py)
@@ -187,7 +189,19 @@ class Controls:
                         f"{', '.join(BACKDROPS)} or a photo shown since frost serve started")
             return
         self.backdrop = name
-        self.thread.show_backdrop(name)  # (the session records it)
+        self.backdrop_sent = self.thread.show_backdrop(name)  # (the session records it)
+
+    def follow_backdrop(self, name: str | None, handled: int) -> None:
+        """The backdrop the thread says (`name`, after `handled` commands): under frost
+        serve --window, the window's own choice (its key, a file dropped on it) becomes
+        every page's; not while a page's last choice is still on its way to the thread."""
+        if name is None or name == self.backdrop or handled < self.backdrop_sent:
+            return
+        if is_photo(name) and self.store is not None and photo_file(name, self.store).is_file():
+            self.photos = [*(p for p in self.photos if p != name), name][-MAX_PHOTOS:]
+        elif name not in BACKDROPS:
+            return  # (a file the window was given by path: the pages cannot load it)
+        self.backdrop = name
 
     def _kept(self, name: str) -> bool:
         """Whether `name` is a photo of this run whose file is still in the store."""

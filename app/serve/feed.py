@@ -213,6 +213,8 @@ class Feed:
             messages.append(self.encoder.bare(snap.stats.tick, reset=True))
         if snap.reset and not self.own_thread:  # (the window's keys change them too)
             self.controls.params = snap.params
+        if not self.own_thread:  # (and its backdrop)
+            self.controls.follow_backdrop(snap.backdrop, snap.stats.handled)
         self.latest, self.moment = snap, (snap.steps, snap.events)
         self.sizes.append(sum(map(len, messages)))
         self.tick_ms.append(snap.stats.tick_ms)
