@@ -316,3 +316,40 @@ def test_the_pages_follow_the_windows_backdrop_but_not_past_their_own_choice(tmp
     assert feed.controls.backdrop == "dusk"
     tick()
     assert feed.controls.backdrop == "dusk" and thread.backdrop == "dusk"
+
+
+# ---- a photo sent from a page, then replayed -----------------------------------------
+
+def test_a_served_sessions_photo_is_drawn_by_frost_replay(tmp_path):
+    import asyncio
+
+    import aiohttp
+    from test_serve import read_until
+    from test_serve_photo import page, run, upload
+
+    saved = tmp_path / "session.json"
+
+    async def test(port, _runner, feed, _store):
+        async with aiohttp.ClientSession() as session:
+            ws, model = await page(session, port)
+            await ws.send_json({"type": "touch", "x": 200, "y": 300})
+            await read_until(ws, model, lambda: model.tick >= 5)
+            status, _, body = await upload(port, photo_bytes((30, 200, 90)))
+            assert status == 200, body
+            name = json.loads(body)["backdrop"]
+            await read_until(ws, model, lambda: model.state("backdrop") == name)
+            for _ in range(100):  # (the thread records it at its next tick)
+                if feed.thread.backdrop == name:
+                    break
+                await asyncio.sleep(0.05)
+            await ws.close()
+        # the session as frost serve writes it, beside its photos' folder
+        log = feed.thread.session()
+        assert [e["name"] for e in log.events if e["kind"] == "backdrop"] == [name]
+        log.save(saved)
+    run(test, tmp_path)
+    done = run_replay(tmp_path, saved)
+    assert done.returncode == 0, done.stderr
+    out = np.asarray(Image.open(tmp_path / "out.png").convert("RGB")).astype(int)
+    corner = out[1200:1260, 680:740].reshape(-1, 3).mean(axis=0)
+    assert np.abs(corner - (30, 200, 90)).max() < 40, corner
