@@ -115,13 +115,20 @@ def serve(tmp_path):
 
 
 @pytest.fixture(scope="module")
-def browser():
-    """Headless Chromium (app.bench.page.launch), one for each test module that asks."""
+def pw():
+    """One Playwright for each test module that asks: its browser, its persistent profiles
+    (two in one thread cannot both run)."""
     from playwright.sync_api import sync_playwright
 
+    with sync_playwright() as p:
+        yield p
+
+
+@pytest.fixture(scope="module")
+def browser(pw):
+    """Headless Chromium (app.bench.page.launch) of the module's Playwright."""
     from app.bench.page import launch
 
-    with sync_playwright() as pw:
-        b = launch(pw)
-        yield b
-        b.close()
+    b = launch(pw)
+    yield b
+    b.close()

@@ -32,21 +32,6 @@ PROBLEM = browser_problem()
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
 
 
-@pytest.fixture(scope="module")
-def playwright():
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as pw:
-        yield pw
-
-
-@pytest.fixture(scope="module")
-def browser(playwright):
-    b = launch(playwright)
-    yield b
-    b.close()
-
-
 @pytest.fixture(scope="module", params=["glass", "paper"])
 def grown(gl_ctx, request):
     """A frost of each look grown 120 ticks from three touches with a melt at tick 80:
@@ -193,7 +178,7 @@ def test_a_page_reconnects_and_holds_what_the_new_connection_gives(browser, grow
         assert np.array_equal(page.pixels(), want)
 
 
-def test_on_the_same_rasteriser_the_page_draws_the_desktops_pixels(playwright, grown, gl_ctx,
+def test_on_the_same_rasteriser_the_page_draws_the_desktops_pixels(pw, grown, gl_ctx,
                                                                     monkeypatch):
     """Chromium's WebGL on the system's OpenGL (ANGLE over EGL: Mesa's llvmpipe, the
     desktop renderer's rasteriser here): the page's frame is the desktop's, bit for bit,
@@ -202,7 +187,7 @@ def test_on_the_same_rasteriser_the_page_draws_the_desktops_pixels(playwright, g
     params, messages, _desktop = grown
     monkeypatch.setattr(shaders, "DESKTOP", "es")
     desktop = desktop_frame(gl_ctx, params, wire_deltas(messages, params))
-    b = launch(playwright, "gl-egl")
+    b = launch(pw, "gl-egl")
     try:
         with Page(hello(params), messages, browser=b) as page:
             renderer = page.page.evaluate("""() => { const gl = document.createElement('canvas')

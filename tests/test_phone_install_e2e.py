@@ -67,14 +67,6 @@ def installability(pw, url: str, profile: Path, **context) -> list[dict]:
         ctx.close()
 
 
-@pytest.fixture(scope="module")
-def pw():
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as p:
-        yield p
-
-
 def cached_shells(page) -> list[str]:
     return page.evaluate("caches.keys().then((k) => k.filter((n) => n.startsWith('frost-shell-')))")
 

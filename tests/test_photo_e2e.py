@@ -26,25 +26,6 @@ QUADRANTS = {(0.25, 0.25): (220, 30, 30), (0.75, 0.25): (30, 200, 40),
              (0.25, 0.75): (30, 40, 210), (0.75, 0.75): (240, 240, 240)}
 
 
-@pytest.fixture(scope="module")
-def pw():
-    """One Playwright for the module: its pages' browser and the installed page's profile."""
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as p:
-        yield p
-
-
-@pytest.fixture(scope="module")
-def browser(pw):
-    """Headless Chromium (app.bench.page.launch), as conftest's, of this module's Playwright."""
-    from app.bench.page import launch
-
-    b = launch(pw)
-    yield b
-    b.close()
-
-
 def quadrant_photo(path, w: int = 1200, h: int = 1600) -> None:
     """A picture of four coloured quadrants (QUADRANTS) at `path`, as a phone's JPEG."""
     a = np.zeros((h, w, 3), np.uint8)
