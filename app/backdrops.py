@@ -6,6 +6,7 @@ drawn at a minute (app/lockscreen.py): DEFAULT_MINUTE unless one is given."""
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -13,7 +14,7 @@ from PIL import Image
 
 from app.images import cover
 from app.lockscreen import DEFAULT_MINUTE, with_clock
-from app.photos import is_photo, photo_file
+from app.photos import MAX_PIXELS, is_photo, photo_file, upright_rgb
 from app.resources import ASSET_DIR
 from sim.io.files import one_line
 from sim.io.session import DEFAULT_BACKDROP  # noqa: F401 (the default, named here too)
@@ -42,10 +43,16 @@ def read_backdrop(name: str, photos: Path | None = None) -> Image.Image:
     cannot be read."""
     path = backdrop_path(name, photos)
     try:
-        with Image.open(path) as im:
-            im.load()
-            image = im.convert("RGB")
-    except (OSError, ValueError, Image.DecompressionBombError) as err:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)  # (Pillow's "Corrupt EXIF data")
+            with Image.open(path) as im:
+                w, h = im.size
+                if name not in BACKDROPS and w * h > MAX_PIXELS:
+                    raise ValueError(f"{w}x{h} pixels; at most {MAX_PIXELS / 1e6:g} million "
+                                     "are taken")
+                im.load()
+                image = upright_rgb(im)  # (as its EXIF says, as a photo sent is)
+    except Exception as err:  # noqa: BLE001 (any decoder's failure on a file: one line)
         raise ValueError(f"background {one_line(name)}: cannot read it as an image "
                          f"({one_line(str(err))})") from err
     if name == LIVE and image.size != (WIDTH, HEIGHT):

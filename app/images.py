@@ -145,12 +145,13 @@ def export_maps(folder, grid: np.ndarray, segments: np.ndarray, params: Params,
 
 
 def cover(image: Image.Image, size: tuple[int, int]) -> Image.Image:
-    """`image` scaled (keeping its aspect) to cover `size`, centre-cropped to it."""
+    """`image` scaled (keeping its aspect) to cover `size`, centre-cropped to it. Only the
+    part that shows is resampled, straight to `size`: a picture 1 px wide is never first
+    made 760 px wide and a million tall."""
     w, h = image.size
     if (w, h) == size:
         return image
     scale = max(size[0] / w, size[1] / h)
-    sw, sh = max(size[0], round(w * scale)), max(size[1], round(h * scale))
-    image = image.resize((sw, sh), Image.Resampling.LANCZOS)
-    left, top = (sw - size[0]) // 2, (sh - size[1]) // 2
-    return image.crop((left, top, left + size[0], top + size[1]))
+    bw, bh = size[0] / scale, size[1] / scale  # the part shown, in the image's px
+    left, top = (w - bw) / 2, (h - bh) / 2
+    return image.resize(size, Image.Resampling.LANCZOS, box=(left, top, left + bw, top + bh))

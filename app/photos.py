@@ -15,7 +15,8 @@ import re
 import warnings
 from pathlib import Path
 
-from PIL import Image, ImageOps
+import numpy as np
+from PIL import Image, ImageOps, UnidentifiedImageError
 
 from app.images import cover
 from sim.io.files import one_line, write_atomic
@@ -79,32 +80,46 @@ def prepare(data: bytes, size: tuple[int, int] = (WIDTH, HEIGHT)) -> bytes:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("error", Image.DecompressionBombWarning)
+            warnings.simplefilter("ignore", UserWarning)  # (Pillow's "Corrupt EXIF data")
             image = Image.open(io.BytesIO(data), formats=[kind])  # reads the header only
-        with image:
-            w, h = image.size
-            if w < 1 or h < 1 or w * h > MAX_PIXELS:
-                raise PhotoError(f"the {kind} image is {w}x{h} pixels; at most "
-                                 f"{MAX_PIXELS / 1e6:g} million are taken")
-            if kind == "JPEG":  # decoded at a fraction of its size where that still covers
-                side = max(size)
-                image.draft("RGB", (side, side))
-            image.load()
-            upright = ImageOps.exif_transpose(image)
-            rgb = _opaque(upright)
+            return _prepared(image, kind, size)
     except PhotoError:
         raise
     except (Image.DecompressionBombError, Image.DecompressionBombWarning) as err:
         raise PhotoError(f"the {kind} image has too many pixels; at most "
                          f"{MAX_PIXELS / 1e6:g} million are taken ({err})") from None
-    except (OSError, ValueError, SyntaxError, EOFError, MemoryError) as err:
+    except UnidentifiedImageError:
+        raise PhotoError(f"the {kind} image cannot be decoded: its data is not a whole "
+                         f"{kind} header") from None
+    except Exception as err:  # noqa: BLE001 (a hostile file may break a decoder anywhere:
+        # struct.error in corrupt EXIF, OSError when truncated...; each is a refusal)
         raise PhotoError(f"the {kind} image cannot be decoded: {err}") from None
+
+
+def _prepared(image: Image.Image, kind: str, size: tuple[int, int]) -> bytes:
+    """`prepare`'s work once the header is read: the size checked, then decoded."""
+    with image:
+        w, h = image.size
+        if w < 1 or h < 1 or w * h > MAX_PIXELS:
+            raise PhotoError(f"the {kind} image is {w}x{h} pixels; at most "
+                             f"{MAX_PIXELS / 1e6:g} million are taken")
+        if kind == "JPEG":  # decoded at a fraction of its size where that still covers
+            side = max(size)
+            image.draft("RGB", (side, side))
+        image.load()
+        rgb = upright_rgb(image)
     out = io.BytesIO()
     cover(rgb, size).save(out, "JPEG", quality=QUALITY)  # (no exif, no icc: nothing kept)
     return out.getvalue()
 
 
-def _opaque(image: Image.Image) -> Image.Image:
-    """`image` as RGB, any transparency laid over black."""
+def upright_rgb(image: Image.Image) -> Image.Image:
+    """A decoded `image` turned upright as its EXIF says, as 8-bit RGB: 16-bit grey taken
+    to 8 bits (Pillow's own conversion clips it to white), any transparency laid over
+    black."""
+    image = ImageOps.exif_transpose(image)
+    if image.mode in ("I", "I;16", "I;16B", "I;16L", "I;16N"):  # (a 16-bit grey PNG)
+        image = Image.fromarray((np.asarray(image).astype(np.uint32) >> 8).astype(np.uint8), "L")
     if image.mode in ("RGBA", "LA", "PA") or "transparency" in image.info:
         rgba = image.convert("RGBA")
         black = Image.new("RGBA", rgba.size, (0, 0, 0, 255))

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import io
 import json
+import os
 import subprocess
 import sys
 import time
@@ -93,14 +94,30 @@ def test_an_older_version_replayed_shows_but_does_not_record_its_backdrop():
     SessionLog.from_json(thread.session().as_json())  # (and it is still a valid version 10)
 
 
-def test_a_file_given_by_path_is_shown_and_not_recorded(tmp_path):
+@pytest.mark.parametrize("path", ["{tmp}/mine.png", "cwdpic"])
+def test_a_file_given_by_path_is_shown_and_not_recorded(tmp_path, path):
     from app.simthread.thread import SimThread
 
+    path = path.format(tmp=tmp_path)  # ("cwdpic": a file of the working folder, name-like)
     thread = SimThread(PARAMS, 1, [(380.0, 640.0)])
-    thread.show_backdrop(str(tmp_path / "mine.png"))
+    thread.show_backdrop(path)
     thread.tick()
-    assert thread.drain()[-1].backdrop == str(tmp_path / "mine.png")
+    assert thread.drain()[-1].backdrop == path
     assert backdrop_events(thread) == []
+
+
+def test_a_replay_never_takes_a_backdrops_name_as_a_path(tmp_path):
+    (tmp_path / "cwdpic").write_bytes(photo_bytes())  # (a picture a name could reach)
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(session([{"kind": "touch", "tick": 0, "x": 200.0, "y": 300.0},
+                                        {"kind": "backdrop", "tick": 3, "name": "cwdpic"}])))
+    done = subprocess.run([sys.executable, "-m", "app", "replay", str(path), "--out",
+                           str(tmp_path / "out.png")], cwd=tmp_path, capture_output=True,
+                          text=True, timeout=300, env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert done.returncode == 2
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and "backdrop cwdpic: neither a built-in" in lines[0]
+    assert not (tmp_path / "out.png").exists()
 
 
 # ---- the replay ----------------------------------------------------------------------
@@ -210,6 +227,23 @@ def test_a_photo_dropped_on_the_window_is_kept_recorded_and_shown(tmp_path):
     assert any(f"the photo holiday.JPG (photo-{name})" in n for n in said)
     dropped(drop, [tmp_path / "nowhere.png"])
     assert any("nowhere.png: refused: " in n and "cannot read it" in n for n in notes.said())
+
+
+def test_a_drop_whose_reading_fails_unexpectedly_is_said_not_lost(tmp_path, monkeypatch):
+    from app.simthread.thread import SimThread
+    from app.window import drop as drop_module
+
+    def broken(_data, _store):
+        raise RuntimeError("a decoder's bug")
+
+    monkeypatch.setattr(drop_module, "keep", broken)
+    thread = SimThread(PARAMS, 1, [(380.0, 640.0)])
+    drop = drop_module.PhotoDrop(thread, photos.store_of(tmp_path))
+    (tmp_path / "a.png").write_bytes(photo_bytes())
+    dropped(drop, [tmp_path / "a.png"])
+    assert any("a.png: refused: a decoder's bug" in n for n in _Notes(thread).said())
+    dropped(drop, [tmp_path / "a.png"])  # (and the next drop is taken as the first)
+    assert any("a.png: refused" in n for n in _Notes(thread).said())
 
 
 # ---- the window follows the backdrop the thread says ---------------------------------

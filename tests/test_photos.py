@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import hashlib
 import io
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -172,3 +173,80 @@ def test_only_photo_names_name_photos(name):
     assert not photos.is_photo(name)
     with pytest.raises(ValueError):
         photos.photo_file(name, photos.Path("/tmp"))
+
+
+# ---- found by a hostile user's probe -------------------------------------------------
+
+def resized_then_cropped(image: Image.Image, size) -> Image.Image:
+    """The obvious cover: the whole image scaled, then its middle cut out."""
+    w, h = image.size
+    scale = max(size[0] / w, size[1] / h)
+    sw, sh = max(size[0], round(w * scale)), max(size[1], round(h * scale))
+    whole = image.resize((sw, sh), Image.Resampling.LANCZOS)
+    left, top = (sw - size[0]) // 2, (sh - size[1]) // 2
+    return whole.crop((left, top, left + size[0], top + size[1]))
+
+
+@pytest.mark.parametrize("w, h", [(600, 1000), (1600, 1200), (1280, 760), (761, 1281)])
+def test_cover_resamples_only_what_shows_as_the_obvious_cover_would(w, h):
+    from app.images import cover
+
+    rng = np.random.default_rng(w)
+    # (smooth: the obvious cover cuts at a whole px, a third of one off the exact middle)
+    small = Image.fromarray((rng.random((h // 100 + 2, w // 100 + 2, 3)) * 255).astype(np.uint8))
+    image = small.resize((w, h), Image.Resampling.BILINEAR)
+    got = np.asarray(cover(image, SIZE)).astype(int)
+    want = np.asarray(resized_then_cropped(image, SIZE)).astype(int)
+    assert got.shape == want.shape == (HEIGHT, WIDTH, 3)
+    assert np.abs(got - want).max() <= 8 and np.abs(got - want).mean() < 1
+
+
+def test_a_picture_one_pixel_wide_is_taken_without_gigabytes():
+    # 1 x 30 000 px, 200 bytes: scaled whole to cover the pane it was 760 x 22.8 million
+    # (52 GB); only the 1 x 50 px that show are resampled now
+    column = np.zeros((30_000, 1, 3), np.uint8)
+    column[15_000 - 25:15_000 + 25] = (40, 200, 90)
+    jpeg = photos.prepare(encoded(Image.fromarray(column), "PNG"))
+    with Image.open(io.BytesIO(jpeg)) as im:
+        shown = np.asarray(im.convert("RGB")).astype(int)
+    assert shown.shape == (HEIGHT, WIDTH, 3)
+    assert np.abs(shown[HEIGHT // 2] - (40, 200, 90)).max() < 20  # the middle of the column
+
+
+def test_a_jpeg_whose_exif_breaks_the_decoder_is_refused_in_one_line(tmp_path):
+    # (a phone photo's EXIF with bytes changed: Pillow's exif_transpose raises struct.error)
+    data = (Path(__file__).parent / "data" / "corrupt-exif.jpg").read_bytes()
+    with pytest.raises(photos.PhotoError, match="the JPEG image cannot be decoded") as err:
+        photos.prepare(data)
+    assert "\n" not in str(err.value)
+    # the window's --background FILE: read with the same care (shown, one line if not)
+    path = tmp_path / "corrupt.jpg"
+    path.write_bytes(data)
+    try:
+        load_backdrop(str(path))
+    except ValueError as refused:
+        assert str(path) in str(refused) and "\n" not in str(refused)
+
+
+def test_a_16_bit_grey_png_keeps_its_shades():
+    ramp = np.repeat(np.linspace(0, 65535, 1280).astype(np.uint16)[:, None], 760, axis=1)
+    image = Image.fromarray(ramp)
+    assert image.mode == "I;16"
+    data = encoded(image, "PNG")
+    with Image.open(io.BytesIO(photos.prepare(data))) as im:
+        shown = np.asarray(im.convert("L")).astype(int)
+    for row in (100, 640, 1200):  # 16 bits to 8: the value over 257
+        assert abs(shown[row].mean() - ramp[row, 0] / 257) < 4, row
+
+
+def test_a_file_named_by_garbage_is_refused_without_pillows_object_in_the_line():
+    with pytest.raises(photos.PhotoError) as err:
+        photos.prepare(b"\xff\xd8\xff")
+    assert "BytesIO" not in str(err.value) and "not a whole JPEG header" in str(err.value)
+
+
+def test_a_background_file_is_shown_upright_as_its_exif_says(tmp_path):
+    path = tmp_path / "turned.jpg"
+    path.write_bytes(exif_photo(6))
+    shown = load_backdrop(str(path))  # (frost render --background, the window's start)
+    assert near(tuple(shown[40, 40]), (0, 0, 255))  # turned: blue at the top left

@@ -195,6 +195,14 @@ def test_over_the_size_limit_or_without_a_length_is_refused_before_the_body(tmp_
     run(test, tmp_path, gap=0)
 
 
+def test_an_empty_post_is_told_it_holds_no_photo(tmp_path):
+    async def test(port, runner, feed, store):
+        status, _, body = await upload(port, b"")
+        assert status == 400 and error_line(body) == "the request holds no photo (Content-Length: 0)"
+        assert feed.controls.backdrop == "dusk" and stored(store) == []
+    run(test, tmp_path, gap=0)
+
+
 @pytest.mark.parametrize("origin", [None, "http://evil.example", "https://127.0.0.1:{port}",
                                     "http://127.0.0.1:{other}", "null"])
 def test_a_post_from_another_origin_or_none_is_refused(tmp_path, origin):
@@ -224,6 +232,13 @@ def test_a_flood_of_photos_gets_one_taken_the_rest_told_to_wait_and_the_frost_ti
     run(test, tmp_path)
 
 
+def tinted(image: Image.Image, i: int) -> Image.Image:
+    """`image` with a square of its own colour in the middle: photos that differ once kept."""
+    w, h = image.size
+    image.paste((40 * i, 90, 200 - 40 * i), (w // 2 - 200, h // 2 - 200, w // 2 + 200, h // 2 + 200))
+    return image
+
+
 def test_photos_are_checked_one_at_a_time(tmp_path, monkeypatch):
     running, most = [0], [0]
     keep = photos.keep
@@ -238,7 +253,7 @@ def test_photos_are_checked_one_at_a_time(tmp_path, monkeypatch):
     monkeypatch.setattr(photos, "keep", counted)
 
     async def test(port, runner, feed, store):
-        data = [encoded(quadrants(1500 + i, 2000), "PNG") for i in range(photo.MAX_WAITING)]
+        data = [encoded(tinted(quadrants(1500, 2000), i), "PNG") for i in range(photo.MAX_WAITING)]
         answers = await asyncio.gather(*(upload(port, d) for d in data))
         assert [a[0] for a in answers] == [200] * photo.MAX_WAITING
         assert most == [1] and len(stored(store)) == photo.MAX_WAITING

@@ -96,6 +96,8 @@ async def upload(request: web.Request) -> web.Response:
     if length > photos.MAX_BYTES:
         return unread(413, f"the file is {length:,} bytes; at most "
                            f"{photos.MAX_BYTES // 2**20} MB ({photos.MAX_BYTES:,} bytes) is taken")
+    if length == 0:
+        return refusal(400, "the request holds no photo (Content-Length: 0)")
     if desk.store is None:
         return refusal(503, "this server keeps no photos (it has no session folder)")
     loop = asyncio.get_running_loop()

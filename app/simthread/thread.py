@@ -21,13 +21,15 @@ from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
 
+from app.backdrops import BACKDROPS
 from app.lockscreen import minute_name
+from app.photos import is_photo
 from app.simthread.backlog import Backlog, group_melts
 from app.simthread.clicks import Click, Clicks
 from app.simthread.export import MapExports
 from app.simthread.schedule import Schedule, TickTimes
 from sim import Params
-from sim.io.session import BACKDROP_NAME, DEFAULT_BACKDROP, VERSION, SessionLog
+from sim.io.session import DEFAULT_BACKDROP, VERSION, SessionLog
 from sim.io.timeline import Applied, Timeline, apply_due
 from sim.look.geometry import GeometryDelta
 from sim.screen import HEIGHT, TICKS_PER_SECOND, WIDTH
@@ -365,7 +367,7 @@ class SimThread(threading.Thread):
     def _show_backdrop(self, name: str, notes: dict) -> None:
         if name == (self.backdrop or DEFAULT_BACKDROP):
             return
-        if self.timeline.rules.backdrop_events and BACKDROP_NAME.match(name):
+        if self.timeline.rules.backdrop_events and (name in BACKDROPS or is_photo(name)):
             self._unrecorded_backdrop = None
             notes["applied"].append(self.timeline.apply([{"kind": "backdrop", "name": name}]))
         else:

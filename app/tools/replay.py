@@ -8,6 +8,7 @@ import logging
 import sys
 from pathlib import Path
 
+from app.backdrops import BACKDROPS
 from app.images import timestamped_path
 from app.photos import is_photo, photo_file, store_of
 from app.tools.offscreen import Offscreen, make_context
@@ -59,11 +60,15 @@ def start_view(log_: SessionLog, background: str | None = None) -> dict | None:
 
 
 def missing_photo(log_: SessionLog, store: Path) -> str | None:
-    """Why a photo the session shows cannot be drawn (the first whose file is not in
-    `store`, named), or None."""
+    """Why a backdrop the session shows cannot be drawn (the first that is neither a
+    built-in nor a photo, or a photo whose file is not in `store`, named), or None. A
+    name is never taken as a path."""
     names = [e["name"] for e in log_.events if e["kind"] == "backdrop"]
-    for name in dict.fromkeys(n for n in names if is_photo(n)):
-        if not photo_file(name, store).is_file():
+    for name in dict.fromkeys(names):
+        if not is_photo(name) and name not in BACKDROPS:
+            return (f"backdrop {name}: neither a built-in ({', '.join(BACKDROPS)}) nor a "
+                    "photo's name (photo- and 32 hex digits)")
+        if is_photo(name) and not photo_file(name, store).is_file():
             return f"backdrop {name}: its file {photo_file(name, store)} is missing"
     return None
 

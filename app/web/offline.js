@@ -21,8 +21,10 @@ export function showOffline(on, canvas, query, fit) {
     body.backgroundImage = "";
     return;
   }
+  // (the lock screen without its clock, which the server draws, looks broken: dusk then)
   const name = prefs.get("backdrop", "dusk");
-  body.backgroundImage = `url("backdrops/${BUILT_IN.test(name) ? name : "dusk"}.png${query}")`;
+  const shown = BUILT_IN.test(name) && name !== "lockscreen" ? name : "dusk";
+  body.backgroundImage = `url("backdrops/${shown}.png${query}")`;
   body.backgroundSize = fit === "pane" ? "contain" : "cover";
   body.backgroundPosition = "center";
   body.backgroundRepeat = "no-repeat";

@@ -46,5 +46,9 @@ class PhotoDrop:
             self.thread.notify(logging.WARNING, f"dropped {path.name}: cannot keep it in "
                                f"{self.store}: {err.strerror or err}")
             return
+        except Exception as err:  # noqa: BLE001 (a worker's failure is said, never silent)
+            log.exception("dropped %s", path)
+            self.thread.notify(logging.WARNING, f"dropped {path.name}: refused: {err}")
+            return
         self.thread.show_backdrop(name)
         self.thread.notify(logging.INFO, f"background: the photo {path.name} ({name})")

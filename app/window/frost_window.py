@@ -105,7 +105,7 @@ class FrostWindow:
         if renderer.backdrop not in BACKDROPS and not is_photo(renderer.backdrop):
             try:
                 renderer.set_backdrop(keep(read_file(Path(renderer.backdrop)), self.drop.store))
-            except (PhotoError, OSError) as err:
+            except (PhotoError, OSError, ValueError) as err:
                 log.warning("background %s shown, but not kept for the session (a replay "
                             "elsewhere will lack it): %s", renderer.backdrop, err)
         self.actions.backdrop_sent = self.thread.show_backdrop(renderer.backdrop)
