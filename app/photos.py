@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import io
 import re
+import struct
 import warnings
 from pathlib import Path
 
@@ -88,6 +89,8 @@ def prepare(data: bytes, size: tuple[int, int] = (WIDTH, HEIGHT)) -> bytes:
     except (Image.DecompressionBombError, Image.DecompressionBombWarning) as err:
         raise PhotoError(f"the {kind} image has too many pixels; at most "
                          f"{MAX_PIXELS / 1e6:g} million are taken ({err})") from None
+    except struct.error:  # (Pillow's EXIF reader on bytes that are not what they say)
+        raise PhotoError(f"the {kind} image cannot be decoded: its EXIF data is corrupt") from None
     except UnidentifiedImageError:
         raise PhotoError(f"the {kind} image cannot be decoded: its data is not a whole "
                          f"{kind} header") from None

@@ -216,7 +216,8 @@ def test_a_picture_one_pixel_wide_is_taken_without_gigabytes():
 def test_a_jpeg_whose_exif_breaks_the_decoder_is_refused_in_one_line(tmp_path):
     # (a phone photo's EXIF with bytes changed: Pillow's exif_transpose raises struct.error)
     data = (Path(__file__).parent / "data" / "corrupt-exif.jpg").read_bytes()
-    with pytest.raises(photos.PhotoError, match="the JPEG image cannot be decoded") as err:
+    with pytest.raises(photos.PhotoError, match="the JPEG image cannot be decoded: its EXIF "
+                                                "data is corrupt") as err:
         photos.prepare(data)
     assert "\n" not in str(err.value)
     # the window's --background FILE: read with the same care (shown, one line if not)
