@@ -421,8 +421,17 @@ def trusting_home(home: Path, cafile: Path | None) -> Path:
 
 
 def synced(page) -> None:
-    page.wait_for_function("window.frost && (window.frost.error || (window.frost.synced"
-                           " && window.frost.frames > 0))", timeout=60_000)
+    from playwright.sync_api import TimeoutError as Timeout
+
+    try:
+        page.wait_for_function("window.frost && (window.frost.error || (window.frost.synced"
+                               " && window.frost.frames > 0))", timeout=60_000)
+    except Timeout:  # (what the page was doing: its status line, its socket's counts)
+        seen = page.evaluate("""() => ({url: location.href, status:
+            (document.getElementById('status') || {}).textContent, frost: window.frost &&
+            {connected: frost.connected, hellos: frost.hellos, messages: frost.messages,
+             synced: frost.synced, frames: frost.frames, lost: frost.lost}})""")
+        raise AssertionError(f"the page never synced: {seen}") from None
     assert page.evaluate("window.frost.error") is None
 
 
