@@ -44,6 +44,24 @@ async def stopped(server: asyncio.Server, shaper: Shaper) -> None:
     await server.wait_closed()
 
 
+def through(handler, link: Profile, client):
+    """`client(reader, writer)` on one connection through a shaper of profile `link` to a
+    server running `handler`: what it returns (the writer closed after it, the shaper and
+    the server stopped)."""
+    async def main():
+        server, shaper = await started(handler, link)
+        try:
+            reader, writer = await asyncio.open_connection("127.0.0.1", shaper.port)
+            try:
+                return await client(reader, writer)
+            finally:
+                writer.close()
+        finally:
+            await stopped(server, shaper)
+
+    return run(main())
+
+
 def test_the_profiles_are_the_issues_figures():
     """wifi: 20 ms round trip +- 5 ms, 30 Mbit/s each way; 4g: 60 +- 15 ms, 9 down, 1.5 up."""
     wifi, g4 = PROFILES["wifi"], PROFILES["4g"]
@@ -59,25 +77,18 @@ def test_bytes_arrive_unchanged_and_in_order_both_ways():
     rng = random.Random(5)
     sent = rng.randbytes(600_000)
 
-    async def main():
-        server, shaper = await started(echo, JITTERY)
-        try:
-            reader, writer = await asyncio.open_connection("127.0.0.1", shaper.port)
-            at = 0
-            while at < len(sent):
-                n = rng.choice([1, 2, 7, 100, 1500, 4096, 4097, 20_000])
-                writer.write(sent[at:at + n])
-                at += n
-                if rng.random() < 0.2:
-                    await asyncio.sleep(rng.choice([0, 0.001, 0.005]))
-            writer.write_eof()
-            got = await asyncio.wait_for(reader.read(-1), WAIT)  # to the echo's close
-            writer.close()
-            return got
-        finally:
-            await stopped(server, shaper)
+    async def client(reader, writer):
+        at = 0
+        while at < len(sent):
+            n = rng.choice([1, 2, 7, 100, 1500, 4096, 4097, 20_000])
+            writer.write(sent[at:at + n])
+            at += n
+            if rng.random() < 0.2:
+                await asyncio.sleep(rng.choice([0, 0.001, 0.005]))
+        writer.write_eof()
+        return await asyncio.wait_for(reader.read(-1), WAIT)  # to the echo's close
 
-    got = run(main())
+    got = through(echo, JITTERY, client)
     assert len(got) == len(sent)
     assert got == sent
 
@@ -141,19 +152,13 @@ def test_n_bytes_take_at_least_n_bits_over_the_rate_each_way():
         await writer.drain()
         writer.close()
 
-    async def main():
-        server, shaper = await started(sink, p)
-        try:
-            reader, writer = await asyncio.open_connection("127.0.0.1", shaper.port)
-            times["up_start"] = time.monotonic()
-            writer.write(bytes(n))
-            await asyncio.wait_for(reader.readexactly(n), WAIT)
-            times["down_done"] = time.monotonic()
-            writer.close()
-        finally:
-            await stopped(server, shaper)
+    async def client(reader, writer):
+        times["up_start"] = time.monotonic()
+        writer.write(bytes(n))
+        await asyncio.wait_for(reader.readexactly(n), WAIT)
+        times["down_done"] = time.monotonic()
 
-    run(main())
+    through(sink, p, client)
     assert times["up_done"] - times["up_start"] >= n * 8 / p.up_bps
     assert times["down_done"] - times["down_start"] >= n * 8 / p.down_bps
 
@@ -204,27 +209,21 @@ def close_test(closer: str) -> tuple[bytes, bytes]:
         seen["server"] = await asyncio.wait_for(reader.read(-1), WAIT)
         writer.close()
 
-    async def main():
-        server, shaper = await started(server_side, JITTERY)
-        try:
-            reader, writer = await asyncio.open_connection("127.0.0.1", shaper.port)
-            writer.write(b"hello from the client")
-            await writer.drain()
-            if closer == "client":
-                await asyncio.wait_for(reader.readexactly(21), WAIT)
-                writer.close()
-                for _ in range(int(WAIT * 10)):
-                    if "server" in seen:
-                        break
-                    await asyncio.sleep(0.1)
-            else:
-                seen["client"] = await asyncio.wait_for(reader.read(-1), WAIT)
-                writer.close()
-        finally:
-            await stopped(server, shaper)
+    async def client(reader, writer):
+        writer.write(b"hello from the client")
+        await writer.drain()
+        if closer == "client":
+            await asyncio.wait_for(reader.readexactly(21), WAIT)
+            writer.close()
+            for _ in range(int(WAIT * 10)):
+                if "server" in seen:
+                    break
+                await asyncio.sleep(0.1)
+        else:
+            seen["client"] = await asyncio.wait_for(reader.read(-1), WAIT)
         return seen
 
-    got = run(main())
+    got = through(server_side, JITTERY, client)
     return got.get("server", b"?"), got.get("client", b"?")
 
 
@@ -248,19 +247,12 @@ def test_a_half_close_still_gets_its_answer():
         await writer.drain()
         writer.close()
 
-    async def main():
-        server, shaper = await started(answer, JITTERY)
-        try:
-            reader, writer = await asyncio.open_connection("127.0.0.1", shaper.port)
-            writer.write(b"question")
-            writer.write_eof()
-            got = await asyncio.wait_for(reader.read(-1), WAIT)
-            writer.close()
-            return got
-        finally:
-            await stopped(server, shaper)
+    async def client(reader, writer):
+        writer.write(b"question")
+        writer.write_eof()
+        return await asyncio.wait_for(reader.read(-1), WAIT)
 
-    assert run(main()) == b"answer to question"
+    assert through(answer, JITTERY, client) == b"answer to question"
 
 
 def test_a_server_that_is_not_there_closes_the_client():
