@@ -323,7 +323,10 @@ def letterboxed(wid: str, log: Path) -> None:
     for x in range(x0, x1 + 1, 15):
         xdo("mousemove", "--window", wid, str(x), str(y))
     xdo("mouseup", "1")
-    time.sleep(0.3)
+    # The screenshot states the frame shown: two stats lines after the drag, so that the
+    # thread has applied all its touches and a frame shows them (a fixed 0.3 s once caught
+    # 2 of the drag's 6 on a loaded machine)
+    wait_for(log, r"stats \(", len(re.findall(r"stats \(", log.read_text())) + 2, timeout=60)
     xdo("key", "s")
     wait_for(log, r"screenshot: ", 3)
 
