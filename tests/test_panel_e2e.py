@@ -131,7 +131,7 @@ def session(app: subprocess.Popen, log: Path) -> dict:
     click(wid, field[0] + 40, field[1] + field[3] / 2)
     time.sleep(0.3)  # the click selected the whole name: typing replaces it
     xdo("type", "--delay", "30", SET)
-    time.sleep(0.3)
+    wait_for(log, rf"panel: the file field holds '{re.escape(SET)}'")  # typed, all of it
     save = widget(log, "save_params")
     click(wid, save[0] + save[2] / 2, save[1] + save[3] / 2)
     wait_for(log, r"params saved: ")
@@ -220,7 +220,8 @@ def test_a_click_on_the_panel_plants_no_seed(run):
 def test_keys_typed_into_the_panel_are_not_the_windows_keys(run):
     assert "cleared" not in run["log"]  # C
     assert len(re.findall(r"screenshot: ", run["log"])) == 1  # S: only the button's
-    assert re.search(rf"params saved: {re.escape(SET)}$", run["log"], re.M)
+    saved = re.findall(r"params saved: .*|panel: the file field holds .*", run["log"])
+    assert re.search(rf"params saved: {re.escape(SET)}$", run["log"], re.M), saved
 
 
 def test_the_saved_set_is_the_dragged_parameters_and_loads_back(run):

@@ -18,7 +18,7 @@ from PIL import Image
 
 from app.bench.page import Page, browser_problem, hello
 from sim import Params
-from tests.test_phone_e2e import BACKDROP, PHONE, open_page, pause_and_settle, pixels
+from tests.test_phone_e2e import BACKDROP, PHONE, open_page, pause_and_settle, pixels, synced
 
 PROBLEM = browser_problem()
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
@@ -117,7 +117,7 @@ def test_the_menu_remembers_whole_pane(serve, phones):
     page.check("#whole")
     page.wait_for_function("frost.pane().w === 390 * 3")
     page.reload()
-    page.wait_for_function("window.frost && frost.synced && frost.frames > 0", timeout=30_000)
+    synced(page, "frost.frames > 0")
     assert page.is_checked("#whole")
     assert page.evaluate("frost.pane()")["w"] == 390 * 3
     assert (screen(page).max(axis=2) < 8).mean() > 0.15  # the bars
@@ -198,7 +198,7 @@ def test_the_tilt_switch_turns_it_off_and_a_plain_http_page_says_why(serve, phon
     assert page.evaluate("frost.renderer.light") == page.evaluate("frost.serverLight")
     assert page.is_hidden("#tilt-why")
     page.reload()  # remembered
-    page.wait_for_function("window.frost && frost.synced", timeout=30_000)
+    synced(page)
     assert not page.is_checked("#tilt")
     # A page on a plain HTTP address that is not this machine's (http://frost.test) is no
     # secure context: no tilt, and the menu says why.
@@ -289,7 +289,7 @@ def test_a_taps_first_frost_buzzes_unless_switched_off(serve, phones):
     page.wait_for_timeout(300)
     assert page.evaluate("window.buzzes.length") == 1
     page.reload()  # remembered
-    page.wait_for_function("window.frost && frost.synced", timeout=30_000)
+    synced(page)
     assert not page.is_checked("#buzz")
 
 

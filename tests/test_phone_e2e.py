@@ -103,13 +103,30 @@ def open_page(context, url: str):
     page.on("console", lambda m: m.type == "error" and failed.append(m.text))
     page.on("response", lambda r: r.status >= 400 and failed.append(f"{r.status} {r.url}"))
     page.goto(url)
-    page.wait_for_function("window.frost && (window.frost.error || (window.frost.synced"
-                           " && window.frost.frames > 0 && window.frost.shownBackdrop))",
-                           timeout=30_000)
-    assert page.evaluate("window.frost.error") is None
+    synced(page, "frost.frames > 0 && frost.shownBackdrop")
     page.wait_for_timeout(300)
     assert failed == []
     return page
+
+
+def synced(page, also: str = "true", timeout: float = 60_000) -> None:
+    """Wait until the page has synced with the server and `also` (a JS expression) holds,
+    or has said an error (failing on it). A page that never does fails saying what it was
+    doing: its address, its status line, its socket's counts. (A loaded machine running
+    the whole suite took over 30 s once to sync a second page.)"""
+    from playwright.sync_api import TimeoutError as Timeout
+
+    try:
+        page.wait_for_function(f"window.frost && (frost.error || (frost.synced && ({also})))",
+                               timeout=timeout)
+    except Timeout:
+        seen = page.evaluate("""() => ({url: location.href, status:
+            (document.getElementById('status') || {}).textContent, frost: window.frost &&
+            {connected: frost.connected, hellos: frost.hellos, messages: frost.messages,
+             synced: frost.synced, frames: frost.frames, lost: frost.lost,
+             backdrop: frost.backdrop, shown: frost.shownBackdrop}})""")
+        raise AssertionError(f"the page never synced ({also}): {seen}") from None
+    assert page.evaluate("window.frost.error") is None
 
 
 def pixels(page) -> np.ndarray:

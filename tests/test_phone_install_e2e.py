@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
-from test_phone_e2e import PHONE, PROBLEM, Serve, open_page, token_needed
+from test_phone_e2e import PHONE, PROBLEM, Serve, open_page, synced, token_needed
 
 from app.bench.page import ANGLE, CHROMIUM
 from app.images import cover
@@ -182,7 +182,7 @@ def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, serve,
         back = serve("--port", port, "--host", host, "--no-https", folder=tmp_path)
         assert (back.port, back.token) == (s.port, s.token)
         # main.js retries with backoff (at most 8 s apart): synced again, nothing reloaded
-        page.wait_for_function("frost.synced && frost.frames > 0 && frost.shownBackdrop", timeout=60_000)
+        synced(page, "frost.frames > 0 && frost.shownBackdrop")
         assert status(page) == ""
         page.screenshot(path=str(tmp_path / "back.png"))
     finally:
@@ -261,7 +261,7 @@ def test_a_changed_page_replaces_the_cached_one_after_one_reload(pw, serve, tmp_
         old.stop()
         new = serve("--port", port, folder=b)  # an upgraded server
         page.reload()  # one reload: the new page, whole (from the network, the worker's
-        page.wait_for_function("frost.synced && frost.frames > 0", timeout=60_000)  # cache is A's)
+        synced(page, "frost.frames > 0")  # cache is A's)
         assert versions(page) == {**shell, **dict.fromkeys(shell, "B")}
         assert backdrop_pixel(page) == (1, 2, 3)
         wait_for_shell(page, shell_hash(new))  # the new worker's cache replaced A's

@@ -28,6 +28,7 @@ import pytest
 from cryptography import x509
 from cryptography.hazmat.primitives import serialization
 from cryptography.x509.oid import ExtendedKeyUsageOID
+from test_phone_e2e import PHONE, synced
 
 from app.serve import trust
 
@@ -393,8 +394,6 @@ def browser_problem() -> str | None:
     return found
 
 
-PHONE = {"viewport": {"width": 390, "height": 844}, "device_scale_factor": 3,
-         "has_touch": True, "is_mobile": True}
 browser = pytest.mark.skipif(browser_problem() is not None, reason=str(browser_problem()))
 
 
@@ -420,21 +419,6 @@ def trusting_home(home: Path, cafile: Path | None) -> Path:
     return home
 
 
-def synced(page) -> None:
-    from playwright.sync_api import TimeoutError as Timeout
-
-    try:
-        page.wait_for_function("window.frost && (window.frost.error || (window.frost.synced"
-                               " && window.frost.frames > 0))", timeout=60_000)
-    except Timeout:  # (what the page was doing: its status line, its socket's counts)
-        seen = page.evaluate("""() => ({url: location.href, status:
-            (document.getElementById('status') || {}).textContent, frost: window.frost &&
-            {connected: frost.connected, hellos: frost.hellos, messages: frost.messages,
-             synced: frost.synced, frames: frost.frames, lost: frost.lost}})""")
-        raise AssertionError(f"the page never synced: {seen}") from None
-    assert page.evaluate("window.frost.error") is None
-
-
 @pytest.mark.browser
 @browser
 def test_a_chromium_trusting_the_authority_opens_the_https_page_as_a_secure_context(serve, tmp_path):
@@ -456,7 +440,7 @@ def test_a_chromium_trusting_the_authority_opens_the_https_page_as_a_secure_cont
         failed: list[str] = []
         page.on("response", lambda r: r.status >= 400 and failed.append(f"{r.status} {r.url}"))
         page.goto(https)
-        synced(page)
+        synced(page, "frost.frames > 0")
         assert page.evaluate("window.isSecureContext") is True
         assert page.evaluate("window.frost.socket.url").startswith(f"wss://{name}:{s.https_port}/ws?")
         assert page.evaluate("window.frost.connected") is True
@@ -467,7 +451,7 @@ def test_a_chromium_trusting_the_authority_opens_the_https_page_as_a_secure_cont
         page.screenshot(path=str(tmp_path / "https-page.png"))
         # the plain page: no secure context, its menu offers the steps and the HTTPS address
         page.goto(f"http://{name}:{s.http_port}/?token={s.token}")
-        synced(page)
+        synced(page, "frost.frames > 0")
         assert page.evaluate("window.isSecureContext") is False
         assert page.evaluate("window.frost.socket.url").startswith("ws://")
         page.click("#open")

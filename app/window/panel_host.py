@@ -121,6 +121,7 @@ class PanelHost:
                                 self.hide)
         self.last = time.monotonic()
         self.logged: tuple[int, int] | None = None  # the window size the rects were logged at
+        self.logged_path: str | None = None  # the file field's text, as last logged
         self.ui = 1.0  # its widgets' and text's size, times their size at content scale 1
 
     # ---- showing and hiding ----------------------------------------------------------
@@ -311,12 +312,16 @@ class PanelHost:
         return self.costs.readout(phone_frames) if self.visible else None
 
     def _log_rects(self, size: tuple[int, int]) -> None:
-        """Where each widget lies in the panel's window, once for each size (debug level):
-        for scripts that click on them."""
+        """Where each widget lies in the panel's window, once for each size, and what its
+        file field holds, when that changes (debug level): for scripts that click on them
+        and type into it."""
         if self.logged != size and self.panel.rects:
             self.logged = size
             for name, (x, y, w, h) in self.panel.rects.items():
                 rects_log.debug("panel: %s at %.0f,%.0f size %.0fx%.0f", name, x, y, w, h)
+        if self.logged_path != self.panel.path:  # what the file field holds, as typed
+            self.logged_path = self.panel.path
+            rects_log.debug("panel: the file field holds %r", self.panel.path)
 
     def close(self) -> None:
         self._forget_if_gone()
