@@ -140,6 +140,21 @@ class Page:
                 self.busy = False
 
     async def _send(self, message: str | bytes) -> None:
+        """Send one message. The send runs as a task of its own, which the writer awaits
+        shielded: a browser's socket compresses (permessage-deflate), and aiohttp
+        compresses a large message in a shielded task of its own too; the writer cancelled
+        mid-send (its page gone) would leave that task's failure ("Cannot write to closing
+        transport") unretrieved, and asyncio would print it as a traceback. Here the send
+        runs on to its end and `_retrieved` takes whatever it met."""
+        sending = asyncio.ensure_future(self._send_now(message))
+        sending.add_done_callback(_retrieved)
+        await asyncio.shield(sending)
+
+    async def _send_now(self, message: str | bytes) -> None:
+        # (The task starts a moment after it is made: nothing may follow a close frame
+        # sent meanwhile, so the socket is asked again in the step that writes.)
+        if self.ws.closed:
+            raise ConnectionResetError("the socket closed")
         if isinstance(message, bytes):
             await self.ws.send_bytes(message)
         else:
@@ -148,3 +163,10 @@ class Page:
     def close(self) -> None:
         self.closed = True
         self._ready.set()
+
+
+def _retrieved(task: asyncio.Future) -> None:
+    """A send's end, seen: a page gone mid-send is no error (its close is logged)."""
+    if not task.cancelled():
+        task.exception()
+
