@@ -123,7 +123,7 @@ async def sockets(http, url: str, got: dict, end: float) -> None:
 
 
 async def _open_once(http, url: str) -> None:
-    ws = await http.ws_connect(url, max_msg_size=0)
+    ws = await http.ws_connect(url, max_msg_size=0, compress=15)  # (as a browser asks)
     try:
         await ws.receive()
     finally:

@@ -413,9 +413,13 @@ def run(args, network: Profile | None, launch) -> int:
                 # turn with the shaped ones: the same pane, the same machine's load.
                 ways = {where: s.url, **({"loopback": s.server} if network else {})}
                 joins: dict[str, list[dict]] = {name: [] for name in ways}
+                down: list[int] = []  # bytes down the shaped link in each of its joins
                 for _ in range(args.join):
                     for name, url in ways.items():
+                        before = s.shaper.shaper.down_bytes if s.shaper else 0
                         joins[name].append(join(browser, url, args.cpu_slowdown))
+                        if s.shaper and name == where:
+                            down.append(s.shaper.shaper.down_bytes - before)
                 for name, pages in joins.items():
                     synced = np.array([j["synced"] for j in pages])
                     opened = np.array([j["opened"] for j in pages])
@@ -431,6 +435,9 @@ def run(args, network: Profile | None, launch) -> int:
                     print(f"  its last part to the first frame drawn synced: "
                           f"{stats(synced - parts['snapshotEnd'])}")
                     print(f"  navigation to the first frame drawn synced: {stats(synced)}")
+                    if name == where and down:  # as sent: the socket's messages deflated
+                        print(f"  down the link for the whole join (the page's files and its "
+                              f"socket, compressed as sent): {np.median(down) / 1e6:.2f} MB")
             if args.photo:
                 got = photos(browser, s, args.photo, args.cpu_slowdown)
                 mb = np.median(got["sizes"]) / 1e6
