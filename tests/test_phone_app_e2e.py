@@ -156,7 +156,7 @@ def test_tilt_turns_this_pages_light_alone(serve, phones):
     _tilt(cdp, 50)  # the rest pose (a phone held up)
     a.wait_for_function("frost.phone.tilt.rest && frost.phone.tilt.rest.beta === 50")
     _tilt(cdp, 5)  # its top lowered 45 degrees
-    a.wait_for_function("frost.phone.tilt.drawn[1] === -45 && !frost.renderer.damage.any", timeout=10_000)
+    a.wait_for_function("frost.phone.tilt.drawn[1] === -45 && !frost.renderer.damage.any", timeout=30_000)
     turned = a.evaluate("frost.renderer.light")
     # The light turned 45 degrees about the screen's x axis toward its bottom (+y), the
     # server's kept as it was.
@@ -182,7 +182,7 @@ def test_tilt_turns_this_pages_light_alone(serve, phones):
     assert b.evaluate("frost.renderer.light") == light
     # Back to the rest pose: the light comes back to the server's, the frame as before.
     _tilt(cdp, 50)
-    a.wait_for_function("frost.phone.tilt.drawn[1] === 0 && !frost.renderer.damage.any", timeout=10_000)
+    a.wait_for_function("frost.phone.tilt.drawn[1] === 0 && !frost.renderer.damage.any", timeout=30_000)
     assert np.array_equal(pixels(a), before_a)
 
 
@@ -258,15 +258,15 @@ def test_tilt_maths_against_hand_worked_cases(browser):
 def test_the_screen_stays_on_while_visible_and_connected(serve, phones):
     s = serve()
     page = phones(s.local)
-    page.wait_for_function("frost.phone.awake.held", timeout=10_000)
+    page.wait_for_function("frost.phone.awake.held", timeout=30_000)
     hide = ("v => { Object.defineProperty(document, 'visibilityState', {configurable: true, get: () => v});"
             " document.dispatchEvent(new Event('visibilitychange')); }")
     page.evaluate("window.lock = frost.phone.awake.sentinel")
     page.evaluate(hide, "hidden")
-    page.wait_for_function("!frost.phone.awake.held && window.lock.released", timeout=10_000)
+    page.wait_for_function("!frost.phone.awake.held && window.lock.released", timeout=30_000)
     page.evaluate(hide, "visible")  # back to the front: asked again
     page.wait_for_function("frost.phone.awake.held && frost.phone.awake.sentinel !== window.lock",
-                           timeout=10_000)
+                           timeout=30_000)
     assert page.evaluate("frost.phone.awake.requests") == 2
     page.evaluate("window.lock = frost.phone.awake.sentinel")
     s.stop()  # disconnected: released

@@ -149,7 +149,7 @@ def tap(page, x: float, y: float) -> None:
 def server_tick(page, stamp: float) -> int:
     """The server's tick now, asked through the page's socket (a ping and its pong)."""
     page.evaluate(f"frost.socket.send(JSON.stringify({{type: 'ping', t: {stamp}}}))")
-    page.wait_for_function(f"frost.pong && frost.pong.t === {stamp}", timeout=10_000)
+    page.wait_for_function(f"frost.pong && frost.pong.t === {stamp}", timeout=30_000)
     return page.evaluate("frost.pong.tick")
 
 
@@ -169,7 +169,7 @@ def pause_and_settle(pages) -> int:
     first.click("#pause")
     first.click("#open")
     for page in pages:
-        page.wait_for_function("frost.hello && frost.hello.paused", timeout=10_000)
+        page.wait_for_function("frost.hello && frost.hello.paused", timeout=30_000)
     last = None
     for _ in range(50):  # the ticks already on their way arrive within a few frames
         ticks = [p.evaluate("frost.tick") for p in pages]
@@ -253,10 +253,10 @@ def test_a_flood_of_bad_messages_closes_that_page_alone(serve, phones):
               "JSON.stringify({type: 'nope'})", "new Uint8Array(64)",
               "JSON.stringify({type: 'touch', x: 1, y: 2, id: 99})"]
     for flood in floods:
-        bad.wait_for_function("frost.synced", timeout=10_000)
+        bad.wait_for_function("frost.synced", timeout=30_000)
         hellos = bad.evaluate("frost.hellos")
         bad.evaluate(f"for (let i = 0; i < 50; i++) frost.socket.send({flood})")
-        bad.wait_for_function(f"frost.hellos > {hellos}", timeout=10_000)  # closed, back
+        bad.wait_for_function(f"frost.hellos > {hellos}", timeout=30_000)  # closed, back
     drawn, stepped = good.evaluate("frost.tick") - page0, server_tick(good, 2) - server0
     assert stepped > 25 and drawn > 0.8 * stepped, (drawn, stepped)  # the server ticked, the page kept up
     # No touch landed: the frost is the bare backdrop still.

@@ -189,7 +189,7 @@ def session(app: subprocess.Popen, log: Path) -> dict:
     viewed(log)
     xdo("key", "Escape")
     pressed = time.monotonic()
-    status = app.wait(timeout=10)
+    status = app.wait(timeout=30)
     return {"status": status, "exit_seconds": time.monotonic() - pressed, "scale": scale,
             "recording_seconds": recording, "frame_seconds": frame}
 
@@ -218,7 +218,7 @@ def unwritable(app: subprocess.Popen, log: Path) -> dict:
     time.sleep(0.5)
     running = app.poll() is None
     xdo("key", "Escape")
-    return {"status": app.wait(timeout=10), "running": running}
+    return {"status": app.wait(timeout=30), "running": running}
 
 
 def interrupt(app: subprocess.Popen, log: Path, signum: int = signal.SIGINT) -> dict:
@@ -233,7 +233,7 @@ def interrupt(app: subprocess.Popen, log: Path, signum: int = signal.SIGINT) -> 
     time.sleep(0.5)
     xdo("key", "e")
     app.send_signal(signum)
-    return {"status": app.wait(timeout=10)}
+    return {"status": app.wait(timeout=30)}
 
 
 def lost(app: subprocess.Popen, log: Path, how: str) -> dict:
@@ -291,7 +291,7 @@ def panel_gone_idle(app: subprocess.Popen, log: Path) -> dict:
     time.sleep(0.3)
     xdo("key", "--window", wid, "m")
     try:
-        wait_for(log, r"panel: shown", 2, timeout=5)
+        wait_for(log, r"panel: shown", 2, timeout=20)
         reopened = True
     except TimeoutError:
         reopened = False
