@@ -1288,3 +1288,36 @@ def test_a_page_gone_while_a_large_message_of_its_is_compressed_leaves_no_error_
         assert big > 16 * 1024, big  # the snapshot's parts took aiohttp's threaded path
         assert errors == []
     serve(test)
+
+
+def test_nothing_follows_a_close_frame_sent_while_a_message_waits_to_be_written():
+    """A page's message is written by a task that starts a moment after the writer takes it
+    from the queue; a close frame sent meanwhile (its page broke a rule) must be the last
+    frame on that socket (RFC 6455: no data frame after a Close)."""
+    class Socket:  # what Page uses of aiohttp's WebSocketResponse
+        def __init__(self):
+            self.closed, self.frames = False, []
+
+        async def send_str(self, message):
+            self.frames.append(message)
+
+        async def close(self):
+            self.closed = True
+            self.frames.append("close frame")
+
+    async def main():
+        ws = Socket()
+        page = pages_module.Page(ws, "p", lambda: None)
+        page.waiting = False
+        page.text("first")
+        writer = asyncio.create_task(page.write())
+        await asyncio.sleep(0)  # the writer took "first": its send starts at the next step
+        assert not page.queue and page.busy
+        await ws.close()
+        for _ in range(5):
+            await asyncio.sleep(0)
+        page.close()
+        await asyncio.wait_for(writer, 5)
+        return ws.frames
+
+    assert asyncio.run(main()) == ["close frame"]
