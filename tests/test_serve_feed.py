@@ -224,3 +224,26 @@ def test_a_snapshot_not_worth_loading_is_drawn_anew_but_not_within_the_gap(monke
             assert_holds_the_frost(held(page), feed)
     finally:
         ticks.stop()
+
+
+def test_a_page_that_asks_while_the_kept_snapshot_is_about_to_be_dropped_is_still_served(monkeypatch):
+    """A page that asks for its snapshot while the kept one is still there is told to wait
+    for the next pump. If that pump's tick drops the kept snapshot (the ticks since it no
+    longer all kept), the page must still get one: a page left waiting with nothing asked
+    for hangs after its hello for good (seen under load: a page's `messages: 1`, synced
+    never)."""
+    monkeypatch.setattr(feed_module, "SINCE_TICKS", 4)
+    for gap in range(1, 7):  # the late page asks this many ticks after the kept snapshot
+        feed, ticks, first = fed()
+        try:
+            feed.ask_redraw()
+            ticks.tick(feed)
+            assert not first.waiting and feed._snapshot is not None  # the kept snapshot
+            ticks.tick(feed, gap)
+            late = Page(Wire(), "late", feed.ask_redraw)
+            feed.pages.add(late)
+            feed.ask_redraw()  # (its writer, its hello written, the queue empty)
+            ticks.tick(feed, 3)
+            assert not late.waiting, f"the page asking {gap} ticks after the snapshot waits on"
+        finally:
+            ticks.stop()

@@ -285,6 +285,10 @@ class Feed:
             kept.since += size
             if self._dropped_to > kept.moment:
                 self._snapshot = None  # (a page it started would miss a tick)
+                if any(page.idle_waiting() for page in self.pages):
+                    # One told to wait for it at this pump (it asked while it was kept):
+                    # drawn anew, or that page waits after its hello for good.
+                    self.ask_redraw()
 
     def _draw_copied(self) -> None:
         """Draw the copy made between two ticks, if any: on a worker while serving (the
