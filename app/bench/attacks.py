@@ -24,6 +24,9 @@ from dataclasses import dataclass
 from sim.io.gestures import DRAG_SPACING_HC
 from sim.screen import HEIGHT, WIDTH
 
+# The window bits of the permessage-deflate every browser's socket asks for: the bench's
+# pages ask as browsers do (the server then deflates each page's messages on its own).
+BROWSER_DEFLATE = 15
 SPOT = (380.0, 640.0)  # the pane's centre
 # 172 messages a second: under RATE (200) with room for the loop's jitter, which would
 # otherwise have the server close the socket for a burst over its bucket.
@@ -123,7 +126,7 @@ async def sockets(http, url: str, got: dict, end: float) -> None:
 
 
 async def _open_once(http, url: str) -> None:
-    ws = await http.ws_connect(url, max_msg_size=0, compress=15)  # (as a browser asks)
+    ws = await http.ws_connect(url, max_msg_size=0, compress=BROWSER_DEFLATE)
     try:
         await ws.receive()
     finally:

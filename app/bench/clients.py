@@ -22,7 +22,6 @@ from sim.screen import HEIGHT, WIDTH
 SCRIBBLE_HZ = 50.0  # pointer events a second of the scribbling finger
 TAP_PERIOD = 0.6  # s between the latency page's taps
 NEAR = 40.0  # px: a delta's vertex this near a tap shows its growth
-BROWSER_DEFLATE = 15  # the window bits a browser's permessage-deflate offer allows
 
 
 @dataclass(frozen=True)
@@ -57,7 +56,7 @@ async def _pages(url: str, plan: Plan, seconds: float) -> dict:
     async with ClientSession() as http:
         # Each asks for permessage-deflate, as every browser's page does: the server then
         # compresses each page's messages on its own (aiohttp's default, compress 15).
-        sockets = [await http.ws_connect(url, max_msg_size=0, compress=BROWSER_DEFLATE)
+        sockets = [await http.ws_connect(url, max_msg_size=0, compress=attacks.BROWSER_DEFLATE)
                    for _ in range(plan_pages(plan))]
         end = time.monotonic() + seconds + 0.5  # the server times `seconds` from here
         if plan.kind == "house":
