@@ -304,17 +304,21 @@ def test_screenshot_png_carries_the_desktops_keys(browser, grown):
 
 def test_fingers_become_touches_and_melts_in_screen_px(browser):
     """A phone (390x844 CSS px, 3 device px each): the pane covers the screen (cropped left
-    and right) and is drawn at the device's resolution; a tap sends a touch at the pane's px
-    under it, a second finger melts, a drag sends moves, each finger its own id."""
+    and right), its canvas holding a px for each pane px the screen shows (not 3 a CSS px:
+    the pane has no more to show); a tap sends a touch at the pane's px under it, a second
+    finger melts, a drag sends moves, each finger its own id."""
     params = Params.preset("fern")
     with Page(hello(params), [], viewport=(390, 844), scale=3, browser=browser, touch=True) as page:
         size = page.page.evaluate("[frost.canvasSize(), frost.pane()]")
-        assert size[0] == [1170, 2532]
-        pane = size[1]  # device px: 2532 / 1280 = 1.978125 a pane px; 1503.4 wide, cropped
-        assert pane["h"] == 2532 and pane["w"] == 1503 and pane["scale"] == 1.978125
-        assert pane["y"] == 0 and pane["x"] == (1170 - 1503) // 2 == -167
-        # CSS px of pane px (x, y).
-        css = lambda x, y: ((pane["x"] + x * pane["scale"]) / 3, (pane["y"] + y * pane["scale"]) / 3)  # noqa: E731
+        # A pane px covers 844 / 1280 CSS px (the height fills the screen): 1280 canvas px
+        # high, 390 * 1280 / 844 = 591.5 wide, to the nearest even 592 (the crop the same
+        # each side); the pane 760 wide, cropped 84 each side.
+        assert size[0] == [592, 1280]
+        pane = size[1]
+        assert pane["h"] == 1280 and pane["w"] == 760 and pane["scale"] == 1
+        assert pane["y"] == 0 and pane["x"] == (592 - 760) // 2 == -84
+        # CSS px of pane px (x, y): the canvas stretched over 390 x 844 CSS px.
+        css = lambda x, y: ((pane["x"] + x) * 390 / 592, y * 844 / 1280)  # noqa: E731
         cdp = page.context.new_cdp_session(page.page)
 
         def touch(kind, points):
@@ -348,6 +352,8 @@ def test_a_click_on_a_landscape_screen_lands_on_the_pane_under_it(browser):
     params = Params.preset("fern")
     with Page(hello(params), [], viewport=(1280, 720), scale=1, browser=browser,
               init="localStorage.setItem('frost.fit', 'pane')") as page:
+        # The pane shown smaller than its px (720 / 1280): the canvas keeps the screen's px.
+        assert page.page.evaluate("frost.canvasSize()") == [1280, 720]
         pane = page.page.evaluate("frost.pane()")
         assert pane["y"] == 0 and pane["x"] == (1280 - pane["w"]) // 2 > 300
         css = lambda x, y: (pane["x"] + x * pane["scale"], pane["y"] + y * pane["scale"])  # noqa: E731
@@ -375,8 +381,11 @@ def test_a_finger_lifted_before_a_frame_sends_its_last_move_and_one_off_the_pane
     params = Params.preset("fern")
     with Page(hello(params), [], viewport=(1280, 720), scale=1, browser=browser) as page:
         p = page.page
-        pane = p.evaluate("frost.pane()")
-        css = lambda x, y: (pane["x"] + x * pane["scale"], pane["y"] + y * pane["scale"])  # noqa: E731
+        # Covering 1280 CSS px with 760 pane px: a canvas px a pane px, 760 x 720 * 760 /
+        # 1280 = 427.5 (the nearest even: 428), stretched over the screen.
+        assert p.evaluate("frost.canvasSize()") == [760, 428]
+        pane = p.evaluate("frost.paneCss()")
+        css = lambda x, y: (pane["x"] + x * pane["sx"], pane["y"] + y * pane["sy"])  # noqa: E731
         p.evaluate("""([events]) => {
             const c = document.getElementById('frost');
             for (const [type, id, x, y] of events) {
@@ -426,8 +435,8 @@ def test_a_tap_is_timed_to_its_first_drawn_frost_and_growth(browser):
 
     with Page(hello(params), [], viewport=(390, 844), scale=3, browser=browser, touch=True) as page:
         p = page.page
-        pane = p.evaluate("frost.pane()")
-        p.touchscreen.tap((pane["x"] + 380 * pane["scale"]) / 3, (pane["y"] + 640 * pane["scale"]) / 3)
+        pane = p.evaluate("frost.paneCss()")
+        p.touchscreen.tap(pane["x"] + 380 * pane["sx"], pane["y"] + 640 * pane["sy"])
         p.wait_for_function("frost.watch !== null")
         counts = "[frost.frostLatencies.length, frost.latencies.length]"
         for tick, (x, y, h), ridge, want in (

@@ -137,9 +137,8 @@ def pixels(page) -> np.ndarray:
 
 def css_point(page, x: float, y: float) -> tuple[float, float]:
     """CSS px of the pane's px (x, y)."""
-    r = page.evaluate("frost.pane()")
-    dpr = PHONE["device_scale_factor"]
-    return (r["x"] + x * r["scale"]) / dpr, (r["y"] + y * r["scale"]) / dpr
+    r = page.evaluate("frost.paneCss()")
+    return r["x"] + x * r["sx"], r["y"] + y * r["sy"]
 
 
 def tap(page, x: float, y: float) -> None:

@@ -41,7 +41,6 @@ from sim.screen import HEIGHT, WIDTH
 
 PHONE = {"viewport": {"width": 390, "height": 844}, "device_scale_factor": 3,
          "has_touch": True, "is_mobile": True}
-DPR = PHONE["device_scale_factor"]
 JOIN_TICKS = 2250  # the window preset's frosted pane (docs/phone.md's snapshot: 2.12 MB)
 FINGER_SPEED = 800.0  # pane px a second: a brisk drag
 MOVE_EVERY = 1 / 60  # s between a finger's moves (a phone reports touches once a frame)
@@ -185,8 +184,8 @@ class Phone:
 
 def css_point(page, x: float, y: float) -> tuple[float, float]:
     """CSS px of the pane's px (x, y)."""
-    r = page.evaluate("frost.pane()")
-    return (r["x"] + x * r["scale"]) / DPR, (r["y"] + y * r["scale"]) / DPR
+    r = page.evaluate("frost.paneCss()")
+    return r["x"] + x * r["sx"], r["y"] + y * r["sy"]
 
 
 PINGS = """async (n) => {
@@ -259,9 +258,8 @@ def scribble(browser, s: Served, seconds: float, cpu_slowdown: float = 1.0) -> d
         hellos = page.evaluate("frost.hellos")
         page.evaluate("__probe.frames = []; __probe.ticks = []; __probe.handled = []; __probe.resyncs = 0")
         start_tick = server_tick(s)
-        r = page.evaluate("frost.pane()")
-        css = lambda x, y: {"x": (r["x"] + x * r["scale"]) / DPR,  # noqa: E731
-                            "y": (r["y"] + y * r["scale"]) / DPR, "id": 1}
+        r = page.evaluate("frost.paneCss()")
+        css = lambda x, y: {"x": r["x"] + x * r["sx"], "y": r["y"] + y * r["sy"], "id": 1}  # noqa: E731
         t0, down, sent, skipped = time.monotonic(), False, 0, 0
         for when, x, y in strokes(seconds):
             late = time.monotonic() - t0 - when

@@ -161,10 +161,9 @@ def run(out: str | None, angle: str, launch) -> int:
         print(f"the light's lag behind a 45 degree step of the sensor, to 90 % ({STEPS} steps; "
               f"the low-pass alone: {tau * np.log(10):.0f} ms):")
         print_lag("clear glass (frames as cheap as the screen's rate)", *lag(first, cdp))
-        r = first.evaluate("frost.pane()")
+        r = first.evaluate("frost.paneCss()")
         for x, y in TAPS:
-            dpr = PHONES[0][2]
-            first.touchscreen.tap((r["x"] + x * r["scale"]) / dpr, (r["y"] + y * r["scale"]) / dpr)
+            first.touchscreen.tap(r["x"] + x * r["sx"], r["y"] + y * r["sy"])
             first.wait_for_timeout(150)
         first.wait_for_timeout(GROW_S * 1000)
         first.click("#open")

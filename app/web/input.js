@@ -6,7 +6,7 @@
 export const FINGERS = 32;
 
 export class Pointers {
-  // canvas: the element; paneRect(): where the 760x1280 pane lies on it, device px;
+  // canvas: the element; paneRect(): where the 760x1280 pane lies on it, canvas px;
   // send(message): to the server.
   constructor(canvas, paneRect, send, size = [760, 1280]) {
     this.canvas = canvas;
@@ -32,10 +32,11 @@ export class Pointers {
   // Screen px (y down) of an event, or null off the pane.
   point(event, clamp = false) {
     const box = this.canvas.getBoundingClientRect();
-    const dpr = this.canvas.width / (box.width || 1);
+    // (canvas px per CSS px each way: a canvas's rounded size stretches it a hair)
+    const kx = this.canvas.width / (box.width || 1), ky = this.canvas.height / (box.height || 1);
     const r = this.paneRect();
-    let x = ((event.clientX - box.left) * dpr - r.x) / r.scale;
-    let y = ((event.clientY - box.top) * dpr - r.y) / r.scale;
+    let x = ((event.clientX - box.left) * kx - r.x) / r.scale;
+    let y = ((event.clientY - box.top) * ky - r.y) / r.scale;
     const [w, h] = this.size;
     if (clamp) {
       x = Math.min(Math.max(x, 0), w - 0.01);

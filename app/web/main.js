@@ -7,7 +7,7 @@ import { Pointers } from "./input.js";
 import { Menu } from "./menu.js";
 import { withText } from "./png.js";
 import { makeApp } from "./makeapp.js";
-import { paneRect as fitPane, visiblePane } from "./fit.js";
+import { canvasScale, paneRect as fitPane, visiblePane } from "./fit.js";
 import { PhoneApp } from "./phone.js";
 import { Clock, isClock } from "./clock.js";
 import { rememberBackdrop, showOffline } from "./offline.js";
@@ -251,15 +251,19 @@ function onKey(event) {
 
 // ---- drawing -------------------------------------------------------------------------
 
-// Where the 760x1280 pane lies on the canvas, device px: covering it, centred, cropped
+// Where the 760x1280 pane lies on the canvas, canvas px (fitCanvas): covering it, centred, cropped
 // (state.fit "fill"), or whole and letterboxed ("pane"); fit.js.
 function paneRect() {
   return fitPane(canvas.width, canvas.height, state.fit, SCREEN);
 }
 
 function fitCanvas() {
-  const dpr = window.devicePixelRatio || 1;
-  const w = Math.round(canvas.clientWidth * dpr), h = Math.round(canvas.clientHeight * dpr);
+  const cw = canvas.clientWidth, ch = canvas.clientHeight, dpr = window.devicePixelRatio || 1;
+  const k = canvasScale(cw, ch, dpr, state.fit, SCREEN);
+  // At a canvas px a pane px, even sizes (as the pane's) leave the pane's crop or bars the
+  // same each side: centred to the px.
+  const even = k < dpr ? 2 : 1;
+  const w = Math.max(even * Math.round(cw * k / even), 1), h = Math.max(even * Math.round(ch * k / even), 1);
   if (canvas.width !== w || canvas.height !== h) {
     canvas.width = w;
     canvas.height = h;
@@ -301,7 +305,7 @@ function frame() {
   requestAnimationFrame(frame);
 }
 
-// The pane's texture drawn into the canvas's rect (device px, y down), black around it.
+// The pane's texture drawn into the canvas's rect (canvas px, y down), black around it.
 class Blitter {
   constructor(gl, sources) {
     this.gl = gl;
@@ -408,6 +412,14 @@ state.framePixels = () => {
 
 state.canvasSize = () => [canvas.width, canvas.height];
 state.pane = paneRect;
+// Where the pane lies in CSS px (the page's client coordinates): {x, y, w, h, sx, sy}, sx
+// and sy CSS px per pane px (a rounded canvas may be stretched a hair more one way).
+state.paneCss = () => {
+  const r = paneRect(), box = canvas.getBoundingClientRect();
+  const kx = box.width / canvas.width, ky = box.height / canvas.height;
+  return { x: box.left + r.x * kx, y: box.top + r.y * ky, w: r.w * kx, h: r.h * ky,
+    sx: r.scale * kx, sy: r.scale * ky };
+};
 
 // Frame times (ms) of `n` full frames at 760x1280, each waited for (a 1-pixel read).
 state.frameTimes = (n) => {
