@@ -165,13 +165,16 @@ def test_the_height_texture_holds_heights_and_slopes_as_numpy(browser, grown):
 
 
 def test_a_page_reconnects_and_holds_what_the_new_connection_gives(browser, grown):
-    """The socket closes after the whole frost; the page reconnects (after its backoff)
-    and the new connection's hello and messages (half the frost) replace what it held."""
+    """The socket closes after the whole frost is drawn; the page reconnects (after its
+    backoff) and the new connection's hello and messages (half the frost) replace what it
+    held."""
     params, messages, _ = grown
     half = messages[:len(messages) // 2]
     with Page(hello(params), half, browser=browser) as page:
         want = page.pixels()
-    with Page(hello(params), messages, browser=browser, later=[half]) as page:
+    with Page(hello(params), messages, browser=browser, later=[half], hang_up=False) as page:
+        assert not np.array_equal(page.pixels(), want)  # the whole frost
+        page.socket.close(code=1001, reason="going away")
         total = len(messages) + len(half) + 2  # and two hellos
         page.page.wait_for_function(f"frost.hellos === 2 && frost.messages === {total}")
         page.page.wait_for_timeout(100)
@@ -498,3 +501,39 @@ def test_keys_reach_the_frost_again_once_the_menu_is_closed(browser):
         assert p.is_hidden("#panel")
     assert page.sent == [{"type": "pause"}, {"type": "key", "key": "SPACE"},
                          {"type": "key", "key": "3"}]
+
+
+def test_a_snapshot_is_drawn_once_whole_not_part_by_part(browser, monkeypatch):
+    """A snapshot comes in parts (a frosted pane's in three): the page draws no frame
+    while one is under way, so nobody sees half a frost (and a slow phone spends no whole
+    pane's draw on it); the last part's frame draws all of it."""
+    from app.serve import protocol
+    from sim.look.geometry import feature_scale
+
+    monkeypatch.setattr(protocol, "PART_VERTICES", 3)  # a part a triangle
+    params = Params.preset("fern")
+    cols, rows = hello(params)["grid"]
+    heights = np.zeros(cols * rows, np.float16)
+    heights[rows // 2 * cols:rows // 2 * cols + cols] = 3.0  # a ridge of ice across the pane
+    feats = np.array([[x, y, 1.0, 0, 0, 1] for x0 in (100, 300, 500)
+                      for x, y in ((x0, 600), (x0 + 40, 600), (x0, 640))], np.float32)
+    parts = protocol.Encoder(cols, rows).snapshot(7, feats, params.look, feature_scale(params),
+                                                  heights=heights)
+    assert [p[2] for p in parts] == [1 | 4, 4, 4 | 8]
+    with Page(hello(params), [], browser=browser) as page:
+        p = page.page
+        ten_frames = ("new Promise((done) => { let n = 0; const f = () => ++n < 10 ? "
+                      "requestAnimationFrame(f) : done(); requestAnimationFrame(f); })")
+        p.evaluate(ten_frames)  # (what the backdrop asked drawn)
+        frames = p.evaluate("frost.frames")
+        for part in parts[:2]:
+            page.socket.send(part)
+        p.wait_for_function(f"frost.messages === {1 + 2}")
+        p.evaluate(ten_frames)
+        assert p.evaluate("[frost.frames, frost.synced]") == [frames, False]
+        page.socket.send(parts[2])
+        p.wait_for_function(f"frost.synced && frost.frames > {frames}")
+        shown = page.pixels()
+    with Page(hello(params), parts, browser=browser) as whole:
+        assert np.array_equal(shown, whole.pixels())
+    assert shown.std() > 0  # (not a blank pane)

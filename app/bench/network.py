@@ -59,10 +59,17 @@ PROBE = """(() => {
   window.requestAnimationFrame = (callback) => raf((t) => {
     const before = window.frost ? window.frost.frames : 0, t0 = performance.now();
     try { callback(t); } finally {
-      const f = window.frost, t1 = performance.now();
+      const f = window.frost;
+      let t1 = performance.now();
       if (f && f.frames > before) {
         probe.frames.push([t0, t1 - t0, f.tick]);
-        if (f.synced && probe.synced === null) probe.synced = t1;
+        if (f.synced && probe.synced === null) {
+          // The first frame drawn synced, waited for: WebGL only queues its work, so a
+          // frame's callback ends long before a whole pane is drawn (a 1-px read waits).
+          const gl = document.getElementById("frost").getContext("webgl2");
+          gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+          probe.synced = t1 = performance.now();
+        }
         if (f.shownBackdrop && f.shownBackdrop !== backdrop) {  // drawn in this frame
           backdrop = f.shownBackdrop;
           probe.shown.push([backdrop, now()]);

@@ -7,7 +7,7 @@ import { Pointers } from "./input.js";
 import { Menu } from "./menu.js";
 import { withText } from "./png.js";
 import { makeApp } from "./makeapp.js";
-import { canvasScale, paneRect as fitPane, visiblePane } from "./fit.js";
+import { FITS, canvasScale, paneRect as fitPane, prefs, visiblePane } from "./fit.js";
 import { PhoneApp } from "./phone.js";
 import { Clock, isClock } from "./clock.js";
 import { rememberBackdrop, showOffline } from "./offline.js";
@@ -20,17 +20,24 @@ const token = new URLSearchParams(location.search).get("token");
 const query = token ? `?token=${encodeURIComponent(token)}` : "";
 
 const canvas = document.getElementById("frost");
-const gl = canvas.getContext("webgl2", {
-  alpha: false, antialias: false, depth: false, premultipliedAlpha: false, preserveDrawingBuffer: true,
-});
 
 // What the page knows; `window.frost` exposes it to the tests and the bench.
 const state = {
   hello: null, renderer: null, tick: 0, connected: false, synced: false, dirty: true,
   messages: 0, bytes: 0, hellos: 0, lost: 0, watch: null, latencies: [], frostLatencies: [], backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
+  early: [], stopped: false, midSnapshot: false, fit: prefs.get("fit", "fill", FITS),
 };
 window.frost = state;
 state.clock = new Clock();
+
+// The socket first, before the GL context and the shaders (a few hundred ms on a slow
+// phone): the server writes this page's hello and snapshot meanwhile. What comes waits in
+// state.early, in order, until main() can draw it.
+connect(RETRY_FIRST);
+
+const gl = canvas.getContext("webgl2", {
+  alpha: false, antialias: false, depth: false, premultipliedAlpha: false, preserveDrawingBuffer: true,
+});
 
 function status(text) {
   document.getElementById("status").textContent = text;
@@ -45,6 +52,9 @@ function notice(text) {
 
 async function main() {
   if (!gl) {
+    state.stopped = true;
+    state.early = null;
+    if (state.socket) state.socket.close(1000, "page: no WebGL2");
     status("This browser has no WebGL2.");
     state.error = "no WebGL2";
     return;
@@ -76,7 +86,12 @@ async function main() {
     state.backdrop = state.shownBackdrop = null;
     if (state.socket) state.socket.close(4001, "page: the GPU context was restored");
   });
-  connect(RETRY_FIRST);
+  // What came while the page got ready, from the socket open now (a closed one's is gone).
+  const early = state.early;
+  state.early = null;
+  for (const [ws, event] of early) {
+    if (ws === state.socket) receive(ws, event);
+  }
   requestAnimationFrame(frame);
 }
 
@@ -91,30 +106,16 @@ function connect(retry) {
   let opened = false;
   ws.onopen = () => { retry = RETRY_FIRST; opened = true; };
   ws.onmessage = (event) => {
-    state.messages += 1;
-    if (typeof event.data === "string") return onText(JSON.parse(event.data));
-    state.bytes += event.data.byteLength;
-    if (isClock(event.data)) return void state.clock.receive(event.data, state).catch((err) => console.error(err));
-    if (!state.renderer || gl.isContextLost()) return;
-    try {
-      const delta = decodeDelta(event.data);
-      state.renderer.apply(delta);
-      state.tick = delta.tick;
-      const w = state.watch;
-      if (w && !w.frost) w.frost = grewNear(delta, w, true);
-      if (w && !w.seen) w.seen = grewNear(delta, w, false);
-      if (delta.snapshotEnd) state.synced = true;
-    } catch (err) {
-      // What the page holds is no longer the server's: start again from a snapshot.
-      console.error(err);
-      ws.close(4000, `page: ${err.message}`.slice(0, 120));
-    }
+    if (state.early) state.early.push([ws, event]);
+    else receive(ws, event);
   };
   ws.onclose = (event) => {
     state.connected = false;
-    state.phone.connected(false);
+    state.midSnapshot = false;
+    if (state.phone) state.phone.connected(false);
     state.synced = false;
     state.socket = null;
+    if (state.stopped) return;
     if (event.code === 1008 || event.code === 1009 || event.code === 4403) {
       status(`refused: ${event.reason || event.code}`);
     } else if (!opened && !event.reason) {  // gone (the page may have opened from the cache)
@@ -125,6 +126,29 @@ function connect(retry) {
     }
     setTimeout(() => connect(Math.min(retry * 2, RETRY_MOST)), retry);
   };
+}
+
+// A message of socket `ws`, once the page can draw.
+function receive(ws, event) {
+  state.messages += 1;
+  if (typeof event.data === "string") return onText(JSON.parse(event.data));
+  state.bytes += event.data.byteLength;
+  if (isClock(event.data)) return void state.clock.receive(event.data, state).catch((err) => console.error(err));
+  if (!state.renderer || gl.isContextLost()) return;
+  try {
+    const delta = decodeDelta(event.data);
+    state.renderer.apply(delta);
+    state.tick = delta.tick;
+    const w = state.watch;
+    if (w && !w.frost) w.frost = grewNear(delta, w, true);
+    if (w && !w.seen) w.seen = grewNear(delta, w, false);
+    if (delta.snapshotEnd) state.synced = true;
+    state.midSnapshot = delta.snapshot && !delta.snapshotEnd;
+  } catch (err) {
+    // What the page holds is no longer the server's: start again from a snapshot.
+    console.error(err);
+    ws.close(4000, `page: ${err.message}`.slice(0, 120));
+  }
 }
 
 function send(message) {
@@ -281,7 +305,9 @@ function drawPane(all = false) {
 function frame() {
   fitCanvas();
   if (state.renderer && state.serverLight) state.phone.frame(state.renderer, state.serverLight);
-  if (state.renderer) drawPane();
+  // (a snapshot comes in parts: the pane is drawn once it is whole, not half drawn first,
+  // a whole pane's draw spent on a frame the next part replaces)
+  if (state.renderer && !state.midSnapshot) drawPane();
   if (state.renderer && (state.dirty || state.blitDamage)) {
     state.blitter.draw(state.renderer.frame, paneRect(), state.dirty ? null : state.blitDamage);
     state.dirty = false;
