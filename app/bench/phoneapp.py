@@ -86,9 +86,14 @@ def tilt(cdp, beta: float, gamma: float = 0.0) -> None:
     cdp.send("DeviceOrientation.setDeviceOrientationOverride", {"alpha": 0, "beta": beta, "gamma": gamma})
 
 
-def settle(page, right: float, up: float) -> None:
-    page.wait_for_function(f"frost.phone.tilt.drawn[0] === {right} && frost.phone.tilt.drawn[1] === {up}"
-                           " && !frost.renderer.damage.any", timeout=30_000)
+def settle(page, beta: float, gamma: float) -> None:
+    """Wait for the sensor's reading (beta, gamma) and the light drawn at the tilt the page's
+    maths makes of it (tilt.js's screenTilt: a turn of gamma at a pose of beta tilts the
+    screen less than gamma), every tile drawn."""
+    page.wait_for_function(
+        f"(t => t.reading && t.reading.beta === {beta} && t.reading.gamma === {gamma}"
+        " && t.drawn[0] === t.target()[0] && t.drawn[1] === t.target()[1])(frost.phone.tilt)"
+        " && !frost.renderer.damage.any", timeout=30_000)
 
 
 def shading(page, cdp, backdrop: np.ndarray) -> list[tuple[str, float, int, float]]:
@@ -97,22 +102,22 @@ def shading(page, cdp, backdrop: np.ndarray) -> list[tuple[str, float, int, floa
     rest = 50.0
     tilt(cdp, rest)
     page.wait_for_function(f"frost.phone.tilt.rest && frost.phone.tilt.rest.beta === {rest}")
-    settle(page, 0, 0)
+    settle(page, rest, 0)
     before = frame(page)
     ice = np.abs(before - backdrop).max(axis=2) > 0
     pad = np.pad(ice, 1)
     near = np.any([pad[1 + dy:pad.shape[0] - 1 + dy, 1 + dx:pad.shape[1] - 1 + dx]
                    for dy in (-1, 0, 1) for dx in (-1, 0, 1)], axis=0)
     out = []
-    ways = (("top lifted", rest + 45, 0, 0, 45), ("top lowered", rest - 45, 0, 0, -45),
-            ("left lifted", rest, 45, -45, 0), ("right lifted", rest, -45, 45, 0))
-    for name, beta, gamma, right, up in ways:
+    ways = (("top lifted", rest + 45, 0), ("top lowered", rest - 45, 0),
+            ("left lifted", rest, 45), ("right lifted", rest, -45))
+    for name, beta, gamma in ways:
         tilt(cdp, beta, gamma)
-        settle(page, right, up)
+        settle(page, beta, gamma)
         changed = np.abs(frame(page) - before).max(axis=2) > 0
         out.append((name, float(changed[ice].mean()), int(changed[~near].sum()), float(ice.mean())))
         tilt(cdp, rest)
-        settle(page, 0, 0)
+        settle(page, rest, 0)
     return out
 
 
@@ -124,13 +129,12 @@ def lag(page, cdp) -> tuple[np.ndarray, np.ndarray]:
     rest = 50.0
     tilt(cdp, rest)
     page.wait_for_function(f"frost.phone.tilt.rest && frost.phone.tilt.rest.beta === {rest}")
-    settle(page, 0, 0)
+    settle(page, rest, 0)
     for i in range(STEPS):
         up = 45.0 if i % 2 == 0 else 0.0
         page.evaluate("frost.phone.trace = []")
         tilt(cdp, rest + up)
-        page.wait_for_function(f"frost.phone.tilt.reading.beta === {rest + up}")
-        settle(page, 0, up)
+        settle(page, rest + up, 0)
         trace, t0 = page.evaluate("[frost.phone.trace, frost.phone.tilt.reading.t]")
         page.evaluate("frost.phone.trace = null")
         start = 45.0 - up
