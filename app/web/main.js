@@ -175,6 +175,8 @@ async function onText(msg) {
     } else {
       r.reset();  // the snapshot that follows holds the whole frost
     }
+    // Nothing is drawn until it is whole (what the page showed stays meanwhile).
+    state.midSnapshot = true;
     state.backdrop = null;
   }
   if (msg.type === "hello" || msg.type === "state") {
@@ -295,9 +297,12 @@ function fitCanvas() {
   }
 }
 
-// Draw what changed into the pane's texture; the canvas is told of it at the next frame.
-function drawPane(all = false) {
-  const d = state.renderer.render(all);
+// Draw what changed into the pane's texture, where the screen shows it (`whole`: all of
+// it); the canvas is told of it at the next frame.
+function drawPane(all = false, whole = false) {
+  // (a px more each way: a scaled blit's filter reaches past the last px shown)
+  const [x0, y0, x1, y1] = visiblePane(paneRect(), canvas.width, canvas.height, SCREEN);
+  const d = state.renderer.render(all, whole ? null : [x0 - 2, y0 - 2, x1 + 2, y1 + 2]);
   const b = state.blitDamage;
   if (d) state.blitDamage = b ? [Math.min(b[0], d[0]), Math.min(b[1], d[1]), Math.max(b[2], d[2]), Math.max(b[3], d[3])] : d;
 }
@@ -429,7 +434,7 @@ state.screenshotPng = screenshotPng;
 
 // The pane's pixels now (RGBA, top row first) as base64: for the tests and the bench.
 state.framePixels = () => {
-  drawPane();
+  drawPane(false, true);
   const px = state.renderer.readFrame();
   let s = "";
   for (let i = 0; i < px.length; i += 0x8000) s += String.fromCharCode(...px.subarray(i, i + 0x8000));

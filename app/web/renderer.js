@@ -114,6 +114,9 @@ export class Renderer {
     this.background = texture(gl, width, height, gl.RGB8, gl.NEAREST);
     this.grid = new Float32Array(grid[0] * grid[1]);  // mirror of the heights, row-major
     this.texels = new Uint16Array(grid[0] * grid[1] * 3);  // mirror of the height texture
+    // The same bytes as half floats, where the browser has them (rounded to nearest even,
+    // as floatToHalf: a third of the time for a whole grid)
+    this.halves = typeof Float16Array === "function" ? new Float16Array(this.texels.buffer) : null;
     this.heights = texture(gl, grid[0], grid[1], gl.RGB16F, gl.LINEAR);
     this.features = new FeatureLayer(gl, sources, this.size, maxDepth);
     this.backgroundProg = new Program(gl, sources, "fullscreen.vert", "background.frag");
@@ -232,7 +235,9 @@ export class Renderer {
         r = end;
       }
     }
-    this.tiles.markTriangles(delta.features, (x0, y0, x1, y1) => this.addDamage(x0 - 1, y0 - 1, x1 + 1, y1 + 1));
+    // (each triangle's box is damaged, unless everything is already: a snapshot's)
+    this.tiles.markTriangles(delta.features, this.damage.all ? null
+      : (x0, y0, x1, y1) => this.addDamage(x0 - 1, y0 - 1, x1 + 1, y1 + 1));
     this.features.append(delta.features);
   }
 
@@ -246,16 +251,24 @@ export class Renderer {
     if (hi <= lo) return;
     const g = this.grid, h = this.spacing;
     const at = (r, c) => g[r * cols + c];
-    const texels = this.texels;
+    const texels = this.texels, halves = this.halves;
     const fr = Math.fround;
     for (let r = lo; r < hi; r++) {
       const [ra, rb, dy] = r === 0 ? [0, 1, h] : r === rows - 1 ? [r - 1, r, h] : [r - 1, r + 1, 2 * h];
       for (let c = 0; c < cols; c++) {
         const [ca, cb, dx] = c === 0 ? [0, 1, h] : c === cols - 1 ? [c - 1, c, h] : [c - 1, c + 1, 2 * h];
         const o = (r * cols + c) * 3;
-        texels[o] = floatToHalf(at(r, c));
-        texels[o + 1] = floatToHalf(fr(fr(at(r, cb) - at(r, ca)) / dx));
-        texels[o + 2] = floatToHalf(fr(fr(at(rb, c) - at(ra, c)) / dy));
+        // (each a float32 first, as the desktop's numpy: then one rounding to a half)
+        const v = at(r, c), sx = fr(fr(at(r, cb) - at(r, ca)) / dx), sy = fr(fr(at(rb, c) - at(ra, c)) / dy);
+        if (halves) {
+          halves[o] = v;
+          halves[o + 1] = sx;
+          halves[o + 2] = sy;
+        } else {
+          texels[o] = floatToHalf(v);
+          texels[o + 1] = floatToHalf(sx);
+          texels[o + 2] = floatToHalf(sy);
+        }
       }
     }
     gl.bindTexture(gl.TEXTURE_2D, this.heights);
@@ -266,22 +279,29 @@ export class Renderer {
 
   // Clear glass: no heights, no features.
   reset() {
+    // (a flat grid: every height and slope is 0, no rows to work out)
     this.grid.fill(0);
-    this.uploadRows(0, this.gridSize[1]);
+    this.texels.fill(0);
+    const gl = this.gl;
+    gl.bindTexture(gl.TEXTURE_2D, this.heights);
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+    gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, ...this.gridSize, gl.RGB, gl.HALF_FLOAT, this.texels);
     this.features.clear();
     this.tiles.clear();
     this.damageAll();
   }
 
   // Draw what changed since the last frame into the frame texture (`all`: everything);
-  // the box drawn ([x0, y0, x1, y1] px, y down), or null if nothing changed. Only the
-  // changed tiles are drawn (each pass one instanced draw: SwiftShader pays for every draw
+  // the box drawn ([x0, y0, x1, y1] px, y down), or null if nothing changed. With `view`
+  // (a px box, y down: what the screen shows of the pane), what changed outside it waits
+  // until the screen shows it (a phone's covering pane crops a fifth of it, in landscape
+  // three quarters). Only the changed tiles are drawn (each pass one instanced draw: SwiftShader pays for every draw
   // call and every quad, so neither a scissored pass per place nor the pane's every tile).
-  render(all = false) {
+  render(all = false, view = null) {
     const gl = this.gl;
     if (all) this.damageAll();
     this.features.drawQueued();
-    const d = this.damage.take();
+    const d = this.damage.take(view);
     if (!d) return null;
     gl.bindFramebuffer(gl.FRAMEBUFFER, this.frameFbo);
     gl.viewport(0, 0, ...this.size);
@@ -493,29 +513,53 @@ export class TileDamage {
     this.any = true;
   }
 
-  // What to draw, and none left: null (nothing), {tiles: null} (everything) or {tiles: the
-  // mask}, with the box ([x0, y0, x1, y1] px, y down) they span.
-  take() {
-    const [w, h] = this.size;
-    if (this.all) {
+  // What to draw: null (nothing), {tiles: null} (everything) or {tiles: the mask}, with
+  // the box ([x0, y0, x1, y1] px, y down) they span. With `view` (a px box, y down), only
+  // the tiles it touches are taken: the rest stay, for when the screen shows them.
+  take(view = null) {
+    const [w, h] = this.size, t = this.tile;
+    const whole = !view || (view[0] <= 0 && view[1] <= 0 && view[2] >= w && view[3] >= h);
+    if (this.all && whole) {
       this.all = this.any = false;
       this.mask.fill(0);
       return { tiles: null, box: [0, 0, w, h] };
     }
+    if (this.all) {
+      this.mask.fill(1);
+      this.all = false;
+      this.any = true;
+    }
     if (!this.any) return null;
-    const box = [w, h, 0, 0], t = this.tile;
-    for (let i = 0; i < this.mask.length; i++) {
-      if (!this.mask[i]) continue;
+    let tiles = this.mask;
+    if (whole) {
+      this.mask = new Uint8Array(tiles.length);
+      this.any = false;
+    } else {
+      const tx0 = Math.floor(view[0] / t), ty0 = Math.floor(view[1] / t);
+      const tx1 = Math.ceil(view[2] / t), ty1 = Math.ceil(view[3] / t);
+      tiles = new Uint8Array(tiles.length);
+      this.any = false;
+      for (let i = 0; i < tiles.length; i++) {
+        if (!this.mask[i]) continue;
+        const c = i % this.cols, r = Math.floor(i / this.cols);
+        if (c >= tx0 && c < tx1 && r >= ty0 && r < ty1) {
+          tiles[i] = 1;
+          this.mask[i] = 0;
+        } else {
+          this.any = true;
+        }
+      }
+    }
+    const box = [w, h, 0, 0];
+    for (let i = 0; i < tiles.length; i++) {
+      if (!tiles[i]) continue;
       const x = (i % this.cols) * t, y = Math.floor(i / this.cols) * t;
       box[0] = Math.min(box[0], x);
       box[1] = Math.min(box[1], y);
       box[2] = Math.max(box[2], Math.min(x + t, w));
       box[3] = Math.max(box[3], Math.min(y + t, h));
     }
-    const tiles = this.mask;
-    this.mask = new Uint8Array(tiles.length);
-    this.any = false;
-    return { tiles, box };
+    return box[2] > box[0] ? { tiles, box } : null;
   }
 }
 
@@ -559,20 +603,21 @@ export class TileSet {
 
   // Mark the tiles under each triangle's bounding box (vertices of 6 floats, 3 a triangle).
   // (`each(x0, y0, x1, y1)` is told every box too.)
-  markTriangles(verts, each = () => {}) {
+  markTriangles(verts, each = null) {
     for (let t = 0; t + 18 <= verts.length; t += 18) {
-      const xs = [verts[t], verts[t + 6], verts[t + 12]];
-      const ys = [verts[t + 1], verts[t + 7], verts[t + 13]];
-      const box = [Math.min(...xs), Math.min(...ys), Math.max(...xs), Math.max(...ys)];
-      this.markBox(...box);
-      each(...box);
+      const ax = verts[t], bx = verts[t + 6], cx = verts[t + 12];
+      const ay = verts[t + 1], by = verts[t + 7], cy = verts[t + 13];
+      const x0 = Math.min(ax, bx, cx), y0 = Math.min(ay, by, cy);
+      const x1 = Math.max(ax, bx, cx), y1 = Math.max(ay, by, cy);
+      this.markBox(x0, y0, x1, y1);
+      if (each) each(x0, y0, x1, y1);
     }
   }
 
   markBox(x0, y0, x1, y1) {
-    const clip = (v, n) => Math.min(Math.max(Math.floor(v / this.tile), 0), n - 1);
-    const tx0 = clip(x0, this.cols), tx1 = clip(x1, this.cols);
-    const ty0 = clip(y0, this.rows), ty1 = clip(y1, this.rows);
+    const t = this.tile, cols = this.cols, rows = this.rows;
+    const tx0 = Math.min(Math.max(Math.floor(x0 / t), 0), cols - 1), tx1 = Math.min(Math.max(Math.floor(x1 / t), 0), cols - 1);
+    const ty0 = Math.min(Math.max(Math.floor(y0 / t), 0), rows - 1), ty1 = Math.min(Math.max(Math.floor(y1 / t), 0), rows - 1);
     for (let ty = ty0; ty <= ty1; ty++) {
       for (let tx = tx0; tx <= tx1; tx++) {
         const i = ty * this.cols + tx;
