@@ -351,6 +351,32 @@ def test_what_the_screen_does_not_show_is_drawn_when_it_does(browser, grown):
     assert whole[inside].std() > 0  # (the frost is in the view)
 
 
+def test_the_programs_warmed_while_a_snapshot_comes_leave_no_trace(browser, grown):
+    """Between the hello and its snapshot the page runs each program of the hello's look
+    once (SwiftShader builds a program's code at its first draw), on a px it then wipes: the
+    frost drawn after is the same, px for px, as a page's that never waited."""
+    params, messages, _ = grown
+    with Page(hello(params), messages, browser=browser) as page:
+        want = page.pixels()
+    with Page(hello(params), [], browser=browser, hang_up=False) as page:
+        p = page.page
+        p.wait_for_function("frost.warm === null")
+        assert p.evaluate("Object.keys(frost.renderer.iceProgs)") == [params.look]
+        corner = p.evaluate("""() => {  // the features' texture where the warming drew
+            const r = frost.renderer, gl = r.gl, out = new Uint8Array(8 * 8 * 4);
+            gl.bindFramebuffer(gl.FRAMEBUFFER, r.features.fbo);
+            gl.readPixels(0, r.size[1] - 8, 8, 8, gl.RGBA, gl.UNSIGNED_BYTE, out);
+            gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+            return Array.from(out); }""")
+        assert not any(corner)
+        for m in messages:
+            page.socket.send(m)
+        p.wait_for_function(f"frost.messages === {len(messages) + 1} && frost.frames > 1"
+                            " && !frost.blitDamage")
+        got = page.pixels()
+    assert np.array_equal(got, want)
+
+
 def test_a_snapshots_features_alone_are_drawn(browser):
     """A snapshot of features on clear glass (no height anywhere): each triangle's tiles
     hold ice, so the ice pass draws it (everything is damaged by the snapshot's reset, but

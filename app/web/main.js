@@ -172,6 +172,7 @@ async function onText(msg) {
       state.renderer = new Renderer(gl, state.sources, { width: SCREEN[0], height: SCREEN[1], grid: msg.grid,
         spacing: msg.spacing, tile: msg.tile, maxDepth: msg.max_depth });
       if (msg.defines) state.renderer.setDefines(msg.defines);
+      state.warm = msg.look;  // (at the next frame: the snapshot is on its way)
     } else {
       r.reset();  // the snapshot that follows holds the whole frost
     }
@@ -312,6 +313,11 @@ function frame() {
   if (state.renderer && state.serverLight) state.phone.frame(state.renderer, state.serverLight);
   // (a snapshot comes in parts: the pane is drawn once it is whole, not half drawn first,
   // a whole pane's draw spent on a frame the next part replaces)
+  if (state.renderer && state.warm) {
+    const look = state.warm in state.renderer.defines.ice ? state.warm : "paper";
+    state.warm = null;
+    if (state.midSnapshot) state.renderer.warm(look);
+  }
   if (state.renderer && !state.midSnapshot) drawPane();
   if (state.renderer && (state.dirty || state.blitDamage)) {
     state.blitter.draw(state.renderer.frame, paneRect(), state.dirty ? null : state.blitDamage);

@@ -339,6 +339,40 @@ export class Renderer {
     gl.disable(gl.BLEND);
   }
 
+  // Each pass's program for `look` run once, on a px: a GPU that builds a program's code at
+  // its first draw (SwiftShader does: tens of ms for each, the ice's the most) builds it
+  // now, while the snapshot is on its way, not in the frame that shows it. The feature
+  // drawn is wiped; the frame's px is drawn again with the rest (a new renderer's reset
+  // damaged everything, and nothing is drawn until the snapshot is in).
+  warm(look) {
+    const gl = this.gl;
+    this.features.warm(look);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, this.frameFbo);
+    gl.viewport(0, 0, ...this.size);
+    gl.enable(gl.SCISSOR_TEST);
+    gl.scissor(0, 0, 1, 1);
+    gl.disable(gl.BLEND);
+    bindTexture(gl, 0, this.background);
+    this.backgroundProg.use({ u_background: 0, u_screen: this.size });
+    gl.bindVertexArray(this.emptyArray);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    const one = new Uint8Array(this.tiles.mask.length);
+    one[0] = 1;
+    this.backgroundTiles ||= new Program(gl, this.sources, "tile.vert", "background.frag");
+    this.backgroundTiles.use({ u_background: 0, u_screen: this.size, u_tile: this.tile });
+    this.tiles.renderSome(this.backgroundTiles, one, false);
+    bindTexture(gl, 1, this.heights);
+    bindTexture(gl, 2, this.features.texture);
+    const ice = this.iceProgram(look);
+    ice.use(this.iceUniforms());
+    gl.enable(gl.BLEND);
+    gl.blendFunc(gl.ONE, gl.ONE_MINUS_SRC_ALPHA);
+    this.tiles.renderSome(ice, one, false);
+    gl.disable(gl.BLEND);
+    gl.disable(gl.SCISSOR_TEST);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+  }
+
   iceProgram(look) {
     if (!(look in this.iceProgs)) {
       this.iceProgs[look] = new Program(this.gl, this.sources, "tile.vert", "ice.frag", this.defines.ice[look]);
@@ -470,6 +504,16 @@ export class FeatureLayer {
     gl.bindVertexArray(null);
     gl.disable(gl.DEPTH_TEST);
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+  }
+
+  // Its program for `look` run once (Renderer.warm): a triangle drawn, then wiped.
+  warm(look) {
+    const saved = [this.look, this.pending];
+    this.look = look;
+    this.pending = [new Float32Array([0, 0, 1, 0, 0, 1, 4, 0, 1, 0, 0, 1, 0, 4, 1, 0, 0, 1])];  // (1 px high: it passes the depth test)
+    this.drawQueued();
+    [this.look, this.pending] = saved;
+    this.clearBox(0, 0, ...this.size);
   }
 
   program(look) {
