@@ -283,6 +283,72 @@ def difference_image(a: np.ndarray, b: np.ndarray, gain: float = 8.0) -> np.ndar
     return np.clip(d * gain, 0, 255).astype(np.uint8)
 
 
+SNAPSHOT_WORK = """async ([parts, n, phones]) => {
+  const proto = await import("./web/protocol.js");
+  const fit = await import("./web/fit.js");
+  const r = frost.renderer, gl = r.gl, one = new Uint8Array(4);
+  const buffers = parts.map((b64) => Uint8Array.from(atob(b64), (c) => c.charCodeAt(0)).buffer);
+  const wait = () => {  // (WebGL only queues its work: a 1-px read waits for all of it)
+    gl.bindFramebuffer(gl.FRAMEBUFFER, r.frameFbo);
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+  };
+  const timed = (f) => { wait(); const t0 = performance.now(); f(); wait(); return performance.now() - t0; };
+  // What a covering pane shows of itself on each phone's screen (CSS px; pane px).
+  const views = phones.map(([w, h]) => fit.visiblePane(fit.paneRect(w, h, "fill"), w, h));
+  const out = { apply: [], features: [], whole: [], views: views.map(() => []), shown: views };
+  for (let i = 0; i < n; i++) {
+    out.apply.push(timed(() => { for (const b of buffers) r.apply(proto.decodeDelta(b)); }));
+    out.features.push(timed(() => r.features.drawQueued()));
+    out.whole.push(timed(() => r.render(true)));
+    views.forEach((v, k) => out.views[k].push(timed(() => r.render(true, v))));
+  }
+  return out;
+}"""
+PHONES = {"portrait 390x844": (390, 844), "landscape 844x390": (844, 390)}
+
+
+def snapshot_work(n: int, ticks: int, angle: str) -> int:
+    """`--snapshot-work N`: the window pane grown `ticks` ticks by the simulation alone,
+    its snapshot (as frost serve draws one for a late join) given to the page N times, each
+    step's time printed (ms, waited for on the GPU)."""
+    import base64
+
+    from playwright.sync_api import sync_playwright
+
+    from app.serve.protocol import Encoder
+    from sim.io.timeline import Timeline
+    from sim.look.geometry import IceCopy, feature_scale, live_features
+
+    params = Params.preset("window")
+    timeline = Timeline(params, 0, WIDTH, HEIGHT)
+    for _ in range(ticks):
+        timeline.step()
+    g = timeline.geometry
+    features = live_features(IceCopy.of(timeline.sim), params)
+    parts = Encoder(g.cols, g.rows).snapshot(ticks, features, params.look, feature_scale(params),
+                                             heights=g.heights.ravel().astype(np.float16))
+    print(f"window, {params.look}, tick {ticks}: a snapshot of {sum(map(len, parts)) / 1e6:.2f} MB "
+          f"in {len(parts)} parts, {len(features) // 3} triangles; each step {n} times, "
+          "waited for on the GPU (a 1-px read)")
+    with sync_playwright() as pw:
+        browser = launch(pw, angle)
+        with Page(hello(params), [], viewport=PHONES["portrait 390x844"], scale=3, touch=True,
+                  browser=browser) as page:
+            got = page.page.evaluate(SNAPSHOT_WORK, [[base64.b64encode(p).decode() for p in parts],
+                                                     n, list(PHONES.values())])
+        browser.close()
+    stat = lambda ms: f"median {np.median(ms):.1f} ms, p99 {np.percentile(ms, 99):.1f} ms"  # noqa: E731
+    print("  applied (decoded, heights uploaded, tiles marked; the page's main thread): "
+          f"{stat(got['apply'])}")
+    print(f"  its features rasterized: {stat(got['features'])}")
+    print(f"  the whole pane drawn ({WIDTH}x{HEIGHT}): {stat(got['whole'])}")
+    for (name, _), times, (x0, y0, x1, y1) in zip(PHONES.items(), got["views"], got["shown"],
+                                                  strict=True):
+        print(f"  what a {name} phone shows drawn (pane px {x0}-{x1} x {y0}-{y1}): {stat(times)}")
+    return 0
+
+
 def main(argv: list[str] | None = None, prog: str = "python -m app.bench.page") -> int:
     p = Parser(prog=prog, description=__doc__.split("\n\n")[0])
     p.add_argument("--preset", choices=list(all_presets()), metavar="NAME",
@@ -306,6 +372,10 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.bench.page") 
                    "share of ticks it draws")
     p.add_argument("--photo", type=count, metavar="N", help="instead: N phone photos (4 MB "
                    "JPEGs, 4000x3000) chosen on one page: time until every page (two) shows it")
+    p.add_argument("--snapshot-work", type=count, metavar="N", help="instead: the page's own work on "
+                   "a late join's snapshot, N times (the window pane grown --ticks ticks by the "
+                   "simulation alone; no server): applying it, its features, the whole pane "
+                   "drawn and the part a portrait and a landscape phone shows")
     p.add_argument("--network", metavar="PROFILE", help="with --taps, --join, --scribble, --photo: the "
                    "page reaches the server through a shaping proxy: " + "; ".join(
                        x.describe() for x in PROFILES.values()) + " (default: loopback)")
@@ -328,6 +398,8 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.bench.page") 
     if problem:
         print(f"frost: error: {problem}")
         return 2
+    if args.snapshot_work:
+        return snapshot_work(args.snapshot_work, args.ticks or JOIN_TICKS, args.angle)
     if args.phone_app:
         from app.bench.phoneapp import run as phone_app
 
