@@ -196,6 +196,29 @@ def test_two_pages_see_the_same_frost_and_a_late_one_gets_it_whole():
     serve(test)
 
 
+def test_the_page_asked_for_has_its_snapshot_drawn_while_it_loads():
+    """GET / starts the snapshot that the page's socket will wait for (the page loads its
+    modules meanwhile); the socket then gets that one, not another drawn for it. A page's
+    other files start nothing."""
+    async def test(client, feed):
+        async def drawn(n):
+            for _ in range(400):
+                if feed.redraws >= n:
+                    return
+                await asyncio.sleep(0.01)
+            raise AssertionError(f"{feed.redraws} snapshots drawn, not {n}")
+
+        assert (await client.get("/web/main.js")).status == 200
+        await asyncio.sleep(0.3)
+        assert feed.redraws == 0
+        assert (await client.get("/")).status == 200
+        await drawn(1)
+        ws, page = await connect(client)
+        assert page.snapshots == 1 and feed.redraws == 1
+        await ws.close()
+    serve(test)
+
+
 def test_after_a_melt_the_late_page_still_matches():
     async def test(client, feed):
         a, pa = await connect(client)

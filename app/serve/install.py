@@ -18,7 +18,7 @@ from aiohttp import web
 from app.backdrops import BACKDROPS
 from app.resources import ASSET_DIR, SHADER_DIR
 from app.serve import routes
-from app.serve.appkeys import TOKEN
+from app.serve.appkeys import FEED, TOKEN
 
 WORKER = "sw.js"  # in the web folder: the worker's code, without its first line
 HEADER = "X-Frost-Shell"  # the shell's hash, on the page's own response
@@ -100,6 +100,13 @@ def routes_for(app: web.Application, web_dir: Path) -> None:
     async def index(request: web.Request) -> web.StreamResponse:
         response = await page(request)
         response.headers[HEADER] = await asyncio.to_thread(shell.digest)
+        # The page opens its socket once its modules are in, and the socket waits for a
+        # snapshot: drawn now, while the page loads, it is kept for the socket (as for any
+        # page within REDRAW_GAP; the feed draws one at a time, and not again while a kept
+        # one is that fresh). A page from its service worker's cache asks nothing here.
+        feed = request.app.get(FEED)
+        if feed is not None:
+            feed.ask_redraw()
         return response
 
     async def manifest_file(request: web.Request) -> web.Response:
