@@ -671,3 +671,18 @@ def test_a_snapshot_is_drawn_once_whole_not_part_by_part(browser, monkeypatch):
     with Page(hello(params), parts, browser=browser) as whole:
         assert np.array_equal(shown, whole.pixels())
     assert shown.std() > 0  # (not a blank pane)
+
+
+def test_the_snapshot_work_bench_times_each_step_of_a_late_joins_snapshot(capsys):
+    """`frost bench page --snapshot-work N` grows the window pane, gives the page its
+    snapshot N times and prints a median and p99 for each step, the landscape phone's the
+    rows its screen shows."""
+    from app.bench.page import main
+
+    assert main(["--snapshot-work", "2", "--ticks", "40"]) == 0
+    out = capsys.readouterr().out
+    assert "window, glass, tick 40: a snapshot of" in out
+    for step in ("applied", "its features rasterized", "the whole pane drawn",
+                 "portrait 390x844 phone shows drawn (pane px 84-677 x 0-1280)",
+                 "landscape 844x390 phone shows drawn (pane px 0-760 x 464-816)"):
+        assert re.search(re.escape(step) + r".*: median \d+\.\d ms, p99 \d+\.\d ms", out), step
