@@ -673,13 +673,14 @@ def test_a_snapshot_is_drawn_once_whole_not_part_by_part(browser, monkeypatch):
     assert shown.std() > 0  # (not a blank pane)
 
 
-def test_the_snapshot_work_bench_times_each_step_of_a_late_joins_snapshot(capsys):
+def test_the_snapshot_work_bench_times_each_step_of_a_late_joins_snapshot(browser, capsys):
     """`frost bench page --snapshot-work N` grows the window pane, gives the page its
     snapshot N times and prints a median and p99 for each step, the landscape phone's the
     rows its screen shows."""
-    from app.bench.page import main
+    from app.bench.page import snapshot_work
 
-    assert main(["--snapshot-work", "2", "--ticks", "40"]) == 0
+    # (in the tests' browser: a second Playwright beside it would refuse to start)
+    assert snapshot_work(2, 40, "swiftshader", browser=browser) == 0
     out = capsys.readouterr().out
     assert "window, glass, tick 40: a snapshot of" in out
     for step in ("applied", "its features rasterized", "the whole pane drawn",

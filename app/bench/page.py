@@ -308,10 +308,10 @@ SNAPSHOT_WORK = """async ([parts, n, phones]) => {
 PHONES = {"portrait 390x844": (390, 844), "landscape 844x390": (844, 390)}
 
 
-def snapshot_work(n: int, ticks: int, angle: str) -> int:
+def snapshot_work(n: int, ticks: int, angle: str, browser=None) -> int:
     """`--snapshot-work N`: the window pane grown `ticks` ticks by the simulation alone,
     its snapshot (as frost serve draws one for a late join) given to the page N times, each
-    step's time printed (ms, waited for on the GPU)."""
+    step's time printed (ms, waited for on the GPU); in `browser` (launch's) if given."""
     import base64
 
     from playwright.sync_api import sync_playwright
@@ -331,13 +331,19 @@ def snapshot_work(n: int, ticks: int, angle: str) -> int:
     print(f"window, {params.look}, tick {ticks}: a snapshot of {sum(map(len, parts)) / 1e6:.2f} MB "
           f"in {len(parts)} parts, {len(features) // 3} triangles; each step {n} times, "
           "waited for on the GPU (a 1-px read)")
-    with sync_playwright() as pw:
-        browser = launch(pw, angle)
+    def measure(browser) -> dict:
         with Page(hello(params), [], viewport=PHONES["portrait 390x844"], scale=3, touch=True,
                   browser=browser) as page:
-            got = page.page.evaluate(SNAPSHOT_WORK, [[base64.b64encode(p).decode() for p in parts],
-                                                     n, list(PHONES.values())])
-        browser.close()
+            return page.page.evaluate(SNAPSHOT_WORK, [[base64.b64encode(p).decode() for p in parts],
+                                                      n, list(PHONES.values())])
+
+    if browser is not None:
+        got = measure(browser)
+    else:
+        with sync_playwright() as pw:
+            browser = launch(pw, angle)
+            got = measure(browser)
+            browser.close()
     stat = lambda ms: f"median {np.median(ms):.1f} ms, p99 {np.percentile(ms, 99):.1f} ms"  # noqa: E731
     print("  applied (decoded, heights uploaded, tiles marked; the page's main thread): "
           f"{stat(got['apply'])}")
