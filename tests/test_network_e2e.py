@@ -52,3 +52,53 @@ def page_bytes_floor() -> int:
     from app.resources import WEB_DIR
 
     return sum(f.stat().st_size for f in WEB_DIR.glob("*.js"))
+
+
+def command_line(browser) -> list[str]:
+    """The switches `browser` was started with, as it reports them (chrome://version)."""
+    page = browser.new_page()
+    try:
+        page.goto("chrome://version")
+        return page.evaluate("document.getElementById('command_line').textContent").split()
+    finally:
+        page.close()
+
+
+def popups(browser) -> list[str]:
+    """The address bar popups (WebUI pages) the browser holds once a new window is open."""
+    context = browser.new_context()
+    try:
+        context.new_page().goto("about:blank")
+        session = browser.new_browser_cdp_session()
+        targets = session.send("Target.getTargets")["targetInfos"]
+        session.detach()
+        return [t["url"] for t in targets if "omnibox-popup" in t["url"]]
+    finally:
+        context.close()
+
+
+def test_the_bench_browser_keeps_playwrights_switches_and_has_no_address_bar_popup():
+    """Chromium keeps only the last --disable-features: the bench's browser is given one,
+    with every name Playwright's own had (read here from a browser started as Playwright
+    starts it) and the two popups' features, and it renders no popup."""
+    from playwright.sync_api import sync_playwright
+
+    from app.bench.page import CHROMIUM, QUIET_FEATURES
+
+    def disabled(switches: list[str]) -> list[list[str]]:
+        return [s.split("=", 1)[1].split(",") for s in switches if s.startswith("--disable-features=")]
+
+    with sync_playwright() as pw:
+        plain = pw.chromium.launch(executable_path=CHROMIUM, headless=True)
+        try:
+            (playwrights,) = disabled(command_line(plain))
+        finally:
+            plain.close()
+        browser = launch(pw)
+        try:
+            (ours,) = disabled(command_line(browser))
+            assert set(playwrights) | set(QUIET_FEATURES) == set(ours)
+            assert popups(browser) == []
+        finally:
+            browser.close()
+

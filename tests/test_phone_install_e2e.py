@@ -22,7 +22,7 @@ import pytest
 from PIL import Image
 from test_phone_e2e import PHONE, PROBLEM, Serve, open_page, synced, token_needed
 
-from app.bench.page import ANGLE, CHROMIUM
+from app.bench.page import ANGLE, chromium_options
 from app.images import cover
 from app.resources import ASSET_DIR
 
@@ -41,9 +41,8 @@ def free_port() -> int:
 def persistent(pw, profile: Path, **context):
     """Chromium with a profile kept in `profile` (not incognito), as a phone (`context`:
     more of launch_persistent_context's options; `args` are added to the WebGL ones)."""
-    args = [*ANGLE["swiftshader"], *context.pop("args", [])]
-    return pw.chromium.launch_persistent_context(str(profile), executable_path=CHROMIUM, headless=True,
-                                                 args=args, **{**PHONE, **context})
+    options = chromium_options(pw, [*ANGLE["swiftshader"], *context.pop("args", [])])
+    return pw.chromium.launch_persistent_context(str(profile), **options, **{**PHONE, **context})
 
 
 def installability_errors(context, page) -> list[dict]:

@@ -401,11 +401,10 @@ def chromium(pw, home: Path, name: str):
     """The system Chromium with `home` as its HOME (its NSS database of trusted
     authorities is home/.pki/nssdb) and `name` resolved to this machine: a name that is no
     loopback name, so that only HTTPS makes the page a secure context."""
-    from app.bench.page import CHROMIUM, CHROMIUM_ARGS
+    from app.bench.page import CHROMIUM_ARGS, chromium_options
 
-    return pw.chromium.launch(executable_path=CHROMIUM, headless=True,
-                              args=[*CHROMIUM_ARGS, f"--host-resolver-rules=MAP {name} 127.0.0.1"],
-                              env={**os.environ, "HOME": str(home)})
+    args = [*CHROMIUM_ARGS, f"--host-resolver-rules=MAP {name} 127.0.0.1"]
+    return pw.chromium.launch(**chromium_options(pw, args), env={**os.environ, "HOME": str(home)})
 
 
 def trusting_home(home: Path, cafile: Path | None) -> Path:
