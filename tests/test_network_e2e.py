@@ -102,3 +102,32 @@ def test_the_bench_browser_keeps_playwrights_switches_and_has_no_address_bar_pop
         finally:
             browser.close()
 
+
+def test_the_page_asks_for_its_shaders_with_its_modules_and_once():
+    """Each shader file renderer.js loads is asked for by index.html's preload, while the
+    modules load (initiator "link", not main.js's fetch), and once: its fetch takes the
+    preloaded response (a mismatched preload is fetched twice)."""
+    import json
+    import re
+
+    from playwright.sync_api import sync_playwright
+
+    from app.resources import WEB_DIR
+
+    shaders = json.loads(re.search(r"export const SHADERS = (\[.*?\]);",
+                                   (WEB_DIR / "renderer.js").read_text(), re.S).group(1))
+    with sync_playwright() as pw, served("fern") as s:
+        browser = launch(pw)
+        try:
+            with Phone(browser) as phone:
+                phone.open(s.url)
+                entries = phone.page.evaluate(
+                    "performance.getEntriesByType('resource').map((e) => [e.name, e.initiatorType])")
+        finally:
+            browser.close()
+    asked: dict[str, list[str]] = {}
+    for url, initiator in entries:
+        found = re.search(r"/shaders/([^/?]+)", url)
+        if found:
+            asked.setdefault(found.group(1), []).append(initiator)
+    assert asked == {name: ["link"] for name in shaders}
