@@ -90,17 +90,19 @@ void main() {
     bumps = film(bumps);
 #endif
     vec3 s = u_show_bumps * bumps + u_show_features * feature_surface(ivec2(gl_FragCoord.xy));
+    float h = max(s.x, 0.0);
+#ifdef REFRACT
+    if (h <= 0.0) {
+        out_color = vec4(0.0);  // clear glass: the background pass's pixel, exactly
+        return;                 // (before any shading: a CPU rasteriser skips it all)
+    }
+#endif
     // Surfaces add up: z = hb + hf, so their slopes add; normal = (-slope, 1).
     vec3 n = normalize(vec3(-u_relief * s.yz, 1.0));
-    float h = max(s.x, 0.0);
     float alpha = u_opacity * (1.0 - exp(-u_density * h));
 #if defined(SCATTER) || defined(SPARKLE) || defined(REFRACT)
     vec3 ice = shade(n, h, alpha);
 #ifdef REFRACT
-    if (h <= 0.0) {
-        out_color = vec4(0.0);  // clear glass: the background pass's pixel, exactly
-        return;
-    }
     // The view through the ice, shifted by its slope, more in thicker ice (the nearest
     // texel: a bilinear read cost half again as much on llvmpipe, and a ridge's faces are
     // flat, so each shifts its view by one amount).
