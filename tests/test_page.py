@@ -86,18 +86,23 @@ def test_half_floats_as_numpy(browser):
     assert np.array_equal(np.array(out[1], np.uint16), expected)
 
 
-def test_the_page_decodes_what_the_server_encodes(browser, grown):
+@pytest.mark.parametrize("read", ["typed", "view"])
+def test_the_page_decodes_what_the_server_encodes(browser, grown, read):
+    """Both ways the page reads a message (typed arrays on a little-endian machine with
+    Float16Array, as here; a DataView on any other) give what decode_geometry gives, to
+    the bit."""
     from app.serve.protocol import decode_geometry
 
     params, messages, _ = grown
     with Page(hello(params), messages, browser=browser) as page:
+        assert page.page.evaluate("import('./web/protocol.js').then((p) => p.READ)") == "typed"
         for i in (0, 1, 40, len(messages) - 1, *(i for i, m in enumerate(messages) if m[2] & 2)):
             m = decode_geometry(messages[i])
-            got = page.page.evaluate("""async ([bytes]) => {
+            got = page.page.evaluate("""async ([bytes, read]) => {
                 const p = await import('./web/protocol.js');
-                const d = p.decodeDelta(new Uint8Array(bytes).buffer);
+                const d = p.decodeDelta(new Uint8Array(bytes).buffer, read);
                 return {...d, heights: Array.from(d.heights), features: Array.from(d.features)}; }""",
-                                     [list(messages[i])])
+                                     [list(messages[i]), read])
             assert got["tick"] == m["tick"] and got["look"] == m["look"]
             assert got["reset"] == bool(m["flags"] & 1)
             assert got["clearBox"] == (list(m["clear_box"]) if m["clear_box"] else None)
