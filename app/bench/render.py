@@ -10,6 +10,9 @@ The geometry is timed by two clocks: the wall clock, and the CPU time of the thr
 runs it (as the simulation thread counts its work, app/simthread/backlog.py). On a CPU renderer
 (llvmpipe) the wall clock also counts the rasterizer's threads, which keep the cores busy
 a while after `ctx.finish()`; the CPU time is the geometry's own cost.
+
+`--record` also keeps the figures as a dated entry of docs/results/bench-render.md
+(app/bench/results.py).
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ import time
 import numpy as np
 
 from app.backdrops import view_from
+from app.bench.results import keep
 from app.gl.renderer import Renderer
 from app.tools.offscreen import make_context
 from sim import FrostSim, Params
@@ -143,7 +147,16 @@ def run(args, params: Params) -> int:
               "segments": len(sim.segments), **{look.name: look.result() for look in looks},
               "renderer": ctx.info["GL_RENDERER"], "load_average": round(os.getloadavg()[0], 2)}
     report(result, args.frames)
-    return 0
+    return keep("render", command(args), result, "frost bench render") if args.record else 0
+
+
+def command(args) -> str:
+    """The command line that gave these figures, every value spelled out (defaults too)."""
+    grown = f"--params {args.params_file}" if args.params_file else \
+        f"--preset {args.preset or args.default_preset}"
+    background = f" --background {args.background}" if args.background else ""
+    return (f"frost bench render {grown} --seed {args.seed} --frames {args.frames} "
+            f"--cover {args.cover} --max-ticks {args.max_ticks}{background}")
 
 
 def report(result: dict, frames: int) -> None:
