@@ -82,7 +82,9 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.bench.simulat
         if not args.section or name in args.section:
             figures.update(section(args))
     print(json.dumps(figures))
-    return keep("sim", " ".join([prog, *argv]), figures, prog) if args.record else 0
+    # The entry is headed by the command that gives its figures again, without --record.
+    command = " ".join([prog, *(a for a in argv if a != "--record")])
+    return keep("sim", command, figures, prog) if args.record else 0
 
 
 def _fern_sizes(args) -> tuple[int, int]:
