@@ -98,7 +98,14 @@ def entry(command: str, figures: dict, now: dt.datetime | None = None) -> str:
             f"- commit: {commit()}\n"
             f"- machine: {machine()}\n"
             f"- load average (1, 5, 15 min): {load()}\n\n"
-            f"```json\n{json.dumps(figures, indent=1)}\n```\n")
+            f"```json\n{as_json(figures)}\n```\n")
+
+
+def as_json(figures: dict) -> str:
+    """`figures` as JSON, a line for each section: short enough to read, and one
+    section's change is one line of a diff."""
+    lines = [f" {json.dumps(name)}: {json.dumps(value)}" for name, value in figures.items()]
+    return "{\n" + ",\n".join(lines) + "\n}" if lines else "{}"
 
 
 def commit() -> str:
