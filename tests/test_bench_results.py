@@ -130,3 +130,16 @@ def test_frost_bench_render_record_keeps_what_it_printed(tmp_path):
     assert kept["figures"] == printed and printed["ticks"] <= 3
     assert kept["command"] == ("`frost bench render --preset c-2 --seed 0 --frames 2 "
                                "--cover 0.01 --max-ticks 3`")
+
+
+def test_the_commit_recorded_is_the_one_the_run_started_on(monkeypatch, tmp_path):
+    """A commit made while a benchmark runs (minutes) is not the code that ran."""
+    heads = iter(["1a2b3c4", "5d6e7f8"])  # at the start, then at the end
+    monkeypatch.setattr(results, "commit", lambda: next(heads))
+    monkeypatch.setattr(simulation, "commit", results.commit)
+    monkeypatch.setattr(results, "RESULTS", tmp_path)
+    monkeypatch.setattr(simulation, "SECTIONS", {"memory": lambda args: {"memory": {"mb": 1}}})
+    status, _, err = run(["bench", "sim", "--section", "memory", "--record"])
+    assert status == 0, err
+    (kept,) = entries((tmp_path / "bench-sim.md").read_text())
+    assert kept["commit"] == "1a2b3c4"

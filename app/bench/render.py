@@ -26,7 +26,7 @@ import time
 import numpy as np
 
 from app.backdrops import view_from
-from app.bench.results import keep
+from app.bench.results import commit, keep
 from app.gl.renderer import Renderer
 from app.tools.offscreen import make_context
 from sim import FrostSim, Params
@@ -132,6 +132,7 @@ def run(args, params: Params) -> int:
     """`frost bench render [--preset NAME | --params FILE] [--seed N] [--frames N] [--cover F]
     [--max-ticks N]`: the paper's look and the glass look on the same frost (`params`, the
     command line's), in one run."""
+    head = commit() if args.record else ""  # the code that runs, whatever is committed meanwhile
     try:
         ctx = make_context()
     except RuntimeError as err:
@@ -147,7 +148,7 @@ def run(args, params: Params) -> int:
               "segments": len(sim.segments), **{look.name: look.result() for look in looks},
               "renderer": ctx.info["GL_RENDERER"], "load_average": round(os.getloadavg()[0], 2)}
     report(result, args.frames)
-    return keep("render", command(args), result, "frost bench render") if args.record else 0
+    return keep("render", command(args), result, "frost bench render", head) if args.record else 0
 
 
 def command(args) -> str:

@@ -34,10 +34,11 @@ def shown(name: str) -> str:
     return str(path.relative_to(ROOT)) if path.is_relative_to(ROOT) else str(path)
 
 
-def keep(name: str, command: str, figures: dict, prog: str) -> int:
-    """`--record` at a benchmark's end: `figures` kept in its results file. Exit status 0,
-    or 1 when the file cannot be written (the figures are printed already: none is lost)."""
-    problem = record(results_file(name), command, figures)
+def keep(name: str, command: str, figures: dict, prog: str, head: str) -> int:
+    """`--record` at a benchmark's end: `figures` kept in its results file, with `head`, the
+    commit taken when the run started (the code that ran). Exit status 0, or 1 when the
+    file cannot be written (the figures are printed already: none is lost)."""
+    problem = record(results_file(name), command, figures, head=head)
     if problem:
         print(f"{prog}: error: --record: {problem}", file=sys.stderr)
         return 1
@@ -58,13 +59,15 @@ def record_problem(path: Path) -> str | None:
     return None
 
 
-def record(path: Path, command: str, figures: dict, now: dt.datetime | None = None) -> str | None:
+def record(path: Path, command: str, figures: dict, now: dt.datetime | None = None,
+           head: str | None = None) -> str | None:
     """Put an entry for `figures` (what `command` printed as JSON) at the top of `path`'s
-    entries, under its title; the file is made if missing. Returns why it could not be
-    written (one line), or None."""
+    entries, under its title; the file is made if missing. `head`: the commit (default:
+    the checkout's now). Returns why it could not be written (one line), or None."""
     text = path.read_text() if path.exists() else header(path)
+    new = entry(command, figures, now, head)
     try:
-        write_atomic(path, lambda f: f.write(insert(text, entry(command, figures, now)).encode()))
+        write_atomic(path, lambda f: f.write(insert(text, new).encode()))
     except OSError as err:
         return why(err, path)
     return None
@@ -88,14 +91,15 @@ def insert(text: str, new: str) -> str:
     return head + new + ("\n" + rest if rest else "")
 
 
-def entry(command: str, figures: dict, now: dt.datetime | None = None) -> str:
+def entry(command: str, figures: dict, now: dt.datetime | None = None,
+          head: str | None = None) -> str:
     """One entry: headed by the command, so that a link to the command's heading finds its
     newest entry (the first of that name); the facts that decide what the figures mean;
     the figures as the benchmark printed them."""
     when = (now or dt.datetime.now(dt.timezone.utc)).strftime("%Y-%m-%d %H:%M UTC")
     return (f"{ENTRY}`{command}`\n\n"
             f"- date: {when}\n"
-            f"- commit: {commit()}\n"
+            f"- commit: {head or commit()}\n"
             f"- machine: {machine()}\n"
             f"- load average (1, 5, 15 min): {load()}\n\n"
             f"```json\n{as_json(figures)}\n```\n")

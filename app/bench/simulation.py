@@ -40,7 +40,7 @@ from app.bench.fern import fern_section
 from app.bench.growth import section_busy, section_fig9, section_growth, section_memory
 from app.bench.options import Parser, count
 from app.bench.pane import WINDOW_TICKS, window_section
-from app.bench.results import keep, record_problem, results_file, shown
+from app.bench.results import commit, keep, record_problem, results_file, shown
 from app.bench.taps import taps_section
 from sim import all_presets
 
@@ -73,6 +73,7 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.bench.simulat
     problem = args.record and record_problem(results_file("sim"))
     if problem:  # said before the sections run, which may take many minutes
         ap.error(f"--record: {problem}")
+    head = commit() if args.record else ""  # the code that runs, whatever is committed meanwhile
     if args.quick:
         args.repeats, args.samples = 1, 20
     print(f"# frost sim benchmark: {platform.processor() or platform.machine()}, "
@@ -84,7 +85,7 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.bench.simulat
     print(json.dumps(figures))
     # The entry is headed by the command that gives its figures again, without --record.
     command = " ".join([prog, *(a for a in argv if a != "--record")])
-    return keep("sim", command, figures, prog) if args.record else 0
+    return keep("sim", command, figures, prog, head) if args.record else 0
 
 
 def _fern_sizes(args) -> tuple[int, int]:
