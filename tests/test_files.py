@@ -80,7 +80,7 @@ def test_a_set_with_one_fifo_writes_none(tmp_path):
 
 def test_not_regular_names_each_kind(tmp_path):
     os.mkfifo(tmp_path / "f")
-    (tmp_path / "r").write_text("")
+    (tmp_path / "r").write_text("", encoding="utf-8")
     (tmp_path / "l").symlink_to(tmp_path / "f")
     assert not_regular(tmp_path / "f") == not_regular(tmp_path / "l") == "a FIFO"
     assert not_regular(tmp_path / "r") is None and not_regular(tmp_path / "missing") is None

@@ -36,7 +36,7 @@ VIEW = {"light": [0.4, 0.2, 0.8944271909999159], "features": False, "bumps": Tru
 
 def unwritable(tmp_path: Path) -> Path:
     """A folder no one can make, root included: its parent is a regular file."""
-    (tmp_path / "afile").write_text("not a folder")
+    (tmp_path / "afile").write_text("not a folder", encoding="utf-8")
     return tmp_path / "afile" / "sub"
 
 
@@ -406,10 +406,10 @@ def test_a_bad_view_in_a_session_file_is_a_clear_error(tmp_path, view, problem):
 
     data = {**SessionLog(0, {}).as_json(), "view": view}
     path = tmp_path / "s.json"
-    path.write_text(json.dumps(data))
+    path.write_text(json.dumps(data), encoding="utf-8")
     with pytest.raises(SessionError, match=problem):
         SessionLog.load(path)
-    path.write_text(json.dumps(SessionLog(0, {}).as_json()))  # older files have none
+    path.write_text(json.dumps(SessionLog(0, {}).as_json()), encoding="utf-8")  # older files have none
     assert SessionLog.load(path).view is None
 
 

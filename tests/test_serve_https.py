@@ -271,7 +271,7 @@ def test_the_lan_server_answers_over_https_with_the_kept_authoritys_certificate_
             assert (await status_of(f"{scheme}://127.0.0.1:{port}/?token={token}", ctx_))[0] == 403
             assert (await status_of(f"{scheme}://127.0.0.1:{port}/?token={third.token}", ctx_))[0] == 200
     asyncio.run(old_token_refused())
-    assert (folder / "token").read_text().strip() == third.token
+    assert (folder / "token").read_text(encoding="utf-8").strip() == third.token
 
 
 def test_without_the_token_only_the_authoritys_public_certificate_is_served_on_both_ports(

@@ -104,7 +104,7 @@ def read_json(path, error: type[Exception]):
         return long_numbers[-1]
 
     try:
-        data = json.loads(Path(path).read_text(), parse_int=whole_number)
+        data = json.loads(Path(path).read_text(encoding="utf-8"), parse_int=whole_number)
     except OSError as err:
         raise error(f"{path}: cannot read: {err.strerror or err}") from None
     except (ValueError, UnicodeDecodeError, RecursionError) as err:  # JSONDecodeError too
