@@ -531,14 +531,19 @@ def test_a_second_demo_overwrites_nothing_of_the_first(monkeypatch, gl_ctx, caps
 @pytest.mark.parametrize("cmd", [["render", "--touch", "380,640", "--ticks", "2", "--out", "OUT/x.png"],
                                  ["render", "--ticks", "5", "--out", "OUT/x.png"],
                                  ["replay", "SESSION", "--out", "OUT/x.png"],
-                                 ["figure8", "OUT/f.png", "--ticks", "1"]])
-def test_each_file_a_headless_run_writes_is_named_on_one_line(tmp_path, cmd):
+                                 ["figure8", "OUT/f.png", "--ticks", "1"],
+                                 ["maps", "OUT", "--ticks", "3"]])
+@pytest.mark.parametrize("frost", [["-m", "app"], [str(ROOT / "tests" / "windows_like.py")]],
+                         ids=["here", "as-on-windows"])
+def test_each_file_a_headless_run_writes_is_named_on_one_line(tmp_path, cmd, frost):
+    """Also as on Windows (tests/windows_like.py: no os.fchmod, no os.getloadavg...,
+    text without an encoding an error): every file is written all the same."""
     # A subprocess: the log lines (basicConfig on stderr) are what a user sees there.
     session, out = tmp_path / "s.json", tmp_path / "out"
     SessionLog(0, PARAMS.as_dict(), steps=2,
                events=[{"tick": 0, "kind": "touch", "x": 380, "y": 640}]).save(session)
     argv = [a.replace("OUT", str(out)).replace("SESSION", str(session)) for a in cmd]
-    done = subprocess.run([sys.executable, "-m", "app", *argv], cwd=tmp_path, capture_output=True,
+    done = subprocess.run([sys.executable, *frost, *argv], cwd=tmp_path, capture_output=True,
                           text=True, timeout=120, env={**os.environ, "PYTHONPATH": str(ROOT)})
     lines = (done.stdout + done.stderr).splitlines()
     files = [p.name for p in out.iterdir()]

@@ -222,9 +222,9 @@ def unwritable(app: subprocess.Popen, log: Path) -> dict:
     return {"status": app.wait(timeout=30), "running": running}
 
 
-def interrupt(app: subprocess.Popen, log: Path, signum: int = signal.SIGINT) -> dict:
-    """A click, R and a screenshot, then E and at once Ctrl-C (SIGINT, or `signum`) while
-    the frost grows."""
+def interrupt(app: subprocess.Popen, log: Path, signum: int | None = signal.SIGINT) -> dict:
+    """A click, R and a screenshot, then E and at once Ctrl-C (SIGINT, or `signum`; None:
+    the Esc key) while the frost grows."""
     wid = window_id()
     wait_for(log, r"stats \(")
     xdo("mousemove", "--window", wid, "200", "300")
@@ -233,7 +233,10 @@ def interrupt(app: subprocess.Popen, log: Path, signum: int = signal.SIGINT) -> 
     wait_for(log, r"screenshot: ")
     time.sleep(0.5)
     xdo("key", "e")
-    app.send_signal(signum)
+    if signum is None:
+        xdo("key", "--window", wid, "Escape")
+    else:
+        app.send_signal(signum)
     return {"status": app.wait(timeout=30)}
 
 
@@ -307,6 +310,7 @@ DRIVES = {"windowkill": lambda app, log: lost(app, log, "windowkill"),
           "SIGKILL": lambda app, log: lost(app, log, "SIGKILL"), "session": session,
           "unwritable": unwritable, "interrupt": interrupt,
           "interrupt-windows": interrupt,  # (as on Windows: tests/windows_like.py)
+          "escape-windows": lambda app, log: interrupt(app, log, None),
           "interrupt-mac": interrupt,  # (Mesa with a Mac's OpenGL limits)
           "SIGTERM": lambda app, log: interrupt(app, log, signal.SIGTERM),
           "SIGHUP": lambda app, log: interrupt(app, log, signal.SIGHUP)}
@@ -475,6 +479,15 @@ def test_ctrl_c_ends_the_window_with_130_saving_the_session_as_on_windows(tmp_pa
     got = driven(tmp_path_factory.mktemp("interrupt-windows"), "interrupt-windows")
     saved_on_signal(got, 130)
     assert "frost: interrupted" in got["log"]
+
+
+def test_s_r_and_esc_write_every_file_as_on_windows(tmp_path_factory):
+    """As on Windows (tests/windows_like.py: no os.fchmod, no SIGHUP...): the screenshot,
+    the recording, the maps and the session are written, and Esc ends the window with 0."""
+    got = driven(tmp_path_factory.mktemp("escape-windows"), "escape-windows")
+    saved_on_signal(got, 0)
+    (shot,) = got["shots"]
+    assert SessionLog.load(Image.open(shot).text["session"]).events  # its session beside it
 
 
 def test_the_window_runs_under_a_macs_opengl_limits(tmp_path_factory):
