@@ -22,7 +22,8 @@ import warnings
 from pathlib import Path
 
 # What Linux's Python has and Windows' lacks, that frost or its libraries might reach for.
-OS_FUNCTIONS = ("fchmod", "getloadavg", "sched_getaffinity", "fork", "getuid", "geteuid")
+OS_FUNCTIONS = ("fchmod", "getloadavg", "sched_getaffinity", "fork", "getuid", "geteuid",
+                "pathconf", "fpathconf")
 MODULES = ("pwd", "grp", "resource", "fcntl", "termios")
 SIGNALS = ("SIGHUP", "SIGQUIT", "SIGUSR1", "SIGUSR2", "SIGALRM", "SIGPIPE")
 # The modules whose text files must say their encoding: frost's own (and this script).
