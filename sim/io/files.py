@@ -173,6 +173,9 @@ def _write_temp(target: Path, write: Writer, path) -> str:
     return temp
 
 
+TEMP_TRIES = 100  # names tried for a temporary before giving up (each taken: 1 in 2**32)
+
+
 def temp_file(folder, name: str) -> tuple[int, str]:
     """A new temporary file in `folder` for `name` (fd, path), made as open() makes a file:
     0o666 less the umask, the mode the final file keeps. (tempfile.mkstemp's are 0600, and
@@ -186,11 +189,8 @@ def temp_file(folder, name: str) -> tuple[int, str]:
         try:
             return os.open(temp, flags, 0o666), temp
         except FileExistsError:
-            continue  # (one chance in 2**32 a try)
+            continue
     raise FileExistsError(errno.EEXIST, f"no free temporary name in {TEMP_TRIES} tries", temp)
-
-
-TEMP_TRIES = 100
 
 
 def _blamed(call, path, *args):
