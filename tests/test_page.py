@@ -627,6 +627,29 @@ def test_a_tap_is_timed_to_its_first_drawn_frost_and_growth(browser):
         assert p.evaluate("frost.watch") is None
 
 
+def test_a_frame_that_throws_is_said_once_and_the_next_frame_still_runs(browser):
+    """A bad value set on `frost` (its phone part taken away: each frame's tilt step then
+    throws) stopped every frame after the first, for good. Now each frame fails alike and
+    is counted, the reason is logged once and said in the status line, and once the value
+    is put back the next frame draws and the status line is clear again."""
+    params = Params.preset("fern")
+    with Page(hello(params), [], browser=browser) as page:
+        p = page.page
+        errors: list[str] = []
+        p.on("console", lambda m: m.type == "error" and errors.append(m.text))
+        p.evaluate("window.kept = frost.phone; frost.phone = null")
+        p.wait_for_function("frost.frameErrors >= 10")  # frame after frame, each failing
+        reason = p.evaluate("frost.frameError")
+        assert "null" in reason and "frame" in reason, reason  # the TypeError's own words
+        assert p.evaluate("document.getElementById('status').textContent") == f"a frame failed: {reason}"
+        p.evaluate("null")  # (the console's messages reach Python as Playwright runs)
+        assert len(errors) == 1 and errors[0].startswith(f"frost: a frame failed: {reason}"), errors
+        frames = p.evaluate("frost.frames")
+        p.evaluate("frost.phone = window.kept; frost.dirty = true")
+        p.wait_for_function(f"frost.frames > {frames}")
+        assert p.evaluate("[frost.frameError, document.getElementById('status').textContent]") == [None, ""]
+
+
 def test_keys_and_the_menu_go_to_the_server(browser):
     """Keys by their GLFW names (S takes a screenshot on the page instead); the menu's
     choices as their messages; the menu shows the server's state."""

@@ -26,6 +26,7 @@ const state = {
   hello: null, renderer: null, tick: 0, connected: false, synced: false, dirty: true,
   messages: 0, bytes: 0, hellos: 0, lost: 0, watch: null, latencies: [], frostLatencies: [], backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
   early: [], stopped: false, midSnapshot: false, fit: prefs.get("fit", "fill", FITS),
+  frameError: null, frameErrors: 0,
 };
 window.frost = state;
 state.clock = new Clock();
@@ -308,7 +309,42 @@ function drawPane(all = false, whole = false) {
   if (d) state.blitDamage = b ? [Math.min(b[0], d[0]), Math.min(b[1], d[1]), Math.max(b[2], d[2]), Math.max(b[3], d[3])] : d;
 }
 
+// One frame, and the next asked for whatever this one met: a frame that throws (a bad
+// value set on `frost`, a renderer's bug) stopped every frame after it, ticks still coming.
 function frame() {
+  try {
+    drawFrame();
+    if (state.frameError) frameRecovered();
+  } catch (err) {
+    frameFailed(err);
+  } finally {
+    requestAnimationFrame(frame);
+  }
+}
+
+// A failed frame: counted, its reason in the status line and the console, logged once for
+// each reason (a frame fails again 60 times a second while its cause stays).
+const FRAME_REASONS_LOGGED = 16;
+const loggedReasons = new Set();
+function frameFailed(err) {
+  const reason = (err && err.message) || String(err);
+  state.frameErrors += 1;
+  if (reason === state.frameError) return;
+  state.frameError = reason;
+  status(`a frame failed: ${reason}`);
+  if (!loggedReasons.has(reason) && loggedReasons.size < FRAME_REASONS_LOGGED) {
+    loggedReasons.add(reason);
+    console.error(`frost: a frame failed: ${reason}`, err);
+  }
+}
+
+// Frames run again: the status line's word on the failure goes.
+function frameRecovered() {
+  if (document.getElementById("status").textContent === `a frame failed: ${state.frameError}`) status("");
+  state.frameError = null;
+}
+
+function drawFrame() {
   fitCanvas();
   if (state.renderer && state.serverLight) state.phone.frame(state.renderer, state.serverLight);
   // (a snapshot comes in parts: the pane is drawn once it is whole, not half drawn first,
@@ -339,7 +375,6 @@ function frame() {
       }
     }
   }
-  requestAnimationFrame(frame);
 }
 
 // The pane's texture drawn into the canvas's rect (canvas px, y down), black around it.
