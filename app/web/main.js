@@ -15,6 +15,9 @@ import { PhotoPicker, backdropUrl } from "./photo.js";
 
 const SCREEN = [760, 1280];
 const RETRY_FIRST = 250, RETRY_MOST = 8000;  // ms between reconnects: doubling up to this
+const ASK_MS = 5000;  // at most this long for /meta's answer when a socket failed (refusal)
+// What the page says, and then does nothing more, when the server refuses its token.
+const TOKEN_REPLACED = "this page's link (its token) was replaced: scan the new QR code";
 
 const token = new URLSearchParams(location.search).get("token");
 const query = token ? `?token=${encodeURIComponent(token)}` : "";
@@ -26,7 +29,7 @@ const state = {
   hello: null, renderer: null, tick: 0, connected: false, synced: false, dirty: true,
   messages: 0, bytes: 0, hellos: 0, lost: 0, watch: null, latencies: [], frostLatencies: [], backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
   early: [], stopped: false, midSnapshot: false, fit: prefs.get("fit", "fill", FITS),
-  frameError: null, frameErrors: 0,
+  refused: null, retry: null, frameError: null, frameErrors: 0,
 };
 window.frost = state;
 state.clock = new Clock();
@@ -40,8 +43,9 @@ const gl = canvas.getContext("webgl2", {
   alpha: false, antialias: false, depth: false, premultipliedAlpha: false, preserveDrawingBuffer: true,
 });
 
+// The status line; once the server refused the page (refuse), it says that alone.
 function status(text) {
-  document.getElementById("status").textContent = text;
+  document.getElementById("status").textContent = state.refused || text;
 }
 
 let noticeTimer = 0;
@@ -99,6 +103,7 @@ async function main() {
 // ---- the connection ------------------------------------------------------------------
 
 function connect(retry) {
+  state.retry = null;
   const url = new URL("ws" + query, location.href);
   url.protocol = location.protocol === "https:" ? "wss:" : "ws:";
   const ws = new WebSocket(url);
@@ -110,7 +115,7 @@ function connect(retry) {
     if (state.early) state.early.push([ws, event]);
     else receive(ws, event);
   };
-  ws.onclose = (event) => {
+  ws.onclose = async (event) => {
     state.connected = false;
     state.midSnapshot = false;
     if (state.phone) state.phone.connected(false);
@@ -119,14 +124,44 @@ function connect(retry) {
     if (state.stopped) return;
     if (event.code === 1008 || event.code === 1009 || event.code === 4403) {
       status(`refused: ${event.reason || event.code}`);
-    } else if (!opened && !event.reason) {  // gone (the page may have opened from the cache)
-      status("frost serve is not reachable: trying again");
+    } else if (!opened && !event.reason) {  // gone or refused (a browser does not say which)
+      const why = await refusal();
+      if (why) return void refuse(why);
+      if (state.stopped) return;  // (no WebGL2, found meanwhile)
+      status("frost serve is not reachable: trying again");  // (the page may have opened from the cache)
       if (!state.renderer) showOffline(true, canvas, query, state.fit);
     } else {
       status(`reconnecting (${event.reason || "connection lost"})`);
     }
-    setTimeout(() => connect(Math.min(retry * 2, RETRY_MOST)), retry);
+    state.retry = setTimeout(() => connect(Math.min(retry * 2, RETRY_MOST)), retry);
   };
+}
+
+// Why the server refuses this page, or null (no answer, or it lets the page in). A socket
+// refused (403: the token was replaced, `frost serve --new-token`) fails as one to a server
+// that is gone, 1006 and no reason, so /meta is asked: the server refuses it alike.
+async function refusal() {
+  let r;
+  try {
+    const signal = AbortSignal.timeout ? AbortSignal.timeout(ASK_MS) : undefined;
+    r = await fetch(`meta${query}`, { cache: "no-store", signal });
+  } catch {
+    return null;  // not reachable
+  }
+  if (r.status !== 403) return null;
+  if (token) return TOKEN_REPLACED;
+  // No token: the server says why (a token in force now, a name not this machine's).
+  const line = await r.text().then((t) => t.split("\n")[0].replace(/^frost: /, ""), () => "");
+  return (line || "frost serve refused this page (HTTP 403)").slice(0, 160);
+}
+
+// The server refuses this page for good: the status line says why from now on, and the page
+// neither retries nor says anything else (a new address is needed, not a new try).
+function refuse(why) {
+  state.refused = why;
+  state.stopped = true;
+  status(why);
+  console.warn(`frost: ${why}`);
 }
 
 // A message of socket `ws`, once the page can draw.
