@@ -304,7 +304,8 @@ def test_a_page_whose_token_was_replaced_says_so_and_its_app_opens_to_a_page_tha
         # Sized for the phone (390 CSS px: without its viewport a phone lays a page out 980
         # wide and shrinks it) in type a person reads.
         assert page.evaluate("[innerWidth, document.documentElement.scrollWidth]") == [390, 390]
-        assert page.evaluate("parseFloat(getComputedStyle(document.getElementById('refused')).fontSize)") >= 16
+        size = "parseFloat(getComputedStyle(document.getElementById('refused')).fontSize)"
+        assert page.evaluate(size) >= 16
         page.screenshot(path=str(tmp_path / "refused.png"))
         # With the new token, the page again.
         page.goto(new.local)
