@@ -280,7 +280,9 @@ def test_a_page_whose_token_was_replaced_says_so_and_its_app_opens_to_a_page_tha
     open page's socket is refused (a browser learns only 1006, as from a server that is
     gone), and the page says that its token was replaced, and stops there: no retry. The
     installed app opened at its old address (its start_url, through its worker) shows the
-    server's refusal as a page sized for the phone, saying the same."""
+    server's refusal as a page sized for the phone, saying the same; opened from the
+    worker's cache (the server stopped), its socket is refused once a server is back, and
+    it says so too."""
     port = str(free_port())
     old = serve("--port", port, "--host", "0.0.0.0", "--no-https", folder=tmp_path)
     ctx = persistent(pw, tmp_path / "profile")
@@ -307,6 +309,16 @@ def test_a_page_whose_token_was_replaced_says_so_and_its_app_opens_to_a_page_tha
         size = "parseFloat(getComputedStyle(document.getElementById('refused')).fontSize)"
         assert page.evaluate(size) >= 16
         page.screenshot(path=str(tmp_path / "refused.png"))
+        # Opened from the cache (no server), the app's socket is refused once one is back.
+        new.stop()
+        page.goto(old.local)
+        page.wait_for_function(f"document.getElementById('status').textContent.includes('{NOT_REACHABLE}')",
+                               timeout=30_000)
+        back = serve("--port", port, "--host", "0.0.0.0", "--no-https", folder=tmp_path)
+        assert back.token == new.token  # (kept)
+        page.wait_for_function("document.getElementById('status').textContent.includes('token')",
+                               timeout=60_000)
+        assert page.evaluate("[frost.socket, frost.retry, frost.stopped]") == [None, None, True]
         # With the new token, the page again.
         page.goto(new.local)
         synced(page, "frost.frames > 0")
