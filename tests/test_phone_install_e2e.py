@@ -325,3 +325,23 @@ def test_a_page_whose_token_was_replaced_says_so_and_its_app_opens_to_a_page_tha
         assert status(page) == ""
     finally:
         ctx.close()
+
+
+def test_a_page_without_a_token_refused_by_a_lan_server_says_the_servers_reason(pw, serve, browser,
+                                                                                 tmp_path):
+    """A page opened on loopback (no token) whose server comes back on the LAN (a token in
+    force) on the same port: its socket and /meta are refused, and the status line says the
+    server's own reason, once, and the page stops."""
+    port = str(free_port())
+    s = serve("--port", port, folder=tmp_path)
+    context = browser.new_context(**PHONE)
+    try:
+        page = open_page(context, s.local)
+        s.stop()
+        lan = serve("--port", port, "--host", "0.0.0.0", "--no-https", folder=tmp_path)
+        assert lan.token
+        page.wait_for_function("frost.refused !== null", timeout=60_000)
+        assert status(page) == "this server needs the token of the URL frost serve printed"
+        assert page.evaluate("[frost.socket, frost.retry]") == [None, None]
+    finally:
+        context.close()
