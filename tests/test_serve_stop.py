@@ -207,14 +207,16 @@ async def nothing_or_503(connection: tuple[asyncio.StreamReader, asyncio.StreamW
     assert got == b"" or got.startswith(b"HTTP/1.1 503 "), got[:60]
 
 
-def stopped(proc: subprocess.Popen) -> float:
-    """SIGINT to `proc`; the seconds until it exited (asserted 130, with the session)."""
+def stopped(proc: subprocess.Popen) -> tuple[float, str]:
+    """SIGINT to `proc`; the seconds until it exited (asserted 130, saying so) and what
+    it wrote on stderr."""
     at = time.monotonic()
     proc.send_signal(signal.SIGINT)
     assert proc.wait(60) == 130
     took = time.monotonic() - at
-    assert "\nfrost: interrupted (Ctrl-C)\n" in proc.stderr.read()  # type: ignore[union-attr]
-    return took
+    said = proc.stderr.read()  # type: ignore[union-attr]
+    assert "\nfrost: interrupted (Ctrl-C)\n" in said, said
+    return took, said
 
 
 @pytest.mark.parametrize("frost", FROSTS.values(), ids=FROSTS.keys())
@@ -231,7 +233,7 @@ def test_ctrl_c_with_a_photo_half_sent_ends_at_once_with_the_session_written(tmp
                                                                  heartbeat=None) as ws:
                 await tapped(ws, [spot(0)], 1)
                 upload = await half_sent(port)
-                took = await asyncio.to_thread(stopped, proc)
+                took, _said = await asyncio.to_thread(stopped, proc)
                 await nothing_or_503(upload)
                 return took
         took = asyncio.run(main())
@@ -331,17 +333,18 @@ def stop_at_random(folder: Path, rng: random.Random) -> float:
                     await half.wait()
                 else:
                     await asyncio.sleep(rng.uniform(0.0, 1.5))
-                took = await asyncio.to_thread(stopped, proc)
+                ended = await asyncio.to_thread(stopped, proc)
                 await asyncio.wait_for(asyncio.gather(tapping, uploading), 30)
-                return took
-        took = asyncio.run(main())
+                return ended
+        took, said = asyncio.run(main())
     finally:
         proc.kill()
         proc.wait()
     session = session_of(folder)
     missing = set(acked) - set(touches(session))
-    assert not missing, (when, len(missing), len(acked))
-    assert set(photo) <= {e["name"] for e in session.events if e["kind"] == "backdrop"}, when
+    assert not missing, (when, len(missing), len(acked), said[-600:])
+    assert set(photo) <= {e["name"] for e in session.events if e["kind"] == "backdrop"}, \
+        (when, said[-600:])
     return took
 
 

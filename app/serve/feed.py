@@ -59,6 +59,9 @@ REDRAW_GAP = 2.0  # s
 # s the input waiting at the end may take to apply after the last step: a burst of taps
 # takes milliseconds; a storm's thousands could take seconds, and the server exits soon.
 APPLY_AT_END_S = 0.5
+# s the simulation thread's tick under way may take to end at the end: the input can only
+# apply once it has (a loaded machine's tick can take a second; the window waits 1 s).
+END_TICK_S = 2.5
 
 
 @dataclass
@@ -163,7 +166,7 @@ class Feed:
         self.ending = True
         self.controls.turns.flush()
         if self.own_thread:
-            self.thread.stop(apply_s=APPLY_AT_END_S)
+            self.thread.stop(timeout=END_TICK_S, apply_s=APPLY_AT_END_S)
         self.pump()  # the last ticks, for the session's file
 
     # ---- the simulation thread's side ---------------------------------------------------
