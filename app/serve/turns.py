@@ -37,6 +37,7 @@ class PageQueue:
         self.sent: deque[int] = deque()
         self.served = -1  # the number of the page's command sent last (-1: none yet)
         self.closed = False  # its page went (`Turns.close`)
+        self.dropped_here = 0  # its touches and melts dropped: too much waited (controls.py)
 
     def full(self) -> bool:
         return len(self.waiting) >= PAGE_WAITING
