@@ -14,6 +14,7 @@ from aiohttp import web
 
 from app.backdrops import BACKDROPS, load_backdrop
 from app.images import frost_meta
+from app.serve import photo
 from app.serve.appkeys import BACKDROP_PNGS, CA_DER, FEED, PORTS, TOKEN
 from app.serve.feed import Feed
 
@@ -37,13 +38,20 @@ async def token_check(request: web.Request, handler):
     token = request.app[TOKEN]
     given = request.query.get("token", "")
     if token and not secrets.compare_digest(given.encode(), token.encode()):
-        raise web.HTTPForbidden(text="frost: this server needs the token of the URL "
-                                     "frost serve printed\n")
+        return forbidden(request, "this server needs the token of the URL frost serve printed")
     host = request.headers.get("Host")
     if not token and host is not None and not loopback_name(host):
-        raise web.HTTPForbidden(text="frost: this server answers only to this machine's "
-                                     "names (127.0.0.1, localhost)\n")
+        return forbidden(request, "this server answers only to this machine's names "
+                                  "(127.0.0.1, localhost)")
     return await handler(request)
+
+
+def forbidden(request: web.Request, text: str) -> web.Response:
+    """403 saying `text`: to POST /photo as JSON, as its every refusal is (the page shows
+    the error it holds), to any other request as a line of text."""
+    if request.path == photo.PATH:
+        return photo.refusal(403, text)
+    return web.Response(status=403, text=f"frost: {text}\n")
 
 
 def loopback_name(host: str) -> bool:
