@@ -74,6 +74,10 @@ def test_the_panels_library_is_asked_for_where_its_wheel_is(python, system, mach
     assert (reason is None) is asked, reason
 
 
+def test_the_window_names_the_release_pyproject_pins():
+    assert f"{imgui().name}{imgui().specifier}" == no_panel.PIN
+
+
 def test_every_other_dependency_is_asked_for_on_every_machine():
     """numpy, moderngl, glfw, pyglm, Pillow, aiohttp, segno and cryptography have wheels on
     all three desktops: no marker leaves one out anywhere."""
