@@ -57,7 +57,7 @@ def plan(args) -> tuple[str | None, Https | None, bytes]:
     Off loopback HTTPS is served unless --no-https; on loopback only when asked (--cert or
     --https-port), as a browser takes http://127.0.0.1 for a secure context already. The
     token and the authority are kept in the user's config folder (trust.config_dir)."""
-    lan = args.host not in LOOPBACK
+    lan = trust.canonical(args.host) not in LOOPBACK
     if (args.cert is None) != (args.key is None):
         raise trust.TrustError("--cert and --key go together: the certificate and its "
                                "private key")

@@ -15,6 +15,7 @@ from aiohttp import web
 
 from app.backdrops import BACKDROPS, load_backdrop
 from app.images import frost_meta
+from app.serve import photo
 from app.serve.appkeys import BACKDROP_PNGS, CA_DER, FEED, PORTS, TOKEN
 from app.serve.feed import Feed
 
@@ -38,12 +39,12 @@ async def token_check(request: web.Request, handler):
     token = request.app[TOKEN]
     given = request.query.get("token", "")
     if token and not secrets.compare_digest(given.encode(), token.encode()):
-        raise refused(request, "frost: this server needs the token of the URL frost serve "
-                               "printed", REPLACED if given else NO_TOKEN)
+        return refused(request, "this server needs the token of the URL frost serve printed",
+                       REPLACED if given else NO_TOKEN)
     host = request.headers.get("Host")
     if not token and host is not None and not loopback_name(host):
-        raise refused(request, "frost: this server answers only to this machine's names "
-                               "(127.0.0.1, localhost)", NOT_THIS_NAME)
+        return refused(request, "this server answers only to this machine's names "
+                                "(127.0.0.1, localhost)", NOT_THIS_NAME)
     return await handler(request)
 
 
@@ -78,15 +79,18 @@ p {{ margin: 0; max-width: 30em; }}
 """
 
 
-def refused(request: web.Request, line: str, told: str) -> web.HTTPForbidden:
+def refused(request: web.Request, line: str, told: str) -> web.Response:
     """The 403 for `request`: on the page's own paths, or a browser's navigation to any
     path but the API's, a page sized for a phone that says `told` (the installed app opened
-    at its start_url showed the one line below, in a desktop's tiny type); else `line`."""
+    at its start_url showed the one line below, in a desktop's tiny type); to POST /photo
+    JSON, as its every refusal is (the page shows the error it holds); else `line`."""
     navigation = request.headers.get("Sec-Fetch-Mode") == "navigate"
     if request.path in PAGE_PATHS or (navigation and request.path not in API_PATHS):
-        return web.HTTPForbidden(text=REFUSAL_PAGE.format(text=html.escape(told, quote=False)),
-                                 content_type="text/html", headers={"Cache-Control": "no-store"})
-    return web.HTTPForbidden(text=line + "\n")
+        return web.Response(status=403, text=REFUSAL_PAGE.format(text=html.escape(told, quote=False)),
+                            content_type="text/html", headers={"Cache-Control": "no-store"})
+    if request.path == photo.PATH:
+        return photo.refusal(403, line)
+    return web.Response(status=403, text=f"frost: {line}\n")
 
 
 def loopback_name(host: str) -> bool:
