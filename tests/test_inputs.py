@@ -292,7 +292,7 @@ HELP_LISTS = {
     "render": {"--help", "--preset", "--window-frost", "--params", "--seed", "--touch", "--ticks", "--out",
                "--melt", "--melt-path", "--melt-radius", "--background", "--clock"} | OVERRIDES,
     "bench render": {"--help", "--preset", "--params", "--seed", "--frames", "--cover", "--max-ticks",
-                     "--background"},
+                     "--background", "--record"},
     "maps": {"--help", "--preset", "--window-frost", "--params", "--seed", "--size", "--tile", "--normal-y",
              "--touch", "--ticks"} | OVERRIDES}
 

@@ -516,6 +516,38 @@ def test_a_click_on_a_landscape_screen_lands_on_the_pane_under_it(browser):
     assert abs(move["x"] - 650) < 1 and abs(move["y"] - 1100) < 1, move
 
 
+def test_a_tap_by_each_corner_is_the_panes_and_the_menus_round_button_alone_is_the_menus(browser):
+    """A 390x844 phone at 1 device px a CSS px: a tap 10 px in from each corner of the
+    screen is a touch at the pane px under it (the top right one fell in the menu button's
+    40x40 square, outside its round button, and reached nothing); a tap on the button
+    opens the menu and is no touch."""
+    params = Params.preset("fern")
+    with Page(hello(params), [], viewport=(390, 844), scale=1, browser=browser, touch=True) as page:
+        p = page.page
+        corners = [(10, 10), (380, 10), (10, 834), (380, 834)]
+        for x, y in corners:
+            p.touchscreen.tap(x, y)
+        button = p.locator("#open").bounding_box()
+        p.touchscreen.tap(button["x"] + button["width"] / 2, button["y"] + button["height"] / 2)
+        p.wait_for_selector("#panel", state="visible")
+        p.touchscreen.tap(*corners[0])  # the first corner again, the menu open
+        ups = lambda: sum(m["phase"] == "up" for m in page.sent)  # noqa: E731
+        for _ in range(300):  # (the socket's messages reach `sent` as Playwright runs)
+            if ups() >= 5:
+                break
+            p.wait_for_timeout(100)
+        downs = page.sent
+    # The pane covers the screen: a pane px is 844 / 1280 CSS px (the height fills it), and
+    # the pane, 760 * 844 / 1280 = 501.1 CSS px wide, is centred (55.6 px cropped each side).
+    scale = 844 / 1280
+    x0 = (390 - 760 * scale) / 2
+    got = [(m["x"], m["y"]) for m in downs if m["type"] == "touch" and m["phase"] == "down"]
+    assert len(got) == 5, downs
+    for (x, y), (gx, gy) in zip([*corners, corners[0]], got, strict=True):
+        # (within a pane px: the canvas's pane is centred to the whole px)
+        assert abs(gx - (x - x0) / scale) <= 1 and abs(gy - y / scale) <= 1, ((x, y), (gx, gy))
+
+
 def test_a_finger_lifted_before_a_frame_sends_its_last_move_and_one_off_the_pane_its_edge(browser):
     """Moves go out once a frame, but a finger lifted before the next frame still sends
     where it went before its up; a finger dragged past the pane's right edge (onto the
@@ -593,6 +625,29 @@ def test_a_tap_is_timed_to_its_first_drawn_frost_and_growth(browser):
             p.wait_for_function(f"frost.tick === {tick} && frost.frames > {frames}")
             assert p.evaluate(counts) == want, (tick, want)
         assert p.evaluate("frost.watch") is None
+
+
+def test_a_frame_that_throws_is_said_once_and_the_next_frame_still_runs(browser):
+    """A bad value set on `frost` (its phone part taken away: each frame's tilt step then
+    throws) stopped every frame after the first, for good. Now each frame fails alike and
+    is counted, the reason is logged once and said in the status line, and once the value
+    is put back the next frame draws and the status line is clear again."""
+    params = Params.preset("fern")
+    with Page(hello(params), [], browser=browser) as page:
+        p = page.page
+        errors: list[str] = []
+        p.on("console", lambda m: m.type == "error" and errors.append(m.text))
+        p.evaluate("window.kept = frost.phone; frost.phone = null")
+        p.wait_for_function("frost.frameErrors >= 10")  # frame after frame, each failing
+        reason = p.evaluate("frost.frameError")
+        assert "null" in reason and "frame" in reason, reason  # the TypeError's own words
+        assert p.evaluate("document.getElementById('status').textContent") == f"a frame failed: {reason}"
+        p.evaluate("null")  # (the console's messages reach Python as Playwright runs)
+        assert len(errors) == 1 and errors[0].startswith(f"frost: a frame failed: {reason}"), errors
+        frames = p.evaluate("frost.frames")
+        p.evaluate("frost.phone = window.kept; frost.dirty = true")
+        p.wait_for_function(f"frost.frames > {frames}")
+        assert p.evaluate("[frost.frameError, document.getElementById('status').textContent]") == [None, ""]
 
 
 def test_keys_and_the_menu_go_to_the_server(browser):

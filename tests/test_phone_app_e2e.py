@@ -11,6 +11,8 @@ from __future__ import annotations
 import io
 import json
 import math
+import time
+from urllib.request import urlopen
 
 import numpy as np
 import pytest
@@ -108,6 +110,32 @@ def test_the_pane_covers_the_screen_and_a_tap_lands_under_the_finger(serve, phon
         # the screen by less than a px, the pane centred to half a px. So the touch is
         # within a pane px of the point worked by hand.
         ex, ey = (x * 3 - x0) / scale, (y * 3 - y0) / scale
+        assert abs(gx - ex) <= 1.0 and abs(gy - ey) <= 1.0, ((gx, gy), (ex, ey))
+
+
+def test_a_tap_by_each_corner_of_the_screen_is_a_touch_there_in_meta(serve, browser):
+    """A 390x844 phone at 1 device px a CSS px: a tap 10 px in from each corner of the
+    screen is a touch that `/meta` states at the pane px under it (the top right one fell
+    in the menu button's square and reached nothing)."""
+    s = serve()
+    meta = f"http://127.0.0.1:{s.port}/meta"
+    context = browser.new_context(**{**PHONE, "device_scale_factor": 1})
+    corners = [(10, 10), (380, 10), (10, 834), (380, 834)]
+    try:
+        page = open_page(context, s.local)
+        for i, (x, y) in enumerate(corners):
+            page.touchscreen.tap(x, y)
+            deadline = time.monotonic() + 30
+            while len(touches := json.loads(urlopen(meta, timeout=10).read())["touches"]) <= i:
+                assert time.monotonic() < deadline, f"no touch for the tap at {(x, y)}: {touches}"
+                page.wait_for_timeout(100)
+    finally:
+        context.close()
+    scale, x0, y0 = cover(390, 844)
+    assert len(touches) == 4, touches
+    for (x, y), (_tick, gx, gy) in zip(corners, touches, strict=True):
+        # (within a pane px: the canvas's pane is centred to the whole px)
+        ex, ey = (x - x0) / scale, (y - y0) / scale
         assert abs(gx - ex) <= 1.0 and abs(gy - ey) <= 1.0, ((gx, gy), (ex, ey))
 
 

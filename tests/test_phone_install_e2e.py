@@ -274,3 +274,76 @@ def test_a_changed_page_replaces_the_cached_one_after_one_reload(pw, serve, tmp_
         assert backdrop_pixel(page) == (1, 2, 3)
     finally:
         ctx.close()
+
+
+def test_a_page_whose_token_was_replaced_says_so_and_its_app_opens_to_a_page_that_says_so(
+        pw, serve, tmp_path):
+    """The LAN server stopped and started again with `--new-token` on the same port: the
+    open page's socket is refused (a browser learns only 1006, as from a server that is
+    gone), and the page says that its token was replaced, and stops there: no retry. The
+    installed app opened at its old address (its start_url, through its worker) shows the
+    server's refusal as a page sized for the phone, saying the same; opened from the
+    worker's cache (the server stopped), its socket is refused once a server is back, and
+    it says so too."""
+    port = str(free_port())
+    old = serve("--port", port, "--host", "0.0.0.0", "--no-https", folder=tmp_path)
+    ctx = persistent(pw, tmp_path / "profile")
+    try:
+        page = open_page(ctx, old.local)
+        wait_for_shell(page)
+        old.stop()
+        new = serve("--port", port, "--host", "0.0.0.0", "--no-https", "--new-token", folder=tmp_path)
+        assert new.port == old.port and new.token != old.token
+        page.wait_for_function("document.getElementById('status').textContent.includes('token')",
+                               timeout=60_000)  # (reconnects back off up to 8 s apart)
+        assert status(page) == "this page's link (its token) was replaced: scan the new QR code"
+        # Stopped: no socket, none to come (a retry is a timer main.js keeps), no other word.
+        assert page.evaluate("[frost.socket, frost.retry, frost.stopped]") == [None, None, True]
+        assert page.evaluate("window.frost.makeApp.shown") is None
+        response = page.goto(old.local)  # the installed app opens its start_url
+        assert response.status == 403
+        assert page.evaluate("navigator.serviceWorker.controller !== null")  # (its worker's)
+        said = page.inner_text("body")
+        assert "token" in said and "replaced" in said and "QR code" in said, said
+        # Sized for the phone (390 CSS px: without its viewport a phone lays a page out 980
+        # wide and shrinks it) in type a person reads.
+        assert page.evaluate("[innerWidth, document.documentElement.scrollWidth]") == [390, 390]
+        size = "parseFloat(getComputedStyle(document.getElementById('refused')).fontSize)"
+        assert page.evaluate(size) >= 16
+        page.screenshot(path=str(tmp_path / "refused.png"))
+        # Opened from the cache (no server), the app's socket is refused once one is back.
+        new.stop()
+        page.goto(old.local)
+        page.wait_for_function(f"document.getElementById('status').textContent.includes('{NOT_REACHABLE}')",
+                               timeout=30_000)
+        back = serve("--port", port, "--host", "0.0.0.0", "--no-https", folder=tmp_path)
+        assert back.token == new.token  # (kept)
+        page.wait_for_function("document.getElementById('status').textContent.includes('token')",
+                               timeout=60_000)
+        assert page.evaluate("[frost.socket, frost.retry, frost.stopped]") == [None, None, True]
+        # With the new token, the page again.
+        page.goto(new.local)
+        synced(page, "frost.frames > 0")
+        assert status(page) == ""
+    finally:
+        ctx.close()
+
+
+def test_a_page_without_a_token_refused_by_a_lan_server_says_the_servers_reason(pw, serve, browser,
+                                                                                 tmp_path):
+    """A page opened on loopback (no token) whose server comes back on the LAN (a token in
+    force) on the same port: its socket and /meta are refused, and the status line says the
+    server's own reason, once, and the page stops."""
+    port = str(free_port())
+    s = serve("--port", port, folder=tmp_path)
+    context = browser.new_context(**PHONE)
+    try:
+        page = open_page(context, s.local)
+        s.stop()
+        lan = serve("--port", port, "--host", "0.0.0.0", "--no-https", folder=tmp_path)
+        assert lan.token
+        page.wait_for_function("frost.refused !== null", timeout=60_000)
+        assert status(page) == "this server needs the token of the URL frost serve printed"
+        assert page.evaluate("[frost.socket, frost.retry]") == [None, None]
+    finally:
+        context.close()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import os
 import shutil
@@ -16,6 +17,7 @@ from PIL import Image
 from app.gl.renderer import Renderer
 from app.gl.shaders import HEADERS, SHADER_DIR, load_program, shader_source
 from app.images import read_image, save_png, timestamped_path
+from app.window import no_panel
 from sim import Params
 from sim.look.geometry import GeometryDelta, feature_triangles
 
@@ -398,8 +400,12 @@ def test_frost_info_says_what_a_bug_report_needs(limits):
                          cwd=Path(__file__).resolve().parent.parent)
     assert run.returncode == 0, run.stdout + run.stderr
     said = dict(line.split(": ", 1) for line in run.stdout.splitlines())
-    assert set(said) >= {"frost", "platform", "python", "packages", "shader dialect",
+    assert set(said) >= {"frost", "platform", "python", "packages", "tuning panel", "shader dialect",
                          "headless OpenGL", "its shaders", "GLFW"}
+    # the panel's library as installed here, or why the window has none (tests/test_requirements.py)
+    has_imgui = importlib.util.find_spec("imgui_bundle") is not None
+    assert said["tuning panel"] == ("imgui-bundle 1.93.0 (key M)" if has_imgui else
+                                    "none: " + no_panel.panel_problem())
     assert said["shader dialect"].startswith("GLSL core")
     assert "no display" in said["GLFW"]
     if limits:  # the Mac's: 4.1, and the page's ES 3.00 refused on the desktop

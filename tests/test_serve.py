@@ -1344,3 +1344,31 @@ def test_nothing_follows_a_close_frame_sent_while_a_message_waits_to_be_written(
         return ws.frames
 
     assert asyncio.run(main()) == ["close frame"]
+
+
+def test_each_page_is_told_of_its_own_dropped_input(monkeypatch):
+    """Two pages' taps while the thread takes none (never started): the thread holds
+    MIN_AHEAD (4), each page's queue PAGE_WAITING (3), the rest is dropped. Page a drops
+    one, page b five: each is told at its own first drop, with its own count (counted
+    for all pages at once, b's first was the second drop and went untold)."""
+    from app.serve import protocol, turns
+
+    monkeypatch.setattr(turns, "PAGE_WAITING", 3)
+    feed = Feed(PAPER, seed=1)
+    told: dict[str, list[str]] = {"a": [], "b": []}
+    queues = {name: feed.controls.turns.open() for name in told}
+
+    def tap(name: str, k: int) -> None:
+        message = protocol.parse_input(json.dumps({"type": "touch", "x": 100 + k, "y": 200,
+                                                   "phase": "down"}))
+        feed.controls.handle(message, {}, told[name].append, None, queues[name])
+
+    for k in range(turns.MIN_AHEAD + 3 + 1):
+        tap("a", k)
+    for k in range(3 + 5):
+        tap("b", k)
+    assert feed.thread.sent == turns.MIN_AHEAD + 1  # (+1: the backdrop the feed starts on)
+    assert feed.controls.dropped == 6
+    assert [t.rsplit(": ", 1)[1] for t in told["a"]] == ["1 so far"]
+    assert [t.rsplit(": ", 1)[1] for t in told["b"]] == ["1 so far"]
+    assert all(t.startswith("too much input waiting (") for t in told["a"] + told["b"])

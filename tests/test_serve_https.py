@@ -139,6 +139,47 @@ def test_the_machines_names_hold_its_host_name_lan_address_and_loopback():
     assert "bad_name" not in trust.machine_names("0.0.0.0", lan=None, hostname="bad_name")
 
 
+@pytest.mark.parametrize(("written", "canonical"), [
+    ("0:0:0:0:0:0:0:1", "::1"), ("0000::0001", "::1"), ("FE80:0:0::1", "fe80::1"),
+    ("10.1.2.3", "10.1.2.3")])
+def test_an_address_however_written_is_named_once_in_its_canonical_form(written, canonical):
+    # the oracle: the names for the address written canonically (RFC 5952, by hand)
+    names = trust.machine_names(written, lan="192.168.1.20", hostname="pane")
+    assert names == trust.machine_names(canonical, lan="192.168.1.20", hostname="pane")
+    assert names.count("::1") == 1 and canonical in names
+
+
+@pytest.mark.parametrize("anywhere", ["0:0:0:0:0:0:0:0", "::0", "0.0.0.0", "::"])
+def test_every_address_however_written_names_no_address_of_its_own(anywhere):
+    assert trust.machine_names(anywhere, lan=None, hostname="pane") == \
+        ["127.0.0.1", "::1", "localhost", "pane", "pane.local"]
+
+
+def test_a_certificate_for_a_host_written_longhand_is_kept_from_one_start_to_the_next(tmp_path):
+    now = dt.datetime(2026, 11, 26, 12, tzinfo=dt.timezone.utc)
+    names = trust.machine_names("0:0:0:0:0:0:0:1", lan="192.168.1.20", hostname="pane")
+    trust.local_certificate(tmp_path, names, now)
+    first = (tmp_path / "server.pem").read_bytes()
+    trust.local_certificate(tmp_path, names, now + dt.timedelta(hours=1))  # the next start
+    assert (tmp_path / "server.pem").read_bytes() == first
+    # read back by cryptography: ::1 once among the addresses
+    ips = cert_of(tmp_path / "server.pem").extensions.get_extension_for_class(
+        x509.SubjectAlternativeName).value.get_values_for_type(x509.IPAddress)
+    assert sorted(map(str, ips)) == ["127.0.0.1", "192.168.1.20", "::1"]
+
+
+@pytest.mark.parametrize("host", ["0:0:0:0:0:0:0:1", "0000::1", "LOCALHOST"])
+def test_loopback_however_written_is_served_as_loopback_is(host):
+    """No token and HTTP alone, as for ::1 and localhost (the oracle: the plan for those)."""
+    from app.cli.parser import build_parser
+    from app.serve.command import plan
+
+    def planned(h):
+        return plan(build_parser().parse_args(["serve", "--host", h]))
+
+    assert planned(host) == planned("::1") == (None, None, b"")
+
+
 # ---- frost serve --host 0.0.0.0, end to end ---------------------------------------------------
 
 class Serve:

@@ -10,6 +10,9 @@ The geometry is timed by two clocks: the wall clock, and the CPU time of the thr
 runs it (as the simulation thread counts its work, app/simthread/backlog.py). On a CPU renderer
 (llvmpipe) the wall clock also counts the rasterizer's threads, which keep the cores busy
 a while after `ctx.finish()`; the CPU time is the geometry's own cost.
+
+`--record` also keeps the figures as a dated entry of docs/results/bench-render.md
+(app/bench/results.py).
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ import time
 import numpy as np
 
 from app.backdrops import view_from
+from app.bench.results import commit, keep
 from app.gl.renderer import Renderer
 from app.tools.offscreen import make_context
 from sim import FrostSim, Params
@@ -128,6 +132,7 @@ def run(args, params: Params) -> int:
     """`frost bench render [--preset NAME | --params FILE] [--seed N] [--frames N] [--cover F]
     [--max-ticks N]`: the paper's look and the glass look on the same frost (`params`, the
     command line's), in one run."""
+    head = commit() if args.record else ""  # the code that runs, whatever is committed meanwhile
     try:
         ctx = make_context()
     except RuntimeError as err:
@@ -143,7 +148,16 @@ def run(args, params: Params) -> int:
               "segments": len(sim.segments), **{look.name: look.result() for look in looks},
               "renderer": ctx.info["GL_RENDERER"], "load_average": load_average()}
     report(result, args.frames)
-    return 0
+    return keep("render", command(args), result, "frost bench render", head) if args.record else 0
+
+
+def command(args) -> str:
+    """The command line that gave these figures, every value spelled out (defaults too)."""
+    grown = f"--params {args.params_file}" if args.params_file else \
+        f"--preset {args.preset or args.default_preset}"
+    background = f" --background {args.background}" if args.background else ""
+    return (f"frost bench render {grown} --seed {args.seed} --frames {args.frames} "
+            f"--cover {args.cover} --max-ticks {args.max_ticks}{background}")
 
 
 def load_average() -> float | None:

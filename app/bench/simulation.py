@@ -22,12 +22,16 @@ asserts nothing.
 8. Taps (app/bench/taps.py): ticks from a tap to its seed's first child, the page bench's
    taps through the simulation alone, by version 7's and version 8's rules side by side
    (`--section taps`).
+
+`--record` also keeps the figures as a dated entry of docs/results/bench-sim.md
+(app/bench/results.py).
 """
 
 from __future__ import annotations
 
 import json
 import platform
+import sys
 
 import numpy as np
 
@@ -36,6 +40,7 @@ from app.bench.fern import fern_section
 from app.bench.growth import section_busy, section_fig9, section_growth, section_memory
 from app.bench.options import Parser, count
 from app.bench.pane import WINDOW_TICKS, window_section
+from app.bench.results import commit, keep, record_problem, results_file, shown
 from app.bench.taps import taps_section
 from sim import all_presets
 
@@ -61,7 +66,14 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.bench.simulat
     ap.add_argument("--look", choices=list(all_presets()), action="append", metavar="NAME",
                     help="the abuse section's looks (repeatable; default: "
                          + ", ".join(ABUSE_LOOKS) + ")")
+    ap.add_argument("--record", action="store_true",
+                    help=f"also keep the figures, dated, at the top of {shown('sim')} (default off)")
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = ap.parse_args(argv)
+    problem = args.record and record_problem(results_file("sim"))
+    if problem:  # said before the sections run, which may take many minutes
+        ap.error(f"--record: {problem}")
+    head = commit() if args.record else ""  # the code that runs, whatever is committed meanwhile
     if args.quick:
         args.repeats, args.samples = 1, 20
     print(f"# frost sim benchmark: {platform.processor() or platform.machine()}, "
@@ -71,7 +83,9 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.bench.simulat
         if not args.section or name in args.section:
             figures.update(section(args))
     print(json.dumps(figures))
-    return 0
+    # The entry is headed by the command that gives its figures again, without --record.
+    command = " ".join([prog, *(a for a in argv if a != "--record")])
+    return keep("sim", command, figures, prog, head) if args.record else 0
 
 
 def _fern_sizes(args) -> tuple[int, int]:

@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 from app.backdrops import load_backdrop, view_from
+from app.bench.results import record_problem, results_file
 from app.cli.options import WINDOW_DEFAULTS, has_display, params_from
 from app.cli.parser import PROG, build_parser, parser_for
 from app.cli.paths import check_paths
@@ -114,6 +115,10 @@ def _refuse_nonsense(args: argparse.Namespace, argv: list[str], prog: str) -> No
                          f"{prog} [options]")
     if args.command == "maps":
         _refuse_maps(args)
+    if args.command == "bench" and args.record:  # before minutes of work, not after
+        problem = record_problem(results_file("render"))
+        if problem:
+            raise ValueError(f"--record: {problem}")
     if args.command == "serve" and args.window:
         problem = display_problem()
         if problem:

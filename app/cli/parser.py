@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import textwrap
 
+from app.bench.results import shown
 from app.cli import options, values
 from app.keys import help_lines
 from sim import all_presets
@@ -264,3 +265,5 @@ def _bench_render(p: Parser) -> None:
     p.add_argument("--max-ticks", type=values.whole, default=600, metavar="N",
                    help="most ticks to grow toward --cover, ticks (default 600)")
     options.add_background(p)
+    p.add_argument("--record", action="store_true",
+                   help=f"also keep the figures, dated, at the top of {shown('render')} (default off)")

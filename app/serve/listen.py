@@ -14,6 +14,7 @@ from aiohttp import web
 
 from app.serve import guard, trust
 from app.serve.appkeys import FILES, PORTS
+from app.serve.trust import unspecified
 from sim.io.files import why, write_atomic
 
 HANDSHAKE_S = guard.HEAD_S  # s a TLS handshake may take (asyncio's own default: 60 s)
@@ -104,7 +105,7 @@ def announce(host: str, port: int, token: str | None, https_port: int | None = N
         if https_port is not None:
             print(f"frost serve: over HTTPS: https://{url_host(host)}:{https_port}/", flush=True)
         return
-    shown = lan_address() if host in ("0.0.0.0", "::", "") else host
+    shown = lan_address() if unspecified(host) else host
     url = f"http://{url_host(shown)}:{port}/?token={token}"
     print(f"frost serve: open {url} on a phone of this network (Ctrl-C ends it)", flush=True)
     _qr(url, "qr-page.png")

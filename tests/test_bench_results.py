@@ -1,0 +1,145 @@
+"""`frost bench sim --record` and `frost bench render --record`: each run's figures kept as
+a dated entry at the top of the benchmark's results file (app/bench/results.py)."""
+
+from __future__ import annotations
+
+import contextlib
+import datetime as dt
+import io
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from app import cli
+from app.bench import results, simulation
+
+ROOT = Path(__file__).resolve().parent.parent
+FIELDS = ("date", "commit", "machine", "load average (1, 5, 15 min)")
+
+
+def entries(text: str) -> list[dict]:
+    """The file's entries, top to bottom, read back by hand: the heading's date, each
+    `- name: value` line, and the JSON block."""
+    found = []
+    for block in re.split(r"^## ", text, flags=re.MULTILINE)[1:]:
+        heading, _, body = block.partition("\n")
+        fields = dict(line[2:].split(": ", 1) for line in body.splitlines()
+                      if line.startswith("- "))
+        figures = re.search(r"```json\n(.*?)\n```", body, flags=re.DOTALL)
+        found.append({"command": heading, **fields,
+                      "figures": json.loads(figures.group(1)) if figures else None})
+    return found
+
+
+def run(argv: list[str]) -> tuple[int | str | None, str, str]:
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            status = cli.main(argv)
+        except SystemExit as stop:
+            status = stop.code
+    return status, out.getvalue(), err.getvalue()
+
+
+def test_two_records_stand_newest_first_under_the_title(tmp_path):
+    path = tmp_path / "bench-sim.md"
+    first = dt.datetime(2026, 11, 20, 9, 5, tzinfo=dt.timezone.utc)
+    assert results.record(path, "frost bench sim --section memory", {"memory": {"mb": 1}},
+                          first) is None
+    assert results.record(path, "frost bench sim --section taps", {"taps": [1, 2]},
+                          first + dt.timedelta(days=2, hours=3)) is None
+    text = path.read_text(encoding="utf-8")
+    assert text.startswith("# Results: frost bench sim\n")
+    assert text.index("# Results") < text.index("Each run") < text.index("## ")
+    got = entries(text)
+    assert [e["date"] for e in got] == ["2026-11-22 12:05 UTC", "2026-11-20 09:05 UTC"]
+    assert [e["command"] for e in got] == ["`frost bench sim --section taps`",
+                                           "`frost bench sim --section memory`"]
+    assert [e["figures"] for e in got] == [{"taps": [1, 2]}, {"memory": {"mb": 1}}]
+    for e in got:
+        assert set(FIELDS) <= set(e), e
+        assert re.fullmatch(r"[0-9a-f]{4,40}\+?|unknown", e["commit"]), e["commit"]
+        assert e["machine"].startswith(f"{results.os.cpu_count()} cores, ")
+        assert re.fullmatch(r"(\d+\.\d\d / ){2}\d+\.\d\d|unknown", e["load average (1, 5, 15 min)"])
+
+
+def test_a_record_goes_above_entries_already_there(tmp_path):
+    """A file kept by hand (its own introduction, entries moved from the docs) takes a new
+    entry between its introduction and its first entry, the rest untouched."""
+    path = tmp_path / "bench-render.md"
+    kept = "## frost bench render\n\n- date: 2026-11-21\n\n| a | b |\n| --- | --- |\n| 1 | 2 |\n"
+    old = "# Render\n\nWhat this holds.\n\n" + kept
+    path.write_text(old, encoding="utf-8")
+    assert results.record(path, "frost bench render", {"ticks": 3}) is None
+    text = path.read_text(encoding="utf-8")
+    assert text.startswith("# Render\n\nWhat this holds.\n\n## ")
+    assert text.endswith("\n" + kept)
+    assert [e["figures"] for e in entries(text)] == [{"ticks": 3}, None]
+
+
+def test_the_commit_is_the_checkouts_or_unknown(monkeypatch, tmp_path):
+    head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+                          text=True)
+    if head.returncode == 0:
+        assert results.commit().rstrip("+") == head.stdout.strip()
+    monkeypatch.setattr(results, "ROOT", tmp_path)  # no checkout there
+    assert results.commit() == "unknown"
+
+
+def test_the_load_is_unknown_where_the_system_gives_none(monkeypatch):
+    monkeypatch.delattr(results.os, "getloadavg")
+    assert results.load() == "unknown"
+
+
+def test_frost_bench_sim_record_keeps_what_it_printed(monkeypatch, tmp_path):
+    monkeypatch.setattr(results, "RESULTS", tmp_path)
+    status, out, err = run(["bench", "sim", "--quick", "--section", "memory", "--record"])
+    assert status == 0, err
+    printed = json.loads([line for line in out.splitlines() if line.startswith("{")][-1])
+    (kept,) = entries((tmp_path / "bench-sim.md").read_text(encoding="utf-8"))
+    assert kept["figures"] == printed and printed["memory"]["crystals"] > 0
+    assert kept["command"] == "`frost bench sim --quick --section memory`"  # gives them again
+
+
+@pytest.mark.parametrize("argv", [["bench", "sim", "--record"], ["bench", "render", "--record"]])
+def test_a_record_that_cannot_be_written_is_refused_before_the_run(monkeypatch, tmp_path, argv):
+    ran = []
+    monkeypatch.setattr(results, "RESULTS", tmp_path / "missing")
+    monkeypatch.setattr(simulation, "SECTIONS", {"memory": lambda args: ran.append(args) or {}})
+    monkeypatch.setattr("app.bench.render.make_context", lambda: ran.append("context"))
+    status, _, err = run(argv)
+    assert status == 2 and not ran
+    assert err.count("\n") == 1 and f"--record: {tmp_path / 'missing'}: no such folder" in err, err
+
+
+def test_frost_bench_render_record_keeps_what_it_printed(tmp_path):
+    """A short real run (its own process: an EGL context stays out of the test process)."""
+    script = ("import sys\nfrom pathlib import Path\nfrom app.bench import results\n"
+              "results.RESULTS = Path(sys.argv[1])\nfrom app.cli import main\n"
+              "raise SystemExit(main(sys.argv[2:]))")
+    argv = ["bench", "render", "--cover", "0.01", "--max-ticks", "3", "--frames", "2", "--record"]
+    done = subprocess.run([sys.executable, "-c", script, str(tmp_path), *argv], cwd=ROOT,
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    printed = json.loads([line for line in done.stdout.splitlines() if line.startswith("{")][-1])
+    (kept,) = entries((tmp_path / "bench-render.md").read_text(encoding="utf-8"))
+    assert kept["figures"] == printed and printed["ticks"] <= 3
+    assert kept["command"] == ("`frost bench render --preset c-2 --seed 0 --frames 2 "
+                               "--cover 0.01 --max-ticks 3`")
+
+
+def test_the_commit_recorded_is_the_one_the_run_started_on(monkeypatch, tmp_path):
+    """A commit made while a benchmark runs (minutes) is not the code that ran."""
+    heads = iter(["1a2b3c4", "5d6e7f8"])  # at the start, then at the end
+    monkeypatch.setattr(results, "commit", lambda: next(heads))
+    monkeypatch.setattr(simulation, "commit", results.commit)
+    monkeypatch.setattr(results, "RESULTS", tmp_path)
+    monkeypatch.setattr(simulation, "SECTIONS", {"memory": lambda args: {"memory": {"mb": 1}}})
+    status, _, err = run(["bench", "sim", "--section", "memory", "--record"])
+    assert status == 0, err
+    (kept,) = entries((tmp_path / "bench-sim.md").read_text(encoding="utf-8"))
+    assert kept["commit"] == "1a2b3c4"
