@@ -26,7 +26,7 @@ import time
 import numpy as np
 
 from app.backdrops import view_from
-from app.bench.results import commit, keep
+from app.bench.results import commit, keep, load_averages
 from app.gl.renderer import Renderer
 from app.tools.offscreen import make_context
 from sim import FrostSim, Params
@@ -161,12 +161,9 @@ def command(args) -> str:
 
 
 def load_average() -> float | None:
-    """The last minute's load average, None where the system keeps none (Windows: no
-    os.getloadavg there)."""
-    try:
-        return round(os.getloadavg()[0], 2)
-    except (AttributeError, OSError):  # (OSError: a system that has it but cannot say)
-        return None
+    """The last minute's load average, None where the system keeps none (Windows)."""
+    averages = load_averages()
+    return round(averages[0], 2) if averages else None
 
 
 def report(result: dict, frames: int) -> None:

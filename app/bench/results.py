@@ -160,7 +160,14 @@ def system() -> str:
 
 def load() -> str:
     """The load averages, or "unknown" where the system gives none (Windows)."""
+    averages = load_averages()
+    return " / ".join(f"{v:.2f}" for v in averages) if averages else "unknown"
+
+
+def load_averages() -> tuple[float, float, float] | None:
+    """The load averages of the last 1, 5 and 15 minutes; None where the system keeps none
+    (Windows: no os.getloadavg there)."""
     try:
-        return " / ".join(f"{v:.2f}" for v in os.getloadavg())
-    except (AttributeError, OSError):
-        return "unknown"
+        return os.getloadavg()
+    except (AttributeError, OSError):  # (OSError: a system that has it but cannot say)
+        return None
