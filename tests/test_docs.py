@@ -11,7 +11,10 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 PAGES = [ROOT / "README.md", ROOT / "CHANGELOG.md", *sorted((ROOT / "docs").glob("*.md")),
          *sorted((ROOT / "docs" / "results").glob("*.md"))]
-README_MOST_LINES = 200
+README_MOST_WORDS = 1200  # \w+ tokens, code and links included: two minutes' reading
+PICTURE_WITHIN = 3000  # characters: the frost is the first thing a reader sees
+# A Markdown image of the frost: ![alt](path.png|webp|jpg|gif)
+PICTURE = re.compile(r"!\[[^\]]*\]\(([^)\s]+\.(?:png|webp|jpg|gif))\)")
 LINK = re.compile(r"!?\[[^\]]*\]\(([^)\s]+)\)")  # [text](target) and ![alt](target)
 # A file of the repository named in the text, e.g. `app/tools/render.py` or docs/panel.webp.
 NAMED_FILE = re.compile(r"\b((?:app|sim|tests|shaders|assets|docs)/[\w./-]*\w\.(?:py|md|frag|vert|"
@@ -46,8 +49,16 @@ def test_anchor_follows_githubs_rule_on_hand_worked_headings():
 
 
 def test_the_readme_is_short():
-    lines = (ROOT / "README.md").read_text(encoding="utf-8").splitlines()
-    assert len(lines) <= README_MOST_LINES, len(lines)
+    words = re.findall(r"\w+", (ROOT / "README.md").read_text(encoding="utf-8"))
+    assert len(words) <= README_MOST_WORDS, f"README.md has {len(words)} words"
+
+
+def test_the_readme_opens_with_a_picture_of_the_frost():
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    found = PICTURE.search(text)
+    assert found, "README.md shows no picture"
+    assert found.start() < PICTURE_WITHIN, f"README.md's first picture is at character {found.start()}"
+    assert (ROOT / found.group(1)).is_file(), found.group(1)
 
 
 @pytest.mark.parametrize("page", PAGES, ids=page_id)
