@@ -64,13 +64,13 @@ def test_folder_imports_of_a_hand_made_tree(tmp_path):
                          "app/keys.py": "from sim.core.a import f\n", "app/gl/__init__.py": "",
                          "app/gl/r.py": "from app import keys\n"}.items():
         (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
-        (tmp_path / name).write_text(source)
+        (tmp_path / name).write_text(source, encoding="utf-8")
     assert folder_imports(tmp_path) == {"sim/core": {"sim/index"}, "app": {"sim/core"},
                                         "app/gl": {"app"}}
 
 
 def test_every_module_is_listed_once_in_docs_architecture():
-    names = listed(PAGE.read_text())
+    names = listed(PAGE.read_text(encoding="utf-8"))
     twice = sorted({n for n in names if names.count(n) > 1})
     assert twice == [], f"docs/architecture.md lists these modules more than once: {twice}"
     missing = sorted(modules(ROOT) - set(names))
@@ -78,12 +78,12 @@ def test_every_module_is_listed_once_in_docs_architecture():
 
 
 def test_every_module_listed_in_docs_architecture_exists():
-    gone = sorted(set(listed(PAGE.read_text())) - modules(ROOT))
+    gone = sorted(set(listed(PAGE.read_text(encoding="utf-8"))) - modules(ROOT))
     assert gone == [], f"docs/architecture.md lists modules that do not exist: {gone}"
 
 
 def test_the_arrows_of_docs_architecture_are_the_imports_of_the_code():
-    said, made = arrows(PAGE.read_text()), folder_imports(ROOT)
+    said, made = arrows(PAGE.read_text(encoding="utf-8")), folder_imports(ROOT)
     for folder in sorted(set(said) | set(made)):
         unsaid = sorted(made.get(folder, set()) - said.get(folder, set()))
         untrue = sorted(said.get(folder, set()) - made.get(folder, set()))

@@ -26,7 +26,7 @@ def page_id(page: Path) -> str:
 
 
 def links(page: Path) -> list[str]:
-    return LINK.findall(page.read_text())
+    return LINK.findall(page.read_text(encoding="utf-8"))
 
 
 def anchor(heading: str) -> str:
@@ -36,7 +36,7 @@ def anchor(heading: str) -> str:
 
 
 def anchors(page: Path) -> set[str]:
-    headings = [line.lstrip("#") for line in page.read_text().splitlines()
+    headings = [line.lstrip("#") for line in page.read_text(encoding="utf-8").splitlines()
                 if re.match(r"#{1,6} ", line)]
     return {anchor(h) for h in headings}
 
@@ -49,12 +49,12 @@ def test_anchor_follows_githubs_rule_on_hand_worked_headings():
 
 
 def test_the_readme_is_short():
-    words = re.findall(r"\w+", (ROOT / "README.md").read_text())
+    words = re.findall(r"\w+", (ROOT / "README.md").read_text(encoding="utf-8"))
     assert len(words) <= README_MOST_WORDS, f"README.md has {len(words)} words"
 
 
 def test_the_readme_opens_with_a_picture_of_the_frost():
-    text = (ROOT / "README.md").read_text()
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
     found = PICTURE.search(text)
     assert found, "README.md shows no picture"
     assert found.start() < PICTURE_WITHIN, f"README.md's first picture is at character {found.start()}"
@@ -79,20 +79,21 @@ def test_every_link_resolves_inside_the_repository(page):
 def test_no_address_outside_the_repository(page):
     """No address a reader would follow off this machine (this machine's own server, as
     `frost serve` prints it, is no outside address)."""
-    addresses = re.findall(r"\b(?:https?|ftp)://\S+", page.read_text())
+    addresses = re.findall(r"\b(?:https?|ftp)://\S+", page.read_text(encoding="utf-8"))
     assert [a for a in addresses if not re.match(r"https?://(127\.0\.0\.1|localhost)[:/]", a)] == []
 
 
 @pytest.mark.parametrize("page", PAGES, ids=page_id)
 def test_every_file_named_exists(page):
-    missing = [name for name in NAMED_FILE.findall(page.read_text())
+    missing = [name for name in NAMED_FILE.findall(page.read_text(encoding="utf-8"))
                if not (ROOT / name).exists() and not (page.parent / name).exists()]
     assert missing == []
 
 
 def sentences(page: Path) -> list[str]:
     """The page's text but its headings, cut at each full stop or semicolon."""
-    text = " ".join(line for line in page.read_text().splitlines() if not line.startswith("#"))
+    lines = page.read_text(encoding="utf-8").splitlines()
+    text = " ".join(line for line in lines if not line.startswith("#"))
     return re.split(r"(?<=[.;])\s+", " ".join(text.split()))
 
 

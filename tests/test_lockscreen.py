@@ -119,7 +119,7 @@ def test_a_clock_event_leaves_the_frost_as_version_9_grew_it():
 
 
 def test_version_10_grows_the_frost_stored_for_version_9():
-    stored = json.loads((ROOT / "tests" / "data" / "frozen_runs.json").read_text())
+    stored = json.loads((ROOT / "tests" / "data" / "frozen_runs.json").read_text(encoding="utf-8"))
     assert frozen_runs.state_hash(frozen_runs.one_spot(version=10)) == stored["v9/one-spot"]
 
 
@@ -273,16 +273,16 @@ def test_the_window_shows_and_records_the_clock_it_is_given(tmp_path):
              "PYTHONPATH": str(ROOT)}
     script = " ".join(f"{k}={shlex.quote(v)}" for k, v in given.items()) + "; export PYTHONPATH\n"
     done = xvfb(["sh", "-c", script + WINDOW_RUN], cwd=ROOT, timeout=180)
-    log = (tmp_path / "app.log").read_text()
+    log = (tmp_path / "app.log").read_text(encoding="utf-8")
     assert done.returncode == 0, log
     shots = sorted((tmp_path / "shots").glob("*.png"))
     assert shots, log
-    beside = json.loads((tmp_path / "sessions" / f"{shots[0].stem}.json").read_text())
+    beside = json.loads((tmp_path / "sessions" / f"{shots[0].stem}.json").read_text(encoding="utf-8"))
     minutes = [e["minute"] for e in beside["events"] if e["kind"] == "clock"]
     assert minutes and minutes[0] == "2026-11-26T07:05"
     shot = np.asarray(Image.open(shots[0]).convert("RGB"))
     assert np.array_equal(box(shot), clock_patch(STATIC, minutes[-1]))
-    saved = json.loads(next((tmp_path / "sessions").glob("session-*.json")).read_text())
+    saved = json.loads(next((tmp_path / "sessions").glob("session-*.json")).read_text(encoding="utf-8"))
     assert saved["version"] >= 10
     assert [e for e in saved["events"] if e["kind"] == "clock"][:1] == \
         [e for e in beside["events"] if e["kind"] == "clock"][:1]

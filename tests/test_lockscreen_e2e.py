@@ -68,7 +68,7 @@ def test_the_page_shows_each_minute_from_the_clock_box_alone(serve, phones, tmp_
     out = s.stop()
     sessions = sorted(tmp_path.glob("session-*.json"))
     assert sessions, out
-    recorded = json.loads(sessions[-1].read_text())
+    recorded = json.loads(sessions[-1].read_text(encoding="utf-8"))
     minutes = [e["minute"] for e in recorded["events"] if e["kind"] == "clock"]
     assert recorded["version"] >= 10 and minutes[-2:] == [first, second]
     png = tmp_path / "replay.png"

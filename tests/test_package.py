@@ -70,7 +70,7 @@ def venv(tmp_path_factory) -> Path:
 
 @pytest.mark.parametrize("page", ["README.md", "docs/platforms.md"])
 def test_the_install_steps_tested_here_are_the_ones_the_docs_give(page):
-    text = (ROOT / page).read_text()
+    text = (ROOT / page).read_text(encoding="utf-8")
     lines = {line.strip() for line in text.splitlines()}  # (a code block's, in a list item)
     for step in [*MAC_STEPS, *WINDOWS_STEPS]:
         assert f"`{step}`" in text or step in lines, step

@@ -43,7 +43,7 @@ def grown(gl_ctx, request):
 
 
 def test_the_page_knows_each_looks_defines():
-    source = (WEB_DIR / "renderer.js").read_text()
+    source = (WEB_DIR / "renderer.js").read_text(encoding="utf-8")
     for name, table in (("LOOK_DEFINES", LOOK_DEFINES), ("FEATURE_DEFINES", FEATURE_DEFINES)):
         text = re.search(rf"export const {name} = (\{{.*?\}});", source).group(1)
         page = json.loads(re.sub(r"(\w+):", r'"\1":', text))
@@ -53,7 +53,7 @@ def test_the_page_knows_each_looks_defines():
 def test_the_page_draws_with_the_tile_and_depth_of_the_hello(browser):
     """The page keeps no copy of the desktop's tile side and feature depth: it takes the
     hello's (frost serve's are sim.look.material's TILE and MAX_DEPTH), here other ones."""
-    source = (WEB_DIR / "renderer.js").read_text() + (WEB_DIR / "main.js").read_text()
+    source = "".join((WEB_DIR / name).read_text(encoding="utf-8") for name in ("renderer.js", "main.js"))
     assert not re.search(r"\b(TILE|MAX_DEPTH)\b", source)
     params = Params.preset("fern")
     with Page({**hello(params), "tile": 32, "max_depth": 128.0}, [], browser=browser) as page:

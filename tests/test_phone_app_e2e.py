@@ -65,7 +65,7 @@ def screen(page) -> np.ndarray:
 def session_touches(tmp_path) -> list[tuple[float, float]]:
     files = sorted(tmp_path.glob("session-*.json"))
     assert files
-    events = json.loads(files[-1].read_text())["events"]
+    events = json.loads(files[-1].read_text(encoding="utf-8"))["events"]
     return [(e["x"], e["y"]) for e in events if e["kind"] == "touch"]
 
 

@@ -302,7 +302,7 @@ def test_the_session_replays_to_the_pages_frame(serve, phones, tmp_path):
     out = s.stop()
     sessions = sorted(tmp_path.glob("session-*.json"))
     assert sessions, out
-    assert json.loads(sessions[-1].read_text())["steps"] == tick
+    assert json.loads(sessions[-1].read_text(encoding="utf-8"))["steps"] == tick
     png = tmp_path / "replay.png"
     subprocess.run([sys.executable, "-m", "app", "replay", str(sessions[-1]), "--out", str(png)],
                    cwd=tmp_path, check=True, capture_output=True, timeout=120)

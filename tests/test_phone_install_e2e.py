@@ -197,15 +197,17 @@ def marked_copy(folder: Path, mark: str) -> Path:
     web = folder / "app" / "web"
     for js in web.glob("*.js"):
         if js.name != "sw.js":
-            js.write_text(js.read_text() + f"\nglobalThis.frostMarks = [...(globalThis.frostMarks || []),"
-                                           f" '{js.stem}:{mark}'];\n")
+            js.write_text(js.read_text(encoding="utf-8")
+                          + f"\nglobalThis.frostMarks = [...(globalThis.frostMarks || []),"
+                          f" '{js.stem}:{mark}'];\n", encoding="utf-8")
     css = web / "page.css"
-    css.write_text(css.read_text() + f'\n:root {{ --frost-mark: "{mark}"; }}\n')
+    css.write_text(css.read_text(encoding="utf-8") + f'\n:root {{ --frost-mark: "{mark}"; }}\n',
+                   encoding="utf-8")
     html = web / "index.html"
     meta = f'<meta name="frost-mark" content="{mark}">\n'
-    html.write_text(html.read_text().replace("<title>", meta + "<title>"))
+    html.write_text(html.read_text(encoding="utf-8").replace("<title>", meta + "<title>"), encoding="utf-8")
     for shader in (folder / "shaders").iterdir():
-        shader.write_text(shader.read_text() + f"\n// mark {mark}\n")
+        shader.write_text(shader.read_text(encoding="utf-8") + f"\n// mark {mark}\n", encoding="utf-8")
     if mark == "B":
         png = folder / "assets" / "background.png"
         image = np.array(Image.open(png).convert("RGB"))

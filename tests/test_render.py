@@ -36,7 +36,7 @@ def test_shader_is_glsl_es_300_and_glsl_330(name, dialect, tmp_path):
     exe = shutil.which("glslangValidator")
     assert exe, "glslangValidator is missing: apt-get install glslang-tools (`make test` does)"
     path = tmp_path / f"shader{Path(name).suffix}"
-    path.write_text(shader_source(name, dialect=dialect))
+    path.write_text(shader_source(name, dialect=dialect), encoding="utf-8")
     run = subprocess.run([exe, str(path)], capture_output=True, text=True)
     assert run.returncode == 0, run.stdout + run.stderr
 
@@ -152,8 +152,9 @@ def test_two_runs_in_the_same_second_choose_different_names(monkeypatch, tmp_pat
         chosen.append(timestamped_path(tmp_path, prefix, suffix))
     assert chosen[0] != chosen[1]
     for run, path in enumerate(chosen):
-        path.write_text(f"run {run}")
-    assert [p.read_text() for p in chosen] == ["run 0", "run 1"]  # neither overwrote the other
+        path.write_text(f"run {run}", encoding="utf-8")
+    # neither overwrote the other
+    assert [p.read_text(encoding="utf-8") for p in chosen] == ["run 0", "run 1"]
 
 
 FROZEN_CLOCK = ("import sys, time; time.strftime = lambda fmt, *t: '20261125-120000'; "
@@ -303,7 +304,7 @@ def test_melt_renders_as_if_the_ice_never_grew_there(gl_ctx):
 
 def test_the_pages_shader_header_is_the_es_dialects():
     # One header per dialect: the page's copy (app/web/renderer.js) is the loader's "es".
-    js = (Path(__file__).resolve().parent.parent / "app" / "web" / "renderer.js").read_text()
+    js = (Path(__file__).resolve().parent.parent / "app" / "web" / "renderer.js").read_text(encoding="utf-8")
     start = js.index('export const HEADER = "') + len('export const HEADER = "')
     page = js[start:js.index('";', start)].encode().decode("unicode_escape")
     assert page == HEADERS["es"]

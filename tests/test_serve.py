@@ -252,9 +252,9 @@ def test_a_token_is_needed_when_one_is_in_force():
 def test_static_files_stay_in_their_folders(tmp_path):
     web = tmp_path / "web"
     web.mkdir()
-    (web / "index.html").write_text("<p>frost</p>")
-    (web / "app.js").write_text("export {};")
-    (tmp_path / "secret.txt").write_text("no")
+    (web / "index.html").write_text("<p>frost</p>", encoding="utf-8")
+    (web / "app.js").write_text("export {};", encoding="utf-8")
+    (tmp_path / "secret.txt").write_text("no", encoding="utf-8")
     (web / "link.txt").symlink_to(tmp_path / "secret.txt")
 
     async def test(client, feed):

@@ -11,6 +11,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import datetime as dt
+import io
 import json
 import os
 import re
@@ -24,10 +25,12 @@ import time
 from pathlib import Path
 
 import aiohttp
+import numpy as np
 import pytest
 from cryptography import x509
 from cryptography.hazmat.primitives import serialization
 from cryptography.x509.oid import ExtendedKeyUsageOID
+from PIL import Image
 from test_phone_e2e import PHONE, synced
 
 from app.serve import trust
@@ -182,8 +185,8 @@ def test_loopback_however_written_is_served_as_loopback_is(host):
 class Serve:
     """`frost serve --host 0.0.0.0 --port 0` with its config folder under tmp; its two URLs."""
 
-    def __init__(self, config: Path, *args: str):
-        env = {**os.environ, "XDG_CONFIG_HOME": str(config), "PYTHONUNBUFFERED": "1"}
+    def __init__(self, config: Path, *args: str, env: dict | None = None):
+        env = {**os.environ, "XDG_CONFIG_HOME": str(config), "PYTHONUNBUFFERED": "1", **(env or {})}
         self.proc = subprocess.Popen(
             [sys.executable, "-m", "app", "serve", "--host", "0.0.0.0", "--port", "0",
              "--preset", "c-2", *args], cwd=ROOT, env=env, text=True,
@@ -222,8 +225,8 @@ class Serve:
 def serve(tmp_path):
     started: list[Serve] = []
 
-    def start(*args: str, config: Path = tmp_path / "config") -> Serve:
-        started.append(Serve(config, *args))
+    def start(*args: str, config: Path = tmp_path / "config", env: dict | None = None) -> Serve:
+        started.append(Serve(config, *args, env=env))
         return started[-1]
 
     yield start
@@ -256,6 +259,41 @@ async def status_of(url: str, ctx: ssl.SSLContext | None = None) -> tuple[int, s
     async with aiohttp.ClientSession() as http, \
             http.get(url, ssl=ctx if ctx else False) as r:
         return r.status, r.headers.get("Content-Type", ""), await r.read()
+
+
+def qr_modules(path: Path, scale: int = 8, border: int = 4) -> list[list[bool]]:
+    """The dark modules of a QR code's PNG (`scale` px a module, `border` modules round),
+    read at each module's centre."""
+    image = np.asarray(Image.open(path).convert("L"))
+    size = image.shape[0] // scale - 2 * border
+    centre = [(border + i) * scale + scale // 2 for i in range(size)]
+    return [[bool(image[y, x] < 128) for x in centre] for y in centre]
+
+
+@pytest.mark.parametrize("encoding", ["utf-8", "cp1252"])
+def test_the_qr_codes_are_drawn_where_the_console_can_show_them_else_written_as_images(
+        serve, tmp_path, encoding):
+    """A console that is not UTF-8 (a redirected Windows console, cp1252) cannot show the
+    codes' block characters: the URLs print, a line names each code's PNG (in the config
+    folder, beside the token), and the server serves on until Ctrl-C."""
+    import segno
+
+    s = serve(env={"PYTHONIOENCODING": encoding})
+    assert asyncio.run(status_of(f"http://127.0.0.1:{s.http_port}/?token={s.token}"))[0] == 200
+    out = s.stop()
+    assert s.proc.returncode == 130, out
+    folder = tmp_path / "config" / "frost"
+    for name, url in (("qr-page.png", s.http), ("qr-app.png", s.https)):
+        code = segno.make(url, error="m")
+        if encoding == "utf-8":
+            drawn = io.StringIO()
+            code.terminal(out=drawn, compact=True)
+            assert drawn.getvalue() in out and not (folder / name).exists()
+        else:
+            said = "the console (cp1252) cannot show the QR code: open the image"
+            assert f"frost serve: {said} {folder / name}\n" in out, out
+            assert qr_modules(folder / name) == [[bool(m) for m in row] for row in code.matrix]
+    assert "Traceback" not in out and "UnicodeEncodeError" not in out
 
 
 def test_the_lan_server_answers_over_https_with_the_kept_authoritys_certificate_in_two_runs(
@@ -312,7 +350,7 @@ def test_the_lan_server_answers_over_https_with_the_kept_authoritys_certificate_
             assert (await status_of(f"{scheme}://127.0.0.1:{port}/?token={token}", ctx_))[0] == 403
             assert (await status_of(f"{scheme}://127.0.0.1:{port}/?token={third.token}", ctx_))[0] == 200
     asyncio.run(old_token_refused())
-    assert (folder / "token").read_text().strip() == third.token
+    assert (folder / "token").read_text(encoding="utf-8").strip() == third.token
 
 
 def test_without_the_token_only_the_authoritys_public_certificate_is_served_on_both_ports(

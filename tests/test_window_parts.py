@@ -612,7 +612,7 @@ def test_an_autosave_never_holds_a_frame_nor_outlives_the_last_save(tmp_path, mo
 
 def test_a_session_that_cannot_be_kept_is_told_once(tmp_path):
     thread, capture, said, _ = keeper(tmp_path)
-    (tmp_path / "sessions").write_text("a file where the folder must be")
+    (tmp_path / "sessions").write_text("a file where the folder must be", encoding="utf-8")
     for k in range(3):
         capture.keep_session(ticked(thread, 1), k * AUTOSAVE_PERIOD)
         capture.keeper.wait()
@@ -1111,7 +1111,7 @@ def test_the_windowed_replay_takes_the_sessions_version(tmp_path):
 
     path = tmp_path / "old.json"
     log_ = SessionLog(3, Params.preset("c-2").as_dict(), events=[], steps=5, version=8)
-    path.write_text(json.dumps(log_.as_json()))
+    path.write_text(json.dumps(log_.as_json()), encoding="utf-8")
     args = argparse.Namespace(replay=str(path), background=None, light=None, features=None,
                               bumps=None, params_file=None)
     commands._windowed_replay(args)

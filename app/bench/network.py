@@ -379,7 +379,7 @@ def stats(ms: np.ndarray) -> str:
 def load() -> str:
     """The machine's load averages (1, 5, 15 min), as `uptime` says them."""
     try:
-        with open("/proc/loadavg") as f:
+        with open("/proc/loadavg", encoding="utf-8") as f:
             return "load average " + ", ".join(f.read().split()[:3])
     except OSError:
         return "load average unknown"
