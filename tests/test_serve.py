@@ -86,6 +86,11 @@ class PageModel:
                 return t[key]
         return None
 
+    def answered(self, t, since: int = 0) -> bool:
+        """Whether the pong to ping `t` is among the texts from `since` on (whatever came
+        after it)."""
+        return any(m["type"] == "pong" and m.get("t") == t for m in self.texts[since:])
+
     def take(self, msg) -> None:
         """A message the socket received; AssertionError if the socket ended."""
         if msg.type == WSMsgType.BINARY:
@@ -647,14 +652,16 @@ def test_menu_and_keys_change_the_shared_frost_and_every_page_hears():
         for bad in ({"type": "preset", "name": "z-9"}, {"type": "backdrop", "name": "/etc"},
                     {"type": "key", "key": "S"}, {"type": "key", "key": "NOPE"}):
             await a.send_json(bad)
+        asked = len(pa.texts)
         await a.send_json({"type": "ping", "t": 1})  # answered after the four
-        await read_until(a, pa, lambda: pa.texts[-1]["type"] == "pong")
+        await read_until(a, pa, lambda: pa.answered(1, asked))
         notes = [t["text"] for t in pa.texts if t["type"] == "notice"]
         for says in ("'z-9' refused", "backdrop '/etc' refused", "screenshot", "key NOPE"):
             assert any(says in n for n in notes), (says, notes)
         assert feed.controls.backdrop == "lockscreen"
+        asked = len(pb.texts)
         await b.send_json({"type": "ping", "t": 2})  # (after a's notices, were they b's too)
-        await read_until(b, pb, lambda: pb.texts[-1]["type"] == "pong")
+        await read_until(b, pb, lambda: pb.answered(2, asked))
         assert not any("refused" in t.get("text", "") for t in pb.texts)  # a's alone
         events = feed.thread.session().events
         kinds = [e["kind"] for e in events]
