@@ -108,6 +108,17 @@ async def read_until(ws, page: PageModel, done, timeout: float = 20.0):
         page.take(await asyncio.wait_for(ws.receive(), max(0.01, end - loop.time())))
 
 
+async def until(done, what: str = "", timeout: float = 30.0) -> None:
+    """Wait for `done()` (polled), however loaded the machine; AssertionError naming
+    `what` if it is still not so after `timeout` s (a bound on a failure, not a claim)."""
+    loop = asyncio.get_running_loop()
+    end = loop.time() + timeout
+    while not done():
+        if loop.time() > end:
+            raise AssertionError(f"not within {timeout:g} s: {what}")
+        await asyncio.sleep(0.02)
+
+
 async def read_quiet(ws, page: PageModel, quiet: float = 0.4):
     """Read until nothing comes for `quiet` s (a paused simulation sends nothing)."""
     while True:
@@ -1014,15 +1025,19 @@ def test_the_server_logs_its_stats_while_it_serves(monkeypatch, caplog):
 
     monkeypatch.setattr(server, "STATS_PERIOD", 0.5)
 
+    def lines() -> list[str]:
+        return [r.getMessage() for r in caplog.records if "stats (" in r.getMessage()]
+
     async def test(client, feed):
         ws, page = await connect(client)
         await read_until(ws, page, lambda: page.tick > feed.tick() - 1 and page.tick >= 30)
-        await asyncio.sleep(0.6)
+        seen = len(lines())
+        await until(lambda: len(lines()) > seen, "a stats line with the page connected")
+        line = lines()[seen]
+        assert re.search(r"sim \d+\.\d ticks/s, tick median \d+\.\d ms, 1 page", line), line
 
     with caplog.at_level(logging.INFO, logger="app.serve"):
         serve(test)
-    lines = [r.getMessage() for r in caplog.records if "stats (" in r.getMessage()]
-    assert lines and re.search(r"sim \d+\.\d ticks/s, tick median \d+\.\d ms, 1 page", lines[-1])
 
 
 def test_the_stats_line_counts_ticks_stepped_across_a_rebuild(monkeypatch, caplog):
@@ -1035,18 +1050,21 @@ def test_the_stats_line_counts_ticks_stepped_across_a_rebuild(monkeypatch, caplo
 
     monkeypatch.setattr(server, "STATS_PERIOD", 0.8)
 
+    def rates() -> list[float]:
+        return [float(m) for r in caplog.records
+                for m in re.findall(r"sim (-?\d+\.\d) ticks/s", r.getMessage())]
+
     async def test(client, feed):
         ws, page = await connect(client)
         await read_until(ws, page, lambda: page.tick >= 40)
         await ws.send_json({"type": "preset", "name": "c-3"})
         await read_until(ws, page, lambda: page.state("preset") == "c-3")
-        await asyncio.sleep(1.8)
+        seen = len(rates())  # the rebuild is in the next line's while, the one after is past it
+        await until(lambda: len(rates()) >= max(3, seen + 2), "two stats lines after the rebuild")
 
     with caplog.at_level(logging.INFO, logger="app.serve"):
         serve(test)
-    rates = [float(m) for r in caplog.records
-             for m in re.findall(r"sim (-?\d+\.\d) ticks/s", r.getMessage())]
-    assert len(rates) >= 3 and all(rate > 5 for rate in rates), rates
+    assert all(rate > 5 for rate in rates()), rates()
 
 
 def test_a_flood_of_bad_requests_is_a_line_in_the_log_now_and_then(caplog, monkeypatch):
@@ -1068,11 +1086,11 @@ def test_a_flood_of_bad_requests_is_a_line_in_the_log_now_and_then(caplog, monke
 
     async def test(client, feed):
         await bad(client, 50)
-        await asyncio.sleep(0.1)
+        await until(said, "a line on the bad requests")
         assert len(said()) == 1 and "more" not in said()[0]
         monkeypatch.setattr(logs, "BAD_LOG_S", 0.0)  # the while since the last line is over
         await bad(client, 1)
-        await asyncio.sleep(0.1)
+        await until(lambda: len(said()) >= 2, "a second line, after BAD_LOG_S")
         assert len(said()) == 2 and said()[1].endswith("; 49 more refused since the last such line")
     with caplog.at_level(logging.INFO, "aiohttp.server"):
         serve(test)
