@@ -15,7 +15,7 @@ from datetime import datetime, timedelta
 import numpy as np
 import pytest
 from PIL import Image
-from test_phone_e2e import PROBLEM, ROOT, phones, pixels, tap  # noqa: F401, F811
+from test_phone_e2e import PROBLEM, ROOT, grown, pause_and_settle, phones, pixels, tap  # noqa: F401, F811
 
 from app.backdrops import LIVE, load_backdrop, read_backdrop
 from app.lockscreen import CLOCK_BOX, MINUTE_FORMAT, with_clock
@@ -27,10 +27,10 @@ X0, Y0, X1, Y1 = CLOCK_BOX
 
 
 def shown_minute(page, other: str | None = None) -> str:
-    """The minute the page's backdrop holds, once it holds one (other than `other`)."""
+    """The minute the page's backdrop holds, once it holds one (other than `other`): in
+    the backdrop texture, which pixels() draws the pane with (no frame waited for)."""
     page.wait_for_function(f"frost.clock.shown && frost.clock.shown !== {json.dumps(other)}",
                            timeout=90_000)
-    page.wait_for_timeout(300)  # (drawn at the next frame)
     return page.evaluate("frost.clock.shown")
 
 
@@ -38,8 +38,8 @@ def test_the_page_shows_each_minute_from_the_clock_box_alone(serve, phones, tmp_
     s = serve("--background", "lockscreen", "--clock-start", "2026-11-26T15:41:45")
     page = phones(s.local)
     tap(page, 380, 1180)  # frost far below the clock (and a session to replay)
-    page.wait_for_timeout(1000)
-    page.evaluate("frost.socket.send(JSON.stringify({type: 'pause'}))")  # (the clock runs on)
+    grown(page, 25)
+    pause_and_settle([page])  # (the clock runs on)
     first = shown_minute(page)
     before = pixels(page)
     # The pane away from the ice is the server's backdrop at that minute, pixel for pixel.

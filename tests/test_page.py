@@ -7,6 +7,7 @@ from __future__ import annotations
 import io
 import json
 import re
+import time
 
 import numpy as np
 import pytest
@@ -30,6 +31,18 @@ from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES
 
 PROBLEM = browser_problem()
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
+
+
+def sent_until(page: Page, done, what: str, timeout: float = 30.0) -> list[dict]:
+    """What the page sent, once `done(sent)` holds: polled, as its messages reach the
+    stand-in server only while Playwright runs; AssertionError naming `what` if it does
+    not within `timeout` s (a bound on a failure, not a claim)."""
+    end = time.monotonic() + timeout
+    while not done(page.sent):
+        if time.monotonic() > end:
+            raise AssertionError(f"not sent within {timeout:g} s: {what}: {page.sent}")
+        page.page.wait_for_timeout(20)
+    return page.sent
 
 
 @pytest.fixture(scope="module", params=["glass", "paper"])
@@ -191,8 +204,8 @@ def test_a_page_reconnects_and_holds_what_the_new_connection_gives(browser, grow
         assert not np.array_equal(page.pixels(), want)  # the whole frost
         page.socket.close(code=1001, reason="going away")
         total = len(messages) + len(half) + 2  # and two hellos
+        # (each applied as it comes: pixels() draws the pane as it is, no frame waited for)
         page.page.wait_for_function(f"frost.hellos === 2 && frost.messages === {total}")
-        page.page.wait_for_timeout(100)
         assert np.array_equal(page.pixels(), want)
 
 
@@ -472,9 +485,7 @@ def test_fingers_become_touches_and_melts_in_screen_px(browser):
         touch("touchMove", [(1, css(390, 650)), (2, css(110, 220))])
         page.page.wait_for_timeout(100)
         touch("touchEnd", [])
-        page.page.wait_for_function("true")
-        page.page.wait_for_timeout(100)
-    sent = page.sent
+        sent = sent_until(page, lambda sent: sum(m["phase"] == "up" for m in sent) >= 2, "both ups")
     kinds = [(m["type"], m["phase"], m["id"]) for m in sent]
     assert kinds[:2] == [("touch", "down", 0), ("melt", "down", 1)]
     assert ("touch", "move", 0) in kinds and ("melt", "move", 1) in kinds
@@ -506,8 +517,8 @@ def test_a_click_on_a_landscape_screen_lands_on_the_pane_under_it(browser):
         mouse.move(*css(650, 1100))
         page.page.wait_for_timeout(100)
         mouse.up(button="right")
-        page.page.wait_for_timeout(100)
-    sent = page.sent
+        sent = sent_until(page, lambda sent: any(m["phase"] == "up" and m["type"] == "melt" for m in sent),
+                          "the melt's up")
     down = next(m for m in sent if m["phase"] == "down" and m["type"] == "touch")
     assert abs(down["x"] - 100) < 1 and abs(down["y"] - 200) < 1, down
     melt = next(m for m in sent if m["phase"] == "down" and m["type"] == "melt")
@@ -574,8 +585,7 @@ def test_a_finger_lifted_before_a_frame_sends_its_last_move_and_one_off_the_pane
         mouse.move(pane["x"] + pane["w"] + 100, css(700, 600)[1])  # beside the pane
         p.wait_for_timeout(100)
         mouse.up()
-        p.wait_for_timeout(100)
-    sent = page.sent
+        sent = sent_until(page, lambda sent: sum(m["phase"] == "up" for m in sent) >= 2, "both ups")
     first = [(m["phase"], round(m.get("x", -1)), round(m.get("y", -1))) for m in sent[:3]]
     assert first == [("down", 100, 200), ("move", 300, 400), ("up", -1, -1)], sent[:3]
     edge = [m for m in sent[3:] if m["phase"] == "move"]
@@ -667,7 +677,7 @@ def test_keys_and_the_menu_go_to_the_server(browser):
         p.select_option("#backdrop", "lockscreen")
         for button in ("#pause", "#clear"):
             p.click(button)
-        p.wait_for_timeout(100)
+        sent_until(page, lambda sent: len(sent) >= 10, "the keys and the menu's five")
         # A refusal (a notice): the menu goes back to what is in force, and says why.
         page.socket.send(json.dumps({"type": "notice", "text": "no such preset"}))
         p.wait_for_function("document.getElementById('status').textContent === 'no such preset'")
@@ -691,7 +701,7 @@ def test_keys_reach_the_frost_again_once_the_menu_is_closed(browser):
         p.click("#open")
         for key in ("Space", "3"):
             p.keyboard.press(key)
-        p.wait_for_timeout(100)
+        sent_until(page, lambda sent: len(sent) >= 3, "the pause and two keys")
         assert p.is_hidden("#panel")
     assert page.sent == [{"type": "pause"}, {"type": "key", "key": "SPACE"},
                          {"type": "key", "key": "3"}]

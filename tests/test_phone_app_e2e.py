@@ -20,7 +20,7 @@ from PIL import Image
 
 from app.bench.page import Page, browser_problem, hello
 from sim import Params
-from tests.test_phone_e2e import BACKDROP, PHONE, open_page, pause_and_settle, pixels, synced
+from tests.test_phone_e2e import BACKDROP, PHONE, grown, open_page, pause_and_settle, pixels, synced
 
 PROBLEM = browser_problem()
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
@@ -178,7 +178,7 @@ def test_tilt_turns_this_pages_light_alone(serve, phones):
     a, b = phones(s.local), phones(s.local)
     for x, y in ((0.3, 0.4), (0.6, 0.6)):
         a.touchscreen.tap(390 * x, 844 * y)
-    a.wait_for_timeout(2500)
+    grown(a, 62)
     pause_and_settle([a, b])
     light = a.evaluate("frost.renderer.light")
     before_a, before_b = pixels(a), pixels(b)

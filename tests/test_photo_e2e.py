@@ -14,7 +14,7 @@ import urllib.request
 import numpy as np
 import pytest
 from PIL import Image
-from test_phone_e2e import PROBLEM, open_page, pause_and_settle, phones, pixels, tap  # noqa: F401, F811
+from test_phone_e2e import PROBLEM, grown, open_page, pause_and_settle, phones, pixels, tap  # noqa: F401, F811
 
 from app import photos
 from app.backdrops import load_backdrop
@@ -57,7 +57,7 @@ def test_a_photo_chosen_on_one_page_is_behind_the_frost_on_another(serve, phones
     s = serve("--look", "glass")
     a, b = phones(s.local), phones(s.local)
     tap(a, 380, 640)  # frost to see the photo through
-    a.wait_for_timeout(4000)
+    grown(a, 100)
     pause_and_settle([a, b])
     before = pixels(b)
     clear = (before == load_backdrop("dusk")).all(axis=2)  # no ice there
@@ -81,8 +81,8 @@ def test_a_photo_chosen_on_one_page_is_behind_the_frost_on_another(serve, phones
     assert last["status"] == 200, last
     name = last["backdrop"]
     assert photos.is_photo(name) and last["bytes"] <= 1 << 20
+    # (in the backdrop texture, which pixels() draws the pane with: no frame waited for)
     b.wait_for_function(f"frost.shownBackdrop === {json.dumps(name)}", timeout=30_000)
-    b.wait_for_timeout(500)  # (drawn at the next frame)
     after = pixels(b)
     # Away from the ice the second page shows the photo: its quadrants' colours, and the
     # file the server kept as Pillow decodes it (to a decoder's rounding).

@@ -64,9 +64,10 @@ def drive(out: Path) -> None:
             xdo("key", "--clearmodifiers", key)
             time.sleep(0.15)
         result["scribble_seconds"] = time.monotonic() - started
+        stats = len(re.findall(r"stats \(", log.read_text()))
         xdo("key", "s")
         wait_for(log, r"screenshot: ")
-        time.sleep(2.5)  # a stats line after the last key
+        wait_for(log, r"stats \(", stats + 1, timeout=60)  # a stats line after the last key
         xdo("key", "Escape")
         pressed = time.monotonic()
         result["status"] = app.wait(timeout=30)

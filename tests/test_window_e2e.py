@@ -249,14 +249,28 @@ def lost(app: subprocess.Popen, log: Path, how: str) -> dict:
     xdo("mousemove", "--window", wid, "200", "300")
     xdo("click", "1")
     xdo("key", "r")
-    time.sleep(AUTOSAVE_PERIOD + 1.0)
     if how == "SIGKILL":
+        kept_on_disk(log.parent / "sessions")
         app.kill()
         return {"status": app.wait(timeout=20)}
+    time.sleep(AUTOSAVE_PERIOD + 1.0)
     xdo("key", "e")  # the maps' writer started, not done: the closing waits for it
     wait_for(log, r"frost maps: exporting")
     xdo(how, wid)
     return {"status": app.wait(timeout=20)}
+
+
+def kept_on_disk(folder: Path, timeout: float = 60.0) -> None:
+    """Wait until the autosave has kept a session with an event and a step in `folder`
+    (its writes are atomic: a file there is whole)."""
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        for path in folder.glob("session-*.json"):
+            saved = SessionLog.load(path)
+            if saved.events and saved.steps > 0:
+                return
+        time.sleep(0.1)
+    raise TimeoutError(f"no session with an event kept in {folder} within {timeout:g} s")
 
 
 def panel_gone(app: subprocess.Popen, log: Path) -> dict:
