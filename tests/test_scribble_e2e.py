@@ -64,7 +64,7 @@ def drive(out: Path) -> None:
             xdo("key", "--clearmodifiers", key)
             time.sleep(0.15)
         result["scribble_seconds"] = time.monotonic() - started
-        stats = len(re.findall(r"stats \(", log.read_text()))
+        stats = len(re.findall(r"stats \(", log.read_text(encoding="utf-8")))
         xdo("key", "s")
         wait_for(log, r"screenshot: ")
         wait_for(log, r"stats \(", stats + 1, timeout=60)  # a stats line after the last key
