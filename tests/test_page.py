@@ -374,7 +374,7 @@ def test_the_visible_part_of_the_pane_holds_every_pane_px_the_screen_shows(brows
             return screens.map(([w, h, fit]) => {
               const rect = f.paneRect(w, h, fit);
               return [rect, f.visiblePane(rect, w, h)]; }); }""", screens)
-    for (w, h, fit), (rect, view) in zip(screens, got):
+    for (w, h, fit), (rect, view) in zip(screens, got, strict=True):
         x0, x1 = shown_span(rect["x"], rect["scale"], w, 760)
         y0, y1 = shown_span(rect["y"], rect["scale"], h, 1280)
         assert view == [x0, y0, x1, y1], (w, h, fit)
