@@ -122,6 +122,14 @@ def test_a_click_lands_on_the_phone_point_under_it_whatever_the_framebuffers_den
     assert cursor_to_phone((250.0, top - 5.0), window, framebuffer) is None  # the bar
 
 
+def test_a_click_maps_each_axis_by_its_own_ratio_of_framebuffer_to_window():
+    """A window of 507 x 853 at 150 % has a framebuffer of 760 x 1280 (each side rounded
+    on its own: 1.499 across, 1.5006 down). The phone fills it; a cursor's x maps by the
+    one ratio, its y by the other (hand-worked: x 253.5 * 760 / 507, y 852 * 1280 / 853)."""
+    got = cursor_to_phone((253.5, 852.0), (507, 853), (760, 1280))
+    assert got == pytest.approx((380.0, 852 * 1280 / 853), abs=1e-9)
+
+
 def test_hud_text_is_drawn_at_the_windows_content_scale():
     from PIL import ImageFont
 
