@@ -369,6 +369,30 @@ def test_what_the_screen_does_not_show_is_drawn_when_it_does(browser, grown):
     assert whole[inside].std() > 0  # (the frost is in the view)
 
 
+def shown_span(offset: float, scale: float, screen: int, size: int) -> list[int]:
+    """The pane px [first, end) any part of which lies on a screen `screen` px long, the
+    pane starting at `offset` with `scale` screen px to each of its px: each one tried."""
+    shown = [c for c in range(size) if offset + (c + 1) * scale > 0 and offset + c * scale < screen]
+    return [shown[0], shown[-1] + 1]
+
+
+def test_the_visible_part_of_the_pane_holds_every_pane_px_the_screen_shows(browser):
+    """At any scale, the visible part (what a frame draws) reaches every pane px a screen px
+    falls on, a cut one at each edge included, and no px the screen does not show."""
+    screens = [(1170, 2532, "fill"), (1080, 2400, "fill"), (2400, 1080, "fill"), (1000, 1000, "fill"),
+               (1170, 2532, "pane"), (591, 1280, "fill"), (333, 777, "fill")]
+    with Page(hello(Params.preset("fern")), [], browser=browser) as page:
+        got = page.page.evaluate("""async (screens) => {
+            const f = await import('./web/fit.js');
+            return screens.map(([w, h, fit]) => {
+              const rect = f.paneRect(w, h, fit);
+              return [rect, f.visiblePane(rect, w, h)]; }); }""", screens)
+    for (w, h, fit), (rect, view) in zip(screens, got, strict=True):
+        x0, x1 = shown_span(rect["x"], rect["scale"], w, 760)
+        y0, y1 = shown_span(rect["y"], rect["scale"], h, 1280)
+        assert view == [x0, y0, x1, y1], (w, h, fit)
+
+
 def test_the_programs_warmed_while_a_snapshot_comes_leave_no_trace(browser, grown):
     """Between the hello and its snapshot the page runs each program of the hello's look
     once (SwiftShader builds a program's code at its first draw), on a px it then wipes: the

@@ -310,6 +310,14 @@ def test_the_pages_shader_header_is_the_es_dialects():
     assert page == HEADERS["es"]
 
 
+@pytest.mark.parametrize("dialect", ["gles", "ES", "core "])
+def test_an_unknown_shader_dialect_is_a_value_error_naming_it(dialect):
+    """Not a KeyError from the table: a ValueError that says the dialect asked for and the
+    ones there are."""
+    with pytest.raises(ValueError, match=f"GLSL dialect {dialect!r}: one of core, es"):
+        shader_source("ice.frag", dialect=dialect)
+
+
 # Mesa with a Mac's limits: OpenGL 4.1 core, GLSL 4.10, no ES 3 compatibility. A proxy for a
 # Mac, not one (it still has functions newer than 4.1): docs/platforms.md says so.
 MAC_LIMITS = {"MESA_GL_VERSION_OVERRIDE": "4.1", "MESA_GLSL_VERSION_OVERRIDE": "410",

@@ -684,6 +684,22 @@ def test_menu_and_keys_change_the_shared_frost_and_every_page_hears():
     serve(test)
 
 
+def test_the_backdrop_key_steps_through_the_built_ins_from_a_photo_first_to_the_first():
+    """The X key (the window's backdrop key) on a page: over a photo or a file of the
+    user's it goes to the first built-in, then steps through them in turn (BACKDROPS'
+    order: dusk, lockscreen) and round again."""
+    from app.backdrops import BACKDROPS
+    from app.serve.protocol import Input
+
+    feed = Feed(Params.preset("c-2"), seed=1, backdrop="photo-0123456789abcdef")
+    shown = []
+    for _ in range(3):
+        feed.controls.handle(Input("key", name="X"), {})
+        shown.append(feed.controls.backdrop)
+    first, second = list(BACKDROPS)
+    assert shown == [first, second, first] == ["dusk", "lockscreen", "dusk"]
+
+
 def test_a_port_taken_or_out_of_range_is_one_clear_error():
     import subprocess
     import sys

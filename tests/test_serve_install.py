@@ -73,6 +73,17 @@ def test_the_hash_changes_when_any_shell_file_changes_and_only_then(copy):
     assert copy.digest() == first
 
 
+def test_the_hash_changes_when_a_shell_file_is_renamed_with_the_same_bytes(copy):
+    """A file's address is part of the shell: the same bytes under another name (a module
+    renamed, that index.html asks for by its new name) are another shell."""
+    first, contents = copy.digest(), [path.read_bytes() for _, path in copy.files()]
+    (copy.web_dir / "fit.js").rename(copy.web_dir / "fitted.js")
+    # (the same bytes in the same order: only an address differs)
+    assert [path.read_bytes() for _, path in copy.files()] == contents
+    assert "web/fitted.js" in dict(copy.files())
+    assert copy.digest() != first
+
+
 def test_the_worker_carries_the_hash_and_the_shell(copy):
     body = copy.worker().decode()
     head, code = body.split("\n", 1)
