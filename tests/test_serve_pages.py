@@ -1,6 +1,6 @@
 """One page's outgoing queue and its input limits (app/serve/pages.py) by hand: a socket
 that takes whatever it is sent, a clock the test moves. The oracles are the figures of
-docs/phone.md (a page 50 ticks or 6 MB behind is resynced) and token counts worked out by
+docs/phone-design.md (a page 50 ticks or 6 MB behind is resynced) and token counts worked out by
 hand."""
 
 from __future__ import annotations
