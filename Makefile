@@ -1,43 +1,56 @@
 # Two commands matter: `make run` (the demo) and `make test` (the test suite).
-# Each sets everything up itself: Debian packages (when run as root), a
-# virtualenv in .venv, and the Python packages of pyproject.toml.
+# Each sets up what it needs itself, in stages: `make run` the demo's Debian packages (when
+# run as root), a virtualenv in .venv and the runtime packages of pyproject.toml; `make
+# test` adds the tests' Debian packages and the dev extra on top. A stamp a stage.
 
 VENV    ?= .venv
 PY      := $(VENV)/bin/python
-STAMP   := $(VENV)/.installed
-SETUP_LOG := $(VENV)/setup.log
-APT_PKGS := xvfb xauth xdotool libegl1 libgles2 libgl1 glslang-tools chromium libnss3-tools
+RUN_STAMP  := $(VENV)/.installed-run
+TEST_STAMP := $(VENV)/.installed-test
+SETUP_LOG  := $(VENV)/setup.log
+# The demo's: the GL of a headless render (EGL, GLES, GL); a window uses the display's own
+# libraries, and glfw's wheel carries GLFW.
+RUN_PKGS := libegl1 libgles2 libgl1
+# The tests' (the demo's and): a display for the window tests, the shader compiler, the
+# browser that drives the phone page, and certutil for the phone's HTTPS.
+APT_PKGS := $(RUN_PKGS) xvfb xauth xdotool glslang-tools chromium libnss3-tools
 
-.PHONY: run test test-deep bench bench-sim bench-render lint system clean
+.PHONY: run serve test test-deep bench bench-sim bench-render lint system-run system-test clean
 
-run: $(STAMP)
+run: $(RUN_STAMP)
 	$(PY) -m app $(ARGS)
+
+serve: $(RUN_STAMP)
+	$(PY) -m app serve $(ARGS)
 
 # Two workers (pytest-xdist): CI's machine has two cores, and half the suite waits on
 # subprocesses (the window under Xvfb, the CLI), so two halve the wall time.
 WORKERS ?= 2
 
-test: $(STAMP)
+test: $(TEST_STAMP)
 	$(PY) -m pytest -n $(WORKERS) $(PYTEST_ARGS)
 
 # The suite plus its validation runs (DLA dimension, full-screen wipe, long brute force).
-test-deep: $(STAMP)
+test-deep: $(TEST_STAMP)
 	$(PY) -m pytest -n $(WORKERS) --deep $(PYTEST_ARGS)
 
 bench: bench-sim bench-render
 
-bench-sim: $(STAMP)
+bench-sim: $(RUN_STAMP)
 	$(PY) -m app bench sim $(ARGS)
 
-bench-render: $(STAMP)
+bench-render: $(RUN_STAMP)
 	$(PY) -m app bench render $(ARGS)
 
-lint: $(STAMP)
+# ruff and mypy are the dev extra's, so the linters take the test stage.
+lint: $(TEST_STAMP)
 	$(VENV)/bin/ruff check app sim tests assets
 	$(VENV)/bin/mypy app sim
 
-system:
-	@missing=""; for p in $(APT_PKGS); do \
+# The Debian packages of $(1) that are missing (and python3-venv where Python has no
+# ensurepip): installed with apt-get as root, said in one line otherwise.
+define apt
+	@missing=""; for p in $(1); do \
 	  dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
 	python3 -c 'import ensurepip' >/dev/null 2>&1 || missing="$$missing python3-venv"; \
 	if [ -z "$$missing" ]; then exit 0; fi; \
@@ -47,16 +60,30 @@ system:
 	else \
 	  echo "frost: please install these Debian packages (as root): apt-get install$$missing"; \
 	fi
+endef
 
 # Quiet unless it fails: pip -q still prints setuptools' banner from the editable build,
-# so the set-up's output goes to a log that is shown only when a step fails.
-$(STAMP): pyproject.toml setup.py | system
-	@echo "frost: setting up $(VENV) (the Python packages; about a minute)"
+# so a stage's output goes to a log that is shown only when a step fails.
+define pip_stage
+	@echo "frost: setting up $(VENV): $(1) (about a minute)"
 	@mkdir -p $(VENV)
-	@{ python3 -m venv $(VENV) && $(PY) -m pip install -q --upgrade pip && \
-	   $(PY) -m pip install -q -e '.[dev]'; } >$(SETUP_LOG) 2>&1 || { \
+	@{ $(2); } >$(SETUP_LOG) 2>&1 || { \
 	  cat $(SETUP_LOG); echo "frost: setting up $(VENV) failed (log: $(SETUP_LOG))"; exit 1; }
-	@touch $(STAMP)
+	@touch $@
+endef
+
+system-run:
+	$(call apt,$(RUN_PKGS))
+
+system-test:
+	$(call apt,$(APT_PKGS))
+
+$(RUN_STAMP): pyproject.toml setup.py | system-run
+	$(call pip_stage,the runtime packages,python3 -m venv $(VENV) && \
+	  $(PY) -m pip install -q --upgrade pip && $(PY) -m pip install -q -e .)
+
+$(TEST_STAMP): $(RUN_STAMP) | system-test
+	$(call pip_stage,the test stack,$(PY) -m pip install -q -e '.[dev]')
 
 clean:
 	rm -rf $(VENV) build *.egg-info

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import hashlib
 import io
+import os
 import re
 import struct
 import warnings
@@ -159,12 +160,17 @@ def _writer(data: bytes):
 
 def read_file(path: Path) -> bytes:
     """The bytes of the image file `path` if it is at most MAX_BYTES (a file dropped on
-    the window, given with --background); PhotoError saying why not."""
+    the window, given with --background); PhotoError saying why not. A regular file
+    larger is refused unread; of any other (a pipe, a FIFO, /dev/zero: their size says
+    0) at most MAX_BYTES + 1 bytes are read."""
     try:
-        size = Path(path).stat().st_size
-        if size > MAX_BYTES:
-            raise PhotoError(f"{path}: the file is {size / 2**20:.1f} MB; at most "
-                             f"{MAX_BYTES // 2**20} MB is taken")
-        return Path(path).read_bytes()
+        with open(path, "rb") as f:
+            size = os.fstat(f.fileno()).st_size
+            data = f.read(MAX_BYTES + 1) if size <= MAX_BYTES else b""
     except OSError as err:
         raise PhotoError(f"{path}: cannot read it ({err.strerror or err})") from None
+    if size > MAX_BYTES or len(data) > MAX_BYTES:
+        held = f"is {size / 2**20:.1f} MB" if size > MAX_BYTES else \
+            f"holds more than {MAX_BYTES / 2**20:g} MB"
+        raise PhotoError(f"{path}: the file {held}; at most {MAX_BYTES // 2**20} MB is taken")
+    return data

@@ -13,8 +13,9 @@ import pytest
 from hypothesis import settings
 from hypothesis.configuration import set_hypothesis_home_dir
 
-# The tuning panel's library has wheels for Python 3.11 on only; without it the window
-# runs without the panel (tests/test_window_parts.py checks that), and its tests cannot run.
+# The tuning panel's library is installed only where it has a wheel (Python 3.11 on; on a
+# Mac Apple silicon with macOS 14 on); without it the window runs without the panel
+# (tests/test_window_parts.py, tests/test_requirements.py check that), and its tests cannot run.
 collect_ignore = [] if importlib.util.find_spec("imgui_bundle") else [
     "test_panel.py", "test_imgui_renderer.py", "test_panel_e2e.py"]
 

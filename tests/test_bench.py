@@ -128,3 +128,22 @@ def test_a_taps_wait_is_the_ticks_until_its_seed_has_a_child(preset, version):
                 want[k] = tick + 1 - t
     assert got.tolist() == want
     assert min(want) >= 1
+
+
+@pytest.mark.parametrize("loadavg", [None, (1.234, 0.5, 0.25)], ids=["windows", "posix"])
+def test_bench_render_says_the_load_or_that_it_is_unknown(monkeypatch, capsys, gl_ctx, loadavg):
+    """Windows has no os.getloadavg: the load is "unknown" there, the figures all said."""
+    import os
+
+    from app.bench import render as bench
+
+    if loadavg is None:
+        monkeypatch.delattr(os, "getloadavg")
+    else:
+        monkeypatch.setattr(os, "getloadavg", lambda: loadavg)
+    monkeypatch.setattr(bench, "make_context", lambda: gl_ctx)
+    assert cli.main(["bench", "render", "--frames", "2", "--max-ticks", "3"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    said = "unknown" if loadavg is None else "1.23"
+    assert f"load: {said} (the last minute's average)" in out, out
+    assert json.loads(out[-1])["load_average"] == (None if loadavg is None else 1.23)

@@ -52,7 +52,7 @@ def test_two_records_stand_newest_first_under_the_title(tmp_path):
                           first) is None
     assert results.record(path, "frost bench sim --section taps", {"taps": [1, 2]},
                           first + dt.timedelta(days=2, hours=3)) is None
-    text = path.read_text()
+    text = path.read_text(encoding="utf-8")
     assert text.startswith("# Results: frost bench sim\n")
     assert text.index("# Results") < text.index("Each run") < text.index("## ")
     got = entries(text)
@@ -73,9 +73,9 @@ def test_a_record_goes_above_entries_already_there(tmp_path):
     path = tmp_path / "bench-render.md"
     kept = "## frost bench render\n\n- date: 2026-11-21\n\n| a | b |\n| --- | --- |\n| 1 | 2 |\n"
     old = "# Render\n\nWhat this holds.\n\n" + kept
-    path.write_text(old)
+    path.write_text(old, encoding="utf-8")
     assert results.record(path, "frost bench render", {"ticks": 3}) is None
-    text = path.read_text()
+    text = path.read_text(encoding="utf-8")
     assert text.startswith("# Render\n\nWhat this holds.\n\n## ")
     assert text.endswith("\n" + kept)
     assert [e["figures"] for e in entries(text)] == [{"ticks": 3}, None]
@@ -100,7 +100,7 @@ def test_frost_bench_sim_record_keeps_what_it_printed(monkeypatch, tmp_path):
     status, out, err = run(["bench", "sim", "--quick", "--section", "memory", "--record"])
     assert status == 0, err
     printed = json.loads([line for line in out.splitlines() if line.startswith("{")][-1])
-    (kept,) = entries((tmp_path / "bench-sim.md").read_text())
+    (kept,) = entries((tmp_path / "bench-sim.md").read_text(encoding="utf-8"))
     assert kept["figures"] == printed and printed["memory"]["crystals"] > 0
     assert kept["command"] == "`frost bench sim --quick --section memory`"  # gives them again
 
@@ -126,7 +126,7 @@ def test_frost_bench_render_record_keeps_what_it_printed(tmp_path):
                           capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     printed = json.loads([line for line in done.stdout.splitlines() if line.startswith("{")][-1])
-    (kept,) = entries((tmp_path / "bench-render.md").read_text())
+    (kept,) = entries((tmp_path / "bench-render.md").read_text(encoding="utf-8"))
     assert kept["figures"] == printed and printed["ticks"] <= 3
     assert kept["command"] == ("`frost bench render --preset c-2 --seed 0 --frames 2 "
                                "--cover 0.01 --max-ticks 3`")
@@ -141,5 +141,5 @@ def test_the_commit_recorded_is_the_one_the_run_started_on(monkeypatch, tmp_path
     monkeypatch.setattr(simulation, "SECTIONS", {"memory": lambda args: {"memory": {"mb": 1}}})
     status, _, err = run(["bench", "sim", "--section", "memory", "--record"])
     assert status == 0, err
-    (kept,) = entries((tmp_path / "bench-sim.md").read_text())
+    (kept,) = entries((tmp_path / "bench-sim.md").read_text(encoding="utf-8"))
     assert kept["commit"] == "1a2b3c4"

@@ -11,7 +11,10 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 PAGES = [ROOT / "README.md", ROOT / "CHANGELOG.md", *sorted((ROOT / "docs").glob("*.md")),
          *sorted((ROOT / "docs" / "results").glob("*.md"))]
-README_MOST_LINES = 200
+README_MOST_WORDS = 1200  # \w+ tokens, code and links included: two minutes' reading
+PICTURE_WITHIN = 3000  # characters: the frost is the first thing a reader sees
+# A Markdown image of the frost: ![alt](path.png|webp|jpg|gif)
+PICTURE = re.compile(r"!\[[^\]]*\]\(([^)\s]+\.(?:png|webp|jpg|gif))\)")
 LINK = re.compile(r"!?\[[^\]]*\]\(([^)\s]+)\)")  # [text](target) and ![alt](target)
 # A file of the repository named in the text, e.g. `app/tools/render.py` or docs/panel.webp.
 NAMED_FILE = re.compile(r"\b((?:app|sim|tests|shaders|assets|docs)/[\w./-]*\w\.(?:py|md|frag|vert|"
@@ -23,7 +26,7 @@ def page_id(page: Path) -> str:
 
 
 def links(page: Path) -> list[str]:
-    return LINK.findall(page.read_text())
+    return LINK.findall(page.read_text(encoding="utf-8"))
 
 
 def anchor(heading: str) -> str:
@@ -33,7 +36,7 @@ def anchor(heading: str) -> str:
 
 
 def anchors(page: Path) -> set[str]:
-    headings = [line.lstrip("#") for line in page.read_text().splitlines()
+    headings = [line.lstrip("#") for line in page.read_text(encoding="utf-8").splitlines()
                 if re.match(r"#{1,6} ", line)]
     return {anchor(h) for h in headings}
 
@@ -46,8 +49,16 @@ def test_anchor_follows_githubs_rule_on_hand_worked_headings():
 
 
 def test_the_readme_is_short():
-    lines = (ROOT / "README.md").read_text().splitlines()
-    assert len(lines) <= README_MOST_LINES, len(lines)
+    words = re.findall(r"\w+", (ROOT / "README.md").read_text(encoding="utf-8"))
+    assert len(words) <= README_MOST_WORDS, f"README.md has {len(words)} words"
+
+
+def test_the_readme_opens_with_a_picture_of_the_frost():
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    found = PICTURE.search(text)
+    assert found, "README.md shows no picture"
+    assert found.start() < PICTURE_WITHIN, f"README.md's first picture is at character {found.start()}"
+    assert (ROOT / found.group(1)).is_file(), found.group(1)
 
 
 @pytest.mark.parametrize("page", PAGES, ids=page_id)
@@ -68,20 +79,21 @@ def test_every_link_resolves_inside_the_repository(page):
 def test_no_address_outside_the_repository(page):
     """No address a reader would follow off this machine (this machine's own server, as
     `frost serve` prints it, is no outside address)."""
-    addresses = re.findall(r"\b(?:https?|ftp)://\S+", page.read_text())
+    addresses = re.findall(r"\b(?:https?|ftp)://\S+", page.read_text(encoding="utf-8"))
     assert [a for a in addresses if not re.match(r"https?://(127\.0\.0\.1|localhost)[:/]", a)] == []
 
 
 @pytest.mark.parametrize("page", PAGES, ids=page_id)
 def test_every_file_named_exists(page):
-    missing = [name for name in NAMED_FILE.findall(page.read_text())
+    missing = [name for name in NAMED_FILE.findall(page.read_text(encoding="utf-8"))
                if not (ROOT / name).exists() and not (page.parent / name).exists()]
     assert missing == []
 
 
 def sentences(page: Path) -> list[str]:
     """The page's text but its headings, cut at each full stop or semicolon."""
-    text = " ".join(line for line in page.read_text().splitlines() if not line.startswith("#"))
+    lines = page.read_text(encoding="utf-8").splitlines()
+    text = " ".join(line for line in lines if not line.startswith("#"))
     return re.split(r"(?<=[.;])\s+", " ".join(text.split()))
 
 

@@ -122,7 +122,7 @@ def _maps(tmp_path, name: str, *extra: str) -> dict:
                    "--size", "96x80", *extra])
     assert status == 0
     return {p.stem: np.asarray(Image.open(p)) for p in out.glob("*.png")} | {
-        "json": json.loads((out / "maps.json").read_text())}
+        "json": json.loads((out / "maps.json").read_text(encoding="utf-8"))}
 
 
 def test_normal_y_down_flips_the_green_channel(tmp_path):
@@ -173,7 +173,8 @@ def test_bad_values_are_one_line_and_status_2(tmp_path, capsys, argv, said):
 def test_a_touch_in_a_large_maps_pixels_is_taken(tmp_path, capsys):
     assert main(["maps", str(tmp_path / "m"), "--preset", "fern", "--size", "1000x64",
                  "--touch", "900,30", "--ticks", "5"]) == 0
-    assert json.loads((tmp_path / "m" / "maps.json").read_text())["touches"] == [[0, 900.0, 30.0]]
+    maps = json.loads((tmp_path / "m" / "maps.json").read_text(encoding="utf-8"))
+    assert maps["touches"] == [[0, 900.0, 30.0]]
 
 
 @pytest.mark.parametrize("wrap", [False, True])
@@ -208,13 +209,13 @@ def test_the_docs_engine_shader_is_glsl_es_300(tmp_path):
     import subprocess
     from pathlib import Path
 
-    page = (Path(__file__).resolve().parent.parent / "docs" / "engine-maps.md").read_text()
+    page = (Path(__file__).resolve().parent.parent / "docs" / "engine-maps.md").read_text(encoding="utf-8")
     start = page.index("```glsl\n", page.index("## Using the maps in an engine")) + 8
     source = page[start:page.index("```", start)]
     assert "u_growth" in source and "u_progress" in source
     exe = shutil.which("glslangValidator")
     assert exe, "glslangValidator is missing: apt-get install glslang-tools (`make test` does)"
     path = tmp_path / "engine.frag"
-    path.write_text("#version 300 es\nprecision highp float;\n" + source)
+    path.write_text("#version 300 es\nprecision highp float;\n" + source, encoding="utf-8")
     run = subprocess.run([exe, str(path)], capture_output=True, text=True)
     assert run.returncode == 0, run.stdout + run.stderr

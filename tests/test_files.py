@@ -80,7 +80,7 @@ def test_a_set_with_one_fifo_writes_none(tmp_path):
 
 def test_not_regular_names_each_kind(tmp_path):
     os.mkfifo(tmp_path / "f")
-    (tmp_path / "r").write_text("")
+    (tmp_path / "r").write_text("", encoding="utf-8")
     (tmp_path / "l").symlink_to(tmp_path / "f")
     assert not_regular(tmp_path / "f") == not_regular(tmp_path / "l") == "a FIFO"
     assert not_regular(tmp_path / "r") is None and not_regular(tmp_path / "missing") is None
@@ -127,3 +127,20 @@ def test_a_file_another_program_holds_is_one_line_not_a_traceback(monkeypatch, c
     err = capsys.readouterr().err.strip().splitlines()
     assert status == 2 and len(err) == 1 and "being used by another process" in err[0], err
     assert err[0].startswith("frost: error: cannot write ") and "Traceback" not in err[0]
+
+
+@pytest.mark.parametrize("umask", [0o022, 0o077, 0o002], ids=oct)
+def test_a_file_is_written_without_fchmod_with_the_mode_open_gives(monkeypatch, tmp_path, umask):
+    """Windows' Python before 3.13 has no os.fchmod: a write needs none, and the file gets
+    what open() would give it under the umask of the moment (0o666 less it)."""
+    monkeypatch.delattr(os, "fchmod")
+    old = os.umask(umask)
+    try:
+        write_atomic(tmp_path / "w.png", new)
+        with open(tmp_path / "by-open", "wb"):
+            pass
+    finally:
+        os.umask(old)
+    assert (tmp_path / "w.png").read_bytes() == b"new"
+    modes = {p.name: oct(p.stat().st_mode & 0o777) for p in tmp_path.iterdir()}
+    assert modes == {"w.png": oct(0o666 & ~umask), "by-open": oct(0o666 & ~umask)}

@@ -50,13 +50,13 @@ def side_spacing(crystals, parents, alive) -> float:
 
 def test_params_table1_fern_and_the_old_window_grow_bit_identical_frost():
     """The unprefixed set: Table 1, fern and the window without and with its frond rules."""
-    stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text())
+    stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text(encoding="utf-8"))
     assert frozen_runs.hashes(OLD_WINDOW) == {k: v for k, v in stored.items() if "/" not in k}
 
 
 def test_version_6_grows_the_frost_stored_for_it():
     """The "v5/" set: every preset, the paper's modes, a replant, a wrap tile, a scribble."""
-    stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text())
+    stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text(encoding="utf-8"))
     assert frozen_runs.hashes_v5() == {k: v for k, v in stored.items() if k.startswith("v5/")}
 
 
@@ -364,20 +364,20 @@ def test_a_touch_in_window_mode_grows_a_frond():
 
 def test_version_7_grows_the_frost_stored_for_it():
     """The runs of the v5 set by version 7's rules, each part drawing from its own stream."""
-    stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text())
+    stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text(encoding="utf-8"))
     assert frozen_runs.hashes_v7() == {k: v for k, v in stored.items() if k.startswith("v7/")}
 
 
 def test_version_8_grows_the_frost_stored_for_it():
     """The runs of the v5 set by version 8's rules: a touch opening an area rings its seed."""
-    stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text())
+    stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text(encoding="utf-8"))
     assert frozen_runs.hashes_v8() == {k: v for k, v in stored.items() if k.startswith("v8/")}
 
 
 def test_version_9_grows_the_frost_stored_for_it():
     """One spot tapped past the cells' cap (version 9's own run), and the looks people grow
     (fern, the window, a scribble), which fill no cell, as version 8 grew them."""
-    stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text())
+    stored = json.loads((Path(__file__).parent / "data" / "frozen_runs.json").read_text(encoding="utf-8"))
     assert frozen_runs.hashes_v9() == {k: v for k, v in stored.items() if k.startswith("v9/")}
     for name, preset, overrides, ticks in frozen_runs.RUNS_V5:
         if name in ("fern", "window"):

@@ -96,7 +96,7 @@ def app_imports() -> dict[str, set[str]]:
     for path in sorted((ROOT / "app").rglob("*.py")):
         module = ".".join(path.relative_to(ROOT).with_suffix("").parts)
         source = app_part(module.removesuffix(".__init__"))
-        for node in ast.walk(ast.parse(path.read_text())):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
             if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
                 names = [node.module, *(f"{node.module}.{a.name}" for a in node.names)]
             elif isinstance(node, ast.Import):
@@ -147,7 +147,7 @@ def imported_modules(path: Path, name: str, known: set[str]) -> set[str]:
     runs first is not counted (a package importing its own modules is no circle)."""
     package = name if path.name == "__init__.py" else name.rpartition(".")[0]
     found = set()
-    for node in ast.walk(ast.parse(path.read_text())):
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
         if isinstance(node, ast.Import):
             found |= {alias.name for alias in node.names}
         elif isinstance(node, ast.ImportFrom):
@@ -179,14 +179,15 @@ def test_a_late_import_closing_a_circle_is_found(tmp_path):
     __init__ imports its own modules that import from the package."""
     pkg = tmp_path / "pkg"
     pkg.mkdir()
-    (pkg / "__init__.py").write_text("from pkg.a import run\n")
-    (pkg / "a.py").write_text("from pkg import b\n\ndef run():\n    return b.go()\n")
-    (pkg / "b.py").write_text("def go():\n    from pkg.a import run\n    return run\n")
+    (pkg / "__init__.py").write_text("from pkg.a import run\n", encoding="utf-8")
+    (pkg / "a.py").write_text("from pkg import b\n\ndef run():\n    return b.go()\n", encoding="utf-8")
+    (pkg / "b.py").write_text("def go():\n    from pkg.a import run\n    return run\n", encoding="utf-8")
     graph = import_graph(tmp_path, "pkg")
     assert graph["pkg.b"] == {"pkg.a"} and graph["pkg.a"] == {"pkg.b"}
     assert circle(graph) == ["pkg.a", "pkg.b", "pkg.a"]
-    (pkg / "b.py").write_text("from pkg import a\n")  # a module of the package: not its __init__
-    (pkg / "a.py").write_text("X = 1\n")
+    # a module of the package: not its __init__
+    (pkg / "b.py").write_text("from pkg import a\n", encoding="utf-8")
+    (pkg / "a.py").write_text("X = 1\n", encoding="utf-8")
     assert circle(import_graph(tmp_path, "pkg")) == []
 
 

@@ -353,7 +353,7 @@ def blocked(monkeypatch, tmp_path):
     """Paths that cannot be written: under a file, under a folder os.access calls
     read-only (root ignores permission bits), and one whose folders are only missing."""
     blocker = tmp_path / "blocker"
-    blocker.write_text("a file")
+    blocker.write_text("a file", encoding="utf-8")
     (tmp_path / "ro").mkdir()
     real = os.access
     monkeypatch.setattr(paths.os, "access", lambda p, m: real(p, m) and "ro" not in Path(p).parts)
@@ -413,7 +413,7 @@ def test_replay_of_a_file_that_is_no_session_points_to_the_help(stubbed, tmp_pat
     if not windowed:
         monkeypatch.setattr(replay_tool, "run", REPLAY_RUN)  # the real one: it fails first
     small = SessionLog(0, Params().as_dict(), 10, 10, [], 0).save(tmp_path / "small.json")
-    (tmp_path / "x.json").write_text('{"x": 1}')
+    (tmp_path / "x.json").write_text('{"x": 1}', encoding="utf-8")
     for path in (tmp_path / "x.json", small):
         status, err = run_main(["replay", *(["--headless"] if not windowed else []), str(path)])
         assert_refused_in_one_line(status, err, str(path))
@@ -590,6 +590,21 @@ def test_a_name_too_long_is_refused_or_warned_of(stubbed, tmp_path, output, wher
     refused_or_warned(stubbed, output, status, err, "300 bytes long", str(path))
 
 
+@pytest.mark.parametrize("output", ["render --out", "maps", "--session-dir"])
+@pytest.mark.parametrize("name", [LONG, "n" * 251 + ".png"], ids=["300 bytes", "255 bytes"])
+def test_without_pathconf_a_name_is_held_to_255_bytes(stubbed, tmp_path, monkeypatch, output,
+                                                      name):
+    """Windows' Python has no os.pathconf: the check takes 255 bytes (Linux's limit; NTFS
+    allows 255 characters) instead of failing."""
+    monkeypatch.delattr(os, "pathconf")
+    path = tmp_path / name
+    status, err = run_main(output_argv(OUTPUT_TEMPLATES[output], path, tmp_path))
+    if name == LONG:
+        refused_or_warned(stubbed, output, status, err, "300 bytes long", "allows 255")
+    else:
+        assert status == 0 and stubbed and err == "", err
+
+
 @pytest.mark.parametrize("output", list(FOLDER_OUTPUTS) + list(WINDOW_OUTPUTS))
 def test_the_current_folder_is_a_folder_to_write_in(stubbed, tmp_path, monkeypatch, output):
     # "." has no parts to measure: it crashed the length check ("max() arg is empty")
@@ -634,7 +649,7 @@ def test_the_default_folder_is_checked_when_there_is_no_out(stubbed, tmp_path, m
     monkeypatch.delenv("DISPLAY", raising=False)  # the window renders to PNGs instead
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
     argv = with_paths(argv, tmp_path)
-    (tmp_path / "frost-out").write_text("a file in the way")
+    (tmp_path / "frost-out").write_text("a file in the way", encoding="utf-8")
     status, err = run_main(argv)
     assert not stubbed
     assert_refused_in_one_line(status, err, "frost-out", "is a file, not a folder")
@@ -851,10 +866,10 @@ def test_any_session_file_loads_and_replays_or_is_refused(data):
 def test_a_session_file_on_disk_names_itself_in_the_error(tmp_path):
     path = tmp_path / "s.json"
     path.write_text('{"format": "frost-session", "seed": 0, "params": {"grid_spacing": 4.0},'
-                    ' "events": []}')
+                    ' "events": []}', encoding="utf-8")
     with pytest.raises(SessionError, match=r"s\.json: .*grid_spacing=4\.0 must be a whole number"):
         SessionLog.load(path)
-    path.write_text("[" * 100_000)  # deep nesting: json's RecursionError
+    path.write_text("[" * 100_000, encoding="utf-8")  # deep nesting: json's RecursionError
     with pytest.raises(SessionError, match="not JSON"):
         SessionLog.load(path)
 
@@ -1095,7 +1110,7 @@ DIGITS_5000 = "9" * 5000  # past Python's 4300-digit limit on converting text to
 def test_a_session_holding_a_number_of_5000_digits_is_refused_naming_its_entry(
         tmp_path, text, entry):
     path = tmp_path / "long.json"
-    path.write_text(text.replace("LONG", DIGITS_5000))
+    path.write_text(text.replace("LONG", DIGITS_5000), encoding="utf-8")
     status, err = run_main(["replay", "--headless", str(path), "--out", str(tmp_path / "o.png")])
     assert_refused_in_one_line(status, err, str(path), entry, "5000 digits")
     assert "set_int_max_str_digits" not in err
@@ -1106,7 +1121,7 @@ def test_a_parameter_set_holding_a_number_of_5000_digits_is_refused_naming_it(
         stubbed, tmp_path, command):
     path = tmp_path / "set.json"
     path.write_text('{"format": "frost-params", "version": 1, "params": {"humidity": LONG}}'
-                    .replace("LONG", DIGITS_5000))
+                    .replace("LONG", DIGITS_5000), encoding="utf-8")
     status, err = run_main(with_paths([*command, "--params", str(path)], tmp_path))
     assert_refused_in_one_line(status, err, str(path), "entry params.humidity:", "5000 digits")
     assert "set_int_max_str_digits" not in err and not stubbed
@@ -1115,6 +1130,6 @@ def test_a_parameter_set_holding_a_number_of_5000_digits_is_refused_naming_it(
 def test_a_number_of_64_digits_is_still_read_and_judged_by_its_range(tmp_path):
     path = tmp_path / "s.json"
     path.write_text('{"format": "frost-session", "seed": %s, "params": {}, "events": []}'
-                    % ("9" * 64))
+                    % ("9" * 64), encoding="utf-8")
     with pytest.raises(SessionError, match=r"'seed' is 9{64}; it must be a whole number"):
         SessionLog.load(path)

@@ -84,7 +84,7 @@ def test_every_ice_variant_is_glsl_es_300(defines, tmp_path):
     exe = shutil.which("glslangValidator")
     assert exe, "glslangValidator is missing: apt-get install glslang-tools (`make test` does)"
     path = tmp_path / "ice.frag"
-    path.write_text(shader_source("ice.frag", defines, dialect="es"))
+    path.write_text(shader_source("ice.frag", defines, dialect="es"), encoding="utf-8")
     run = subprocess.run([exe, str(path)], capture_output=True, text=True)
     assert run.returncode == 0, run.stdout + run.stderr
 
@@ -95,7 +95,7 @@ def test_every_feature_variant_is_glsl_es_300(look, name, tmp_path):
     exe = shutil.which("glslangValidator")
     assert exe, "glslangValidator is missing: apt-get install glslang-tools (`make test` does)"
     path = tmp_path / name
-    path.write_text(shader_source(name, FEATURE_DEFINES[look], dialect="es"))
+    path.write_text(shader_source(name, FEATURE_DEFINES[look], dialect="es"), encoding="utf-8")
     run = subprocess.run([exe, str(path)], capture_output=True, text=True)
     assert run.returncode == 0, run.stdout + run.stderr
 

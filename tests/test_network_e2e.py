@@ -115,7 +115,7 @@ def test_the_page_asks_for_its_shaders_with_its_modules_and_once():
     from app.resources import WEB_DIR
 
     shaders = json.loads(re.search(r"export const SHADERS = (\[.*?\]);",
-                                   (WEB_DIR / "programs.js").read_text(), re.S).group(1))
+                                   (WEB_DIR / "programs.js").read_text(encoding="utf-8"), re.S).group(1))
     with sync_playwright() as pw, served("fern") as s:
         browser = launch(pw)
         try:

@@ -35,23 +35,45 @@ def _run(cmd: list, cwd: Path, timeout: float = 300) -> subprocess.CompletedProc
     return done
 
 
+def _copy(tmp: Path) -> Path:
+    """A copy of the checkout in `tmp` (as a user's clone or unpacked archive holds it), so
+    that a build leaves nothing in the checkout."""
+    shutil.copytree(ROOT, tmp / "frost", ignore=shutil.ignore_patterns(*NOT_SOURCE))
+    return tmp / "frost"
+
+
 @pytest.fixture(scope="module")
 def wheel(tmp_path_factory) -> Path:
-    """The wheel, built from a copy so the build leaves nothing in the checkout."""
+    """The wheel, built from a copy."""
     tmp = tmp_path_factory.mktemp("wheel")
-    shutil.copytree(ROOT, tmp / "src", ignore=shutil.ignore_patterns(*NOT_SOURCE))
-    _run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "-w", tmp / "dist", tmp / "src"], tmp)
+    _run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "-w", tmp / "dist", _copy(tmp)], tmp)
     (found,) = (tmp / "dist").glob("frost-*.whl")
     return found
 
 
+# The steps docs/platforms.md (and the README) give a Mac, in its folder; Windows' are
+# the same with `py` and .venv\Scripts\ (tests/test_package.py cannot run those).
+MAC_STEPS = ["python3 -m venv .venv", ".venv/bin/python -m pip install ."]
+WINDOWS_STEPS = ["py -m venv .venv", r".venv\Scripts\python -m pip install ."]
+
+
 @pytest.fixture(scope="module")
-def venv(wheel, tmp_path_factory) -> Path:
-    """A fresh virtualenv holding the wheel and its dependencies (from the index or pip's cache)."""
-    where = tmp_path_factory.mktemp("venv") / "venv"
-    _run([sys.executable, "-m", "venv", where], where.parent)
-    _run([where / "bin" / "python", "-m", "pip", "install", "-q", wheel], where.parent)
-    return where / "bin"
+def venv(tmp_path_factory) -> Path:
+    """The package as the Mac's steps install it, run word for word by a shell in a copy of
+    the checkout: a fresh virtual environment in it, the package and its dependencies (from
+    the index or pip's cache) installed into it. Its bin folder."""
+    folder = _copy(tmp_path_factory.mktemp("user"))
+    for step in MAC_STEPS:
+        _run(["sh", "-c", step], folder)
+    return folder / ".venv" / "bin"
+
+
+@pytest.mark.parametrize("page", ["README.md", "docs/platforms.md"])
+def test_the_install_steps_tested_here_are_the_ones_the_docs_give(page):
+    text = (ROOT / page).read_text(encoding="utf-8")
+    lines = {line.strip() for line in text.splitlines()}  # (a code block's, in a list item)
+    for step in [*MAC_STEPS, *WINDOWS_STEPS]:
+        assert f"`{step}`" in text or step in lines, step
 
 
 @pytest.fixture
@@ -89,6 +111,21 @@ def test_frost_help(venv, elsewhere):
     out = _run([venv / "frost", "--help"], elsewhere)
     assert "usage:" in out.stdout
     assert "--touch" in out.stdout
+    # `python -m app`, where the frost script is not found: the same command line
+    assert _run([venv / "python", "-m", "app", "--help"], elsewhere).stdout == out.stdout
+
+
+def test_the_install_brings_the_tuning_panel_where_its_library_has_a_wheel(venv, elsewhere):
+    """Here (Linux, as CI and `make run`) pip installs imgui-bundle by pyproject.toml's
+    marker wherever app/window/no_panel.py finds no reason it could not."""
+    said = _run([venv / "python", "-c", "import json; from app.window.no_panel import "
+                 "no_wheel, panel_problem; print(json.dumps([no_wheel(), panel_problem()]))"],
+                elsewhere)
+    reason, problem = json.loads(said.stdout)
+    if reason is None:
+        assert problem is None, problem
+    else:  # (a Python 3.10 here)
+        assert problem.startswith(f"the tuning panel needs imgui-bundle==1.93.0, and {reason};")
 
 
 def _render(cmd: list, cwd: Path, ticks: str | None = None) -> np.ndarray:

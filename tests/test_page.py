@@ -7,6 +7,7 @@ from __future__ import annotations
 import io
 import json
 import re
+import time
 
 import numpy as np
 import pytest
@@ -32,6 +33,18 @@ PROBLEM = browser_problem()
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
 
 
+def sent_until(page: Page, done, what: str, timeout: float = 30.0) -> list[dict]:
+    """What the page sent, once `done(sent)` holds: polled, as its messages reach the
+    stand-in server only while Playwright runs; AssertionError naming `what` if it does
+    not within `timeout` s (a bound on a failure, not a claim)."""
+    end = time.monotonic() + timeout
+    while not done(page.sent):
+        if time.monotonic() > end:
+            raise AssertionError(f"not sent within {timeout:g} s: {what}: {page.sent}")
+        page.page.wait_for_timeout(20)
+    return page.sent
+
+
 @pytest.fixture(scope="module", params=["glass", "paper"])
 def grown(gl_ctx, request):
     """A frost of each look grown 120 ticks from three touches with a melt at tick 80:
@@ -44,7 +57,7 @@ def grown(gl_ctx, request):
 
 def page_source() -> str:
     """The text of every module of the page."""
-    return "".join(path.read_text() for path in sorted(WEB_DIR.glob("*.js")))
+    return "".join(path.read_text(encoding="utf-8") for path in sorted(WEB_DIR.glob("*.js")))
 
 
 def test_the_page_takes_each_looks_defines_from_the_hello(browser):
@@ -202,8 +215,8 @@ def test_a_page_reconnects_and_holds_what_the_new_connection_gives(browser, grow
         assert not np.array_equal(page.pixels(), want)  # the whole frost
         page.socket.close(code=1001, reason="going away")
         total = len(messages) + len(half) + 2  # and two hellos
+        # (each applied as it comes: pixels() draws the pane as it is, no frame waited for)
         page.page.wait_for_function(f"frost.hellos === 2 && frost.messages === {total}")
-        page.page.wait_for_timeout(100)
         assert np.array_equal(page.pixels(), want)
 
 
@@ -367,6 +380,30 @@ def test_what_the_screen_does_not_show_is_drawn_when_it_does(browser, grown):
     assert whole[inside].std() > 0  # (the frost is in the view)
 
 
+def shown_span(offset: float, scale: float, screen: int, size: int) -> list[int]:
+    """The pane px [first, end) any part of which lies on a screen `screen` px long, the
+    pane starting at `offset` with `scale` screen px to each of its px: each one tried."""
+    shown = [c for c in range(size) if offset + (c + 1) * scale > 0 and offset + c * scale < screen]
+    return [shown[0], shown[-1] + 1]
+
+
+def test_the_visible_part_of_the_pane_holds_every_pane_px_the_screen_shows(browser):
+    """At any scale, the visible part (what a frame draws) reaches every pane px a screen px
+    falls on, a cut one at each edge included, and no px the screen does not show."""
+    screens = [(1170, 2532, "fill"), (1080, 2400, "fill"), (2400, 1080, "fill"), (1000, 1000, "fill"),
+               (1170, 2532, "pane"), (591, 1280, "fill"), (333, 777, "fill")]
+    with Page(hello(Params.preset("fern")), [], browser=browser) as page:
+        got = page.page.evaluate("""async (screens) => {
+            const f = await import('./web/fit.js');
+            return screens.map(([w, h, fit]) => {
+              const rect = f.paneRect(w, h, fit);
+              return [rect, f.visiblePane(rect, w, h)]; }); }""", screens)
+    for (w, h, fit), (rect, view) in zip(screens, got, strict=True):
+        x0, x1 = shown_span(rect["x"], rect["scale"], w, 760)
+        y0, y1 = shown_span(rect["y"], rect["scale"], h, 1280)
+        assert view == [x0, y0, x1, y1], (w, h, fit)
+
+
 def test_the_programs_warmed_while_a_snapshot_comes_leave_no_trace(browser, grown):
     """Between the hello and its snapshot the page runs each program of the hello's look
     once (SwiftShader builds a program's code at its first draw), on a px it then wipes: the
@@ -483,9 +520,7 @@ def test_fingers_become_touches_and_melts_in_screen_px(browser):
         touch("touchMove", [(1, css(390, 650)), (2, css(110, 220))])
         page.page.wait_for_timeout(100)
         touch("touchEnd", [])
-        page.page.wait_for_function("true")
-        page.page.wait_for_timeout(100)
-    sent = page.sent
+        sent = sent_until(page, lambda sent: sum(m["phase"] == "up" for m in sent) >= 2, "both ups")
     kinds = [(m["type"], m["phase"], m["id"]) for m in sent]
     assert kinds[:2] == [("touch", "down", 0), ("melt", "down", 1)]
     assert ("touch", "move", 0) in kinds and ("melt", "move", 1) in kinds
@@ -517,14 +552,46 @@ def test_a_click_on_a_landscape_screen_lands_on_the_pane_under_it(browser):
         mouse.move(*css(650, 1100))
         page.page.wait_for_timeout(100)
         mouse.up(button="right")
-        page.page.wait_for_timeout(100)
-    sent = page.sent
+        sent = sent_until(page, lambda sent: any(m["phase"] == "up" and m["type"] == "melt" for m in sent),
+                          "the melt's up")
     down = next(m for m in sent if m["phase"] == "down" and m["type"] == "touch")
     assert abs(down["x"] - 100) < 1 and abs(down["y"] - 200) < 1, down
     melt = next(m for m in sent if m["phase"] == "down" and m["type"] == "melt")
     assert abs(melt["x"] - 700) < 1 and abs(melt["y"] - 1200) < 1, melt
     move = next(m for m in sent if m["phase"] == "move" and m["type"] == "melt")
     assert abs(move["x"] - 650) < 1 and abs(move["y"] - 1100) < 1, move
+
+
+def test_a_tap_by_each_corner_is_the_panes_and_the_menus_round_button_alone_is_the_menus(browser):
+    """A 390x844 phone at 1 device px a CSS px: a tap 10 px in from each corner of the
+    screen is a touch at the pane px under it (the top right one fell in the menu button's
+    40x40 square, outside its round button, and reached nothing); a tap on the button
+    opens the menu and is no touch."""
+    params = Params.preset("fern")
+    with Page(hello(params), [], viewport=(390, 844), scale=1, browser=browser, touch=True) as page:
+        p = page.page
+        corners = [(10, 10), (380, 10), (10, 834), (380, 834)]
+        for x, y in corners:
+            p.touchscreen.tap(x, y)
+        button = p.locator("#open").bounding_box()
+        p.touchscreen.tap(button["x"] + button["width"] / 2, button["y"] + button["height"] / 2)
+        p.wait_for_selector("#panel", state="visible")
+        p.touchscreen.tap(*corners[0])  # the first corner again, the menu open
+        ups = lambda: sum(m["phase"] == "up" for m in page.sent)  # noqa: E731
+        for _ in range(300):  # (the socket's messages reach `sent` as Playwright runs)
+            if ups() >= 5:
+                break
+            p.wait_for_timeout(100)
+        downs = page.sent
+    # The pane covers the screen: a pane px is 844 / 1280 CSS px (the height fills it), and
+    # the pane, 760 * 844 / 1280 = 501.1 CSS px wide, is centred (55.6 px cropped each side).
+    scale = 844 / 1280
+    x0 = (390 - 760 * scale) / 2
+    got = [(m["x"], m["y"]) for m in downs if m["type"] == "touch" and m["phase"] == "down"]
+    assert len(got) == 5, downs
+    for (x, y), (gx, gy) in zip([*corners, corners[0]], got, strict=True):
+        # (within a pane px: the canvas's pane is centred to the whole px)
+        assert abs(gx - (x - x0) / scale) <= 1 and abs(gy - y / scale) <= 1, ((x, y), (gx, gy))
 
 
 def test_a_finger_lifted_before_a_frame_sends_its_last_move_and_one_off_the_pane_its_edge(browser):
@@ -553,8 +620,7 @@ def test_a_finger_lifted_before_a_frame_sends_its_last_move_and_one_off_the_pane
         mouse.move(pane["x"] + pane["w"] + 100, css(700, 600)[1])  # beside the pane
         p.wait_for_timeout(100)
         mouse.up()
-        p.wait_for_timeout(100)
-    sent = page.sent
+        sent = sent_until(page, lambda sent: sum(m["phase"] == "up" for m in sent) >= 2, "both ups")
     first = [(m["phase"], round(m.get("x", -1)), round(m.get("y", -1))) for m in sent[:3]]
     assert first == [("down", 100, 200), ("move", 300, 400), ("up", -1, -1)], sent[:3]
     edge = [m for m in sent[3:] if m["phase"] == "move"]
@@ -606,6 +672,29 @@ def test_a_tap_is_timed_to_its_first_drawn_frost_and_growth(browser):
         assert p.evaluate("frost.watch") is None
 
 
+def test_a_frame_that_throws_is_said_once_and_the_next_frame_still_runs(browser):
+    """A bad value set on `frost` (its phone part taken away: each frame's tilt step then
+    throws) stopped every frame after the first, for good. Now each frame fails alike and
+    is counted, the reason is logged once and said in the status line, and once the value
+    is put back the next frame draws and the status line is clear again."""
+    params = Params.preset("fern")
+    with Page(hello(params), [], browser=browser) as page:
+        p = page.page
+        errors: list[str] = []
+        p.on("console", lambda m: m.type == "error" and errors.append(m.text))
+        p.evaluate("window.kept = frost.phone; frost.phone = null")
+        p.wait_for_function("frost.frameErrors >= 10")  # frame after frame, each failing
+        reason = p.evaluate("frost.frameError")
+        assert "null" in reason and "frame" in reason, reason  # the TypeError's own words
+        assert p.evaluate("document.getElementById('status').textContent") == f"a frame failed: {reason}"
+        p.evaluate("null")  # (the console's messages reach Python as Playwright runs)
+        assert len(errors) == 1 and errors[0].startswith(f"frost: a frame failed: {reason}"), errors
+        frames = p.evaluate("frost.frames")
+        p.evaluate("frost.phone = window.kept; frost.dirty = true")
+        p.wait_for_function(f"frost.frames > {frames}")
+        assert p.evaluate("[frost.frameError, document.getElementById('status').textContent]") == [None, ""]
+
+
 def test_keys_and_the_menu_go_to_the_server(browser):
     """Keys by their GLFW names (S takes a screenshot on the page instead); the menu's
     choices as their messages; the menu shows the server's state."""
@@ -623,7 +712,7 @@ def test_keys_and_the_menu_go_to_the_server(browser):
         p.select_option("#backdrop", "lockscreen")
         for button in ("#pause", "#clear"):
             p.click(button)
-        p.wait_for_timeout(100)
+        sent_until(page, lambda sent: len(sent) >= 10, "the keys and the menu's five")
         # A refusal (a notice): the menu goes back to what is in force, and says why.
         page.socket.send(json.dumps({"type": "notice", "text": "no such preset"}))
         p.wait_for_function("document.getElementById('status').textContent === 'no such preset'")
@@ -647,7 +736,7 @@ def test_keys_reach_the_frost_again_once_the_menu_is_closed(browser):
         p.click("#open")
         for key in ("Space", "3"):
             p.keyboard.press(key)
-        p.wait_for_timeout(100)
+        sent_until(page, lambda sent: len(sent) >= 3, "the pause and two keys")
         assert p.is_hidden("#panel")
     assert page.sent == [{"type": "pause"}, {"type": "key", "key": "SPACE"},
                          {"type": "key", "key": "3"}]

@@ -384,7 +384,7 @@ def test_a_saved_set_loads_back_equal(tmp_path):
     for params in LOOKS.values():
         path = save_params(tmp_path / "set.json", params.replace(hc=7.25, step=3.5))
         assert load_params(path) == params.replace(hc=7.25, step=3.5)
-    assert json.loads(path.read_text())["params"] == load_params(path).as_dict()
+    assert json.loads(path.read_text(encoding="utf-8"))["params"] == load_params(path).as_dict()
 
 
 def test_a_session_file_is_a_set_of_its_first_parameters(tmp_path):
@@ -410,7 +410,7 @@ def test_a_bad_set_is_one_line_naming_the_file_and_the_problem(tmp_path, case):
     text, why = BAD_SETS[case]
     path = tmp_path / f"{case}\nset.json"  # a newline in the name stays escaped
     if text is not None:
-        path.write_text(text)
+        path.write_text(text, encoding="utf-8")
     with pytest.raises(ParamsFileError) as err:
         load_params(path)
     assert why in str(err.value) and "\n" not in str(err.value) and "set.json" in str(err.value)
@@ -421,7 +421,7 @@ def test_a_bad_set_is_one_line_naming_the_file_and_the_problem(tmp_path, case):
                                      ["replay", "S.json"]])
 def test_params_on_the_command_line_refuses_a_bad_file_in_one_line(tmp_path, capsys, command):
     bad = tmp_path / "bad.json"
-    bad.write_text('{"params": {"hc": 0.5}}')
+    bad.write_text('{"params": {"hc": 0.5}}', encoding="utf-8")
     argv = [a.replace("MAPS", str(tmp_path / "maps")) for a in command]
     with pytest.raises(SystemExit) as stop:
         main([*argv, "--params", str(bad)])
@@ -538,7 +538,7 @@ def test_a_set_with_a_field_missing_is_refused_naming_it(tmp_path, capsys, left_
     values = Params.preset("window").as_dict()
     del values[left_out]
     path = tmp_path / "set.json"
-    path.write_text(json.dumps({"format": "frost-params", "version": 1, "params": values}))
+    path.write_text(json.dumps({"format": "frost-params", "version": 1, "params": values}), encoding="utf-8")
     with pytest.raises(SystemExit) as stop:
         main(["render", "--params", str(path), "--out", str(tmp_path / "f.png")])
     err = capsys.readouterr().err
@@ -548,7 +548,7 @@ def test_a_set_with_a_field_missing_is_refused_naming_it(tmp_path, capsys, left_
 
 def test_a_set_missing_many_fields_names_the_first_and_counts_the_rest(tmp_path):
     path = tmp_path / "set.json"
-    path.write_text('{"params": {"hc": 7.0, "step": 5.0}}')
+    path.write_text('{"params": {"hc": 7.0, "step": 5.0}}', encoding="utf-8")
     with pytest.raises(ParamsFileError, match=f"has no 'D' entry \\(and {len(A_SET.as_dict()) - 3} "
                                               "more\\)"):
         load_params(path)

@@ -46,7 +46,7 @@ def widget(log: Path, name: str) -> tuple[float, float, float, float]:
     pattern = rf"panel: {name} at (\d+),(\d+) size (\d+)x(\d+)"
     end = time.monotonic() + 20
     while time.monotonic() < end:
-        boxes = [tuple(map(float, m)) for m in re.findall(pattern, log.read_text())]
+        boxes = [tuple(map(float, m)) for m in re.findall(pattern, log.read_text(encoding="utf-8"))]
         if boxes:
             return boxes[-1]
         time.sleep(0.05)
@@ -105,7 +105,7 @@ def drive(out: Path) -> None:
     cmd = [sys.executable, "-c", APP, "--preset", "fern", "--seed", "2",
            "--screenshot-dir", "shots", "--session-dir", "sessions", "--max-seconds", "60"]
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    with open(log, "w") as sink:
+    with open(log, "w", encoding="utf-8") as sink:
         app = subprocess.Popen(cmd, cwd=out, stdout=sink, stderr=subprocess.STDOUT, env=env)
     result: dict = {}
     try:

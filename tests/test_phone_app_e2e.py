@@ -11,6 +11,8 @@ from __future__ import annotations
 import io
 import json
 import math
+import time
+from urllib.request import urlopen
 
 import numpy as np
 import pytest
@@ -18,7 +20,7 @@ from PIL import Image
 
 from app.bench.page import Page, browser_problem, hello
 from sim import Params
-from tests.test_phone_e2e import BACKDROP, PHONE, open_page, pause_and_settle, pixels, synced
+from tests.test_phone_e2e import BACKDROP, PHONE, grown, open_page, pause_and_settle, pixels, synced
 
 PROBLEM = browser_problem()
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
@@ -63,7 +65,7 @@ def screen(page) -> np.ndarray:
 def session_touches(tmp_path) -> list[tuple[float, float]]:
     files = sorted(tmp_path.glob("session-*.json"))
     assert files
-    events = json.loads(files[-1].read_text())["events"]
+    events = json.loads(files[-1].read_text(encoding="utf-8"))["events"]
     return [(e["x"], e["y"]) for e in events if e["kind"] == "touch"]
 
 
@@ -111,6 +113,32 @@ def test_the_pane_covers_the_screen_and_a_tap_lands_under_the_finger(serve, phon
         assert abs(gx - ex) <= 1.0 and abs(gy - ey) <= 1.0, ((gx, gy), (ex, ey))
 
 
+def test_a_tap_by_each_corner_of_the_screen_is_a_touch_there_in_meta(serve, browser):
+    """A 390x844 phone at 1 device px a CSS px: a tap 10 px in from each corner of the
+    screen is a touch that `/meta` states at the pane px under it (the top right one fell
+    in the menu button's square and reached nothing)."""
+    s = serve()
+    meta = f"http://127.0.0.1:{s.port}/meta"
+    context = browser.new_context(**{**PHONE, "device_scale_factor": 1})
+    corners = [(10, 10), (380, 10), (10, 834), (380, 834)]
+    try:
+        page = open_page(context, s.local)
+        for i, (x, y) in enumerate(corners):
+            page.touchscreen.tap(x, y)
+            deadline = time.monotonic() + 30
+            while len(touches := json.loads(urlopen(meta, timeout=10).read())["touches"]) <= i:
+                assert time.monotonic() < deadline, f"no touch for the tap at {(x, y)}: {touches}"
+                page.wait_for_timeout(100)
+    finally:
+        context.close()
+    scale, x0, y0 = cover(390, 844)
+    assert len(touches) == 4, touches
+    for (x, y), (_tick, gx, gy) in zip(corners, touches, strict=True):
+        # (within a pane px: the canvas's pane is centred to the whole px)
+        ex, ey = (x - x0) / scale, (y - y0) / scale
+        assert abs(gx - ex) <= 1.0 and abs(gy - ey) <= 1.0, ((gx, gy), (ex, ey))
+
+
 def test_the_menu_remembers_whole_pane(serve, phones):
     s = serve()
     page = phones(s.local)
@@ -150,7 +178,7 @@ def test_tilt_turns_this_pages_light_alone(serve, phones):
     a, b = phones(s.local), phones(s.local)
     for x, y in ((0.3, 0.4), (0.6, 0.6)):
         a.touchscreen.tap(390 * x, 844 * y)
-    a.wait_for_timeout(2500)
+    grown(a, 62)
     pause_and_settle([a, b])
     light = a.evaluate("frost.renderer.light")
     before_a, before_b = pixels(a), pixels(b)
@@ -255,6 +283,31 @@ def test_tilt_maths_against_hand_worked_cases(browser):
     assert close(got["right30"], [0.5, 0, h]) and close(got["up30"], [0, -0.5, h])
     assert close(got["flat"], [0, -math.sin(math.radians(75)), math.cos(math.radians(75))])
     assert close(got["lp"], [1 - math.exp(-1), 1 - math.exp(-2)])
+
+
+def test_the_tilt_snaps_to_its_target_only_once_within_a_quarter_step(browser):
+    """The drawn tilt follows the low-pass (each step of TAU * ln 10 ms leaves a tenth of
+    the way) and takes the target exactly only once it is within STEP_DEG / 4 of it: 0.1
+    degree off is drawn as it is, 0.01 off snaps to the target; then nothing changes."""
+    with Page(hello(Params.preset("fern")), [], browser=browser) as p:
+        got = p.page.evaluate("""async () => {
+            const t = await import("./web/tilt.js");
+            const tilt = new t.Tilt({});
+            let target = [0, 0];
+            tilt.target = () => target;
+            const step = t.TAU_MS * Math.log(10), base = [0, 0, 1], out = [];
+            tilt.light(base, 0);  // the filter starts at rest
+            target = [1, 0];
+            for (let k = 1; k <= 3; k++) {
+              const { changed } = tilt.light(base, k * step);
+              out.push([changed, [...tilt.drawn]]);
+            }
+            return { out, step: t.STEP_DEG }; }""")
+    assert got["step"] / 4 == 0.05  # (the cases below lie either side of it)
+    (changed1, drawn1), (changed2, drawn2), (changed3, drawn3) = got["out"]
+    assert changed1 and np.allclose(drawn1, [0.9, 0], atol=1e-9)  # 0.1 off: as filtered
+    assert changed2 and drawn2 == [1, 0]  # 0.01 off: the target itself
+    assert not changed3 and drawn3 == [1, 0]
 
 
 def test_the_screen_stays_on_while_visible_and_connected(serve, phones):

@@ -152,6 +152,14 @@ def server_tick(page, stamp: float) -> int:
     return page.evaluate("frost.pong.tick")
 
 
+def grown(page, ticks: int) -> int:
+    """Wait until the page holds `ticks` more of the server's ticks (frost grown for a
+    while, 25 ticks a second, however slowly a loaded machine steps them); that tick."""
+    tick = page.evaluate("frost.tick") + ticks
+    page.wait_for_function(f"frost.tick >= {tick}", timeout=120_000)
+    return tick
+
+
 def keeps_pace(page, seconds: float) -> tuple[int, int]:
     """(ticks the page drew, ticks the server stepped) over `seconds`."""
     page0, server0 = page.evaluate("frost.tick"), server_tick(page, 1)
@@ -203,7 +211,7 @@ def test_two_pages_see_the_same_frost_and_a_late_one_gets_it_whole(serve, phones
     a, b = phones(s.local), phones(s.local)
     tap(a, 200, 400)
     tap(b, 560, 900)
-    a.wait_for_timeout(2000)
+    grown(a, 50)
     tick = pause_and_settle([a, b])
     pa, pb = pixels(a), pixels(b)
     assert np.array_equal(pa, pb)
@@ -293,16 +301,16 @@ def test_the_session_replays_to_the_pages_frame(serve, phones, tmp_path):
     s = serve()
     page = phones(s.local)
     tap(page, 380, 500)
-    page.wait_for_timeout(600)
+    grown(page, 15)
     page.touchscreen.tap(*css_point(page, 200, 900))
-    page.wait_for_timeout(1500)
+    grown(page, 38)
     tick = pause_and_settle([page])
     shown = pixels(page)
     page.context.close()
     out = s.stop()
     sessions = sorted(tmp_path.glob("session-*.json"))
     assert sessions, out
-    assert json.loads(sessions[-1].read_text())["steps"] == tick
+    assert json.loads(sessions[-1].read_text(encoding="utf-8"))["steps"] == tick
     png = tmp_path / "replay.png"
     subprocess.run([sys.executable, "-m", "app", "replay", str(sessions[-1]), "--out", str(png)],
                    cwd=tmp_path, check=True, capture_output=True, timeout=120)

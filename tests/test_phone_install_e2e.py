@@ -188,6 +188,63 @@ def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, serve,
         ctx.close()
 
 
+WORKER_HARNESS = """async ([code, answers]) => {
+  // The worker's code run against stand-ins: a cache that holds the whole shell, a network
+  // that answers the page with the X-Frost-Shell header it is given (null: none).
+  const listeners = {};
+  const self = { location: new URL('http://pane.test/sw.js?token=T'), clients: { matchAll: async () => [] },
+                 addEventListener: (name, f) => { listeners[name] = f; }, skipWaiting: async () => {} };
+  let puts = 0;
+  const cache = { match: async (r) => new Response('cache ' + new URL(r.url ?? r).pathname),
+                  put: async () => { puts += 1; } };
+  const caches = { open: async () => cache, keys: async () => [] };
+  let header = null;
+  const fetch = async (r) => new Response('network ' + new URL(r.url ?? r).pathname,
+                                          { headers: header === null ? {} : { 'X-Frost-Shell': header } });
+  new Function('self', 'caches', 'fetch', code)(self, caches, fetch);
+  const ask = (path, mode, ids) => new Promise((resolve) => listeners.fetch({
+    request: { url: 'http://pane.test/' + path + '?token=T', method: 'GET', mode }, ...ids,
+    respondWith: (answer) => resolve(Promise.resolve(answer).then((r) => r.text())) }));
+  const install = () => new Promise((resolve) => listeners.install({ waitUntil: (done) =>
+    resolve(done.then(() => 'installed', (err) => err.message)) }));
+  const pages = [], installs = [];
+  for (const [n, said] of answers.entries()) {
+    header = said;
+    const id = 'page' + n;
+    pages.push([await ask('', 'navigate', { resultingClientId: id }),
+                await ask('web/main.js', 'cors', { clientId: id })]);
+    puts = 0;
+    installs.push([await install(), puts]);
+  }
+  return { pages, installs, files: SHELL_FILES };
+}"""
+
+
+def test_the_worker_serves_its_cache_only_to_a_page_of_its_own_hash(browser):
+    """The worker's code (as the server serves it) with a stand-in cache and network: a page
+    the server answers with the worker's own hash takes its files from the cache; one
+    answered with another hash (the server was upgraded), or with none, from the network.
+    And the worker installs only where the page, fetched last, is still of its hash (else
+    the files cached may be of two versions)."""
+    from app.resources import WEB_DIR
+    from app.serve.install import Shell
+
+    worker = Shell(WEB_DIR).worker().decode()
+    shell = json.loads(worker.split("\n", 1)[0].removeprefix("const SHELL = ").removesuffix(";"))
+    page = browser.new_page()
+    try:
+        got = page.evaluate(WORKER_HARNESS.replace("SHELL_FILES", str(len(shell["files"]))),
+                            [worker, [shell["hash"], "0123456789abcdef", None]])
+    finally:
+        page.close()
+    assert got["pages"] == [["network /", "cache /web/main.js"],  # the page itself always the network's
+                            ["network /", "network /web/main.js"],
+                            ["network /", "network /web/main.js"]]
+    changed = "the page changed while it was being cached"
+    files = got["files"]
+    assert got["installs"] == [["installed", files], [changed, files - 1], [changed, files - 1]]
+
+
 def marked_copy(folder: Path, mark: str) -> Path:
     """The package (app, sim, shaders, assets) copied to `folder`, every file of the page's
     shell marked with `mark`: each module sets it, the CSS, the HTML and each shader say it,
@@ -197,15 +254,17 @@ def marked_copy(folder: Path, mark: str) -> Path:
     web = folder / "app" / "web"
     for js in web.glob("*.js"):
         if js.name != "sw.js":
-            js.write_text(js.read_text() + f"\nglobalThis.frostMarks = [...(globalThis.frostMarks || []),"
-                                           f" '{js.stem}:{mark}'];\n")
+            js.write_text(js.read_text(encoding="utf-8")
+                          + f"\nglobalThis.frostMarks = [...(globalThis.frostMarks || []),"
+                          f" '{js.stem}:{mark}'];\n", encoding="utf-8")
     css = web / "page.css"
-    css.write_text(css.read_text() + f'\n:root {{ --frost-mark: "{mark}"; }}\n')
+    css.write_text(css.read_text(encoding="utf-8") + f'\n:root {{ --frost-mark: "{mark}"; }}\n',
+                   encoding="utf-8")
     html = web / "index.html"
     meta = f'<meta name="frost-mark" content="{mark}">\n'
-    html.write_text(html.read_text().replace("<title>", meta + "<title>"))
+    html.write_text(html.read_text(encoding="utf-8").replace("<title>", meta + "<title>"), encoding="utf-8")
     for shader in (folder / "shaders").iterdir():
-        shader.write_text(shader.read_text() + f"\n// mark {mark}\n")
+        shader.write_text(shader.read_text(encoding="utf-8") + f"\n// mark {mark}\n", encoding="utf-8")
     if mark == "B":
         png = folder / "assets" / "background.png"
         image = np.array(Image.open(png).convert("RGB"))
@@ -272,3 +331,76 @@ def test_a_changed_page_replaces_the_cached_one_after_one_reload(pw, serve, tmp_
         assert backdrop_pixel(page) == (1, 2, 3)
     finally:
         ctx.close()
+
+
+def test_a_page_whose_token_was_replaced_says_so_and_its_app_opens_to_a_page_that_says_so(
+        pw, serve, tmp_path):
+    """The LAN server stopped and started again with `--new-token` on the same port: the
+    open page's socket is refused (a browser learns only 1006, as from a server that is
+    gone), and the page says that its token was replaced, and stops there: no retry. The
+    installed app opened at its old address (its start_url, through its worker) shows the
+    server's refusal as a page sized for the phone, saying the same; opened from the
+    worker's cache (the server stopped), its socket is refused once a server is back, and
+    it says so too."""
+    port = str(free_port())
+    old = serve("--port", port, "--host", "0.0.0.0", "--no-https", folder=tmp_path)
+    ctx = persistent(pw, tmp_path / "profile")
+    try:
+        page = open_page(ctx, old.local)
+        wait_for_shell(page)
+        old.stop()
+        new = serve("--port", port, "--host", "0.0.0.0", "--no-https", "--new-token", folder=tmp_path)
+        assert new.port == old.port and new.token != old.token
+        page.wait_for_function("document.getElementById('status').textContent.includes('token')",
+                               timeout=60_000)  # (reconnects back off up to 8 s apart)
+        assert status(page) == "this page's link (its token) was replaced: scan the new QR code"
+        # Stopped: no socket, none to come (a retry is a timer main.js keeps), no other word.
+        assert page.evaluate("[frost.socket, frost.retry, frost.stopped]") == [None, None, True]
+        assert page.evaluate("window.frost.makeApp.shown") is None
+        response = page.goto(old.local)  # the installed app opens its start_url
+        assert response.status == 403
+        assert page.evaluate("navigator.serviceWorker.controller !== null")  # (its worker's)
+        said = page.inner_text("body")
+        assert "token" in said and "replaced" in said and "QR code" in said, said
+        # Sized for the phone (390 CSS px: without its viewport a phone lays a page out 980
+        # wide and shrinks it) in type a person reads.
+        assert page.evaluate("[innerWidth, document.documentElement.scrollWidth]") == [390, 390]
+        size = "parseFloat(getComputedStyle(document.getElementById('refused')).fontSize)"
+        assert page.evaluate(size) >= 16
+        page.screenshot(path=str(tmp_path / "refused.png"))
+        # Opened from the cache (no server), the app's socket is refused once one is back.
+        new.stop()
+        page.goto(old.local)
+        page.wait_for_function(f"document.getElementById('status').textContent.includes('{NOT_REACHABLE}')",
+                               timeout=30_000)
+        back = serve("--port", port, "--host", "0.0.0.0", "--no-https", folder=tmp_path)
+        assert back.token == new.token  # (kept)
+        page.wait_for_function("document.getElementById('status').textContent.includes('token')",
+                               timeout=60_000)
+        assert page.evaluate("[frost.socket, frost.retry, frost.stopped]") == [None, None, True]
+        # With the new token, the page again.
+        page.goto(new.local)
+        synced(page, "frost.frames > 0")
+        assert status(page) == ""
+    finally:
+        ctx.close()
+
+
+def test_a_page_without_a_token_refused_by_a_lan_server_says_the_servers_reason(pw, serve, browser,
+                                                                                 tmp_path):
+    """A page opened on loopback (no token) whose server comes back on the LAN (a token in
+    force) on the same port: its socket and /meta are refused, and the status line says the
+    server's own reason, once, and the page stops."""
+    port = str(free_port())
+    s = serve("--port", port, folder=tmp_path)
+    context = browser.new_context(**PHONE)
+    try:
+        page = open_page(context, s.local)
+        s.stop()
+        lan = serve("--port", port, "--host", "0.0.0.0", "--no-https", folder=tmp_path)
+        assert lan.token
+        page.wait_for_function("frost.refused !== null", timeout=60_000)
+        assert status(page) == "this server needs the token of the URL frost serve printed"
+        assert page.evaluate("[frost.socket, frost.retry]") == [None, None]
+    finally:
+        context.close()

@@ -14,7 +14,7 @@ import urllib.request
 import numpy as np
 import pytest
 from PIL import Image
-from test_phone_e2e import PROBLEM, open_page, pause_and_settle, phones, pixels, tap  # noqa: F401, F811
+from test_phone_e2e import PROBLEM, grown, open_page, pause_and_settle, phones, pixels, tap  # noqa: F401, F811
 
 from app import photos
 from app.backdrops import load_backdrop
@@ -33,6 +33,31 @@ def quadrant_photo(path, w: int = 1200, h: int = 1600) -> None:
         x0, y0 = int((fx - 0.25) * 2 * (w // 2)), int((fy - 0.25) * 2 * (h // 2))
         a[y0:y0 + h // 2, x0:x0 + w // 2] = colour
     Image.fromarray(a).save(path, "JPEG", quality=92)
+
+
+def test_the_page_makes_a_photo_cover_the_pane_as_pillow_does(browser):
+    """A wide picture (thirds of red, green, blue, and a gradient down it) becomes a JPEG
+    covering the pane, centred: what Pillow's cover gives (the oracle), so the middle of
+    the green third fills it, top to bottom, with no bar."""
+    from app.bench.page import Page, hello
+    from app.images import cover
+    from sim import Params
+
+    a = np.zeros((400, 1600, 3), np.uint8)
+    for k, colour in enumerate(((220, 30, 30), (30, 200, 40), (30, 40, 210))):
+        a[:, k * 533:(k + 1) * 533 + (k == 2)] = colour
+    a[..., 2] = np.linspace(0, 255, 400, dtype=np.uint8)[:, None]
+    png = io.BytesIO()
+    Image.fromarray(a).save(png, "PNG")
+    with Page(hello(Params.preset("fern")), [], browser=browser) as page:
+        jpeg = page.page.evaluate("""async (bytes) => {
+            const { paneJpeg } = await import('./web/photo.js');
+            const blob = await paneJpeg(new Blob([new Uint8Array(bytes)], { type: 'image/png' }));
+            return Array.from(new Uint8Array(await blob.arrayBuffer())); }""", list(png.getvalue()))
+    got = np.asarray(Image.open(io.BytesIO(bytes(jpeg))).convert("RGB")).astype(int)
+    want = np.asarray(cover(Image.fromarray(a), (WIDTH, HEIGHT))).astype(int)
+    assert got.shape == want.shape == (HEIGHT, WIDTH, 3)
+    assert np.abs(got - want).mean() < 6, np.abs(got - want).mean()
 
 
 def choose(page, path) -> dict:
@@ -57,7 +82,7 @@ def test_a_photo_chosen_on_one_page_is_behind_the_frost_on_another(serve, phones
     s = serve("--look", "glass")
     a, b = phones(s.local), phones(s.local)
     tap(a, 380, 640)  # frost to see the photo through
-    a.wait_for_timeout(4000)
+    grown(a, 100)
     pause_and_settle([a, b])
     before = pixels(b)
     clear = (before == load_backdrop("dusk")).all(axis=2)  # no ice there
@@ -81,8 +106,8 @@ def test_a_photo_chosen_on_one_page_is_behind_the_frost_on_another(serve, phones
     assert last["status"] == 200, last
     name = last["backdrop"]
     assert photos.is_photo(name) and last["bytes"] <= 1 << 20
+    # (in the backdrop texture, which pixels() draws the pane with: no frame waited for)
     b.wait_for_function(f"frost.shownBackdrop === {json.dumps(name)}", timeout=30_000)
-    b.wait_for_timeout(500)  # (drawn at the next frame)
     after = pixels(b)
     # Away from the ice the second page shows the photo: its quadrants' colours, and the
     # file the server kept as Pillow decodes it (to a decoder's rounding).

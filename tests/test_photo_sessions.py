@@ -110,7 +110,8 @@ def test_a_replay_never_takes_a_backdrops_name_as_a_path(tmp_path):
     (tmp_path / "cwdpic").write_bytes(photo_bytes())  # (a picture a name could reach)
     path = tmp_path / "s.json"
     path.write_text(json.dumps(session([{"kind": "touch", "tick": 0, "x": 200.0, "y": 300.0},
-                                        {"kind": "backdrop", "tick": 3, "name": "cwdpic"}])))
+                                        {"kind": "backdrop", "tick": 3, "name": "cwdpic"}])),
+                    encoding="utf-8")
     done = subprocess.run([sys.executable, "-m", "app", "replay", str(path), "--out",
                            str(tmp_path / "out.png")], cwd=tmp_path, capture_output=True,
                           text=True, timeout=300, env={**os.environ, "PYTHONPATH": str(ROOT)})
@@ -163,7 +164,7 @@ def test_frost_replay_draws_the_photo_kept_beside_the_session(tmp_path):
     path = tmp_path / "s.json"
     path.write_text(json.dumps(session(
         [{"kind": "backdrop", "tick": 0, "name": name},
-         {"kind": "touch", "tick": 0, "x": 200.0, "y": 300.0}], )))
+         {"kind": "touch", "tick": 0, "x": 200.0, "y": 300.0}], )), encoding="utf-8")
     done = run_replay(tmp_path, path)
     assert done.returncode == 0, done.stderr
     out = np.asarray(Image.open(tmp_path / "out.png").convert("RGB")).astype(int)
@@ -212,7 +213,7 @@ def test_a_photo_dropped_on_the_window_is_kept_recorded_and_shown(tmp_path):
     drop = PhotoDrop(thread, store)
     notes = _Notes(thread)
     (tmp_path / "holiday.JPG").write_bytes(photo_bytes())  # a PNG, whatever its name says
-    (tmp_path / "notes.txt").write_text("not a photo")
+    (tmp_path / "notes.txt").write_text("not a photo", encoding="utf-8")
     dropped(drop, [tmp_path / "notes.txt"])
     thread.tick()
     assert backdrop_events(thread) == [] and not store.exists()

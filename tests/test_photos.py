@@ -4,8 +4,11 @@ kept once under their hash."""
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import io
+import os
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -101,6 +104,54 @@ def test_a_file_over_the_byte_limit_is_refused_unread(monkeypatch):
     monkeypatch.setattr(photos, "MAX_BYTES", 1000)
     with pytest.raises(photos.PhotoError, match="at most 0 MB"):
         photos.prepare(b"\x89PNG\r\n\x1a\n" + bytes(1000))
+
+
+def fifo_fed(tmp_path: Path, data: bytes):
+    """A FIFO (its size says 0) and the thread writing `data` into it in 64 KiB pieces
+    until the reader is gone, and the count of bytes the reader took in (its one item)."""
+    if not hasattr(os, "mkfifo"):
+        pytest.skip("no FIFOs on this platform")
+    fifo = tmp_path / "photo.fifo"
+    os.mkfifo(fifo)
+
+    def feed():
+        with contextlib.suppress(BrokenPipeError), open(fifo, "wb", buffering=0) as f:
+            for at in range(0, len(data), 65536):
+                sent[0] += f.write(data[at:at + 65536])
+
+    sent = [0]
+    writer = threading.Thread(target=feed, daemon=True)
+    writer.start()
+    return fifo, writer, sent
+
+
+def test_a_photo_read_from_a_fifo_is_read_whole(tmp_path):
+    data = encoded(quadrants(64, 48), "PNG") + bytes(200_000)  # (over three pieces)
+    fifo, writer, _ = fifo_fed(tmp_path, data)
+    assert photos.read_file(fifo) == data
+    writer.join(30)
+
+
+def test_a_fifo_with_no_end_is_read_no_further_than_the_limit(tmp_path):
+    """Its size says 0: the bytes read are bounded by the limit, not by the file's end
+    (here three times the limit; /dev/zero has none)."""
+    fifo, writer, sent = fifo_fed(tmp_path, bytes(3 * photos.MAX_BYTES))
+    with pytest.raises(photos.PhotoError, match="the file holds more than 8 MB; at most 8 MB"):
+        photos.read_file(fifo)
+    writer.join(30)
+    assert not writer.is_alive()
+    # what the writer got in before the reader left: the limit and a pipe's buffer (64 KiB
+    # on Linux, up to 1 MiB where raised)
+    assert photos.MAX_BYTES < sent[0] < photos.MAX_BYTES + 2**21
+
+
+def test_a_regular_file_over_the_limit_is_refused_from_its_size(tmp_path):
+    big = tmp_path / "big.png"
+    big.write_bytes(bytes(photos.MAX_BYTES + 1))
+    with pytest.raises(photos.PhotoError, match=r"the file is 8\.0 MB; at most 8 MB"):
+        photos.read_file(big)
+    big.write_bytes(bytes(photos.MAX_BYTES))  # at the limit: read (and left to prepare)
+    assert len(photos.read_file(big)) == photos.MAX_BYTES
 
 
 def exif_photo(orientation: int, gps: bool = False) -> bytes:

@@ -36,7 +36,7 @@ VIEW = {"light": [0.4, 0.2, 0.8944271909999159], "features": False, "bumps": Tru
 
 def unwritable(tmp_path: Path) -> Path:
     """A folder no one can make, root included: its parent is a regular file."""
-    (tmp_path / "afile").write_text("not a folder")
+    (tmp_path / "afile").write_text("not a folder", encoding="utf-8")
     return tmp_path / "afile" / "sub"
 
 
@@ -406,10 +406,10 @@ def test_a_bad_view_in_a_session_file_is_a_clear_error(tmp_path, view, problem):
 
     data = {**SessionLog(0, {}).as_json(), "view": view}
     path = tmp_path / "s.json"
-    path.write_text(json.dumps(data))
+    path.write_text(json.dumps(data), encoding="utf-8")
     with pytest.raises(SessionError, match=problem):
         SessionLog.load(path)
-    path.write_text(json.dumps(SessionLog(0, {}).as_json()))  # older files have none
+    path.write_text(json.dumps(SessionLog(0, {}).as_json()), encoding="utf-8")  # older files have none
     assert SessionLog.load(path).view is None
 
 
@@ -531,14 +531,19 @@ def test_a_second_demo_overwrites_nothing_of_the_first(monkeypatch, gl_ctx, caps
 @pytest.mark.parametrize("cmd", [["render", "--touch", "380,640", "--ticks", "2", "--out", "OUT/x.png"],
                                  ["render", "--ticks", "5", "--out", "OUT/x.png"],
                                  ["replay", "SESSION", "--out", "OUT/x.png"],
-                                 ["figure8", "OUT/f.png", "--ticks", "1"]])
-def test_each_file_a_headless_run_writes_is_named_on_one_line(tmp_path, cmd):
+                                 ["figure8", "OUT/f.png", "--ticks", "1"],
+                                 ["maps", "OUT", "--ticks", "3"]])
+@pytest.mark.parametrize("frost", [["-m", "app"], [str(ROOT / "tests" / "windows_like.py")]],
+                         ids=["here", "as-on-windows"])
+def test_each_file_a_headless_run_writes_is_named_on_one_line(tmp_path, cmd, frost):
+    """Also as on Windows (tests/windows_like.py: no os.fchmod, no os.getloadavg...,
+    text without an encoding an error): every file is written all the same."""
     # A subprocess: the log lines (basicConfig on stderr) are what a user sees there.
     session, out = tmp_path / "s.json", tmp_path / "out"
     SessionLog(0, PARAMS.as_dict(), steps=2,
                events=[{"tick": 0, "kind": "touch", "x": 380, "y": 640}]).save(session)
     argv = [a.replace("OUT", str(out)).replace("SESSION", str(session)) for a in cmd]
-    done = subprocess.run([sys.executable, "-m", "app", *argv], cwd=tmp_path, capture_output=True,
+    done = subprocess.run([sys.executable, *frost, *argv], cwd=tmp_path, capture_output=True,
                           text=True, timeout=120, env={**os.environ, "PYTHONPATH": str(ROOT)})
     lines = (done.stdout + done.stderr).splitlines()
     files = [p.name for p in out.iterdir()]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import os
 import shutil
@@ -16,6 +17,7 @@ from PIL import Image
 from app.gl.renderer import Renderer
 from app.gl.shaders import HEADERS, SHADER_DIR, load_program, shader_source
 from app.images import read_image, save_png, timestamped_path
+from app.window import no_panel
 from sim import Params
 from sim.look.geometry import GeometryDelta, feature_triangles
 
@@ -34,7 +36,7 @@ def test_shader_is_glsl_es_300_and_glsl_330(name, dialect, tmp_path):
     exe = shutil.which("glslangValidator")
     assert exe, "glslangValidator is missing: apt-get install glslang-tools (`make test` does)"
     path = tmp_path / f"shader{Path(name).suffix}"
-    path.write_text(shader_source(name, dialect=dialect))
+    path.write_text(shader_source(name, dialect=dialect), encoding="utf-8")
     run = subprocess.run([exe, str(path)], capture_output=True, text=True)
     assert run.returncode == 0, run.stdout + run.stderr
 
@@ -150,8 +152,9 @@ def test_two_runs_in_the_same_second_choose_different_names(monkeypatch, tmp_pat
         chosen.append(timestamped_path(tmp_path, prefix, suffix))
     assert chosen[0] != chosen[1]
     for run, path in enumerate(chosen):
-        path.write_text(f"run {run}")
-    assert [p.read_text() for p in chosen] == ["run 0", "run 1"]  # neither overwrote the other
+        path.write_text(f"run {run}", encoding="utf-8")
+    # neither overwrote the other
+    assert [p.read_text(encoding="utf-8") for p in chosen] == ["run 0", "run 1"]
 
 
 FROZEN_CLOCK = ("import sys, time; time.strftime = lambda fmt, *t: '20261125-120000'; "
@@ -301,10 +304,18 @@ def test_melt_renders_as_if_the_ice_never_grew_there(gl_ctx):
 
 def test_the_pages_shader_header_is_the_es_dialects():
     # One header per dialect: the page's copy (app/web/programs.js) is the loader's "es".
-    js = (Path(__file__).resolve().parent.parent / "app" / "web" / "programs.js").read_text()
+    js = (Path(__file__).resolve().parent.parent / "app" / "web" / "programs.js").read_text(encoding="utf-8")
     start = js.index('export const HEADER = "') + len('export const HEADER = "')
     page = js[start:js.index('";', start)].encode().decode("unicode_escape")
     assert page == HEADERS["es"]
+
+
+@pytest.mark.parametrize("dialect", ["gles", "ES", "core "])
+def test_an_unknown_shader_dialect_is_a_value_error_naming_it(dialect):
+    """Not a KeyError from the table: a ValueError that says the dialect asked for and the
+    ones there are."""
+    with pytest.raises(ValueError, match=f"GLSL dialect {dialect!r}: one of core, es"):
+        shader_source("ice.frag", dialect=dialect)
 
 
 # Mesa with a Mac's limits: OpenGL 4.1 core, GLSL 4.10, no ES 3 compatibility. A proxy for a
@@ -397,8 +408,12 @@ def test_frost_info_says_what_a_bug_report_needs(limits):
                          cwd=Path(__file__).resolve().parent.parent)
     assert run.returncode == 0, run.stdout + run.stderr
     said = dict(line.split(": ", 1) for line in run.stdout.splitlines())
-    assert set(said) >= {"frost", "platform", "python", "packages", "shader dialect",
+    assert set(said) >= {"frost", "platform", "python", "packages", "tuning panel", "shader dialect",
                          "headless OpenGL", "its shaders", "GLFW"}
+    # the panel's library as installed here, or why the window has none (tests/test_requirements.py)
+    has_imgui = importlib.util.find_spec("imgui_bundle") is not None
+    assert said["tuning panel"] == ("imgui-bundle 1.93.0 (key M)" if has_imgui else
+                                    "none: " + no_panel.panel_problem())
     assert said["shader dialect"].startswith("GLSL core")
     assert "no display" in said["GLFW"]
     if limits:  # the Mac's: 4.1, and the page's ES 3.00 refused on the desktop

@@ -49,7 +49,7 @@ def drive(out: Path) -> None:
     log = out / "app.log"
     cmd = [sys.executable, "-m", "app", "--preset", "c-2", "--scale", "1", "--max-seconds", "150",
            "--screenshot-dir", str(out / "shots"), "--session-dir", str(out / "sessions")]
-    with open(log, "w") as sink:
+    with open(log, "w", encoding="utf-8") as sink:
         app = subprocess.Popen(cmd, cwd=ROOT, stdout=sink, stderr=subprocess.STDOUT)
     result: dict = {}
     try:
@@ -64,9 +64,10 @@ def drive(out: Path) -> None:
             xdo("key", "--clearmodifiers", key)
             time.sleep(0.15)
         result["scribble_seconds"] = time.monotonic() - started
+        stats = len(re.findall(r"stats \(", log.read_text(encoding="utf-8")))
         xdo("key", "s")
         wait_for(log, r"screenshot: ")
-        time.sleep(2.5)  # a stats line after the last key
+        wait_for(log, r"stats \(", stats + 1, timeout=60)  # a stats line after the last key
         xdo("key", "Escape")
         pressed = time.monotonic()
         result["status"] = app.wait(timeout=30)
@@ -103,7 +104,7 @@ def test_every_tuning_key_was_applied(run):
     changed = len(re.findall(r"(?:params|preset \S+): (?!unchanged)", run["log"]))
     assert changed >= len(TUNING_KEYS) - 3  # a preset key may repeat the values it has
     saved = re.findall(r"session: (\S+\.json) \(", run["log"])[-1]
-    events = json.loads(Path(saved).read_text())["events"]
+    events = json.loads(Path(saved).read_text(encoding="utf-8"))["events"]
     # (a loaded machine may still hold some at Esc: the log then names them)
     unapplied = re.search(r"never applied \(not in the session\): .*?(\d+) parameter changes",
                           run["log"])

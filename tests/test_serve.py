@@ -86,6 +86,11 @@ class PageModel:
                 return t[key]
         return None
 
+    def answered(self, t, since: int = 0) -> bool:
+        """Whether the pong to ping `t` is among the texts from `since` on (whatever came
+        after it)."""
+        return any(m["type"] == "pong" and m.get("t") == t for m in self.texts[since:])
+
     def take(self, msg) -> None:
         """A message the socket received; AssertionError if the socket ended."""
         if msg.type == WSMsgType.BINARY:
@@ -101,6 +106,17 @@ async def read_until(ws, page: PageModel, done, timeout: float = 20.0):
     end = loop.time() + timeout
     while not done():
         page.take(await asyncio.wait_for(ws.receive(), max(0.01, end - loop.time())))
+
+
+async def until(done, what: str = "", timeout: float = 30.0) -> None:
+    """Wait for `done()` (polled), however loaded the machine; AssertionError naming
+    `what` if it is still not so after `timeout` s (a bound on a failure, not a claim)."""
+    loop = asyncio.get_running_loop()
+    end = loop.time() + timeout
+    while not done():
+        if loop.time() > end:
+            raise AssertionError(f"not within {timeout:g} s: {what}")
+        await asyncio.sleep(0.02)
 
 
 async def read_quiet(ws, page: PageModel, quiet: float = 0.4):
@@ -252,9 +268,9 @@ def test_a_token_is_needed_when_one_is_in_force():
 def test_static_files_stay_in_their_folders(tmp_path):
     web = tmp_path / "web"
     web.mkdir()
-    (web / "index.html").write_text("<p>frost</p>")
-    (web / "app.js").write_text("export {};")
-    (tmp_path / "secret.txt").write_text("no")
+    (web / "index.html").write_text("<p>frost</p>", encoding="utf-8")
+    (web / "app.js").write_text("export {};", encoding="utf-8")
+    (tmp_path / "secret.txt").write_text("no", encoding="utf-8")
     (web / "link.txt").symlink_to(tmp_path / "secret.txt")
 
     async def test(client, feed):
@@ -647,14 +663,16 @@ def test_menu_and_keys_change_the_shared_frost_and_every_page_hears():
         for bad in ({"type": "preset", "name": "z-9"}, {"type": "backdrop", "name": "/etc"},
                     {"type": "key", "key": "S"}, {"type": "key", "key": "NOPE"}):
             await a.send_json(bad)
+        asked = len(pa.texts)
         await a.send_json({"type": "ping", "t": 1})  # answered after the four
-        await read_until(a, pa, lambda: pa.texts[-1]["type"] == "pong")
+        await read_until(a, pa, lambda: pa.answered(1, asked))
         notes = [t["text"] for t in pa.texts if t["type"] == "notice"]
         for says in ("'z-9' refused", "backdrop '/etc' refused", "screenshot", "key NOPE"):
             assert any(says in n for n in notes), (says, notes)
         assert feed.controls.backdrop == "lockscreen"
+        asked = len(pb.texts)
         await b.send_json({"type": "ping", "t": 2})  # (after a's notices, were they b's too)
-        await read_until(b, pb, lambda: pb.texts[-1]["type"] == "pong")
+        await read_until(b, pb, lambda: pb.answered(2, asked))
         assert not any("refused" in t.get("text", "") for t in pb.texts)  # a's alone
         events = feed.thread.session().events
         kinds = [e["kind"] for e in events]
@@ -664,6 +682,22 @@ def test_menu_and_keys_change_the_shared_frost_and_every_page_hears():
         assert [e["name"] for e in events if e["kind"] == "backdrop"] == ["lockscreen"]
         assert feed.controls.params == Params.preset("window").replace(look="paper")
     serve(test)
+
+
+def test_the_backdrop_key_steps_through_the_built_ins_from_a_photo_first_to_the_first():
+    """The X key (the window's backdrop key) on a page: over a photo or a file of the
+    user's it goes to the first built-in, then steps through them in turn (BACKDROPS'
+    order: dusk, lockscreen) and round again."""
+    from app.backdrops import BACKDROPS
+    from app.serve.protocol import Input
+
+    feed = Feed(Params.preset("c-2"), seed=1, backdrop="photo-0123456789abcdef")
+    shown = []
+    for _ in range(3):
+        feed.controls.handle(Input("key", name="X"), {})
+        shown.append(feed.controls.backdrop)
+    first, second = list(BACKDROPS)
+    assert shown == [first, second, first] == ["dusk", "lockscreen", "dusk"]
 
 
 def test_a_port_taken_or_out_of_range_is_one_clear_error():
@@ -1007,15 +1041,19 @@ def test_the_server_logs_its_stats_while_it_serves(monkeypatch, caplog):
 
     monkeypatch.setattr(server, "STATS_PERIOD", 0.5)
 
+    def lines() -> list[str]:
+        return [r.getMessage() for r in caplog.records if "stats (" in r.getMessage()]
+
     async def test(client, feed):
         ws, page = await connect(client)
         await read_until(ws, page, lambda: page.tick > feed.tick() - 1 and page.tick >= 30)
-        await asyncio.sleep(0.6)
+        seen = len(lines())
+        await until(lambda: len(lines()) > seen, "a stats line with the page connected")
+        line = lines()[seen]
+        assert re.search(r"sim \d+\.\d ticks/s, tick median \d+\.\d ms, 1 page", line), line
 
     with caplog.at_level(logging.INFO, logger="app.serve"):
         serve(test)
-    lines = [r.getMessage() for r in caplog.records if "stats (" in r.getMessage()]
-    assert lines and re.search(r"sim \d+\.\d ticks/s, tick median \d+\.\d ms, 1 page", lines[-1])
 
 
 def test_the_stats_line_counts_ticks_stepped_across_a_rebuild(monkeypatch, caplog):
@@ -1028,18 +1066,21 @@ def test_the_stats_line_counts_ticks_stepped_across_a_rebuild(monkeypatch, caplo
 
     monkeypatch.setattr(server, "STATS_PERIOD", 0.8)
 
+    def rates() -> list[float]:
+        return [float(m) for r in caplog.records
+                for m in re.findall(r"sim (-?\d+\.\d) ticks/s", r.getMessage())]
+
     async def test(client, feed):
         ws, page = await connect(client)
         await read_until(ws, page, lambda: page.tick >= 40)
         await ws.send_json({"type": "preset", "name": "c-3"})
         await read_until(ws, page, lambda: page.state("preset") == "c-3")
-        await asyncio.sleep(1.8)
+        seen = len(rates())  # the rebuild is in the next line's while, the one after is past it
+        await until(lambda: len(rates()) >= max(3, seen + 2), "two stats lines after the rebuild")
 
     with caplog.at_level(logging.INFO, logger="app.serve"):
         serve(test)
-    rates = [float(m) for r in caplog.records
-             for m in re.findall(r"sim (-?\d+\.\d) ticks/s", r.getMessage())]
-    assert len(rates) >= 3 and all(rate > 5 for rate in rates), rates
+    assert all(rate > 5 for rate in rates()), rates()
 
 
 def test_a_flood_of_bad_requests_is_a_line_in_the_log_now_and_then(caplog, monkeypatch):
@@ -1061,11 +1102,11 @@ def test_a_flood_of_bad_requests_is_a_line_in_the_log_now_and_then(caplog, monke
 
     async def test(client, feed):
         await bad(client, 50)
-        await asyncio.sleep(0.1)
+        await until(said, "a line on the bad requests")
         assert len(said()) == 1 and "more" not in said()[0]
         monkeypatch.setattr(logs, "BAD_LOG_S", 0.0)  # the while since the last line is over
         await bad(client, 1)
-        await asyncio.sleep(0.1)
+        await until(lambda: len(said()) >= 2, "a second line, after BAD_LOG_S")
         assert len(said()) == 2 and said()[1].endswith("; 49 more refused since the last such line")
     with caplog.at_level(logging.INFO, "aiohttp.server"):
         serve(test)
@@ -1344,3 +1385,31 @@ def test_nothing_follows_a_close_frame_sent_while_a_message_waits_to_be_written(
         return ws.frames
 
     assert asyncio.run(main()) == ["close frame"]
+
+
+def test_each_page_is_told_of_its_own_dropped_input(monkeypatch):
+    """Two pages' taps while the thread takes none (never started): the thread holds
+    MIN_AHEAD (4), each page's queue PAGE_WAITING (3), the rest is dropped. Page a drops
+    one, page b five: each is told at its own first drop, with its own count (counted
+    for all pages at once, b's first was the second drop and went untold)."""
+    from app.serve import protocol, turns
+
+    monkeypatch.setattr(turns, "PAGE_WAITING", 3)
+    feed = Feed(PAPER, seed=1)
+    told: dict[str, list[str]] = {"a": [], "b": []}
+    queues = {name: feed.controls.turns.open() for name in told}
+
+    def tap(name: str, k: int) -> None:
+        message = protocol.parse_input(json.dumps({"type": "touch", "x": 100 + k, "y": 200,
+                                                   "phase": "down"}))
+        feed.controls.handle(message, {}, told[name].append, None, queues[name])
+
+    for k in range(turns.MIN_AHEAD + 3 + 1):
+        tap("a", k)
+    for k in range(3 + 5):
+        tap("b", k)
+    assert feed.thread.sent == turns.MIN_AHEAD + 1  # (+1: the backdrop the feed starts on)
+    assert feed.controls.dropped == 6
+    assert [t.rsplit(": ", 1)[1] for t in told["a"]] == ["1 so far"]
+    assert [t.rsplit(": ", 1)[1] for t in told["b"]] == ["1 so far"]
+    assert all(t.startswith("too much input waiting (") for t in told["a"] + told["b"])

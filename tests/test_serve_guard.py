@@ -15,6 +15,7 @@ from app.serve.feed import Feed
 from app.serve.listen import listen
 from app.serve.server import make_app
 from sim import Params
+from tests.test_serve import until
 
 HEAD = 0.4  # the shortened deadline for a request's head, s
 GET = b"GET /meta HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"
@@ -139,7 +140,7 @@ def test_a_full_house_makes_room_for_a_request_but_never_drops_a_page(short):
             reader, writer = await asyncio.open_connection("127.0.0.1", port)
             writer.write(b"GET / HTTP/1.1\r\n")
             hung.append((reader, writer))
-        await asyncio.sleep(0.05)
+        await until(lambda: len(runner.conns) == guard.MAX_CONNECTIONS, "every slot held")
         reader, writer = await asyncio.open_connection("127.0.0.1", port)
         writer.write(GET)
         assert (await answered(reader)).startswith(b"HTTP/1.1 200")  # a person gets in
@@ -148,7 +149,7 @@ def test_a_full_house_makes_room_for_a_request_but_never_drops_a_page(short):
         assert runner.evicted == 1
         for _, w in hung + [(reader, writer)]:
             w.close()
-        await asyncio.sleep(0.05)
+        await until(lambda: not runner.conns, "the closed ones gone from the house")
         # Pages in every slot, kept past the deadline: the next connection is refused,
         # and every page still hears the ticks.
         async with aiohttp.ClientSession() as session:
@@ -340,15 +341,12 @@ def test_aiohttp_is_asked_whether_a_connection_waits_for_its_next_request():
             [conn] = runner.conns
             assert guard.awaits_request(conn.inner) and conn.idle()  # kept alive, idle
             writer.write(b"GET /slow HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
-            for _ in range(100):  # until aiohttp has taken it
-                await asyncio.sleep(0.01)
-                if not guard.awaits_request(conn.inner):
-                    break
-            assert not guard.awaits_request(conn.inner) and not conn.idle()  # answering
+            await until(lambda: not guard.awaits_request(conn.inner), "aiohttp taking the request")
+            assert not conn.idle()  # answering
             release.set()
             assert (await answered(reader)).startswith(b"HTTP/1.1 200")
-            await asyncio.sleep(0.05)
-            assert guard.awaits_request(conn.inner) and conn.idle()
+            await until(lambda: guard.awaits_request(conn.inner) and conn.idle(),
+                        "the connection kept alive and idle again")
             writer.close()
         finally:
             await runner.cleanup()

@@ -11,6 +11,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import datetime as dt
+import io
 import json
 import os
 import re
@@ -24,10 +25,12 @@ import time
 from pathlib import Path
 
 import aiohttp
+import numpy as np
 import pytest
 from cryptography import x509
 from cryptography.hazmat.primitives import serialization
 from cryptography.x509.oid import ExtendedKeyUsageOID
+from PIL import Image
 from test_phone_e2e import PHONE, synced
 
 from app.serve import trust
@@ -128,12 +131,85 @@ def test_the_token_is_kept_and_replaced_when_asked(tmp_path):
     assert new != token and trust.kept_token(tmp_path) == new
 
 
+@pytest.mark.parametrize("mode", [0o640, 0o604, 0o660, 0o644], ids=oct)
+def test_a_kept_private_file_readable_by_anyone_else_is_made_the_users_alone(tmp_path, mode):
+    """The token, the authority's key and the server's key, kept with a wider mode (a copy,
+    a restore from a backup), are read and left readable by the user alone: no bit for the
+    group nor for others (the mode from the file system is the oracle)."""
+    now = dt.datetime(2026, 11, 26, 12, tzinfo=dt.timezone.utc)
+    token = trust.kept_token(tmp_path)
+    trust.local_certificate(tmp_path, NAMES, now)
+    private = ("token", "ca.key", "server.pem")
+    for name in private:
+        os.chmod(tmp_path / name, mode)
+    assert trust.kept_token(tmp_path) == token
+    trust.local_certificate(tmp_path, NAMES, now)
+    for name in private:
+        assert stat.S_IMODE((tmp_path / name).stat().st_mode) == 0o600, name
+
+
+@pytest.mark.parametrize("kept", [b"", b"short\n", b"a token with spaces in it\n", b"x" * 65,
+                                  b"\xff\xfe" * 12, b"abcdefghijklmnop;rm -rf\n"])
+def test_a_kept_token_file_not_holding_a_token_is_replaced_by_a_new_one(tmp_path, kept):
+    """A token must be 16 to 64 of the URL-safe characters (a page carries it in its
+    address): any other content of the file is replaced by a new token, kept."""
+    (tmp_path / "token").write_bytes(kept)
+    token = trust.kept_token(tmp_path)
+    assert re.fullmatch(r"[A-Za-z0-9_-]{16,64}", token) and token.encode() != kept.strip()
+    assert (tmp_path / "token").read_text(encoding="utf-8").strip() == token
+    assert trust.kept_token(tmp_path) == token
+
+
 def test_the_machines_names_hold_its_host_name_lan_address_and_loopback():
     names = trust.machine_names("0.0.0.0", lan="192.168.1.20", hostname="Pane")
     assert {"localhost", "127.0.0.1", "::1", "pane", "pane.local", "192.168.1.20"} <= set(names)
     assert "0.0.0.0" not in names
+    for every in ("0.0.0.0", "::", ""):  # a wildcard names no address: no certificate holds it
+        held = trust.machine_names(every, lan=None, hostname="pane")
+        assert every not in held and {"localhost", "127.0.0.1", "::1"} <= set(held), every
     assert "10.1.2.3" in trust.machine_names("10.1.2.3", lan=None, hostname="pane")
     assert "bad_name" not in trust.machine_names("0.0.0.0", lan=None, hostname="bad_name")
+
+
+@pytest.mark.parametrize(("written", "canonical"), [
+    ("0:0:0:0:0:0:0:1", "::1"), ("0000::0001", "::1"), ("FE80:0:0::1", "fe80::1"),
+    ("10.1.2.3", "10.1.2.3")])
+def test_an_address_however_written_is_named_once_in_its_canonical_form(written, canonical):
+    # the oracle: the names for the address written canonically (RFC 5952, by hand)
+    names = trust.machine_names(written, lan="192.168.1.20", hostname="pane")
+    assert names == trust.machine_names(canonical, lan="192.168.1.20", hostname="pane")
+    assert names.count("::1") == 1 and canonical in names
+
+
+@pytest.mark.parametrize("anywhere", ["0:0:0:0:0:0:0:0", "::0", "0.0.0.0", "::"])
+def test_every_address_however_written_names_no_address_of_its_own(anywhere):
+    assert trust.machine_names(anywhere, lan=None, hostname="pane") == \
+        ["127.0.0.1", "::1", "localhost", "pane", "pane.local"]
+
+
+def test_a_certificate_for_a_host_written_longhand_is_kept_from_one_start_to_the_next(tmp_path):
+    now = dt.datetime(2026, 11, 26, 12, tzinfo=dt.timezone.utc)
+    names = trust.machine_names("0:0:0:0:0:0:0:1", lan="192.168.1.20", hostname="pane")
+    trust.local_certificate(tmp_path, names, now)
+    first = (tmp_path / "server.pem").read_bytes()
+    trust.local_certificate(tmp_path, names, now + dt.timedelta(hours=1))  # the next start
+    assert (tmp_path / "server.pem").read_bytes() == first
+    # read back by cryptography: ::1 once among the addresses
+    ips = cert_of(tmp_path / "server.pem").extensions.get_extension_for_class(
+        x509.SubjectAlternativeName).value.get_values_for_type(x509.IPAddress)
+    assert sorted(map(str, ips)) == ["127.0.0.1", "192.168.1.20", "::1"]
+
+
+@pytest.mark.parametrize("host", ["0:0:0:0:0:0:0:1", "0000::1", "LOCALHOST"])
+def test_loopback_however_written_is_served_as_loopback_is(host):
+    """No token and HTTP alone, as for ::1 and localhost (the oracle: the plan for those)."""
+    from app.cli.parser import build_parser
+    from app.serve.command import plan
+
+    def planned(h):
+        return plan(build_parser().parse_args(["serve", "--host", h]))
+
+    assert planned(host) == planned("::1") == (None, None, b"")
 
 
 # ---- frost serve --host 0.0.0.0, end to end ---------------------------------------------------
@@ -141,8 +217,8 @@ def test_the_machines_names_hold_its_host_name_lan_address_and_loopback():
 class Serve:
     """`frost serve --host 0.0.0.0 --port 0` with its config folder under tmp; its two URLs."""
 
-    def __init__(self, config: Path, *args: str):
-        env = {**os.environ, "XDG_CONFIG_HOME": str(config), "PYTHONUNBUFFERED": "1"}
+    def __init__(self, config: Path, *args: str, env: dict | None = None):
+        env = {**os.environ, "XDG_CONFIG_HOME": str(config), "PYTHONUNBUFFERED": "1", **(env or {})}
         self.proc = subprocess.Popen(
             [sys.executable, "-m", "app", "serve", "--host", "0.0.0.0", "--port", "0",
              "--preset", "c-2", *args], cwd=ROOT, env=env, text=True,
@@ -181,8 +257,8 @@ class Serve:
 def serve(tmp_path):
     started: list[Serve] = []
 
-    def start(*args: str, config: Path = tmp_path / "config") -> Serve:
-        started.append(Serve(config, *args))
+    def start(*args: str, config: Path = tmp_path / "config", env: dict | None = None) -> Serve:
+        started.append(Serve(config, *args, env=env))
         return started[-1]
 
     yield start
@@ -215,6 +291,41 @@ async def status_of(url: str, ctx: ssl.SSLContext | None = None) -> tuple[int, s
     async with aiohttp.ClientSession() as http, \
             http.get(url, ssl=ctx if ctx else False) as r:
         return r.status, r.headers.get("Content-Type", ""), await r.read()
+
+
+def qr_modules(path: Path, scale: int = 8, border: int = 4) -> list[list[bool]]:
+    """The dark modules of a QR code's PNG (`scale` px a module, `border` modules round),
+    read at each module's centre."""
+    image = np.asarray(Image.open(path).convert("L"))
+    size = image.shape[0] // scale - 2 * border
+    centre = [(border + i) * scale + scale // 2 for i in range(size)]
+    return [[bool(image[y, x] < 128) for x in centre] for y in centre]
+
+
+@pytest.mark.parametrize("encoding", ["utf-8", "cp1252"])
+def test_the_qr_codes_are_drawn_where_the_console_can_show_them_else_written_as_images(
+        serve, tmp_path, encoding):
+    """A console that is not UTF-8 (a redirected Windows console, cp1252) cannot show the
+    codes' block characters: the URLs print, a line names each code's PNG (in the config
+    folder, beside the token), and the server serves on until Ctrl-C."""
+    import segno
+
+    s = serve(env={"PYTHONIOENCODING": encoding})
+    assert asyncio.run(status_of(f"http://127.0.0.1:{s.http_port}/?token={s.token}"))[0] == 200
+    out = s.stop()
+    assert s.proc.returncode == 130, out
+    folder = tmp_path / "config" / "frost"
+    for name, url in (("qr-page.png", s.http), ("qr-app.png", s.https)):
+        code = segno.make(url, error="m")
+        if encoding == "utf-8":
+            drawn = io.StringIO()
+            code.terminal(out=drawn, compact=True)
+            assert drawn.getvalue() in out and not (folder / name).exists()
+        else:
+            said = "the console (cp1252) cannot show the QR code: open the image"
+            assert f"frost serve: {said} {folder / name}\n" in out, out
+            assert qr_modules(folder / name) == [[bool(m) for m in row] for row in code.matrix]
+    assert "Traceback" not in out and "UnicodeEncodeError" not in out
 
 
 def test_the_lan_server_answers_over_https_with_the_kept_authoritys_certificate_in_two_runs(
@@ -271,7 +382,7 @@ def test_the_lan_server_answers_over_https_with_the_kept_authoritys_certificate_
             assert (await status_of(f"{scheme}://127.0.0.1:{port}/?token={token}", ctx_))[0] == 403
             assert (await status_of(f"{scheme}://127.0.0.1:{port}/?token={third.token}", ctx_))[0] == 200
     asyncio.run(old_token_refused())
-    assert (folder / "token").read_text().strip() == third.token
+    assert (folder / "token").read_text(encoding="utf-8").strip() == third.token
 
 
 def test_without_the_token_only_the_authoritys_public_certificate_is_served_on_both_ports(

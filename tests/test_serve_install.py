@@ -45,10 +45,10 @@ def copy(tmp_path) -> Shell:
 
 def test_the_shell_holds_every_file_the_page_loads():
     urls = {url for url, _ in Shell(WEB_DIR).files()}
-    html = (WEB_DIR / "index.html").read_text()
+    html = (WEB_DIR / "index.html").read_text(encoding="utf-8")
     modules = json.loads(re.search(r"const MODULES = (\[.*?\]);", html).group(1))
     shaders = json.loads(re.search(r"export const SHADERS = (\[.*?\]);",
-                                   (WEB_DIR / "programs.js").read_text(), re.S).group(1))
+                                   (WEB_DIR / "programs.js").read_text(encoding="utf-8"), re.S).group(1))
     wanted = {"", "web/page.css", *(f"web/{m}.js" for m in modules), *(f"shaders/{s}" for s in shaders),
               *(f"backdrops/{b}.png" for b in BACKDROPS), *(f"web/{f}" for f in ICONS.values())}
     assert wanted - urls == set()
@@ -67,10 +67,21 @@ def test_the_hash_changes_when_any_shell_file_changes_and_only_then(copy):
         assert changed != first, url
         assert copy.digest() == first, url  # the same bytes again: the same hash
     new = copy.web_dir / "extra.js"
-    new.write_text("export const x = 1;\n")  # a new module is in the shell too
+    new.write_text("export const x = 1;\n", encoding="utf-8")  # a new module is in the shell too
     assert copy.digest() != first
     new.unlink()
     assert copy.digest() == first
+
+
+def test_the_hash_changes_when_a_shell_file_is_renamed_with_the_same_bytes(copy):
+    """A file's address is part of the shell: the same bytes under another name (a module
+    renamed, that index.html asks for by its new name) are another shell."""
+    first, contents = copy.digest(), [path.read_bytes() for _, path in copy.files()]
+    (copy.web_dir / "fit.js").rename(copy.web_dir / "fitted.js")
+    # (the same bytes in the same order: only an address differs)
+    assert [path.read_bytes() for _, path in copy.files()] == contents
+    assert "web/fitted.js" in dict(copy.files())
+    assert copy.digest() != first
 
 
 def test_the_worker_carries_the_hash_and_the_shell(copy):
@@ -78,8 +89,8 @@ def test_the_worker_carries_the_hash_and_the_shell(copy):
     head, code = body.split("\n", 1)
     shell = json.loads(head.removeprefix("const SHELL = ").removesuffix(";"))
     assert shell == {"hash": copy.digest(), "files": [url for url, _ in copy.files()]}
-    assert code == (copy.web_dir / "sw.js").read_text()
-    (copy.web_dir / "page.css").write_text("body { color: red; }\n")
+    assert code == (copy.web_dir / "sw.js").read_text(encoding="utf-8")
+    (copy.web_dir / "page.css").write_text("body { color: red; }\n", encoding="utf-8")
     assert copy.worker() != body.encode()  # a changed page: the browser installs the worker anew
 
 
@@ -123,7 +134,8 @@ def test_without_a_token_the_start_url_is_the_root(tmp_path):
         m = json.loads(await (await client.get("/manifest.webmanifest")).text())
         assert m["start_url"] == "/" and all("token" not in i["src"] for i in m["icons"])
         before = (await client.get("/")).headers[HEADER]
-        (web / "main.js").write_text((web / "main.js").read_text() + "\n// changed\n")
+        main_js = web / "main.js"
+        main_js.write_text(main_js.read_text(encoding="utf-8") + "\n// changed\n", encoding="utf-8")
         assert (await client.get("/")).headers[HEADER] != before  # read again, while it runs
     web = tmp_path / "web"
     shutil.copytree(WEB_DIR, web)

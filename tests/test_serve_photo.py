@@ -22,21 +22,21 @@ from app.serve.server import make_app
 from sim import Params
 from sim.screen import HEIGHT, WIDTH
 from tests.test_photos import encoded, exif_photo, quadrants
-from tests.test_serve import PageModel, pause, read_quiet, read_until
+from tests.test_serve import PageModel, pause, read_quiet, read_until, until
 
 
-def run(test, tmp_path, gap: float | None = None):
+def run(test, tmp_path, gap: float | None = None, token: str | None = None):
     """`test(port, runner, feed, store)` against a server listening as `frost serve` does,
     its photos kept in tmp_path/backdrops (`gap`: the seconds between two photos of one
-    address, default the server's)."""
+    address, default the server's; `token`: the one in force, None for none)."""
     store = tmp_path / photos.FOLDER
 
     async def main():
         feed = Feed(Params.preset("c-2"), seed=1)
-        app = make_app(feed, None, tmp_path)
+        app = make_app(feed, token, tmp_path)
         if gap is not None:
             app[photo.PHOTOS].gap = gap
-        runner = await listen(app, "127.0.0.1", 0, None)
+        runner = await listen(app, "127.0.0.1", 0, token)
         assert runner is not None
         try:
             await test(runner.addresses[0][1], runner, feed, store)
@@ -46,10 +46,10 @@ def run(test, tmp_path, gap: float | None = None):
 
 
 def post_head(port: int, length: int | None, origin: str | None = "same", path: str = "/photo",
-              extra: str = "") -> bytes:
+              extra: str = "", host: str | None = None) -> bytes:
     """The head of a POST of `length` bytes (None: chunked) with Origin `origin` ("same":
-    the server's own)."""
-    lines = [f"POST {path} HTTP/1.1", f"Host: 127.0.0.1:{port}", "Content-Type: image/jpeg"]
+    the server's own) and Host `host` (None: the server's own)."""
+    lines = [f"POST {path} HTTP/1.1", f"Host: {host or f'127.0.0.1:{port}'}", "Content-Type: image/jpeg"]
     if origin == "same":
         origin = f"http://127.0.0.1:{port}"
     if origin is not None:
@@ -68,10 +68,11 @@ async def answer(reader: asyncio.StreamReader, within: float = 30.0) -> tuple[in
     return int(lines[0].split()[1]), headers, body
 
 
-async def upload(port: int, data: bytes, origin: str | None = "same") -> tuple[int, dict, bytes]:
+async def upload(port: int, data: bytes, origin: str | None = "same", path: str = "/photo",
+                 host: str | None = None) -> tuple[int, dict, bytes]:
     reader, writer = await asyncio.open_connection("127.0.0.1", port)
     try:
-        writer.write(post_head(port, len(data), origin) + data)
+        writer.write(post_head(port, len(data), origin, path, host=host) + data)
         return await answer(reader)
     finally:
         writer.close()
@@ -127,9 +128,14 @@ def test_a_photo_becomes_every_pages_backdrop_and_is_kept(tmp_path):
             await read_until(ws2, p2, lambda: p2.state("backdrop") == name)
             # ...but not to a photo of the folder this run did not show
             other = photos.keep(encoded(quadrants(60, 60), "PNG"), store)
+            asked = len(p1.texts)
             await ws1.send_json({"type": "backdrop", "name": other})
-            await read_until(ws1, p1, lambda: p1.texts[-1]["type"] == "notice")
-            assert "refused" in p1.texts[-1]["text"]
+
+            def notices() -> list[str]:  # the page's since it asked (a state may follow)
+                return [t["text"] for t in p1.texts[asked:] if t["type"] == "notice"]
+
+            await read_until(ws1, p1, notices)
+            assert any(f"backdrop {other[:40]!r} refused" in n for n in notices()), notices()
             assert feed.controls.backdrop == name
             for ws in (ws1, ws2):
                 await ws.close()
@@ -216,6 +222,29 @@ def test_a_post_from_another_origin_or_none_is_refused(tmp_path, origin):
     run(test, tmp_path, gap=0)
 
 
+@pytest.mark.parametrize(("token", "path", "host", "says"), [
+    ("t0ken", "/photo", None, "needs the token"), ("t0ken", "/photo?token=t0ke", None, "needs the token"),
+    (None, "/photo", "rebound.example", "only to this machine's names")])
+def test_a_post_without_the_token_or_to_another_host_is_refused_in_json(tmp_path, token, path, host,
+                                                                         says):
+    """The token's (and, on loopback, the Host's) 403 is JSON too, as every refusal of POST
+    /photo is (docs/protocol.md); other paths keep their line of text."""
+    async def test(port, runner, feed, store):
+        status, headers, body = await upload(port, encoded(quadrants(60, 60), "PNG"), path=path,
+                                             host=host)
+        assert status == 403 and headers["content-type"].startswith("application/json")
+        assert says in error_line(body)
+        assert feed.controls.backdrop == "dusk" and stored(store) == []
+        async with aiohttp.ClientSession() as session:
+            meta = await session.get(f"http://127.0.0.1:{port}/meta",
+                                     headers={"Host": host} if host else {})
+            assert meta.status == 403 and (await meta.text()).startswith("frost: this server")
+        if token:  # with the token the same post is taken: the token alone refused it
+            assert (await upload(port, encoded(quadrants(60, 60), "PNG"),
+                                 path=f"/photo?token={token}"))[0] == 200
+    run(test, tmp_path, gap=0, token=token)
+
+
 def test_a_flood_of_photos_gets_one_taken_the_rest_told_to_wait_and_the_frost_ticks_on(tmp_path):
     async def test(port, runner, feed, store):
         data = [encoded(quadrants(300 + i, 500), "PNG") for i in range(12)]
@@ -227,8 +256,7 @@ def test_a_flood_of_photos_gets_one_taken_the_rest_told_to_wait_and_the_frost_ti
                 assert 1 <= int(headers["retry-after"]) <= 5 and "one photo every 5 s" in error_line(body)
         assert len(stored(store)) == 1
         tick = feed.tick()
-        await asyncio.sleep(1.0)
-        assert feed.tick() > tick
+        await until(lambda: feed.tick() > tick, "a tick after the flood")
     run(test, tmp_path)
 
 

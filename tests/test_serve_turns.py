@@ -54,7 +54,9 @@ def test_the_thread_holds_twice_what_it_applied_in_its_last_tick():
     assert thread.sent == turns.AHEAD  # (the thread holds nothing else)
 
 
-def test_a_page_that_goes_takes_its_waiting_commands_with_it():
+def test_a_page_that_goes_leaves_its_waiting_commands_to_their_turns():
+    """(It may have been told they were taken: a pong after them.) Its queue goes once
+    they are all sent."""
     thread = Counting()
     t = Turns(thread)  # type: ignore[arg-type]
     a, b = t.open(), t.open()
@@ -62,11 +64,30 @@ def test_a_page_that_goes_takes_its_waiting_commands_with_it():
         a.waiting.append(("touch", f"a{k}"))
     t.release()
     assert thread.got == ["a0", "a1", "a2", "a3"]
-    assert t.close(a) == 2
+    t.close(a)
     b.waiting.append(("touch", "b0"))
     thread.handled = 4
-    t.release()
-    assert thread.got[4:] == ["b0"] and t.waiting() == 0
+    t.release()  # b never served: b0 first, then a's last two
+    assert thread.got[4:] == ["b0", "a4", "a5"] and t.waiting() == 0
+    assert t.queues == [b]
+
+
+def test_a_page_that_goes_with_nothing_waiting_goes_at_once():
+    t = Turns(Counting())  # type: ignore[arg-type]
+    a, b = t.open(), t.open()
+    t.close(a)
+    assert t.queues == [b]
+
+
+def test_at_the_end_every_waiting_command_goes_to_the_thread_in_turns():
+    thread = Counting()
+    t = Turns(thread)  # type: ignore[arg-type]
+    a, b = t.open(), t.open()
+    for k in range(3):
+        a.waiting.append(("touch", f"a{k}"))
+        b.waiting.append(("touch", f"b{k}"))
+    t.flush()  # (past `ahead`: nothing applies any more)
+    assert thread.got == ["a0", "b0", "a1", "b1", "a2", "b2"] and t.waiting() == 0
 
 
 def test_a_pages_queue_is_full_at_page_waiting(monkeypatch):

@@ -44,7 +44,7 @@ def drive(out: Path) -> None:
     status = app.wait(60)
     np.save(out / "page.npy", page.heights)
     (out / "result.json").write_text(json.dumps({"status": status, "tick": page.tick,
-                                                 "stderr": app.stderr.read()[-3000:]}))
+                                                 "stderr": app.stderr.read()[-3000:]}), encoding="utf-8")
 
 
 def drive_changes(out: Path) -> None:
@@ -69,7 +69,7 @@ def drive_changes(out: Path) -> None:
     asyncio.run(main())
     status = app.wait(60)
     (out / "result.json").write_text(json.dumps({"status": status,
-                                                 "stderr": app.stderr.read()[-3000:]}))
+                                                 "stderr": app.stderr.read()[-3000:]}), encoding="utf-8")
 
 
 def test_a_window_key_changes_the_parameters_a_page_chose_not_the_window_s_own(tmp_path):
@@ -79,7 +79,7 @@ def test_a_window_key_changes_the_parameters_a_page_chose_not_the_window_s_own(t
     from test_window_e2e import xvfb
     run = xvfb([sys.executable, __file__, str(tmp_path), "changes"], cwd=ROOT, timeout=180)
     assert run.returncode == 0, run.stderr[-3000:]
-    result = json.loads((tmp_path / "result.json").read_text())
+    result = json.loads((tmp_path / "result.json").read_text(encoding="utf-8"))
     assert result["status"] == 0, result["stderr"]
     from sim import Params
     from sim.io.session import SessionLog
@@ -94,7 +94,7 @@ def test_a_page_and_the_window_share_the_frost(tmp_path):
     from test_window_e2e import xvfb
     run = xvfb([sys.executable, __file__, str(tmp_path)], cwd=ROOT, timeout=180)
     assert run.returncode == 0, run.stderr[-3000:]
-    result = json.loads((tmp_path / "result.json").read_text())
+    result = json.loads((tmp_path / "result.json").read_text(encoding="utf-8"))
     assert result["status"] == 0, result["stderr"]
     from sim.io.session import SessionLog
     from sim.io.timeline import replay

@@ -117,7 +117,7 @@ def test_replayed_frames_match_the_live_renderer(gl_ctx):
 def test_a_bad_session_file_is_a_clear_error(tmp_path, text, problem):
     path = tmp_path / "s.json"
     if text is not None:
-        path.write_text(text)
+        path.write_text(text, encoding="utf-8")
     with pytest.raises(SessionError, match=problem) as err:
         SessionLog.load(path)
     assert str(path) in str(err.value)
@@ -125,7 +125,7 @@ def test_a_bad_session_file_is_a_clear_error(tmp_path, text, problem):
 
 def test_replay_cli_exits_2_naming_the_file(tmp_path):
     path = tmp_path / "broken.json"
-    path.write_text(json.dumps({"format": "frost-session", "events": []}))
+    path.write_text(json.dumps({"format": "frost-session", "events": []}), encoding="utf-8")
     done = subprocess.run([sys.executable, "-m", "app", "replay", "--headless", str(path)],
                           cwd=ROOT, capture_output=True, text=True, timeout=60)
     assert done.returncode == 2 and str(path) in done.stderr and "Traceback" not in done.stderr

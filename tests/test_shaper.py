@@ -2,12 +2,14 @@
 of the test's own (an echo, a recorder), timed with the test's own clock: bytes arrive
 unchanged and in order, each way waits at least its delay less its jitter, N bytes take at
 least N * 8 / rate seconds, and a close on either side closes the other. Only lower bounds
-are held: a loaded machine only adds time."""
+are held: a loaded machine only adds time. Exact times only on a virtual clock (VirtualLoop,
+no sockets): a connection's handshake waits alone."""
 
 from __future__ import annotations
 
 import asyncio
 import random
+import selectors
 import time
 
 import pytest
@@ -193,6 +195,114 @@ def test_connections_share_the_link():
     start = run(main())
     assert len(done) == 2
     assert max(done) - start >= 2 * n * 8 / p.up_bps
+
+
+class VirtualTime(selectors.DefaultSelector):
+    """A selector whose waits take no time: with nothing ready it moves `now` on by the wait
+    the loop asked for (to its next timer). A loop over it (VirtualLoop) with no real I/O
+    runs on its own clock, the same under any load."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.now = 0.0
+
+    def select(self, timeout: float | None = None):
+        ready = super().select(0)
+        if not ready:
+            if timeout is None:
+                raise RuntimeError("the loop waits for nothing that will come")
+            self.now += timeout
+        return ready
+
+
+class VirtualLoop(asyncio.SelectorEventLoop):
+    def __init__(self) -> None:
+        self.clock = VirtualTime()
+        super().__init__(self.clock)
+
+    def time(self) -> float:
+        return self.clock.now
+
+
+class End:
+    """A side's writer in memory: each write with its (loop) time; what is written fed on
+    to `then` (a StreamReader: the server's echo), when given."""
+
+    def __init__(self, then: asyncio.StreamReader | None = None):
+        self.then, self.got = then, []
+
+    def write(self, data: bytes) -> None:
+        self.got.append((asyncio.get_running_loop().time(), data))
+        if self.then is not None:
+            self.then.feed_data(data)
+
+    async def drain(self) -> None:
+        pass
+
+    def can_write_eof(self) -> bool:
+        return True
+
+    def write_eof(self) -> None:
+        if self.then is not None:
+            self.then.feed_eof()
+
+
+def test_a_connections_handshake_waits_alone():
+    """A page's connection A pings an echo; B opens, its first bytes sent at once (as a
+    browser's request is). B's first bytes reach the server one round trip late (its
+    handshake), but A's ping, sent while B's handshake is under way, still takes one round
+    trip: B's handshake does not hold the shared link. On a virtual clock (no sockets), so
+    each time is exact: a byte takes delay + 8 / rate each way."""
+    p = Profile("test", delay=0.100, jitter=0.0, down_bps=1e6, up_bps=1e6)
+    way = p.delay + 8 / 1e6  # one byte, one way
+
+    async def main():
+        shaper = Shaper(("127.0.0.1", 9), p)
+        a_page, a_back, b_page, b_back = (asyncio.StreamReader() for _ in range(4))
+        a_out, a_echo, b_out, b_server = End(), End(a_back), End(), End()
+        a_ways = shaper.join(a_page, a_out, a_back, a_echo)  # type: ignore[arg-type]
+        loop = asyncio.get_running_loop()
+
+        async def at(t: float) -> None:
+            await asyncio.sleep(t - loop.time())
+
+        async def until(done) -> None:
+            while not done():
+                await asyncio.sleep(0.001)  # virtual: the times asserted are the writes'
+
+        async def ping(t: float) -> float:
+            """A's round trip of a byte sent at `t`."""
+            await at(t)
+            seen = len(a_out.got)
+            a_page.feed_data(b"p")
+            await until(lambda: len(a_out.got) > seen)
+            return a_out.got[-1][0] - t
+
+        tasks = [asyncio.ensure_future(w.run()) for w in a_ways]
+        try:
+            first = await ping(0.0)  # A's own handshake
+            alone = await ping(1.0)
+            await at(2.0)
+            b_ways = shaper.join(b_page, b_out, b_back, b_server)  # type: ignore[arg-type]
+            tasks += [asyncio.ensure_future(w.run()) for w in b_ways]
+            b_page.feed_data(b"GET")
+            during = await ping(2.01)
+            await until(lambda: b_server.got)
+            return first, alone, during, b_server.got[0][0] - 2.0
+        finally:
+            for task in tasks:
+                task.cancel()
+            await asyncio.gather(*tasks, return_exceptions=True)
+
+    loop = VirtualLoop()
+    try:
+        first, alone, during, b_first = loop.run_until_complete(asyncio.wait_for(main(), WAIT))
+    finally:
+        loop.close()
+    assert first == pytest.approx(2 * p.delay + 2 * way, abs=1e-6)  # A's handshake, then there and back
+    assert alone == pytest.approx(2 * way, abs=1e-6)
+    assert b_first == pytest.approx(2 * p.delay + p.delay + 3 * 8 / 1e6, abs=1e-6)
+    assert during == pytest.approx(2 * way, abs=1e-6)
 
 
 def close_test(closer: str) -> tuple[bytes, bytes]:

@@ -85,7 +85,7 @@ def tiled(tmp_path_factory):
     assert main(["maps", str(out), "--preset", "window", "--size", "160x128", "--tile",
                  "--ticks", "250", "--seed", "4"]) == 0
     return {p.name: np.asarray(Image.open(p)) for p in out.glob("*.png")} | {
-        "json": json.loads((out / "maps.json").read_text())}
+        "json": json.loads((out / "maps.json").read_text(encoding="utf-8"))}
 
 
 @pytest.mark.parametrize("name", ["height.png", "normal.png", "alpha.png", "growth.png"])

@@ -93,21 +93,22 @@ def finish(app: subprocess.Popen, out: Path, result: dict) -> None:
     """A driver's last step, whatever happened: the app ended, what it saw in result.json."""
     if app.poll() is None:
         app.kill()
-    (out / "result.json").write_text(json.dumps(result))
+    (out / "result.json").write_text(json.dumps(result), encoding="utf-8")
 
 
 def played(script: str, out: Path, *args: str, timeout: float = 120) -> tuple[str, dict]:
     """Run the driver `script` (a test file run as a script) on an Xvfb server of its own
     with output folder `out`: the app's log and the driver's result."""
     xvfb([sys.executable, script, str(out), *args], cwd=ROOT, timeout=timeout)
-    return (out / "app.log").read_text(), json.loads((out / "result.json").read_text())
+    result = json.loads((out / "result.json").read_text(encoding="utf-8"))
+    return (out / "app.log").read_text(encoding="utf-8"), result
 
 
 def wait_for(log: Path, pattern: str, count: int = 1, timeout: float = 20.0) -> list[str]:
     """The first `count` matches of `pattern` in the log, waiting up to `timeout` s."""
     end = time.monotonic() + timeout
     while time.monotonic() < end:
-        found = re.findall(pattern, log.read_text())
+        found = re.findall(pattern, log.read_text(encoding="utf-8"))
         if len(found) >= count:
             return found
         time.sleep(0.05)
@@ -127,7 +128,7 @@ def drive(out: Path, mode: str = "session") -> None:
     log = out / "app.log"
     folder = out
     if mode == "unwritable":  # every folder it writes to lies under a regular file
-        (out / "afile").write_text("not a folder")
+        (out / "afile").write_text("not a folder", encoding="utf-8")
         folder = out / "afile"
     # c-3 (humidity 5000) with seed 1 freezes onto the seed within half a second.
     frost = [str(ROOT / "tests" / "windows_like.py")] if mode.endswith("-windows") else ["-m", "app"]
@@ -136,7 +137,7 @@ def drive(out: Path, mode: str = "session") -> None:
            "--session-dir", str(folder / "sessions"), "--melt-radius", str(MELT_RADIUS)]
     if mode == "unwritable":  # it clicks nowhere; a run with no event writes no session
         cmd += ["--touch", "380,640"]
-    with open(log, "w") as sink:
+    with open(log, "w", encoding="utf-8") as sink:
         env = {**os.environ, **(MAC_LIMITS if mode.endswith("-mac") else {})}
         app = subprocess.Popen(cmd, cwd=ROOT, stdout=sink, stderr=subprocess.STDOUT,
                                preexec_fn=default_signals, env=env)
@@ -168,7 +169,7 @@ def session(app: subprocess.Popen, log: Path) -> dict:
              timeout=30)
     # Each key held past a frame or two: at the window's latest frame rate (a loaded
     # machine draws a frame a second or less), so that the recording keeps frames that differ
-    rates = re.findall(r"([\d.]+) fps", log.read_text())
+    rates = re.findall(r"([\d.]+) fps", log.read_text(encoding="utf-8"))
     frame = 1 / max(float(rates[-1]), 0.5) if rates else 0.1
     between = max(0.33, 2.5 * frame)
     xdo("key", "r")
@@ -221,9 +222,9 @@ def unwritable(app: subprocess.Popen, log: Path) -> dict:
     return {"status": app.wait(timeout=30), "running": running}
 
 
-def interrupt(app: subprocess.Popen, log: Path, signum: int = signal.SIGINT) -> dict:
-    """A click, R and a screenshot, then E and at once Ctrl-C (SIGINT, or `signum`) while
-    the frost grows."""
+def interrupt(app: subprocess.Popen, log: Path, signum: int | None = signal.SIGINT) -> dict:
+    """A click, R and a screenshot, then E and at once Ctrl-C (SIGINT, or `signum`; None:
+    the Esc key) while the frost grows."""
     wid = window_id()
     wait_for(log, r"stats \(")
     xdo("mousemove", "--window", wid, "200", "300")
@@ -232,7 +233,10 @@ def interrupt(app: subprocess.Popen, log: Path, signum: int = signal.SIGINT) -> 
     wait_for(log, r"screenshot: ")
     time.sleep(0.5)
     xdo("key", "e")
-    app.send_signal(signum)
+    if signum is None:
+        xdo("key", "--window", wid, "Escape")
+    else:
+        app.send_signal(signum)
     return {"status": app.wait(timeout=30)}
 
 
@@ -245,14 +249,28 @@ def lost(app: subprocess.Popen, log: Path, how: str) -> dict:
     xdo("mousemove", "--window", wid, "200", "300")
     xdo("click", "1")
     xdo("key", "r")
-    time.sleep(AUTOSAVE_PERIOD + 1.0)
     if how == "SIGKILL":
+        kept_on_disk(log.parent / "sessions")
         app.kill()
         return {"status": app.wait(timeout=20)}
+    time.sleep(AUTOSAVE_PERIOD + 1.0)
     xdo("key", "e")  # the maps' writer started, not done: the closing waits for it
     wait_for(log, r"frost maps: exporting")
     xdo(how, wid)
     return {"status": app.wait(timeout=20)}
+
+
+def kept_on_disk(folder: Path, timeout: float = 60.0) -> None:
+    """Wait until the autosave has kept a session with an event and a step in `folder`
+    (its writes are atomic: a file there is whole)."""
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        for path in folder.glob("session-*.json"):
+            saved = SessionLog.load(path)
+            if saved.events and saved.steps > 0:
+                return
+        time.sleep(0.1)
+    raise TimeoutError(f"no session with an event kept in {folder} within {timeout:g} s")
 
 
 def panel_gone(app: subprocess.Popen, log: Path) -> dict:
@@ -306,6 +324,7 @@ DRIVES = {"windowkill": lambda app, log: lost(app, log, "windowkill"),
           "SIGKILL": lambda app, log: lost(app, log, "SIGKILL"), "session": session,
           "unwritable": unwritable, "interrupt": interrupt,
           "interrupt-windows": interrupt,  # (as on Windows: tests/windows_like.py)
+          "escape-windows": lambda app, log: interrupt(app, log, None),
           "interrupt-mac": interrupt,  # (Mesa with a Mac's OpenGL limits)
           "SIGTERM": lambda app, log: interrupt(app, log, signal.SIGTERM),
           "SIGHUP": lambda app, log: interrupt(app, log, signal.SIGHUP)}
@@ -326,7 +345,7 @@ def letterboxed(wid: str, log: Path) -> None:
     # The screenshot states the frame shown: two stats lines after the drag, so that the
     # thread has applied all its touches and a frame shows them (a fixed 0.3 s once caught
     # 2 of the drag's 6 on a loaded machine)
-    wait_for(log, r"stats \(", len(re.findall(r"stats \(", log.read_text())) + 2, timeout=60)
+    wait_for(log, r"stats \(", len(re.findall(r"stats \(", log.read_text(encoding="utf-8"))) + 2, timeout=60)
     xdo("key", "s")
     wait_for(log, r"screenshot: ", 3)
 
@@ -405,7 +424,7 @@ def test_right_drag_melts_the_frost_back_to_glass(run):
 def test_a_screenshots_session_replays_headless_to_the_same_frame(run, tmp_path, index):
     shot = run["shots"][index]
     session = Path(Image.open(shot).text["session"])
-    events = json.loads(session.read_text())["events"]
+    events = json.loads(session.read_text(encoding="utf-8"))["events"]
     assert {e["kind"] for e in events} >= {"touch", "melt", "params"}
     out = tmp_path / "replay.png"
     subprocess.run([sys.executable, "-m", "app", "replay", str(session), "--headless",
@@ -474,6 +493,15 @@ def test_ctrl_c_ends_the_window_with_130_saving_the_session_as_on_windows(tmp_pa
     got = driven(tmp_path_factory.mktemp("interrupt-windows"), "interrupt-windows")
     saved_on_signal(got, 130)
     assert "frost: interrupted" in got["log"]
+
+
+def test_s_r_and_esc_write_every_file_as_on_windows(tmp_path_factory):
+    """As on Windows (tests/windows_like.py: no os.fchmod, no SIGHUP...): the screenshot,
+    the recording, the maps and the session are written, and Esc ends the window with 0."""
+    got = driven(tmp_path_factory.mktemp("escape-windows"), "escape-windows")
+    saved_on_signal(got, 0)
+    (shot,) = got["shots"]
+    assert SessionLog.load(Image.open(shot).text["session"]).events  # its session beside it
 
 
 def test_the_window_runs_under_a_macs_opengl_limits(tmp_path_factory):

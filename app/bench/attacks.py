@@ -8,6 +8,8 @@ its socket (which the reader notes).
   the same hash cell.
 - all-over: one finger dragged over the whole pane, row after row of hash cells, each move
   leaving PER_MOVE touches: the page's whole POINT_RATE, every touch at a fresh spot.
+- taps: a person's fast tapping, PERSON_TAPS_PER_S taps a second (down, up), each at a fresh
+  spot (from fifteen pages with the person's: sixteen people tapping at once).
 - sockets: no page of its own; a client opening sockets as fast as it can, each reading
   its hello and closing (a page needs the whole frost: a snapshot each).
 """
@@ -39,6 +41,7 @@ MESSAGES_PER_S = 2 * TAPS_PER_S
 # page's bound is always what limits it (the rest of a path is skipped, the finger going
 # on from its end).
 PER_MOVE = 4
+PERSON_TAPS_PER_S = 12.0  # a person tapping as fast as they can, each tap a seed
 MARGIN = 40.0  # px from the pane's edges
 GOLDEN = 0.6180339887  # each pass over the pane is shifted by this much of a cell
 LAG = 0.25  # s: a sender this far behind its schedule starts again from now (no burst)
@@ -96,6 +99,24 @@ async def all_over(ws, page: Page, got: dict, end: float) -> None:
         phase = "move"
 
 
+async def taps(ws, page: Page, got: dict, end: float) -> None:
+    n = 0
+    async for _ in paced(PERSON_TAPS_PER_S, end):
+        x, y = tap_spot(page, n)
+        if not await _send(ws, got, {"type": "touch", "x": x, "y": y, "phase": "down"},
+                           {"type": "touch", "phase": "up"}):
+            return
+        n += 1
+
+
+def tap_spot(page: Page, n: int) -> tuple[float, float]:
+    """Page `page`'s n-th tap: a fresh spot (golden-ratio steps over the pane, each page
+    from its own start)."""
+    u = (page.k / max(page.pages, 1) + n * GOLDEN) % 1.0
+    v = (page.k * 0.37 + n * GOLDEN * GOLDEN) % 1.0
+    return MARGIN + u * (WIDTH - 2 * MARGIN), MARGIN + v * (HEIGHT - 2 * MARGIN)
+
+
 def sweep(page: Page) -> Iterator[tuple[float, float]]:
     """Without end, where `page`'s finger goes, a move PER_MOVE touch spacings along its
     path (and a hair, so that it leaves them all): a zigzag over the pane, across its width
@@ -133,5 +154,5 @@ async def _open_once(http, url: str) -> None:
         await ws.close()
 
 
-SENDERS = {"one-spot": one_spot, "all-over": all_over}
+SENDERS = {"one-spot": one_spot, "all-over": all_over, "taps": taps}
 OPENERS = {"sockets": sockets}  # attacks by connections: (session, url, got, end)

@@ -20,12 +20,16 @@ from sim import Params
 SAMPLES = 10  # memory and rate samples a phase
 
 
-async def phase(params: Params, plan: Plan | None, seconds: float) -> dict:
+async def phase(params: Params, plan: Plan | None, seconds: float,
+                budget_s: float | None = None) -> dict:
     """A server of `params` on loopback for `seconds` from the moment every page of `plan`
     connected (None: no page; the server plays the house's input itself); its figures,
-    with those of its simulation after it stopped."""
+    with those of its simulation after it stopped. `budget_s`: the simulation thread's
+    input budget a tick (None: frost serve's)."""
     from aiohttp import web
     feed = Feed(params, seed=0)
+    if budget_s is not None:
+        feed.thread.backlog.budget_s = budget_s
     runner = guard.GuardedRunner(make_app(feed), access_log=None)  # as frost serve's
     await runner.setup()
     site = web.TCPSite(runner, "127.0.0.1", 0)

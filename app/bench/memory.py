@@ -13,7 +13,7 @@ STATUS = Path("/proc/self/status")
 def rss_mb() -> float | None:
     """Resident memory now, MB; None where /proc is not."""
     try:
-        for line in STATUS.read_text().splitlines():
+        for line in STATUS.read_text(encoding="utf-8").splitlines():
             if line.startswith("VmRSS:"):
                 return int(line.split()[1]) / 1024.0
     except OSError:

@@ -41,7 +41,7 @@ from sim.screen import HEIGHT, WIDTH
 
 PHONE = {"viewport": {"width": 390, "height": 844}, "device_scale_factor": 3,
          "has_touch": True, "is_mobile": True}
-JOIN_TICKS = 2250  # the window preset's frosted pane (docs/phone.md's snapshot: 2.12 MB)
+JOIN_TICKS = 2250  # the window preset's frosted pane (docs/phone-design.md's snapshot: 2.12 MB)
 FINGER_SPEED = 800.0  # pane px a second: a brisk drag
 MOVE_EVERY = 1 / 60  # s between a finger's moves (a phone reports touches once a frame)
 
@@ -379,7 +379,7 @@ def stats(ms: np.ndarray) -> str:
 def load() -> str:
     """The machine's load averages (1, 5, 15 min), as `uptime` says them."""
     try:
-        with open("/proc/loadavg") as f:
+        with open("/proc/loadavg", encoding="utf-8") as f:
             return "load average " + ", ".join(f.read().split()[:3])
     except OSError:
         return "load average unknown"

@@ -43,8 +43,8 @@ ANGLE = {"swiftshader": CHROMIUM_ARGS, "gl-egl": ["--use-angle=gl-egl", "--ignor
 # Chromium 151 and later render the desktop address bar's popup (a WebUI page, in a renderer
 # of its own) ahead of time for every new window, headless too: about half a second of CPU
 # while each new context's page loads, on the two cores the page, the browser and the
-# server share (a late join: 1.88 against 1.41 s, docs/phone.md, run 9). A phone's browser
-# has no such popup; Puppeteer turns both off by default.
+# server share (a late join: 1.88 against 1.41 s, docs/results/bench-page.md, run 9). A
+# phone's browser has no such popup; Puppeteer turns both off by default.
 QUIET_FEATURES = ("WebUIOmniboxPopup", "WebUIOmniboxAimPopup")
 ORIGIN = "http://frost.test"  # the page's address when Playwright serves it from disk
 # Touches the bench grows its frost from (screen px), and a warm finger's melt (x, y, r)

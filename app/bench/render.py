@@ -26,7 +26,7 @@ import time
 import numpy as np
 
 from app.backdrops import view_from
-from app.bench.results import commit, keep
+from app.bench.results import commit, keep, load_averages
 from app.gl.renderer import Renderer
 from app.tools.offscreen import make_context
 from sim import FrostSim, Params
@@ -146,7 +146,7 @@ def run(args, params: Params) -> int:
     result = {"preset": grown, "ticks": sim.tick,
               "frosted": round(covered(looks[0].geometry), 3), "crystals": len(sim.crystals),
               "segments": len(sim.segments), **{look.name: look.result() for look in looks},
-              "renderer": ctx.info["GL_RENDERER"], "load_average": round(os.getloadavg()[0], 2)}
+              "renderer": ctx.info["GL_RENDERER"], "load_average": load_average()}
     report(result, args.frames)
     return keep("render", command(args), result, "frost bench render", head) if args.record else 0
 
@@ -158,6 +158,12 @@ def command(args) -> str:
     background = f" --background {args.background}" if args.background else ""
     return (f"frost bench render {grown} --seed {args.seed} --frames {args.frames} "
             f"--cover {args.cover} --max-ticks {args.max_ticks}{background}")
+
+
+def load_average() -> float | None:
+    """The last minute's load average, None where the system keeps none (Windows)."""
+    averages = load_averages()
+    return round(averages[0], 2) if averages else None
 
 
 def report(result: dict, frames: int) -> None:
@@ -177,8 +183,10 @@ def report(result: dict, frames: int) -> None:
     print(f"glass / paper: frame {glass['frame_ms'] / max(paper['frame_ms'], 1e-9):.2f}x, "
           f"feature vertices {glass['feature_vertices'] / max(paper['feature_vertices'], 1):.2f}x "
           f"({WIDTH}x{HEIGHT}, ctx.finish() inside, frames interleaved)")
-    if result["load_average"] > 0.5 * (os.cpu_count() or 1):
-        print(f"note: load average {result['load_average']}: other work shares the CPU "
+    load = result["load_average"]
+    print(f"load: {'unknown' if load is None else load} (the last minute's average)")
+    if load is not None and load > 0.5 * (os.cpu_count() or 1):
+        print(f"note: load average {load}: other work shares the CPU "
               "that llvmpipe renders on, so timings may be inflated")
     print(json.dumps(result))
 

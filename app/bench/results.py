@@ -64,7 +64,7 @@ def record(path: Path, command: str, figures: dict, now: dt.datetime | None = No
     """Put an entry for `figures` (what `command` printed as JSON) at the top of `path`'s
     entries, under its title; the file is made if missing. `head`: the commit (default:
     the checkout's now). Returns why it could not be written (one line), or None."""
-    text = path.read_text() if path.exists() else header(path)
+    text = path.read_text(encoding="utf-8") if path.exists() else header(path)
     new = entry(command, figures, now, head)
     try:
         write_atomic(path, lambda f: f.write(insert(text, new).encode()))
@@ -140,7 +140,7 @@ def machine() -> str:
 def cpu_model() -> str:
     """The CPU's name: Linux's /proc/cpuinfo, else what platform knows."""
     try:
-        with open("/proc/cpuinfo") as info:
+        with open("/proc/cpuinfo", encoding="utf-8") as info:
             for line in info:
                 key, _, value = line.partition(":")
                 if key.strip() in ("model name", "Hardware", "Processor") and value.strip():
@@ -160,7 +160,14 @@ def system() -> str:
 
 def load() -> str:
     """The load averages, or "unknown" where the system gives none (Windows)."""
+    averages = load_averages()
+    return " / ".join(f"{v:.2f}" for v in averages) if averages else "unknown"
+
+
+def load_averages() -> tuple[float, float, float] | None:
+    """The load averages of the last 1, 5 and 15 minutes; None where the system keeps none
+    (Windows: no os.getloadavg there)."""
     try:
-        return " / ".join(f"{v:.2f}" for v in os.getloadavg())
-    except (AttributeError, OSError):
-        return "unknown"
+        return os.getloadavg()
+    except (AttributeError, OSError):  # (OSError: a system that has it but cannot say)
+        return None

@@ -30,6 +30,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import bisect
+import itertools
 import math
 import statistics
 import sys
@@ -57,7 +58,8 @@ FINEST = {"hc": HC_MAX, "D": HC_MAX / MAX_UPSAMPLE,
           "grid_spacing": math.ceil(HC_MAX / MAX_HC_PER_SPACING)}
 # Each attack: (its pages' plan, the pages).
 ATTACKS = {"one-spot": ("one-spot", 1), "all-over": ("all-over", 1),
-           "all-over-15": ("all-over", MAX_PAGES - 1), "sockets": ("sockets", 0)}
+           "all-over-15": ("all-over", MAX_PAGES - 1), "taps-15": ("taps", MAX_PAGES - 1),
+           "sockets": ("sockets", 0)}
 GRIDS = ("default", "fine")
 
 
@@ -126,6 +128,11 @@ def main(argv: list[str] | None = None, prog: str = "frost bench serve") -> int:
     p.add_argument("--grid", choices=GRIDS, action="append",
                    help="the attacks' grid: the preset's (default) or the finest legal one, "
                         "hc 16, D 1, grid spacing 2 (fine) (repeatable; default: both)")
+    p.add_argument("--tick-budget", type=float, action="append", metavar="MS",
+                   help="the attacks' input budget a tick, ms (repeatable: each attack runs "
+                        "with each in turn, to compare them; default: frost serve's)")
+    p.add_argument("--rounds", type=int, default=1,
+                   help="times each attack runs (with each --tick-budget in turn; default 1)")
     args = p.parse_args(argv)
     if not args.skip_bytes:
         print("bytes (offline, the server's encoder):")
@@ -142,7 +149,7 @@ def main(argv: list[str] | None = None, prog: str = "frost bench serve") -> int:
                      asyncio.run(phase(params, Plan("house", args.pages) if args.pages else None,
                                         args.seconds)))
     run_attacks(args.preset, _chosen(args.attack, list(ATTACKS)), args.grid or list(GRIDS),
-                args.seconds)
+                args.seconds, [b / 1000.0 for b in args.tick_budget or []], args.rounds)
     sys.stdout.flush()
     return 0
 
@@ -154,7 +161,10 @@ def _chosen(asked: list[str] | None, default: list[str]) -> list[str]:
     return [a for a in dict.fromkeys(asked) if a != "none"]
 
 
-def run_attacks(preset: str, names: list[str], grids: list[str], seconds: float) -> None:
+def run_attacks(preset: str, names: list[str], grids: list[str], seconds: float,
+                budgets: list[float] | None = None, rounds: int = 1) -> None:
+    """Each attack on each grid, `rounds` times, with each of `budgets` (s of input a tick;
+    none: frost serve's) in turn: alternated, so a machine's load weighs on each alike."""
     if not names:
         return
     print(f"attacks on loopback (a new server each, seed 0; the pages in a child process, "
@@ -163,10 +173,12 @@ def run_attacks(preset: str, names: list[str], grids: list[str], seconds: float)
         params = Params.preset(preset, **FINEST) if grid == "fine" else Params.preset(preset)
         where = (f"{preset}, hc {params.hc:g}, D {params.D:g}, grid spacing "
                  f"{params.grid_spacing}" + (" (the finest legal grid)" if grid == "fine" else ""))
-        for name in names:
+        tried: list[float | None] = [*budgets] if budgets else [None]
+        for name, _round, budget in itertools.product(names, range(rounds), tried):
             kind, pages = ATTACKS[name]
-            figures = asyncio.run(phase(params, Plan(kind, pages, params.hc), seconds))
-            print_attack(f"{name} ({where})", figures, pages)
+            figures = asyncio.run(phase(params, Plan(kind, pages, params.hc), seconds, budget))
+            said = "" if budget is None else f", input budget {budget * 1000:g} ms a tick"
+            print_attack(f"{name} ({where}{said})", figures, pages)
             sys.stdout.flush()
 
 

@@ -14,7 +14,8 @@ all the connections (as a phone's radio is shared by its page's connections):
   reorders the bytes of one TCP stream (nor did it on a real link: TCP hands them over in
   order);
 - a new connection's first bytes wait one round trip more (the TCP handshake a real link
-  makes before any data);
+  makes before any data), on their own: they reach the link once it is done, and other
+  connections' bytes cross it meanwhile;
 - at most BUFFER bytes waiting on a link: past them the proxy stops reading, so the sender
   meets the link's pace through TCP's own backpressure, as over a slow real link.
 
@@ -112,7 +113,13 @@ class _Pipe:
         loop = asyncio.get_running_loop()
         while True:
             data = await self.reader.read(65536)
-            now = max(loop.time(), self.hold_until)
+            held = self.hold_until - loop.time()
+            if held > 0:
+                # The handshake: the bytes reach the link once it is done. Handed to it
+                # now, due then, they would book the shared link until then, and every
+                # other connection's bytes would wait behind this one's handshake.
+                await asyncio.sleep(held)
+            now = loop.time()
             if not data:
                 self.pieces.append((max(self.last, now + self.link.delay), None))
                 self.arrived.set()
@@ -202,22 +209,29 @@ class Shaper:
         if self.server is not None:
             await self.server.wait_closed()
 
+    def join(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter,
+             far_reader: asyncio.StreamReader, far_writer: asyncio.StreamWriter) -> tuple[_Pipe, _Pipe]:
+        """A new connection's two ways over the shared links, (up, down): the page's side
+        (`reader`, `writer`) and the server's (`far_...`). Each way's first bytes wait one
+        round trip from now (the TCP handshake) when `handshake`, on their own: the link
+        carries other connections' bytes meanwhile."""
+        hold = asyncio.get_running_loop().time() + (2 * self.profile.delay if self.handshake else 0.0)
+        up = _Pipe(reader, far_writer, self.up, hold)
+        down = _Pipe(far_reader, writer, self.down, hold)
+        self.pipes.append((up, down))
+        return up, down
+
     async def _connection(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         task = asyncio.current_task()
         assert task is not None
         self.connections.add(task)
-        p = self.profile
         try:
             try:
                 far_reader, far_writer = await asyncio.open_connection(*self.target)
             except OSError:
                 writer.close()
                 return
-            loop = asyncio.get_running_loop()
-            hold = loop.time() + (2 * p.delay if self.handshake else 0.0)
-            up = _Pipe(reader, far_writer, self.up, hold)
-            down = _Pipe(far_reader, writer, self.down, hold)
-            self.pipes.append((up, down))
+            up, down = self.join(reader, writer, far_reader, far_writer)
             ways = [asyncio.ensure_future(up.run()), asyncio.ensure_future(down.run())]
             try:
                 # Both ways to their end; a reset (or any failure) on one ends both.

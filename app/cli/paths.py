@@ -28,7 +28,8 @@ OUTPUT_FOLDERS = ("out_dir",)
 # Files a folder option's command writes under fixed names: checked like an output file.
 FOLDER_FILES = {"out_dir": ENGINE_FILES}
 WINDOW_FOLDERS = ("screenshot_dir", "session_dir")
-NAME_MAX = 255  # bytes in one name, where the file system does not say (Linux's limit)
+NAME_MAX = 255  # bytes in one name, where the file system does not say (Linux's limit;
+# NTFS allows 255 characters)
 
 
 def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> list[str]:
@@ -156,7 +157,7 @@ def _too_long(path: Path) -> str | None:
     """A name in `path` longer than its file system allows, said; None if none is."""
     try:
         limit = os.pathconf(_existing(path.absolute().parent), "PC_NAME_MAX")
-    except (OSError, ValueError):
+    except (OSError, ValueError, AttributeError):  # (AttributeError: Windows has no pathconf)
         limit = NAME_MAX
     longest = max(path.parts, key=lambda part: len(os.fsencode(part)), default="")  # ("." has none)
     size = len(os.fsencode(longest))

@@ -28,7 +28,7 @@ def shader_source(name: str, defines: tuple[str, ...] = (), dialect: str | None 
     path = SHADER_DIR / name
     if not path.is_file():
         raise FileNotFoundError(f"shader {name!r} not found in {SHADER_DIR}")
-    return HEADERS[dialect] + "".join(f"#define {d}\n" for d in defines) + path.read_text()
+    return HEADERS[dialect] + "".join(f"#define {d}\n" for d in defines) + path.read_text(encoding="utf-8")
 
 
 def load_program(ctx, vert: str, frag: str, defines: tuple[str, ...] = (),

@@ -18,7 +18,7 @@ from app.serve import trust
 from app.serve.appkeys import FEED
 from app.serve.feed import Feed
 from app.serve.listen import Https, lan_address, listen
-from app.serve.server import make_app
+from app.serve.server import finish, make_app
 from app.serve.window import serve_with_window
 
 log = logging.getLogger("app.serve")
@@ -57,7 +57,7 @@ def plan(args) -> tuple[str | None, Https | None, bytes]:
     Off loopback HTTPS is served unless --no-https; on loopback only when asked (--cert or
     --https-port), as a browser takes http://127.0.0.1 for a secure context already. The
     token and the authority are kept in the user's config folder (trust.config_dir)."""
-    lan = args.host not in LOOPBACK
+    lan = trust.canonical(args.host) not in LOOPBACK
     if (args.cert is None) != (args.key is None):
         raise trust.TrustError("--cert and --key go together: the certificate and its "
                                "private key")
@@ -91,33 +91,72 @@ async def _serve(app: web.Application, host: str, port: int, token: str | None,
     runner = await listen(app, host, port, token, https)
     if runner is None:
         return 2
+    signals, ended = Signals(asyncio.get_running_loop()), False
     try:
-        return await _until_ended(app[FEED], max_seconds)
-    finally:  # (also when Ctrl-C cancels this where the loop takes no signal handlers)
-        await runner.cleanup()
+        status = await _until_ended(app[FEED], max_seconds, signals)
+        finish(app)  # the session written, before the open requests end
+        await _end_requests(runner, signals)
+        ended = True
+        return status
+    finally:
+        signals.restore()
+        if not ended:  # (cancelled, or an error in between)
+            await runner.cleanup()
 
 
-async def _until_ended(feed: Feed, max_seconds: float | None) -> int:
+async def _end_requests(runner: web.AppRunner, signals: Signals) -> None:
+    """The server closed: the pages' sockets, and the requests still open given at most
+    guard.SHUTDOWN_S to end (a photo half sent would hold the exit as long as it
+    likes); a second signal meanwhile ends the wait at once (the session is written)."""
+    cleanup = asyncio.ensure_future(runner.cleanup())
+    while not cleanup.done():
+        if len(signals.got) > 1:
+            log.info("serve: %s again: exiting now", signal.Signals(signals.got[-1]).name)
+            cleanup.cancel()
+            break
+        await asyncio.wait([cleanup], timeout=0.1)
+
+
+class Signals:
+    """The signals that end the server, caught while it serves: by the loop where it takes
+    signal handlers; else (Windows' loops) by `signal.signal`, whose handler hands the
+    signal to the loop. `got` holds them, in order; `ended` is set at the first."""
+
+    def __init__(self, loop: asyncio.AbstractEventLoop):
+        self.loop, self.ended = loop, asyncio.Event()
+        self.got: list[int] = []
+        self._before: dict[signal.Signals, object] = {}
+        for sig in ending_signals():
+            try:
+                loop.add_signal_handler(sig, self.on_signal, sig)
+            except (NotImplementedError, RuntimeError):
+                self._before[sig] = signal.signal(sig, self._handler)
+
+    def on_signal(self, signum: int) -> None:
+        self.got.append(signum)
+        self.ended.set()
+
+    def _handler(self, signum: int, _frame) -> None:
+        self.loop.call_soon_threadsafe(self.on_signal, signum)
+
+    def restore(self) -> None:
+        """The handlers as they were before."""
+        for sig in ending_signals():
+            if sig in self._before:
+                signal.signal(sig, self._before.pop(sig))  # type: ignore[arg-type]
+            else:
+                with contextlib.suppress(NotImplementedError, RuntimeError):
+                    self.loop.remove_signal_handler(sig)
+
+
+async def _until_ended(feed: Feed, max_seconds: float | None, signals: Signals) -> int:
     """Wait for a signal (128 + its number, as the window exits), the deadline (0) or the
     simulation thread's death (1)."""
-    loop, ended = asyncio.get_running_loop(), asyncio.Event()
-    got: list[int] = []
-
-    def on_signal(signum: int) -> None:
-        got.append(signum)
-        ended.set()
-
-    for sig in ending_signals():
-        # Windows' event loops take no signal handlers: there Ctrl-C cancels the main task
-        # (asyncio.run; from Python 3.11) or raises KeyboardInterrupt in the loop (3.10),
-        # and `_serve` cleans up (the session written) either way.
-        with contextlib.suppress(NotImplementedError, RuntimeError):
-            loop.add_signal_handler(sig, on_signal, sig)
     deadline = time.monotonic() + (max_seconds if max_seconds is not None else float("inf"))
-    while not ended.is_set() and feed.error is None and time.monotonic() < deadline:
+    while not signals.ended.is_set() and feed.error is None and time.monotonic() < deadline:
         with contextlib.suppress(asyncio.TimeoutError):
-            await asyncio.wait_for(ended.wait(), 0.25)
-    if got:
-        log.info("serve: %s received: closing", signal.Signals(got[0]).name)
-        return 128 + got[0]
+            await asyncio.wait_for(signals.ended.wait(), 0.25)
+    if signals.got:
+        log.info("serve: %s received: closing", signal.Signals(signals.got[0]).name)
+        return 128 + signals.got[0]
     return 1 if feed.error else 0

@@ -31,6 +31,8 @@ KEY_COMMANDS = {"pause": "pause", "single_step": "step", "clear": "clear"}
 MAX_WAITING = 2000
 # The photos shown in a run that a page may choose again (the hello's list): the latest.
 MAX_PHOTOS = 8
+# A page is told of its dropped input at the first, then once every this many.
+DROP_TOLD = 100
 
 
 class Controls:
@@ -49,6 +51,7 @@ class Controls:
         self.store: Path | None = None  # the folder of photos (app/serve/photo.py)
         self.photos: list[str] = []  # those shown in this run, oldest first (MAX_PHOTOS)
         self.dropped = 0  # touches and melts dropped while too much input waited
+        self.dropped_here = 0  # those of input not of a page (`_dropped`)
         self.skipped = self.skipped_told = 0  # touches and melts over a page's bound
         self.points: TokenBucket | None = None  # the bound of the page being handled
         self.turns = Turns(thread)  # the pages' commands, sent to the thread in turns
@@ -109,9 +112,7 @@ class Controls:
         full = self._too_much_waiting()
         if full is not None:
             fingers[key] = spot  # the next move goes on from here, not from the last spot sent
-            self.dropped += 1
-            if self.dropped % 100 == 1:
-                self.notice(f"too much input waiting ({full}): some of it was dropped")
+            self._dropped(full)
             return
         if m.phase == "down" or key not in fingers:
             fingers[key] = spot
@@ -128,6 +129,17 @@ class Controls:
             fingers[key] = spot  # the rest of the path skipped: the finger goes on from here
         elif points:
             fingers[key] = points[-1]
+
+    def _dropped(self, full: str) -> None:
+        """A touch or melt dropped, `full` saying what was full: told to the page that sent
+        it (each page counted on its own), at its first and every DROP_TOLD-th since."""
+        self.dropped += 1
+        counter = self.queue if self.queue is not None else self
+        counter.dropped_here += 1
+        n = counter.dropped_here
+        if n % DROP_TOLD == 1:
+            self.notice(f"too much input waiting ({full}): touches and melts of this page "
+                        f"dropped: {n} so far")
 
     def _granted(self, wanted: int) -> int:
         """How many of `wanted` touches or melts the page's bound lets through."""

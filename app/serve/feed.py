@@ -56,6 +56,12 @@ SINCE_TICKS = 50
 SINCE_BYTES = 6 << 20
 SINCE_LEAST = 256 << 10
 REDRAW_GAP = 2.0  # s
+# s the input waiting at the end may take to apply after the last step: a burst of taps
+# takes milliseconds; a storm's thousands could take seconds, and the server exits soon.
+APPLY_AT_END_S = 0.5
+# s the simulation thread's tick under way may take to end at the end: the input can only
+# apply once it has (a loaded machine's tick can take a second; the window waits 1 s).
+END_TICK_S = 2.5
 
 
 @dataclass
@@ -115,6 +121,7 @@ class Feed:
         # a session file of it would count them (a redraw is tagged with its own).
         self.moment = (0, 0)
         self.error: str | None = None
+        self.ending = False  # `close`d: input is no longer taken
         self.redraws = 0  # snapshots drawn
         # For the bench: bytes sent a tick, the thread's tick time (ms), and the time from a
         # tap reaching the server to the tick that shows it being published (ms)
@@ -146,6 +153,21 @@ class Feed:
 
     def tick(self) -> int:
         return self.latest.stats.tick if self.latest else 0
+
+    def close(self) -> None:
+        """The end (once; further calls do nothing): no input is taken from now on, and
+        what the pages sent before is applied after the last step (for at most APPLY_AT_END_S,
+        the rest said in the log's warning), so that the session holds whatever a page was
+        told the server had (a photo answered, a touch answered by the pong after it).
+        Under the window (not this feed's thread) the pages' input goes to its thread,
+        whose end the window reports."""
+        if self.ending:
+            return
+        self.ending = True
+        self.controls.turns.flush()
+        if self.own_thread:
+            self.thread.stop(timeout=END_TICK_S, apply_s=APPLY_AT_END_S)
+        self.pump()  # the last ticks, for the session's file
 
     # ---- the simulation thread's side ---------------------------------------------------
 

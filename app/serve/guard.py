@@ -1,4 +1,4 @@
-"""Connections a slow or hostile client cannot pile up (docs/phone.md, security).
+"""Connections a slow or hostile client cannot pile up (docs/phone-design.md, Security).
 
 aiohttp waits for a request's head (its request line and headers) without end, and
 keeps an idle connection an hour: a client that opens connections and never finishes a
@@ -44,6 +44,10 @@ MAX_CONNECTIONS = 256
 # 128 of 8 KiB each (1 MiB): 256 of them held 700 MB.
 MAX_HEAD_BYTES = 64 * 1024
 LOG_S = 10.0  # s: at most one line a while on connections closed to make room
+# s the requests still open when the server ends are given to finish, then again once
+# cancelled (aiohttp's shutdown_timeout, 60 s by default: a photo half sent held the exit
+# a minute). The session is written before: nothing they could still do is kept.
+SHUTDOWN_S = 0.5
 END_OF_HEAD = b"\r\n\r\n"
 # The one route with a body, and the time its body may take (a few MB over a slow link).
 BODY_PATH = b"/photo"
@@ -85,6 +89,7 @@ class GuardedRunner(web.AppRunner):
 
     def __init__(self, app: web.Application, **kwargs):
         kwargs.setdefault("keepalive_timeout", IDLE_S)
+        kwargs.setdefault("shutdown_timeout", SHUTDOWN_S)
         super().__init__(app, **kwargs)
         self.conns: dict[Guarded, None] = {}  # open ones, oldest first
         self.evicted = 0  # closed to make room for a newer one

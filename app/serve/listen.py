@@ -4,6 +4,7 @@ the URLs to open said (with the token and their QR codes for a phone's camera)."
 from __future__ import annotations
 
 import asyncio
+import io
 import socket
 import ssl
 import sys
@@ -11,8 +12,10 @@ from dataclasses import dataclass
 
 from aiohttp import web
 
-from app.serve import guard
+from app.serve import guard, trust
 from app.serve.appkeys import FILES, PORTS
+from app.serve.trust import unspecified
+from sim.io.files import why, write_atomic
 
 HANDSHAKE_S = guard.HEAD_S  # s a TLS handshake may take (asyncio's own default: 60 s)
 
@@ -102,21 +105,46 @@ def announce(host: str, port: int, token: str | None, https_port: int | None = N
         if https_port is not None:
             print(f"frost serve: over HTTPS: https://{url_host(host)}:{https_port}/", flush=True)
         return
-    shown = lan_address() if host in ("0.0.0.0", "::", "") else host
+    shown = lan_address() if unspecified(host) else host
     url = f"http://{url_host(shown)}:{port}/?token={token}"
     print(f"frost serve: open {url} on a phone of this network (Ctrl-C ends it)", flush=True)
-    _qr(url)
+    _qr(url, "qr-page.png")
     if https_port is not None:
         url = f"https://{url_host(shown)}:{https_port}/?token={token}"
         print(f"frost serve: as an app: {url} once the phone trusts this computer "
               "(the page's menu: Make it an app)", flush=True)
-        _qr(url)
+        _qr(url, "qr-app.png")
     sys.stdout.flush()
 
 
-def _qr(url: str) -> None:
+def _qr(url: str, name: str) -> None:
+    """`url`'s QR code drawn in the console, where its encoding has the code's block
+    characters; else (a redirected Windows console in cp1252, say) written as the PNG
+    `name` in the user's config folder, beside the token it carries (a folder for the user
+    alone), and one line says where."""
     try:
         import segno
-        segno.make(url, error="m").terminal(compact=True)
     except ImportError:
         print("frost serve: (no QR code: the segno package is missing)")
+        return
+    code = segno.make(url, error="m")
+    drawn = io.StringIO()
+    code.terminal(out=drawn, compact=True)
+    encoding = getattr(sys.stdout, "encoding", None) or "ascii"
+    try:
+        drawn.getvalue().encode(encoding)
+    except (UnicodeEncodeError, LookupError):
+        print(f"frost serve: {_qr_file(code, name, encoding)}", flush=True)
+        return
+    sys.stdout.write(drawn.getvalue())
+
+
+def _qr_file(code, name: str, encoding: str) -> str:
+    """The QR `code` written as a PNG `name` in the config folder: a line saying where, or
+    why it could not be written."""
+    path = trust.config_dir() / name
+    try:
+        write_atomic(path, lambda f: code.save(f, kind="png", scale=8, border=4))
+    except OSError as err:
+        return f"(no QR code: the console ({encoding}) cannot show one, nor {why(err, path)})"
+    return f"the console ({encoding}) cannot show the QR code: open the image {path}"

@@ -1,5 +1,5 @@
-"""A photo from a page (docs/phone.md, A photo from the phone; docs/protocol.md): `POST
-/photo`, its checks, and `GET /backdrops/<photo>.jpg`, the photos kept.
+"""A photo from a page (docs/phone-design.md, Photos: what the server checks;
+docs/protocol.md): `POST /photo`, its checks, and `GET /backdrops/<photo>.jpg`, the photos kept.
 
 A request that changes the server's state has a body and an Origin: an Origin naming the
 Host it was sent to, with the scheme of the port (http on the HTTP port, https on the
@@ -33,6 +33,7 @@ log = logging.getLogger("app.serve")
 MIN_GAP_S = 5.0  # s between two photos of one remote address
 MAX_WAITING = 4  # photos read and waiting for the worker; more are refused (503)
 PATH = "/photo"
+ENDING = "frost serve is ending: the photo was not taken"
 
 
 @dataclass
@@ -100,6 +101,9 @@ async def upload(request: web.Request) -> web.Response:
         return refusal(400, "the request holds no photo (Content-Length: 0)")
     if desk.store is None:
         return refusal(503, "this server keeps no photos (it has no session folder)")
+    feed = request.app[FEED]
+    if feed.ending:
+        return unread(503, ENDING)
     loop = asyncio.get_running_loop()
     remote = request.remote or "?"
     left = desk.wait_left(remote, loop.time())
@@ -130,8 +134,9 @@ async def upload(request: web.Request) -> web.Response:
         return refusal(500, "the server cannot keep the photo (see its log)")
     finally:
         desk.waiting -= 1
+    if feed.ending:  # (its session is written: a photo taken now would not be in it)
+        return refusal(503, ENDING)
     desk.kept += 1
-    feed = request.app[FEED]
     feed.controls.show_photo(name)
     feed.send_state()
     return web.json_response({"backdrop": name}, headers={"Cache-Control": "no-store"})

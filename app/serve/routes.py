@@ -4,6 +4,7 @@ request, static files from their own folders only, the backdrops, /meta."""
 from __future__ import annotations
 
 import asyncio
+import html
 import io
 import ipaddress
 import secrets
@@ -14,6 +15,7 @@ from aiohttp import web
 
 from app.backdrops import BACKDROPS, load_backdrop
 from app.images import frost_meta
+from app.serve import photo
 from app.serve.appkeys import BACKDROP_PNGS, CA_DER, FEED, PORTS, TOKEN
 from app.serve.feed import Feed
 
@@ -37,13 +39,58 @@ async def token_check(request: web.Request, handler):
     token = request.app[TOKEN]
     given = request.query.get("token", "")
     if token and not secrets.compare_digest(given.encode(), token.encode()):
-        raise web.HTTPForbidden(text="frost: this server needs the token of the URL "
-                                     "frost serve printed\n")
+        return refused(request, "this server needs the token of the URL frost serve printed",
+                       REPLACED if given else NO_TOKEN)
     host = request.headers.get("Host")
     if not token and host is not None and not loopback_name(host):
-        raise web.HTTPForbidden(text="frost: this server answers only to this machine's "
-                                     "names (127.0.0.1, localhost)\n")
+        return refused(request, "this server answers only to this machine's names "
+                                "(127.0.0.1, localhost)", NOT_THIS_NAME)
     return await handler(request)
+
+
+# What a person is told of a refusal, on the page's own paths (below).
+REPLACED = "This page's link (its token) was replaced: scan the new QR code that frost serve prints."
+NO_TOKEN = "This address needs its token: open the link frost serve printed, or scan its QR code."
+NOT_THIS_NAME = ("frost serve answers only to this machine's own names: open "
+                 "http://127.0.0.1 or http://localhost, with its port.")
+# The page's own paths: a browser, or the installed app at its start_url, shows what they
+# answer to a person. The API's answers stay one line of text for programs (and the page).
+PAGE_PATHS = frozenset({"/", "/index.html"})
+API_PATHS = frozenset({"/ws", "/meta", "/photo", "/app.json", "/sw.js", "/manifest.webmanifest"})
+REFUSAL_PAGE = """<!doctype html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<meta name="theme-color" content="#000000">
+<title>frost</title>
+<style>
+html {{ background: #000; color: #dde6f5; font: 18px/1.45 system-ui, sans-serif; }}
+body {{ margin: 0; padding: max(24px, env(safe-area-inset-top)) 20px 24px; }}
+h1 {{ font-size: 22px; margin: 0 0 12px; }}
+p {{ margin: 0; max-width: 30em; }}
+</style>
+</head>
+<body>
+<h1>frost</h1>
+<p id="refused">{text}</p>
+</body>
+</html>
+"""
+
+
+def refused(request: web.Request, line: str, told: str) -> web.Response:
+    """The 403 for `request`: on the page's own paths, or a browser's navigation to any
+    path but the API's, a page sized for a phone that says `told` (the installed app opened
+    at its start_url showed the one line below, in a desktop's tiny type); to POST /photo
+    JSON, as its every refusal is (the page shows the error it holds); else `line`."""
+    navigation = request.headers.get("Sec-Fetch-Mode") == "navigate"
+    if request.path in PAGE_PATHS or (navigation and request.path not in API_PATHS):
+        return web.Response(status=403, text=REFUSAL_PAGE.format(text=html.escape(told, quote=False)),
+                            content_type="text/html", headers={"Cache-Control": "no-store"})
+    if request.path == photo.PATH:
+        return photo.refusal(403, line)
+    return web.Response(status=403, text=f"frost: {line}\n")
 
 
 def loopback_name(host: str) -> bool:

@@ -1,7 +1,7 @@
 """`frost serve`'s aiohttp app in front of one `Feed`: its routes (routes.py: HTTP,
 sockets.py: a page's WebSocket), the feed started and stopped with it, its stats line.
 
-Security (docs/phone.md): a token on every request when one is in force (403 without it),
+Security (docs/phone-design.md): a token on every request when one is in force (403 without it),
 the WebSocket's Origin must name the host asked, at most MAX_PAGES sockets, static files
 only from their own folders, and a page's bad input closes its socket alone.
 """
@@ -56,7 +56,7 @@ def make_app(feed: Feed, token: str | None = None, session_dir=None,
     app.router.add_get(routes.CA_PATH, routes.authority)
     app.router.add_get("/ws", sockets.socket)
     app.on_startup.append(_start)
-    app.on_shutdown.append(_close_pages)  # before aiohttp waits on the open handlers
+    app.on_shutdown.append(_end)  # before aiohttp waits on the open handlers
     app.on_cleanup.append(_stop)
     return app
 
@@ -98,11 +98,22 @@ async def _close_pages(app: web.Application) -> None:
         await page.ws.close(code=1001, message=b"frost serve is ending")
 
 
+def finish(app: web.Application) -> None:
+    """The frost ends (once): no more input taken, what the pages were told the server has
+    applied, the session written. `frost serve` calls it at its signal, before the open
+    requests are ended; the app's cleanup otherwise."""
+    app[FEED].close()
+    app[FILES].stop()
+
+
+async def _end(app: web.Application) -> None:
+    """The server's shutdown: the frost ends (its pages' input still waiting applied,
+    before their sockets close and drop what waits in their turns), then the pages close."""
+    finish(app)
+    await _close_pages(app)
+
+
 async def _stop(app: web.Application) -> None:
-    feed: Feed = app[FEED]
     if STATS in app:
         app[STATS].cancel()
-    await _close_pages(app)  # (a test client's cleanup comes without a shutdown)
-    feed.thread.stop()
-    feed.pump()  # the last ticks, for the session's file
-    app[FILES].stop()
+    await _end(app)  # (a test client's cleanup comes without a shutdown)

@@ -22,6 +22,7 @@ class SessionFiles:
         self.feed = feed
         self.keeper = SessionKeeper(folder, log)
         self.task: asyncio.Task | None = None
+        self.stopped = False
 
     @property
     def folder(self) -> Path | None:
@@ -36,7 +37,11 @@ class SessionFiles:
             self.task = asyncio.create_task(self.keep())
 
     def stop(self) -> None:
-        """The autosave ends; the session is written (after the save in flight, if any)."""
+        """The autosave ends; the session is written (after the save in flight, if any).
+        Once: the server's end may come twice (its signal, then its cleanup)."""
+        if self.stopped:
+            return
+        self.stopped = True
         if self.task is not None:
             self.task.cancel()
         self.keeper.finish(self.session())

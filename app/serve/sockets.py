@@ -62,7 +62,7 @@ async def socket(request: web.Request) -> web.WebSocketResponse:
     finally:
         page.close()
         feed.pages.discard(page)
-        feed.controls.dropped += feed.controls.turns.close(queue)
+        feed.controls.turns.close(queue)
         writer.cancel()
     return ws
 
@@ -86,8 +86,8 @@ def _apply_message(feed: Feed, page: Page, queue: PageQueue,
     """Apply one message of a page; the error that closes its socket, if any."""
     if msg.type == WSMsgType.ERROR:
         return protocol.ProtocolError(f"socket error: {msg.data}"[:100], protocol.TOO_BIG)
-    if msg.type not in (WSMsgType.TEXT, WSMsgType.BINARY):
-        return None
+    if msg.type not in (WSMsgType.TEXT, WSMsgType.BINARY) or feed.ending:
+        return None  # (ending: nothing more is taken, and no pong says it was)
     if not page.bucket.take():
         return protocol.ProtocolError(f"over {protocol.RATE_TEXT} messages a second")
     try:

@@ -1,4 +1,5 @@
-"""HTTPS on the LAN that a phone trusts (docs/phone.md, "HTTPS on your network").
+"""HTTPS on the LAN that a phone trusts (docs/phone.md, "HTTPS on your network";
+docs/phone-design.md, "HTTPS: the authority and the certificate").
 
 A self-signed certificate is not enough for a phone: with a certificate error Chromium
 registers no service worker and installs no page, and iOS Safari refuses the WSS socket
@@ -17,6 +18,7 @@ Files in the folder (private ones readable by the user alone, 0600):
 | `ca.key` | the authority's private key (private; never read but to sign) |
 | `server.pem` | the server's key and certificate in one file (private), replaced whole |
 | `token` | the token the URL carries (private) |
+| `qr-page.png`, `qr-app.png` | the URLs' QR codes, where the console cannot draw them (listen.py) |
 """
 
 from __future__ import annotations
@@ -129,21 +131,37 @@ def machine_names(host: str, lan: str | None = None, hostname: str | None = None
     machine's host name (and its .local name, which phones resolve by mDNS), its LAN
     address (`lan`, the one a phone reaches), every address its host name resolves to,
     and `host` where it names one address or name (not 0.0.0.0 or ::). Sorted, lower case,
-    names a certificate cannot hold left out."""
+    each address in its canonical form (the certificate read back writes `::1` however the
+    command line wrote it), names a certificate cannot hold left out."""
     hostname = socket.gethostname() if hostname is None else hostname
     found = {"localhost", "127.0.0.1", "::1", hostname.lower()}
     if hostname and "." not in hostname:
         found.add(f"{hostname.lower()}.local")
     if lan:
         found.add(lan.lower())
-    if host not in ("0.0.0.0", "::", ""):
+    if not unspecified(host):
         found.add(host.lower())
     try:
         for info in socket.getaddrinfo(hostname, None, proto=socket.IPPROTO_TCP):
             found.add(str(info[4][0]).split("%")[0])
     except (OSError, UnicodeError):
         pass
-    return sorted(n for n in found if _ip(n) is not None or (len(n) < 254 and DNS_RE.fullmatch(n)))
+    return sorted(n for n in {canonical(n) for n in found}
+                  if _ip(n) is not None or (len(n) < 254 and DNS_RE.fullmatch(n)))
+
+
+def canonical(name: str) -> str:
+    """A name as it is compared: an address in its one written form (`0:0:0:0:0:0:0:1` is
+    `::1`), any other name in lower case."""
+    ip = _ip(name)
+    return str(ip) if ip is not None else name.lower()
+
+
+def unspecified(host: str) -> bool:
+    """Whether a --host listens on every address (0.0.0.0, ::, however written) rather
+    than naming one."""
+    ip = _ip(host)
+    return host == "" or (ip is not None and ip.is_unspecified)
 
 
 def ip_or_loopback(name: str) -> bool:

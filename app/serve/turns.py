@@ -9,7 +9,8 @@ dropped with them) while the frost ticked on time. In turns, pages that send wit
 share the thread's input in rotation, and a person's tap (their page served less lately
 than any of those) goes to the thread at the next command's turn and waits behind about
 two ticks' worth; a page's own queue holds at most PAGE_WAITING, more is dropped (its
-finger goes on from where it is)."""
+finger goes on from where it is). A page that goes leaves its waiting commands to their
+turns: it may have been told they were taken."""
 
 from __future__ import annotations
 
@@ -35,6 +36,8 @@ class PageQueue:
         self.waiting: deque[tuple[str, Any]] = deque()
         self.sent: deque[int] = deque()
         self.served = -1  # the number of the page's command sent last (-1: none yet)
+        self.closed = False  # its page went (`Turns.close`)
+        self.dropped_here = 0  # its touches and melts dropped: too much waited (controls.py)
 
     def full(self) -> bool:
         return len(self.waiting) >= PAGE_WAITING
@@ -54,10 +57,12 @@ class Turns:
         self.queues.append(queue)
         return queue
 
-    def close(self, queue: PageQueue) -> int:
-        """A page went: its commands still waiting are dropped; how many."""
-        self.queues.remove(queue)
-        return len(queue.waiting)
+    def close(self, queue: PageQueue) -> None:
+        """A page went: its commands still waiting go on to the thread in their turns (the
+        page may have been told they were taken: a pong after them); then its queue goes."""
+        queue.closed = True
+        if not queue.waiting:
+            self.queues.remove(queue)
 
     def put(self, queue: PageQueue, kind: str, arg: Any = None) -> None:
         """A page's command, sent now if its turn comes at once."""
@@ -82,11 +87,23 @@ class Turns:
             while q.sent and q.sent[0] <= handled:
                 q.sent.popleft()
             there += len(q.sent)
-        while there < self.ahead:
-            waiting = [q for q in self.queues if q.waiting]
-            if not waiting:
-                return
-            q = min(waiting, key=lambda q: q.served)
-            q.served = self.thread.send(*q.waiting.popleft())
-            q.sent.append(q.served)
+        while there < self.ahead and self._send_next():
             there += 1
+
+    def flush(self) -> None:
+        """Every page's waiting commands sent to the thread now, in turns: the server is
+        ending, and what a page was told the server has must reach the session."""
+        while self._send_next():
+            pass
+
+    def _send_next(self) -> bool:
+        """The next command of the page served longest ago sent; False: none waits."""
+        waiting = [q for q in self.queues if q.waiting]
+        if not waiting:
+            return False
+        q = min(waiting, key=lambda q: q.served)
+        q.served = self.thread.send(*q.waiting.popleft())
+        q.sent.append(q.served)
+        if q.closed and not q.waiting:
+            self.queues.remove(q)
+        return True

@@ -184,15 +184,18 @@ class SimThread(threading.Thread):
         self.inbox.put(Command(kind, arg))
         return self.sent
 
-    def stop(self, timeout: float = 1.0) -> None:
+    def stop(self, timeout: float = 1.0, apply_s: float = 0.0) -> None:
         """End the thread; the map exports still asked for written (from the last tick,
-        when the thread has ended) and every writer waited for; other input still waiting
-        (a storm of clicks, then Esc) reported: it never applied, so neither the frame nor
-        the session holds it."""
+        when the thread has ended) and every writer waited for. With `apply_s`, the input
+        still waiting is applied after the last step (`apply_waiting`) for at most that
+        many seconds. Input left waiting (a storm of clicks, then Esc) is reported: it
+        never applied, so neither the frame nor the session holds it."""
         self._stop_event.set()
         if self.is_alive() and threading.current_thread() is not self:
             self.join(timeout)
         waiting = [*self.backlog.take_all(), *take_all(self.inbox)]
+        if apply_s > 0 and not self.is_alive():
+            waiting = self.apply_waiting(waiting, apply_s)
         lost: Counter = Counter()
         for command in waiting:
             if command.kind in INPUT_NAMES:
@@ -205,6 +208,28 @@ class SimThread(threading.Thread):
                         "next before their tick (the session holds the later)")
         self.exports.finish([command.arg for command in waiting if command.kind == "export"],
                             None if self.is_alive() else self.timeline, self.seed)
+
+    def apply_waiting(self, commands: list[Command], seconds: float) -> list[Command]:
+        """After the last tick (the thread ended): `commands`, the input that waited,
+        applied in order with no step after them (a session's events due after its last
+        step still replay) until `seconds` have passed; a snapshot of them published. What
+        is left (and the map exports, written by `stop`) is returned, oldest first. So
+        `frost serve` keeps in its session what a page was told the server had."""
+        notes: dict[str, Any] = {"applied": []}
+        deadline = time.perf_counter() + seconds
+        left: list[Command] = []
+        late = False  # (in order: once one is left for want of time, all after it are)
+        for command in commands:
+            late = late or time.perf_counter() >= deadline
+            if late or command.kind == "export":
+                left.append(command)
+                continue
+            self._handlers[command.kind](command.arg, notes)
+            self.handled += 1  # (a group of melts added the rest of its commands)
+        if len(left) < len(commands):
+            reset, melts, message = _merged(notes["applied"])
+            self._publish(self._snapshot(None, reset=reset, melts=melts, message=message))
+        return left
 
     def drain(self) -> list[Snapshot]:
         """Every snapshot produced since the last call, oldest first (the maker's)."""

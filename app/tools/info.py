@@ -1,6 +1,7 @@
 """`frost info`: what a bug report needs, a line each: the platform, Python and the libraries,
-GLFW and the screen (platform, monitor, content scale, a window's OpenGL), the headless
-OpenGL context (vendor, renderer, version) and the shader dialect they compile."""
+the tuning panel (or why there is none), GLFW and the screen (platform, monitor, content
+scale, a window's OpenGL), the headless OpenGL context (vendor, renderer, version) and the
+shader dialect they compile."""
 
 from __future__ import annotations
 
@@ -19,6 +20,7 @@ def lines() -> list[tuple[str, str]]:
     out = [("frost", _version("frost")), ("platform", platform.platform()),
            ("python", f"{platform.python_implementation()} {sys.version.split()[0]}"),
            ("packages", ", ".join(f"{p} {_version(p)}" for p in PACKAGES[1:])),
+           ("tuning panel", _panel()),
            ("shader dialect", f"GLSL {DESKTOP} (files in shaders/; the page: ES 3.00)")]
     # (the window's GLX context first: a standalone EGL context made before it kills the
     # process at GLX's first call)
@@ -31,6 +33,14 @@ def _version(package: str) -> str:
         return metadata.version(package)
     except metadata.PackageNotFoundError:
         return "not installed"
+
+
+def _panel() -> str:
+    """The window's tuning panel (key M), or why it has none here."""
+    from app.window.no_panel import panel_problem
+
+    problem = panel_problem()
+    return f"imgui-bundle {_version('imgui-bundle')} (key M)" if problem is None else f"none: {problem}"
 
 
 def _headless() -> list[tuple[str, str]]:

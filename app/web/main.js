@@ -15,6 +15,9 @@ import { PhotoPicker, backdropUrl } from "./photo.js";
 
 const SCREEN = [760, 1280];
 const RETRY_FIRST = 250, RETRY_MOST = 8000;  // ms between reconnects: doubling up to this
+const ASK_MS = 5000;  // at most this long for /meta's answer when a socket failed (refusal)
+// What the page says, and then does nothing more, when the server refuses its token.
+const TOKEN_REPLACED = "this page's link (its token) was replaced: scan the new QR code";
 
 const token = new URLSearchParams(location.search).get("token");
 const query = token ? `?token=${encodeURIComponent(token)}` : "";
@@ -26,6 +29,7 @@ const state = {
   hello: null, renderer: null, tick: 0, connected: false, synced: false, dirty: true,
   messages: 0, bytes: 0, hellos: 0, lost: 0, watch: null, latencies: [], frostLatencies: [], backdrop: null, shownBackdrop: null, error: null, frames: 0, blitter: null, socket: null,
   early: [], stopped: false, midSnapshot: false, fit: prefs.get("fit", "fill", FITS),
+  refused: null, retry: null, frameError: null, frameErrors: 0,
 };
 window.frost = state;
 state.clock = new Clock();
@@ -39,8 +43,9 @@ const gl = canvas.getContext("webgl2", {
   alpha: false, antialias: false, depth: false, premultipliedAlpha: false, preserveDrawingBuffer: true,
 });
 
+// The status line; once the server refused the page (refuse), it says that alone.
 function status(text) {
-  document.getElementById("status").textContent = text;
+  document.getElementById("status").textContent = state.refused || text;
 }
 
 let noticeTimer = 0;
@@ -98,6 +103,7 @@ async function main() {
 // ---- the connection ------------------------------------------------------------------
 
 function connect(retry) {
+  state.retry = null;
   const url = new URL("ws" + query, location.href);
   url.protocol = location.protocol === "https:" ? "wss:" : "ws:";
   const ws = new WebSocket(url);
@@ -109,7 +115,7 @@ function connect(retry) {
     if (state.early) state.early.push([ws, event]);
     else receive(ws, event);
   };
-  ws.onclose = (event) => {
+  ws.onclose = async (event) => {
     state.connected = false;
     state.midSnapshot = false;
     if (state.phone) state.phone.connected(false);
@@ -118,14 +124,44 @@ function connect(retry) {
     if (state.stopped) return;
     if (event.code === 1008 || event.code === 1009 || event.code === 4403) {
       status(`refused: ${event.reason || event.code}`);
-    } else if (!opened && !event.reason) {  // gone (the page may have opened from the cache)
-      status("frost serve is not reachable: trying again");
+    } else if (!opened && !event.reason) {  // gone or refused (a browser does not say which)
+      const why = await refusal();
+      if (why) return void refuse(why);
+      if (state.stopped) return;  // (no WebGL2, found meanwhile)
+      status("frost serve is not reachable: trying again");  // (the page may have opened from the cache)
       if (!state.renderer) showOffline(true, canvas, query, state.fit);
     } else {
       status(`reconnecting (${event.reason || "connection lost"})`);
     }
-    setTimeout(() => connect(Math.min(retry * 2, RETRY_MOST)), retry);
+    state.retry = setTimeout(() => connect(Math.min(retry * 2, RETRY_MOST)), retry);
   };
+}
+
+// Why the server refuses this page, or null (no answer, or it lets the page in). A socket
+// refused (403: the token was replaced, `frost serve --new-token`) fails as one to a server
+// that is gone, 1006 and no reason, so /meta is asked: the server refuses it alike.
+async function refusal() {
+  let r;
+  try {
+    const signal = AbortSignal.timeout ? AbortSignal.timeout(ASK_MS) : undefined;
+    r = await fetch(`meta${query}`, { cache: "no-store", signal });
+  } catch {
+    return null;  // not reachable
+  }
+  if (r.status !== 403) return null;
+  if (token) return TOKEN_REPLACED;
+  // No token: the server says why (a token in force now, a name not this machine's).
+  const line = await r.text().then((t) => t.split("\n")[0].replace(/^frost: /, ""), () => "");
+  return (line || "frost serve refused this page (HTTP 403)").slice(0, 160);
+}
+
+// The server refuses this page for good: the status line says why from now on, and the page
+// neither retries nor says anything else (a new address is needed, not a new try).
+function refuse(why) {
+  state.refused = why;
+  state.stopped = true;
+  status(why);
+  console.warn(`frost: ${why}`);
 }
 
 // A message of socket `ws`, once the page can draw.
@@ -307,7 +343,42 @@ function drawPane(all = false, whole = false) {
   if (d) state.blitDamage = b ? [Math.min(b[0], d[0]), Math.min(b[1], d[1]), Math.max(b[2], d[2]), Math.max(b[3], d[3])] : d;
 }
 
+// One frame, and the next asked for whatever this one met: a frame that throws (a bad
+// value set on `frost`, a renderer's bug) stopped every frame after it, ticks still coming.
 function frame() {
+  try {
+    drawFrame();
+    if (state.frameError) frameRecovered();
+  } catch (err) {
+    frameFailed(err);
+  } finally {
+    requestAnimationFrame(frame);
+  }
+}
+
+// A failed frame: counted, its reason in the status line and the console, logged once for
+// each reason (a frame fails again 60 times a second while its cause stays).
+const FRAME_REASONS_LOGGED = 16;
+const loggedReasons = new Set();
+function frameFailed(err) {
+  const reason = (err && err.message) || String(err);
+  state.frameErrors += 1;
+  if (reason === state.frameError) return;
+  state.frameError = reason;
+  status(`a frame failed: ${reason}`);
+  if (!loggedReasons.has(reason) && loggedReasons.size < FRAME_REASONS_LOGGED) {
+    loggedReasons.add(reason);
+    console.error(`frost: a frame failed: ${reason}`, err);
+  }
+}
+
+// Frames run again: the status line's word on the failure goes.
+function frameRecovered() {
+  if (document.getElementById("status").textContent === `a frame failed: ${state.frameError}`) status("");
+  state.frameError = null;
+}
+
+function drawFrame() {
   fitCanvas();
   if (state.renderer && state.serverLight) state.phone.frame(state.renderer, state.serverLight);
   // (a snapshot comes in parts: the pane is drawn once it is whole, not half drawn first,
@@ -338,7 +409,6 @@ function frame() {
       }
     }
   }
-  requestAnimationFrame(frame);
 }
 
 // The pane's texture drawn into the canvas's rect (canvas px, y down), black around it.

@@ -54,11 +54,13 @@ export function makeApp(menu, query, state) {
 
   if (secure) {
     setTimeout(() => {
-      if (state.hellos || window.frostInstall?.openedOffline) return;  // (the cache opened it: install.js)
+      // (the cache opened it: install.js; refused: the page says why, main.js)
+      if (state.hellos || state.refused || window.frostInstall?.openedOffline) return;
       show("never-opened");
-      // Hidden again by itself once the socket opens after all (trusted, or the server back).
+      // Hidden again by itself once the socket opens after all (trusted, or the server back),
+      // or the server refused the page (its status line says why).
       const watch = setInterval(() => {
-        if (!state.hellos) return;
+        if (!state.hellos && !state.refused) return;
         clearInterval(watch);
         if (info.shown === "never-opened") hide();
       }, 500);

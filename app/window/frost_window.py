@@ -31,12 +31,6 @@ from app.window.drop import PhotoDrop
 from app.window.glfw_setup import WindowError, open_window, x_window_ids
 from app.window.lost_display import on_lost_display, on_lost_window
 from app.window.no_panel import NoPanel
-from sim.io.session import VERSION
-
-try:  # imgui-bundle has wheels for Python 3.11 on only (docs/dependencies.md)
-    from app.window.panel_host import PanelHost
-except ImportError:
-    PanelHost = None  # type: ignore[assignment,misc]
 from app.window.pointer import Pointer
 from app.window.presenter import Presenter
 from app.window.record import Recorder
@@ -44,6 +38,14 @@ from app.window.status import Status
 from app.window.view import PHONE, Sizes
 from sim import Params
 from sim.io.files import one_line
+from sim.io.session import VERSION
+
+PANEL_ERROR = ""  # why the panel's module did not import
+try:  # imgui-bundle is installed only where it has a wheel (app/window/no_panel.py)
+    from app.window.panel_host import PanelHost
+except ImportError as err:
+    PanelHost = None  # type: ignore[assignment,misc]
+    PANEL_ERROR = str(err)
 
 log = logging.getLogger("app.window")
 
@@ -80,7 +82,7 @@ class FrostWindow:
         self.pointer = Pointer(window, self.sizes, self.thread, args.melt_radius,
                                lambda: self.actions.params.hc, self.shown_tick, self.status.melted)
         self.panel = PanelHost(window, self.actions) if PanelHost is not None \
-            else NoPanel(self.status.say)
+            else NoPanel(self.status.say, PANEL_ERROR)
         self.actions.toggle_panel = self.panel.toggle
         self.latest: Snapshot | None = None
         self.running, self.exit_status = True, 0

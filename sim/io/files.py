@@ -18,24 +18,14 @@ import contextlib
 import errno
 import json
 import os
+import secrets
 import stat
-import tempfile
 from collections.abc import Callable
 from pathlib import Path
 from typing import BinaryIO
 
 # What a writer returns is ignored (f.write's byte count, say).
 Writer = Callable[[BinaryIO], object]
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
-# mkstemp makes 0600 files; the final files get what open() would give them.
-FILE_MODE = 0o666 & ~_umask()
 
 
 def write_atomic(path, write: Writer) -> Path:
@@ -114,7 +104,7 @@ def read_json(path, error: type[Exception]):
         return long_numbers[-1]
 
     try:
-        data = json.loads(Path(path).read_text(), parse_int=whole_number)
+        data = json.loads(Path(path).read_text(encoding="utf-8"), parse_int=whole_number)
     except OSError as err:
         raise error(f"{path}: cannot read: {err.strerror or err}") from None
     except (ValueError, UnicodeDecodeError, RecursionError) as err:  # JSONDecodeError too
@@ -171,7 +161,6 @@ def _write_temp(target: Path, write: Writer, path) -> str:
         raise _blame(err, path, err.filename) from None
     try:
         with os.fdopen(fd, "wb") as f:
-            os.fchmod(f.fileno(), FILE_MODE)
             write(f)
             f.flush()
             os.fsync(f.fileno())  # the bytes are on disk before the rename makes them visible
@@ -184,10 +173,24 @@ def _write_temp(target: Path, write: Writer, path) -> str:
     return temp
 
 
+TEMP_TRIES = 100  # names tried for a temporary before giving up (each taken: 1 in 2**32)
+
+
 def temp_file(folder, name: str) -> tuple[int, str]:
-    """A new temporary file in `folder` for `name` (fd, path). Its name is kept short: a
-    name near the file system's limit (255 bytes) must still have room for a temporary."""
-    return tempfile.mkstemp(prefix=f".{name[:32]}.", suffix=".tmp", dir=folder)
+    """A new temporary file in `folder` for `name` (fd, path), made as open() makes a file:
+    0o666 less the umask, the mode the final file keeps. (tempfile.mkstemp's are 0600, and
+    changing that on the open file needs os.fchmod, which Windows' Python lacks before 3.13.)
+    Its name is kept short: a name near the file system's limit (255 bytes) must still have
+    room for a temporary."""
+    # O_EXCL: never an existing file, nor a symlink planted under the name.
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0)
+    for _ in range(TEMP_TRIES):
+        temp = os.path.join(folder, f".{name[:32]}.{secrets.token_hex(4)}.tmp")
+        try:
+            return os.open(temp, flags, 0o666), temp
+        except FileExistsError:
+            continue
+    raise FileExistsError(errno.EEXIST, f"no free temporary name in {TEMP_TRIES} tries", temp)
 
 
 def _blamed(call, path, *args):

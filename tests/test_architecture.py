@@ -1,0 +1,92 @@
+"""docs/architecture.md against the code: every module of app/ and sim/ and every script of
+the page (app/web/) has its line there, every line names a file that exists, and the arrows
+between folders are the ones the imports make (tests/test_imports.py reads them)."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from conftest import ROOT
+from test_imports import import_graph, project_modules
+
+PAGE = ROOT / "docs" / "architecture.md"
+# A module's line: "- `app/window/hud.py`: ..."
+MODULE_LINE = re.compile(r"^- `((?:app|sim)/[\w/.-]+\.(?:py|js))`:", re.M)
+# A folder's arrow: "- `app/window` → `app`, `app/gl`, ..."
+ARROW_LINE = re.compile(r"^- `([\w/]+)` → (.+)$", re.M)
+
+
+def listed(text: str) -> list[str]:
+    return MODULE_LINE.findall(text)
+
+
+def modules(root: Path) -> set[str]:
+    """Every .py under app/ and sim/ and every .js under app/web/, as paths from `root`."""
+    found = [*(root / "app").rglob("*.py"), *(root / "sim").rglob("*.py"),
+             *(root / "app" / "web").rglob("*.js")]
+    return {p.relative_to(root).as_posix() for p in found}
+
+
+def arrows(text: str) -> dict[str, set[str]]:
+    """The page's arrows: each folder and the folders it imports."""
+    return {source: set(re.findall(r"`([\w/]+)`", targets))
+            for source, targets in ARROW_LINE.findall(text)}
+
+
+def folder_imports(root: Path) -> dict[str, set[str]]:
+    """Each folder of app/ and sim/ and the other folders its modules import."""
+    files = project_modules(root, "app", "sim")
+    where = {m: p.parent.relative_to(root).as_posix() for m, p in files.items()}
+    graph: dict[str, set[str]] = {}
+    for module, imported in import_graph(root, "app", "sim").items():
+        for other in imported:
+            if where[other] != where[module]:
+                graph.setdefault(where[module], set()).add(where[other])
+    return graph
+
+
+def test_the_page_reading_finds_modules_and_arrows_in_a_hand_written_page():
+    text = ("- `sim/a.py`: one\n- `app/web/b.js`: two\n- not `sim/c.py`: three\n"
+            "- `sim` → `sim/core`\n- `app/x` → `app`, `sim/io`\n")
+    assert listed(text) == ["sim/a.py", "app/web/b.js"]
+    assert arrows(text) == {"sim": {"sim/core"}, "app/x": {"app", "sim/io"}}
+
+
+def test_folder_imports_of_a_hand_made_tree(tmp_path):
+    """A module of sim/core importing sim/index's (late, in a function) and its own
+    folder's; app/ importing sim/ and app/gl/: the arrows between folders only."""
+    for name, source in {"sim/__init__.py": "", "sim/core/__init__.py": "",
+                         "sim/core/a.py": "from sim.core import b\n\ndef f():\n"
+                                          "    from sim.index import grid\n",
+                         "sim/core/b.py": "", "sim/index/__init__.py": "",
+                         "sim/index/grid.py": "import numpy\n", "app/__init__.py": "",
+                         "app/keys.py": "from sim.core.a import f\n", "app/gl/__init__.py": "",
+                         "app/gl/r.py": "from app import keys\n"}.items():
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_text(source, encoding="utf-8")
+    assert folder_imports(tmp_path) == {"sim/core": {"sim/index"}, "app": {"sim/core"},
+                                        "app/gl": {"app"}}
+
+
+def test_every_module_is_listed_once_in_docs_architecture():
+    names = listed(PAGE.read_text(encoding="utf-8"))
+    twice = sorted({n for n in names if names.count(n) > 1})
+    assert twice == [], f"docs/architecture.md lists these modules more than once: {twice}"
+    missing = sorted(modules(ROOT) - set(names))
+    assert missing == [], f"docs/architecture.md has no line for these modules: {missing}"
+
+
+def test_every_module_listed_in_docs_architecture_exists():
+    gone = sorted(set(listed(PAGE.read_text(encoding="utf-8"))) - modules(ROOT))
+    assert gone == [], f"docs/architecture.md lists modules that do not exist: {gone}"
+
+
+def test_the_arrows_of_docs_architecture_are_the_imports_of_the_code():
+    said, made = arrows(PAGE.read_text(encoding="utf-8")), folder_imports(ROOT)
+    for folder in sorted(set(said) | set(made)):
+        unsaid = sorted(made.get(folder, set()) - said.get(folder, set()))
+        untrue = sorted(said.get(folder, set()) - made.get(folder, set()))
+        assert (unsaid, untrue) == ([], []), (
+            f"docs/architecture.md: {folder} imports {unsaid} (no arrow there) and "
+            f"does not import {untrue} (an arrow there)")

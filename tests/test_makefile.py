@@ -1,0 +1,67 @@
+"""The Makefile's stages, read from `make -n` (what make would run, run by nothing): `make
+run` sets up the demo's packages and nothing of the tests', `make test` adds the test stack
+on top, `make serve` runs `frost serve`; a stage already set up is not set up again."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+from conftest import ROOT
+
+# What the demo needs from Debian, and what only the tests add (written out by hand).
+DEMO_PACKAGES = ["libegl1", "libgles2", "libgl1"]
+TEST_PACKAGES = ["xvfb", "xauth", "xdotool", "glslang-tools", "chromium", "libnss3-tools"]
+RUNTIME_INSTALL = "pip install -q -e .;"
+DEV_INSTALL = "pip install -q -e '.[dev]'"
+
+
+def planned(target: str, venv: Path) -> str:
+    """What `make -n target` prints for a virtualenv at `venv`."""
+    make = shutil.which("make")
+    assert make, "make is missing: apt-get install make"
+    done = subprocess.run([make, "-n", target, f"VENV={venv}"], cwd=ROOT, capture_output=True,
+                          text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    return done.stdout
+
+
+def words(text: str) -> set[str]:
+    return set(text.replace(";", " ").split())
+
+
+def test_make_run_sets_up_the_demo_and_nothing_of_the_tests(tmp_path):
+    plan = planned("run", tmp_path / "venv")
+    assert set(DEMO_PACKAGES) <= words(plan)
+    assert RUNTIME_INSTALL in plan
+    named = [w for w in (*TEST_PACKAGES, "playwright", "[dev]") if w in plan]
+    assert named == []
+    assert plan.splitlines()[-1].split() == [f"{tmp_path}/venv/bin/python", "-m", "app"]
+
+
+def test_make_test_adds_the_test_stack_on_top_of_the_demos(tmp_path):
+    plan = planned("test", tmp_path / "venv")
+    assert set(DEMO_PACKAGES + TEST_PACKAGES) <= words(plan)
+    assert 0 <= plan.index(RUNTIME_INSTALL) < plan.index(DEV_INSTALL)
+    assert plan.splitlines()[-1].split()[1:3] == ["-m", "pytest"]
+
+
+@pytest.mark.parametrize("target", ["test", "lint"])
+def test_a_stage_set_up_is_not_set_up_again(tmp_path, target):
+    """With the demo's stage done, `make test` (and `make lint`, whose ruff and mypy are the
+    dev extra's) installs the dev extra alone; with both done, nothing."""
+    venv = tmp_path / "venv"
+    venv.mkdir()
+    (venv / ".installed-run").touch()  # newer than pyproject.toml and setup.py
+    plan = planned(target, venv)
+    assert DEV_INSTALL in plan and RUNTIME_INSTALL not in plan
+    (venv / ".installed-test").touch()
+    assert "pip install" not in planned(target, venv)
+
+
+def test_make_serve_runs_frost_serve_on_the_demos_stage(tmp_path):
+    plan = planned("serve", tmp_path / "venv")
+    assert RUNTIME_INSTALL in plan and DEV_INSTALL not in plan
+    assert plan.splitlines()[-1].split() == [f"{tmp_path}/venv/bin/python", "-m", "app", "serve"]
