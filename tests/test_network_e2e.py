@@ -104,7 +104,7 @@ def test_the_bench_browser_keeps_playwrights_switches_and_has_no_address_bar_pop
 
 
 def test_the_page_asks_for_its_shaders_with_its_modules_and_once():
-    """Each shader file renderer.js loads is asked for by index.html's preload, while the
+    """Each shader file programs.js loads is asked for by index.html's preload, while the
     modules load (initiator "link", not main.js's fetch), and once: its fetch takes the
     preloaded response (a mismatched preload is fetched twice)."""
     import json
@@ -115,7 +115,7 @@ def test_the_page_asks_for_its_shaders_with_its_modules_and_once():
     from app.resources import WEB_DIR
 
     shaders = json.loads(re.search(r"export const SHADERS = (\[.*?\]);",
-                                   (WEB_DIR / "renderer.js").read_text(encoding="utf-8"), re.S).group(1))
+                                   (WEB_DIR / "programs.js").read_text(encoding="utf-8"), re.S).group(1))
     with sync_playwright() as pw, served("fern") as s:
         browser = launch(pw)
         try:

@@ -55,19 +55,30 @@ def grown(gl_ctx, request):
     return params, messages, desktop_frame(gl_ctx, params, wire_deltas(messages, params))
 
 
-def test_the_page_knows_each_looks_defines():
-    source = (WEB_DIR / "renderer.js").read_text(encoding="utf-8")
-    for name, table in (("LOOK_DEFINES", LOOK_DEFINES), ("FEATURE_DEFINES", FEATURE_DEFINES)):
-        text = re.search(rf"export const {name} = (\{{.*?\}});", source).group(1)
-        page = json.loads(re.sub(r"(\w+):", r'"\1":', text))
-        assert page == {look: list(d) for look, d in table.items()}
+def page_source() -> str:
+    """The text of every module of the page."""
+    return "".join(path.read_text(encoding="utf-8") for path in sorted(WEB_DIR.glob("*.js")))
+
+
+def test_the_page_takes_each_looks_defines_from_the_hello(browser):
+    """The page keeps no copy of the desktop's #defines, material or light (frost serve's
+    are sim.look.material's): each look's programs are built with the hello's, here other
+    ones."""
+    assert not re.search(r"\b(LOOK_DEFINES|FEATURE_DEFINES|MATERIAL|defaultLight)\b", page_source())
+    params = Params.preset("fern")
+    said = hello(params)
+    assert set(said["defines"]) == set(LOOK_DEFINES) == set(FEATURE_DEFINES)
+    defines = {look: {"ice": ["FILM"], "feature": []} for look in said["defines"]}
+    with Page({**said, "defines": defines}, [], browser=browser) as page:
+        got = page.page.evaluate("(r => [r.defines, r.features.defines])(frost.renderer)")
+    by_pass = {part: {look: d[part] for look, d in defines.items()} for part in ("ice", "feature")}
+    assert got == [by_pass, by_pass["feature"]]
 
 
 def test_the_page_draws_with_the_tile_and_depth_of_the_hello(browser):
     """The page keeps no copy of the desktop's tile side and feature depth: it takes the
     hello's (frost serve's are sim.look.material's TILE and MAX_DEPTH), here other ones."""
-    source = "".join((WEB_DIR / name).read_text(encoding="utf-8") for name in ("renderer.js", "main.js"))
-    assert not re.search(r"\b(TILE|MAX_DEPTH)\b", source)
+    assert not re.search(r"\b(TILE|MAX_DEPTH)\b", page_source())
     params = Params.preset("fern")
     with Page({**hello(params), "tile": 32, "max_depth": 128.0}, [], browser=browser) as page:
         got = page.page.evaluate("(r => [r.tile, r.tiles.cols, r.tiles.rows, r.damage.cols,"
@@ -176,10 +187,10 @@ def test_the_height_texture_holds_heights_and_slopes_as_numpy(browser, grown):
     gy, gx = np.gradient(grid.reshape(rows, cols), float(params.grid_spacing))
     want = np.stack((grid.reshape(rows, cols), gx, gy), axis=-1).astype(np.float16)
     with Page(hello(params), messages, browser=browser) as page:
-        texels = page.page.evaluate("Array.from(frost.renderer.texels)")
+        texels = page.page.evaluate("Array.from(frost.renderer.heights.texels)")
         # The same rows worked out again by the page's own floatToHalf (a browser without
         # Float16Array), from a texture emptied first.
-        fallback = page.page.evaluate("""() => { const r = frost.renderer;
+        fallback = page.page.evaluate("""() => { const r = frost.renderer.heights;
             const had = !!r.halves;
             r.halves = null;
             r.texels.fill(0);

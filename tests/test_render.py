@@ -303,8 +303,8 @@ def test_melt_renders_as_if_the_ice_never_grew_there(gl_ctx):
 
 
 def test_the_pages_shader_header_is_the_es_dialects():
-    # One header per dialect: the page's copy (app/web/renderer.js) is the loader's "es".
-    js = (Path(__file__).resolve().parent.parent / "app" / "web" / "renderer.js").read_text(encoding="utf-8")
+    # One header per dialect: the page's copy (app/web/programs.js) is the loader's "es".
+    js = (Path(__file__).resolve().parent.parent / "app" / "web" / "programs.js").read_text(encoding="utf-8")
     start = js.index('export const HEADER = "') + len('export const HEADER = "')
     page = js[start:js.index('";', start)].encode().decode("unicode_escape")
     assert page == HEADERS["es"]

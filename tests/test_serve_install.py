@@ -48,7 +48,7 @@ def test_the_shell_holds_every_file_the_page_loads():
     html = (WEB_DIR / "index.html").read_text(encoding="utf-8")
     modules = json.loads(re.search(r"const MODULES = (\[.*?\]);", html).group(1))
     shaders = json.loads(re.search(r"export const SHADERS = (\[.*?\]);",
-                                   (WEB_DIR / "renderer.js").read_text(encoding="utf-8"), re.S).group(1))
+                                   (WEB_DIR / "programs.js").read_text(encoding="utf-8"), re.S).group(1))
     wanted = {"", "web/page.css", *(f"web/{m}.js" for m in modules), *(f"shaders/{s}" for s in shaders),
               *(f"backdrops/{b}.png" for b in BACKDROPS), *(f"web/{f}" for f in ICONS.values())}
     assert wanted - urls == set()
