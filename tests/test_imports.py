@@ -12,6 +12,7 @@ from pathlib import Path
 
 import app.bench
 import app.tools
+import bench
 import sim
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -54,7 +55,7 @@ def test_sim_loads_nothing_of_the_app_nor_gl_nor_images():
 
 
 def test_the_server_loads_no_gl_and_no_window_library():
-    loaded = loaded_by("app.serve.command", "app.bench.serve")
+    loaded = loaded_by("app.serve.command", "bench.serve")
     assert "aiohttp" in loaded and "app.serve.feed" in loaded
     assert under(loaded, *GL_AND_WINDOW, "app.gl", "app.tools") == set()
 
@@ -63,7 +64,7 @@ def test_the_server_loads_nothing_of_the_window_package():
     """The key table serves the window and the page: it lives outside app/window
     (app/keys.py), so the server loads no module of the window (`--window` opens one only
     when asked, at run time)."""
-    loaded = loaded_by("app.serve.server", "app.serve.controls", "app.bench.serve")
+    loaded = loaded_by("app.serve.server", "app.serve.controls", "bench.serve")
     assert "app.keys" in loaded and "app.serve.controls" in loaded
     assert under(loaded, "app.window") == set()
 
@@ -76,10 +77,33 @@ def test_the_tools_load_no_window():
 
 def test_the_benchmarks_load_no_window_and_nothing_of_the_app_loads_them():
     loaded = loaded_by(*modules_of(app.bench))
-    assert "app.bench.simulation" in loaded and "app.bench.serve" in loaded  # it did import
+    assert "app.bench.simulation" in loaded and "app.bench.render" in loaded  # it did import
     assert under(loaded, "glfw", "app.window") == set()
     users = {part for part, parts in app_imports().items() if "app.bench" in parts}
     assert users == {"app.cli"}  # the command line runs them; no other part leans on them
+
+
+def test_the_checkout_s_benchmarks_load_no_window():
+    loaded = loaded_by(*modules_of(bench))
+    assert "bench.page" in loaded and "bench.serve" in loaded  # it did import
+    assert under(loaded, "glfw", "app.window") == set()
+
+
+def test_nothing_of_the_app_nor_of_sim_imports_the_checkout_s_benchmarks():
+    """bench/ stays out of the wheel (it drives a browser, shapes a network): a module of the
+    package importing it, even inside a function, would fail for every user."""
+    users = [path.relative_to(ROOT).as_posix()
+             for folder in ("app", "sim") for path in sorted((ROOT / folder).rglob("*.py"))
+             if any(name == "bench" or name.startswith("bench.") for name in imported(path))]
+    assert users == []
+
+
+def test_imported_reads_imports_at_the_top_and_inside_functions(tmp_path):
+    path = tmp_path / "m.py"
+    path.write_text("import os, bench.page\nfrom app.bench import results\n\ndef f():\n"
+                    "    from bench import serve\n    from . import near\n", encoding="utf-8")
+    assert imported(path) == ["os", "bench.page", "app.bench", "app.bench.results", "bench",
+                              "bench.serve"]
 
 
 def app_part(module: str) -> str | None:
@@ -89,24 +113,28 @@ def app_part(module: str) -> str | None:
     return ".".join(parts[:2]) if parts[0] == "app" and len(parts) > 1 else None
 
 
+def imported(path: Path) -> list[str]:
+    """Every absolute name the module at `path` imports, inside functions too (an import put
+    off to run time still ties it): `from a import b` gives a and a.b."""
+    names: list[str] = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names += [node.module, *(f"{node.module}.{a.name}" for a in node.names)]
+        elif isinstance(node, ast.Import):
+            names += [a.name for a in node.names]
+    return names
+
+
 def app_imports() -> dict[str, set[str]]:
-    """For each part of the app, the other parts its modules import anywhere in them,
-    inside functions too (an import put off to run time still ties the parts)."""
+    """For each part of the app, the other parts its modules import anywhere in them."""
     graph: dict[str, set[str]] = {}
     for path in sorted((ROOT / "app").rglob("*.py")):
         module = ".".join(path.relative_to(ROOT).with_suffix("").parts)
         source = app_part(module.removesuffix(".__init__"))
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-            if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-                names = [node.module, *(f"{node.module}.{a.name}" for a in node.names)]
-            elif isinstance(node, ast.Import):
-                names = [a.name for a in node.names]
-            else:
-                continue
-            for name in names:
-                target = app_part(name)
-                if source and target and target != source:
-                    graph.setdefault(source, set()).add(target)
+        for name in imported(path):
+            target = app_part(name)
+            if source and target and target != source:
+                graph.setdefault(source, set()).add(target)
     return graph
 
 
