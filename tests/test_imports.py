@@ -92,18 +92,11 @@ def test_the_checkout_s_benchmarks_load_no_window():
 def test_nothing_of_the_app_nor_of_sim_imports_the_checkout_s_benchmarks():
     """bench/ stays out of the wheel (it drives a browser, shapes a network): a module of the
     package importing it, even inside a function, would fail for every user."""
-    users = [path.relative_to(ROOT).as_posix()
-             for folder in ("app", "sim") for path in sorted((ROOT / folder).rglob("*.py"))
-             if any(name == "bench" or name.startswith("bench.") for name in imported(path))]
+    graph = import_graph(ROOT, "app", "sim", "bench")
+    assert "bench.shaper" in graph["bench.page"]  # (bench's modules are in the graph)
+    users = sorted(module for module, imported in graph.items() if not module.startswith("bench")
+                   and any(other.split(".")[0] == "bench" for other in imported))
     assert users == []
-
-
-def test_imported_reads_imports_at_the_top_and_inside_functions(tmp_path):
-    path = tmp_path / "m.py"
-    path.write_text("import os, bench.page\nfrom app.bench import results\n\ndef f():\n"
-                    "    from bench import serve\n    from . import near\n", encoding="utf-8")
-    assert imported(path) == ["os", "bench.page", "app.bench", "app.bench.results", "bench",
-                              "bench.serve"]
 
 
 def app_part(module: str) -> str | None:
@@ -113,28 +106,24 @@ def app_part(module: str) -> str | None:
     return ".".join(parts[:2]) if parts[0] == "app" and len(parts) > 1 else None
 
 
-def imported(path: Path) -> list[str]:
-    """Every absolute name the module at `path` imports, inside functions too (an import put
-    off to run time still ties it): `from a import b` gives a and a.b."""
-    names: list[str] = []
-    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-        if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            names += [node.module, *(f"{node.module}.{a.name}" for a in node.names)]
-        elif isinstance(node, ast.Import):
-            names += [a.name for a in node.names]
-    return names
-
-
 def app_imports() -> dict[str, set[str]]:
-    """For each part of the app, the other parts its modules import anywhere in them."""
+    """For each part of the app, the other parts its modules import anywhere in them,
+    inside functions too (an import put off to run time still ties the parts)."""
     graph: dict[str, set[str]] = {}
     for path in sorted((ROOT / "app").rglob("*.py")):
         module = ".".join(path.relative_to(ROOT).with_suffix("").parts)
         source = app_part(module.removesuffix(".__init__"))
-        for name in imported(path):
-            target = app_part(name)
-            if source and target and target != source:
-                graph.setdefault(source, set()).add(target)
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+                names = [node.module, *(f"{node.module}.{a.name}" for a in node.names)]
+            elif isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            else:
+                continue
+            for name in names:
+                target = app_part(name)
+                if source and target and target != source:
+                    graph.setdefault(source, set()).add(target)
     return graph
 
 
@@ -220,7 +209,7 @@ def test_a_late_import_closing_a_circle_is_found(tmp_path):
 
 
 def test_no_module_of_the_project_imports_itself_through_others():
-    graph = import_graph(ROOT, "app", "sim")
+    graph = import_graph(ROOT, "app", "sim", "bench")
     assert "app.serve.feed" in graph["app.serve.server"]  # (the graph is the project's)
     assert circle(graph) == [], " -> ".join(circle(graph))
 
