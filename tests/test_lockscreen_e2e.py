@@ -83,8 +83,8 @@ def test_a_clock_message_is_applied_over_the_lock_screen_alone_and_never_an_olde
     received while another backdrop is shown is not written into it (it is once the lock
     screen is back); of two minutes received together, the newer is shown even when the
     older's picture is decoded last, and the older is never written."""
-    from app.bench.page import Page, hello
     from app.serve.protocol import clock_message
+    from bench.page import Page, hello
     from sim import Params
 
     def message(minute: str, shade: int) -> list[int]:

@@ -1,4 +1,4 @@
-"""The phone page through the shaping proxy (`frost bench page --network`): `frost serve`
+"""The phone page through the shaping proxy (`python -m bench page --network`): `frost serve`
 on loopback, the proxy in front of it, the page on an emulated phone in headless Chromium.
 The proxy forwards bytes unchanged, so the page's requests name the proxy's address in
 Host and Origin (127.0.0.1, the proxy's port), which a loopback server accepts: the page
@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import pytest
 
-from app.bench.network import PINGS, Phone, css_point, served
-from app.bench.page import browser_problem, launch
-from app.bench.shaper import PROFILES
+from bench.network import PINGS, Phone, css_point, served
+from bench.page import browser_problem, launch
+from bench.shaper import PROFILES
 
 PROBLEM = browser_problem()
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
@@ -83,7 +83,7 @@ def test_the_bench_browser_keeps_playwrights_switches_and_has_no_address_bar_pop
     starts it) and the two popups' features, and it renders no popup."""
     from playwright.sync_api import sync_playwright
 
-    from app.bench.page import CHROMIUM, QUIET_FEATURES
+    from bench.page import CHROMIUM, QUIET_FEATURES
 
     def disabled(switches: list[str]) -> list[list[str]]:
         return [s.split("=", 1)[1].split(",") for s in switches if s.startswith("--disable-features=")]

@@ -1,5 +1,5 @@
 """The phone page (app/web) in headless Chromium, without a server: Playwright serves its
-files from disk and stands in for the WebSocket (app.bench.page.Page). The desktop
+files from disk and stands in for the WebSocket (bench.page.Page). The desktop
 renderer (EGL) and numpy are the oracles."""
 
 from __future__ import annotations
@@ -13,7 +13,9 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.bench.page import (
+from app.gl import shaders
+from app.resources import WEB_DIR
+from bench.page import (
     Page,
     browser_problem,
     compare,
@@ -24,8 +26,6 @@ from app.bench.page import (
     launch,
     wire_deltas,
 )
-from app.gl import shaders
-from app.resources import WEB_DIR
 from sim import Params
 from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES
 
@@ -779,10 +779,10 @@ def test_a_snapshot_is_drawn_once_whole_not_part_by_part(browser, monkeypatch):
 
 
 def test_the_snapshot_work_bench_times_each_step_of_a_late_joins_snapshot(browser, capsys):
-    """`frost bench page --snapshot-work N` grows the window pane, gives the page its
+    """`python -m bench page --snapshot-work N` grows the window pane, gives the page its
     snapshot N times and prints a median and p99 for each step, the landscape phone's the
     rows its screen shows."""
-    from app.bench.page import snapshot_work
+    from bench.page import snapshot_work
 
     # (in the tests' browser: a second Playwright beside it would refuse to start)
     assert snapshot_work(2, 40, "swiftshader", browser=browser) == 0

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.bench.page import Page, browser_problem, hello
+from bench.page import Page, browser_problem, hello
 from sim import Params
 from tests.test_phone_e2e import BACKDROP, PHONE, grown, open_page, pause_and_settle, pixels, synced
 

@@ -22,9 +22,9 @@ import pytest
 from PIL import Image
 from test_phone_e2e import PHONE, PROBLEM, Serve, open_page, synced, token_needed
 
-from app.bench.page import ANGLE, chromium_options
 from app.images import cover
 from app.resources import ASSET_DIR
+from bench.page import ANGLE, chromium_options
 
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
 

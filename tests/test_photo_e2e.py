@@ -39,8 +39,8 @@ def test_the_page_makes_a_photo_cover_the_pane_as_pillow_does(browser):
     """A wide picture (thirds of red, green, blue, and a gradient down it) becomes a JPEG
     covering the pane, centred: what Pillow's cover gives (the oracle), so the middle of
     the green third fills it, top to bottom, with no bar."""
-    from app.bench.page import Page, hello
     from app.images import cover
+    from bench.page import Page, hello
     from sim import Params
 
     a = np.zeros((400, 1600, 3), np.uint8)

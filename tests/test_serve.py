@@ -591,9 +591,9 @@ def test_a_clear_while_paused_clears_every_page():
 
 
 def test_the_bench_prints_its_figures(capsys):
-    """frost bench serve runs (briefly) and says each figure, its attacks' too; no speed is
+    """python -m bench serve runs (briefly) and says each figure, its attacks' too; no speed is
     asserted."""
-    from app.bench import serve as bench
+    from bench import serve as bench
     bench.bytes_offline("c-2", 30, scribble=True)
     attacks = [a for name in bench.ATTACKS for a in ("--attack", name)]
     assert bench.main(["--skip-bytes", "--seconds", "3", "--pages", "2", *attacks,
@@ -621,7 +621,7 @@ def test_the_all_over_attack_asks_a_page_s_most_touches_at_fresh_spots_all_over(
     are at its turns, by the pane's sides)."""
     import itertools
 
-    from app.bench import attacks
+    from bench import attacks
     from sim.io.gestures import DRAG_SPACING_HC, path_points
     from sim.screen import HEIGHT, SIZE, WIDTH, touch_problem
 
@@ -642,7 +642,7 @@ def test_the_all_over_attack_asks_a_page_s_most_touches_at_fresh_spots_all_over(
 
 def test_the_attacks_pages_each_start_at_their_own_rows():
     """Page k of 16 begins k/16 of the way down the pane, so the pages sweep apart."""
-    from app.bench import attacks
+    from bench import attacks
 
     firsts = [next(attacks.sweep(attacks.Page(k, 16, 7.0)))[1] for k in range(16)]
     assert firsts == sorted(firsts) and len(set(firsts)) == 16

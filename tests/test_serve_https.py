@@ -497,7 +497,7 @@ def test_a_tls_handshake_never_finished_is_closed(tmp_path, monkeypatch):
 # ---- a browser told to trust the authority ----------------------------------------------------
 
 def browser_problem() -> str | None:
-    from app.bench.page import browser_problem as problem
+    from bench.page import browser_problem as problem
 
     found = problem()
     if found is None and not Path("/usr/bin/certutil").is_file():
@@ -512,7 +512,7 @@ def chromium(pw, home: Path, name: str):
     """The system Chromium with `home` as its HOME (its NSS database of trusted
     authorities is home/.pki/nssdb) and `name` resolved to this machine: a name that is no
     loopback name, so that only HTTPS makes the page a secure context."""
-    from app.bench.page import CHROMIUM_ARGS, chromium_options
+    from bench.page import CHROMIUM_ARGS, chromium_options
 
     args = [*CHROMIUM_ARGS, f"--host-resolver-rules=MAP {name} 127.0.0.1"]
     return pw.chromium.launch(**chromium_options(pw, args), env={**os.environ, "HOME": str(home)})
