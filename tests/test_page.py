@@ -86,6 +86,25 @@ def test_the_page_draws_with_the_tile_and_depth_of_the_hello(browser):
     assert got == [32, 24, 40, 24, 128]  # 760 / 32 = 23.75 and 1280 / 32 columns and rows
 
 
+def test_the_page_takes_its_screen_from_the_hello(browser):
+    """The page keeps no copy of the screen's size (frost serve's is sim.screen's SIZE): a
+    hello's screen of 380x640 px, on a viewport of as many CSS px, is a renderer of that
+    size, a pane that fills the canvas one px a px, and a click at CSS px (100, 200) is a
+    touch at the pane's (100, 200) (a pane of 760x1280 would be shown at half its px)."""
+    params = Params.preset("fern")
+    said, s = hello(params), params.grid_spacing
+    said = {**said, "screen": [380, 640], "grid": [380 // s + 1, 640 // s + 1]}
+    with Page(said, [], viewport=(380, 640), scale=1, browser=browser) as page:
+        p = page.page
+        assert p.evaluate("frost.renderer.size") == [380, 640]
+        assert p.evaluate("frost.canvasSize()") == [380, 640]
+        assert p.evaluate("frost.pane()") == {"x": 0, "y": 0, "w": 380, "h": 640, "scale": 1}
+        p.mouse.click(100, 200)
+        sent = sent_until(page, lambda sent: any(m.get("phase") == "up" for m in sent), "the click's up")
+    down = next(m for m in sent if m["phase"] == "down" and m["type"] == "touch")
+    assert abs(down["x"] - 100) < 1 and abs(down["y"] - 200) < 1, down
+
+
 def test_half_floats_as_numpy(browser):
     """Every half decodes as numpy does; numbers round to the nearest half (ties to even,
     subnormals, overflow) as numpy's astype(float16)."""

@@ -6,13 +6,14 @@
 export const FINGERS = 32;
 
 export class Pointers {
-  // canvas: the element; paneRect(): where the 760x1280 pane lies on it, canvas px;
-  // send(message): to the server.
-  constructor(canvas, paneRect, send, size = [760, 1280]) {
+  // canvas: the element; paneRect(): where the pane lies on it, canvas px (null before
+  // the hello says the pane's size); send(message): to the server; screen(): the pane's
+  // [width, height] px, the hello's.
+  constructor(canvas, paneRect, send, screen) {
     this.canvas = canvas;
     this.paneRect = paneRect;
     this.send = send;
-    this.size = size;
+    this.screen = screen;
     this.warm = false;
     this.fingers = new Map();  // pointerId -> {id, kind, moved: [x, y] | null}
     this.flushing = false;
@@ -35,9 +36,10 @@ export class Pointers {
     // (canvas px per CSS px each way: a canvas's rounded size stretches it a hair)
     const kx = this.canvas.width / (box.width || 1), ky = this.canvas.height / (box.height || 1);
     const r = this.paneRect();
+    if (!r) return null;  // (no pane yet)
     let x = ((event.clientX - box.left) * kx - r.x) / r.scale;
     let y = ((event.clientY - box.top) * ky - r.y) / r.scale;
-    const [w, h] = this.size;
+    const [w, h] = this.screen();
     if (clamp) {
       x = Math.min(Math.max(x, 0), w - 0.01);
       y = Math.min(Math.max(y, 0), h - 0.01);

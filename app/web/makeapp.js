@@ -54,7 +54,7 @@ export function makeApp(menu, query, state) {
 
   if (secure) {
     setTimeout(() => {
-      // (the cache opened it: install.js; refused: the page says why, main.js)
+      // (the cache opened it: install.js; refused: the page says why, connection.js)
       if (state.hellos || state.refused || window.frostInstall?.openedOffline) return;
       show("never-opened");
       // Hidden again by itself once the socket opens after all (trusted, or the server back),

@@ -9,7 +9,7 @@ import { Awake } from "./awake.js";
 export const BUZZ_MS = 12;
 
 export class PhoneApp {
-  // state: main.js's (state.fit is read by its paneRect); root: the menu's element.
+  // state: `window.frost` (state.fit is the pane's, pane.js); root: the menu's element.
   constructor(state, root, win = globalThis) {
     this.state = state;
     this.win = win;

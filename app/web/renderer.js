@@ -17,10 +17,12 @@ export class Renderer {
   // gl: a WebGL2 context; sources: the shader files' text (fetchShaders); grid: [cols, rows]
   // of the height grid, spacing px apart; tile: the side of a screen tile of the ice pass
   // (px), maxDepth: the height (px) above which features share the nearest depth; defines:
-  // each look's #defines ({look: {ice, feature}}). All but the screen's size are the
-  // hello's (grid, spacing, tile, max_depth, defines): the desktop's own. The material and
-  // the light are the hello's too (main.js sets them, as each hello and state message says).
-  constructor(gl, sources, { width = 760, height = 1280, grid, spacing, tile, maxDepth, defines }) {
+  // each look's #defines ({look: {ice, feature}}); width x height: the screen's px. All are
+  // the hello's (screen, grid, spacing, tile, max_depth, defines): the desktop's own. The
+  // material and the light are the hello's too (view.js sets them, as each hello and state
+  // message says).
+  constructor(gl, sources, { width, height, grid, spacing, tile, maxDepth, defines }) {
+    if (!(width > 0) || !(height > 0)) throw new Error(`a screen of ${width} x ${height} px: the hello's is needed`);
     if (!(tile > 0) || !(maxDepth > 0)) throw new Error(`a tile of ${tile} px, a depth of ${maxDepth} px: the hello's are needed`);
     if (!defines) throw new Error("no looks' #defines: the hello's are needed");
     this.gl = gl;

@@ -1,0 +1,33 @@
+// The page's status line: a word on what the page is doing, a notice that goes after a
+// while, and, once the server refused the page, the reason alone from then on.
+
+const NOTICE_MS = 4000;
+
+export class StatusLine {
+  constructor(element) {
+    this.element = element;
+    this.refused = null;  // why the server refused the page, said instead of anything else
+    this.timer = 0;
+  }
+
+  get text() {
+    return this.element.textContent;
+  }
+
+  say(text) {
+    this.element.textContent = this.refused || text;
+  }
+
+  // `text` for a few seconds (a refused choice, a photo sent).
+  notice(text) {
+    this.say(text);
+    clearTimeout(this.timer);
+    this.timer = setTimeout(() => this.say(""), NOTICE_MS);
+  }
+
+  // The server refuses this page for good: its reason is all the line says from now on.
+  refuse(why) {
+    this.refused = why;
+    this.say(why);
+  }
+}
