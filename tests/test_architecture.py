@@ -7,8 +7,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from conftest import ROOT
-from test_imports import import_graph, project_modules
+from support import ROOT
+from support.imports import import_graph, project_modules
 
 PAGE = ROOT / "docs" / "architecture.md"
 # A module's line: "- `app/window/hud.py`: ..."

@@ -206,7 +206,7 @@ def test_frost_render_shows_the_clock_it_is_given_and_the_same_every_time(tmp_pa
 # ---- the pages get the clock box only ---------------------------------------------------------
 
 def test_the_feed_sends_the_clock_box_of_each_minute_to_the_pages():
-    from test_serve_feed import ByHand, Wire
+    from support.feed import ByHand, Wire
 
     from app.serve.feed import Feed
     from app.serve.pages import Page
@@ -257,7 +257,7 @@ wait $APP
 """
 
 
-@pytest.mark.window
+@pytest.mark.usefixtures("window_tools")
 def test_the_window_shows_and_records_the_clock_it_is_given(tmp_path):
     """The window under Xvfb with --clock-start: its screenshot's clock box is the clock
     function drawn directly at the minute that screenshot's own session file says was
@@ -265,7 +265,7 @@ def test_the_window_shows_and_records_the_clock_it_is_given(tmp_path):
     import shlex
     import shutil
 
-    from test_window_e2e import xvfb
+    from support.window import xvfb
 
     if shutil.which("xdotool") is None or shutil.which("Xvfb") is None:
         pytest.fail("Xvfb and xdotool are dependencies: apt-get install xvfb xdotool")

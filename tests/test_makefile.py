@@ -4,28 +4,14 @@ on top, `make serve` runs `frost serve`; a stage already set up is not set up ag
 
 from __future__ import annotations
 
-import shutil
-import subprocess
-from pathlib import Path
-
 import pytest
-from conftest import ROOT
+from support.make import planned
 
 # What the demo needs from Debian, and what only the tests add (written out by hand).
 DEMO_PACKAGES = ["libegl1", "libgles2", "libgl1"]
 TEST_PACKAGES = ["xvfb", "xauth", "xdotool", "glslang-tools", "chromium", "libnss3-tools"]
 RUNTIME_INSTALL = "pip install -q -e .;"
 DEV_INSTALL = "pip install -q -e '.[dev]'"
-
-
-def planned(target: str, venv: Path) -> str:
-    """What `make -n target` prints for a virtualenv at `venv`."""
-    make = shutil.which("make")
-    assert make, "make is missing: apt-get install make"
-    done = subprocess.run([make, "-n", target, f"VENV={venv}"], cwd=ROOT, capture_output=True,
-                          text=True, timeout=60)
-    assert done.returncode == 0, done.stderr
-    return done.stdout
 
 
 def words(text: str) -> set[str]:
