@@ -26,6 +26,10 @@ from sim.look.ridges import VERTS_PER_LINK, ridge_triangles, width_level
 from sim.params import LOOKS
 from tests import glass_checks as checks
 
+# sha256 of the H x W x 3 frame of the paper look, llvmpipe, its shaders compiled as GLSL
+# 3.30 core (as every desktop compiles them; as ES 3.00 they differ by 1-2 / 255 on under
+# 1 % of the pixels: test_the_desktop_and_the_es_dialect_draw_the_same_frost); grown by
+# version 6's rules (one random stream); the runs are support.looks.PAPER_RUNS.
 PAPER_HASHES = {
     "a-1 melt": "028bd041d2a1999cc8338d0fe639b2c443ad20df50c8d12ece543e1c0e8e9a3b",
     "b-1": "e81f21688e7ac4fb85327d0cedd4e0a221f1edfff90c5b2633bb9690490765fc",

@@ -6,11 +6,7 @@ from app.tools.offscreen import Offscreen
 from sim import Params
 from sim.io.timeline import touch_events
 
-# sha256 of the H x W x 3 frame of the paper look, llvmpipe, its shaders compiled as GLSL
-# 3.30 core (as every desktop compiles them; as ES 3.00 they differ by 1-2 / 255 on under
-# 1 % of the pixels: test_the_desktop_and_the_es_dialect_draw_the_same_frost); grown by
-# version 6's rules (one random stream).
-# What each run is: preset, seed, ticks, touches, melts.
+# The paper's runs (tests/test_look.py pins their frames): preset, seed, ticks, touches, melts.
 PAPER_RUNS = {
     "c-2": ("c-2", 0, 150, [(380.0, 640.0)], []),
     "a-1 melt": ("a-1", 3, 120, [(300.0, 500.0), (480.0, 800.0)],
@@ -20,6 +16,8 @@ PAPER_RUNS = {
 
 
 def paper_frame(ctx, name: str):
+    """The frame of PAPER_RUNS' run `name`, grown by version 6's rules (one random stream)
+    and drawn in `ctx`."""
     preset, seed, ticks, touches, melts = PAPER_RUNS[name]
     run = Offscreen(ctx, Params.preset(preset), seed, version=6)
     run.grow(ticks, touch_events(touches) + melts)

@@ -26,8 +26,6 @@ from app.serve.server import make_app
 from sim import Params
 
 PAPER = Params.preset("c-2")
-
-
 CENTRE = (380.0, 640.0)
 
 

@@ -19,11 +19,7 @@ from sim.screen import HEIGHT, WIDTH
 from support.serve import ServeProcess
 
 PROBLEM = browser_problem()
-
-
 BACKDROP = load_backdrop("dusk").astype(int)
-
-
 PHONE = {"viewport": {"width": 390, "height": 844}, "device_scale_factor": 3,
          "has_touch": True, "is_mobile": True}
 
