@@ -51,3 +51,12 @@ def test_make_serve_runs_frost_serve_on_the_demos_stage(tmp_path):
     plan = planned("serve", tmp_path / "venv")
     assert RUNTIME_INSTALL in plan and DEV_INSTALL not in plan
     assert plan.splitlines()[-1].split() == [f"{tmp_path}/venv/bin/python", "-m", "app", "serve"]
+
+
+def test_what_make_would_run_reads_the_same_when_the_tests_run_under_make(tmp_path, monkeypatch):
+    """`make test` runs the suite inside make, whose level and flags its children inherit:
+    the plan read then is the one a user's make prints."""
+    alone = planned("test", tmp_path / "venv")
+    monkeypatch.setenv("MAKELEVEL", "1")
+    monkeypatch.setenv("MAKEFLAGS", " -- VENV=elsewhere")
+    assert planned("test", tmp_path / "venv") == alone
