@@ -467,6 +467,7 @@ def test_a_clear_while_paused_clears_every_page():
     serve(test)
 
 
+@pytest.mark.slow  # (its attacks' rounds: half a minute, a twelfth of make quick alone)
 def test_the_bench_prints_its_figures(capsys):
     """frost bench serve runs (briefly) and says each figure, its attacks' too; no speed is
     asserted."""
