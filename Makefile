@@ -31,7 +31,7 @@ test: $(TEST_STAMP)
 	$(PY) -m pytest -n $(WORKERS) $(PYTEST_ARGS)
 
 # A change's inner loop: the suite without what opens Chromium or a window under Xvfb,
-# the wheel's install and the validation runs (docs/testing.md); the same test stage.
+# the slow tests (the wheel's install, the serve bench) and the validation runs (docs/testing.md); the same test stage.
 QUICK := not browser and not window and not slow and not validation
 
 quick: $(TEST_STAMP)
