@@ -15,7 +15,7 @@ RUN_PKGS := libegl1 libgles2 libgl1
 # browser that drives the phone page, and certutil for the phone's HTTPS.
 APT_PKGS := $(RUN_PKGS) xvfb xauth xdotool glslang-tools chromium libnss3-tools
 
-.PHONY: run serve test test-deep bench bench-sim bench-render lint system-run system-test clean
+.PHONY: run serve test quick test-deep bench bench-sim bench-render lint system-run system-test clean
 
 run: $(RUN_STAMP)
 	$(PY) -m app $(ARGS)
@@ -29,6 +29,13 @@ WORKERS ?= 2
 
 test: $(TEST_STAMP)
 	$(PY) -m pytest -n $(WORKERS) $(PYTEST_ARGS)
+
+# A change's inner loop: the suite without what opens Chromium or a window under Xvfb,
+# the slow tests (the wheel's install, the serve bench) and the validation runs (docs/testing.md); the same test stage.
+QUICK := not browser and not window and not slow and not validation
+
+quick: $(TEST_STAMP)
+	$(PY) -m pytest -n $(WORKERS) -m "$(QUICK)" $(PYTEST_ARGS)
 
 # The suite plus its validation runs (DLA dimension, full-screen wipe, long brute force).
 test-deep: $(TEST_STAMP)

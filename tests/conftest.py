@@ -7,11 +7,11 @@ import importlib.util
 import os
 import shutil
 import tempfile
-from pathlib import Path
 
 import pytest
 from hypothesis import settings
 from hypothesis.configuration import set_hypothesis_home_dir
+from support.checkout import checkout_files
 
 # The tuning panel's library is installed only where it has a wheel (Python 3.11 on; on a
 # Mac Apple silicon with macOS 14 on); without it the window runs without the panel
@@ -51,18 +51,14 @@ def gl_ctx():
     ctx.release()
 
 
-ROOT = Path(__file__).resolve().parent.parent
-# What tooling may leave in the checkout; anything else a test run adds is a bug.
-TOOLING = {".git", ".venv", "__pycache__", ".pytest_cache", ".ruff_cache", "frost.egg-info",
-           "build"}
-
-
-def checkout_files() -> set[str]:
-    found = set()
-    for folder, dirs, files in os.walk(ROOT):
-        dirs[:] = [d for d in dirs if d not in TOOLING]
-        found.update(os.path.relpath(os.path.join(folder, f), ROOT) for f in files)
-    return found
+@pytest.fixture(scope="session")
+def window_tools():
+    """Xvfb and xdotool, for the tests that run the window on a display of their own
+    (support.window). They are dependencies (Makefile's APT_PKGS): missing is a failure."""
+    missing = [t for t in ("Xvfb", "xdotool") if shutil.which(t) is None]
+    if missing:
+        pytest.fail(f"{', '.join(missing)} missing: apt-get install xvfb xauth xdotool "
+                    "(`make test` does)")
 
 
 @pytest.fixture(scope="session", autouse=True)
@@ -81,7 +77,17 @@ def pytest_addoption(parser):
                      help="also run the validation runs (marked `validation`: minutes)")
 
 
+# What a test needs is what it uses: a test is marked from its fixtures (those it asks for
+# and theirs), so that `-m "not browser"` leaves out every test that opens Chromium
+# however it came to, and no marker is forgotten by hand.
+FIXTURE_MARKS = {"gl_ctx": "gl", "window_tools": "window", "pw": "browser"}
+
+
+@pytest.hookimpl(tryfirst=True)  # before `-m` selects by them
 def pytest_collection_modifyitems(config, items):
+    for item in items:
+        for fixture in FIXTURE_MARKS.keys() & set(item.fixturenames):
+            item.add_marker(FIXTURE_MARKS[fixture])
     if config.getoption("--deep"):
         return
     skip = pytest.mark.skip(reason="a validation run: `make test-deep` (pytest --deep) runs it")
@@ -98,21 +104,38 @@ def deep(request) -> bool:
 
 @pytest.fixture
 def serve(tmp_path):
-    """Starts `frost serve` (tests/test_phone_e2e.py's Serve) with these arguments, in
-    `folder` (default the test's tmp_path), as many as a test asks for; each stopped after
-    the test."""
-    from tests.test_phone_e2e import Serve
+    """Starts `frost serve` (support.serve.phone_serve) with these arguments, in `folder`
+    (default the test's tmp_path), as many as a test asks for; each stopped after the test."""
+    from support.serve import phone_serve
 
     started: list = []
 
     def start(*args: str, folder=None):
-        s = Serve(folder or tmp_path, *args)
+        s = phone_serve(folder or tmp_path, *args)
         started.append(s)
         return s
 
     yield start
     for s in started:
         s.stop()
+
+
+@pytest.fixture
+def phones(browser, serve):
+    """Opens pages on emulated phones; closes them before the server stops (`serve` is
+    torn down after this)."""
+    from support.phone import PHONE, open_page
+
+    contexts = []
+
+    def open_(url: str):
+        context = browser.new_context(**PHONE)
+        contexts.append(context)
+        return open_page(context, url)
+
+    yield open_
+    for context in contexts:
+        context.close()
 
 
 @pytest.fixture(scope="module")

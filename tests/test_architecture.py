@@ -7,8 +7,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from conftest import ROOT
-from test_imports import import_graph, project_modules
+from support import ROOT
+from support.imports import import_graph, project_modules
 
 PAGE = ROOT / "docs" / "architecture.md"
 PACKAGES = ("app", "sim", "bench")  # bench/: the checkout's benchmarks, outside the wheel

@@ -8,7 +8,7 @@ import json
 import numpy as np
 import pytest
 from PIL import Image
-from test_inputs import assert_refused_in_one_line, run_main
+from support.cli import assert_refused_in_one_line, run_main
 
 from app.backdrops import BACKDROPS, load_backdrop, next_backdrop
 from sim.io.session import check_view

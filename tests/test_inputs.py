@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, event, example, given, settings
 from hypothesis import strategies as st
+from support.cli import assert_refused_in_one_line, run_main
 
 from app.bench import render as bench
 from app.cli import commands, main, paths
@@ -91,24 +92,6 @@ def stubbed(monkeypatch):
         monkeypatch.setattr(module, "run", record)
     monkeypatch.setattr(commands, "display_problem", lambda: None)  # as if a display works
     return calls
-
-
-def run_main(argv: list[str]) -> tuple[int, str]:
-    err = io.StringIO()
-    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
-        try:
-            status = main(argv)
-        except SystemExit as stop:
-            status = stop.code
-    return status, err.getvalue()
-
-
-def assert_refused_in_one_line(status, err: str, *words: str) -> None:
-    assert status == 2, err
-    assert err.count("\n") == 1 and err.startswith("frost: error: "), err
-    assert "Traceback" not in err
-    for word in words:
-        assert word in err, err
 
 
 def assert_runnable(args, params) -> None:

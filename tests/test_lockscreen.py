@@ -217,7 +217,7 @@ def test_frost_render_shows_the_clock_it_is_given_and_the_same_every_time(tmp_pa
 # ---- the pages get the clock box only ---------------------------------------------------------
 
 def test_the_feed_sends_the_clock_box_of_each_minute_to_the_pages():
-    from test_serve_feed import ByHand, Wire
+    from support.feed import ByHand, Wire
 
     from app.serve.feed import Feed
     from app.serve.pages import Page
@@ -282,7 +282,7 @@ def test_a_minute_drawn_too_late_is_never_sent(case):
     """A minute's picture drawn on a worker after the lock screen was left, or after a
     newer minute was asked for, is not sent: a page never shows a clock over another
     backdrop, nor an older minute after a newer one."""
-    from test_serve_feed import ByHand, Wire
+    from support.feed import ByHand, Wire
 
     from app.serve.feed import Feed
     from app.serve.pages import Page
@@ -331,7 +331,7 @@ wait $APP
 """
 
 
-@pytest.mark.window
+@pytest.mark.usefixtures("window_tools")
 def test_the_window_shows_and_records_the_clock_it_is_given(tmp_path):
     """The window under Xvfb with --clock-start: its screenshot's clock box is the clock
     function drawn directly at the minute that screenshot's own session file says was
@@ -339,7 +339,7 @@ def test_the_window_shows_and_records_the_clock_it_is_given(tmp_path):
     import shlex
     import shutil
 
-    from test_window_e2e import xvfb
+    from support.window import xvfb
 
     if shutil.which("xdotool") is None or shutil.which("Xvfb") is None:
         pytest.fail("Xvfb and xdotool are dependencies: apt-get install xvfb xdotool")

@@ -15,7 +15,7 @@ from datetime import datetime, timedelta
 import numpy as np
 import pytest
 from PIL import Image
-from test_phone_e2e import PROBLEM, ROOT, grown, pause_and_settle, phones, pixels, tap  # noqa: F401, F811
+from support.phone import PROBLEM, grown, pause_and_settle, pixels, tap
 
 from app.backdrops import LIVE, load_backdrop, read_backdrop
 from app.lockscreen import CLOCK_BOX, MINUTE_FORMAT, with_clock

@@ -10,6 +10,7 @@ import subprocess
 
 import numpy as np
 import pytest
+from support.looks import PAPER_RUNS, paper_frame
 
 from app.gl import shaders
 from app.gl.renderer import Renderer
@@ -28,29 +29,12 @@ from tests import glass_checks as checks
 # sha256 of the H x W x 3 frame of the paper look, llvmpipe, its shaders compiled as GLSL
 # 3.30 core (as every desktop compiles them; as ES 3.00 they differ by 1-2 / 255 on under
 # 1 % of the pixels: test_the_desktop_and_the_es_dialect_draw_the_same_frost); grown by
-# version 6's rules (one random stream).
-# What each run is: preset, seed, ticks, touches, melts.
-PAPER_RUNS = {
-    "c-2": ("c-2", 0, 150, [(380.0, 640.0)], []),
-    "a-1 melt": ("a-1", 3, 120, [(300.0, 500.0), (480.0, 800.0)],
-                 [{"tick": 90, "kind": "melt", "x": 300.0, "y": 520.0, "r": 30.0}]),
-    "b-1": ("b-1", 1, 100, [(200.0, 300.0)], []),
-}
+# version 6's rules (one random stream); the runs are support.looks.PAPER_RUNS.
 PAPER_HASHES = {
     "a-1 melt": "028bd041d2a1999cc8338d0fe639b2c443ad20df50c8d12ece543e1c0e8e9a3b",
     "b-1": "e81f21688e7ac4fb85327d0cedd4e0a221f1edfff90c5b2633bb9690490765fc",
     "c-2": "f1bdf7353a811f46558f02fd93f78671f2c536d46a0a9d7cd257b71f19e9dfea",
 }
-
-
-def paper_frame(ctx, name: str):
-    preset, seed, ticks, touches, melts = PAPER_RUNS[name]
-    run = Offscreen(ctx, Params.preset(preset), seed, version=6)
-    run.grow(ticks, touch_events(touches) + melts)
-    try:
-        return run.frame()
-    finally:
-        run.release()
 
 
 @pytest.mark.parametrize("name", sorted(PAPER_RUNS))

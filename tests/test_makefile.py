@@ -4,28 +4,14 @@ on top, `make serve` runs `frost serve`; a stage already set up is not set up ag
 
 from __future__ import annotations
 
-import shutil
-import subprocess
-from pathlib import Path
-
 import pytest
-from conftest import ROOT
+from support.make import planned
 
 # What the demo needs from Debian, and what only the tests add (written out by hand).
 DEMO_PACKAGES = ["libegl1", "libgles2", "libgl1"]
 TEST_PACKAGES = ["xvfb", "xauth", "xdotool", "glslang-tools", "chromium", "libnss3-tools"]
 RUNTIME_INSTALL = "pip install -q -e .;"
 DEV_INSTALL = "pip install -q -e '.[dev]'"
-
-
-def planned(target: str, venv: Path) -> str:
-    """What `make -n target` prints for a virtualenv at `venv`."""
-    make = shutil.which("make")
-    assert make, "make is missing: apt-get install make"
-    done = subprocess.run([make, "-n", target, f"VENV={venv}"], cwd=ROOT, capture_output=True,
-                          text=True, timeout=60)
-    assert done.returncode == 0, done.stderr
-    return done.stdout
 
 
 def words(text: str) -> set[str]:
@@ -65,3 +51,12 @@ def test_make_serve_runs_frost_serve_on_the_demos_stage(tmp_path):
     plan = planned("serve", tmp_path / "venv")
     assert RUNTIME_INSTALL in plan and DEV_INSTALL not in plan
     assert plan.splitlines()[-1].split() == [f"{tmp_path}/venv/bin/python", "-m", "app", "serve"]
+
+
+def test_what_make_would_run_reads_the_same_when_the_tests_run_under_make(tmp_path, monkeypatch):
+    """`make test` runs the suite inside make, whose level and flags its children inherit:
+    the plan read then is the one a user's make prints."""
+    alone = planned("test", tmp_path / "venv")
+    monkeypatch.setenv("MAKELEVEL", "1")
+    monkeypatch.setenv("MAKEFLAGS", " -- VENV=elsewhere")
+    assert planned("test", tmp_path / "venv") == alone

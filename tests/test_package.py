@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import os
-import re
 import shutil
 import subprocess
 import sys
@@ -15,10 +14,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ROOT, TOOLING
 from PIL import Image
+from support import ROOT
+from support.checkout import TOOLING
+from support.serve import ServeProcess
 
-pytestmark = pytest.mark.slow
+# Longer than the suite's timeout by nature: the first test to use `venv` waits for its
+# two steps, each allowed 5 minutes (_run), and a wheel is built before.
+pytestmark = [pytest.mark.slow, pytest.mark.timeout(1200)]
 
 # The render the test asks the installed command for (arguments after `frost`).
 RENDER_ARGS = ["render", "--touch", "380,640", "--ticks", "50", "--out", "x.png"]
@@ -181,15 +184,11 @@ def test_installed_frost_renders_the_touch_from_another_folder(venv, elsewhere):
 def test_installed_frost_serve_answers_every_file_of_the_page_s_shell(venv, elsewhere):
     """The installed app's files (the worker's list: the page, its modules, icons, shaders,
     backdrops) all come from the installed package, the page's as the checkout has them."""
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME", "VIRTUAL_ENV")}
-    proc = subprocess.Popen([str(venv / "frost"), "serve", "--port", "0", "--max-seconds", "120"],
-                            cwd=elsewhere, env={**env, "PYTHONUNBUFFERED": "1"}, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True)
+    served = ServeProcess("--port", "0", "--max-seconds", "120", cwd=elsewhere,
+                          frost=(str(venv / "frost"),),
+                          env={"PYTHONPATH": None, "PYTHONHOME": None, "VIRTUAL_ENV": None})
     try:
-        line = proc.stdout.readline()
-        found = re.search(r"open (http://\S+)", line)
-        assert found, line
-        url = found.group(1)
+        url = served.url
         with urllib.request.urlopen(url + "sw.js", timeout=30) as r:
             shell = json.loads(r.read().decode().split("\n", 1)[0][len("const SHELL = "):-1])
         web = ROOT / "app" / "web"
@@ -205,5 +204,4 @@ def test_installed_frost_serve_answers_every_file_of_the_page_s_shell(venv, else
                 with urllib.request.urlopen(url + icon["src"], timeout=30) as got:
                     assert got.status == 200, icon
     finally:
-        proc.terminate()
-        proc.communicate(timeout=60)
+        served.stop()

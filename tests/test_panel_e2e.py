@@ -23,13 +23,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
-from test_window_e2e import ROOT, finish, played, wait_for, window_id, xdo
+from support import ROOT
+from support.window import finish, played, wait_for, window_id, xdo
 
 from sim import Params
 from sim.io.paramsets import load_params
 from sim.io.session import SessionLog
 
-pytestmark = pytest.mark.window
+pytestmark = pytest.mark.usefixtures("window_tools")
 
 # The window with the panel's debug lines (where each widget lies) in its log.
 APP = ("import logging, sys; logging.getLogger('app.window.panel').setLevel(logging.DEBUG); "

@@ -17,10 +17,10 @@ from urllib.request import urlopen
 import numpy as np
 import pytest
 from PIL import Image
+from support.phone import BACKDROP, PHONE, grown, open_page, pause_and_settle, pixels, synced
 
 from bench.page import Page, browser_problem, hello
 from sim import Params
-from tests.test_phone_e2e import BACKDROP, PHONE, grown, open_page, pause_and_settle, pixels, synced
 
 PROBLEM = browser_problem()
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]

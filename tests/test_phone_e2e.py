@@ -9,140 +9,31 @@ import base64
 import io
 import json
 import os
-import re
-import signal
 import socket
 import subprocess
 import sys
-import time
-import urllib.error
-import urllib.request
 from pathlib import Path
 
 import numpy as np
 import pytest
 from PIL import Image
+from support.phone import (
+    BACKDROP,
+    PHONE,
+    PROBLEM,
+    css_point,
+    grown,
+    pause_and_settle,
+    pixels,
+    tap,
+    token_needed,
+)
 
-from app.backdrops import load_backdrop
-from bench.page import browser_problem, compare
-from sim.screen import HEIGHT, WIDTH
+from bench.page import compare
 
-PROBLEM = browser_problem()
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
 
 ROOT = Path(__file__).resolve().parent.parent
-BACKDROP = load_backdrop("dusk").astype(int)
-PHONE = {"viewport": {"width": 390, "height": 844}, "device_scale_factor": 3,
-         "has_touch": True, "is_mobile": True}
-
-
-class Serve:
-    """`frost serve` on a free port (its own choice: --port 0), stopped with SIGINT."""
-
-    def __init__(self, tmp: Path, *args: str):
-        self.tmp = tmp
-        cmd = [sys.executable, "-m", "app", "serve", "--port", "0", "--session-dir", str(tmp),
-               "--preset", "fern", "--seed", "5", *args]
-        self.proc = subprocess.Popen(cmd, cwd=tmp, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                     text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
-        self.output: list[str] = []
-        deadline = time.monotonic() + 30
-        while time.monotonic() < deadline:
-            line = self.proc.stdout.readline()
-            if not line:
-                break
-            self.output.append(line)
-            found = re.search(r"open (http://\S+)", line)
-            if found:
-                self.url = found.group(1)
-                break
-        else:
-            line = ""
-        if not getattr(self, "url", None):
-            self.proc.kill()
-            raise AssertionError("frost serve did not start:\n" + "".join(self.output))
-        self.port = int(re.search(r":(\d+)/", self.url).group(1))
-        token = re.search(r"token=([\w-]+)", self.url)
-        self.token = token.group(1) if token else None
-        # The address a page on this machine opens (a LAN URL names another interface).
-        self.local = f"http://127.0.0.1:{self.port}/" + (f"?token={self.token}" if self.token else "")
-
-    def stop(self) -> str:
-        """Stop as Ctrl-C does; everything it printed."""
-        if self.proc.poll() is None:
-            self.proc.send_signal(signal.SIGINT)
-        try:
-            rest, _ = self.proc.communicate(timeout=30)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
-            rest, _ = self.proc.communicate()
-        return "".join(self.output) + (rest or "")
-
-
-@pytest.fixture
-def phones(browser, serve):
-    """Opens pages on emulated phones; closes them before the server stops (`serve` is
-    torn down after this)."""
-    contexts = []
-
-    def open_(url: str):
-        context = browser.new_context(**PHONE)
-        contexts.append(context)
-        return open_page(context, url)
-
-    yield open_
-    for context in contexts:
-        context.close()
-
-
-def open_page(context, url: str):
-    """A page of `url`, synced and drawn, having logged no error and failed no request
-    (a browser asks for /favicon.ico unless the page names its icon)."""
-    page = context.new_page()
-    failed: list[str] = []
-    page.on("console", lambda m: m.type == "error" and failed.append(m.text))
-    page.on("response", lambda r: r.status >= 400 and failed.append(f"{r.status} {r.url}"))
-    page.goto(url)
-    synced(page, "frost.frames > 0 && frost.shownBackdrop")
-    page.wait_for_timeout(300)
-    assert failed == []
-    return page
-
-
-def synced(page, also: str = "true", timeout: float = 60_000) -> None:
-    """Wait until the page has synced with the server and `also` (a JS expression) holds,
-    or has said an error (failing on it). A page that never does fails saying what it was
-    doing: its address, its status line, its socket's counts. (A loaded machine running
-    the whole suite took over 30 s once to sync a second page.)"""
-    from playwright.sync_api import TimeoutError as Timeout
-
-    try:
-        page.wait_for_function(f"window.frost && (frost.error || (frost.synced && ({also})))",
-                               timeout=timeout)
-    except Timeout:
-        seen = page.evaluate("""() => ({url: location.href, status:
-            (document.getElementById('status') || {}).textContent, frost: window.frost &&
-            {connected: frost.connected, hellos: frost.hellos, messages: frost.messages,
-             synced: frost.synced, frames: frost.frames, lost: frost.lost,
-             backdrop: frost.backdrop, shown: frost.shownBackdrop}})""")
-        raise AssertionError(f"the page never synced ({also}): {seen}") from None
-    assert page.evaluate("window.frost.error") is None
-
-
-def pixels(page) -> np.ndarray:
-    """The page's pane, 1280 x 760 x 3, top row first."""
-    raw = base64.b64decode(page.evaluate("frost.framePixels()"))
-    return np.frombuffer(raw, np.uint8).reshape(HEIGHT, WIDTH, 4)[:, :, :3].copy()
-
-
-def css_point(page, x: float, y: float) -> tuple[float, float]:
-    """CSS px of the pane's px (x, y)."""
-    r = page.evaluate("frost.paneCss()")
-    return r["x"] + x * r["sx"], r["y"] + y * r["sy"]
-
-
-def tap(page, x: float, y: float) -> None:
-    page.touchscreen.tap(*css_point(page, x, y))
 
 
 def server_tick(page, stamp: float) -> int:
@@ -152,39 +43,12 @@ def server_tick(page, stamp: float) -> int:
     return page.evaluate("frost.pong.tick")
 
 
-def grown(page, ticks: int) -> int:
-    """Wait until the page holds `ticks` more of the server's ticks (frost grown for a
-    while, 25 ticks a second, however slowly a loaded machine steps them); that tick."""
-    tick = page.evaluate("frost.tick") + ticks
-    page.wait_for_function(f"frost.tick >= {tick}", timeout=120_000)
-    return tick
-
-
 def keeps_pace(page, seconds: float) -> tuple[int, int]:
     """(ticks the page drew, ticks the server stepped) over `seconds`."""
     page0, server0 = page.evaluate("frost.tick"), server_tick(page, 1)
     page.wait_for_timeout(seconds * 1000)
     server1 = server_tick(page, 2)
     return page.evaluate("frost.tick") - page0, server1 - server0
-
-
-def pause_and_settle(pages) -> int:
-    """Pause the server (from the first page's menu) and wait until every page holds the
-    same last tick; that tick."""
-    first = pages[0]
-    first.click("#open")
-    first.click("#pause")
-    first.click("#open")
-    for page in pages:
-        page.wait_for_function("frost.hello && frost.hello.paused", timeout=30_000)
-    last = None
-    for _ in range(50):  # the ticks already on their way arrive within a few frames
-        ticks = [p.evaluate("frost.tick") for p in pages]
-        if len(set(ticks)) == 1 and ticks[0] == last:
-            return ticks[0]
-        last = ticks[0] if len(set(ticks)) == 1 else None
-        time.sleep(0.2)
-    raise AssertionError(f"the pages never agreed on a tick: {ticks}")
 
 
 def test_a_tap_grows_frost_in_the_page(serve, phones):
@@ -224,17 +88,6 @@ def test_two_pages_see_the_same_frost_and_a_late_one_gets_it_whole(serve, phones
     # triangles the depth test keeps.
     got = compare(pa, pixels(late))
     assert got["within8"] > 0.999 and got["mad"] < 0.2, got
-
-
-def token_needed(s: Serve, paths) -> None:
-    """Each of `paths` on server `s` is refused (403) without its token and served with it."""
-    bare = f"http://127.0.0.1:{s.port}/"
-    for path in paths:
-        with pytest.raises(urllib.error.HTTPError) as err:
-            urllib.request.urlopen(bare + path, timeout=10)
-        assert err.value.code == 403, path
-        with urllib.request.urlopen(f"{bare}{path}?token={s.token}", timeout=10) as r:
-            assert r.status == 200, path
 
 
 def test_a_request_without_the_token_is_refused(serve, phones, browser):

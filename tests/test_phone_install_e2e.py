@@ -20,11 +20,20 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
-from test_phone_e2e import PHONE, PROBLEM, Serve, open_page, synced, token_needed
+from support.phone import (
+    PHONE,
+    PROBLEM,
+    open_page,
+    persistent,
+    synced,
+    token_needed,
+    wait_for_shell,
+    worker_shell,
+)
+from support.serve import ServeProcess
 
 from app.images import cover
 from app.resources import ASSET_DIR
-from bench.page import ANGLE, chromium_options
 
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
 
@@ -36,13 +45,6 @@ def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
-
-
-def persistent(pw, profile: Path, **context):
-    """Chromium with a profile kept in `profile` (not incognito), as a phone (`context`:
-    more of launch_persistent_context's options; `args` are added to the WebGL ones)."""
-    options = chromium_options(pw, [*ANGLE["swiftshader"], *context.pop("args", [])])
-    return pw.chromium.launch_persistent_context(str(profile), **options, **{**PHONE, **context})
 
 
 def installability_errors(context, page) -> list[dict]:
@@ -66,34 +68,11 @@ def installability(pw, url: str, profile: Path, **context) -> list[dict]:
         ctx.close()
 
 
-def cached_shells(page) -> list[str]:
-    return page.evaluate("caches.keys().then((k) => k.filter((n) => n.startsWith('frost-shell-')))")
-
-
-def wait_for_shell(page, digest: str | None = None) -> None:
-    """Until a worker controls the page and its cache (of `digest`, if given) is the only one."""
-    page.wait_for_function("navigator.serviceWorker.controller !== null", timeout=30_000)
-    want = [f"frost-shell-{digest}"] if digest else None
-    for _ in range(300):
-        names = cached_shells(page)
-        if (names == want) if want else len(names) == 1:
-            return
-        page.wait_for_timeout(100)
-    raise AssertionError(f"the shell's cache is {names}, not {want}")
-
-
 def status(page) -> str:
     return page.evaluate("document.getElementById('status').textContent")
 
 
-def worker_shell(s: Serve) -> dict:
-    """The first line of the server's worker: {"hash": ..., "files": [...]}."""
-    query = f"?token={s.token}" if s.token else ""
-    with urllib.request.urlopen(f"http://127.0.0.1:{s.port}/sw.js{query}", timeout=10) as r:
-        return json.loads(r.read().decode().split("\n", 1)[0][len("const SHELL = "):-1])
-
-
-def shell_hash(s: Serve) -> str:
+def shell_hash(s: ServeProcess) -> str:
     return worker_shell(s)["hash"]
 
 
@@ -115,13 +94,13 @@ def test_chromium_finds_the_https_page_installable_and_it_opens_without_the_serv
     loopback name), in a Chromium whose NSS database trusts the kept authority. Opened from
     the cache, the page says the server is not reachable, and not the certificate's steps
     an HTTPS page whose socket never opened shows (this phone trusted it, to cache it)."""
-    from test_serve_https import Serve as LanServe
-    from test_serve_https import browser_problem as https_problem
-    from test_serve_https import trusting_home
+    from support.https import browser_problem as https_problem
+    from support.https import trusting_home
+    from support.serve import lan_serve
 
     if https_problem() is not None:
         pytest.skip(str(https_problem()))
-    s = LanServe(tmp_path / "config")
+    s = lan_serve(tmp_path / "config")
     try:
         name = socket.gethostname().lower()
         home = trusting_home(tmp_path / "home", tmp_path / "config" / "frost" / "ca.crt")

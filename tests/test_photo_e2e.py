@@ -14,7 +14,7 @@ import urllib.request
 import numpy as np
 import pytest
 from PIL import Image
-from test_phone_e2e import PROBLEM, grown, open_page, pause_and_settle, phones, pixels, tap  # noqa: F401, F811
+from support.phone import PROBLEM, grown, open_page, pause_and_settle, pixels, tap
 
 from app import photos
 from app.backdrops import load_backdrop
@@ -138,7 +138,7 @@ def photos_gap_ms() -> int:
 
 
 def test_the_installed_pages_worker_never_answers_or_keeps_a_photo(pw, serve, tmp_path):
-    from test_phone_install_e2e import persistent, wait_for_shell, worker_shell
+    from support.phone import persistent, wait_for_shell, worker_shell
 
     s = serve()
     good = tmp_path / "photo.jpg"

@@ -359,8 +359,8 @@ def test_a_served_sessions_photo_is_drawn_by_frost_replay(tmp_path):
     import asyncio
 
     import aiohttp
-    from test_serve import read_until
-    from test_serve_photo import page, run, upload
+    from support.page_model import read_until
+    from support.photos import page, run, upload
 
     saved = tmp_path / "session.json"
 

@@ -14,28 +14,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
+from support.photos import encoded, exif_photo, quadrants
 
 from app import photos
 from app.backdrops import load_backdrop
 from sim.screen import HEIGHT, WIDTH
 
 SIZE = (WIDTH, HEIGHT)
-
-
-def encoded(image: Image.Image, fmt: str, **kwargs) -> bytes:
-    out = io.BytesIO()
-    image.save(out, fmt, **kwargs)
-    return out.getvalue()
-
-
-def quadrants(w: int, h: int) -> Image.Image:
-    """Top-left red, top-right green, bottom-left blue, bottom-right white."""
-    a = np.zeros((h, w, 3), np.uint8)
-    a[: h // 2, : w // 2] = (255, 0, 0)
-    a[: h // 2, w // 2:] = (0, 255, 0)
-    a[h // 2:, : w // 2] = (0, 0, 255)
-    a[h // 2:, w // 2:] = (255, 255, 255)
-    return Image.fromarray(a)
 
 
 def colour_at(jpeg: bytes, fx: float, fy: float) -> tuple[int, ...]:
@@ -152,16 +137,6 @@ def test_a_regular_file_over_the_limit_is_refused_from_its_size(tmp_path):
         photos.read_file(big)
     big.write_bytes(bytes(photos.MAX_BYTES))  # at the limit: read (and left to prepare)
     assert len(photos.read_file(big)) == photos.MAX_BYTES
-
-
-def exif_photo(orientation: int, gps: bool = False) -> bytes:
-    """A landscape JPEG of quadrants whose EXIF says `orientation` (and a GPS position)."""
-    exif = Image.Exif()
-    exif[0x0112] = orientation
-    exif[0x010F] = "PhoneMaker"
-    if gps:
-        exif[0x8825] = {1: "N", 2: (51.0, 30.0, 0.0), 3: "W", 4: (0.0, 7.0, 0.0)}
-    return encoded(quadrants(1600, 1200), "JPEG", exif=exif.tobytes(), quality=95)
 
 
 @pytest.mark.parametrize("orientation, top_left", [

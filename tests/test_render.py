@@ -13,6 +13,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
+from support.looks import paper_frame
+from support.window import MAC_LIMITS
 
 from app.gl.renderer import Renderer
 from app.gl.shaders import HEADERS, SHADER_DIR, load_program, shader_source
@@ -318,17 +320,13 @@ def test_an_unknown_shader_dialect_is_a_value_error_naming_it(dialect):
         shader_source("ice.frag", dialect=dialect)
 
 
-# Mesa with a Mac's limits: OpenGL 4.1 core, GLSL 4.10, no ES 3 compatibility. A proxy for a
-# Mac, not one (it still has functions newer than 4.1): docs/platforms.md says so.
-MAC_LIMITS = {"MESA_GL_VERSION_OVERRIDE": "4.1", "MESA_GLSL_VERSION_OVERRIDE": "410",
-              "MESA_EXTENSION_OVERRIDE": "-GL_ARB_ES3_compatibility"}
 MAC_RUN = """
 import sys
 import numpy as np
 sys.path[:0] = [".", "tests"]
 from app.gl.shaders import load_program
 from app.tools.offscreen import make_context
-import test_look
+from support.looks import paper_frame
 ctx = make_context()
 print("GL", ctx.info["GL_VERSION"])
 try:
@@ -338,7 +336,7 @@ except Exception:
     print("ES 3.00 refused")
 for vert, frag, defines in PROGRAMS:
     load_program(ctx, vert, frag, tuple(defines)).release()
-np.save(sys.argv[1], test_look.paper_frame(ctx, "c-2"))
+np.save(sys.argv[1], paper_frame(ctx, "c-2"))
 """
 
 
@@ -347,8 +345,6 @@ def test_under_a_macs_opengl_every_program_compiles_and_draws_the_frost(gl_ctx, 
     """Under a Mac's limits every program of every look compiles (as 3.30 core: the ES 3.00
     header is refused there) and the frost drawn matches the ES 3.00 path's within 1 / 255
     on 99.9 % of the pixels (the same rasteriser)."""
-    import test_look  # (its paper run)
-
     from app.gl import shaders
     from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES
 
@@ -363,7 +359,7 @@ def test_under_a_macs_opengl_every_program_compiles_and_draws_the_frost(gl_ctx, 
     assert run.returncode == 0, run.stdout + run.stderr
     assert "GL 4.1" in run.stdout and "ES 3.00 refused" in run.stdout, run.stdout
     monkeypatch.setattr(shaders, "DESKTOP", "es")
-    es = test_look.paper_frame(gl_ctx, "c-2").astype(np.int16)
+    es = paper_frame(gl_ctx, "c-2").astype(np.int16)
     off = np.abs(np.load(out).astype(np.int16) - es).max(axis=2)
     assert (off <= 1).mean() >= 0.999, ((off > 1).mean(), off.max())
 

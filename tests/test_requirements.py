@@ -9,8 +9,8 @@ import re
 import sys
 
 import pytest
-from conftest import ROOT
 from packaging.requirements import Requirement
+from support import ROOT
 
 from app.window import no_panel
 

@@ -19,7 +19,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_window_e2e import ROOT, finish, played, wait_for, window_id, xdo
+from support import ROOT
+from support.window import finish, played, wait_for, window_id, xdo
 
 STROKES_LEFT, STROKES_RIGHT = 12, 6
 SPEED = 800.0  # px per second, a brisk human drag
@@ -29,7 +30,7 @@ MOVE_EVERY = 0.025  # s between pointer moves
 TUNING_KEYS = ["equal", "minus", "bracketright", "bracketleft", "apostrophe", "semicolon",
                "o", "p", "l", "k", *"123456789", "0", "w", "t", "y", "g", "g"]
 
-pytestmark = pytest.mark.window
+pytestmark = pytest.mark.usefixtures("window_tools")
 
 
 def drag(wid: str, button: str, a, b) -> None:

@@ -9,13 +9,13 @@ import asyncio
 
 import aiohttp
 import pytest
+from support.page_model import until
 
 from app.serve import guard
 from app.serve.feed import Feed
 from app.serve.listen import listen
 from app.serve.server import make_app
 from sim import Params
-from tests.test_serve import until
 
 HEAD = 0.4  # the shortened deadline for a request's head, s
 GET = b"GET /meta HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"

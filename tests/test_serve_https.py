@@ -15,13 +15,11 @@ import io
 import json
 import os
 import re
-import signal
 import socket
 import ssl
 import stat
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import aiohttp
@@ -31,7 +29,9 @@ from cryptography import x509
 from cryptography.hazmat.primitives import serialization
 from cryptography.x509.oid import ExtendedKeyUsageOID
 from PIL import Image
-from test_phone_e2e import PHONE, synced
+from support.https import browser_problem, trusting_home
+from support.phone import PHONE, synced
+from support.serve import ServeProcess, lan_serve
 
 from app.serve import trust
 
@@ -214,51 +214,14 @@ def test_loopback_however_written_is_served_as_loopback_is(host):
 
 # ---- frost serve --host 0.0.0.0, end to end ---------------------------------------------------
 
-class Serve:
-    """`frost serve --host 0.0.0.0 --port 0` with its config folder under tmp; its two URLs."""
-
-    def __init__(self, config: Path, *args: str, env: dict | None = None):
-        env = {**os.environ, "XDG_CONFIG_HOME": str(config), "PYTHONUNBUFFERED": "1", **(env or {})}
-        self.proc = subprocess.Popen(
-            [sys.executable, "-m", "app", "serve", "--host", "0.0.0.0", "--port", "0",
-             "--preset", "c-2", *args], cwd=ROOT, env=env, text=True,
-            stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
-        self.lines: list[str] = []
-        self.http = self.https = None
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline and not (self.http and (self.https or "--no-https" in args)):
-            line = self.proc.stdout.readline()
-            if not line:
-                break
-            self.lines.append(line)
-            if m := re.search(r"open (http://\S+)", line):
-                self.http = m.group(1)
-            if m := re.search(r"as an app: (https://\S+)", line):
-                self.https = m.group(1)
-        if not self.http:
-            self.stop()
-            raise AssertionError("frost serve did not start:\n" + "".join(self.lines))
-        self.token = re.search(r"token=([\w-]+)", self.http).group(1)
-        self.http_port = int(re.search(r":(\d+)/", self.http).group(1))
-        self.https_port = int(re.search(r":(\d+)/", self.https).group(1)) if self.https else None
-
-    def stop(self) -> str:
-        if self.proc.poll() is None:
-            self.proc.send_signal(signal.SIGINT)
-        try:
-            out, _ = self.proc.communicate(timeout=30)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
-            out, _ = self.proc.communicate()
-        return "".join(self.lines) + (out or "")
-
-
 @pytest.fixture
 def serve(tmp_path):
-    started: list[Serve] = []
+    """`frost serve --host 0.0.0.0` (support.serve.lan_serve), its config folder under
+    tmp_path unless `config` says; each stopped after the test."""
+    started: list[ServeProcess] = []
 
-    def start(*args: str, config: Path = tmp_path / "config", env: dict | None = None) -> Serve:
-        started.append(Serve(config, *args, env=env))
+    def start(*args: str, config: Path = tmp_path / "config", env: dict | None = None) -> ServeProcess:
+        started.append(lan_serve(config, *args, env=env))
         return started[-1]
 
     yield start
@@ -311,11 +274,11 @@ def test_the_qr_codes_are_drawn_where_the_console_can_show_them_else_written_as_
     import segno
 
     s = serve(env={"PYTHONIOENCODING": encoding})
-    assert asyncio.run(status_of(f"http://127.0.0.1:{s.http_port}/?token={s.token}"))[0] == 200
+    assert asyncio.run(status_of(f"http://127.0.0.1:{s.port}/?token={s.token}"))[0] == 200
     out = s.stop()
     assert s.proc.returncode == 130, out
     folder = tmp_path / "config" / "frost"
-    for name, url in (("qr-page.png", s.http), ("qr-app.png", s.https)):
+    for name, url in (("qr-page.png", s.url), ("qr-app.png", s.https)):
         code = segno.make(url, error="m")
         if encoding == "utf-8":
             drawn = io.StringIO()
@@ -333,7 +296,7 @@ def test_the_lan_server_answers_over_https_with_the_kept_authoritys_certificate_
     config = tmp_path / "config"
     folder = config / "frost"
     first = serve()
-    assert first.https_port not in (None, first.http_port)  # --port 0: two free ports, stated
+    assert first.https_port not in (None, first.port)  # --port 0: two free ports, stated
     cafile = folder / "ca.crt"
     ca = cert_of(cafile)
     ctx = trusting(cafile)  # Python's own TLS client, trusting that file alone
@@ -354,12 +317,12 @@ def test_the_lan_server_answers_over_https_with_the_kept_authoritys_certificate_
         hello = await hello_over(f"wss://{local}/ws{q}", ctx, origin=f"https://{local}")
         assert hello["type"] == "hello"
         # the plain HTTP page and its socket still work, as before
-        status, _, body = await status_of(f"http://127.0.0.1:{first.http_port}/{q}")
+        status, _, body = await status_of(f"http://127.0.0.1:{first.port}/{q}")
         assert status == 200 and b"<canvas" in body
-        assert (await hello_over(f"ws://127.0.0.1:{first.http_port}/ws{q}", None))["type"] == "hello"
+        assert (await hello_over(f"ws://127.0.0.1:{first.port}/ws{q}", None))["type"] == "hello"
         # the page learns the ports
-        status, _, body = await status_of(f"http://127.0.0.1:{first.http_port}/app.json{q}")
-        assert json.loads(body) == {"http": first.http_port, "https": first.https_port,
+        status, _, body = await status_of(f"http://127.0.0.1:{first.port}/app.json{q}")
+        assert json.loads(body) == {"http": first.port, "https": first.https_port,
                                     "ca": "frost-ca.crt"}
     asyncio.run(first_run())
     token = first.token
@@ -377,7 +340,7 @@ def test_the_lan_server_answers_over_https_with_the_kept_authoritys_certificate_
     assert third.token != token
 
     async def old_token_refused():
-        for port, ctx_ in ((third.http_port, None), (third.https_port, trusting(cafile))):
+        for port, ctx_ in ((third.port, None), (third.https_port, trusting(cafile))):
             scheme = "https" if ctx_ else "http"
             assert (await status_of(f"{scheme}://127.0.0.1:{port}/?token={token}", ctx_))[0] == 403
             assert (await status_of(f"{scheme}://127.0.0.1:{port}/?token={third.token}", ctx_))[0] == 200
@@ -395,7 +358,7 @@ def test_without_the_token_only_the_authoritys_public_certificate_is_served_on_b
         .private_numbers().private_value.to_bytes(32, "big")  # the key's secret scalar
 
     async def main():
-        for scheme, port, c in (("http", s.http_port, None), ("https", s.https_port, ctx)):
+        for scheme, port, c in (("http", s.port, None), ("https", s.https_port, ctx)):
             base = f"{scheme}://127.0.0.1:{port}"
             for path in ("/", "/web/main.js", "/web/makeapp.js", "/shaders/ice.frag", "/meta",
                          "/app.json", "/backdrops/dusk.png", "/ws", "/ca.key", "/frost-ca.key"):
@@ -420,7 +383,7 @@ def test_the_socket_on_the_https_port_takes_https_origins_of_that_port_only(serv
         return False
     assert asyncio.run(hello_over(url, ctx, origin=f"https://127.0.0.1:{s.https_port}"))["type"] == "hello"
     assert asyncio.run(refused(f"http://127.0.0.1:{s.https_port}"))  # not this scheme
-    assert asyncio.run(refused(f"https://127.0.0.1:{s.http_port}"))  # not this port
+    assert asyncio.run(refused(f"https://127.0.0.1:{s.port}"))  # not this port
     assert asyncio.run(refused("https://evil.example"))
 
 
@@ -434,21 +397,18 @@ def test_no_https_serves_http_alone_and_no_authority(serve, tmp_path):
 def test_a_certificate_of_the_users_own_is_served_on_loopback_when_asked(tmp_path):
     mine = tmp_path / "mine"
     trust.local_certificate(mine, ["127.0.0.1", "localhost"])
-    env = {**os.environ, "XDG_CONFIG_HOME": str(tmp_path / "config"), "PYTHONUNBUFFERED": "1"}
-    proc = subprocess.Popen([sys.executable, "-m", "app", "serve", "--port", "0", "--https-port",
-                             "0", "--cert", str(mine / "server.pem"), "--key", str(mine / "server.pem")],
-                            cwd=ROOT, env=env, text=True, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    s = ServeProcess("--port", "0", "--https-port", "0", "--cert", str(mine / "server.pem"),
+                     "--key", str(mine / "server.pem"), cwd=ROOT,
+                     env={"XDG_CONFIG_HOME": str(tmp_path / "config")})
     try:
-        proc.stdout.readline()
-        line = proc.stdout.readline()
+        line = s.proc.stdout.readline()  # (the line after the page's address)
         port = int(re.search(r"over HTTPS: https://127\.0\.0\.1:(\d+)/", line).group(1))
         ctx = trusting(mine / "ca.crt")
         presented(port, ctx).verify_directly_issued_by(cert_of(mine / "ca.crt"))
         assert asyncio.run(status_of(f"https://127.0.0.1:{port}/", ctx))[0] == 200
         assert asyncio.run(status_of(f"https://127.0.0.1:{port}/frost-ca.crt", ctx))[0] == 404
     finally:
-        proc.send_signal(signal.SIGINT)
-        proc.communicate(timeout=30)
+        s.stop()
     assert not (tmp_path / "config").exists()  # loopback: no token, no authority made
 
 
@@ -496,14 +456,6 @@ def test_a_tls_handshake_never_finished_is_closed(tmp_path, monkeypatch):
 
 # ---- a browser told to trust the authority ----------------------------------------------------
 
-def browser_problem() -> str | None:
-    from bench.page import browser_problem as problem
-
-    found = problem()
-    if found is None and not Path("/usr/bin/certutil").is_file():
-        return "certutil is missing (apt-get install libnss3-tools; `make test` does)"
-    return found
-
 
 browser = pytest.mark.skipif(browser_problem() is not None, reason=str(browser_problem()))
 
@@ -516,17 +468,6 @@ def chromium(pw, home: Path, name: str):
 
     args = [*CHROMIUM_ARGS, f"--host-resolver-rules=MAP {name} 127.0.0.1"]
     return pw.chromium.launch(**chromium_options(pw, args), env={**os.environ, "HOME": str(home)})
-
-
-def trusting_home(home: Path, cafile: Path | None) -> Path:
-    """A HOME whose NSS database trusts `cafile` as an authority for web sites (or nothing)."""
-    db = home / ".pki" / "nssdb"
-    db.mkdir(parents=True)
-    subprocess.run(["certutil", "-d", f"sql:{db}", "-N", "--empty-password"], check=True)
-    if cafile is not None:
-        subprocess.run(["certutil", "-d", f"sql:{db}", "-A", "-t", "C,,", "-n", "frost",
-                        "-i", str(cafile)], check=True)
-    return home
 
 
 @pytest.mark.browser
@@ -560,7 +501,7 @@ def test_a_chromium_trusting_the_authority_opens_the_https_page_as_a_secure_cont
         assert page.evaluate("window.frost.makeApp.shown") is None
         page.screenshot(path=str(tmp_path / "https-page.png"))
         # the plain page: no secure context, its menu offers the steps and the HTTPS address
-        page.goto(f"http://{name}:{s.http_port}/?token={s.token}")
+        page.goto(f"http://{name}:{s.port}/?token={s.token}")
         synced(page, "frost.frames > 0")
         assert page.evaluate("window.isSecureContext") is False
         assert page.evaluate("window.frost.socket.url").startswith("ws://")
@@ -575,7 +516,7 @@ def test_a_chromium_trusting_the_authority_opens_the_https_page_as_a_secure_cont
                       "Profile Downloaded", "Certificate Trust Settings"):
             assert words in text, words
         page.screenshot(path=str(tmp_path / "makeapp.png"))
-        got = page.request.get(f"http://{name}:{s.http_port}/frost-ca.crt")  # no token
+        got = page.request.get(f"http://{name}:{s.port}/frost-ca.crt")  # no token
         assert got.status == 200 and got.body() == cert_of(cafile).public_bytes(serialization.Encoding.DER)
         assert failed == []
         b.close()
@@ -620,7 +561,7 @@ def test_an_https_page_whose_socket_never_opens_shows_the_steps(serve, tmp_path)
         assert "never opened" in text and "Install a certificate" in text
         assert "Certificate Trust Settings" in text
         assert page.get_attribute("#makeapp-next a", "href") == \
-            f"http://{name}:{s.http_port}/?token={s.token}"
+            f"http://{name}:{s.port}/?token={s.token}"
         page.screenshot(path=str(tmp_path / "never-opened.png"))
         page.evaluate("window.letThrough = true")
         page.wait_for_function("window.frost.hellos > 0 && window.frost.makeApp.shown === null",

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from html.parser import HTMLParser
 
-from tests.test_serve import serve
+from support.page_model import serve
 
 NAVIGATE = {"Sec-Fetch-Mode": "navigate", "Sec-Fetch-Dest": "document"}
 API = ("/meta", "/ws", "/app.json", "/sw.js", "/manifest.webmanifest")

@@ -13,13 +13,14 @@ import os
 import random
 import signal
 import subprocess
-import sys
 import time
 from pathlib import Path
 
 import pytest
 from aiohttp import WSMsgType
 from aiohttp.test_utils import TestClient, TestServer
+from support.photos import answer, encoded, post_head, quadrants
+from support.serve import session_serve
 
 from app.serve import guard
 from app.serve.feed import Feed
@@ -28,8 +29,6 @@ from app.simthread import thread as thread_module
 from app.simthread.thread import SimThread
 from sim import Params
 from sim.io.session import SessionLog
-from tests.test_photos import encoded, quadrants
-from tests.test_serve_photo import answer, post_head
 
 PAPER = Params.preset("c-2")
 WINDOWS_LIKE = Path(__file__).resolve().parent / "windows_like.py"
@@ -166,13 +165,8 @@ FROSTS = {"here": ["-m", "app"], "as-on-windows": [str(WINDOWS_LIKE)]}
 def start(folder: Path, frost=FROSTS["here"]) -> tuple[subprocess.Popen, str, int]:
     """`frost serve` on a free port writing its session in `folder`: the process, its URL
     and its port."""
-    proc = subprocess.Popen([sys.executable, *frost, "serve", "--port", "0", "--preset", "c-2",
-                             "--session-dir", str(folder)],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    line = proc.stdout.readline()  # type: ignore[union-attr]
-    assert line.startswith("frost serve: open http://127.0.0.1:"), line
-    url = line.split()[3]
-    return proc, url, int(url.rsplit(":", 1)[1].strip("/"))
+    served = session_serve(folder, frost)
+    return served.proc, served.url, served.port
 
 
 async def tapped(ws, spots, t: int) -> None:

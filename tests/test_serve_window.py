@@ -13,22 +13,23 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-pytestmark = pytest.mark.window
+pytestmark = pytest.mark.usefixtures("window_tools")
 ROOT = Path(__file__).resolve().parent.parent
 
 
 def start_with_window(out: Path, preset: str, seconds: int) -> tuple[subprocess.Popen, str]:
     """`frost serve --window` (files in `out`, closing at `seconds`) and the URL it printed."""
-    app = subprocess.Popen([sys.executable, "-m", "app", "serve", "--window", "--port", "0",
-                            "--preset", preset, "--max-seconds", str(seconds), "--session-dir",
-                            str(out), "--screenshot-dir", str(out)], cwd=ROOT,
-                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    return app, app.stdout.readline().split()[3]
+    from support.serve import ServeProcess
+
+    served = ServeProcess("--window", "--port", "0", "--preset", preset, "--max-seconds",
+                          str(seconds), "--session-dir", str(out), "--screenshot-dir", str(out),
+                          cwd=ROOT, stderr_apart=True)
+    return served.proc, served.url
 
 
 def drive(out: Path) -> None:
     """Under Xvfb: start the command, be a page, let the window close at --max-seconds."""
-    from test_serve import CENTRE, PageModel, near, pause, read_until
+    from support.page_model import CENTRE, PageModel, near, pause, read_until
 
     app, url = start_with_window(out, "c-2", 12)
     page = PageModel()
@@ -50,8 +51,8 @@ def drive(out: Path) -> None:
 def drive_changes(out: Path) -> None:
     """Under Xvfb: a page chooses preset c-3, then the window's `=` (humidity up); the
     window closes at --max-seconds."""
-    from test_serve import PageModel, read_until
-    from test_window_e2e import window_id, xdo
+    from support.page_model import PageModel, read_until
+    from support.window import window_id, xdo
 
     app, url = start_with_window(out, "fern", 14)
     page = PageModel()
@@ -76,7 +77,7 @@ def test_a_window_key_changes_the_parameters_a_page_chose_not_the_window_s_own(t
     """With `frost serve --window`, a page's change (preset c-3) is the window's too: its
     `=` raised the humidity of its own stale parameters (fern's) and so undid the page's
     preset, silently, for every page and in the session."""
-    from test_window_e2e import xvfb
+    from support.window import xvfb
     run = xvfb([sys.executable, __file__, str(tmp_path), "changes"], cwd=ROOT, timeout=180)
     assert run.returncode == 0, run.stderr[-3000:]
     result = json.loads((tmp_path / "result.json").read_text(encoding="utf-8"))
@@ -91,7 +92,7 @@ def test_a_window_key_changes_the_parameters_a_page_chose_not_the_window_s_own(t
 
 
 def test_a_page_and_the_window_share_the_frost(tmp_path):
-    from test_window_e2e import xvfb
+    from support.window import xvfb
     run = xvfb([sys.executable, __file__, str(tmp_path)], cwd=ROOT, timeout=180)
     assert run.returncode == 0, run.stderr[-3000:]
     result = json.loads((tmp_path / "result.json").read_text(encoding="utf-8"))

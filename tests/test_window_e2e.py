@@ -11,8 +11,6 @@ from __future__ import annotations
 import json
 import os
 import re
-import select
-import shutil
 import signal
 import subprocess
 import sys
@@ -22,14 +20,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
-from test_render import MAC_LIMITS
+from support.window import MAC_LIMITS, finish, played, wait_for, window_id, xdo, xvfb
 
 from app.session_keeper import AUTOSAVE_PERIOD
 from sim import Params
 from sim.io.session import SessionLog
 
 ROOT = Path(__file__).resolve().parent.parent
-SCREEN = "-screen 0 1280x1400x24"  # taller than the 1280 px phone
 CLICK = (380, 420)  # phone px
 FAR = (120, 1150)  # more than active_radius (200 px) from CLICK
 BOX = 24  # half size of the compared squares, px
@@ -41,79 +38,10 @@ WIDE_BAR = 120
 GROW_SECONDS = 2.0
 RATE_SECONDS = 4.5
 
-pytestmark = pytest.mark.window
-
-
-@pytest.fixture(scope="module", autouse=True)
-def window_tools():
-    """Xvfb and xdotool are dependencies (Makefile's APT_PKGS): missing is a failure."""
-    missing = [t for t in ("Xvfb", "xdotool") if shutil.which(t) is None]
-    if missing:
-        pytest.fail(f"{', '.join(missing)} missing: apt-get install xvfb xauth xdotool "
-                    "(`make test` does)")
-
-
-def xvfb(args: list, **kw) -> subprocess.CompletedProcess:
-    """`args` run (captured) with DISPLAY on an Xvfb server of its own. `-displayfd` makes
-    the server pick a free display and say which once it accepts clients, so concurrent
-    runs never share one and nothing waits on a guess (`xvfb-run -a` can race under load)."""
-    read, write = os.pipe()
-    server = subprocess.Popen(["Xvfb", "-displayfd", str(write), *SCREEN.split(), "-nolisten",
-                               "tcp", "-noreset"], pass_fds=(write,), stderr=subprocess.DEVNULL)
-    os.close(write)
-    try:
-        ready, _, _ = select.select([read], [], [], 60)
-        display = os.read(read, 64).decode().strip() if ready else ""
-        if not display:
-            pytest.fail("Xvfb did not start within 60 s")
-        env = {**os.environ, "DISPLAY": f":{display}"}
-        return subprocess.run(args, capture_output=True, text=True, env=env, **kw)
-    finally:
-        os.close(read)
-        server.terminate()
-        server.wait(10)
+pytestmark = pytest.mark.usefixtures("window_tools")
 
 
 # ---- the driver: runs under Xvfb -------------------------------------------------------
-
-
-def xdo(*args: str) -> str:
-    return subprocess.run(["xdotool", *args], check=True, capture_output=True, text=True,
-                          timeout=30).stdout
-
-
-def window_id(timeout: float = 60, name: str = "^frost$") -> str:
-    """The app's window titled `name` (waits up to `timeout` s until it is mapped)."""
-    return subprocess.run(["xdotool", "search", "--sync", "--onlyvisible", "--name", name],
-                          check=True, capture_output=True, text=True,
-                          timeout=timeout).stdout.split()[0]
-
-
-def finish(app: subprocess.Popen, out: Path, result: dict) -> None:
-    """A driver's last step, whatever happened: the app ended, what it saw in result.json."""
-    if app.poll() is None:
-        app.kill()
-    (out / "result.json").write_text(json.dumps(result), encoding="utf-8")
-
-
-def played(script: str, out: Path, *args: str, timeout: float = 120) -> tuple[str, dict]:
-    """Run the driver `script` (a test file run as a script) on an Xvfb server of its own
-    with output folder `out`: the app's log and the driver's result."""
-    xvfb([sys.executable, script, str(out), *args], cwd=ROOT, timeout=timeout)
-    result = json.loads((out / "result.json").read_text(encoding="utf-8"))
-    return (out / "app.log").read_text(encoding="utf-8"), result
-
-
-def wait_for(log: Path, pattern: str, count: int = 1, timeout: float = 20.0) -> list[str]:
-    """The first `count` matches of `pattern` in the log, waiting up to `timeout` s."""
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        found = re.findall(pattern, log.read_text(encoding="utf-8"))
-        if len(found) >= count:
-            return found
-        time.sleep(0.05)
-    raise TimeoutError(f"{pattern!r} x{count} not in {log}")
-
 
 def default_signals() -> None:
     """The app's Ctrl-C and hang-up as a terminal gives them, whatever this run inherited

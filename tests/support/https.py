@@ -1,0 +1,26 @@
+"""A Chromium that trusts frost's local authority: what it needs, and its HOME."""
+
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+
+def browser_problem() -> str | None:
+    from bench.page import browser_problem as problem
+
+    found = problem()
+    if found is None and not Path("/usr/bin/certutil").is_file():
+        return "certutil is missing (apt-get install libnss3-tools; `make test` does)"
+    return found
+
+
+def trusting_home(home: Path, cafile: Path | None) -> Path:
+    """A HOME whose NSS database trusts `cafile` as an authority for web sites (or nothing)."""
+    db = home / ".pki" / "nssdb"
+    db.mkdir(parents=True)
+    subprocess.run(["certutil", "-d", f"sql:{db}", "-N", "--empty-password"], check=True)
+    if cafile is not None:
+        subprocess.run(["certutil", "-d", f"sql:{db}", "-A", "-t", "C,,", "-n", "frost",
+                        "-i", str(cafile)], check=True)
+    return home

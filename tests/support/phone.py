@@ -1,0 +1,142 @@
+"""The phone page in headless Chromium (Playwright): an emulated phone, a page opened and
+synced, its pixels, a tap, its ticks; the installed app's profile and its worker."""
+
+from __future__ import annotations
+
+import base64
+import json
+import time
+import urllib.error
+import urllib.request
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from app.backdrops import load_backdrop
+from bench.page import ANGLE, browser_problem, chromium_options
+from sim.screen import HEIGHT, WIDTH
+from support.serve import ServeProcess
+
+PROBLEM = browser_problem()
+BACKDROP = load_backdrop("dusk").astype(int)
+PHONE = {"viewport": {"width": 390, "height": 844}, "device_scale_factor": 3,
+         "has_touch": True, "is_mobile": True}
+
+
+def open_page(context, url: str):
+    """A page of `url`, synced and drawn, having logged no error and failed no request
+    (a browser asks for /favicon.ico unless the page names its icon)."""
+    page = context.new_page()
+    failed: list[str] = []
+    page.on("console", lambda m: m.type == "error" and failed.append(m.text))
+    page.on("response", lambda r: r.status >= 400 and failed.append(f"{r.status} {r.url}"))
+    page.goto(url)
+    synced(page, "frost.frames > 0 && frost.shownBackdrop")
+    page.wait_for_timeout(300)
+    assert failed == []
+    return page
+
+
+def synced(page, also: str = "true", timeout: float = 60_000) -> None:
+    """Wait until the page has synced with the server and `also` (a JS expression) holds,
+    or has said an error (failing on it). A page that never does fails saying what it was
+    doing: its address, its status line, its socket's counts. (A loaded machine running
+    the whole suite took over 30 s once to sync a second page.)"""
+    from playwright.sync_api import TimeoutError as Timeout
+
+    try:
+        page.wait_for_function(f"window.frost && (frost.error || (frost.synced && ({also})))",
+                               timeout=timeout)
+    except Timeout:
+        seen = page.evaluate("""() => ({url: location.href, status:
+            (document.getElementById('status') || {}).textContent, frost: window.frost &&
+            {connected: frost.connected, hellos: frost.hellos, messages: frost.messages,
+             synced: frost.synced, frames: frost.frames, lost: frost.lost,
+             backdrop: frost.backdrop, shown: frost.shownBackdrop}})""")
+        raise AssertionError(f"the page never synced ({also}): {seen}") from None
+    assert page.evaluate("window.frost.error") is None
+
+
+def pixels(page) -> np.ndarray:
+    """The page's pane, 1280 x 760 x 3, top row first."""
+    raw = base64.b64decode(page.evaluate("frost.framePixels()"))
+    return np.frombuffer(raw, np.uint8).reshape(HEIGHT, WIDTH, 4)[:, :, :3].copy()
+
+
+def css_point(page, x: float, y: float) -> tuple[float, float]:
+    """CSS px of the pane's px (x, y)."""
+    r = page.evaluate("frost.paneCss()")
+    return r["x"] + x * r["sx"], r["y"] + y * r["sy"]
+
+
+def tap(page, x: float, y: float) -> None:
+    page.touchscreen.tap(*css_point(page, x, y))
+
+
+def grown(page, ticks: int) -> int:
+    """Wait until the page holds `ticks` more of the server's ticks (frost grown for a
+    while, 25 ticks a second, however slowly a loaded machine steps them); that tick."""
+    tick = page.evaluate("frost.tick") + ticks
+    page.wait_for_function(f"frost.tick >= {tick}", timeout=120_000)
+    return tick
+
+
+def pause_and_settle(pages) -> int:
+    """Pause the server (from the first page's menu) and wait until every page holds the
+    same last tick; that tick."""
+    first = pages[0]
+    first.click("#open")
+    first.click("#pause")
+    first.click("#open")
+    for page in pages:
+        page.wait_for_function("frost.hello && frost.hello.paused", timeout=30_000)
+    last = None
+    for _ in range(50):  # the ticks already on their way arrive within a few frames
+        ticks = [p.evaluate("frost.tick") for p in pages]
+        if len(set(ticks)) == 1 and ticks[0] == last:
+            return ticks[0]
+        last = ticks[0] if len(set(ticks)) == 1 else None
+        time.sleep(0.2)
+    raise AssertionError(f"the pages never agreed on a tick: {ticks}")
+
+
+def token_needed(s: ServeProcess, paths) -> None:
+    """Each of `paths` on server `s` is refused (403) without its token and served with it."""
+    bare = f"http://127.0.0.1:{s.port}/"
+    for path in paths:
+        with pytest.raises(urllib.error.HTTPError) as err:
+            urllib.request.urlopen(bare + path, timeout=10)
+        assert err.value.code == 403, path
+        with urllib.request.urlopen(f"{bare}{path}?token={s.token}", timeout=10) as r:
+            assert r.status == 200, path
+
+
+def persistent(pw, profile: Path, **context):
+    """Chromium with a profile kept in `profile` (not incognito), as a phone (`context`:
+    more of launch_persistent_context's options; `args` are added to the WebGL ones)."""
+    options = chromium_options(pw, [*ANGLE["swiftshader"], *context.pop("args", [])])
+    return pw.chromium.launch_persistent_context(str(profile), **options, **{**PHONE, **context})
+
+
+def cached_shells(page) -> list[str]:
+    return page.evaluate("caches.keys().then((k) => k.filter((n) => n.startsWith('frost-shell-')))")
+
+
+def wait_for_shell(page, digest: str | None = None) -> None:
+    """Until a worker controls the page and its cache (of `digest`, if given) is the only one."""
+    page.wait_for_function("navigator.serviceWorker.controller !== null", timeout=30_000)
+    want = [f"frost-shell-{digest}"] if digest else None
+    for _ in range(300):
+        names = cached_shells(page)
+        if (names == want) if want else len(names) == 1:
+            return
+        page.wait_for_timeout(100)
+    raise AssertionError(f"the shell's cache is {names}, not {want}")
+
+
+def worker_shell(s: ServeProcess) -> dict:
+    """The first line of the server's worker: {"hash": ..., "files": [...]}."""
+    query = f"?token={s.token}" if s.token else ""
+    with urllib.request.urlopen(f"http://127.0.0.1:{s.port}/sw.js{query}", timeout=10) as r:
+        return json.loads(r.read().decode().split("\n", 1)[0][len("const SHELL = "):-1])

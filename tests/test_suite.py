@@ -1,0 +1,147 @@
+"""The suite's own rules: a test is marked from the fixtures it uses, an unknown marker is
+refused, a test that hangs fails by name at the per-test timeout, `make quick` leaves out
+the browser and the window, and no test module imports another (their shared helpers are
+tests/support's). The oracles: the tests' own signatures, read by hand below, and pytest
+run on files written for the purpose."""
+
+from __future__ import annotations
+
+import ast
+import json
+import os
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+from support import ROOT
+from support.make import planned
+
+# A plugin that prints each collected test's markers, one JSON line a test.
+MARKERS_PLUGIN = """
+import json
+
+def pytest_collection_finish(session):
+    for item in session.items:
+        print("MARKS", json.dumps([item.nodeid, sorted(m.name for m in item.iter_markers())]))
+"""
+
+
+def pytest_run(*args: str, cwd: Path = ROOT, plugins: str | Path | None = None,
+               timeout: float = 300) -> subprocess.CompletedProcess:
+    """pytest run in a subprocess (no cache written; `plugins`: the folders of importable
+    plugins, named with -p in `args`, as a path list)."""
+    env = {**os.environ, **({"PYTHONPATH": str(plugins)} if plugins else {})}
+    return subprocess.run([sys.executable, "-m", "pytest", "-p", "no:cacheprovider", *args],
+                          cwd=cwd, env=env, capture_output=True, text=True, timeout=timeout)
+
+
+def collected_marks(tmp_path: Path, *args: str) -> dict[str, set[str]]:
+    """Each test that `pytest --collect-only *args` collects: its markers' names."""
+    (tmp_path / "markprint.py").write_text(MARKERS_PLUGIN, encoding="utf-8")
+    run = pytest_run("--collect-only", "-q", "-p", "markprint", *args, plugins=tmp_path)
+    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    found = [json.loads(line[len("MARKS "):]) for line in run.stdout.splitlines()
+             if line.startswith("MARKS ")]
+    return {nodeid: set(marks) for nodeid, marks in found}
+
+
+def test_a_test_is_marked_from_the_fixtures_it_uses(tmp_path):
+    """gl_ctx asked for directly or through a fixture of the test's module makes a test
+    `gl`; window_tools (asked for by a module's usefixtures) `window`; pw, through the
+    browser fixture, `browser`. A test that uses none of them gets none of the three."""
+    marks = collected_marks(tmp_path, "tests/test_look.py", "tests/test_render.py",
+                            "tests/test_window_e2e.py", "tests/test_sim.py")
+    look, render = "tests/test_look.py::", "tests/test_render.py::"
+    assert "gl" in marks[look + "test_paper_presets_unchanged[c-2]"]  # gl_ctx
+    assert "gl" in marks[look + "test_glass_colour_is_even_along_a_link"]  # fern_glass(gl_ctx)
+    assert "gl" in marks[render + "test_clear_glass_is_the_background"]
+    assert "window" in marks["tests/test_window_e2e.py::test_esc_exits_with_status_zero"]
+    needs = {"gl", "window", "browser"}
+    assert not needs & marks[render + "test_missing_background_is_a_clear_error"]
+    sim = [m for nodeid, m in marks.items() if nodeid.startswith("tests/test_sim.py::")]
+    assert sim and not any(needs & m for m in sim)
+
+
+def test_each_fixture_marks_the_tests_that_use_it_and_only_those(tmp_path):
+    """Tests written for the purpose, under tests/conftest.py (loaded as a plugin): each
+    marker comes from its fixture, asked for directly, through another fixture or by
+    usefixtures."""
+    (tmp_path / "test_uses.py").write_text(
+        "import pytest\n\n"
+        "def test_plain(tmp_path):\n    pass\n\n"
+        "def test_gl(gl_ctx):\n    pass\n\n"
+        "@pytest.mark.usefixtures('window_tools')\ndef test_window():\n    pass\n\n"
+        "def test_browser(browser):\n    pass\n\n"
+        "def test_phones(phones):\n    pass\n", encoding="utf-8")
+    (tmp_path / "markprint.py").write_text(MARKERS_PLUGIN, encoding="utf-8")
+    run = pytest_run("-c", str(ROOT / "pyproject.toml"), "--rootdir", str(tmp_path),
+                     "-p", "conftest", "-p", "markprint", "--collect-only", "-q",
+                     str(tmp_path / "test_uses.py"), cwd=tmp_path,
+                     plugins=f"{tmp_path}{os.pathsep}{ROOT / 'tests'}")
+    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    marks = dict(json.loads(line[len("MARKS "):]) for line in run.stdout.splitlines()
+                 if line.startswith("MARKS "))
+    assert marks == {"test_uses.py::test_plain": [], "test_uses.py::test_gl": ["gl"],
+                     "test_uses.py::test_window": ["usefixtures", "window"],
+                     "test_uses.py::test_browser": ["browser"],
+                     "test_uses.py::test_phones": ["browser"]}
+
+
+def test_make_quick_sets_up_the_test_stage_and_leaves_out_the_browser_and_the_window(tmp_path):
+    """`make quick` installs what `make test` does, and its selection collects the plain
+    tests of a module and none of the browser's, the window's or the wheel's."""
+    plan = planned("quick", tmp_path / "venv")
+    assert 0 <= plan.index("pip install -q -e .;") < plan.index("pip install -q -e '.[dev]'")
+    command = shlex.split(plan.splitlines()[-1])
+    assert command[1:3] == ["-m", "pytest"]
+    selection = command[command.index("-m", 3) + 1]
+    marks = collected_marks(tmp_path, "-m", selection, "tests/test_page.py",
+                            "tests/test_window_e2e.py", "tests/test_package.py",
+                            "tests/test_sim.py")
+    assert marks and {nodeid.split("::")[0] for nodeid in marks} == {"tests/test_sim.py"}
+
+
+def test_an_unknown_marker_is_refused_by_name(tmp_path):
+    (tmp_path / "test_typo.py").write_text(
+        "import pytest\n\n@pytest.mark.brower\ndef test_x():\n    pass\n", encoding="utf-8")
+    run = pytest_run("-c", str(ROOT / "pyproject.toml"), "--rootdir", str(tmp_path),
+                     str(tmp_path / "test_typo.py"), cwd=tmp_path)
+    assert run.returncode != 0
+    assert "'brower' not found in `markers` configuration option" in run.stdout, run.stdout
+
+
+def test_a_test_that_hangs_fails_at_the_timeout_saying_which(tmp_path):
+    """A test waiting on what never comes (an event nobody sets) fails at the timeout,
+    named, and the run goes on to the next test."""
+    (tmp_path / "test_hangs.py").write_text(
+        "import threading\n\n"
+        "def test_waits_for_ever():\n    threading.Event().wait()\n\n"
+        "def test_after_it():\n    pass\n", encoding="utf-8")
+    run = pytest_run("-c", str(ROOT / "pyproject.toml"), "--rootdir", str(tmp_path),
+                     "-o", "timeout=2", str(tmp_path / "test_hangs.py"), cwd=tmp_path)
+    assert run.returncode == 1, run.stdout
+    assert "FAILED test_hangs.py::test_waits_for_ever - Failed: Timeout" in run.stdout, run.stdout
+    assert "1 failed, 1 passed" in run.stdout, run.stdout
+    # and without -o, the project's own timeout is in force: a generous one
+    said = pytest_run("-c", str(ROOT / "pyproject.toml"), "--rootdir", str(tmp_path),
+                      "--collect-only", str(tmp_path / "test_hangs.py"), cwd=tmp_path).stdout
+    timeout = re.search(r"^timeout: ([\d.]+)s$", said, re.M)
+    assert timeout and float(timeout.group(1)) >= 60, said
+
+
+def test_no_test_module_imports_another():
+    """Test modules share helpers through tests/support, never by importing each other
+    (which runs the other's module-level set-up, and ties the two)."""
+    tests = ROOT / "tests"
+    modules = {p.stem for p in tests.glob("test_*.py")} | {"conftest"}
+    found = []
+    for path in sorted([*tests.glob("*.py"), *tests.glob("support/*.py")]):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                     [node.module or "", *(f"{node.module}.{a.name}" for a in node.names)]
+                     if isinstance(node, ast.ImportFrom) else [])
+            found += [f"{path.name}: {name}" for name in names
+                      if name.removeprefix("tests.") in modules]
+    assert found == []
