@@ -1328,8 +1328,8 @@ def test_a_page_gone_while_a_large_message_of_its_is_compressed_leaves_no_error_
             await asyncio.sleep(0.002 * (k % 8))
             gone._response.connection.transport.abort()  # gone, mid-snapshot or after
             await asyncio.sleep(0.05)
-            big = max(big, max((len(p) for p in feed._snapshot.parts), default=0)
-                      if feed._snapshot else 0)
+            big = max(big, max((len(p) for p in feed.snapshots.kept.parts), default=0)
+                      if feed.snapshots.kept else 0)
         await asyncio.sleep(0.5)
         gc.collect()  # (an unretrieved exception is reported when its task is collected)
         await asyncio.sleep(0.1)
