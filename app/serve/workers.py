@@ -14,9 +14,6 @@ class Workers:
     def __init__(self) -> None:
         self.loop: asyncio.AbstractEventLoop | None = None  # set when the server starts
 
-    def running(self) -> bool:
-        return self.loop is not None and self.loop.is_running()
-
     def run(self, work: Callable[[Any], Any], arg: Any, done: Callable[[Any], None]) -> None:
         """`done(work(arg))`: `work` on a worker and `done` back on the loop while it runs
         (not at all if the loop cancels it), both here otherwise."""
