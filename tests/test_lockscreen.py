@@ -209,7 +209,7 @@ def test_the_feed_sends_the_clock_box_of_each_minute_to_the_pages():
     from test_serve_feed import ByHand, Wire
 
     from app.serve.feed import Feed
-    from app.serve.pages import Page
+    from app.serve.pages import ConnectedPage as Page
     from app.serve.protocol import CLOCK, decode_clock, message_type
     from app.simthread.thread import SimThread
 

@@ -15,7 +15,7 @@ from test_serve import CENTRE, PAPER, PageModel
 
 from app.serve import snapshots as snapshot_module
 from app.serve.feed import Feed
-from app.serve.pages import Page
+from app.serve.pages import ConnectedPage as Page
 from app.serve.protocol import Encoder, Input
 from app.simthread.schedule import Schedule
 from app.simthread.thread import SimThread

@@ -65,7 +65,7 @@ def server_side(samples: int) -> None:
 
 def desktop(samples: int) -> None:
     from app.tools.offscreen import Offscreen, make_context
-    from app.tools.render import touch_events
+    from app.tools.render_png import touch_events
 
     ctx = make_context()
     view = {"light": [0.4, 0.5, 1.0], "features": True, "bumps": True, "background": LIVE}

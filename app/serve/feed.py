@@ -23,7 +23,7 @@ from app.serve.controls import Controls
 from app.serve.hello import hello_fields
 from app.serve.hello import view as default_view
 from app.serve.lock_clock import LockClock
-from app.serve.pages import Page
+from app.serve.pages import ConnectedPage
 from app.serve.snapshots import Snapshots
 from app.serve.workers import Workers
 from app.simthread.thread import SimThread, Snapshot
@@ -70,7 +70,7 @@ class Feed:
         self.controls = Controls(self.thread, params, melt_radius, backdrop, self.notice,
                                  self.tick)
         self.controls.chosen = preset
-        self.pages: set[Page] = set()
+        self.pages: set[ConnectedPage] = set()
         self.latest: Snapshot | None = None
         # Where the session stood at the latest snapshot published: (steps, events), as
         # a session file of it would count them (a redraw is tagged with its own).

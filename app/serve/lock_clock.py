@@ -15,7 +15,7 @@ from PIL import Image
 from app.backdrops import LIVE, read_backdrop
 from app.lockscreen import CLOCK_BOX, DEFAULT_MINUTE, clock_patch
 from app.serve import protocol
-from app.serve.pages import Page
+from app.serve.pages import ConnectedPage
 from app.serve.workers import Workers
 from app.simthread.thread import SimThread, Snapshot
 
@@ -25,7 +25,7 @@ log = logging.getLogger("app.serve")
 class LockClock:
     """The minute the pages show over the lock screen, and its message."""
 
-    def __init__(self, thread: SimThread, pages: Set[Page], workers: Workers, kept: int):
+    def __init__(self, thread: SimThread, pages: Set[ConnectedPage], workers: Workers, kept: int):
         """`pages`, the feed's (live: read at each send); `kept`, how many messages' sizes
         are kept for the bench."""
         self.thread, self.pages, self.workers = thread, pages, workers

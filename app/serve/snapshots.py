@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from app.serve import protocol
-from app.serve.pages import Page
+from app.serve.pages import ConnectedPage
 from app.serve.workers import Workers
 from app.simthread.thread import SimThread
 from sim import Params
@@ -73,7 +73,7 @@ class Snapshots:
     """The snapshot cache: copies asked of the thread, drawn on a worker, kept with the
     ticks published since, and served to the pages waiting for one."""
 
-    def __init__(self, thread: SimThread, encoder: protocol.Encoder, pages: Set[Page],
+    def __init__(self, thread: SimThread, encoder: protocol.Encoder, pages: Set[ConnectedPage],
                  workers: Workers, starting: Callable[[], tuple[str, bytes | None]]):
         """`pages`, the feed's (live); `starting`, what a page a snapshot starts gets after
         it: the state message and the lock screen's clock message (or None)."""

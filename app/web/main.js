@@ -9,7 +9,7 @@ import { withText } from "./png.js";
 import { makeApp } from "./makeapp.js";
 import { FITS, canvasScale, paneRect as fitPane, prefs, visiblePane } from "./fit.js";
 import { PhoneApp } from "./phone.js";
-import { Clock, isClock } from "./clock.js";
+import { Clock, isClock } from "./lockclock.js";
 import { rememberBackdrop, showOffline } from "./offline.js";
 import { PhotoPicker, backdropUrl } from "./photo.js";
 

@@ -26,7 +26,7 @@ from app.photos import PhotoError, is_photo, keep, read_file, store_of
 from app.simthread.thread import SimThread, Snapshot
 from app.window.actions import Actions
 from app.window.capture import Capture
-from app.window.clock import ClockDrawer
+from app.window.clock_drawer import ClockDrawer
 from app.window.drop import PhotoDrop
 from app.window.glfw_setup import WindowError, open_window, x_window_ids
 from app.window.lost_display import on_lost_display, on_lost_window
