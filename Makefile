@@ -44,8 +44,8 @@ bench-render: $(RUN_STAMP)
 
 # ruff and mypy are the dev extra's, so the linters take the test stage.
 lint: $(TEST_STAMP)
-	$(VENV)/bin/ruff check app sim tests assets
-	$(VENV)/bin/mypy app sim
+	$(VENV)/bin/ruff check app sim bench tests assets
+	$(VENV)/bin/mypy app sim bench
 
 # The Debian packages of $(1) that are missing (and python3-venv where Python has no
 # ensurepip): installed with apt-get as root, said in one line otherwise.

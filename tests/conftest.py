@@ -127,8 +127,8 @@ def pw():
 
 @pytest.fixture(scope="module")
 def browser(pw):
-    """Headless Chromium (app.bench.page.launch) of the module's Playwright."""
-    from app.bench.page import launch
+    """Headless Chromium (bench.page.launch) of the module's Playwright."""
+    from bench.page import launch
 
     b = launch(pw)
     yield b

@@ -1,5 +1,5 @@
-"""docs/architecture.md against the code: every module of app/ and sim/ and every script of
-the page (app/web/) has its line there, every line names a file that exists, and the arrows
+"""docs/architecture.md against the code: every module of app/, sim/ and bench/ and every
+script of the page (app/web/) has its line there, every line names a file that exists, and the arrows
 between folders are the ones the imports make (tests/test_imports.py reads them)."""
 
 from __future__ import annotations
@@ -11,8 +11,9 @@ from conftest import ROOT
 from test_imports import import_graph, project_modules
 
 PAGE = ROOT / "docs" / "architecture.md"
+PACKAGES = ("app", "sim", "bench")  # bench/: the checkout's benchmarks, outside the wheel
 # A module's line: "- `app/window/hud.py`: ..."
-MODULE_LINE = re.compile(r"^- `((?:app|sim)/[\w/.-]+\.(?:py|js))`:", re.M)
+MODULE_LINE = re.compile(r"^- `((?:app|sim|bench)/[\w/.-]+\.(?:py|js))`:", re.M)
 # A folder's arrow: "- `app/window` → `app`, `app/gl`, ..."
 ARROW_LINE = re.compile(r"^- `([\w/]+)` → (.+)$", re.M)
 
@@ -22,8 +23,9 @@ def listed(text: str) -> list[str]:
 
 
 def modules(root: Path) -> set[str]:
-    """Every .py under app/ and sim/ and every .js under app/web/, as paths from `root`."""
-    found = [*(root / "app").rglob("*.py"), *(root / "sim").rglob("*.py"),
+    """Every .py under app/, sim/ and bench/ and every .js under app/web/, as paths from
+    `root`."""
+    found = [*(p for top in PACKAGES for p in (root / top).rglob("*.py")),
              *(root / "app" / "web").rglob("*.js")]
     return {p.relative_to(root).as_posix() for p in found}
 
@@ -35,11 +37,11 @@ def arrows(text: str) -> dict[str, set[str]]:
 
 
 def folder_imports(root: Path) -> dict[str, set[str]]:
-    """Each folder of app/ and sim/ and the other folders its modules import."""
-    files = project_modules(root, "app", "sim")
+    """Each folder of app/, sim/ and bench/ and the other folders its modules import."""
+    files = project_modules(root, *PACKAGES)
     where = {m: p.parent.relative_to(root).as_posix() for m, p in files.items()}
     graph: dict[str, set[str]] = {}
-    for module, imported in import_graph(root, "app", "sim").items():
+    for module, imported in import_graph(root, *PACKAGES).items():
         for other in imported:
             if where[other] != where[module]:
                 graph.setdefault(where[module], set()).add(where[other])
@@ -48,25 +50,27 @@ def folder_imports(root: Path) -> dict[str, set[str]]:
 
 def test_the_page_reading_finds_modules_and_arrows_in_a_hand_written_page():
     text = ("- `sim/a.py`: one\n- `app/web/b.js`: two\n- not `sim/c.py`: three\n"
-            "- `sim` → `sim/core`\n- `app/x` → `app`, `sim/io`\n")
-    assert listed(text) == ["sim/a.py", "app/web/b.js"]
+            "- `bench/d.py`: four\n- `sim` → `sim/core`\n- `app/x` → `app`, `sim/io`\n")
+    assert listed(text) == ["sim/a.py", "app/web/b.js", "bench/d.py"]
     assert arrows(text) == {"sim": {"sim/core"}, "app/x": {"app", "sim/io"}}
 
 
 def test_folder_imports_of_a_hand_made_tree(tmp_path):
     """A module of sim/core importing sim/index's (late, in a function) and its own
-    folder's; app/ importing sim/ and app/gl/: the arrows between folders only."""
+    folder's; app/ importing sim/ and app/gl/, bench/ app/gl/: the arrows between folders
+    only."""
     for name, source in {"sim/__init__.py": "", "sim/core/__init__.py": "",
                          "sim/core/a.py": "from sim.core import b\n\ndef f():\n"
                                           "    from sim.index import grid\n",
                          "sim/core/b.py": "", "sim/index/__init__.py": "",
                          "sim/index/grid.py": "import numpy\n", "app/__init__.py": "",
                          "app/keys.py": "from sim.core.a import f\n", "app/gl/__init__.py": "",
-                         "app/gl/r.py": "from app import keys\n"}.items():
+                         "app/gl/r.py": "from app import keys\n", "bench/__init__.py": "",
+                         "bench/p.py": "def f():\n    from app.gl import r\n"}.items():
         (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
         (tmp_path / name).write_text(source, encoding="utf-8")
     assert folder_imports(tmp_path) == {"sim/core": {"sim/index"}, "app": {"sim/core"},
-                                        "app/gl": {"app"}}
+                                        "app/gl": {"app"}, "bench": {"app/gl"}}
 
 
 def test_every_module_is_listed_once_in_docs_architecture():

@@ -2,8 +2,11 @@
 import contextlib
 import io
 import json
+import subprocess
+import sys
 
 import pytest
+from conftest import ROOT
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
@@ -147,3 +150,33 @@ def test_bench_render_says_the_load_or_that_it_is_unknown(monkeypatch, capsys, g
     said = "unknown" if loadavg is None else "1.23"
     assert f"load: {said} (the last minute's average)" in out, out
     assert json.loads(out[-1])["load_average"] == (None if loadavg is None else 1.23)
+
+
+@pytest.mark.parametrize("what", ["page", "serve"])
+def test_frost_bench_of_a_checkout_s_benchmark_says_in_one_line_where_it_moved(what, capsys):
+    """The page's and the server's benchmarks left the package (they drive a browser or load
+    the server): `frost bench page|serve`, with or without arguments, names the command."""
+    for extra in ([], ["--taps", "3"]):
+        assert cli.main(["bench", what, *extra]) == 2
+        captured = capsys.readouterr()
+        assert captured.out == ""
+        assert captured.err == (f"frost bench {what}: error: it moved out of the package: run "
+                                f"`python -m bench {what}` from a checkout\n")
+
+
+@pytest.mark.parametrize("argv, says", [
+    (["shaper", "--to", "nowhere"],
+     "python -m bench shaper: error: --to 'nowhere' must be HOST:PORT (a port from 1 to 65535)"),
+    (["page", "--network", "wifi"], "python -m bench page: error: --network and --cpu-slowdown go with"),
+    (["serve", "--attack", "x"], "python -m bench serve: error: argument --attack: invalid choice: 'x'"),
+    (["clock", "--samples", "0"], "python -m bench clock: error: argument --samples: '0' must be"),
+    (["sim"], "python -m bench: error: argument WHAT: invalid choice: 'sim'"),
+    ([], "python -m bench: error: the following arguments are required: WHAT"),
+])
+def test_python_m_bench_hands_the_rest_to_the_benchmark_named(argv, says):
+    """`python -m bench WHAT ...` from the checkout: WHAT's own command line reads what
+    follows (its refusals name it), and a missing or unknown WHAT is refused in one line."""
+    done = subprocess.run([sys.executable, "-m", "bench", *argv], cwd=ROOT, capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 2
+    assert done.stderr.count("\n") == 1 and done.stderr.startswith(says), done.stderr

@@ -398,6 +398,20 @@ def test_input_keeps_its_least_share_beside_a_long_step():
     assert backlog.run(_timed(now, MS, [])) == 3
 
 
+def test_an_items_learnt_cost_follows_its_latest_by_a_quarter():
+    """COST_WEIGHT: one slow item (8 units) is remembered, each later cost moving the mean a
+    quarter of the way (hand-worked: 8, 6.25, 4.9375, ...), so 1-unit items in a 4-unit
+    budget go one a tick until the mean is under 3 units (the fifth tick), then two."""
+    now = [0.0]
+    backlog = Backlog(budget_s=4 * MS, clock=lambda: now[0])
+    backlog.extend([0])
+    assert backlog.run(_timed(now, 8 * MS, [])) == 1
+    backlog.extend(range(20))
+    counts = [backlog.run(_timed(now, MS, [])) for _ in range(5)]
+    assert counts == [1, 1, 1, 1, 2]
+    assert backlog.item_s[None] == 2.245849609375 * MS
+
+
 def test_backlog_learns_each_kind_of_item_apart():
     now, applied = [0.0], []
     costs = {"slow": 8 * MS, "fast": MS}

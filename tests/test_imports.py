@@ -12,6 +12,7 @@ from pathlib import Path
 
 import app.bench
 import app.tools
+import bench
 import sim
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -54,7 +55,7 @@ def test_sim_loads_nothing_of_the_app_nor_gl_nor_images():
 
 
 def test_the_server_loads_no_gl_and_no_window_library():
-    loaded = loaded_by("app.serve.command", "app.bench.serve")
+    loaded = loaded_by("app.serve.command", "bench.serve")
     assert "aiohttp" in loaded and "app.serve.feed" in loaded
     assert under(loaded, *GL_AND_WINDOW, "app.gl", "app.tools") == set()
 
@@ -63,7 +64,7 @@ def test_the_server_loads_nothing_of_the_window_package():
     """The key table serves the window and the page: it lives outside app/window
     (app/keys.py), so the server loads no module of the window (`--window` opens one only
     when asked, at run time)."""
-    loaded = loaded_by("app.serve.server", "app.serve.controls", "app.bench.serve")
+    loaded = loaded_by("app.serve.server", "app.serve.controls", "bench.serve")
     assert "app.keys" in loaded and "app.serve.controls" in loaded
     assert under(loaded, "app.window") == set()
 
@@ -76,10 +77,26 @@ def test_the_tools_load_no_window():
 
 def test_the_benchmarks_load_no_window_and_nothing_of_the_app_loads_them():
     loaded = loaded_by(*modules_of(app.bench))
-    assert "app.bench.simulation" in loaded and "app.bench.serve" in loaded  # it did import
+    assert "app.bench.simulation" in loaded and "app.bench.render" in loaded  # it did import
     assert under(loaded, "glfw", "app.window") == set()
     users = {part for part, parts in app_imports().items() if "app.bench" in parts}
     assert users == {"app.cli"}  # the command line runs them; no other part leans on them
+
+
+def test_the_checkout_s_benchmarks_load_no_window():
+    loaded = loaded_by(*modules_of(bench))
+    assert "bench.page" in loaded and "bench.serve" in loaded  # it did import
+    assert under(loaded, "glfw", "app.window") == set()
+
+
+def test_nothing_of_the_app_nor_of_sim_imports_the_checkout_s_benchmarks():
+    """bench/ stays out of the wheel (it drives a browser, shapes a network): a module of the
+    package importing it, even inside a function, would fail for every user."""
+    graph = import_graph(ROOT, "app", "sim", "bench")
+    assert "bench.shaper" in graph["bench.page"]  # (bench's modules are in the graph)
+    users = sorted(module for module, imported in graph.items() if not module.startswith("bench")
+                   and any(other.split(".")[0] == "bench" for other in imported))
+    assert users == []
 
 
 def app_part(module: str) -> str | None:
@@ -192,7 +209,7 @@ def test_a_late_import_closing_a_circle_is_found(tmp_path):
 
 
 def test_no_module_of_the_project_imports_itself_through_others():
-    graph = import_graph(ROOT, "app", "sim")
+    graph = import_graph(ROOT, "app", "sim", "bench")
     assert "app.serve.feed" in graph["app.serve.server"]  # (the graph is the project's)
     assert circle(graph) == [], " -> ".join(circle(graph))
 

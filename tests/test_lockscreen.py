@@ -10,10 +10,12 @@ must equal it pixel for pixel."""
 
 from __future__ import annotations
 
+import concurrent.futures
 import io
 import json
 import subprocess
 import sys
+from collections.abc import Callable
 from datetime import datetime, timedelta
 from pathlib import Path
 
@@ -59,6 +61,15 @@ def test_the_date_follows_the_day_and_the_static_box_is_bare_wallpaper():
     # draws thousands of white pixels there.
     assert (box(STATIC).min(axis=2) > 240).sum() < 100
     assert (box(with_clock(STATIC, DEFAULT_MINUTE)).min(axis=2) > 240).sum() > 5000
+
+
+def test_the_clock_tells_the_afternoon_from_the_morning():
+    """The clock is in 24-hour form: 15:41 is not 03:41 (whose figures a 12-hour clock
+    draws for both), nor 00:05 12:05; the time line alone differs (the box's lower part)."""
+    for late, early in (("2026-11-26T15:41", "2026-11-26T03:41"),
+                        ("2026-11-26T00:05", "2026-11-26T12:05")):
+        a, b = clock_patch(STATIC, late), clock_patch(STATIC, early)
+        assert np.array_equal(a[:100], b[:100]) and (a[110:] != b[110:]).any(), (late, early)
 
 
 def test_load_backdrop_draws_the_default_minute_or_none():
@@ -239,6 +250,69 @@ def test_the_feed_sends_the_clock_box_of_each_minute_to_the_pages():
         picture = np.asarray(Image.open(io.BytesIO(fields["png"])).convert("RGB"))
         assert np.array_equal(picture, clock_patch(STATIC, fields["minute"]))
         assert len(m) < len(whole.getvalue()) / 2
+
+
+class HeldLoop:
+    """A running loop as the feed sees it, whose workers' results come when the test says
+    (`finish`, in the order it gives): a slow drawing of a minute, met every time."""
+
+    def __init__(self):
+        self.held: list[tuple[concurrent.futures.Future, Callable, tuple]] = []
+
+    def is_running(self) -> bool:
+        return True
+
+    def run_in_executor(self, _executor, fn, *args):
+        future: concurrent.futures.Future = concurrent.futures.Future()
+        self.held.append((future, fn, args))
+        return future
+
+    def call_soon_threadsafe(self, *_args) -> None:
+        pass  # (the test pumps the feed itself)
+
+    def finish(self, order=None) -> None:
+        held, self.held = self.held, []
+        for k in order or range(len(held)):
+            future, fn, args = held[k]
+            future.set_result(fn(*args))  # (its done callbacks run here)
+
+
+@pytest.mark.parametrize("case", ["left", "stale"])
+def test_a_minute_drawn_too_late_is_never_sent(case):
+    """A minute's picture drawn on a worker after the lock screen was left, or after a
+    newer minute was asked for, is not sent: a page never shows a clock over another
+    backdrop, nor an older minute after a newer one."""
+    from test_serve_feed import ByHand, Wire
+
+    from app.serve.feed import Feed
+    from app.serve.pages import ConnectedPage as Page
+    from app.serve.protocol import CLOCK, Input, decode_clock, message_type
+    from app.simthread.thread import SimThread
+
+    clock = FakeClock(datetime(2026, 11, 26, 15, 41, 58))
+    params = Params.preset("fern")
+    thread = SimThread(params, 1, [(380.0, 640.0)])
+    feed = Feed(params, 1, backdrop="lockscreen", thread=thread)
+    thread.clock, feed._loop = clock, HeldLoop()
+    page = Page(Wire(), "page", feed.ask_redraw)
+    page.waiting = False  # (live: it gets what is broadcast)
+    feed.pages.add(page)
+    by_hand = ByHand(thread)
+    try:
+        by_hand.tick(feed, 2)  # 15:41 asked for; its drawing held
+        if case == "left":
+            feed.controls.handle(Input("backdrop", name="dusk"), {})
+            by_hand.tick(feed, 2)
+            feed._loop.finish()
+        else:
+            clock.now += timedelta(seconds=3)
+            by_hand.tick(feed, 2)  # 15:42 asked for too
+            feed._loop.finish(order=(2, 1, 0))  # (09:41, the default, first asked for) 15:42 done first
+    finally:
+        by_hand.stop()
+    sent = [decode_clock(m)["minute"] for m, _end in page.queue
+            if isinstance(m, bytes) and message_type(m) == CLOCK]
+    assert sent == ([] if case == "left" else ["2026-11-26T15:42"])
 
 
 # ---- the window ------------------------------------------------------------------------------

@@ -76,3 +76,53 @@ def test_the_page_shows_each_minute_from_the_clock_box_alone(serve, phones, tmp_
                    cwd=tmp_path, check=True, capture_output=True, timeout=300)
     replayed = np.asarray(Image.open(png).convert("RGB"))
     assert np.array_equal(replayed[Y0:Y1, X0:X1], with_clock(STATIC, second)[Y0:Y1, X0:X1])
+
+
+def test_a_clock_message_is_applied_over_the_lock_screen_alone_and_never_an_older_minute(browser):
+    """The page's clock (clock.js) with a renderer that records what it is given: a minute
+    received while another backdrop is shown is not written into it (it is once the lock
+    screen is back); of two minutes received together, the newer is shown even when the
+    older's picture is decoded last, and the older is never written."""
+    from app.serve.protocol import clock_message
+    from bench.page import Page, hello
+    from sim import Params
+
+    def message(minute: str, shade: int) -> list[int]:
+        png = io.BytesIO()
+        Image.new("RGB", (4, 3), (shade, shade, shade)).save(png, "PNG")
+        return list(clock_message((10, 20, 14, 23), minute, png.getvalue()))
+
+    early, late = message("2026-11-26T15:41", 50), message("2026-11-26T15:42", 200)
+    with Page(hello(Params.preset("fern")), [], browser=browser) as page:
+        got = page.page.evaluate("""async ([early, late]) => {
+            const { Clock } = await import('./web/lockclock.js');
+            const written = [];
+            const renderer = { setBackgroundRect: (x, y, image) => written.push([x, y, image.width]) };
+            const state = { renderer, shownBackdrop: 'dusk' };
+            const clock = new Clock();
+            const bytes = (m) => new Uint8Array(m).buffer;
+            await clock.receive(bytes(early), state);
+            const overDusk = [written.length, clock.shown];
+            state.shownBackdrop = 'lockscreen';
+            clock.showOn(state);
+            const back = [written.length, clock.shown];
+            // The older minute's picture decoded last: its decoding waits for the newer's.
+            const decode = globalThis.createImageBitmap;
+            let newerDone;
+            const newer = new Promise((resolve) => { newerDone = resolve; });
+            let calls = 0;
+            globalThis.createImageBitmap = async (...args) => {
+              const first = calls++ === 0;
+              const image = await decode(...args);
+              if (first) await newer; else newerDone();
+              return image;
+            };
+            written.length = 0;
+            try {
+              await Promise.all([clock.receive(bytes(early), state), clock.receive(bytes(late), state)]);
+            } finally { globalThis.createImageBitmap = decode; }
+            return { overDusk, back, shown: clock.shown, written: written.length }; }""", [early, late])
+    assert got["overDusk"] == [0, None]
+    assert got["back"] == [1, "2026-11-26T15:41"]
+    assert got["shown"] == "2026-11-26T15:42" and got["written"] == 1
+

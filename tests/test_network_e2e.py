@@ -1,4 +1,4 @@
-"""The phone page through the shaping proxy (`frost bench page --network`): `frost serve`
+"""The phone page through the shaping proxy (`python -m bench page --network`): `frost serve`
 on loopback, the proxy in front of it, the page on an emulated phone in headless Chromium.
 The proxy forwards bytes unchanged, so the page's requests name the proxy's address in
 Host and Origin (127.0.0.1, the proxy's port), which a loopback server accepts: the page
@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import pytest
 
-from app.bench.network import PINGS, Phone, css_point, served
-from app.bench.page import browser_problem, launch
-from app.bench.shaper import PROFILES
+from bench.network import PINGS, Phone, css_point, served
+from bench.page import browser_problem, launch
+from bench.shaper import PROFILES
 
 PROBLEM = browser_problem()
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
@@ -83,7 +83,7 @@ def test_the_bench_browser_keeps_playwrights_switches_and_has_no_address_bar_pop
     starts it) and the two popups' features, and it renders no popup."""
     from playwright.sync_api import sync_playwright
 
-    from app.bench.page import CHROMIUM, QUIET_FEATURES
+    from bench.page import CHROMIUM, QUIET_FEATURES
 
     def disabled(switches: list[str]) -> list[list[str]]:
         return [s.split("=", 1)[1].split(",") for s in switches if s.startswith("--disable-features=")]
@@ -104,7 +104,7 @@ def test_the_bench_browser_keeps_playwrights_switches_and_has_no_address_bar_pop
 
 
 def test_the_page_asks_for_its_shaders_with_its_modules_and_once():
-    """Each shader file renderer.js loads is asked for by index.html's preload, while the
+    """Each shader file programs.js loads is asked for by index.html's preload, while the
     modules load (initiator "link", not main.js's fetch), and once: its fetch takes the
     preloaded response (a mismatched preload is fetched twice)."""
     import json
@@ -115,7 +115,7 @@ def test_the_page_asks_for_its_shaders_with_its_modules_and_once():
     from app.resources import WEB_DIR
 
     shaders = json.loads(re.search(r"export const SHADERS = (\[.*?\]);",
-                                   (WEB_DIR / "renderer.js").read_text(encoding="utf-8"), re.S).group(1))
+                                   (WEB_DIR / "programs.js").read_text(encoding="utf-8"), re.S).group(1))
     with sync_playwright() as pw, served("fern") as s:
         browser = launch(pw)
         try:

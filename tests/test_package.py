@@ -100,6 +100,30 @@ def test_wheel_holds_every_module_the_shaders_the_background_and_the_page(wheel)
             assert whl.read(name) == source.read_bytes(), name
 
 
+def holding(whl: zipfile.ZipFile, word: bytes) -> list[str]:
+    """The .py files of `whl` whose bytes hold `word` in any case (comments and strings too)."""
+    return [name for name in whl.namelist()
+            if name.endswith(".py") and word.lower() in whl.read(name).lower()]
+
+
+def test_holding_finds_a_word_in_any_case_in_python_files_only(tmp_path):
+    with zipfile.ZipFile(tmp_path / "x.whl", "w") as whl:
+        whl.writestr("a/code.py", "from PlayWright.sync_api import x\n")
+        whl.writestr("a/comment.py", "# needs PLAYWRIGHT\n")
+        whl.writestr("a/clean.py", "import play\n# write\n")
+        whl.writestr("a/notes.txt", "playwright\n")
+    with zipfile.ZipFile(tmp_path / "x.whl") as whl:
+        assert holding(whl, b"playwright") == ["a/code.py", "a/comment.py"]
+
+
+def test_no_module_of_the_wheel_names_playwright_nor_is_of_the_checkout_s_bench(wheel):
+    """The benchmarks that drive a browser stay in the checkout (bench/): nothing a user
+    installs imports, or even mentions, the test stack's browser driver."""
+    with zipfile.ZipFile(wheel) as whl:
+        assert holding(whl, b"playwright") == []
+        assert [n for n in whl.namelist() if n.split("/")[0] == "bench"] == []
+
+
 def test_installed_package_is_not_the_checkout(venv, elsewhere):
     where = "import app, sim; print(app.__file__); print(sim.__file__)"
     out = _run([venv / "python", "-c", where], elsewhere)

@@ -1,5 +1,5 @@
 """The phone page (app/web) in headless Chromium, without a server: Playwright serves its
-files from disk and stands in for the WebSocket (app.bench.page.Page). The desktop
+files from disk and stands in for the WebSocket (bench.page.Page). The desktop
 renderer (EGL) and numpy are the oracles."""
 
 from __future__ import annotations
@@ -13,7 +13,9 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.bench.page import (
+from app.gl import shaders
+from app.resources import WEB_DIR
+from bench.page import (
     Page,
     browser_problem,
     compare,
@@ -24,8 +26,6 @@ from app.bench.page import (
     launch,
     wire_deltas,
 )
-from app.gl import shaders
-from app.resources import WEB_DIR
 from sim import Params
 from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES
 
@@ -55,19 +55,30 @@ def grown(gl_ctx, request):
     return params, messages, desktop_frame(gl_ctx, params, wire_deltas(messages, params))
 
 
-def test_the_page_knows_each_looks_defines():
-    source = (WEB_DIR / "renderer.js").read_text(encoding="utf-8")
-    for name, table in (("LOOK_DEFINES", LOOK_DEFINES), ("FEATURE_DEFINES", FEATURE_DEFINES)):
-        text = re.search(rf"export const {name} = (\{{.*?\}});", source).group(1)
-        page = json.loads(re.sub(r"(\w+):", r'"\1":', text))
-        assert page == {look: list(d) for look, d in table.items()}
+def page_source() -> str:
+    """The text of every module of the page."""
+    return "".join(path.read_text(encoding="utf-8") for path in sorted(WEB_DIR.glob("*.js")))
+
+
+def test_the_page_takes_each_looks_defines_from_the_hello(browser):
+    """The page keeps no copy of the desktop's #defines, material or light (frost serve's
+    are sim.look.material's): each look's programs are built with the hello's, here other
+    ones."""
+    assert not re.search(r"\b(LOOK_DEFINES|FEATURE_DEFINES|MATERIAL|defaultLight)\b", page_source())
+    params = Params.preset("fern")
+    said = hello(params)
+    assert set(said["defines"]) == set(LOOK_DEFINES) == set(FEATURE_DEFINES)
+    defines = {look: {"ice": ["FILM"], "feature": []} for look in said["defines"]}
+    with Page({**said, "defines": defines}, [], browser=browser) as page:
+        got = page.page.evaluate("(r => [r.defines, r.features.defines])(frost.renderer)")
+    by_pass = {part: {look: d[part] for look, d in defines.items()} for part in ("ice", "feature")}
+    assert got == [by_pass, by_pass["feature"]]
 
 
 def test_the_page_draws_with_the_tile_and_depth_of_the_hello(browser):
     """The page keeps no copy of the desktop's tile side and feature depth: it takes the
     hello's (frost serve's are sim.look.material's TILE and MAX_DEPTH), here other ones."""
-    source = "".join((WEB_DIR / name).read_text(encoding="utf-8") for name in ("renderer.js", "main.js"))
-    assert not re.search(r"\b(TILE|MAX_DEPTH)\b", source)
+    assert not re.search(r"\b(TILE|MAX_DEPTH)\b", page_source())
     params = Params.preset("fern")
     with Page({**hello(params), "tile": 32, "max_depth": 128.0}, [], browser=browser) as page:
         got = page.page.evaluate("(r => [r.tile, r.tiles.cols, r.tiles.rows, r.damage.cols,"
@@ -176,10 +187,10 @@ def test_the_height_texture_holds_heights_and_slopes_as_numpy(browser, grown):
     gy, gx = np.gradient(grid.reshape(rows, cols), float(params.grid_spacing))
     want = np.stack((grid.reshape(rows, cols), gx, gy), axis=-1).astype(np.float16)
     with Page(hello(params), messages, browser=browser) as page:
-        texels = page.page.evaluate("Array.from(frost.renderer.texels)")
+        texels = page.page.evaluate("Array.from(frost.renderer.heights.texels)")
         # The same rows worked out again by the page's own floatToHalf (a browser without
         # Float16Array), from a texture emptied first.
-        fallback = page.page.evaluate("""() => { const r = frost.renderer;
+        fallback = page.page.evaluate("""() => { const r = frost.renderer.heights;
             const had = !!r.halves;
             r.halves = null;
             r.texels.fill(0);
@@ -367,6 +378,30 @@ def test_what_the_screen_does_not_show_is_drawn_when_it_does(browser, grown):
     assert np.array_equal(image("all"), whole)
     assert np.array_equal(image("over"), whole)
     assert whole[inside].std() > 0  # (the frost is in the view)
+
+
+def shown_span(offset: float, scale: float, screen: int, size: int) -> list[int]:
+    """The pane px [first, end) any part of which lies on a screen `screen` px long, the
+    pane starting at `offset` with `scale` screen px to each of its px: each one tried."""
+    shown = [c for c in range(size) if offset + (c + 1) * scale > 0 and offset + c * scale < screen]
+    return [shown[0], shown[-1] + 1]
+
+
+def test_the_visible_part_of_the_pane_holds_every_pane_px_the_screen_shows(browser):
+    """At any scale, the visible part (what a frame draws) reaches every pane px a screen px
+    falls on, a cut one at each edge included, and no px the screen does not show."""
+    screens = [(1170, 2532, "fill"), (1080, 2400, "fill"), (2400, 1080, "fill"), (1000, 1000, "fill"),
+               (1170, 2532, "pane"), (591, 1280, "fill"), (333, 777, "fill")]
+    with Page(hello(Params.preset("fern")), [], browser=browser) as page:
+        got = page.page.evaluate("""async (screens) => {
+            const f = await import('./web/fit.js');
+            return screens.map(([w, h, fit]) => {
+              const rect = f.paneRect(w, h, fit);
+              return [rect, f.visiblePane(rect, w, h)]; }); }""", screens)
+    for (w, h, fit), (rect, view) in zip(screens, got, strict=True):
+        x0, x1 = shown_span(rect["x"], rect["scale"], w, 760)
+        y0, y1 = shown_span(rect["y"], rect["scale"], h, 1280)
+        assert view == [x0, y0, x1, y1], (w, h, fit)
 
 
 def test_the_programs_warmed_while_a_snapshot_comes_leave_no_trace(browser, grown):
@@ -744,10 +779,10 @@ def test_a_snapshot_is_drawn_once_whole_not_part_by_part(browser, monkeypatch):
 
 
 def test_the_snapshot_work_bench_times_each_step_of_a_late_joins_snapshot(browser, capsys):
-    """`frost bench page --snapshot-work N` grows the window pane, gives the page its
+    """`python -m bench page --snapshot-work N` grows the window pane, gives the page its
     snapshot N times and prints a median and p99 for each step, the landscape phone's the
     rows its screen shows."""
-    from app.bench.page import snapshot_work
+    from bench.page import snapshot_work
 
     # (in the tests' browser: a second Playwright beside it would refuse to start)
     assert snapshot_work(2, 40, "swiftshader", browser=browser) == 0

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from app.bench.page import Page, browser_problem, hello
+from bench.page import Page, browser_problem, hello
 from sim import Params
 from tests.test_phone_e2e import BACKDROP, PHONE, grown, open_page, pause_and_settle, pixels, synced
 
@@ -283,6 +283,31 @@ def test_tilt_maths_against_hand_worked_cases(browser):
     assert close(got["right30"], [0.5, 0, h]) and close(got["up30"], [0, -0.5, h])
     assert close(got["flat"], [0, -math.sin(math.radians(75)), math.cos(math.radians(75))])
     assert close(got["lp"], [1 - math.exp(-1), 1 - math.exp(-2)])
+
+
+def test_the_tilt_snaps_to_its_target_only_once_within_a_quarter_step(browser):
+    """The drawn tilt follows the low-pass (each step of TAU * ln 10 ms leaves a tenth of
+    the way) and takes the target exactly only once it is within STEP_DEG / 4 of it: 0.1
+    degree off is drawn as it is, 0.01 off snaps to the target; then nothing changes."""
+    with Page(hello(Params.preset("fern")), [], browser=browser) as p:
+        got = p.page.evaluate("""async () => {
+            const t = await import("./web/tilt.js");
+            const tilt = new t.Tilt({});
+            let target = [0, 0];
+            tilt.target = () => target;
+            const step = t.TAU_MS * Math.log(10), base = [0, 0, 1], out = [];
+            tilt.light(base, 0);  // the filter starts at rest
+            target = [1, 0];
+            for (let k = 1; k <= 3; k++) {
+              const { changed } = tilt.light(base, k * step);
+              out.push([changed, [...tilt.drawn]]);
+            }
+            return { out, step: t.STEP_DEG }; }""")
+    assert got["step"] / 4 == 0.05  # (the cases below lie either side of it)
+    (changed1, drawn1), (changed2, drawn2), (changed3, drawn3) = got["out"]
+    assert changed1 and np.allclose(drawn1, [0.9, 0], atol=1e-9)  # 0.1 off: as filtered
+    assert changed2 and drawn2 == [1, 0]  # 0.01 off: the target itself
+    assert not changed3 and drawn3 == [1, 0]
 
 
 def test_the_screen_stays_on_while_visible_and_connected(serve, phones):

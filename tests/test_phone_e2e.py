@@ -24,7 +24,7 @@ import pytest
 from PIL import Image
 
 from app.backdrops import load_backdrop
-from app.bench.page import browser_problem, compare
+from bench.page import browser_problem, compare
 from sim.screen import HEIGHT, WIDTH
 
 PROBLEM = browser_problem()

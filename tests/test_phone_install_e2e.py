@@ -22,9 +22,9 @@ import pytest
 from PIL import Image
 from test_phone_e2e import PHONE, PROBLEM, Serve, open_page, synced, token_needed
 
-from app.bench.page import ANGLE, chromium_options
 from app.images import cover
 from app.resources import ASSET_DIR
+from bench.page import ANGLE, chromium_options
 
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
 
@@ -186,6 +186,63 @@ def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, serve,
         page.screenshot(path=str(tmp_path / "back.png"))
     finally:
         ctx.close()
+
+
+WORKER_HARNESS = """async ([code, answers]) => {
+  // The worker's code run against stand-ins: a cache that holds the whole shell, a network
+  // that answers the page with the X-Frost-Shell header it is given (null: none).
+  const listeners = {};
+  const self = { location: new URL('http://pane.test/sw.js?token=T'), clients: { matchAll: async () => [] },
+                 addEventListener: (name, f) => { listeners[name] = f; }, skipWaiting: async () => {} };
+  let puts = 0;
+  const cache = { match: async (r) => new Response('cache ' + new URL(r.url ?? r).pathname),
+                  put: async () => { puts += 1; } };
+  const caches = { open: async () => cache, keys: async () => [] };
+  let header = null;
+  const fetch = async (r) => new Response('network ' + new URL(r.url ?? r).pathname,
+                                          { headers: header === null ? {} : { 'X-Frost-Shell': header } });
+  new Function('self', 'caches', 'fetch', code)(self, caches, fetch);
+  const ask = (path, mode, ids) => new Promise((resolve) => listeners.fetch({
+    request: { url: 'http://pane.test/' + path + '?token=T', method: 'GET', mode }, ...ids,
+    respondWith: (answer) => resolve(Promise.resolve(answer).then((r) => r.text())) }));
+  const install = () => new Promise((resolve) => listeners.install({ waitUntil: (done) =>
+    resolve(done.then(() => 'installed', (err) => err.message)) }));
+  const pages = [], installs = [];
+  for (const [n, said] of answers.entries()) {
+    header = said;
+    const id = 'page' + n;
+    pages.push([await ask('', 'navigate', { resultingClientId: id }),
+                await ask('web/main.js', 'cors', { clientId: id })]);
+    puts = 0;
+    installs.push([await install(), puts]);
+  }
+  return { pages, installs, files: SHELL_FILES };
+}"""
+
+
+def test_the_worker_serves_its_cache_only_to_a_page_of_its_own_hash(browser):
+    """The worker's code (as the server serves it) with a stand-in cache and network: a page
+    the server answers with the worker's own hash takes its files from the cache; one
+    answered with another hash (the server was upgraded), or with none, from the network.
+    And the worker installs only where the page, fetched last, is still of its hash (else
+    the files cached may be of two versions)."""
+    from app.resources import WEB_DIR
+    from app.serve.install import Shell
+
+    worker = Shell(WEB_DIR).worker().decode()
+    shell = json.loads(worker.split("\n", 1)[0].removeprefix("const SHELL = ").removesuffix(";"))
+    page = browser.new_page()
+    try:
+        got = page.evaluate(WORKER_HARNESS.replace("SHELL_FILES", str(len(shell["files"]))),
+                            [worker, [shell["hash"], "0123456789abcdef", None]])
+    finally:
+        page.close()
+    assert got["pages"] == [["network /", "cache /web/main.js"],  # the page itself always the network's
+                            ["network /", "network /web/main.js"],
+                            ["network /", "network /web/main.js"]]
+    changed = "the page changed while it was being cached"
+    files = got["files"]
+    assert got["installs"] == [["installed", files], [changed, files - 1], [changed, files - 1]]
 
 
 def marked_copy(folder: Path, mark: str) -> Path:

@@ -35,6 +35,31 @@ def quadrant_photo(path, w: int = 1200, h: int = 1600) -> None:
     Image.fromarray(a).save(path, "JPEG", quality=92)
 
 
+def test_the_page_makes_a_photo_cover_the_pane_as_pillow_does(browser):
+    """A wide picture (thirds of red, green, blue, and a gradient down it) becomes a JPEG
+    covering the pane, centred: what Pillow's cover gives (the oracle), so the middle of
+    the green third fills it, top to bottom, with no bar."""
+    from app.images import cover
+    from bench.page import Page, hello
+    from sim import Params
+
+    a = np.zeros((400, 1600, 3), np.uint8)
+    for k, colour in enumerate(((220, 30, 30), (30, 200, 40), (30, 40, 210))):
+        a[:, k * 533:(k + 1) * 533 + (k == 2)] = colour
+    a[..., 2] = np.linspace(0, 255, 400, dtype=np.uint8)[:, None]
+    png = io.BytesIO()
+    Image.fromarray(a).save(png, "PNG")
+    with Page(hello(Params.preset("fern")), [], browser=browser) as page:
+        jpeg = page.page.evaluate("""async (bytes) => {
+            const { paneJpeg } = await import('./web/photo.js');
+            const blob = await paneJpeg(new Blob([new Uint8Array(bytes)], { type: 'image/png' }));
+            return Array.from(new Uint8Array(await blob.arrayBuffer())); }""", list(png.getvalue()))
+    got = np.asarray(Image.open(io.BytesIO(bytes(jpeg))).convert("RGB")).astype(int)
+    want = np.asarray(cover(Image.fromarray(a), (WIDTH, HEIGHT))).astype(int)
+    assert got.shape == want.shape == (HEIGHT, WIDTH, 3)
+    assert np.abs(got - want).mean() < 6, np.abs(got - want).mean()
+
+
 def choose(page, path) -> dict:
     """`path` chosen through the menu's "Use a photo…"; how the upload went."""
     before = page.evaluate("frost.photo.last")

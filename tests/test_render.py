@@ -303,11 +303,19 @@ def test_melt_renders_as_if_the_ice_never_grew_there(gl_ctx):
 
 
 def test_the_pages_shader_header_is_the_es_dialects():
-    # One header per dialect: the page's copy (app/web/renderer.js) is the loader's "es".
-    js = (Path(__file__).resolve().parent.parent / "app" / "web" / "renderer.js").read_text(encoding="utf-8")
+    # One header per dialect: the page's copy (app/web/programs.js) is the loader's "es".
+    js = (Path(__file__).resolve().parent.parent / "app" / "web" / "programs.js").read_text(encoding="utf-8")
     start = js.index('export const HEADER = "') + len('export const HEADER = "')
     page = js[start:js.index('";', start)].encode().decode("unicode_escape")
     assert page == HEADERS["es"]
+
+
+@pytest.mark.parametrize("dialect", ["gles", "ES", "core "])
+def test_an_unknown_shader_dialect_is_a_value_error_naming_it(dialect):
+    """Not a KeyError from the table: a ValueError that says the dialect asked for and the
+    ones there are."""
+    with pytest.raises(ValueError, match=f"GLSL dialect {dialect!r}: one of core, es"):
+        shader_source("ice.frag", dialect=dialect)
 
 
 # Mesa with a Mac's limits: OpenGL 4.1 core, GLSL 4.10, no ES 3 compatibility. A proxy for a

@@ -591,9 +591,9 @@ def test_a_clear_while_paused_clears_every_page():
 
 
 def test_the_bench_prints_its_figures(capsys):
-    """frost bench serve runs (briefly) and says each figure, its attacks' too; no speed is
+    """python -m bench serve runs (briefly) and says each figure, its attacks' too; no speed is
     asserted."""
-    from app.bench import serve as bench
+    from bench import serve as bench
     bench.bytes_offline("c-2", 30, scribble=True)
     attacks = [a for name in bench.ATTACKS for a in ("--attack", name)]
     assert bench.main(["--skip-bytes", "--seconds", "3", "--pages", "2", *attacks,
@@ -621,7 +621,7 @@ def test_the_all_over_attack_asks_a_page_s_most_touches_at_fresh_spots_all_over(
     are at its turns, by the pane's sides)."""
     import itertools
 
-    from app.bench import attacks
+    from bench import attacks
     from sim.io.gestures import DRAG_SPACING_HC, path_points
     from sim.screen import HEIGHT, SIZE, WIDTH, touch_problem
 
@@ -642,7 +642,7 @@ def test_the_all_over_attack_asks_a_page_s_most_touches_at_fresh_spots_all_over(
 
 def test_the_attacks_pages_each_start_at_their_own_rows():
     """Page k of 16 begins k/16 of the way down the pane, so the pages sweep apart."""
-    from app.bench import attacks
+    from bench import attacks
 
     firsts = [next(attacks.sweep(attacks.Page(k, 16, 7.0)))[1] for k in range(16)]
     assert firsts == sorted(firsts) and len(set(firsts)) == 16
@@ -682,6 +682,22 @@ def test_menu_and_keys_change_the_shared_frost_and_every_page_hears():
         assert [e["name"] for e in events if e["kind"] == "backdrop"] == ["lockscreen"]
         assert feed.controls.params == Params.preset("window").replace(look="paper")
     serve(test)
+
+
+def test_the_backdrop_key_steps_through_the_built_ins_from_a_photo_first_to_the_first():
+    """The X key (the window's backdrop key) on a page: over a photo or a file of the
+    user's it goes to the first built-in, then steps through them in turn (BACKDROPS'
+    order: dusk, lockscreen) and round again."""
+    from app.backdrops import BACKDROPS
+    from app.serve.protocol import Input
+
+    feed = Feed(Params.preset("c-2"), seed=1, backdrop="photo-0123456789abcdef")
+    shown = []
+    for _ in range(3):
+        feed.controls.handle(Input("key", name="X"), {})
+        shown.append(feed.controls.backdrop)
+    first, second = list(BACKDROPS)
+    assert shown == [first, second, first] == ["dusk", "lockscreen", "dusk"]
 
 
 def test_a_port_taken_or_out_of_range_is_one_clear_error():

@@ -8,8 +8,8 @@ import json
 
 import pytest
 
-from app.bench.page import hello as bench_hello
 from app.serve.feed import Feed
+from bench.page import hello as bench_hello
 from sim import Params
 from sim.look.material import Material
 

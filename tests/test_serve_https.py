@@ -131,10 +131,42 @@ def test_the_token_is_kept_and_replaced_when_asked(tmp_path):
     assert new != token and trust.kept_token(tmp_path) == new
 
 
+@pytest.mark.parametrize("mode", [0o640, 0o604, 0o660, 0o644], ids=oct)
+def test_a_kept_private_file_readable_by_anyone_else_is_made_the_users_alone(tmp_path, mode):
+    """The token, the authority's key and the server's key, kept with a wider mode (a copy,
+    a restore from a backup), are read and left readable by the user alone: no bit for the
+    group nor for others (the mode from the file system is the oracle)."""
+    now = dt.datetime(2026, 11, 26, 12, tzinfo=dt.timezone.utc)
+    token = trust.kept_token(tmp_path)
+    trust.local_certificate(tmp_path, NAMES, now)
+    private = ("token", "ca.key", "server.pem")
+    for name in private:
+        os.chmod(tmp_path / name, mode)
+    assert trust.kept_token(tmp_path) == token
+    trust.local_certificate(tmp_path, NAMES, now)
+    for name in private:
+        assert stat.S_IMODE((tmp_path / name).stat().st_mode) == 0o600, name
+
+
+@pytest.mark.parametrize("kept", [b"", b"short\n", b"a token with spaces in it\n", b"x" * 65,
+                                  b"\xff\xfe" * 12, b"abcdefghijklmnop;rm -rf\n"])
+def test_a_kept_token_file_not_holding_a_token_is_replaced_by_a_new_one(tmp_path, kept):
+    """A token must be 16 to 64 of the URL-safe characters (a page carries it in its
+    address): any other content of the file is replaced by a new token, kept."""
+    (tmp_path / "token").write_bytes(kept)
+    token = trust.kept_token(tmp_path)
+    assert re.fullmatch(r"[A-Za-z0-9_-]{16,64}", token) and token.encode() != kept.strip()
+    assert (tmp_path / "token").read_text(encoding="utf-8").strip() == token
+    assert trust.kept_token(tmp_path) == token
+
+
 def test_the_machines_names_hold_its_host_name_lan_address_and_loopback():
     names = trust.machine_names("0.0.0.0", lan="192.168.1.20", hostname="Pane")
     assert {"localhost", "127.0.0.1", "::1", "pane", "pane.local", "192.168.1.20"} <= set(names)
     assert "0.0.0.0" not in names
+    for every in ("0.0.0.0", "::", ""):  # a wildcard names no address: no certificate holds it
+        held = trust.machine_names(every, lan=None, hostname="pane")
+        assert every not in held and {"localhost", "127.0.0.1", "::1"} <= set(held), every
     assert "10.1.2.3" in trust.machine_names("10.1.2.3", lan=None, hostname="pane")
     assert "bad_name" not in trust.machine_names("0.0.0.0", lan=None, hostname="bad_name")
 
@@ -465,7 +497,7 @@ def test_a_tls_handshake_never_finished_is_closed(tmp_path, monkeypatch):
 # ---- a browser told to trust the authority ----------------------------------------------------
 
 def browser_problem() -> str | None:
-    from app.bench.page import browser_problem as problem
+    from bench.page import browser_problem as problem
 
     found = problem()
     if found is None and not Path("/usr/bin/certutil").is_file():
@@ -480,7 +512,7 @@ def chromium(pw, home: Path, name: str):
     """The system Chromium with `home` as its HOME (its NSS database of trusted
     authorities is home/.pki/nssdb) and `name` resolved to this machine: a name that is no
     loopback name, so that only HTTPS makes the page a secure context."""
-    from app.bench.page import CHROMIUM_ARGS, chromium_options
+    from bench.page import CHROMIUM_ARGS, chromium_options
 
     args = [*CHROMIUM_ARGS, f"--host-resolver-rules=MAP {name} 127.0.0.1"]
     return pw.chromium.launch(**chromium_options(pw, args), env={**os.environ, "HOME": str(home)})

@@ -48,7 +48,7 @@ def test_the_shell_holds_every_file_the_page_loads():
     html = (WEB_DIR / "index.html").read_text(encoding="utf-8")
     modules = json.loads(re.search(r"const MODULES = (\[.*?\]);", html).group(1))
     shaders = json.loads(re.search(r"export const SHADERS = (\[.*?\]);",
-                                   (WEB_DIR / "renderer.js").read_text(encoding="utf-8"), re.S).group(1))
+                                   (WEB_DIR / "programs.js").read_text(encoding="utf-8"), re.S).group(1))
     wanted = {"", "web/page.css", *(f"web/{m}.js" for m in modules), *(f"shaders/{s}" for s in shaders),
               *(f"backdrops/{b}.png" for b in BACKDROPS), *(f"web/{f}" for f in ICONS.values())}
     assert wanted - urls == set()
@@ -71,6 +71,17 @@ def test_the_hash_changes_when_any_shell_file_changes_and_only_then(copy):
     assert copy.digest() != first
     new.unlink()
     assert copy.digest() == first
+
+
+def test_the_hash_changes_when_a_shell_file_is_renamed_with_the_same_bytes(copy):
+    """A file's address is part of the shell: the same bytes under another name (a module
+    renamed, that index.html asks for by its new name) are another shell."""
+    first, contents = copy.digest(), [path.read_bytes() for _, path in copy.files()]
+    (copy.web_dir / "fit.js").rename(copy.web_dir / "fitted.js")
+    # (the same bytes in the same order: only an address differs)
+    assert [path.read_bytes() for _, path in copy.files()] == contents
+    assert "web/fitted.js" in dict(copy.files())
+    assert copy.digest() != first
 
 
 def test_the_worker_carries_the_hash_and_the_shell(copy):

@@ -1,6 +1,6 @@
 """One page's outgoing queue and its input limits (app/serve/pages.py) by hand: a socket
 that takes whatever it is sent, a clock the test moves. The oracles are the figures of
-docs/phone.md (a page 50 ticks or 6 MB behind is resynced) and token counts worked out by
+docs/phone-design.md (a page 50 ticks or 6 MB behind is resynced) and token counts worked out by
 hand."""
 
 from __future__ import annotations
@@ -44,6 +44,53 @@ def test_a_page_six_mb_behind_is_resynced_before_fifty_ticks():
     assert not page.waiting and page.resyncs == 0
     page.tick([megabyte])
     assert page.waiting and page.resyncs == 1
+
+
+class HeldWire(Wire):
+    """A socket that holds one message (`hold`) until the test releases it."""
+
+    def __init__(self, hold: bytes):
+        super().__init__()
+        self.hold, self.holding, self.release = hold, asyncio.Event(), asyncio.Event()
+
+    async def send_bytes(self, data):
+        if data == self.hold:
+            self.holding.set()
+            await self.release.wait()
+        self.sent.append(data)
+
+    send_str = send_bytes
+
+
+def test_a_tick_counts_as_behind_until_its_last_message_is_sent():
+    """The bound on ticks behind counts a tick of several messages as one until the last
+    of them is out: with the first of two ticks' three messages sent and its second in the
+    socket, the page is still two ticks behind; with all sent, none."""
+
+    async def run():
+        wire = HeldWire(b"0b")
+        page = Page(wire, "p", lambda: None)
+        page.start([], '{"type":"state"}')
+        page.tick([b"0a", b"0b", b"0c"])
+        page.tick([b"1a", b"1b"])
+        writer = asyncio.create_task(page.write())
+        await asyncio.wait_for(wire.holding.wait(), 30)
+        during = page.behind_ticks
+        wire.release.set()
+
+        async def all_sent():
+            while len(wire.sent) < 6:
+                await asyncio.sleep(0)
+
+        await asyncio.wait_for(all_sent(), 30)
+        after = page.behind_ticks
+        page.close()
+        await writer
+        return during, after, wire.sent
+
+    during, after, sent = asyncio.run(run())
+    assert sent == ['{"type":"state"}', b"0a", b"0b", b"0c", b"1a", b"1b"]
+    assert (during, after) == (2, 0)
 
 
 def test_a_resync_drops_what_was_queued_and_says_so_first():

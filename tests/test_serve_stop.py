@@ -1,4 +1,5 @@
-"""`frost serve` stopped (docs/phone.md, Stopping): whatever a page was told the server has
+"""`frost serve` stopped (docs/phone.md, Stopping; docs/phone-design.md, With the window,
+and stopping): whatever a page was told the server has
 (a photo answered 200, a touch answered by the pong after it) is in the session written,
 input left unapplied is counted in the warning, and a request still open (a photo half
 sent) cannot hold the exit. Oracles: the spots and photo names each page was answered for,

@@ -1,4 +1,4 @@
-"""The shaping proxy of `frost bench page --network` (app/bench/shaper.py) against servers
+"""The shaping proxy of `python -m bench page --network` (bench/shaper.py) against servers
 of the test's own (an echo, a recorder), timed with the test's own clock: bytes arrive
 unchanged and in order, each way waits at least its delay less its jitter, N bytes take at
 least N * 8 / rate seconds, and a close on either side closes the other. Only lower bounds
@@ -14,8 +14,8 @@ import time
 
 import pytest
 
-from app.bench import page as page_bench
-from app.bench.shaper import PROFILES, Profile, Shaper, profile
+from bench import page as page_bench
+from bench.shaper import PROFILES, Profile, Shaper, profile
 
 # Delays long beside a loaded machine's scheduling, jitter nearly as large, so that
 # pieces given to the link within a few ms of each other would cross if it reordered.
@@ -390,10 +390,10 @@ def test_a_server_that_is_not_there_closes_the_client():
 ])
 def test_a_bad_network_option_is_one_line(argv, says, capsys):
     with pytest.raises(SystemExit) as stop:
-        page_bench.main(argv, prog="frost bench page")
+        page_bench.main(argv, prog="python -m bench page")
     assert stop.value.code == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and err.startswith(f"frost bench page: error: {says}")
+    assert err.count("\n") == 1 and err.startswith(f"python -m bench page: error: {says}")
 
 
 @pytest.mark.parametrize("argv, says", [
@@ -402,7 +402,7 @@ def test_a_bad_network_option_is_one_line(argv, says, capsys):
     (["--to", "127.0.0.1:8025", "--port", "70000"], "--port 70000 must be from 0 to 65535"),
 ])
 def test_the_proxys_own_bad_command_line_is_one_line(argv, says, capsys):
-    from app.bench import shaper
+    from bench import shaper
 
     with pytest.raises(SystemExit) as stop:
         shaper.main(argv)

@@ -448,6 +448,11 @@ def test_melt_is_identical_in_both_neighbour_searches_and_rejects_bad_input():
         runs[0].melt(10, 10, -1.0)
     with pytest.raises(ValueError, match="radius"):
         runs[0].melt(math.nan, 10, 5.0)
+    alive = runs[0].crystal_alive.tobytes()
+    for discs in ([(380, 640, 0.0)], [(380, 640, 30.0), (100, 100, 0.0)]):  # a radius of 0 melts nothing
+        with pytest.raises(ValueError, match="radius 0.0: need finite values, radius > 0"):
+            runs[0].melt_many(discs)
+        assert runs[0].crystal_alive.tobytes() == alive  # refused whole: the ice as it was
 
 
 def test_set_water_replaces_every_walker_and_refuses_an_area_that_does_not_exist():

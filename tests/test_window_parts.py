@@ -6,7 +6,9 @@ from __future__ import annotations
 import dataclasses
 import json
 import logging
+import os
 import re
+import signal
 import sys
 import threading
 import time
@@ -119,6 +121,14 @@ def test_a_click_lands_on_the_phone_point_under_it_whatever_the_framebuffers_den
         got = cursor_to_phone(cursor, window, framebuffer)
         assert got is not None and got == pytest.approx((px, py), abs=1.5 / ratio + 0.6)
     assert cursor_to_phone((250.0, top - 5.0), window, framebuffer) is None  # the bar
+
+
+def test_a_click_maps_each_axis_by_its_own_ratio_of_framebuffer_to_window():
+    """A window of 507 x 853 at 150 % has a framebuffer of 760 x 1280 (each side rounded
+    on its own: 1.499 across, 1.5006 down). The phone fills it; a cursor's x maps by the
+    one ratio, its y by the other (hand-worked: x 253.5 * 760 / 507, y 852 * 1280 / 853)."""
+    got = cursor_to_phone((253.5, 852.0), (507, 853), (760, 1280))
+    assert got == pytest.approx((380.0, 852 * 1280 / 853), abs=1e-9)
 
 
 def test_hud_text_is_drawn_at_the_windows_content_scale():
@@ -574,15 +584,20 @@ def test_the_session_file_follows_the_run_at_most_every_autosave_period(tmp_path
     """What a process killed at once (SIGKILL, the display gone) leaves: the session as
     it was at the last save, saved again once it changed and AUTOSAVE_PERIOD passed."""
     thread, capture, said, renderer = keeper(tmp_path)
-    saved, snap = [], None
-    for now, ticks in ((0.0, 5), (1.0, 5), (AUTOSAVE_PERIOD, 5), (2 * AUTOSAVE_PERIOD, 0)):
+    saved, files, snap = [], [], None
+    for now, ticks in ((0.0, 5), (1.0, 5), (AUTOSAVE_PERIOD, 5), (2 * AUTOSAVE_PERIOD, 0),
+                       (3 * AUTOSAVE_PERIOD, 0)):
         snap = ticked(thread, ticks) if ticks else snap
         capture.keep_session(snap, now)
         capture.keeper.wait()
         saved.append(SessionLog.load(capture.session_path).steps)
-    assert saved == [5, 5, 15, 15]  # too soon at 1 s; unchanged at the end
+        info = capture.session_path.stat()
+        files.append((info.st_ino, info.st_mtime_ns))  # (a save replaces the file whole)
+    assert saved == [5, 5, 15, 15, 15]  # too soon at 1 s; unchanged at the end
+    # Two periods with nothing new: the file is left as it is, not written again.
+    assert files[2] == files[3] == files[4] and files[1] != files[2]
     renderer.light = [0.5, 0.0, 0.866]  # the view alone changed: saved with it
-    capture.keep_session(snap, 3 * AUTOSAVE_PERIOD)
+    capture.keep_session(snap, 4 * AUTOSAVE_PERIOD)
     capture.keeper.wait()
     assert SessionLog.load(capture.session_path).view["light"] == [0.5, 0.0, 0.866]
     assert said == [] and len(list((tmp_path / "sessions").iterdir())) == 1
@@ -618,6 +633,36 @@ def test_a_session_that_cannot_be_kept_is_told_once(tmp_path):
         capture.keeper.wait()
     told = [text for _, text in simthread.take_all(thread.notices)]
     assert len(told) == 1 and told[0].startswith("session NOT saved: ") and said == []
+
+
+@pytest.mark.skipif(not hasattr(signal, "SIGHUP"), reason="no SIGHUP on this platform")
+def test_the_window_ends_on_a_signal_but_leaves_one_its_parent_ignored():
+    """Under nohup (SIGHUP ignored by the parent) the window takes SIGTERM and Ctrl-C to end
+    its loop and leaves SIGHUP ignored: a hang-up neither ends it nor kills it. Each signal
+    has its handler of before once the window is closed."""
+    from app.window.frost_window import _signals_end
+
+    ended: list[int] = []
+    app = type("FakeWindow", (), {"end_by": lambda self, num: ended.append(num)})()
+    kept = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)}
+    try:
+        signal.signal(signal.SIGHUP, signal.SIG_IGN)
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        with _signals_end(app):
+            assert signal.getsignal(signal.SIGHUP) is signal.SIG_IGN
+            for signum in (signal.SIGHUP, signal.SIGTERM, signal.SIGINT):
+                os.kill(os.getpid(), signum)
+            deadline = time.monotonic() + 30  # (Python runs a handler between bytecodes)
+            while len(ended) < 2 and time.monotonic() < deadline:
+                time.sleep(0.01)
+        assert ended == [signal.SIGTERM, signal.SIGINT]
+        assert signal.getsignal(signal.SIGHUP) is signal.SIG_IGN
+        assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    finally:
+        for signum, handler in kept.items():
+            signal.signal(signum, handler)
 
 
 def test_the_lost_display_handler_rescues_once_and_never_waits_on_itself():

@@ -1,4 +1,4 @@
-"""What the benchmarks' own command lines share (`frost bench sim` and `frost bench page`
+"""What the benchmarks' own command lines share (`frost bench sim` and `python -m bench page`
 parse their arguments themselves)."""
 
 from __future__ import annotations

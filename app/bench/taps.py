@@ -1,6 +1,6 @@
 """Taps on the phone, through the simulation alone: how many ticks each tap's seed waits
 for its first child (the desktop log's and the page's "growth"). `frost bench sim --section
-taps` prints it for every session version's rules side by side; `frost bench page --taps`
+taps` prints it for every session version's rules side by side; `python -m bench page --taps`
 taps the same spots through `frost serve`."""
 
 from __future__ import annotations

@@ -26,6 +26,9 @@ INTERRUPTED = 130  # the shell's status for a program ended by SIGINT (128 + 2)
 MOVED = {"--headless": "frost render", "--replay": "frost replay FILE.json",
          "--figure8": "frost figure8 FILE.png", "--figure": "frost figure fern FILE.png",
          "--export-maps": "frost maps DIR", "--screenshot": "--out FILE.png (frost render)"}
+# The benchmarks that drive a browser or load the server with scripted pages: they left the
+# package for the checkout's bench/ (docs/benchmarks.md): they need the test stack's browser driver.
+BENCH_MOVED = ("page", "serve")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -35,17 +38,20 @@ def main(argv: list[str] | None = None) -> int:
         if argv[:2] == ["bench", "sim"]:  # its arguments are the benchmark's to parse
             from app.bench.simulation import main as bench_sim
             return bench_sim(argv[2:], prog="frost bench sim")
-        if argv[:2] == ["bench", "page"]:  # so are the page bench's
-            from app.bench.page import main as page_bench
-            return page_bench(argv[2:], prog="frost bench page")
-        if argv[:2] == ["bench", "serve"]:
-            from app.bench.serve import main as bench_serve
-            return bench_serve(argv[2:])
+        if argv[:2] in (["bench", what] for what in BENCH_MOVED):  # a checkout's now
+            return _bench_moved(argv[1])
         args, params = _parse(argv)
         return RUN[args.command](args, params)
     except KeyboardInterrupt:  # Ctrl-C: every file is written atomically, none is half there
         print(f"{PROG}: interrupted (Ctrl-C)", file=sys.stderr)
         return INTERRUPTED
+
+
+def _bench_moved(what: str) -> int:
+    """The one line that says where a benchmark of the checkout went (exit status 2)."""
+    print(f"{PROG} bench {what}: error: it moved out of the package: run "
+          f"`python -m bench {what}` from a checkout", file=sys.stderr)
+    return 2
 
 
 def _parse(argv: list[str]) -> tuple[argparse.Namespace, Params]:

@@ -233,8 +233,8 @@ def _serve(root: Parser, subs) -> None:
 
 
 def _bench(root: Parser, subs) -> None:
-    p = root.command(subs, "bench", "benchmarks: the simulation (sim), the renderer (render) or "
-                     "the phone server (serve)",
+    p = root.command(subs, "bench", "benchmarks: the simulation (sim) or the renderer (render); "
+                     "the page's and the server's are a checkout's: python -m bench page|serve",
                      usage="WHAT [options]")
     kinds = p.add_subparsers(dest="bench", title="benchmarks", metavar="WHAT", required=True)
     # Never parsed here (app.cli.commands hands its arguments to app.bench.simulation, as argparse
@@ -242,13 +242,6 @@ def _bench(root: Parser, subs) -> None:
     p.command(kinds, "sim", "the simulation's benchmark: every argument, --help too, goes to "
               "python -m app.bench.simulation", usage="[ARGS ...]", add_help=False,
               own_prefix=True)
-    p.command(kinds, "page", "the phone page against the desktop renderer (parity) and its "
-              "frame time: every argument goes to python -m app.bench.page",
-              usage="[ARGS ...]", add_help=False, own_prefix=True)
-    p.command(kinds, "serve", "frost serve's benchmark: bytes a tick and of a snapshot, tick time "
-              "with 0 and 16 pages, memory, touch-to-first-delta latency, hostile pages' "
-              "attacks; every argument goes to python -m app.bench.serve", usage="[ARGS ...]",
-              add_help=False, own_prefix=True)
     _bench_render(p.command(kinds, "render", "the renderer's benchmark: frame, geometry and "
                             f"upload times at about half the screen frosted (headless, {WIDTH}x{HEIGHT})"))
 

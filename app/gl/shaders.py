@@ -2,7 +2,7 @@
 
 The files are the common subset of GLSL ES 3.00 and GLSL 3.30 and carry no #version line.
 The phone page (WebGL2) compiles them as ES 3.00 with its own copy of the "es" header
-(app/web/renderer.js). Every desktop context compiles them as 3.30 core ("core"): a Mac's
+(app/web/programs.js). Every desktop context compiles them as 3.30 core ("core"): a Mac's
 OpenGL stops at 4.1 core, and desktop GL accepts "300 es" only from 4.3
 (ARB_ES3_compatibility); on Linux the same dialect runs, so what is tested here is what a
 Mac compiles. glslangValidator checks the files as ES (tests/test_render.py), which

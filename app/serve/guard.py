@@ -1,4 +1,4 @@
-"""Connections a slow or hostile client cannot pile up (docs/phone.md, security).
+"""Connections a slow or hostile client cannot pile up (docs/phone-design.md, Security).
 
 aiohttp waits for a request's head (its request line and headers) without end, and
 keeps an idle connection an hour: a client that opens connections and never finishes a

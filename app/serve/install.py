@@ -1,5 +1,6 @@
-"""The page as an installed app (docs/phone.md, Installing the page): its web app manifest,
-built for each request (its addresses carry the request's token), and its service worker,
+"""The page as an installed app (docs/phone-design.md, Installing: the shell and its
+worker): its web app manifest, built for each request (its addresses carry the request's
+token), and its service worker,
 `/sw.js`, the worker's code (app/web/sw.js) after a first line the server writes: the
 page's shell (the files it caches) and a hash of their bytes, so that any change to the
 page changes the worker's bytes, the browser installs it anew and the worker's cache (its

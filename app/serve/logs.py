@@ -1,5 +1,5 @@
-"""The server's log kept to a person's scale while clients flood it (docs/phone.md,
-security): what a flood repeats thousands of times a second is said once, then at most a
+"""The server's log kept to a person's scale while clients flood it (docs/phone-design.md,
+Security): what a flood repeats thousands of times a second is said once, then at most a
 line a while, each saying how many went unsaid."""
 
 from __future__ import annotations

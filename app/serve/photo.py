@@ -1,5 +1,5 @@
-"""A photo from a page (docs/phone.md, A photo from the phone; docs/protocol.md): `POST
-/photo`, its checks, and `GET /backdrops/<photo>.jpg`, the photos kept.
+"""A photo from a page (docs/phone-design.md, Photos: what the server checks;
+docs/protocol.md): `POST /photo`, its checks, and `GET /backdrops/<photo>.jpg`, the photos kept.
 
 A request that changes the server's state has a body and an Origin: an Origin naming the
 Host it was sent to, with the scheme of the port (http on the HTTP port, https on the

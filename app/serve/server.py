@@ -1,7 +1,7 @@
 """`frost serve`'s aiohttp app in front of one `Feed`: its routes (routes.py: HTTP,
 sockets.py: a page's WebSocket), the feed started and stopped with it, its stats line.
 
-Security (docs/phone.md): a token on every request when one is in force (403 without it),
+Security (docs/phone-design.md): a token on every request when one is in force (403 without it),
 the WebSocket's Origin must name the host asked, at most MAX_PAGES sockets, static files
 only from their own folders, and a page's bad input closes its socket alone.
 """

@@ -1,4 +1,5 @@
-"""HTTPS on the LAN that a phone trusts (docs/phone.md, "HTTPS on your network").
+"""HTTPS on the LAN that a phone trusts (docs/phone.md, "HTTPS on your network";
+docs/phone-design.md, "HTTPS: the authority and the certificate").
 
 A self-signed certificate is not enough for a phone: with a certificate error Chromium
 registers no service worker and installs no page, and iOS Safari refuses the WSS socket

@@ -1,4 +1,4 @@
-// The page as an app (docs/phone.md, Installing the page): its service worker (/sw.js, the
+// The page as an app (docs/phone-design.md, Installing: the shell and its worker): its service worker (/sw.js, the
 // server's) registered, so the page installs to the home screen and opens when `frost
 // serve` cannot be reached. Where there is none (a plain-HTTP address off this machine is
 // no secure context), nothing happens.

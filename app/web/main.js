@@ -206,8 +206,7 @@ async function onText(msg) {
     if (!r || r.gridSize[0] !== cols || r.gridSize[1] !== rows || r.spacing !== msg.spacing
         || r.tile !== msg.tile || r.maxDepth !== msg.max_depth) {
       state.renderer = new Renderer(gl, state.sources, { width: SCREEN[0], height: SCREEN[1], grid: msg.grid,
-        spacing: msg.spacing, tile: msg.tile, maxDepth: msg.max_depth });
-      if (msg.defines) state.renderer.setDefines(msg.defines);
+        spacing: msg.spacing, tile: msg.tile, maxDepth: msg.max_depth, defines: msg.defines });
       state.warm = msg.look;  // (at the next frame: the snapshot is on its way)
     } else {
       r.reset();  // the snapshot that follows holds the whole frost

@@ -54,7 +54,7 @@ export async function paneJpeg(file) {
 
 // The menu's "Use a photo…" button and its file input; `say(text)` the page's status
 // line (it stays), `notice(text)` a line that goes after a while. `last` says how the last
-// photo went (the tests and `frost bench page --photo` read it): {status, backdrop, bytes,
+// photo went (the tests and `python -m bench page --photo` read it): {status, backdrop, bytes,
 // answered} or {status, error, answered} (`answered`: when the server's answer came, ms
 // since the epoch; null if none came).
 export class PhotoPicker {

@@ -21,28 +21,18 @@ from collections import deque
 from typing import Any
 
 import glfw
-import moderngl
 from imgui_bundle import imgui
 
-from app.gl.imgui_renderer import ImGuiRenderer
 from app.window.glfw_setup import open_side_window, x_window_ids
 from app.window.panel import TuningPanel
+from app.window.panel_draw import PanelPainter
 from app.window.panel_input import FRAMES_AFTER_INPUT, PanelInput, Redraws
 
 log = logging.getLogger("app.window")
-# Where the widgets lie, at debug level (scripts that click on them turn it on).
-rects_log = logging.getLogger("app.window.panel")
 
 WIDTH = 400  # window px
 TITLE = "frost tuning (M hides)"
-BACKGROUND = (0.11, 0.11, 0.13)
 COST_WINDOW = 2.0  # s of redraws the stats line's cost a frame is counted over
-# The ImGui window fills the GLFW window, whose clear colour is its background (on
-# llvmpipe a blended 400x1280 quad cost ~5 ms more than the clear).
-WINDOW_FLAGS = (imgui.WindowFlags_.no_move | imgui.WindowFlags_.no_resize
-                | imgui.WindowFlags_.no_collapse | imgui.WindowFlags_.no_saved_settings
-                | imgui.WindowFlags_.no_background | imgui.WindowFlags_.no_title_bar)
-ITEM_WIDTH = 210  # px of a slider; its label and reset button take the rest
 
 
 class Deferred:
@@ -107,21 +97,17 @@ class PanelHost:
 
     def __init__(self, phone, actions):
         self.phone, self.actions = phone, actions
-        self.context = _imgui_context()  # ImGui's; GL's is gl_context
+        self.context = _imgui_context()  # ImGui's; GL's is the painter's
         self.deferred = Deferred(actions)
         self.panel = TuningPanel(self.deferred)
+        self.painter = PanelPainter(self.panel, TITLE)  # its GL context and drawing
         self.window: Any = None  # a GLFW window once first shown
         self.ids: tuple[int, ...] = ()  # the X ids naming it in X errors
         self.gone = False  # its window was destroyed from outside (set inside Xlib)
-        self.gl_context: moderngl.Context | None = None
-        self.renderer: ImGuiRenderer | None = None
         self.visible = False
         self.redraws, self.costs = Redraws(), PanelCosts()
         self.input = PanelInput(self.redraws, lambda *key: actions.on_key(phone, *key),
                                 self.hide)
-        self.last = time.monotonic()
-        self.logged: tuple[int, int] | None = None  # the window size the rects were logged at
-        self.logged_path: str | None = None  # the file field's text, as last logged
         self.ui = 1.0  # its widgets' and text's size, times their size at content scale 1
 
     # ---- showing and hiding ----------------------------------------------------------
@@ -164,8 +150,7 @@ class PanelHost:
             log.warning("panel: its window could not open")
             return False
         try:
-            self.gl_context = moderngl.create_context()
-            self.renderer = ImGuiRenderer(self.gl_context)
+            self.painter.open()
         finally:
             glfw.make_context_current(self.phone)
         self.window, self.ids = window, x_window_ids(window)
@@ -208,7 +193,7 @@ class PanelHost:
         glfw.destroy_window(self.window)
         glfw.make_context_current(self.phone)
         self.window, self.ids, self.gone, self.visible = None, (), False, False
-        self.gl_context = self.renderer = None
+        self.painter.forget()
         imgui.destroy_context(self.context)
         self.context = _imgui_context()
         self.redraws = self.input.redraws = Redraws()  # no input left settling
@@ -271,7 +256,7 @@ class PanelHost:
         try:
             self._draw(size)
             glfw.swap_buffers(self.window)
-            self.gl_context.finish()  # type: ignore[union-attr]
+            self.painter.finish()
         except Exception as err:
             if not self.gone:
                 raise
@@ -281,54 +266,19 @@ class PanelHost:
         return not self.gone
 
     def _draw(self, size: tuple[int, int]) -> None:
-        """The panel drawn into its window, `size` window px."""
-        context, renderer = self.gl_context, self.renderer
-        assert context is not None and renderer is not None  # opened before it was shown
-        (window_w, window_h) = size
-        (frame_w, frame_h) = glfw.get_framebuffer_size(self.window)
-        context.screen.use()
-        context.viewport = (0, 0, frame_w, frame_h)
-        context.screen.clear(*BACKGROUND)
-        io = imgui.get_io()
-        io.display_size = imgui.ImVec2(window_w, window_h)
-        io.display_framebuffer_scale = imgui.ImVec2(frame_w / max(1, window_w),
-                                                    frame_h / max(1, window_h))
-        now = time.monotonic()
-        io.delta_time, self.last = max(1e-4, now - self.last), now
-        imgui.new_frame()
-        imgui.set_next_window_pos((0, 0))
-        imgui.set_next_window_size((window_w, window_h))
-        imgui.begin(TITLE, None, WINDOW_FLAGS)
-        imgui.push_item_width(ITEM_WIDTH * self.ui)
-        self.panel.draw()
-        imgui.pop_item_width()
-        imgui.end()
-        imgui.render()
-        renderer.render(imgui.get_draw_data(), (frame_w, frame_h))
-        self._log_rects((window_w, window_h))
+        """The panel drawn into its window, `size` window px (its context current)."""
+        self.painter.draw(self.window, size, self.ui)
 
     def readout(self, phone_frames: int) -> str | None:
         """The panel's cost for the stats line while it is shown (PanelCosts.readout)."""
         return self.costs.readout(phone_frames) if self.visible else None
-
-    def _log_rects(self, size: tuple[int, int]) -> None:
-        """Where each widget lies in the panel's window, once for each size, and what its
-        file field holds, when that changes (debug level): for scripts that click on them
-        and type into it."""
-        if self.logged != size and self.panel.rects:
-            self.logged = size
-            for name, (x, y, w, h) in self.panel.rects.items():
-                rects_log.debug("panel: %s at %.0f,%.0f size %.0fx%.0f", name, x, y, w, h)
-        if self.logged_path != self.panel.path:  # what the file field holds, as typed
-            self.logged_path = self.panel.path
-            rects_log.debug("panel: the file field holds %r", self.panel.path)
 
     def close(self) -> None:
         self._forget_if_gone()
         self.costs.summary(self.panel.costs, self.visible)
         if self.window is not None:
             glfw.make_context_current(self.window)
-            self.renderer.release()  # type: ignore[union-attr]
+            self.painter.release()
             glfw.make_context_current(self.phone)
             glfw.destroy_window(self.window)
         imgui.destroy_context(self.context)

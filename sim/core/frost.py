@@ -7,6 +7,7 @@ the tick's geometry budget and the cells' cap) -> settle (the growth rule: Table
 every freeze, the fern rule's slots and hits) -> link and upsample -> register the new
 crystals in the index -> follow the ice (growth mode, launch circle) -> place again the
 walkers whose hits only counted -> refill the pools (replenish, growth mode, the pane).
+Touches and melts (`Touches`, sim/core/touches.py) come between ticks.
 Everything is plain numpy data; rendering reads the arrays and the per-tick `added` slices.
 """
 
@@ -20,18 +21,17 @@ from ..params import Params
 from ..rules.fern import make_growth
 from ..rules.pane_choice import make_pane
 from ..rules.window_mode import chill
-from ..screen import HEIGHT, WIDTH, touch_problem
+from ..screen import HEIGHT, WIDTH
 from . import budget, placement
 from .areas import Areas
 from .budget import CELL_CAP, FREEZE_WORK
 from .freezes import admitted, drop_in_full_cells, nearest_crystals
-from .melting import melt_discs
 from .placement import CELL_TRIES, CELL_WORK, Placer
 from .skeleton import Added, Melted, Skeleton, upsample
 from .supply import TOUCH_TRIES, Supply
+from .touches import Touches
 from .versions import NEWEST, random_streams, rules_of
-from .views import Holdings
-from .walk import clearance_jumps, on_screen_f32, walk_displacements, walk_water
+from .walk import clearance_jumps, walk_displacements, walk_water
 from .water import Water
 
 __all__ = ["Added", "CELL_CAP", "CELL_TRIES", "CELL_WORK", "FREEZE_WORK", "FrostSim", "Melted",
@@ -49,7 +49,7 @@ def _check(name: str, v, low: int, high: int, what: str) -> None:
         raise ValueError(f"{name}={v!r} must be a whole number{what} in [{low}, {high}]")
 
 
-class FrostSim(Holdings):
+class FrostSim(Touches):
     """Window frost on a `width` x `height` px screen (docs/method.md). `version` (1 ..
     VERSION) picks the rules a session file of that version replays with (`self.rules`,
     sim/core/versions.py); each part draws from its stream of `self.streams`. `wrap`: a
@@ -91,63 +91,7 @@ class FrostSim(Holdings):
             if len(start[1]):
                 self.plant(start[1], water=False)  # the pane's own seeds: its pool is theirs
 
-    # ---- public API -------------------------------------------------------------
-
-    def touch(self, x: float, y: float) -> int:
-        """Plant a seed crystal at (x, y); returns the index of its active area, or -1
-        where the touch planted nothing (from version 9: its seed would overfill a cell).
-
-        A touch inside an existing active area joins that area (the nearest, by its
-        centre) and tops its pool up to `humidity`; elsewhere it opens a new area with
-        its own pool. Either way the screen's walkers stay within `water_budget`, so a
-        drag that plants a trail of touches costs what a few touches cost."""
-        return int(self.plant([(x, y)])[0])
-
-    def plant(self, points, water: bool = True) -> np.ndarray:
-        """Touches at every (x, y) of `points` at once (a run's first touches, or those a
-        rebuild replants together): the seeds, then one top-up of each area they touched,
-        then (`water`, with `touch_water`) the ring of water each seed that joined an area
-        brings (from version 8 each seed: `Supply.water_seed`). Returns each seed's area;
-        -1 for a touch that planted nothing: from version 9 a touch obeys the cells' cap
-        as a freeze does (`budget.within_cap`), so one spot touched again and again stops
-        adding seeds (and water) once its cells are full."""
-        pts = np.array(points, np.float64).reshape(-1, 2)
-        for x, y in pts:
-            problem = touch_problem(x, y, (self.width, self.height))
-            if problem:
-                raise ValueError(problem)
-        pts32 = on_screen_f32(pts, self.width, self.height)
-        room = self._room_for(pts32)
-        out = np.full(len(pts), -1, np.int32)
-        if room.any():
-            out[room] = self._seed(pts32[room], water)
-        return out
-
-    def _room_for(self, pts32: np.ndarray) -> np.ndarray:
-        """Which seeds at `pts32` (in order) the cells' cap takes (version 9; before, all)."""
-        if not self.rules.capped_touches:
-            return np.ones(len(pts32), bool)
-        return budget.room_for(self.index.candidates, self.index.grid, pts32, self.params.hc)
-
-    def _seed(self, pts32: np.ndarray, water: bool) -> np.ndarray:
-        """Seeds at `pts32` (on the screen, within the cap), their areas topped up and
-        ringed (see `plant`); each seed's area."""
-        opened = self._areas.n
-        area = self._areas.areas_for(pts32, self.params.active_radius)
-        seeds = self._add_crystals(pts32, np.full(len(pts32), -1, np.int32), area)
-        # The seeds that bring a ring of water (`touch_water`): those joining an area, and
-        # from version 8 those opening one (whose pool starts on the launch circle, 30 px
-        # out, else their first arm waits for it); their first hits count together.
-        ringed = (area < opened) | self.rules.opening_rings
-        ringed &= bool(water and self.params.touch_water)
-        self.growth.add_seeds(len(pts32), ringed)
-        self.index.register(seeds)
-        self._follow_ice(seeds)  # a seed joining an area may lie beyond its ice
-        self.supply.fill(np.unique(area), self.ice_state())
-        for seed in np.flatnonzero(ringed):
-            sx, sy = self.ice.crystals.raw()[seeds.start + int(seed)]
-            self.supply.water_seed((float(sx), float(sy)), int(area[seed]))
-        return area
+    # ---- a tick -------------------------------------------------------------------
 
     def step(self) -> Added:
         """One tick: the phases of the module doc, in order."""
@@ -173,23 +117,6 @@ class FrostSim(Holdings):
             self.supply.fill(_PANE, self.ice_state())
         self.tick += 1
         return self._close_tick(len(frozen))
-
-    def melt(self, x: float, y: float, radius: float) -> Melted:
-        """A warm finger at (x, y): crystals within `radius` px melt and their water returns
-        to its area's pool (never above `humidity`; an area left with no ice loses its
-        water); their links (and those of their children, which become roots) leave the
-        skeleton; the cleared cells stop being candidate cells. Costs O(local ice)."""
-        return self.melt_many([(x, y, radius)])
-
-    def melt_many(self, discs) -> Melted:
-        """One melt of the crystals within any of `discs` ((x, y, radius) each): as `melt`,
-        in one pass over the ice they cover, one return of their water."""
-        melted = melt_discs(discs, self.ice, self.index, self.growth, self.pane)
-        self.water_melted += len(melted.crystals)
-        dead_area = self.ice.area.raw()[melted.crystals]
-        self._areas.count_ice(dead_area, -1)
-        self.supply.returned(dead_area, self.ice_state())
-        return melted
 
     # ---- phases ---------------------------------------------------------------------
 

@@ -1,7 +1,7 @@
-"""The pages of `frost bench serve`, run in a child process (aiohttp clients) so that they do
+"""The pages of `python -m bench serve`, run in a child process (aiohttp clients) so that they do
 not share the server's interpreter lock: the house's pages (one scribbling, one tapping
 clear glass to time touch-to-first-delta, the others only reading) or the hostile pages of
-an attack (app/bench/attacks.py) with a person's page beside them, tapping clear glass as
+an attack (bench/attacks.py) with a person's page beside them, tapping clear glass as
 the house's does: what the attack costs a person. Every page reads what the server sends
 it."""
 
@@ -15,8 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from app.bench import attacks
 from app.serve import protocol
+from bench import attacks
 from sim.screen import HEIGHT, WIDTH
 
 SCRIBBLE_HZ = 50.0  # pointer events a second of the scribbling finger

@@ -1,9 +1,9 @@
 """The page through `frost serve` as a phone meets it: an emulated phone (390x844 CSS px,
 3 device px each, touch) in headless Chromium, the server started here on loopback and,
-with a network profile, the shaping proxy (app/bench/shaper.py) between them; Chromium's
+with a network profile, the shaping proxy (bench/shaper.py) between them; Chromium's
 CPU throttling slows the page's own work (`--cpu-slowdown`, 4: Lighthouse's mobile figure).
 
-Three measures (`frost bench page --taps N | --join N | --scribble S`):
+Three measures (`python -m bench page --taps N | --join N | --scribble S`):
 - taps: touch to the first drawn growth (and frost) near it, timed by the page itself;
 - join: a page opened on a frosted pane (the window preset grown for a while): from the
   navigation's start to the first frame drawn with the whole snapshot in it;
@@ -35,13 +35,13 @@ from pathlib import Path
 
 import numpy as np
 
-from app.bench.shaper import Profile, ShaperThread
 from app.bench.taps import GAP_S, tap_spots
+from bench.shaper import Profile, ShaperThread
 from sim.screen import HEIGHT, WIDTH
 
 PHONE = {"viewport": {"width": 390, "height": 844}, "device_scale_factor": 3,
          "has_touch": True, "is_mobile": True}
-JOIN_TICKS = 2250  # the window preset's frosted pane (docs/phone.md's snapshot: 2.12 MB)
+JOIN_TICKS = 2250  # the window preset's frosted pane (docs/phone-design.md's snapshot: 2.12 MB)
 FINGER_SPEED = 800.0  # pane px a second: a brisk drag
 MOVE_EVERY = 1 / 60  # s between a finger's moves (a phone reports touches once a frame)
 
@@ -386,7 +386,7 @@ def load() -> str:
 
 
 def run(args, network: Profile | None, launch) -> int:
-    """`frost bench page --taps/--join/--scribble`: the measure asked, printed."""
+    """`python -m bench page --taps/--join/--scribble`: the measure asked, printed."""
     from playwright.sync_api import sync_playwright
 
     where = network.describe() if network else "loopback"

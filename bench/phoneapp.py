@@ -1,4 +1,4 @@
-"""The page as a phone app (`frost bench page --phone-app`): through `frost serve` on
+"""The page as a phone app (`python -m bench page --phone-app`): through `frost serve` on
 loopback (started here, on a free port), pages on emulated phones in headless Chromium:
 
 - the black (letterbox) share of the screen at three phone sizes, portrait, with the pane
@@ -151,7 +151,7 @@ def print_lag(what: str, lags: np.ndarray, frames: np.ndarray) -> None:
 
 
 def run(out: str | None, angle: str, launch) -> int:
-    """The measures, printed; `launch(playwright, angle)` starts the browser (app.bench.page's,
+    """The measures, printed; `launch(playwright, angle)` starts the browser (bench.page's,
     which runs this: passed in, not imported back)."""
     from playwright.sync_api import sync_playwright
 

@@ -1,4 +1,4 @@
-"""The hostile pages of `frost bench serve` (its child process): pages that keep within
+"""The hostile pages of `python -m bench serve` (its child process): pages that keep within
 every limit a page has (app/serve/pages.py: RATE messages a second, in bursts of BURST;
 POINT_RATE touches and melts a second) and still ask the shared frost for all the work
 those limits let through. Each sender returns when its time is up or the server closed

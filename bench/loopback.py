@@ -1,6 +1,6 @@
-"""`frost bench serve`'s server side: `frost serve`'s app on loopback in this process (a new
+"""`python -m bench serve`'s server side: `frost serve`'s app on loopback in this process (a new
 feed, seed 0, the guarded runner as frost serve's), its pages in a child process
-(app/bench/clients.py), and what the server measured while they ran."""
+(bench/clients.py), and what the server measured while they ran."""
 
 from __future__ import annotations
 
@@ -9,12 +9,12 @@ import multiprocessing
 import statistics
 import time
 
-from app.bench.clients import SCRIBBLE_HZ, TAP_PERIOD, Plan, pages_main, plan_pages, scribble_point, tap_point
 from app.bench.memory import rss_mb
 from app.serve import guard
 from app.serve.feed import Feed
 from app.serve.protocol import Input
 from app.serve.server import make_app
+from bench.clients import SCRIBBLE_HZ, TAP_PERIOD, Plan, pages_main, plan_pages, scribble_point, tap_point
 from sim import Params
 
 SAMPLES = 10  # memory and rate samples a phase

@@ -1,4 +1,4 @@
-"""`frost bench serve`: what `frost serve` sends and what pages cost it.
+"""`python -m bench serve`: what `frost serve` sends and what pages cost it.
 
 1. Bytes, offline (no server): a window pane grown to its frosted end and a fern scribble,
    every delta encoded as the server encodes it: per-tick message p50 / p99 / max, and the
@@ -10,7 +10,7 @@
    the simulation thread's tick median and p99, ticks a second, bytes a tick, the pages'
    resyncs, this process's memory (RSS) over time, and the taps' latency median and p95.
 3. Attacks (--attack, --grid), each on a new server for --seconds: hostile pages that keep
-   within every limit a page has (app/bench/attacks.py): one socket tapping one spot 86
+   within every limit a page has (bench/attacks.py): one socket tapping one spot 86
    times a second (one-spot), a finger swept over the whole pane leaving the page's most
    touches a second, every one at a fresh spot, from one page (all-over) and from 15
    (all-over-15), and a client opening sockets as fast as it can (sockets); each with a
@@ -27,7 +27,6 @@ Figures only; nothing is asserted.
 
 from __future__ import annotations
 
-import argparse
 import asyncio
 import bisect
 import itertools
@@ -37,12 +36,13 @@ import sys
 
 import numpy as np
 
-from app.bench.clients import Plan, scribble_point
-from app.bench.loopback import phase
 from app.bench.memory import mb
+from app.bench.options import Parser
 from app.serve import MAX_PAGES
 from app.serve.pages import POINT_RATE
 from app.serve.protocol import Encoder
+from bench.clients import Plan, scribble_point
+from bench.loopback import phase
 from sim import Params, all_presets
 from sim.io.timeline import Timeline
 from sim.look.geometry import FrostGeometry
@@ -109,8 +109,8 @@ def _rss(rss: list) -> str:
     return f"{rss[0]:.0f} -> {rss[-1]:.0f} MB (max {max(rss):.0f})"
 
 
-def main(argv: list[str] | None = None, prog: str = "frost bench serve") -> int:
-    p = argparse.ArgumentParser(prog=prog, description=__doc__.split("\n\n")[0])
+def main(argv: list[str] | None = None, prog: str = "python -m bench serve") -> int:
+    p = Parser(prog=prog, description=__doc__.split("\n\n")[0])
     p.add_argument("--preset", choices=list(all_presets()), default="fern",
                    help="what the server grows (default fern, as frost serve)")
     p.add_argument("--seconds", type=float, default=20.0,

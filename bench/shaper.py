@@ -1,5 +1,5 @@
 """A TCP proxy that makes loopback behave like a phone's link: each way a delay with jitter
-and a bandwidth cap, the bytes of a connection kept in order (`frost bench page --network`).
+and a bandwidth cap, the bytes of a connection kept in order (`python -m bench page --network`).
 
 Chromium's own network emulation does not delay WebSocket frames, so the delay has to be
 on the socket itself. The proxy listens on 127.0.0.1 (a free port) and forwards every
@@ -26,7 +26,7 @@ both connections are closed.
 Used as `Shaper` on a running asyncio loop, or `ShaperThread` (its own loop on a thread)
 beside synchronous code such as Playwright's.
 
-python -m app.bench.shaper --to 127.0.0.1:8025 [--port 8026] [--network 4g]
+python -m bench shaper --to 127.0.0.1:8025 [--port 8026] [--network 4g]
 """
 
 from __future__ import annotations
@@ -278,10 +278,10 @@ class ShaperThread:
         self.loop.close()
 
 
-def main(argv: list[str] | None = None) -> int:
+def main(argv: list[str] | None = None, prog: str = "python -m bench shaper") -> int:
     from app.bench.options import Parser
 
-    p = Parser(prog="python -m app.bench.shaper",
+    p = Parser(prog=prog,
                description="Forward 127.0.0.1:PORT to a server through a phone-like link.")
     p.add_argument("--to", required=True, metavar="HOST:PORT", help="the server, e.g. 127.0.0.1:8025")
     p.add_argument("--port", type=int, default=0, help="port to listen on (default: a free one)")

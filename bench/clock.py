@@ -5,12 +5,11 @@ cost of that minute's frame: on the desktop (the box drawn, uploaded with
 message's PNG decoded, `texSubImage2D`, a whole frame drawn and one pixel read back),
 each beside a frame with no new minute. Both over frost grown from three touches.
 
-python -m app.bench.clock [--samples 20]
+python -m bench clock [--samples 20]
 """
 
 from __future__ import annotations
 
-import argparse
 import io
 import os
 import re
@@ -23,7 +22,7 @@ import numpy as np
 from PIL import Image
 
 from app.backdrops import LIVE, load_backdrop, read_backdrop
-from app.bench.options import count
+from app.bench.options import Parser, count
 from app.lockscreen import CLOCK_BOX, clock_patch
 from app.serve.protocol import clock_message
 from sim import Params
@@ -91,7 +90,7 @@ def desktop(samples: int) -> None:
             plain.append((t1 - t0) * 1000)
             upload.append((t2 - t1) * 1000)
             minute.append((t3 - t1) * 1000)
-            # the window: the box drawn on its worker (app/window/clock.py), the loop's
+            # the window: the box drawn on its worker (app/window/clock_drawer.py), the loop's
             # part the upload and the frame
             later = m.replace("T1", "T2", 1)  # (another minute than the one shown)
             box = off.renderer.clock_box(later)
@@ -127,7 +126,7 @@ PAGE_TIMES = """async (n) => {
 def page(samples: int) -> None:
     from playwright.sync_api import sync_playwright
 
-    from app.bench.page import launch
+    from bench.page import launch
 
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
     cmd = [sys.executable, "-m", "app", "serve", "--port", "0", "--session-dir", tempfile.mkdtemp(),
@@ -167,8 +166,8 @@ def page(samples: int) -> None:
         proc.wait(30)
 
 
-def main(argv=None) -> int:
-    p = argparse.ArgumentParser(prog="frost bench clock", description=__doc__.split("\n\n")[0])
+def main(argv: list[str] | None = None, prog: str = "python -m bench clock") -> int:
+    p = Parser(prog=prog, description=__doc__.split("\n\n")[0])
     p.add_argument("--samples", type=count, default=20, metavar="N",
                    help="minutes timed in each place (default 20)")
     p.add_argument("--no-page", action="store_true", help="skip the page (no Chromium)")

@@ -6,11 +6,11 @@ The page is driven without a server: Playwright serves app/web, the shaders and 
 backdrops from disk and stands in for the WebSocket, sending the hello and the geometry
 messages of the protocol (app.serve.protocol) for the deltas the desktop renderer applied.
 
-python -m app.bench.page [--preset fern] [--look paper] [--ticks 300] [--frames 60]
+python -m bench page [--preset fern] [--look paper] [--ticks 300] [--frames 60]
     [--out DIR]
-python -m app.bench.page --phone-app [--out DIR]   (app/bench/phoneapp.py)
-Or, through `frost serve` (app/bench/network.py), on loopback or a phone-like network:
-python -m app.bench.page --taps N | --join N | --scribble S | --photo N [--network wifi|4g]
+python -m bench page --phone-app [--out DIR]   (bench/phoneapp.py)
+Or, through `frost serve` (bench/network.py), on loopback or a phone-like network:
+python -m bench page --taps N | --join N | --scribble S | --photo N [--network wifi|4g]
     [--cpu-slowdown 4]
 """
 
@@ -26,11 +26,11 @@ import numpy as np
 from PIL import Image
 
 from app.backdrops import DEFAULT_BACKDROP, load_backdrop
-from app.bench.network import JOIN_TICKS
 from app.bench.options import Parser, count, slowdown
-from app.bench.shaper import PROFILES, profile
 from app.resources import SHADER_DIR, WEB_DIR
 from app.serve.hello import hello_fields
+from bench.network import JOIN_TICKS
+from bench.shaper import PROFILES, profile
 from sim import Params, all_presets
 from sim.look.geometry import GeometryDelta
 from sim.screen import HEIGHT, WIDTH
@@ -43,8 +43,8 @@ ANGLE = {"swiftshader": CHROMIUM_ARGS, "gl-egl": ["--use-angle=gl-egl", "--ignor
 # Chromium 151 and later render the desktop address bar's popup (a WebUI page, in a renderer
 # of its own) ahead of time for every new window, headless too: about half a second of CPU
 # while each new context's page loads, on the two cores the page, the browser and the
-# server share (a late join: 1.88 against 1.41 s, docs/phone.md, run 9). A phone's browser
-# has no such popup; Puppeteer turns both off by default.
+# server share (a late join: 1.88 against 1.41 s, docs/results/bench-page.md, run 9). A
+# phone's browser has no such popup; Puppeteer turns both off by default.
 QUIET_FEATURES = ("WebUIOmniboxPopup", "WebUIOmniboxAimPopup")
 ORIGIN = "http://frost.test"  # the page's address when Playwright serves it from disk
 # Touches the bench grows its frost from (screen px), and a warm finger's melt (x, y, r)
@@ -386,7 +386,7 @@ def snapshot_work(n: int, ticks: int, angle: str, browser=None) -> int:
     return 0
 
 
-def main(argv: list[str] | None = None, prog: str = "python -m app.bench.page") -> int:
+def main(argv: list[str] | None = None, prog: str = "python -m bench page") -> int:
     p = Parser(prog=prog, description=__doc__.split("\n\n")[0])
     p.add_argument("--preset", choices=list(all_presets()), metavar="NAME",
                    help="parameter set to grow (default fern; window with --join)")
@@ -438,11 +438,11 @@ def main(argv: list[str] | None = None, prog: str = "python -m app.bench.page") 
     if args.snapshot_work:
         return snapshot_work(args.snapshot_work, args.ticks or JOIN_TICKS, args.angle)
     if args.phone_app:
-        from app.bench.phoneapp import run as phone_app
+        from bench.phoneapp import run as phone_app
 
         return phone_app(args.out, args.angle, launch)
     if served:
-        from app.bench.network import run
+        from bench.network import run
         return run(args, network, launch)
     args.preset = args.preset or "fern"
     args.ticks = args.ticks or 300
