@@ -293,7 +293,7 @@ def test_a_minute_drawn_too_late_is_never_sent(case):
     params = Params.preset("fern")
     thread = SimThread(params, 1, [(380.0, 640.0)])
     feed = Feed(params, 1, backdrop="lockscreen", thread=thread)
-    thread.clock, feed._loop = clock, HeldLoop()
+    thread.clock, feed.workers.loop = clock, HeldLoop()
     page = Page(Wire(), "page", feed.ask_redraw)
     page.waiting = False  # (live: it gets what is broadcast)
     feed.pages.add(page)
@@ -303,11 +303,11 @@ def test_a_minute_drawn_too_late_is_never_sent(case):
         if case == "left":
             feed.controls.handle(Input("backdrop", name="dusk"), {})
             by_hand.tick(feed, 2)
-            feed._loop.finish()
+            feed.workers.loop.finish()
         else:
             clock.now += timedelta(seconds=3)
             by_hand.tick(feed, 2)  # 15:42 asked for too
-            feed._loop.finish(order=(2, 1, 0))  # (09:41, the default, first asked for) 15:42 done first
+            feed.workers.loop.finish(order=(2, 1, 0))  # (09:41, the default, asked first) 15:42 done first
     finally:
         by_hand.stop()
     sent = [decode_clock(m)["minute"] for m, _end in page.queue
