@@ -64,7 +64,7 @@ def server_side(samples: int) -> None:
 
 def desktop(samples: int) -> None:
     from app.tools.offscreen import Offscreen, make_context
-    from app.tools.render import touch_events
+    from app.tools.render_png import touch_events
 
     ctx = make_context()
     view = {"light": [0.4, 0.5, 1.0], "features": True, "bumps": True, "background": LIVE}
@@ -90,7 +90,7 @@ def desktop(samples: int) -> None:
             plain.append((t1 - t0) * 1000)
             upload.append((t2 - t1) * 1000)
             minute.append((t3 - t1) * 1000)
-            # the window: the box drawn on its worker (app/window/clock.py), the loop's
+            # the window: the box drawn on its worker (app/window/clock_drawer.py), the loop's
             # part the upload and the frame
             later = m.replace("T1", "T2", 1)  # (another minute than the one shown)
             box = off.renderer.clock_box(later)

@@ -28,11 +28,11 @@ from PIL import Image
 from app.backdrops import DEFAULT_BACKDROP, load_backdrop
 from app.bench.options import Parser, count, slowdown
 from app.resources import SHADER_DIR, WEB_DIR
+from app.serve.hello import hello_fields
 from bench.network import JOIN_TICKS
 from bench.shaper import PROFILES, profile
 from sim import Params, all_presets
 from sim.look.geometry import GeometryDelta
-from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, MAX_DEPTH, TILE, Material
 from sim.screen import HEIGHT, WIDTH
 
 CHROMIUM = "/usr/bin/chromium"
@@ -107,22 +107,10 @@ def playwright_disabled(playwright) -> str | None:
 
 
 def hello(params: Params, backdrop: str = DEFAULT_BACKDROP) -> dict:
-    """A hello as docs/protocol.md has it, for `params` and the desktop's material and light."""
-    from app.gl.renderer import default_light
-
-    m, s = Material(), params.grid_spacing
-    uniforms = {f"u_{k}": v for k, v in (
-        ("ice_color", list(m.ice_color)), ("ambient", m.ambient), ("diffuse", m.diffuse),
-        ("specular", m.specular), ("shininess", m.shininess), ("opacity", m.opacity),
-        ("density", m.density), ("relief", m.relief), ("refraction", m.refraction))}
-    return {"type": "hello", "protocol": 1, "screen": [WIDTH, HEIGHT],
-            "grid": [WIDTH // s + 1, HEIGHT // s + 1], "spacing": s, "tick": 0, "paused": False,
-            "look": params.look, "looks": list(LOOK_DEFINES), "backdrop": backdrop,
-            "view": {"light": [float(v) for v in default_light()], "features": True,
-                     "bumps": True, "background": backdrop},
-            "uniforms": uniforms,
-            "defines": {look: {"ice": list(LOOK_DEFINES[look]), "feature": list(FEATURE_DEFINES[look])}
-                        for look in LOOK_DEFINES}, "tile": TILE, "max_depth": MAX_DEPTH}
+    """A hello as `frost serve` sends it (`app.serve.hello`), for `params` at tick 0."""
+    s = params.grid_spacing
+    return {"type": "hello", **hello_fields(params, backdrop, (WIDTH // s + 1, HEIGHT // s + 1)),
+            "tick": 0, "paused": False, "look": params.look, "backdrop": backdrop}
 
 
 def bench_events(ticks: int) -> list[dict]:

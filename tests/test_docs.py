@@ -16,7 +16,7 @@ PICTURE_WITHIN = 3000  # characters: the frost is the first thing a reader sees
 # A Markdown image of the frost: ![alt](path.png|webp|jpg|gif)
 PICTURE = re.compile(r"!\[[^\]]*\]\(([^)\s]+\.(?:png|webp|jpg|gif))\)")
 LINK = re.compile(r"!?\[[^\]]*\]\(([^)\s]+)\)")  # [text](target) and ![alt](target)
-# A file of the repository named in the text, e.g. `app/tools/render.py` or docs/panel.webp.
+# A file of the repository named in the text, e.g. `app/tools/render_png.py` or docs/panel.webp.
 NAMED_FILE = re.compile(r"\b((?:app|sim|tests|shaders|assets|docs)/[\w./-]*\w\.(?:py|md|frag|vert|"
                         r"webp|png|json))\b")
 

@@ -9,8 +9,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from app.bench.morphology import link_angles
-from app.cli.options import params_from
 from app.cli.parser import build_parser
+from app.cli.shared_options import params_from
 from sim import PRESETS, FrostSim, Params, preset_name, tuning
 from sim.rules.fern import SIXTH, FernGrowth, _first_apart
 

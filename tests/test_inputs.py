@@ -24,7 +24,8 @@ from support.cli import assert_refused_in_one_line, run_main
 from app.bench import render as bench
 from app.cli import commands, main, paths
 from app.cli.parser import build_parser
-from app.tools import figure8, figure_fern, maps, render
+from app.tools import figure8, figure_fern, maps
+from app.tools import render_png as render
 from app.tools import replay as replay_tool
 from app.window import frost_window as window
 from sim import PRESETS, FrostSim, Params

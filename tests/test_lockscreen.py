@@ -220,7 +220,7 @@ def test_the_feed_sends_the_clock_box_of_each_minute_to_the_pages():
     from support.feed import ByHand, Wire
 
     from app.serve.feed import Feed
-    from app.serve.pages import Page
+    from app.serve.pages import ConnectedPage as Page
     from app.serve.protocol import CLOCK, decode_clock, message_type
     from app.simthread.thread import SimThread
 
@@ -285,7 +285,7 @@ def test_a_minute_drawn_too_late_is_never_sent(case):
     from support.feed import ByHand, Wire
 
     from app.serve.feed import Feed
-    from app.serve.pages import Page
+    from app.serve.pages import ConnectedPage as Page
     from app.serve.protocol import CLOCK, Input, decode_clock, message_type
     from app.simthread.thread import SimThread
 
@@ -293,7 +293,7 @@ def test_a_minute_drawn_too_late_is_never_sent(case):
     params = Params.preset("fern")
     thread = SimThread(params, 1, [(380.0, 640.0)])
     feed = Feed(params, 1, backdrop="lockscreen", thread=thread)
-    thread.clock, feed._loop = clock, HeldLoop()
+    thread.clock, feed.workers.loop = clock, HeldLoop()
     page = Page(Wire(), "page", feed.ask_redraw)
     page.waiting = False  # (live: it gets what is broadcast)
     feed.pages.add(page)
@@ -303,11 +303,11 @@ def test_a_minute_drawn_too_late_is_never_sent(case):
         if case == "left":
             feed.controls.handle(Input("backdrop", name="dusk"), {})
             by_hand.tick(feed, 2)
-            feed._loop.finish()
+            feed.workers.loop.finish()
         else:
             clock.now += timedelta(seconds=3)
             by_hand.tick(feed, 2)  # 15:42 asked for too
-            feed._loop.finish(order=(2, 1, 0))  # (09:41, the default, first asked for) 15:42 done first
+            feed.workers.loop.finish(order=(2, 1, 0))  # (09:41, the default, asked first) 15:42 done first
     finally:
         by_hand.stop()
     sent = [decode_clock(m)["minute"] for m, _end in page.queue

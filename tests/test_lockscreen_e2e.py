@@ -79,7 +79,7 @@ def test_the_page_shows_each_minute_from_the_clock_box_alone(serve, phones, tmp_
 
 
 def test_a_clock_message_is_applied_over_the_lock_screen_alone_and_never_an_older_minute(browser):
-    """The page's clock (clock.js) with a renderer that records what it is given: a minute
+    """The page's clock (lockclock.js) with a renderer that records what it is given: a minute
     received while another backdrop is shown is not written into it (it is once the lock
     screen is back); of two minutes received together, the newer is shown even when the
     older's picture is decoded last, and the older is never written."""
@@ -95,7 +95,7 @@ def test_a_clock_message_is_applied_over_the_lock_screen_alone_and_never_an_olde
     early, late = message("2026-11-26T15:41", 50), message("2026-11-26T15:42", 200)
     with Page(hello(Params.preset("fern")), [], browser=browser) as page:
         got = page.page.evaluate("""async ([early, late]) => {
-            const { Clock } = await import('./web/clock.js');
+            const { Clock } = await import('./web/lockclock.js');
             const written = [];
             const renderer = { setBackgroundRect: (x, y, image) => written.push([x, y, image.width]) };
             const state = { renderer, shownBackdrop: 'dusk' };

@@ -426,7 +426,8 @@ def headless_out(monkeypatch, gl_ctx, capsys, argv: list[str]) -> tuple[int, lis
     """`frost ARGV` in this process, a progress line every tick: (status, stdout's lines,
     stderr)."""
     from app.cli import main
-    from app.tools import progress, render, replay
+    from app.tools import progress, replay
+    from app.tools import render_png as render
 
     for mode in (render, replay):
         monkeypatch.setattr(mode, "make_context", lambda: gl_ctx)

@@ -255,7 +255,7 @@ def test_headless_cli_bad_touch_is_a_clear_error(gl_ctx, tmp_path):
 
 def test_no_opengl_is_a_clear_message(monkeypatch, capsys):
     from app.cli.parser import build_parser
-    from app.tools import render
+    from app.tools import render_png as render
 
     def broken():
         raise RuntimeError("no OpenGL available: test")

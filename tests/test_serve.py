@@ -20,11 +20,11 @@ from support.serve import session_serve
 from app import session_keeper
 from app.serve import MAX_PAGES
 from app.serve import pages as pages_module
-from app.serve import session as session_module
+from app.serve import session_files as session_module
 from app.serve.feed import Feed
 from app.serve.routes import inside
 from app.serve.server import make_app
-from app.serve.session import SessionFiles
+from app.serve.session_files import SessionFiles
 from app.serve.sockets import same_origin
 from sim import Params
 from sim.io.session import SessionLog
@@ -318,7 +318,7 @@ def test_a_page_that_stops_reading_stalls_nobody(monkeypatch):
         good, page = await connect(client)
         stuck_tcp = stalled_socket(client.server.host, client.server.port)  # the real thing
         stuck = StuckSocket(after=3)  # hello, state and the snapshot's one part, then hangs
-        slow = pages_module.Page(stuck, "stuck", feed.ask_redraw)
+        slow = pages_module.ConnectedPage(stuck, "stuck", feed.ask_redraw)
         feed.pages.add(slow)
         slow.text(feed.hello())
         writer = asyncio.create_task(slow.write())
@@ -1218,8 +1218,8 @@ def test_a_page_gone_while_a_large_message_of_its_is_compressed_leaves_no_error_
             await asyncio.sleep(0.002 * (k % 8))
             gone._response.connection.transport.abort()  # gone, mid-snapshot or after
             await asyncio.sleep(0.05)
-            big = max(big, max((len(p) for p in feed._snapshot.parts), default=0)
-                      if feed._snapshot else 0)
+            big = max(big, max((len(p) for p in feed.snapshots.kept.parts), default=0)
+                      if feed.snapshots.kept else 0)
         await asyncio.sleep(0.5)
         gc.collect()  # (an unretrieved exception is reported when its task is collected)
         await asyncio.sleep(0.1)
@@ -1245,7 +1245,7 @@ def test_nothing_follows_a_close_frame_sent_while_a_message_waits_to_be_written(
 
     async def main():
         ws = Socket()
-        page = pages_module.Page(ws, "p", lambda: None)
+        page = pages_module.ConnectedPage(ws, "p", lambda: None)
         page.waiting = False
         page.text("first")
         writer = asyncio.create_task(page.write())

@@ -12,9 +12,9 @@ import numpy as np
 from support.feed import ByHand, Wire
 from support.page_model import CENTRE, PAPER, PageModel
 
-from app.serve import feed as feed_module
+from app.serve import snapshots as snapshot_module
 from app.serve.feed import Feed
-from app.serve.pages import Page
+from app.serve.pages import ConnectedPage as Page
 from app.serve.protocol import Encoder, Input
 from app.simthread.thread import SimThread
 from sim.look.geometry import FrostGeometry
@@ -130,7 +130,7 @@ def test_a_kept_snapshot_starts_later_pages_until_the_ticks_since_it_are_dropped
             feed.pump()  # (served at the next pump)
             assert not page.waiting and feed.redraws == 1
             assert_holds_the_frost(held(page), feed)
-        ticks.tick(feed, feed_module.SINCE_TICKS)
+        ticks.tick(feed, snapshot_module.SINCE_TICKS)
         last = Page(Wire(), "last", feed.ask_redraw)
         feed.pages.add(last)
         last.ask_snapshot()
@@ -148,7 +148,7 @@ def test_a_snapshot_whose_next_ticks_were_dropped_before_it_was_drawn_is_copied_
     try:
         ticks.tick(feed, 40)
         feed.ask_redraw()
-        for _ in range(feed_module.SINCE_TICKS + 6):  # more ticks than are kept, unpublished
+        for _ in range(snapshot_module.SINCE_TICKS + 6):  # more ticks than are kept, unpublished
             ticks.order()
             ticks.done()
         feed.pump()
@@ -163,7 +163,7 @@ def test_a_snapshot_whose_next_ticks_were_dropped_before_it_was_drawn_is_copied_
 def test_a_snapshot_not_worth_loading_is_drawn_anew_but_not_within_the_gap(monkeypatch):
     """Past the bytes it is worth, the kept snapshot still starts the pages that come within
     REDRAW_GAP of its drawing (a flood of sockets is not a drawing each), a new one after."""
-    monkeypatch.setattr(feed_module.Kept, "worth", lambda self: False)
+    monkeypatch.setattr(snapshot_module.Kept, "worth", lambda self: False)
     feed, ticks, first = fed()
     try:
         ticks.tick(feed, 10)
@@ -171,7 +171,7 @@ def test_a_snapshot_not_worth_loading_is_drawn_anew_but_not_within_the_gap(monke
         ticks.tick(feed)
         assert feed.redraws == 1
         for gap, redraws in ((1e9, 1), (0.0, 2)):
-            monkeypatch.setattr(feed_module, "REDRAW_GAP", gap)
+            monkeypatch.setattr(snapshot_module, "REDRAW_GAP", gap)
             ticks.tick(feed, 3)
             page = Page(Wire(), f"gap {gap}", feed.ask_redraw)
             feed.pages.add(page)
@@ -189,13 +189,13 @@ def test_a_page_that_asks_while_the_kept_snapshot_is_about_to_be_dropped_is_stil
     longer all kept), the page must still get one: a page left waiting with nothing asked
     for hangs after its hello for good (seen under load: a page's `messages: 1`, synced
     never)."""
-    monkeypatch.setattr(feed_module, "SINCE_TICKS", 4)
+    monkeypatch.setattr(snapshot_module, "SINCE_TICKS", 4)
     for gap in range(1, 7):  # the late page asks this many ticks after the kept snapshot
         feed, ticks, first = fed()
         try:
             feed.ask_redraw()
             ticks.tick(feed)
-            assert not first.waiting and feed._snapshot is not None  # the kept snapshot
+            assert not first.waiting and feed.snapshots.kept is not None  # the kept snapshot
             ticks.tick(feed, gap)
             late = Page(Wire(), "late", feed.ask_redraw)
             feed.pages.add(late)

@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import asyncio
 
-from app.serve.pages import Page, TokenBucket
+from app.serve.pages import ConnectedPage as Page
+from app.serve.pages import TokenBucket
 
 MB = 1 << 20
 

@@ -143,7 +143,7 @@ def test_a_windowed_replay_drives_the_thread_through_the_same_events():
 
 def test_melt_options_become_melt_events_in_tick_order():
     from app.cli.parser import build_parser
-    from app.tools.render import melt_events
+    from app.tools.render_png import melt_events
 
     args = build_parser().parse_args(["render", "--melt", "10,20@30", "--melt", "5,5,9@2",
                                       "--melt-path", "100,50:140,50@7", "--melt-radius", "20"])

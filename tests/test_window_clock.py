@@ -1,4 +1,4 @@
-"""The window's lock-screen minute drawn on a worker (app/window/clock.py): the box it
+"""The window's lock-screen minute drawn on a worker (app/window/clock_drawer.py): the box it
 hands back is the one the renderer would draw itself, for the newest minute asked."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import pytest
 
 from app.backdrops import LIVE, read_backdrop
 from app.lockscreen import clock_patch
-from app.window.clock import ClockDrawer
+from app.window.clock_drawer import ClockDrawer
 
 STATIC = np.asarray(read_backdrop(LIVE))
 

@@ -228,8 +228,8 @@ def test_a_wipe_opens_all_six_slots_of_the_ice_at_its_edge():
 
 
 def test_the_app_opens_window_mode_and_its_keys_rebuild_it():
-    from app.cli.options import params_from
     from app.cli.parser import build_parser
+    from app.cli.shared_options import params_from
     from app.keys import BINDINGS
     from sim import tuning
 

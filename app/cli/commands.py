@@ -12,9 +12,9 @@ from pathlib import Path
 
 from app.backdrops import load_backdrop, view_from
 from app.bench.results import record_problem, results_file
-from app.cli.options import WINDOW_DEFAULTS, has_display, params_from
 from app.cli.parser import PROG, build_parser, parser_for
 from app.cli.paths import check_paths
+from app.cli.shared_options import WINDOW_DEFAULTS, has_display, params_from
 from sim import Params
 from sim.io.files import one_line
 from sim.io.session import SessionError
@@ -166,7 +166,7 @@ def _window(args: argparse.Namespace, params: Params) -> int:
     if problem:
         print(f"{PROG}: no display ({problem}): rendering headless to PNG files instead",
               file=sys.stderr)
-        from app.tools.render import run
+        from app.tools.render_png import run
         return run(args, params)
     from app.window.frost_window import run
     args.view = view_from(args)
@@ -174,7 +174,7 @@ def _window(args: argparse.Namespace, params: Params) -> int:
 
 
 def _render(args: argparse.Namespace, params: Params) -> int:
-    from app.tools.render import run
+    from app.tools.render_png import run
     return run(args, params)
 
 

@@ -1,7 +1,7 @@
 """The `frost` command line: the window with no subcommand, one subcommand per other job.
 
 Each subcommand has only the options that make sense for it; the shared ones come from
-app.cli.options.
+app.cli.shared_options.
 """
 
 from __future__ import annotations
@@ -10,7 +10,8 @@ import argparse
 import textwrap
 
 from app.bench.results import shown
-from app.cli import options, values
+from app.cli import shared_options as options
+from app.cli import values
 from app.keys import help_lines
 from sim import all_presets
 from sim.io.files import one_line

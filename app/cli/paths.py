@@ -18,7 +18,7 @@ import argparse
 import os
 from pathlib import Path
 
-from app.cli.options import has_display
+from app.cli.shared_options import has_display
 from app.images import DEFAULT_FOLDER, suffix_problem
 from app.tools.engine_maps import ENGINE_FILES
 from sim.io.files import not_regular, one_line, refusal, temp_file

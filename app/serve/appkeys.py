@@ -10,7 +10,7 @@ from aiohttp import web
 
 from app.serve.feed import Feed
 from app.serve.logs import RateLimitedLog
-from app.serve.session import SessionFiles
+from app.serve.session_files import SessionFiles
 
 FEED = web.AppKey("feed", Feed)
 TOKEN = web.AppKey("token", str)  # "" when none is in force

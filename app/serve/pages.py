@@ -53,7 +53,7 @@ class TokenBucket:
         return granted
 
 
-class Page:
+class ConnectedPage:
     """A WebSocket's outgoing side. States: waiting (for a snapshot; gets no deltas) and
     live. `ask_snapshot` is called when it waits with nothing left to write."""
 

@@ -21,7 +21,7 @@ from app.serve import install, photo, routes, sockets
 from app.serve.appkeys import BACKDROP_PNGS, CA_DER, FEED, FILES, PAGE_LINES, PORTS, STATS, TOKEN
 from app.serve.feed import Feed
 from app.serve.logs import RateLimitedLog, quiet_bad_requests
-from app.serve.session import SessionFiles
+from app.serve.session_files import SessionFiles
 
 log = logging.getLogger("app.serve")
 

@@ -13,7 +13,7 @@ from aiohttp import WSMsgType, web
 from app.serve import MAX_PAGES, guard, protocol
 from app.serve.appkeys import FEED, PAGE_LINES
 from app.serve.feed import Feed
-from app.serve.pages import CHANGE_RATE, Page
+from app.serve.pages import CHANGE_RATE, ConnectedPage
 from app.serve.turns import PageQueue
 
 log = logging.getLogger("app.serve")
@@ -45,7 +45,7 @@ async def socket(request: web.Request) -> web.WebSocketResponse:
         return ws
     await ws.prepare(request)
     guard.untimed(request.transport)  # frames from now on, not request heads
-    page = Page(ws, f"{request.remote}:{id(ws) & 0xFFFF:04x}", feed.ask_redraw)
+    page = ConnectedPage(ws, f"{request.remote}:{id(ws) & 0xFFFF:04x}", feed.ask_redraw)
     feed.pages.add(page)
     page.text(feed.hello())
     writer = asyncio.create_task(page.write())
@@ -67,7 +67,7 @@ async def socket(request: web.Request) -> web.WebSocketResponse:
     return ws
 
 
-def _handle_message(feed: Feed, page: Page, queue: PageQueue,
+def _handle_message(feed: Feed, page: ConnectedPage, queue: PageQueue,
                     msg) -> protocol.ProtocolError | None:
     """`_apply_message`, where a failure of the server's own (a bug met by one page's
     message) closes that page's socket alone (1011), in the one line its closing writes:
@@ -81,7 +81,7 @@ def _handle_message(feed: Feed, page: Page, queue: PageQueue,
                                       f"{str(err)[:60]})", protocol.INTERNAL_ERROR)
 
 
-def _apply_message(feed: Feed, page: Page, queue: PageQueue,
+def _apply_message(feed: Feed, page: ConnectedPage, queue: PageQueue,
                    msg) -> protocol.ProtocolError | None:
     """Apply one message of a page; the error that closes its socket, if any."""
     if msg.type == WSMsgType.ERROR:

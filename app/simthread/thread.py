@@ -15,26 +15,26 @@ import logging
 import queue
 import threading
 import time
-from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
 
-from app.backdrops import BACKDROPS
 from app.lockscreen import minute_name
-from app.photos import is_photo
-from app.simthread.backlog import Backlog, group_melts
+from app.simthread.backlog import Backlog
 from app.simthread.clicks import Click, Clicks
+from app.simthread.commands import Command, Commands, command_kind, inputs, merged, take_all
 from app.simthread.export import MapExports
+from app.simthread.readers import Readers
 from app.simthread.schedule import Schedule, TickTimes
 from sim import Params
-from sim.io.session import DEFAULT_BACKDROP, VERSION, SessionLog
-from sim.io.timeline import Applied, Timeline, apply_due
+from sim.io.session import VERSION, SessionLog
+from sim.io.timeline import Timeline, apply_due
 from sim.look.geometry import GeometryDelta
 from sim.screen import HEIGHT, TICKS_PER_SECOND, WIDTH
 
 log = logging.getLogger(__name__)
+
 
 @dataclass(frozen=True)
 class Stats:
@@ -48,11 +48,6 @@ class Stats:
     handled: int = 0  # commands applied so far (the first `handled` that send() sent)
     tick_median_ms: float = 0.0  # tick_ms's median over the last RATE_WINDOW ticks
     waiting: int = 0  # commands received and not yet applied (a storm of input queues)
-
-
-# Commands that change the frost, by the name a report gives them.
-INPUT_NAMES = {"touch": "touches", "melt": "melts", "melts": "melts",
-               "params": "parameter changes", "clear": "clears"}
 
 
 @dataclass(frozen=True)
@@ -74,6 +69,14 @@ class Snapshot:
     minute: str | None = None  # the minute the lock screen's clock shows (None: none yet)
     backdrop: str | None = None  # the backdrop shown (None: none said yet, the default)
 
+    def touch_ticks(self, timeline: Timeline) -> list[tuple[int, float, float]]:
+        """(tick, x, y) of the touches its frame grows from: the timeline's, as long as no
+        rebuild has replaced them since (then the frame's, tick unknown: -1)."""
+        now = timeline.touch_ticks()[:len(self.touches)]
+        if [(x, y) for _t, x, y in now] == [tuple(t) for t in self.touches]:
+            return now
+        return [(-1, x, y) for x, y in self.touches]
+
 
 @dataclass(frozen=True)
 class Step:
@@ -85,59 +88,41 @@ class Step:
     grown: tuple[Click, ...] = ()
 
 
-@dataclass(frozen=True)
-class Command:
-    kind: str  # a key of SimThread._handlers
-    arg: Any = None
-
-
 class SimThread(threading.Thread):
     """The simulation on its own thread: input in, a snapshot out at every tick of its
-    `schedule` (25 a second by default)."""
+    `schedule` (25 a second by default), told to its `readers` (`drain`, `subscribe`,
+    `between_ticks`, `wake`, `notify`: theirs); its `commands` apply the input."""
 
     def __init__(self, params: Params, seed: int, touches=(), width=WIDTH, height=HEIGHT,
                  wake: Callable[[], None] | None = None, dt: float = 1.0 / TICKS_PER_SECOND,
                  script=(), version: int = VERSION):
         super().__init__(name="frost-sim", daemon=True)
         self.inbox: queue.Queue[Command] = queue.Queue()
-        self.outbox: queue.Queue[Snapshot] = queue.Queue()  # the maker's snapshots (drain)
-        # (logging level, text) from this thread's workers, for the HUD and the log.
-        self.notices: queue.Queue[tuple[int, str]] = queue.Queue()
+        # Who is told of a snapshot or a notice: the maker (`wake`), then the other readers.
+        self.readers: Readers[Snapshot] = Readers(wake)
+        self.outbox, self.notices = self.readers.outbox, self.readers.notices
+        self.drain, self.subscribe = self.readers.drain, self.readers.subscribe
+        self.between_ticks, self.wake = self.readers.between_ticks, self.readers.wake
+        self.notify = self.readers.notify
         self.size = (width, height)
         self.seed = seed
-        # Who is told of a snapshot or a notice: the maker (`wake`), then the other readers,
-        # each with its own queue of snapshots (`subscribe`).
-        self._wakes: list[Callable[[], None]] = [wake] if wake is not None else []
-        self._readers: list[queue.Queue[Snapshot]] = []
-        self._between: queue.Queue[Callable[[], None]] = queue.Queue()
         self.first_params = params
         self.script, self._script_at = list(script), 0  # a replayed session's events
-        self.paused = False
-        self.sent = self.handled = 0  # commands sent (main thread), applied (this thread)
-        self.replaced = 0  # tuning changes replaced by the next before their tick
+        self.sent = 0  # commands sent (main thread)
         self._stop_event = threading.Event()
         self.schedule = Schedule(dt, self._stop_event.wait)
         self.times = TickTimes()
         self._clicks = Clicks()  # for the latency log
         self.exports = MapExports(self.notify)
-        self._handlers: dict[str, Callable[[Any, dict], None]] = {
-            "touch": self._touch, "melt": self._melt, "melts": self._melts,
-                          "params": self._set_params, "clear": self._clear,
-                          "pause": self._pause, "step": self._single,
-                          "backdrop": self._show_backdrop,
-                          "export": lambda folder, _notes: self.exports.ask(folder)}
-        # commands wait here when more arrive than a tick takes
-        self.backlog = Backlog(kind=_command_kind)
         # (a replayed session's version: its rules, and those of what is added to it)
         self.timeline = Timeline(params, seed, width, height, version=version)
+        self.backlog = Backlog(kind=command_kind)  # commands past what a tick takes wait
+        self.commands = Commands(self.timeline, self._clicks, self.backlog, self.exports.ask)
         # The lock screen's clock: while something shows it (`show_clock`), each tick
         # whose minute (of `clock()`, local time) differs from the last recorded records
         # a clock event. None: no live clock (a replay's minutes are its own).
         self.clock: Callable[[], datetime] | None = datetime.now
         self._clock_shown: set[str] = set()
-        # The backdrop shown where the session's rules record no backdrop events (older
-        # versions replayed) or its name is not a backdrop's (a file given by path).
-        self._unrecorded_backdrop: str | None = None
         events = [{"kind": "touch", "x": float(x), "y": float(y)} for x, y in touches]
         self.timeline.apply(events)
 
@@ -157,6 +142,24 @@ class SimThread(threading.Thread):
     def touches(self) -> tuple[tuple[float, float], ...]:
         return self.timeline.touches
 
+    @property
+    def paused(self) -> bool:
+        return self.commands.paused
+
+    @paused.setter
+    def paused(self, paused: bool) -> None:
+        self.commands.paused = paused
+
+    @property
+    def handled(self) -> int:
+        """Commands applied (this thread): the first `handled` that `send` sent."""
+        return self.commands.handled
+
+    @property
+    def backdrop(self) -> str | None:
+        """The backdrop shown, as the last snapshot says it (None: the default)."""
+        return self.commands.backdrop
+
     def session(self, steps: int | None = None, events: int | None = None) -> SessionLog:
         """The session so far (or its first `events` events and `steps` steps, as a
         snapshot reports them): enough to replay it bit for bit."""
@@ -168,14 +171,8 @@ class SimThread(threading.Thread):
     # ---- main-thread side -------------------------------------------------------
 
     def touch_ticks(self, snapshot: Snapshot | None) -> list[tuple[int, float, float]]:
-        """(tick, x, y) of the touches `snapshot`'s frame grows from: the timeline's, as
-        long as no rebuild has replaced them since (then the frame's, tick unknown: -1)."""
-        if snapshot is None:
-            return []
-        now = self.timeline.touch_ticks()[:len(snapshot.touches)]
-        if [(x, y) for _t, x, y in now] == [tuple(t) for t in snapshot.touches]:
-            return now
-        return [(-1, x, y) for x, y in snapshot.touches]
+        """(tick, x, y) of the touches `snapshot`'s frame grows from (`Snapshot.touch_ticks`)."""
+        return [] if snapshot is None else snapshot.touch_ticks(self.timeline)
 
     def send(self, kind: str, arg: Any = None) -> int:
         """Queue a command for the next ticks; how many commands have been sent so far (a
@@ -196,16 +193,8 @@ class SimThread(threading.Thread):
         waiting = [*self.backlog.take_all(), *take_all(self.inbox)]
         if apply_s > 0 and not self.is_alive():
             waiting = self.apply_waiting(waiting, apply_s)
-        lost: Counter = Counter()
-        for command in waiting:
-            if command.kind in INPUT_NAMES:
-                lost[INPUT_NAMES[command.kind]] += _inputs(command)
-        if lost:
-            self.notify(logging.WARNING, "input still waiting at exit, never applied (not in "
-                        "the session): " + ", ".join(f"{n} {k}" for k, n in lost.items()))
-        if self.replaced:
-            self.notify(logging.INFO, f"{self.replaced} parameter changes were replaced by the "
-                        "next before their tick (the session holds the later)")
+        for level, text in self.commands.said_at_the_end(waiting):
+            self.notify(level, text)
         self.exports.finish([command.arg for command in waiting if command.kind == "export"],
                             None if self.is_alive() else self.timeline, self.seed)
 
@@ -216,39 +205,11 @@ class SimThread(threading.Thread):
         is left (and the map exports, written by `stop`) is returned, oldest first. So
         `frost serve` keeps in its session what a page was told the server had."""
         notes: dict[str, Any] = {"applied": []}
-        deadline = time.perf_counter() + seconds
-        left: list[Command] = []
-        late = False  # (in order: once one is left for want of time, all after it are)
-        for command in commands:
-            late = late or time.perf_counter() >= deadline
-            if late or command.kind == "export":
-                left.append(command)
-                continue
-            self._handlers[command.kind](command.arg, notes)
-            self.handled += 1  # (a group of melts added the rest of its commands)
+        left = self.commands.apply_in_time(commands, seconds, notes)
         if len(left) < len(commands):
-            reset, melts, message = _merged(notes["applied"])
-            self._publish(self._snapshot(None, reset=reset, melts=melts, message=message))
+            reset, melts, message = merged(notes["applied"])
+            self.readers.publish(self._snapshot(None, reset=reset, melts=melts, message=message))
         return left
-
-    def drain(self) -> list[Snapshot]:
-        """Every snapshot produced since the last call, oldest first (the maker's)."""
-        return take_all(self.outbox)
-
-    def subscribe(self, wake: Callable[[], None]) -> Callable[[], list[Snapshot]]:
-        """Another reader of the snapshots: each one published from now on goes to a queue
-        of its own too, and `wake()` is called after it (on this thread) and after each
-        notice (on the thread that made it). Returns the reader's drain."""
-        mine: queue.Queue[Snapshot] = queue.Queue()
-        self._readers.append(mine)
-        self._wakes.append(wake)
-        return lambda: take_all(mine)
-
-    def between_ticks(self, work: Callable[[], None]) -> None:
-        """`work()` once, on the thread that ticks, right after the tick under way (or the
-        next) has published its snapshot and before the next tick begins: the simulation
-        holds still while it runs (a page's snapshot is drawn from it there)."""
-        self._between.put(work)
 
     def show_clock(self, who: str, shown: bool) -> None:
         """`who` (the window, the pages) shows the lock screen's clock or not (any thread):
@@ -264,21 +225,6 @@ class SimThread(threading.Thread):
         every snapshot from then on says it. Returns `send`'s count."""
         return self.send("backdrop", name)
 
-    @property
-    def backdrop(self) -> str | None:
-        """The backdrop shown, as the last snapshot says it (None: the default)."""
-        return self._unrecorded_backdrop or self.timeline.backdrop
-
-    def wake(self) -> None:
-        """Tell every reader that a snapshot or a notice is waiting."""
-        for wake in self._wakes:
-            wake()
-
-    def notify(self, level: int, text: str) -> None:
-        """A message for the main thread (any thread may call it)."""
-        self.notices.put((level, text))
-        self.wake()
-
     # ---- thread side ------------------------------------------------------------
 
     def run(self) -> None:
@@ -286,7 +232,7 @@ class SimThread(threading.Thread):
             self.schedule.run(self.tick)
         except Exception as err:
             log.exception("simulation thread failed")
-            self._publish(self._snapshot(None, error=f"{type(err).__name__}: {err}"))
+            self.readers.publish(self._snapshot(None, error=f"{type(err).__name__}: {err}"))
 
     def tick(self) -> None:
         """One tick now: the input due applied, a step unless paused, the map exports
@@ -298,15 +244,8 @@ class SimThread(threading.Thread):
         self._script_at = apply_due(self.timeline, self.script, self._script_at,
                                     notes["applied"].append)
         self._tell_time(notes)
-        # (a tuning change waiting right behind another replaces it: a page or a held key
-        # can ask for hundreds, and each applied would regrow the frost)
-        replaced = self.backlog.extend(group_melts(take_all(self.inbox), _disc, _melts),
-                                       replaces=_superseded)
-        self.handled += replaced
-        self.replaced += replaced
-        done = self.backlog.run(lambda command: self._handlers[command.kind](command.arg, notes))
-        self.handled += done  # (a group of melts added the rest of its commands)
-        reset, melts, message = _merged(notes["applied"])
+        self.commands.run(take_all(self.inbox), notes)
+        reset, melts, message = merged(notes["applied"])
         if reset:
             self._clicks.forget_seeds()
         # A click made while paused shows (and is timed) at the next step.
@@ -317,9 +256,9 @@ class SimThread(threading.Thread):
             self.backlog.stepped(self.backlog.clock() - step_started)
         self.exports.write_asked(self.timeline, self.seed)  # the tick the snapshot shows
         self.times.took((time.perf_counter() - started) * 1000.0)
-        self._publish(self._snapshot(step.delta, reset=reset, clicks=step.clicks,
-                                     grown=step.grown, message=message,
-                                     melts=(*melts, *step.melts)))
+        self.readers.publish(self._snapshot(step.delta, reset=reset, clicks=step.clicks,
+                                            grown=step.grown, message=message,
+                                            melts=(*melts, *step.melts)))
 
     def _tell_time(self, notes: dict) -> None:
         """The clock's minute recorded, if it is shown and turned since the last."""
@@ -329,15 +268,6 @@ class SimThread(threading.Thread):
         minute = minute_name(clock())
         if minute != self.timeline.minute:
             notes["applied"].append(self.timeline.apply([{"kind": "clock", "minute": minute}]))
-
-    def _publish(self, snapshot: Snapshot) -> None:
-        """`snapshot` to every reader, the work asked between ticks, then the wake-ups."""
-        self.outbox.put(snapshot)
-        for reader in self._readers:
-            reader.put(snapshot)
-        for work in take_all(self._between):
-            work()
-        self.wake()
 
     def _step(self) -> Step:
         """One step of the timeline: its deltas, and the clicks it shows and grew."""
@@ -355,91 +285,4 @@ class SimThread(threading.Thread):
         return Stats(self.sim.tick, self.times.last_ms, len(self.sim.crystals),
                      len(self.sim.water_area), self.times.rate(), self.schedule.overruns,
                      self.paused, self.handled, self.times.median_ms(),
-                     sum(map(_inputs, self.backlog)))
-
-    # ---- commands: each takes (arg, notes) and applies at this tick ---------------
-
-    def _touch(self, arg, notes: dict) -> None:
-        (x, y), click = arg
-        seed = len(self.sim.crystals)  # its seed's index, if it plants one
-        notes["applied"].append(self.timeline.apply([{"kind": "touch", "x": x, "y": y}]))
-        if click is not None and len(self.sim.crystals) > seed:  # (not into full cells)
-            self._clicks.planted(click, seed)
-
-    def _melt(self, arg, notes: dict) -> None:
-        x, y, r = arg
-        notes["applied"].append(self.timeline.apply([{"kind": "melt", "x": x, "y": y, "r": r}]))
-
-    def _melts(self, discs, notes: dict) -> None:
-        """A fast drag's melts of one tick (`group_melts`): applied as one melt. (The
-        group stands for that many commands sent: `handled` counts them all.)"""
-        self.handled += len(discs) - 1
-        notes["applied"].append(self.timeline.apply(
-            [{"kind": "melt", "x": x, "y": y, "r": r} for x, y, r in discs]))
-
-    def _set_params(self, params: Params, notes: dict) -> None:
-        notes["applied"].append(self.timeline.apply([{"kind": "params", "params": params}]))
-
-    def _clear(self, _arg, notes: dict) -> None:
-        notes["applied"].append(self.timeline.apply([{"kind": "clear"}]))
-
-    def _pause(self, _arg, _notes: dict) -> None:
-        self.paused = not self.paused
-
-    def _single(self, _arg, notes: dict) -> None:
-        notes["single"] = True
-
-    def _show_backdrop(self, name: str, notes: dict) -> None:
-        if name == (self.backdrop or DEFAULT_BACKDROP):
-            return
-        if self.timeline.rules.backdrop_events and (name in BACKDROPS or is_photo(name)):
-            self._unrecorded_backdrop = None
-            notes["applied"].append(self.timeline.apply([{"kind": "backdrop", "name": name}]))
-        else:
-            self._unrecorded_backdrop = name
-
-
-def _inputs(command: Command) -> int:
-    """The commands sent that `command` stands for (a group of melts: each)."""
-    return len(command.arg) if command.kind == "melts" else 1
-
-
-def _disc(command: Command):
-    """A melt command's (x, y, r); None for other commands."""
-    return command.arg if command.kind == "melt" else None
-
-
-def _melts(commands: list[Command]) -> Command:
-    """One command for a run of melts (`group_melts`)."""
-    return Command("melts", tuple(c.arg for c in commands))
-
-
-def take_all(q: queue.Queue) -> list:
-    """Everything waiting in `q` now, oldest first, without blocking."""
-    items = []
-    while True:
-        try:
-            items.append(q.get_nowait())
-        except queue.Empty:
-            return items
-
-
-def _merged(applied: list[Applied]) -> tuple[bool, tuple[GeometryDelta, ...], str | None]:
-    """One tick's results: a rebuild drops the melt deltas made before it."""
-    reset, message = False, None
-    melts: list[GeometryDelta] = []
-    for a in applied:
-        if a.reset:
-            reset, melts = True, []
-        melts.extend(a.deltas)
-        message = a.message or message
-    return reset, tuple(melts), message
-
-
-def _superseded(waiting: Command, arriving: Command) -> bool:
-    """`arriving` makes `waiting` moot: both set the whole parameters, nothing between."""
-    return waiting.kind == arriving.kind == "params"
-
-
-def _command_kind(command: Command) -> str:
-    return command.kind
+                     sum(map(inputs, self.backlog)))

@@ -8,7 +8,7 @@ import sys
 
 from app.tools.engine_maps import EngineRun, write_engine_maps
 from app.tools.progress import Progress
-from app.tools.render import demo_touches
+from app.tools.render_png import demo_touches
 from sim import FrostSim, Params
 from sim.io.files import why
 from sim.io.timeline import Timeline, touch_events

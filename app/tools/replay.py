@@ -13,7 +13,7 @@ from app.images import timestamped_path
 from app.photos import is_photo, photo_file, store_of
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
-from app.tools.render import DEFAULT_FOLDER, error, write
+from app.tools.render_png import DEFAULT_FOLDER, error, write
 from sim import Params
 from sim.io.session import DEFAULT_BACKDROP, SessionError, SessionLog
 from sim.screen import HEIGHT, WIDTH

@@ -7,7 +7,7 @@ import { Pointers } from "./input.js";
 import { Menu } from "./menu.js";
 import { makeApp } from "./makeapp.js";
 import { PhoneApp } from "./phone.js";
-import { Clock } from "./clock.js";
+import { Clock } from "./lockclock.js";
 import { showOffline } from "./offline.js";
 import { PhotoPicker } from "./photo.js";
 import { StatusLine } from "./status.js";

@@ -3,7 +3,7 @@
 // them (the tests and the bench read it through `window.frost`).
 
 import { decodeDelta } from "./protocol.js";
-import { isClock } from "./clock.js";
+import { isClock } from "./lockclock.js";
 import { showOffline } from "./offline.js";
 
 export class Stream {

@@ -26,7 +26,7 @@ from app.photos import PhotoError, is_photo, keep, read_file, store_of
 from app.simthread.thread import SimThread, Snapshot
 from app.window.actions import Actions
 from app.window.capture import Capture
-from app.window.clock import ClockDrawer
+from app.window.clock_drawer import ClockDrawer
 from app.window.drop import PhotoDrop
 from app.window.glfw_setup import WindowError, open_window, x_window_ids
 from app.window.lost_display import on_lost_display, on_lost_window
@@ -35,7 +35,8 @@ from app.window.pointer import Pointer
 from app.window.presenter import Presenter
 from app.window.record import Recorder
 from app.window.status import Status
-from app.window.view import PHONE, Sizes
+from app.window.view import PHONE
+from app.window.window_events import WindowEvents
 from sim import Params
 from sim.io.files import one_line
 from sim.io.session import VERSION
@@ -59,7 +60,7 @@ class FrostWindow:
 
     def __init__(self, window, args, params: Params):
         self.window, self.max_seconds = window, args.max_seconds
-        self.sizes = Sizes(glfw.get_window_size(window), glfw.get_framebuffer_size(window))
+        self.events = WindowEvents(window, lambda scale: self.presenter.hud.set_scale(scale))
         self.display_gone = False  # (lost_display: no GLFW call may meet the dead connection)
         self.thread = SimThread(params, args.seed, args.touch or (), *PHONE, wake=self._wake,
                                 script=getattr(args, "script", ()),
@@ -78,8 +79,8 @@ class FrostWindow:
                                args.session_dir)
         self.actions = Actions(params, self.thread, self.presenter, self.status, self.capture,
                                self.recorder, lambda: self.latest, self.redraw, self.stop)
-        self._first_backdrop(args)
-        self.pointer = Pointer(window, self.sizes, self.thread, args.melt_radius,
+        first_backdrop(args, self.thread, self.actions, self.drop.store)
+        self.pointer = Pointer(window, self.events.sizes, self.thread, args.melt_radius,
                                lambda: self.actions.params.hc, self.shown_tick, self.status.melted)
         self.panel = PanelHost(window, self.actions) if PanelHost is not None \
             else NoPanel(self.status.say, PANEL_ERROR)
@@ -88,57 +89,12 @@ class FrostWindow:
         self.running, self.exit_status = True, 0
         self.ended_by: signal.Signals | None = None  # the signal that ended the loop
         self.lost_window: int | None = None  # the X id of a window destroyed from outside
-        self.dirty = self.damaged = True  # render the phone again; present again
-        self.iconified, self.snapshots, self.new_ticks = False, 0, 0
-        self._connect()
+        self.dirty, self.snapshots, self.new_ticks = True, 0, 0  # dirty: render the phone again
+        self.events.connect(self.actions.on_key, self.pointer.on_button, self.pointer.on_cursor,
+                            self.drop.on_drop)
         # Kept while the window is open and until GLFW has terminated.
         self._x_handlers = (on_lost_display(self.display_lost), on_lost_window(self.window_lost))
         self.phone_ids = x_window_ids(window)  # the X ids naming it in X errors
-
-    def _first_backdrop(self, args) -> None:
-        """The session records the backdrop it starts on (a replay's come from its own
-        events, or stay as --background imposes them). A --background file is kept as a
-        photo in the session folder first, so that the session can be replayed anywhere."""
-        renderer = self.presenter.renderer
-        if getattr(args, "fixed_backdrop", False):
-            self.actions.follows_backdrops = False
-        if self.thread.script:
-            return
-        if renderer.backdrop not in BACKDROPS and not is_photo(renderer.backdrop):
-            try:
-                renderer.set_backdrop(keep(read_file(Path(renderer.backdrop)), self.drop.store))
-            except (PhotoError, OSError, ValueError) as err:
-                log.warning("background %s shown, but not kept for the session (a replay "
-                            "elsewhere will lack it): %s", renderer.backdrop, err)
-        self.actions.backdrop_sent = self.thread.show_backdrop(renderer.backdrop)
-
-    def _connect(self) -> None:
-        # Sizes come from callbacks: each GLFW call from Python waits for the GIL, which the
-        # simulation thread may hold for a few ms, so the frame loop makes as few as it can.
-        window = self.window
-        glfw.set_key_callback(window, self.actions.on_key)
-        glfw.set_mouse_button_callback(window, self.pointer.on_button)
-        glfw.set_cursor_pos_callback(window, self.pointer.on_cursor)
-        glfw.set_framebuffer_size_callback(window, self._on_framebuffer)
-        glfw.set_window_size_callback(window, self._on_window_size)
-        glfw.set_window_iconify_callback(window,
-                                         lambda _window, on: setattr(self, "iconified", bool(on)))
-        glfw.set_window_refresh_callback(window, lambda *_: setattr(self, "damaged", True))
-        glfw.set_window_content_scale_callback(window, self._on_content_scale)
-        # (pyGLFW hands the callback the list of paths, whatever its type stubs say)
-        glfw.set_drop_callback(window, self.drop.on_drop)  # type: ignore[arg-type]
-
-    def _on_framebuffer(self, _window, w: int, h: int) -> None:
-        self.sizes.framebuffer = (w, h)
-        self.damaged = True
-
-    def _on_window_size(self, _window, w: int, h: int) -> None:
-        self.sizes.window = (w, h)
-
-    def _on_content_scale(self, _window, x_scale: float, _y_scale: float) -> None:
-        """The window moved to a screen of another scale: the HUD's text follows."""
-        self.presenter.hud.set_scale(x_scale)
-        self.damaged = True
 
     def _wake(self) -> None:
         """The simulation thread's wake-up (any thread): the frame loop's wait ends."""
@@ -160,7 +116,7 @@ class FrostWindow:
             self.exit_status = 128 + signum
 
     def _minimized(self) -> bool:
-        return self.iconified or 0 in self.sizes.framebuffer
+        return self.events.minimized()
 
     def shown_tick(self) -> int:
         return self.latest.stats.tick if self.latest else 0
@@ -280,7 +236,7 @@ class FrostWindow:
         if self.new_ticks and self.recorder.active:  # each frame lasts until the next
             self.recorder.offer(self.presenter.read_phone, self.presenter.renders)
         self.new_ticks = 0
-        if self.dirty or now >= self.status.hud_next or self.damaged:
+        if self.dirty or now >= self.status.hud_next or self.events.damaged:
             self._present(now)
         if drawn:
             self.status.drawing.drew(now)
@@ -288,9 +244,9 @@ class FrostWindow:
 
     def _present(self, now: float) -> None:
         self.status.refresh(now, self._stats_lines)
-        self.presenter.present(self.sizes.framebuffer, self.status.stats, HELP)
+        self.presenter.present(self.events.sizes.framebuffer, self.status.stats, HELP)
         glfw.swap_buffers(self.window)
-        self.dirty = self.damaged = False
+        self.dirty = self.events.damaged = False
         self.status.presented(now, self._stats_lines)
 
     def _stats_lines(self, now: float) -> list[str]:
@@ -298,6 +254,25 @@ class FrostWindow:
                                  self.recorder.readout(),
                                  self.presenter.render_ms,
                                  self.panel.readout(len(self.status.drawing.times)))
+
+
+def first_backdrop(args, thread: SimThread, actions: Actions, store) -> None:
+    """The session records the backdrop it starts on (a replay's come from its own
+    events, or stay as --background imposes them). A --background file is kept as a
+    photo in the session folder (`store`) first, so that the session can be replayed
+    anywhere."""
+    renderer = actions.presenter.renderer
+    if getattr(args, "fixed_backdrop", False):
+        actions.follows_backdrops = False
+    if thread.script:
+        return
+    if renderer.backdrop not in BACKDROPS and not is_photo(renderer.backdrop):
+        try:
+            renderer.set_backdrop(keep(read_file(Path(renderer.backdrop)), store))
+        except (PhotoError, OSError, ValueError) as err:
+            log.warning("background %s shown, but not kept for the session (a replay "
+                        "elsewhere will lack it): %s", renderer.backdrop, err)
+    actions.backdrop_sent = thread.show_backdrop(renderer.backdrop)
 
 
 def _changes(delta) -> bool:
