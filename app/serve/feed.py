@@ -26,6 +26,7 @@ from app.serve.lock_clock import LockClock
 from app.serve.pages import ConnectedPage
 from app.serve.snapshots import Snapshots
 from app.serve.workers import Workers
+from app.simthread.backlog import SERVE_TICK_BUDGET_S
 from app.simthread.thread import SimThread, Snapshot
 from sim import Params, all_presets
 from sim.screen import SIZE
@@ -59,6 +60,7 @@ class Feed:
         self.own_thread = thread is None
         if thread is None:
             self.thread = SimThread(params, seed, touches, *SIZE, wake=self._woken)
+            self.thread.backlog.budget_s = SERVE_TICK_BUDGET_S
             self._drain = self.thread.drain
             if clock is not None:
                 self.thread.clock = clock
