@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PIL import Image
-from support.window import MAC_LIMITS, finish, played, wait_for, window_id, xdo, xvfb
+from support.window import MAC_LIMITS, escape, finish, played, wait_for, window_id, xdo, xvfb
 
 from app.session_keeper import AUTOSAVE_PERIOD
 from sim import Params
@@ -162,7 +162,7 @@ def interrupt(app: subprocess.Popen, log: Path, signum: int | None = signal.SIGI
     time.sleep(0.5)
     xdo("key", "e")
     if signum is None:
-        xdo("key", "--window", wid, "Escape")
+        escape(wid)
     else:
         app.send_signal(signum)
     return {"status": app.wait(timeout=30)}
@@ -219,7 +219,7 @@ def panel_gone(app: subprocess.Popen, log: Path) -> dict:
     window_id(name="^frost tuning")  # a new panel, mapped
     wait_for(log, r"panel: shown", 2)
     running = app.poll() is None
-    xdo("key", "--window", wid, "Escape")
+    escape(wid)
     return {"status": app.wait(timeout=20), "running": running}
 
 
@@ -242,7 +242,7 @@ def panel_gone_idle(app: subprocess.Popen, log: Path) -> dict:
     except TimeoutError:
         reopened = False
     running = app.poll() is None
-    xdo("key", "--window", wid, "Escape")
+    escape(wid)
     return {"status": app.wait(timeout=20), "running": running, "reopened": reopened}
 
 

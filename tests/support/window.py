@@ -45,6 +45,16 @@ def xdo(*args: str) -> str:
                           timeout=30).stdout
 
 
+def escape(wid: str) -> None:
+    """Esc sent to the window `wid`: a key down, then a key up. The window may close at the
+    down (Esc quits), before xdotool sends the up to it: X then answers BadWindow, which
+    says the key arrived. Any other failure is raised."""
+    done = subprocess.run(["xdotool", "key", "--window", wid, "Escape"], capture_output=True,
+                          text=True, timeout=30)
+    if done.returncode != 0 and "BadWindow" not in done.stderr:
+        raise subprocess.CalledProcessError(done.returncode, done.args, done.stdout, done.stderr)
+
+
 def window_id(timeout: float = 60, name: str = "^frost$") -> str:
     """The app's window titled `name` (waits up to `timeout` s until it is mapped)."""
     return subprocess.run(["xdotool", "search", "--sync", "--onlyvisible", "--name", name],
