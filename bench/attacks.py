@@ -48,7 +48,7 @@ LAG = 0.25  # s: a sender this far behind its schedule starts again from now (no
 
 
 @dataclass(frozen=True)
-class Page:
+class Attacker:
     """Which of the attack's pages this is (`k` of `pages`), and the server's hc."""
 
     k: int
@@ -82,7 +82,7 @@ async def _send(ws, got: dict, *messages: dict) -> bool:
     return True
 
 
-async def one_spot(ws, page: Page, got: dict, end: float) -> None:
+async def one_spot(ws, page: Attacker, got: dict, end: float) -> None:
     x, y = SPOT
     async for _ in paced(TAPS_PER_S, end):
         if not await _send(ws, got, {"type": "touch", "x": x, "y": y, "phase": "down"},
@@ -90,7 +90,7 @@ async def one_spot(ws, page: Page, got: dict, end: float) -> None:
             return
 
 
-async def all_over(ws, page: Page, got: dict, end: float) -> None:
+async def all_over(ws, page: Attacker, got: dict, end: float) -> None:
     spots, phase = sweep(page), "down"
     async for _ in paced(MESSAGES_PER_S, end):
         x, y = next(spots)
@@ -99,7 +99,7 @@ async def all_over(ws, page: Page, got: dict, end: float) -> None:
         phase = "move"
 
 
-async def taps(ws, page: Page, got: dict, end: float) -> None:
+async def taps(ws, page: Attacker, got: dict, end: float) -> None:
     n = 0
     async for _ in paced(PERSON_TAPS_PER_S, end):
         x, y = tap_spot(page, n)
@@ -109,15 +109,15 @@ async def taps(ws, page: Page, got: dict, end: float) -> None:
         n += 1
 
 
-def tap_spot(page: Page, n: int) -> tuple[float, float]:
-    """Page `page`'s n-th tap: a fresh spot (golden-ratio steps over the pane, each page
+def tap_spot(page: Attacker, n: int) -> tuple[float, float]:
+    """Attacker `page`'s n-th tap: a fresh spot (golden-ratio steps over the pane, each page
     from its own start)."""
     u = (page.k / max(page.pages, 1) + n * GOLDEN) % 1.0
     v = (page.k * 0.37 + n * GOLDEN * GOLDEN) % 1.0
     return MARGIN + u * (WIDTH - 2 * MARGIN), MARGIN + v * (HEIGHT - 2 * MARGIN)
 
 
-def sweep(page: Page) -> Iterator[tuple[float, float]]:
+def sweep(page: Attacker) -> Iterator[tuple[float, float]]:
     """Without end, where `page`'s finger goes, a move PER_MOVE touch spacings along its
     path (and a hair, so that it leaves them all): a zigzag over the pane, across its width
     while it goes one hash cell (2 hc) down, so its touches land in every row of cells.

@@ -89,7 +89,7 @@ def _attack(plan: Plan, sockets: list, got: dict, end: float) -> list[Coroutine]
     if send is None:  # (an attack by connections, not by a page's messages)
         return [_read(ws, got, end, None) for ws in sockets]
     return [*(_read(ws, got, end, None) for ws in sockets),
-            *(send(ws, attacks.Page(k, plan.pages, plan.hc), got, end)
+            *(send(ws, attacks.Attacker(k, plan.pages, plan.hc), got, end)
               for k, ws in enumerate(sockets))]
 
 

@@ -503,7 +503,7 @@ def test_the_all_over_attack_asks_a_page_s_most_touches_at_fresh_spots_all_over(
     from sim.io.gestures import DRAG_SPACING_HC, path_points
     from sim.screen import HEIGHT, SIZE, WIDTH, touch_problem
 
-    spots = list(itertools.islice(attacks.sweep(attacks.Page(0, 1, hc)), 4000))
+    spots = list(itertools.islice(attacks.sweep(attacks.Attacker(0, 1, hc)), 4000))
     at, touches = spots[0], [spots[0]]
     for spot in spots[1:]:
         assert touch_problem(*spot, SIZE) is None
@@ -522,7 +522,7 @@ def test_the_attacks_pages_each_start_at_their_own_rows():
     """Page k of 16 begins k/16 of the way down the pane, so the pages sweep apart."""
     from bench import attacks
 
-    firsts = [next(attacks.sweep(attacks.Page(k, 16, 7.0)))[1] for k in range(16)]
+    firsts = [next(attacks.sweep(attacks.Attacker(k, 16, 7.0)))[1] for k in range(16)]
     assert firsts == sorted(firsts) and len(set(firsts)) == 16
 
 
