@@ -173,6 +173,7 @@ def test_frost_bench_of_a_checkout_s_benchmark_says_in_one_line_where_it_moved(w
     (["sim"], "python -m bench: error: argument WHAT: invalid choice: 'sim'"),
     ([], "python -m bench: error: the following arguments are required: WHAT"),
 ])
+@pytest.mark.usefixtures("subprocesses")
 def test_python_m_bench_hands_the_rest_to_the_benchmark_named(argv, says):
     """`python -m bench WHAT ...` from the checkout: WHAT's own command line reads what
     follows (its refusals name it), and a missing or unknown WHAT is refused in one line."""

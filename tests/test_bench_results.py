@@ -116,6 +116,7 @@ def test_a_record_that_cannot_be_written_is_refused_before_the_run(monkeypatch, 
     assert err.count("\n") == 1 and f"--record: {tmp_path / 'missing'}: no such folder" in err, err
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_frost_bench_render_record_keeps_what_it_printed(tmp_path):
     """A short real run (its own process: an EGL context stays out of the test process)."""
     script = ("import sys\nfrom pathlib import Path\nfrom app.bench import results\n"

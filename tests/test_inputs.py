@@ -336,6 +336,7 @@ def test_bench_sim_hands_its_arguments_to_the_simulations_benchmark():
     assert "--repeats" in help_text(["bench", "sim"]) and "--repeats" not in help_text(["bench"])
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_python_m_app_is_the_frost_command(tmp_path):
     frost = Path(sys.executable).with_name("frost")
     # A hard requirement, not a skip: the package declares the script (make test installs it).

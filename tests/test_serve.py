@@ -418,6 +418,7 @@ def test_an_autosave_in_flight_never_replaces_the_last_save(tmp_path, monkeypatc
 
 @pytest.mark.parametrize("frost", [["-m", "app"], [str(WINDOWS_LIKE)]],
                          ids=["here", "as-on-windows"])
+@pytest.mark.usefixtures("subprocesses")
 def test_frost_serve_from_the_command_line(tmp_path, frost):
     """The command: it prints its URL, a page grows frost, Ctrl-C writes the session and
     exits 130 (as the window does), and the session replays to the frost the page saw; also
@@ -578,6 +579,7 @@ def test_the_backdrop_key_steps_through_the_built_ins_from_a_photo_first_to_the_
     assert shown == [first, second, first] == ["dusk", "lockscreen", "dusk"]
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_a_port_taken_or_out_of_range_is_one_clear_error():
     import subprocess
     import sys
@@ -600,6 +602,7 @@ def test_a_port_taken_or_out_of_range_is_one_clear_error():
     (["--session-dir", "/proc/no-such-folder"], "--session-dir /proc/no-such-folder"),
     (["--window"], "--window: no window can open here (DISPLAY is unset)"),
 ])
+@pytest.mark.usefixtures("subprocesses")
 def test_bad_command_lines_are_one_clear_error(args, says):
     import os
     import subprocess
@@ -638,6 +641,7 @@ def test_meta_needs_the_token_too():
     serve(test, token="sesame")
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_ctrl_c_with_a_page_connected_closes_it_and_writes_the_session(tmp_path):
     """The page's socket is closed by the server (1001) rather than waited on, and the
     server exits 130 with the session written."""
