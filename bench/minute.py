@@ -5,7 +5,7 @@ cost of that minute's frame: on the desktop (the box drawn, uploaded with
 message's PNG decoded, `texSubImage2D`, a whole frame drawn and one pixel read back),
 each beside a frame with no new minute. Both over frost grown from three touches.
 
-python -m bench clock [--samples 20]
+python -m bench minute [--samples 20]
 """
 
 from __future__ import annotations
@@ -166,7 +166,7 @@ def page(samples: int) -> None:
         proc.wait(30)
 
 
-def main(argv: list[str] | None = None, prog: str = "python -m bench clock") -> int:
+def main(argv: list[str] | None = None, prog: str = "python -m bench minute") -> int:
     p = Parser(prog=prog, description=__doc__.split("\n\n")[0])
     p.add_argument("--samples", type=count, default=20, metavar="N",
                    help="minutes timed in each place (default 20)")
