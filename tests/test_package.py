@@ -17,7 +17,8 @@ import pytest
 from PIL import Image
 from support import ROOT
 from support.checkout import TOOLING
-from support.serve import ServeProcess
+
+from bench.serve_process import ServeProcess
 
 # Longer than the suite's timeout by nature: the first test to use `venv` waits for its
 # two steps, each allowed 5 minutes (_run), and a wheel is built before.

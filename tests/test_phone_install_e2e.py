@@ -30,10 +30,10 @@ from support.phone import (
     wait_for_shell,
     worker_shell,
 )
-from support.serve import ServeProcess
 
 from app.images import cover
 from app.resources import ASSET_DIR
+from bench.serve_process import ServeProcess
 
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
 

@@ -416,6 +416,17 @@ def test_an_autosave_in_flight_never_replaces_the_last_save(tmp_path, monkeypatc
     assert writes == [1, 2] and len(SessionLog.load(path).events) == 2
 
 
+def test_a_drained_server_is_read_as_it_goes_and_stop_returns_all_it_printed(serve):
+    """ServeProcess.drain (a benchmark's long run): its output read on in a thread of its
+    own, so that a long log never fills the pipe; stop() still returns all of it, from the
+    address it started with to the line Ctrl-C ends it with, and its status is Ctrl-C's."""
+    served = serve().drain()
+    said = served.stop()
+    assert said.startswith(served.lines[0]) and f"open {served.url}" in served.lines[0]
+    assert said.endswith("frost: interrupted (Ctrl-C)\n"), said
+    assert served.proc.returncode == 130
+
+
 @pytest.mark.parametrize("frost", [["-m", "app"], [str(WINDOWS_LIKE)]],
                          ids=["here", "as-on-windows"])
 @pytest.mark.usefixtures("subprocesses")

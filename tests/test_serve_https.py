@@ -31,9 +31,10 @@ from cryptography.x509.oid import ExtendedKeyUsageOID
 from PIL import Image
 from support.https import browser_problem, trusting_home
 from support.phone import PHONE, synced
-from support.serve import ServeProcess, lan_serve
+from support.serve import lan_serve
 
 from app.serve import trust
+from bench.serve_process import ServeProcess
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -19,7 +19,7 @@ ROOT = Path(__file__).resolve().parent.parent
 
 def start_with_window(out: Path, preset: str, seconds: int) -> tuple[subprocess.Popen, str]:
     """`frost serve --window` (files in `out`, closing at `seconds`) and the URL it printed."""
-    from support.serve import ServeProcess
+    from bench.serve_process import ServeProcess
 
     served = ServeProcess("--window", "--port", "0", "--preset", preset, "--max-seconds",
                           str(seconds), "--session-dir", str(out), "--screenshot-dir", str(out),
