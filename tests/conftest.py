@@ -100,12 +100,33 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         for fixture in FIXTURE_MARKS.keys() & set(item.fixturenames):
             item.add_marker(FIXTURE_MARKS[fixture])
+    items[:] = slowest_modules_first(items)
     if config.getoption("--deep"):
         return
     skip = pytest.mark.skip(reason="a validation run: `make test-deep` (pytest --deep) runs it")
     for item in items:
         if "validation" in item.keywords:
             item.add_marker(skip)
+
+
+# The markers of the costliest tests, costliest first: a module runs as early as its
+# costliest test says, so that two workers start on the long ones and end on short ones
+# together, not one worker alone on a long test at the end.
+COSTLIEST = ("slow", "window", "browser", "subprocess", "gl")
+
+
+def slowest_modules_first(items: list) -> list:
+    """`items` with the modules ordered by the costliest marker of their tests
+    (COSTLIEST), each module's tests in their own order, modules of a kind in theirs."""
+    def cost(item) -> int:
+        return next((n for n, mark in enumerate(COSTLIEST) if item.get_closest_marker(mark)),
+                    len(COSTLIEST))
+
+    module_cost: dict = {}
+    for item in items:
+        module_cost[item.path] = min(module_cost.get(item.path, len(COSTLIEST)), cost(item))
+    first = {module: n for n, module in enumerate(module_cost)}
+    return sorted(items, key=lambda item: (module_cost[item.path], first[item.path]))
 
 
 # The test running in this process, while it runs (set-up and teardown included).

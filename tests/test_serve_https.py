@@ -480,6 +480,7 @@ def chromium(pw, home: Path, name: str):
 
 @pytest.mark.browser
 @browser
+@pytest.mark.usefixtures("subprocesses")
 def test_a_chromium_trusting_the_authority_opens_the_https_page_as_a_secure_context(serve, tmp_path):
     from playwright.sync_api import Error, sync_playwright
 
@@ -536,6 +537,7 @@ def test_a_chromium_trusting_the_authority_opens_the_https_page_as_a_secure_cont
 
 @pytest.mark.browser
 @browser
+@pytest.mark.usefixtures("subprocesses")
 def test_an_https_page_whose_socket_never_opens_shows_the_steps(serve, tmp_path):
     """A page cannot learn that the certificate failed its socket (iOS refuses the WSS of
     an untrusted authority after the page loaded): after a while with no hello it shows the

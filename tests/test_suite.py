@@ -199,3 +199,32 @@ def test_no_test_module_imports_another():
             found += [f"{path.name}: {name}" for name in names
                       if name.removeprefix("tests.") in modules]
     assert found == []
+
+
+@pytest.mark.usefixtures("subprocesses")
+def test_the_costliest_modules_run_first_each_in_its_own_order(tmp_path):
+    """Modules ordered by their costliest test's marker (slow, window, browser, subprocess,
+    gl, then the rest), so that the workers start on the long tests; a module's own tests
+    in the file's order, as pytest collects the module alone (the oracle)."""
+    files = ["tests/test_sim.py", "tests/test_render.py", "tests/test_package.py",
+             "tests/test_window_e2e.py", "tests/test_suite.py"]
+    together = list(collected_marks(tmp_path, *files))
+    modules = [nodeid.split("::")[0] for nodeid in together]
+    runs = [m for n, m in enumerate(modules) if n == 0 or modules[n - 1] != m]
+    # slow; window; subprocess (frost render's runs, then this module's pytest runs, in the
+    # order given); plain
+    assert runs == ["tests/test_package.py", "tests/test_window_e2e.py", "tests/test_render.py",
+                    "tests/test_suite.py", "tests/test_sim.py"]
+    for module in files:
+        alone = list(collected_marks(tmp_path, module))
+        assert [n for n in together if n.startswith(module + "::")] == alone
+
+
+@pytest.mark.usefixtures("subprocesses")
+def test_make_test_keeps_a_group_on_one_worker_and_the_wheels_tests_are_one(tmp_path):
+    """`make test` distributes by loadgroup, and the wheel's module is one group: its
+    wheel and virtualenv are built once, by one worker."""
+    command = shlex.split(planned("test", tmp_path / "venv").splitlines()[-1])
+    assert command[command.index("--dist") + 1] == "loadgroup"
+    marks = collected_marks(tmp_path, "tests/test_package.py")
+    assert marks and all("xdist_group" in m for m in marks.values())
