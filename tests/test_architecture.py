@@ -101,7 +101,10 @@ def serve_popens(path: Path) -> list[int]:
     `frost serve` started by hand."""
     import ast
 
-    return [node.lineno for node in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
+    text = path.read_text(encoding="utf-8")
+    if "Popen" not in text:  # (most files: no tree to walk)
+        return []
+    return [node.lineno for node in ast.walk(ast.parse(text))
             if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)
             and node.func.attr == "Popen" and node.args and isinstance(node.args[0], ast.List)
             and any(isinstance(e, ast.Constant) and e.value == "serve" for e in node.args[0].elts)]
