@@ -24,14 +24,12 @@ serve: $(RUN_STAMP)
 	$(PY) -m app serve $(ARGS)
 
 # Two workers (pytest-xdist): CI's machine has two cores, and half the suite waits on
-# subprocesses (the window under Xvfb, the CLI), so two halve the wall time. loadgroup:
-# a module marked xdist_group runs on one worker (the wheel's: one build, not two); the
-# rest test by test, the costliest modules first (tests/conftest.py).
+# subprocesses (the window under Xvfb, the CLI), so two halve the wall time; the
+# costliest modules go first (tests/conftest.py).
 WORKERS ?= 2
-DIST := --dist loadgroup
 
 test: $(TEST_STAMP)
-	$(PY) -m pytest -n $(WORKERS) $(DIST) $(PYTEST_ARGS)
+	$(PY) -m pytest -n $(WORKERS) $(PYTEST_ARGS)
 
 # A change's inner loop: the suite without what opens Chromium or a window under Xvfb,
 # what starts Python in a subprocess (frost, frost serve, pytest), the slow tests and the
@@ -40,11 +38,11 @@ test: $(TEST_STAMP)
 QUICK := not browser and not window and not subprocess and not slow and not validation
 
 quick: $(TEST_STAMP)
-	FROST_HYPOTHESIS=frost-quick $(PY) -m pytest -n $(WORKERS) $(DIST) -m "$(QUICK)" $(PYTEST_ARGS)
+	FROST_HYPOTHESIS=frost-quick $(PY) -m pytest -n $(WORKERS) -m "$(QUICK)" $(PYTEST_ARGS)
 
 # The suite plus its validation runs (DLA dimension, full-screen wipe, long brute force).
 test-deep: $(TEST_STAMP)
-	$(PY) -m pytest -n $(WORKERS) $(DIST) --deep $(PYTEST_ARGS)
+	$(PY) -m pytest -n $(WORKERS) --deep $(PYTEST_ARGS)
 
 bench: bench-sim bench-render
 

@@ -22,9 +22,7 @@ from bench.serve_process import ServeProcess
 
 # Longer than the suite's timeout by nature: the first test to use `venv` waits for its
 # two steps, each allowed 5 minutes (_run), and a wheel is built before.
-# One worker builds the wheel and the virtualenv (`make test`'s --dist loadgroup), not each.
-pytestmark = [pytest.mark.slow, pytest.mark.timeout(1200), pytest.mark.usefixtures("subprocesses"),
-              pytest.mark.xdist_group("package")]
+pytestmark = [pytest.mark.slow, pytest.mark.timeout(1200), pytest.mark.usefixtures("subprocesses")]
 
 # The render the test asks the installed command for (arguments after `frost`).
 RENDER_ARGS = ["render", "--touch", "380,640", "--ticks", "50", "--out", "x.png"]

@@ -218,13 +218,3 @@ def test_the_costliest_modules_run_first_each_in_its_own_order(tmp_path):
     for module in files:
         alone = list(collected_marks(tmp_path, module))
         assert [n for n in together if n.startswith(module + "::")] == alone
-
-
-@pytest.mark.usefixtures("subprocesses")
-def test_make_test_keeps_a_group_on_one_worker_and_the_wheels_tests_are_one(tmp_path):
-    """`make test` distributes by loadgroup, and the wheel's module is one group: its
-    wheel and virtualenv are built once, by one worker."""
-    command = shlex.split(planned("test", tmp_path / "venv").splitlines()[-1])
-    assert command[command.index("--dist") + 1] == "loadgroup"
-    marks = collected_marks(tmp_path, "tests/test_package.py")
-    assert marks and all("xdist_group" in m for m in marks.values())
