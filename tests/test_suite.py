@@ -221,3 +221,25 @@ def test_the_costliest_modules_run_first_each_in_its_own_order(tmp_path):
     assert [k for n, k in enumerate(names) if n == 0 or names[n - 1] != k] == [
         node.name for node in source.body
         if isinstance(node, ast.FunctionDef) and node.name.startswith("test_")]
+
+
+@pytest.mark.usefixtures("subprocesses")
+def test_what_is_made_once_a_run_is_made_by_one_worker_and_shared(tmp_path):
+    """support.shared.made_once under two workers (the wheel's and the virtualenv's way):
+    a module-scoped fixture on each worker asks, one makes, both use what it made."""
+    log = tmp_path / "made.log"
+    (tmp_path / "test_shares.py").write_text(
+        "import os\n\nimport pytest\nfrom support.shared import made_once\n\n\n"
+        "@pytest.fixture(scope='module')\ndef thing(tmp_path_factory):\n"
+        "    def make(folder):\n"
+        f"        with open({str(log)!r}, 'a', encoding='utf-8') as f:\n"
+        "            f.write(os.environ['PYTEST_XDIST_WORKER'] + '\\n')\n"
+        "        (folder / 'x').write_text('made', encoding='utf-8')\n\n"
+        "    return made_once(tmp_path_factory, 'thing', make)\n\n\n"
+        "@pytest.mark.parametrize('i', range(8))\ndef test_uses(thing, i):\n"
+        "    assert (thing / 'x').read_text(encoding='utf-8') == 'made'\n", encoding="utf-8")
+    run = pytest_run("-c", str(ROOT / "pyproject.toml"), "--rootdir", str(tmp_path), "-n", "2",
+                     "-v", str(tmp_path / "test_shares.py"), cwd=tmp_path, plugins=str(ROOT / "tests"))
+    assert "8 passed" in run.stdout, run.stdout[-3000:]
+    assert "[gw0]" in run.stdout and "[gw1]" in run.stdout  # both workers used it
+    assert len(log.read_text(encoding="utf-8").splitlines()) == 1
