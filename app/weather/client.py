@@ -11,17 +11,16 @@ import json
 import math
 import re
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 from urllib.parse import urlsplit
-
-import aiohttp
 
 from sim.io.files import one_line
 from sim.weather import Reading
 from sim.weather.reading import short
 
-FORECAST_API = "https://api.open-meteo.com"
-GEOCODING_API = "https://geocoding-api.open-meteo.com"
+if TYPE_CHECKING:
+    import aiohttp
+
 TIMEOUT_S = 5.0  # one request's limit: a slow API is a failure, never a wait
 # The current values asked for; the first five are required, the rest optional.
 CURRENT = ("temperature_2m", "relative_humidity_2m", "dew_point_2m", "weather_code", "is_day",
@@ -119,20 +118,11 @@ async def current(session: aiohttp.ClientSession, api: str, place: Place,
         raise WeatherError(f"{_host(api)}'s reading is not the forecast's: {err}") from None
 
 
-async def read(place: str | Place, api: str = FORECAST_API, geocoding_api: str = GEOCODING_API,
-               timeout_s: float = TIMEOUT_S) -> tuple[Place, Reading]:
-    """The place `place` names (`LAT,LON` taken as it is, a name geocoded) and its reading."""
-    async with aiohttp.ClientSession() as session:
-        if isinstance(place, str):
-            found = coordinates(place)
-            place = found if found is not None else await find(session, geocoding_api, place,
-                                                               timeout_s)
-        return place, await current(session, api, place, timeout_s)
-
-
 async def _json(session: aiohttp.ClientSession, url: str, query: dict[str, str],
                 timeout_s: float) -> Any:
     """The JSON `url` answers `query` with; WeatherError for any failure."""
+    import aiohttp  # (here: a run without --weather never loads it)
+
     host = _host(url)
     try:
         async with session.get(url, params=query,
