@@ -9,7 +9,9 @@ from __future__ import annotations
 import asyncio
 import json
 import math
+import os
 import re
+import socket
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 from urllib.parse import urlsplit
@@ -134,8 +136,10 @@ async def _json(session: aiohttp.ClientSession, url: str, query: dict[str, str],
             body = await reply.content.read(MOST_BYTES + 1)
     except asyncio.TimeoutError:
         raise WeatherError(f"{host} did not answer within {timeout_s:g} s") from None
+    except aiohttp.ClientConnectorError as err:  # (refused, no route, a name not found)
+        raise WeatherError(f"cannot reach {host}: {_reason(err.os_error)}") from None
     except aiohttp.ClientError as err:
-        raise WeatherError(f"cannot reach {host}: {err or type(err).__name__}") from None
+        raise WeatherError(f"cannot read {host}'s answer: {err or type(err).__name__}") from None
     except ValueError as err:  # (a URL aiohttp cannot ask)
         raise WeatherError(f"cannot ask {url}: {err}") from None
     if len(body) > MOST_BYTES:
@@ -144,6 +148,13 @@ async def _json(session: aiohttp.ClientSession, url: str, query: dict[str, str],
         return json.loads(body.decode("utf-8"))
     except (UnicodeDecodeError, ValueError):
         raise WeatherError(f"{host} answered something that is not JSON: {short(body)}") from None
+
+
+def _reason(err: OSError) -> str:
+    """An OSError's cause in words ("Connection refused"), without its details."""
+    if isinstance(err.errno, int) and err.errno > 0 and not isinstance(err, socket.gaierror):
+        return os.strerror(err.errno)
+    return err.strerror or str(err) or type(err).__name__
 
 
 def _host(url: str) -> str:
