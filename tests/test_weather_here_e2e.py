@@ -1,0 +1,88 @@
+"""The phone's "Weather where I am" end to end: `frost serve` in a subprocess, pages in
+headless Chromium with Playwright's geolocation emulation (the permission granted or
+not). Oracles: the place the server moved its weather to (rounded by hand), the status
+line's words, and that a page that may not ask sends nothing."""
+
+from __future__ import annotations
+
+import socket
+from pathlib import Path
+
+import pytest
+from support.https import browser_problem, trusting_chromium, trusting_home
+from support.phone import PHONE, open_page
+from support.serve import lan_serve
+
+PROBLEM = browser_problem()
+pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
+
+STOCKHOLM = {"latitude": 59.33459, "longitude": 18.06324}  # as a phone reports it
+
+
+class Phones:
+    """Pages of the LAN server `s`'s HTTPS address in a Chromium that trusts its authority
+    (a secure context, as on a phone that installed it: the Geolocation API is there), the
+    address's name resolved to this machine."""
+
+    def __init__(self, pw, s, config: Path, home: Path):
+        """`config`: the server's config folder (its authority's certificate)."""
+        self.s, self.name = s, socket.gethostname().lower()
+        cafile = config / "frost" / "ca.crt"
+        self.browser = trusting_chromium(pw, trusting_home(home, cafile), self.name)
+
+    def open(self, granted: bool, where=STOCKHOLM):
+        """A page on an emulated phone at `where`, the location permission `granted` or not."""
+        context = self.browser.new_context(**PHONE, geolocation=where,
+                                           permissions=["geolocation"] if granted else [])
+        page = open_page(context, f"https://{self.name}:{self.s.https_port}/?token={self.s.token}")
+        assert page.evaluate("window.isSecureContext") is True
+        return page
+
+    def close(self) -> None:
+        self.browser.close()
+
+
+def tap_weather_here(page) -> dict:
+    """The menu's "Weather where I am" tapped; how it went (frost.weather.last)."""
+    page.click("#open")
+    page.click("#weather-here")
+    page.wait_for_function("frost.weather.last && !frost.weather.asking", timeout=30_000)
+    return page.evaluate("frost.weather.last")
+
+
+def status(page) -> str:
+    return page.inner_text("#status")
+
+
+def test_a_place_refused_by_the_browser_or_the_server_says_why(pw, tmp_path):
+    s = lan_serve(tmp_path / "config")  # (no --weather: the server refuses a place)
+    phones = Phones(pw, s, tmp_path / "config", tmp_path / "home")
+    try:
+        page = phones.open(granted=False)
+        last = tap_weather_here(page)
+        assert last["status"] == 0 and "refused the location" in last["error"]
+        assert "refused the location" in status(page)
+        page = phones.open(granted=True)
+        last = tap_weather_here(page)
+        assert last["status"] == 503 and "--weather" in last["error"]
+        assert status(page).startswith("weather refused: this server follows no weather")
+    finally:
+        phones.close()
+        s.stop()
+
+
+def test_a_plain_http_page_says_it_needs_the_https_page(browser):
+    """A page on a plain HTTP address that is not this machine's (http://frost.test) is no
+    secure context: the tap asks nothing and sends nothing, and says why."""
+    from bench.page import Page, hello
+    from sim import Params
+
+    with Page(hello(Params.preset("fern")), [], viewport=(390, 844), scale=3, browser=browser,
+              touch=True) as p:
+        asked = []
+        p.page.on("request", lambda r: r.method == "POST" and asked.append(r.url))
+        assert p.page.evaluate("window.isSecureContext") is False
+        last = tap_weather_here(p.page)
+        assert last["status"] == 0 and "needs the HTTPS page" in last["error"]
+        assert "needs the HTTPS page" in status(p.page)
+        assert asked == []
