@@ -5,7 +5,10 @@ Kinds of event: "touch" (x, y), "melt" (x, y, r), "params" (params: a dict; rebu
 simulation), "clear" (drops the touches and melts, rebuilds) and, from version 10, "clock"
 (minute: the lock screen's clock shows that minute from here on, "YYYY-MM-DDTHH:MM", local
 time; the frost is untouched) and, from version 11, "backdrop" (name: the backdrop shown
-from here on, a built-in's or a photo's name; the frost is untouched). Each has its
+from here on, a built-in's or a photo's name; the frost is untouched) and, from version
+12, "weather" (reading: what the weather API said, sim.weather.Reading's JSON; glass: the
+glazing and the room it acts on, sim.weather.Glass's: the frost grows or thaws as they
+make it from here on). Each has its
 "tick": the tick of its timeline it applied at (a rebuild starts a new timeline at tick 0).
 """
 
@@ -21,6 +24,7 @@ from typing import Any
 from ..core.frost import VERSION as FROST_VERSION
 from ..params import Params
 from ..screen import HEIGHT, WIDTH, melt_problem, touch_problem
+from ..weather import Glass, Reading
 from .files import one_line, read_json, write_atomic
 
 FORMAT = "frost-session"
@@ -29,13 +33,14 @@ FORMAT = "frost-session"
 VERSION = FROST_VERSION
 # The keys each event kind needs besides "tick" and "kind".
 EVENT_FIELDS = {"touch": ("x", "y"), "melt": ("x", "y", "r"), "params": ("params",),
-                "clear": (), "clock": ("minute",), "backdrop": ("name",)}
+                "clear": (), "clock": ("minute",), "backdrop": ("name",),
+                "weather": ("reading", "glass")}
 REBUILDS = ("params", "clear")  # kinds that start a new timeline at tick 0
 # Kinds that change only what is shown, not the frost: a session of these alone has
 # nothing to replay (no file is written for it).
 SHOWN_ONLY = ("clock", "backdrop")
 # The first version whose files may hold each kind of event (kinds not named: all).
-SINCE = {"clock": 10, "backdrop": 11}
+SINCE = {"clock": 10, "backdrop": 11, "weather": 12}
 # A backdrop event's name: a built-in's ("dusk") or a photo's ("photo-" and 32 hex digits):
 # the names the pages' protocol carries, never a path.
 BACKDROP_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]{0,63}\Z")
@@ -214,7 +219,17 @@ def check_event(event: Any, size: tuple[int, int] = (WIDTH, HEIGHT)) -> dict[str
                                             and BACKDROP_NAME.match(event["name"])):
         raise SessionError(f"event {event!r}: 'name' must be a backdrop's name (1 to 64 "
                            "letters, digits, '-' or '_')")
+    if event["kind"] == "weather":
+        _weather(event)
     return event
+
+
+def _weather(event: dict) -> None:
+    try:
+        Reading.from_json(event["reading"])
+        Glass.from_json(event["glass"])
+    except ValueError as err:
+        raise SessionError(f"weather event at tick {event['tick']}: {err}") from None
 
 
 def _minute(v: Any) -> bool:
