@@ -21,7 +21,7 @@ from aiohttp import web
 
 from app import photos
 from app.serve.appkeys import FEED
-from app.serve.posts import Gaps, origin_problem, refusal, unread
+from app.serve.posts import Gaps, head_refusal, refusal, unread
 
 log = logging.getLogger("app.serve")
 
@@ -48,15 +48,12 @@ async def upload(request: web.Request) -> web.Response:
     """POST /photo: the body, a PNG, JPEG or WebP file; 200 {"backdrop": name} when it is
     every page's backdrop, else a 4xx/5xx {"error": one line}."""
     desk: PhotoDesk = request.app[PHOTOS]
-    problem = origin_problem(request)
-    if problem is not None:
-        return refusal(403, problem)
-    length = request.content_length
-    if length is None:
-        return unread(411, "a photo must come with its Content-Length")
-    if length > photos.MAX_BYTES:
-        return unread(413, f"the file is {length:,} bytes; at most "
-                           f"{photos.MAX_BYTES // 2**20} MB ({photos.MAX_BYTES:,} bytes) is taken")
+    refused = head_refusal(request, "a photo", photos.MAX_BYTES, lambda n: (
+        f"the file is {n:,} bytes; at most {photos.MAX_BYTES // 2**20} MB "
+        f"({photos.MAX_BYTES:,} bytes) is taken"))
+    if refused is not None:
+        return refused
+    length = request.content_length or 0
     if length == 0:
         return refusal(400, "the request holds no photo (Content-Length: 0)")
     if desk.store is None:

@@ -12,6 +12,7 @@ cannot choose another one for each try, as it could a cookie or a header.
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from aiohttp import web
@@ -68,4 +69,20 @@ def origin_problem(request: web.Request) -> str | None:
         return "a request that changes the frost must carry an Origin (a browser's page sends one)"
     if not same_origin(origin, request.host, request.scheme):
         return f"the page's origin {origin[:60]!r} is not this server"
+    return None
+
+
+def head_refusal(request: web.Request, what: str, most: int,
+                 too_long: Callable[[int], str]) -> web.Response | None:
+    """The refusal of a POST for its head alone, else None: its Origin (403), its
+    Content-Length missing (411: `what`, e.g. "a photo", must come with one) or over `most`
+    bytes (413: `too_long(length)` says why)."""
+    problem = origin_problem(request)
+    if problem is not None:
+        return refusal(403, problem)
+    length = request.content_length
+    if length is None:
+        return unread(411, f"{what} must come with its Content-Length")
+    if length > most:
+        return unread(413, too_long(length))
     return None

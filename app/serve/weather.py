@@ -20,7 +20,7 @@ from typing import Protocol
 from aiohttp import web
 
 from app.serve.appkeys import FEED
-from app.serve.posts import Gaps, origin_problem, refusal, unread
+from app.serve.posts import Gaps, head_refusal, refusal, unread
 
 log = logging.getLogger("app.serve")
 
@@ -79,14 +79,11 @@ async def place(request: web.Request) -> web.Response:
     "longitude": N} (rounded: what the server asks the weather of; the reading comes to
     every page in a state message), else a 4xx/5xx {"error": one line}."""
     desk: PlaceDesk = request.app[PLACES]
-    problem = origin_problem(request)
-    if problem is not None:
-        return refusal(403, problem)
-    length = request.content_length
-    if length is None:
-        return unread(411, "a place must come with its Content-Length")
-    if length > MAX_BYTES:
-        return unread(413, f"the body is {length:,} bytes; a place takes at most {MAX_BYTES}")
+    refused = head_refusal(request, "a place", MAX_BYTES,
+                           lambda n: f"the body is {n:,} bytes; a place takes at most {MAX_BYTES}")
+    if refused is not None:
+        return refused
+    length = request.content_length or 0
     if desk.feed is None:
         return unread(503, NO_WEATHER)
     if request.app[FEED].ending:
