@@ -28,6 +28,7 @@ from app.serve.snapshots import Snapshots
 from app.serve.workers import Workers
 from app.simthread.backlog import SERVE_TICK_BUDGET_S
 from app.simthread.thread import SimThread, Snapshot
+from app.weather.feed import WeatherFeed
 from sim import Params, all_presets
 from sim.screen import SIZE
 
@@ -79,6 +80,7 @@ class Feed:
         self.moment = (0, 0)
         self.error: str | None = None
         self.ending = False  # `close`d: input is no longer taken
+        self.weather: WeatherFeed | None = None  # --weather's readings (frost serve sets it)
         # For the bench: bytes sent a tick, the thread's tick time (ms), and the time from a
         # tap reaching the server to the tick that shows it being published (ms)
         self.sizes: deque[int] = deque(maxlen=SIZES_KEPT)

@@ -18,7 +18,7 @@ from app.photos import is_photo
 from app.simthread.backlog import Backlog, group_melts
 from app.simthread.clicks import Clicks
 from sim import Params
-from sim.io.session import DEFAULT_BACKDROP
+from sim.io.session import DEFAULT_BACKDROP, weather_event
 from sim.io.timeline import Applied, Timeline
 from sim.look.geometry import GeometryDelta
 from sim.weather import Glass, Reading
@@ -154,8 +154,7 @@ class Commands:
             notes["applied"].append(Applied(message="weather: a session of version "
                                             f"{self.timeline.version} grows without the weather"))
             return
-        notes["applied"].append(self.timeline.apply(
-            [{"kind": "weather", "reading": reading.as_json(), "glass": glass.as_json()}]))
+        notes["applied"].append(self.timeline.apply([weather_event(reading, glass)]))
 
 
 def inputs(command: Command) -> int:

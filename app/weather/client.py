@@ -9,19 +9,20 @@ from __future__ import annotations
 import asyncio
 import json
 import math
+import os
 import re
+import socket
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 from urllib.parse import urlsplit
-
-import aiohttp
 
 from sim.io.files import one_line
 from sim.weather import Reading
 from sim.weather.reading import short
 
-FORECAST_API = "https://api.open-meteo.com"
-GEOCODING_API = "https://geocoding-api.open-meteo.com"
+if TYPE_CHECKING:
+    import aiohttp
+
 TIMEOUT_S = 5.0  # one request's limit: a slow API is a failure, never a wait
 # The current values asked for; the first five are required, the rest optional.
 CURRENT = ("temperature_2m", "relative_humidity_2m", "dew_point_2m", "weather_code", "is_day",
@@ -119,20 +120,11 @@ async def current(session: aiohttp.ClientSession, api: str, place: Place,
         raise WeatherError(f"{_host(api)}'s reading is not the forecast's: {err}") from None
 
 
-async def read(place: str | Place, api: str = FORECAST_API, geocoding_api: str = GEOCODING_API,
-               timeout_s: float = TIMEOUT_S) -> tuple[Place, Reading]:
-    """The place `place` names (`LAT,LON` taken as it is, a name geocoded) and its reading."""
-    async with aiohttp.ClientSession() as session:
-        if isinstance(place, str):
-            found = coordinates(place)
-            place = found if found is not None else await find(session, geocoding_api, place,
-                                                               timeout_s)
-        return place, await current(session, api, place, timeout_s)
-
-
 async def _json(session: aiohttp.ClientSession, url: str, query: dict[str, str],
                 timeout_s: float) -> Any:
     """The JSON `url` answers `query` with; WeatherError for any failure."""
+    import aiohttp  # (here: a run without --weather never loads it)
+
     host = _host(url)
     try:
         async with session.get(url, params=query,
@@ -144,8 +136,10 @@ async def _json(session: aiohttp.ClientSession, url: str, query: dict[str, str],
             body = await reply.content.read(MOST_BYTES + 1)
     except asyncio.TimeoutError:
         raise WeatherError(f"{host} did not answer within {timeout_s:g} s") from None
+    except aiohttp.ClientConnectorError as err:  # (refused, no route, a name not found)
+        raise WeatherError(f"cannot reach {host}: {_reason(err.os_error)}") from None
     except aiohttp.ClientError as err:
-        raise WeatherError(f"cannot reach {host}: {err or type(err).__name__}") from None
+        raise WeatherError(f"cannot read {host}'s answer: {err or type(err).__name__}") from None
     except ValueError as err:  # (a URL aiohttp cannot ask)
         raise WeatherError(f"cannot ask {url}: {err}") from None
     if len(body) > MOST_BYTES:
@@ -154,6 +148,13 @@ async def _json(session: aiohttp.ClientSession, url: str, query: dict[str, str],
         return json.loads(body.decode("utf-8"))
     except (UnicodeDecodeError, ValueError):
         raise WeatherError(f"{host} answered something that is not JSON: {short(body)}") from None
+
+
+def _reason(err: OSError) -> str:
+    """An OSError's cause in words ("Connection refused"), without its details."""
+    if isinstance(err.errno, int) and err.errno > 0 and not isinstance(err, socket.gaierror):
+        return os.strerror(err.errno)
+    return err.strerror or str(err) or type(err).__name__
 
 
 def _host(url: str) -> str:

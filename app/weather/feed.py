@@ -12,16 +12,16 @@ import logging
 import threading
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
-from sim.weather import Reading
+from sim.io.session import weather_event
+from sim.weather import Glass, Reading, describe
 
-from . import client
-from .client import FORECAST_API, GEOCODING_API, TIMEOUT_S, Place, WeatherError
+from . import EVERY_MIN, FORECAST_API, GEOCODING_API, LEAST_EVERY_MIN, client
+from .client import TIMEOUT_S, Place, WeatherError
 from .kept import keep, kept
 
 log = logging.getLogger(__name__)
-EVERY_MIN = 15.0  # minutes between readings
-LEAST_EVERY_MIN = 5.0  # the API's data changes every 15 minutes: no need to ask more often
 FIRST_WAIT_S = 5.0  # how long a batch waits for its first reading
 
 Say = Callable[[str], None]
@@ -53,22 +53,23 @@ class Asker:
                     self.say(f"weather: {self.place.words()}")
                 reading = await client.current(session, self.api, self.place, self.timeout_s)
         except WeatherError as err:
-            self.say(f"weather: {err}")
-            return self.fallback()
+            return self.failed(str(err))
         self.had_one = True
         keep(self.asked, reading, self.folder)
         return reading
 
-    def fallback(self) -> Reading | None:
-        """The reading kept for this place, once a run, when no reading came yet."""
-        if self.had_one:
-            return None  # (the frost goes on with the last reading it has)
-        found = kept(self.asked, self.folder)
-        if found is None:
-            return None
-        self.had_one = True
-        self.say(f"weather: going on with the reading kept from {found[1]}")
-        return found[0]
+    def failed(self, why: str) -> Reading | None:
+        """No reading came (`why`): said in one line with what the frost goes on with: the
+        last reading of this run, else the one kept for this place (returned), else the
+        preset's own temperature."""
+        found = None if self.had_one else kept(self.asked, self.folder)
+        if found is not None:
+            self.had_one = True
+            self.say(f"weather: {why}: going on with the reading kept from {found[1]}")
+            return found[0]
+        self.say(f"weather: {why}: " + ("the frost goes on with the last reading" if self.had_one
+                                          else "the frost grows by the preset's own temperature"))
+        return None
 
 
 def _session():
@@ -148,12 +149,46 @@ class WeatherFeed:
             log.exception("weather: the reading could not be handed on")
 
 
+def glass_of(args) -> Glass:
+    """The window the weather acts on, as the command line states it."""
+    return Glass(args.glazing, args.room_temperature, args.room_humidity)
+
+
+def feed_for(args, show: Callable[[Reading, Glass], object], say: Say) -> WeatherFeed | None:
+    """--weather's feed for a run that goes on (the window, frost serve), started: each
+    reading said in one line (`describe`) and handed to `show(reading, glass)`, e.g.
+    SimThread.show_weather; None without --weather."""
+    if not getattr(args, "weather", None):
+        return None
+    glass = glass_of(args)
+
+    def on_reading(reading: Reading) -> None:
+        say(describe(reading, glass))
+        show(reading, glass)
+
+    return WeatherFeed.at_place(args.weather, on_reading, say, args.weather_every,
+                                api=args.weather_api, geocoding_api=args.geocoding_api).start()
+
+
+def first_event(args, say: Say, wait_s: float = FIRST_WAIT_S) -> list[dict[str, Any]]:
+    """A batch's --weather (`frost render`): its first reading as a weather event at tick 0
+    (at most `wait_s` seconds for the API, else the kept reading), its line said; [] when
+    there is none (said: the frost grows by the preset's temperature) or no --weather."""
+    if not getattr(args, "weather", None):
+        return []
+    glass = glass_of(args)
+    reading = read_once(Asker(args.weather, say, args.weather_api, args.geocoding_api), wait_s)
+    if reading is None:
+        return []
+    say(describe(reading, glass))
+    return [weather_event(reading, glass)]
+
+
 def read_once(asker: Asker, wait_s: float = FIRST_WAIT_S) -> Reading | None:
     """A batch's first reading: at most `wait_s` seconds for the API (then the kept one)."""
     async def bounded() -> Reading | None:
         try:
             return await asyncio.wait_for(asker.ask(), wait_s)
         except asyncio.TimeoutError:
-            asker.say(f"weather: no reading within {wait_s:g} s")
-            return asker.fallback()
+            return asker.failed(f"no reading within {wait_s:g} s")
     return asyncio.run(bounded())

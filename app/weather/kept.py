@@ -1,5 +1,5 @@
 """The last good reading, kept in the user's config folder (`weather.json` beside the
-serve authority's files: app/serve/trust.py's `config_dir`) with the place it was asked
+serve authority's files: app/config.py's `config_dir`) with the place it was asked
 for and the time it was read, so a run without a network goes on with it. The file holds
 the rounded place and the reading, nothing else."""
 
@@ -10,7 +10,7 @@ import logging
 from datetime import datetime, timezone
 from pathlib import Path
 
-from app.serve.trust import config_dir
+from app.config import config_dir
 from sim.io.files import why, write_atomic
 from sim.weather import Reading
 

@@ -24,6 +24,7 @@ from app.keys import help_lines
 from app.lockscreen import clock_from, outside_line
 from app.photos import PhotoError, is_photo, keep, read_file, store_of
 from app.simthread.thread import SimThread, Snapshot
+from app.weather.feed import feed_for
 from app.window.actions import Actions
 from app.window.capture import Capture
 from app.window.clock_drawer import ClockDrawer
@@ -85,6 +86,9 @@ class FrostWindow:
         self.panel = PanelHost(window, self.actions) if PanelHost is not None \
             else NoPanel(self.status.say, PANEL_ERROR)
         self.actions.toggle_panel = self.panel.toggle
+        # --weather: readings beside the loop (its own thread); T and Y then change nothing.
+        self.weather = feed_for(args, self.thread.show_weather, log.info)
+        self.actions.weather_sets_temperature = self.weather is not None
         self.latest: Snapshot | None = None
         self.running, self.exit_status = True, 0
         self.ended_by: signal.Signals | None = None  # the signal that ended the loop
@@ -141,6 +145,8 @@ class FrostWindow:
         return self.exit_status
 
     def close(self) -> None:
+        if self.weather is not None:
+            self.weather.stop()
         self.thread.stop()
         self.clock.close()
         self._write_out()

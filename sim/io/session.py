@@ -224,6 +224,12 @@ def check_event(event: Any, size: tuple[int, int] = (WIDTH, HEIGHT)) -> dict[str
     return event
 
 
+def weather_event(reading: Reading, glass: Glass, tick: int = 0) -> dict[str, Any]:
+    """The weather event of `reading` on `glass` (at `tick`: a timeline given it records
+    its own tick)."""
+    return {"tick": tick, "kind": "weather", "reading": reading.as_json(), "glass": glass.as_json()}
+
+
 def _weather(event: dict) -> None:
     try:
         Reading.from_json(event["reading"])

@@ -35,9 +35,11 @@ ICE = (22.46, 272.62)
 # just below its frost point growing, at a twentieth of the pace of -10 C's hit counts.
 LEAST_UNDERCOOLING = 0.5
 MOST_UNDERCOOLING = 40.0
-# The thaw's pace: one layer of the ice's tips melts every this many ticks (half a second at
-# 25 ticks a second), so a stem of a hundred crystals is gone in under a minute.
-THAW_TICKS = 12
+# The thaw's pace: one layer of the ice's tips melts every this many ticks (2 s at 25 ticks
+# a second). A fern is mostly short side branches: the window preset's frost of 900 ticks
+# at -25 C loses four fifths of its crystals in the first 20 s and the last in about 2.5 min
+# (at 12 ticks, 5 s and 35 s: a collapse, not a melt).
+THAW_TICKS = 50
 # The supply's range: the room's vapour against the stated room's (1 at 20 C and 40 %).
 SUPPLY_RANGE = (0.25, 2.0)
 
