@@ -33,7 +33,9 @@ def run(test, places: Places | None, gap: float | None = 0, token: str | None = 
     a server that follows no weather); `gap`: the seconds between two places of an address
     (None: the server's own)."""
     async def main():
-        app = make_app(Feed(Params.preset("c-2"), seed=1), token, weather=places)
+        feed = Feed(Params.preset("c-2"), seed=1)
+        feed.weather = places  # type: ignore[assignment]  # (a stand-in)
+        app = make_app(feed, token)
         if gap is not None:
             app[weather.PLACES].gap = gap
         runner = await listen(app, "127.0.0.1", 0, token)

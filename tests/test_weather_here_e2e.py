@@ -71,6 +71,55 @@ def test_a_place_refused_by_the_browser_or_the_server_says_why(pw, tmp_path):
         s.stop()
 
 
+def test_the_place_of_a_phone_moves_everyones_weather_and_is_kept_rounded_alone(pw, browser,
+                                                                               tmp_path):
+    """A phone at Stockholm taps "Weather where I am": the weather API is asked at 59.3,
+    18.1 (rounded to 0.1 degree by hand), every page's status line and state follow the new
+    reading, and neither the session nor the config folder hold the place any closer."""
+    import json
+
+    from support.weather_api import StandIn
+
+    config, sessions = tmp_path / "config", tmp_path / "sessions"
+    with StandIn(temperature_c=-25.0) as api:
+        s = lan_serve(config, "--preset", "window", "--session-dir", str(sessions),
+                      "--weather", "59.91,10.75", "--weather-api", api.url,
+                      "--geocoding-api", api.url)
+        phones = Phones(pw, s, config, tmp_path / "home")
+        try:
+            other = phones.open(granted=False)  # (a page that never asks)
+            other.wait_for_function("frost.hello.weather && frost.hello.weather.temperature_c === -25",
+                                    timeout=30_000)
+            assert status(other).startswith("59.91,10.75: -25.0 C, 80 %")
+            api.current["temperature_2m"] = 6.0
+            page = phones.open(granted=True)
+            sent: list = []
+            page.on("request", lambda r: r.method == "POST" and sent.append(r.post_data))
+            last = tap_weather_here(page)
+            assert last == {"status": 202, "latitude": 59.3, "longitude": 18.1}
+            assert [json.loads(body) for body in sent] == [{"latitude": 59.3, "longitude": 18.1}]
+            for p in (page, other):
+                p.wait_for_function("frost.hello.weather.temperature_c === 6", timeout=30_000)
+                p.wait_for_function("document.getElementById('status').textContent"
+                                    ".startsWith('59.30,18.10: 6.0 C, 80 %')", timeout=30_000)
+            forecasts = [q for path, q in api.asked if path == "/v1/forecast"]
+            assert (forecasts[-1]["latitude"], forecasts[-1]["longitude"]) in {
+                ("59.3", "18.1"), ("59.30", "18.10")}
+        finally:
+            phones.close()
+            s.stop()
+    # What was kept: the rounded place in the session's weather events and with the reading
+    # in the config folder; the phone's own figures nowhere.
+    [session] = sessions.glob("*.json")
+    events = [e for e in json.loads(session.read_text(encoding="utf-8"))["events"]
+              if e["kind"] == "weather"]
+    assert [(e["reading"]["latitude"], e["reading"]["longitude"]) for e in events][-1] == (59.3, 18.1)
+    for path in [*sessions.rglob("*"), *config.rglob("*")]:
+        if path.is_file():
+            data = path.read_bytes()
+            assert b"59.33" not in data and b"18.06" not in data, path
+
+
 def test_a_plain_http_page_says_it_needs_the_https_page(browser):
     """A page on a plain HTTP address that is not this machine's (http://frost.test) is no
     secure context: the tap asks nothing and sends nothing, and says why."""

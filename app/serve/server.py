@@ -31,14 +31,12 @@ STATS_PERIOD = 10.0  # s between the log's stats lines
 
 def make_app(feed: Feed, token: str | None = None, session_dir=None,
              web_dir: Path = routes.WEB_DIR, ca_der: bytes = b"",
-             photo_dir: Path | None = None,
-             weather: weather_route.Follows | None = None) -> web.Application:
+             photo_dir: Path | None = None) -> web.Application:
     """The server's app: its routes, the token check, the feed started with it and stopped
     (the session written to `session_dir`, if given) when it is cleaned up; `ca_der`, the
     local authority's public certificate (served as /frost-ca.crt) where HTTPS uses it;
     `photo_dir`, the folder of the photos pages send (default `session_dir`'s backdrops/;
-    neither: no photos taken); `weather`, the weather feed a page's place moves (None: no
-    place taken)."""
+    neither: no photos taken)."""
     app = web.Application(middlewares=[routes.token_check])
     quiet_bad_requests()
     app[FEED], app[TOKEN] = feed, token or ""
@@ -50,7 +48,7 @@ def make_app(feed: Feed, token: str | None = None, session_dir=None,
         photo_dir = Path(session_dir) / photos.FOLDER
     feed.controls.store = photo_dir
     photo.routes_for(app, photo_dir)  # POST /photo, GET /backdrops/<photo>.jpg
-    weather_route.routes_for(app, weather)  # POST /weather
+    weather_route.routes_for(app)  # POST /weather: moves the feed's weather
     install.routes_for(app, web_dir)  # the page, its manifest and its worker (/sw.js)
     app.router.add_get("/web/{path:.*}", routes.folder_files(web_dir))
     app.router.add_get("/shaders/{path:.*}", routes.folder_files(SHADER_DIR))

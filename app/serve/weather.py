@@ -1,6 +1,7 @@
 """The phone's "Weather where I am" (docs/protocol.md, A place for the weather):
 `POST /weather` with the page's place, rounded to 0.1 degree, moves the server's weather
-feed there; every page then follows that place's reading (the state's `weather`).
+feed (the feed's `weather`, --weather's) there; every page then follows that place's
+reading (the state's `weather`).
 
 Its Origin is checked and its refusals are JSON as every POST's (app/serve/posts.py); each
 remote address may send one place every MIN_GAP_S (each place is a request to the weather
@@ -15,7 +16,6 @@ import json
 import logging
 import math
 from dataclasses import dataclass
-from typing import Protocol
 
 from aiohttp import web
 
@@ -31,18 +31,10 @@ STEP = 0.1  # degrees a place is rounded to (about 10 km): no closer is sent on 
 NO_WEATHER = "this server follows no weather: start frost serve with --weather PLACE"
 
 
-class Follows(Protocol):
-    """What this route needs of a weather feed (app/weather's WeatherFeed)."""
-
-    def set_place(self, latitude: float, longitude: float) -> None: ...
-
-
 @dataclass
 class PlaceDesk(Gaps):
-    """What the route keeps: the weather feed it moves (None: this server follows no
-    weather), when each remote address last sent a place, the places taken."""
+    """What the route keeps: when each remote address last sent a place, the places taken."""
 
-    feed: Follows | None = None
     gap: float = MIN_GAP_S
     taken: int = 0
 
@@ -84,9 +76,10 @@ async def place(request: web.Request) -> web.Response:
     if refused is not None:
         return refused
     length = request.content_length or 0
-    if desk.feed is None:
+    feed = request.app[FEED]
+    if feed.weather is None:
         return unread(503, NO_WEATHER)
-    if request.app[FEED].ending:
+    if feed.ending:
         return unread(503, "frost serve is ending: the place was not taken")
     now = asyncio.get_running_loop().time()
     remote = request.remote or "?"
@@ -102,7 +95,7 @@ async def place(request: web.Request) -> web.Response:
         return refusal(400, str(err))
     desk.taken += 1
     log.info("serve: a page moves the weather to its place")
-    desk.feed.set_place(latitude, longitude)
+    feed.weather.set_place(latitude, longitude)
     return web.json_response({"latitude": latitude, "longitude": longitude}, status=202,
                              headers={"Cache-Control": "no-store"})
 
@@ -110,7 +103,7 @@ async def place(request: web.Request) -> web.Response:
 PLACES = web.AppKey("places", PlaceDesk)
 
 
-def routes_for(app: web.Application, feed: Follows | None) -> None:
-    """POST /weather on `app`, moving `feed` (None: refused, this server follows no weather)."""
-    app[PLACES] = PlaceDesk(feed=feed)
+def routes_for(app: web.Application) -> None:
+    """POST /weather on `app`."""
+    app[PLACES] = PlaceDesk()
     app.router.add_post(PATH, place)
