@@ -9,7 +9,7 @@ from sim import Params
 from sim.look.material import FEATURE_DEFINES, LOOK_DEFINES, MAX_DEPTH, TILE, Material, default_light
 from sim.params import LOOKS
 from sim.screen import SIZE
-from sim.weather import Glass, Reading, describe
+from sim.weather import event_words
 
 
 def view(backdrop: str) -> dict:
@@ -42,9 +42,9 @@ def weather_field(weather: dict | None) -> dict | None:
     reading's place, the temperature outside (C) and the reading in words; None for none."""
     if weather is None:
         return None
-    reading, glass = Reading.from_json(weather["reading"]), Glass.from_json(weather["glass"])
-    return {"place": reading.place, "temperature_c": reading.temperature_c,
-            "reading": describe(reading, glass).removeprefix("weather: ")}
+    place, words = event_words(weather)
+    return {"place": place, "temperature_c": float(weather["reading"]["temperature_c"]),
+            "reading": words}
 
 
 class WeatherWords:
