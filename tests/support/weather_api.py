@@ -6,6 +6,7 @@ left out). Every request is kept (`asked`), so a test sees what was sent."""
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import threading
 from typing import Any
 
@@ -30,6 +31,7 @@ class StandIn:
         self.missing = "dew_point_2m"
         self.slow_s = 30.0
         self.asked: list[tuple[str, dict[str, str]]] = []
+        self.arrived = threading.Event()  # set at each request, before its answer
         self.answered = threading.Event()  # set at each answer
         self.url = ""
         self._loop: asyncio.AbstractEventLoop | None = None
@@ -67,6 +69,7 @@ class StandIn:
 
     async def _answer(self, request: web.Request, body: dict) -> web.StreamResponse:
         self.asked.append((request.path, dict(request.query)))
+        self.arrived.set()
         try:
             if self.mode == "429":
                 return web.json_response({"error": True, "reason": "Too many requests"}, status=429)
@@ -74,8 +77,9 @@ class StandIn:
                 return web.Response(status=500, text="Internal Server Error")
             if self.mode == "garbage":
                 return web.Response(text="<html>a captive portal</html>", content_type="text/html")
-            if self.mode == "slow":
-                await asyncio.sleep(self.slow_s)
+            if self.mode == "slow" and self._stop is not None:  # (until the stand-in stops)
+                with contextlib.suppress(asyncio.TimeoutError):
+                    await asyncio.wait_for(self._stop.wait(), self.slow_s)
             return web.json_response(body)
         finally:
             self.answered.set()
