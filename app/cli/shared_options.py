@@ -138,7 +138,7 @@ def add_clock(p) -> None:
 
 
 def add_weather(p, what: str) -> None:
-    """The weather outside (docs/method.md, section 11): where, from which APIs, how often,
+    """The weather outside (docs/method.md, section 12): where, from which APIs, how often,
     and the window it acts on. `what`: when the command reads it."""
     g = p.add_argument_group("the weather outside (docs/command-line.md)")
     g.add_argument("--weather", type=values.place, metavar="PLACE",

@@ -1,6 +1,6 @@
 """The weather outside the window: a reading of the current conditions (`Reading`), the
 glass between the room and the night (`glass_temperature`), and what that glass does to
-the frost (`frost_of`, docs/method.md section 11). Pure Python: no numpy, GL or network."""
+the frost (`frost_of`, docs/method.md section 12). Pure Python: no numpy, GL or network."""
 
 from .glass import (
     GLAZINGS,

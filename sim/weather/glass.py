@@ -1,11 +1,11 @@
 """The glass between the room and the night, and what it does to the frost
-(docs/method.md, section 11).
+(docs/method.md, section 12).
 
 The inner surface of a pane sits between the room's air and the outside's: with the
 inner surface resistance R_si and the glazing's U-value, glass = room - U R_si (room -
 outside) (EN ISO 6946's surface resistance; the U-values of old single and of double
 glazing). Frost deposits where the glass is below 0 C and below the room's frost point
-(Magnus over ice, Sonntag 1990); the colder the glass below that point, the faster and
+(Magnus over ice, WMO-No. 8); the colder the glass below that point, the faster and
 more branched it grows: the window preset's `temperature` (degrees below freezing) is
 that undercooling. Glass at or above 0 C grows nothing and its ice melts; glass below 0
 C but above the room's frost point (a dry room) grows nothing and its ice sublimes.
@@ -26,8 +26,8 @@ ROOM_C = 20.0  # the room's air, degrees C
 ROOM_HUMIDITY = 40.0  # the room's relative humidity, %: its dew point is 6 C
 ROOM_C_RANGE = (0.0, 40.0)
 ROOM_HUMIDITY_RANGE = (1.0, 100.0)
-# Magnus's form of the saturation vapour pressure, e = E0 exp(A t / (B + t)) hPa: over
-# water (Alduchov and Eskridge 1996) and over ice (Sonntag 1990).
+# Magnus's form of the saturation vapour pressure, e = E0 exp(A t / (B + t)) hPa, over water
+# and over ice (WMO-No. 8, Annex 4.B, after Sonntag 1990).
 E0 = 6.112
 WATER = (17.62, 243.12)
 ICE = (22.46, 272.62)
