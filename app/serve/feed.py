@@ -210,6 +210,13 @@ class Feed:
     def notice(self, text: str) -> None:
         self.broadcast(protocol.text("notice", text=text))
 
+    def notice_soon(self, text: str) -> None:
+        """`notice` from any thread (the weather feed's), on the loop once it runs."""
+        loop = self.workers.loop
+        if loop is not None:
+            with contextlib.suppress(RuntimeError):  # (the loop is closed: the end)
+                loop.call_soon_threadsafe(self.notice, text)
+
     def broadcast(self, message: str) -> None:
         for page in self.pages:
             if not page.waiting:
