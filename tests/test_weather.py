@@ -10,6 +10,7 @@ import threading
 
 import aiohttp
 import pytest
+from support.cli import assert_refused_in_one_line, run_main
 from support.weather_api import StandIn
 
 from app.weather.client import WeatherError, coordinates, current, find
@@ -241,3 +242,18 @@ def test_a_stopped_feed_gives_up_a_slow_request_at_once(tmp_path):
         assert api.arrived.wait(WAIT_S)  # the request under way, its answer held back
         feed.stop(wait_s=WAIT_S)
         assert not feed._thread.is_alive() and not api.answered.is_set()
+
+
+# ---- the command line ------------------------------------------------------------------
+
+@pytest.mark.parametrize("argv, words", [
+    (["render", "--weather", "91,10"], "latitude must be in [-90, 90]"),
+    (["render", "--weather", ""], "must be LAT,LON or a place's name"),
+    (["render", "--weather", "Oslo", "--weather-api", "ftp://mirror"], "must be an http:// or https:// URL"),
+    (["render", "--weather", "Oslo", "--glazing", "triple"], "invalid choice: 'triple'"),
+    (["render", "--weather", "Oslo", "--room-humidity", "0"], "room humidity '0' must be a number in [1, 1"),
+    (["serve", "--weather", "Oslo", "--weather-every", "4"], "'4' must be a number in [5, 1440]"),
+    (["render", "--weather-every", "15"], "unrecognized arguments: --weather-every")])
+def test_a_bad_weather_option_is_refused_in_one_line(argv, words):
+    status, err = run_main(argv)
+    assert_refused_in_one_line(status, err, words)

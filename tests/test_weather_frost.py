@@ -103,6 +103,19 @@ def test_the_thread_records_each_reading_at_its_tick_and_its_session_replays():
     assert np.array_equal(crystals(replay(saved)), crystals(thread.timeline))
 
 
+def test_touch_mode_has_no_temperature_but_thaws():
+    thread = SimThread(Params.preset("fern"), SEED, [(380.0, 640.0)])  # the window's default
+    thread.show_weather(reading(-25.0), Glass())
+    for _ in range(30):
+        thread.tick()
+    grown = len(thread.sim.crystals)
+    assert grown > 1 and thread.drain()[-1].error is None
+    thread.show_weather(reading(6.0), Glass())
+    for _ in range(3 * THAW_TICKS):
+        thread.tick()
+    assert int(thread.sim.ice.crystal_alive.raw().sum()) < grown and thread.drain()[-1].error is None
+
+
 def test_a_session_older_than_version_12_holds_no_weather():
     event = weather_event(reading(-25.0), Glass(), 3)
     data = {"format": "frost-session", "version": 11, "seed": 0, "params": WINDOW.as_dict(),

@@ -88,8 +88,7 @@ class FrostSim(Touches):
         """The weather's glass from the next step on (sim/weather): window mode grows as
         if its `temperature` were `temperature` and its pane's water were `supply` times
         as much; None: a thaw, whose steps grow nothing (the walkers wait where they are;
-        `melt_tips` takes the ice back). The temperature is window mode's knob alone: a
-        touch preset grows on as it does (its parameters hold no temperature)."""
+        `melt_tips` takes the ice back). Touch mode has no temperature: a thaw alone acts."""
         self.thawing = temperature is None
         if temperature is not None and self.params.window_frost:
             self.growth.chilled(chill(self.params.replace(temperature=temperature)))
