@@ -1,15 +1,14 @@
 """The weather over a preset that is not the window frost (fern, Table 1's): a page may
 choose one while `frost serve --weather` runs, and `--weather` may come with any preset.
 The weather's temperature is the window frost's knob alone: over a touch preset a cold
-reading leaves the growth as it is (the oracle: the same run without the reading), and it
-never ends the simulation thread."""
+reading leaves the growth as it is (the oracle: the same run without the reading);
+tests/test_weather_frost.py has its thaw and the thread going on."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from app.simthread.thread import SimThread
 from sim import Params
 from sim.io.session import weather_event
 from sim.io.timeline import Timeline, grow
@@ -37,12 +36,3 @@ def test_a_cold_reading_leaves_a_touch_presets_growth_as_it_is(preset):
     assert cold.weather is not None and len(crystals(alone)) > 50
     assert np.array_equal(crystals(cold), crystals(alone))
 
-
-def test_the_thread_goes_on_when_the_weather_comes_over_fern():
-    thread = SimThread(Params.preset("fern"), 1, [TOUCH])
-    thread.show_weather(reading(-25.0), Glass())
-    for _ in range(3):
-        thread.tick()
-    snaps = thread.drain()
-    assert [s.error for s in snaps if s.error] == []
-    assert snaps[-1].weather is not None and snaps[-1].weather["reading"]["temperature_c"] == -25.0
