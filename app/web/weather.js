@@ -21,7 +21,7 @@ export function weatherText(weather) {
 
 // Why this page cannot ask for its place, or null.
 export function placeProblem(win = globalThis) {
-  if (!win.isSecureContext) return "Weather where I am needs the HTTPS page (this one is plain HTTP): the browser gives a place only to it";
+  if (!win.isSecureContext) return "Weather where I am needs the HTTPS page (this one is plain HTTP)";
   if (!win.navigator.geolocation) return "this browser cannot tell where the phone is";
   return null;
 }
