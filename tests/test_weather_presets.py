@@ -14,25 +14,18 @@ from sim.io.session import weather_event
 from sim.io.timeline import Timeline, grow
 from sim.weather import Glass, Reading
 
-TOUCH = (380.0, 640.0)
-
-
-def reading(outside_c: float) -> Reading:
-    return Reading("59.33,18.07", 59.33, 18.07, outside_c, 80.0, -27.6, 71, False,
-                   "2026-01-10T23:00")
-
-
-def crystals(timeline: Timeline) -> np.ndarray:
-    ice = timeline.sim.ice
-    return ice.crystals.raw()[ice.crystal_alive.raw()].copy()
+STOCKHOLM_COLD = Reading(place="Stockholm, Sweden", latitude=59.3, longitude=18.1,
+                         temperature_c=-25.0, humidity_pct=80.0, dew_point_c=-27.6,
+                         weather_code=71, is_day=False, time="2026-01-10T23:00")
 
 
 @pytest.mark.parametrize("preset", ["fern", "c-2"])
 def test_a_cold_reading_leaves_a_touch_presets_growth_as_it_is(preset):
-    params = Params.preset(preset)
-    alone, cold = Timeline(params, 2, touches=[TOUCH]), Timeline(params, 2, touches=[TOUCH])
-    grow(alone, 40, [])
-    grow(cold, 40, [weather_event(reading(-25.0), Glass(), 10)])
-    assert cold.weather is not None and len(crystals(alone)) > 50
-    assert np.array_equal(crystals(cold), crystals(alone))
-
+    runs = {}
+    for name, events in (("alone", []), ("cold", [weather_event(STOCKHOLM_COLD, Glass(), 10)])):
+        timeline = Timeline(Params.preset(preset), 2, touches=[(380.0, 640.0)])
+        grow(timeline, 40, events)
+        ice = timeline.sim.ice
+        runs[name] = (ice.crystals.raw()[ice.crystal_alive.raw()].copy(), timeline.weather)
+    assert runs["cold"][1] is not None and runs["alone"][1] is None
+    assert len(runs["alone"][0]) > 50 and np.array_equal(runs["cold"][0], runs["alone"][0])
