@@ -44,7 +44,11 @@ def serve(args, params) -> int:
     feed = Feed(params, args.seed, args.touch, args.melt_radius, args.background,
                 preset=args.preset or "", clock=clock_from(getattr(args, "clock_start", None)))
     app = make_app(feed, token, args.session_dir, ca_der=ca_der)
-    feed.weather = feed_for(args, feed.thread.show_weather, log.info)  # (beside the loop)
+    def say(line: str) -> None:  # a weather line: to the log, and to every page's status
+        log.info("%s", line)
+        feed.notice_soon(line)
+
+    feed.weather = feed_for(args, feed.thread.show_weather, say)  # (beside the loop)
     try:
         status = asyncio.run(_serve(app, args.host, args.port, token, args.max_seconds, https))
     finally:

@@ -1,5 +1,6 @@
 // The page's status line: a word on what the page is doing, a notice that goes after a
-// while, and, once the server refused the page, the reason alone from then on.
+// while, the weather outside when nothing else is said, and, once the server refused the
+// page, the reason alone from then on.
 
 const NOTICE_MS = 4000;
 
@@ -7,6 +8,7 @@ export class StatusLine {
   constructor(element) {
     this.element = element;
     this.refused = null;  // why the server refused the page, said instead of anything else
+    this.idle = "";  // said when nothing else is: the weather's place and reading
     this.timer = 0;
   }
 
@@ -15,7 +17,14 @@ export class StatusLine {
   }
 
   say(text) {
-    this.element.textContent = this.refused || text;
+    this.element.textContent = this.refused || text || this.idle;
+  }
+
+  // The line said when nothing else is (now, if nothing else is said).
+  setIdle(text) {
+    const showing = this.element.textContent === this.idle;
+    this.idle = text;
+    if (showing) this.say("");
   }
 
   // `text` for a few seconds (a refused choice, a photo sent).

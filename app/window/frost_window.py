@@ -21,7 +21,7 @@ import moderngl
 
 from app.backdrops import BACKDROPS, LIVE
 from app.keys import help_lines
-from app.lockscreen import clock_from
+from app.lockscreen import clock_from, outside_line
 from app.photos import PhotoError, is_photo, keep, read_file, store_of
 from app.simthread.thread import SimThread, Snapshot
 from app.weather.feed import feed_for
@@ -192,8 +192,9 @@ class FrostWindow:
         for snapshot in self.thread.drain():
             self._apply(snapshot)
         drawn = self.clock.ready()
-        if drawn is not None and drawn[0] != self.presenter.renderer.minute:
-            self.presenter.renderer.set_minute(*drawn)
+        renderer = self.presenter.renderer
+        if drawn is not None and drawn[:2] != (renderer.minute, renderer.outside):
+            renderer.set_minute(drawn[0], drawn[2], outside=drawn[1])
             self.dirty = True
         self._drain_notices()
 
@@ -217,11 +218,12 @@ class FrostWindow:
                 self.actions.follow(snapshot.params, snapshot.stats.handled)
         if self.actions.follow_backdrop(snapshot.backdrop, snapshot.stats.handled):
             self.dirty = True
-        if snapshot.minute is not None and snapshot.minute != renderer.minute:
+        minute, outside = snapshot.minute or renderer.minute, outside_line(snapshot.weather)
+        if (minute, outside) != (renderer.minute, renderer.outside):
             if renderer.patches_clock():  # (its clock box alone, drawn on a worker)
-                self.clock.ask(snapshot.minute)
+                self.clock.ask(minute, outside)
             else:
-                renderer.set_minute(snapshot.minute)
+                renderer.set_minute(minute, outside=outside)
             self.dirty = True
         for melt in snapshot.melts:
             renderer.apply(melt)

@@ -144,6 +144,14 @@ def describe(reading: Reading, glass: Glass = Glass()) -> str:
             f"glass {_signed(frost.glass_c, 0)} C, {WORDS[frost.state]}")
 
 
+def event_words(weather: dict[str, Any]) -> tuple[str, str]:
+    """A weather event's {"reading": ..., "glass": ...} (a session's, a snapshot's) in words:
+    its reading's place, and `describe`'s line without its "weather: " (the HUD and the
+    pages show them)."""
+    reading, glass = Reading.from_json(weather["reading"]), Glass.from_json(weather["glass"])
+    return reading.place, describe(reading, glass).removeprefix("weather: ")
+
+
 def _signed(value: float, digits: int) -> str:
     """`value` to `digits` decimals, never "-0"."""
     text = f"{value:.{digits}f}"
