@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import asyncio
 import math
+import re
 import threading
 
 import aiohttp
@@ -182,6 +183,26 @@ def test_a_failure_goes_on_with_the_reading_kept_for_that_place_in_one_line(tmp_
     assert said[2].endswith("HTTP 500 Internal Server Error: the frost grows by the preset's own "
                             "temperature")
     assert len(said) == 3
+
+
+def test_a_batch_that_falls_back_on_the_kept_reading_says_so_in_one_line(tmp_path, monkeypatch):
+    from types import SimpleNamespace
+
+    from app.weather.feed import first_event
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path))
+    said: list[str] = []
+    with StandIn() as api:
+        args = SimpleNamespace(weather="59.33,18.07", weather_api=api.url, geocoding_api=api.url,
+                               glazing="single", room_temperature=20.0, room_humidity=40.0)
+        assert len(first_event(args, said.append)) == 1  # read and kept
+        closed = api.url
+    args.weather_api = closed  # nothing answers there now
+    events = first_event(args, said.append)
+    assert len(said) == 2 and events[0]["reading"]["temperature_c"] == -25.0
+    # The failure, the kept reading's time and what it reads, on one line.
+    assert re.fullmatch(r"weather: cannot reach 127\.0\.0\.1:\d+: Connection refused: going on with "
+                        r"the reading kept from 20\S+: -25\.0 C, 80 %, .*glass -14 C, frost grows",
+                        said[1]), said[1]
 
 
 def test_a_kept_file_that_is_not_a_reading_is_said_and_ignored(tmp_path, caplog):

@@ -25,6 +25,7 @@ log = logging.getLogger(__name__)
 FIRST_WAIT_S = 5.0  # how long a batch waits for its first reading
 
 Say = Callable[[str], None]
+KEPT_FROM = "going on with the reading kept from "  # a failure's line when the kept reading is used
 
 
 class Asker:
@@ -65,7 +66,7 @@ class Asker:
         found = None if self.had_one else kept(self.asked, self.folder)
         if found is not None:
             self.had_one = True
-            self.say(f"weather: {why}: going on with the reading kept from {found[1]}")
+            self.say(f"weather: {why}: {KEPT_FROM}{found[1]}")
             return found[0]
         self.say(f"weather: {why}: " + ("the frost goes on with the last reading" if self.had_one
                                           else "the frost grows by the preset's own temperature"))
@@ -177,11 +178,18 @@ def first_event(args, say: Say, wait_s: float = FIRST_WAIT_S) -> list[dict[str, 
     if not getattr(args, "weather", None):
         return []
     glass = glass_of(args)
-    reading = read_once(Asker(args.weather, say, args.weather_api, args.geocoding_api), wait_s)
-    if reading is None:
-        return []
-    say(describe(reading, glass))
-    return [weather_event(reading, glass)]
+    lines: list[str] = []
+    reading = read_once(Asker(args.weather, lines.append, args.weather_api, args.geocoding_api), wait_s)
+    if reading is not None:
+        read = describe(reading, glass)
+        # A failure that fell back on the kept reading and that reading are one line.
+        if lines and KEPT_FROM in lines[-1]:
+            lines[-1] += ": " + read.removeprefix("weather: ")
+        else:
+            lines.append(read)
+    for line in lines:
+        say(line)
+    return [] if reading is None else [weather_event(reading, glass)]
 
 
 def read_once(asker: Asker, wait_s: float = FIRST_WAIT_S) -> Reading | None:
