@@ -27,6 +27,11 @@ the newest. What each version changed:
    or a render shows what the session showed, a photo brought from a phone included. A
    session starts on the default backdrop (dusk) unless one at tick 0 says otherwise. The
    frost itself grows as in version 9.
+13. A file may say where it was grown: "source": "phone" is a phone's own session, grown by
+   the page's simulation in JavaScript (app/web/local/) with its own random numbers. It
+   replays here by this version's rules, with the same touches, parameters and backdrops,
+   but not bit for bit; a file without "source" was grown by this simulation. The frost
+   itself grows as in version 9.
 """
 
 from __future__ import annotations
@@ -35,7 +40,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-NEWEST = 11
+NEWEST = 13
+# The first version whose files may say where they were grown ("source", above).
+PHONE_VERSION = 13
 # Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
 REGROW_GAP = 12
 # The parts that draw random numbers, in the order their streams are spawned.
