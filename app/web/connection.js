@@ -21,7 +21,7 @@ export class Connection {
     this.early = [];      // [socket, event] of what came before the page could draw
     this.onMessage = null;      // (socket, event) of each message, once the page can draw
     this.onClosed = () => {};   // the socket closed: nothing is in sync any more
-    this.onUnreachable = () => {};  // no server answers
+    this.onUnreachable = () => false;  // no server answers: true where the page goes on without one
   }
 
   connect(retry = RETRY_FIRST) {
@@ -58,7 +58,7 @@ export class Connection {
       }
       if (this.stopped) return true;  // (no WebGL2, found meanwhile)
       this.status.say("frost serve is not reachable: trying again");  // (the page may have opened from the cache)
-      this.onUnreachable();
+      if (this.onUnreachable()) return true;  // (the phone's own frost: no more tries)
     } else {
       this.status.say(`reconnecting (${event.reason || "connection lost"})`);
     }
@@ -74,6 +74,17 @@ export class Connection {
     for (const [ws, event] of early) {
       if (ws === this.socket) onMessage(ws, event);
     }
+  }
+
+  // `socket`, a stand-in with a WebSocket's send, close, readyState and onmessage (the
+  // phone's own frost, alone.js), takes the socket's place: its messages go where the
+  // socket's would, waiting as theirs until the page can draw.
+  adopt(socket) {
+    this.socket = socket;
+    socket.onmessage = (event) => {
+      if (this.early) this.early.push([socket, event]);
+      else this.onMessage(socket, event);
+    };
   }
 
   send(message) {

@@ -1,5 +1,6 @@
 // The page's status line: a word on what the page is doing, a notice that goes after a
-// while, and, once the server refused the page, the reason alone from then on.
+// while, what it says at rest (the phone's own frost), and, once the server refused the
+// page, the reason alone from then on.
 
 const NOTICE_MS = 4000;
 
@@ -7,6 +8,7 @@ export class StatusLine {
   constructor(element) {
     this.element = element;
     this.refused = null;  // why the server refused the page, said instead of anything else
+    this.resting = "";    // what the line says when it has nothing else to say ("on this phone")
     this.timer = 0;
   }
 
@@ -15,7 +17,7 @@ export class StatusLine {
   }
 
   say(text) {
-    this.element.textContent = this.refused || text;
+    this.element.textContent = this.refused || text || this.resting;
   }
 
   // `text` for a few seconds (a refused choice, a photo sent).
