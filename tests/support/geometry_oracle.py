@@ -1,0 +1,121 @@
+"""The Python side of the page's geometry tests (tests/web/geometry.test.mjs): a real
+FrostSim grown, melted and redrawn, with `FrostGeometry`'s deltas and the `Encoder`'s
+bytes of each, written as JSON for the Node test to hold app/web/local/ to.
+
+Run as `python -m support.geometry_oracle OUT.json` from tests/ (the Node test does, with
+FROST_PYTHON). Every event holds the simulation's arrays the geometry reads, as they were
+when Python's geometry read them, so the test builds a stand-in for the page's `Frost`
+from them; `near` holds each `segments_near` call the geometry made (its box, reach and
+answer), which the stand-in answers in the same order.
+"""
+
+from __future__ import annotations
+
+import base64
+import dataclasses
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from app.serve import protocol
+from sim import Params
+from sim.core.frost import FrostSim
+from sim.look.geometry import FrostGeometry, live_features
+
+# Snapshot parts this many vertices long, so a small frost's snapshot is cut in several.
+SMALL_PART = 3 * 1000
+SCENARIOS = (
+    # name, preset, seed, touches, ticks, melt (x, y, r), ticks after the melt
+    ("fern", "fern", 1, ((380, 640), (300, 560), (470, 700)), 120, (392, 646, 14.0), 10),
+    ("paper", "a-1", 2, ((380, 640), (200, 300)), 30, (390, 646, 15.0), 5),
+)
+
+
+def packed(a: np.ndarray) -> dict:
+    """An array as the Node test reads it: its dtype and little-endian bytes in base64."""
+    a = np.ascontiguousarray(a)
+    return {"dtype": a.dtype.str, "b64": base64.b64encode(a.tobytes()).decode("ascii")}
+
+
+def state(sim: FrostSim) -> dict:
+    """What the geometry reads of the simulation now (copies)."""
+    return {"tick": int(sim.tick), "width": sim.width, "height": sim.height,
+            **{name: packed(getattr(sim, name)) for name in (
+                "crystals", "parents", "crystal_alive", "upsampled", "upsampled_link",
+                "upsampled_alive", "segments", "segments_link", "segments_alive")}}
+
+
+def delta_of(d) -> dict:
+    return {"tick": int(d.tick), "rows": [d.rows.start, d.rows.stop], "heights": packed(d.heights),
+            "features": packed(d.features), "reset": bool(d.reset),
+            "clear_box": list(d.clear_box) if d.clear_box is not None else None,
+            "look": d.look, "height_scale": float(d.height_scale)}
+
+
+class Recorder:
+    """Records the `segments_near` calls the geometry makes of a simulation."""
+
+    def __init__(self, sim: FrostSim):
+        self.calls: list[dict] = []
+        near = sim.segments_near
+
+        def recorded(box, reach):
+            out = near(box, reach)
+            self.calls.append({"box": [float(v) for v in box], "reach": float(reach),
+                               "ids": packed(np.asarray(out, np.int32))})
+            return out
+        sim.segments_near = recorded  # type: ignore[method-assign]
+
+
+def scenario(name: str, preset: str, seed: int, touches, ticks: int, melt, after: int) -> dict:
+    params = Params.preset(preset)
+    sim = FrostSim(params, seed=seed)
+    geometry = FrostGeometry(params)
+    encoder = protocol.Encoder(geometry.cols, geometry.rows)
+    recorder = Recorder(sim)
+    events: list[dict] = []
+
+    def record(kind: str, delta, **more) -> None:
+        events.append({"kind": kind, "state": state(sim), "delta": delta_of(delta),
+                       "bytes": base64.b64encode(encoder.delta(delta)).decode("ascii"),
+                       "near": recorder.calls[:], **more})
+        recorder.calls.clear()
+
+    record("reset", geometry.reset())
+    for x, y in touches:
+        sim.touch(x, y)
+
+    def grow(n: int) -> None:
+        for _ in range(n):
+            added = sim.step()
+            record("update", geometry.update(sim),
+                   added=[added.crystals.start, added.crystals.stop])
+    grow(ticks)
+    melted = sim.melt(*melt)
+    record("melt", geometry.melt(sim, melted),
+           melted={key: packed(getattr(melted, key).astype(np.int32))
+                   for key in ("crystals", "upsampled", "segments", "orphans")})
+    grow(after)
+    record("redraw", geometry.redraw(sim))
+    protocol.PART_VERTICES = SMALL_PART
+    parts = encoder.snapshot(sim.tick, live_features(sim, params), params.look,
+                             events[-1]["delta"]["height_scale"])
+    return {"name": name, "params": dataclasses.asdict(params),
+            "grid": [geometry.cols, geometry.rows], "events": events,
+            "snapshot": {"part_vertices": SMALL_PART, "tick": int(sim.tick),
+                         "parts": [base64.b64encode(p).decode("ascii") for p in parts]}}
+
+
+def main(out: str) -> None:
+    part = protocol.PART_VERTICES
+    try:
+        data = [scenario(*s) for s in SCENARIOS]
+    finally:
+        protocol.PART_VERTICES = part
+    Path(out).write_text(json.dumps(data), encoding="utf-8")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])
