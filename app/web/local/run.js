@@ -20,10 +20,10 @@ export class LocalRun {
     this.post = post;
     this.screen = config.hello.screen;
     const preset = this.runs(start.preset) ? start.preset : config.default_preset;
-    this.preset = preset;
+    this.chosen = preset;  // the preset's name (the menu's)
     this.params = { ...config.presets[preset] };
     if (config.hello.looks.includes(start.look)) this.params.look = start.look;
-    this.backdrop = config.hello.backdrops.includes(start.backdrop) ? start.backdrop : config.hello.backdrops[0];
+    this.shown = config.hello.backdrops.includes(start.backdrop) ? start.backdrop : config.hello.backdrops[0];
     this.seed = Number.isInteger(start.seed) ? start.seed : Math.floor(Math.random() * 2 ** 31);
     this.paused = false;
     this.steps = 0;      // ticks stepped in all (the session's steps)
@@ -48,8 +48,8 @@ export class LocalRun {
   }
 
   state() {
-    return { paused: this.paused, preset: this.preset, look: this.params.look,
-      backdrop: this.backdrop, backdrops: this.config.hello.backdrops, tick: this.frost.tick };
+    return { paused: this.paused, preset: this.chosen, look: this.params.look,
+      backdrop: this.shown, backdrops: this.config.hello.backdrops, tick: this.frost.tick };
   }
 
   // The hello a page starts from, then the whole frost.
@@ -109,8 +109,11 @@ export class LocalRun {
   }
 
   apply(kind, x, y, r) {
-    if (kind === "touch") this.frost.touch(x, y);
-    else this.send(this.geometry.melt(this.frost, this.frost.melt(x, y, r)));
+    if (kind === "touch") {
+      this.frost.touch(x, y);
+    } else if (this.frost.melt(x, y, r).length) {  // (what it took: frost.melted)
+      this.send(this.geometry.melt(this.frost, this.frost.melted));
+    }
   }
 
   send(delta) {
@@ -125,7 +128,7 @@ export class LocalRun {
         : `${String(name).slice(0, 16)} refused: one of ${Object.keys(this.config.presets).join(", ")}`);
       return this.text({ type: "state", ...this.state() });
     }
-    this.preset = name;
+    this.chosen = name;
     this.rebuild({ ...this.config.presets[name], grid_spacing: this.params.grid_spacing });
   }
 
@@ -145,7 +148,7 @@ export class LocalRun {
     if (!this.config.hello.backdrops.includes(name)) {
       return this.notice(`backdrop ${String(name).slice(0, 40)} refused: one of ${this.config.hello.backdrops.join(", ")}`);
     }
-    this.backdrop = name;
+    this.shown = name;
     this.record.add({ kind: "backdrop", tick: this.timeline, name });
     this.text({ type: "state", ...this.state() });
   }
@@ -177,7 +180,7 @@ export class LocalRun {
 
   // The session file's JSON, and the screenshot's keys (as GET /meta answers them).
   session() {
-    return this.record.json(this.steps, { ...this.config.hello.view, background: this.backdrop });
+    return this.record.json(this.steps, { ...this.config.hello.view, background: this.shown });
   }
 
   meta() {
