@@ -57,8 +57,10 @@ frost.alone = alone;
 shots.localMeta = () => alone.running && alone.ask("meta");
 
 connection.onClosed = () => stream.closed();
-connection.onUnreachable = () => {
-  if (alone.start()) return true;
+// (A server that answers while its socket fails is tried again: an HTTPS socket that an
+// untrusted certificate stops.)
+connection.onUnreachable = (answered) => {
+  if (!answered && alone.start()) return true;
   if (!view.renderer) showOffline(true, canvas, query, pane.fit);
   return false;
 };
