@@ -338,6 +338,7 @@ def test_a_page_whose_token_was_replaced_says_so_and_its_app_opens_to_a_page_tha
         assert status(page) == "this page's link (its token) was replaced: scan the new QR code"
         # Stopped: no socket, none to come (a retry is a timer main.js keeps), no other word.
         assert page.evaluate("[frost.socket, frost.retry, frost.stopped]") == [None, None, True]
+        assert page.evaluate("frost.local") is None  # (nor the phone's own frost, which ended)
         assert page.evaluate("window.frost.makeApp.shown") is None
         response = page.goto(old.local)  # the installed app opens its start_url
         assert response.status == 403

@@ -8,8 +8,7 @@
 import { save } from "./shot.js";
 
 export const ON_PHONE = "on this phone";
-const PROBE_MS = 3000;   // between two asks whether a server answers again
-const PROBE_WAIT = 2500; // at most this long for the answer
+const PROBE_MS = 3000;   // between two asks whether a server answers again (Connection.refusal)
 
 // The worker as the page's socket: what Connection and Stream use of a WebSocket.
 class WorkerSocket {
@@ -40,6 +39,7 @@ export class Alone {
     this.socket = null;
     this.failed = null;  // why the phone cannot grow frost (its modules not loaded: no cache)
     this.probing = 0;
+    this.asking = false;  // a probe waits for its answer
     this.asked = new Map();  // "session" | "meta" -> resolve
     page.local = null;
     joinButton.addEventListener("click", () => this.join());
@@ -82,7 +82,7 @@ export class Alone {
     } else if (data.type === "stats") {
       // A plain object of own properties (the tests and the bench read it as JSON).
       this.page.local = { tick: data.tick, crystals: data.crystals, ticksPerSecond: data.ticksPerSecond,
-        tickP99Ms: data.tickP99Ms, dropped: data.dropped, clear: () => this.send({ type: "clear" }) };
+        tickP99Ms: data.tickP99Ms, tickMedianMs: data.tickMedianMs, dropped: data.dropped, clear: () => this.send({ type: "clear" }) };
     } else if (data.type === "session" || data.type === "meta") {
       const resolve = this.asked.get(data.type);
       this.asked.delete(data.type);
@@ -130,13 +130,19 @@ export class Alone {
   }
 
   // Whether a server answers again: then the join is offered (the frost stays the phone's).
+  // A server that refuses this page (its token replaced: 403) is said, as the connection
+  // says it, and ends the phone's frost: this address has no server to join any more.
   async probe() {
-    let ok = false;
-    try {
-      const signal = AbortSignal.timeout ? AbortSignal.timeout(PROBE_WAIT) : undefined;
-      ok = (await fetch(`meta${this.query}`, { cache: "no-store", signal })).ok;
-    } catch { /* not reachable */ }
-    if (this.worker) this.joinButton.hidden = !ok;
+    if (this.asking) return;  // (an answer may take up to 5 s)
+    this.asking = true;
+    const why = await this.connection.refusal().finally(() => { this.asking = false; });
+    if (!this.worker) return;
+    if (why) {
+      this.end();
+      this.connection.refuse(why);
+      return;
+    }
+    this.joinButton.hidden = !this.connection.answered;
   }
 
   // The user's choice: the server's frost replaces the phone's.

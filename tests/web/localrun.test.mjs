@@ -84,6 +84,7 @@ test("the clock's p99 and ticks a second, counted by hand", () => {
   const hundred = new TickClock();
   for (let i = 100; i >= 1; i--) hundred.record(0, i);  // durations 100 .. 1: the 99th is 99
   assert.equal(hundred.p99(), 99);
+  assert.equal(hundred.percentile(0.5), 50);
   for (let i = 1; i <= 300; i++) clock.record(1000 * i, 1000 * i + (i % RECENT) + 1);
   // the last 250 durations are 51..250 and 1..50 (i = 51..300): their p99 (nearest rank,
   // the 248th of 250) is 248

@@ -27,11 +27,16 @@ export class TickClock {
 
   // The 99th percentile (nearest rank) of the durations kept, ms; 0 before any.
   p99() {
+    return this.percentile(0.99);
+  }
+
+  // The `q` quantile (nearest rank) of the durations kept, ms; 0 before any.
+  percentile(q) {
     if (this.kept === 0) return 0;
     const s = this.sorted.subarray(0, this.kept);
     s.set(this.durations.subarray(0, this.kept));
     s.sort();
-    return s[Math.ceil(0.99 * this.kept) - 1];
+    return s[Math.max(0, Math.ceil(q * this.kept) - 1)];
   }
 
   // Ticks that ended in the RATE_MS before `now`, a second.

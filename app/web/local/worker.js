@@ -6,7 +6,7 @@
 // as the page sends frost serve ({type: "touch", ...}), and {type: "session"} /
 // {type: "meta"} / {type: "resync"}. Worker -> page: frost serve's messages (a string of
 // JSON, or an ArrayBuffer of the binary protocol), {type: "stats", tick, crystals,
-// ticksPerSecond, tickP99Ms, dropped}, {type: "session" | "meta", data}, and {type:
+// ticksPerSecond, tickP99Ms, tickMedianMs, dropped}, {type: "session" | "meta", data}, and {type:
 // "failed", reason} where the frost cannot run.
 
 import { LocalRun } from "./run.js";
@@ -50,6 +50,7 @@ function loop() {
 function stats() {
   post({ type: "stats", tick: run.frost.tick, crystals: run.frost.count,
     ticksPerSecond: clock.perSecond(performance.now()), tickP99Ms: clock.p99(),
+    tickMedianMs: clock.percentile(0.5),
     dropped: run.fingers.dropped, paused: run.paused });
 }
 
