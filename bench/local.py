@@ -18,8 +18,7 @@ import numpy as np
 
 from bench.page import ANGLE, TOUCHES, chromium_options
 from bench.phoneapp import serving
-from sim import Params
-from sim.core.frost import FrostSim
+from sim import FrostSim, Params
 
 PHONE = {"viewport": {"width": 390, "height": 844}, "device_scale_factor": 3, "has_touch": True,
          "is_mobile": True}

@@ -179,7 +179,7 @@ def test_the_bench_prints_the_workers_figures_and_the_python_tick(capsys):
     assert main(["--local", "--cpu-slowdown", "2"]) == 0
     out = capsys.readouterr().out
     figures = {name: [float(v) for v in re.findall(r"(\d+(?:\.\d+)?) ms", line)]
-               for name, line in zip(("head", "worker", "rate", "frames", "python"), out.splitlines())}
+               for name, line in zip(("head", "worker", "rate", "frames", "python"), out.splitlines(), strict=False)}
     median, p99, phone = figures["worker"]
     assert 0 < median <= p99 and phone == pytest.approx(2 * p99, abs=0.1), out
     assert float(re.search(r"last 5 s\): ([\d.]+)", out).group(1)) > 0, out

@@ -18,9 +18,8 @@ from app.keys import DEFAULT_PRESET
 from app.resources import WEB_DIR
 from app.serve.hello import hello_fields
 from sim import Params, all_presets
-from sim.core.versions import PHONE_VERSION
 from sim.io.gestures import DRAG_SPACING_HC, MELT_SPACING
-from sim.io.session import FORMAT
+from sim.io.session import FORMAT, PHONE_VERSION
 from sim.look.geometry import FrostGeometry
 from sim.screen import MELT_RADIUS, SIZE
 
