@@ -81,6 +81,7 @@ def grow(request: dict) -> dict:
             break
     alive = sim.crystal_alive
     return {"counts": counts, "first_child": first,
+            "upsampled_per_link": len(sim.upsampled) / max(1, int((sim.parents >= 0).sum())),
             "measures": measures(sim.crystals[alive], sim.parents[alive], centre, params.hc)}
 
 
