@@ -55,7 +55,7 @@ function grown() {
   for (const [x, y] of TOUCHES) assert.ok(frost.touch(x, y));
   const tick = () => send(geometry.update(frost, frost.step()));
   for (let i = 0; i < 150; i++) tick();
-  const melted = frost.melt(392, 646, 14);
+  const melted = frost.melt(380, 668, 6);
   assert.ok(melted.length > 0, "the warm finger melted nothing");
   const delta = geometry.melt(frost, melted);
   assert.ok(delta.clearBox, "a melt without its box");
