@@ -9,6 +9,7 @@
 // upsampledLink, upsampledAlive, upsampledCount, segments, segmentsLink, segmentsAlive,
 // segmentCount, and segmentsNear(box, reach) for a melt.
 
+import { lowerBound } from "./arrays.js";
 import { HeightGrid } from "./heightgrid.js";
 import { PipeRidges, topHeight, widest } from "./ridges.js";
 
@@ -21,17 +22,6 @@ export function featureScale(params) {
   const bound = params.look === "glass" ? topHeight(params)
     : params.feature_height * (params.hc + params.step);
   return Math.max(16.0, Math.ceil(bound));
-}
-
-// The first of rows [0, n) whose crystal (`link`, ascending) is `crystal` or after it.
-function firstRow(link, n, crystal) {
-  let lo = 0, hi = n;
-  while (lo < hi) {
-    const mid = (lo + hi) >>> 1;
-    if (link[mid] < crystal) lo = mid + 1;
-    else hi = mid;
-  }
-  return lo;
 }
 
 // Vertices of the paper's features of segments `ids` (indices into `segments`, x0 y0 x1
@@ -260,7 +250,7 @@ export class FrostGeometry {
   // The rows [first, end) of a link table (`link`: each row's crystal, ascending, n rows)
   // that belong to the crystals of `added`.
   _rowsOf(link, n, added) {
-    return [firstRow(link, n, added.start), firstRow(link, n, added.end)];
+    return [lowerBound(link, n, added.start), lowerBound(link, n, added.end)];
   }
 
   _delta(tick, rows, features, { reset = false, clearBox = null } = {}) {
