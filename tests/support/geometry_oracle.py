@@ -102,14 +102,20 @@ def scenario(name: str, preset: str, seed: int, touches, ticks: int, melts, afte
                melted={key: packed(getattr(melted, key).astype(np.int32))
                        for key in ("crystals", "upsampled", "segments", "orphans")})
     grow(after)
-    record("redraw", geometry.redraw(sim))
+    redrawn = geometry.redraw(sim)
+    record("redraw", redrawn)
     protocol.PART_VERTICES = SMALL_PART
     parts = encoder.snapshot(sim.tick, live_features(sim, params), params.look,
                              events[-1]["delta"]["height_scale"])
+    # A tick with no change, a reset alone, then the redraw's heights again (not a reset):
+    # all of them runs, against the grid the reset emptied.
+    bare = [encoder.bare(sim.tick + 1, False), encoder.bare(sim.tick + 2, True),
+            encoder.delta(dataclasses.replace(redrawn, reset=False))]
     return {"name": name, "params": dataclasses.asdict(params),
             "grid": [geometry.cols, geometry.rows], "events": events,
             "snapshot": {"part_vertices": SMALL_PART, "tick": int(sim.tick),
-                         "parts": [base64.b64encode(p).decode("ascii") for p in parts]}}
+                         "parts": [base64.b64encode(p).decode("ascii") for p in parts]},
+            "bare": [base64.b64encode(b).decode("ascii") for b in bare]}
 
 
 def main(out: str) -> None:

@@ -132,5 +132,9 @@ for (const scenario of SCENARIOS) {
     assert.ok(parts.length > 1, "the oracle's snapshot comes in one part: make its parts smaller");
     assert.equal(js.length, parts.length, "snapshot parts");
     js.forEach((part, i) => sameBytes(part, parts[i], `${scenario.name} snapshot part ${i}`));
+    // After them, a tick with no change, a reset alone, then the redraw's heights again.
+    sameBytes(encoder.bare(tick + 1, false), scenario.bare[0], `${scenario.name} a bare tick`);
+    sameBytes(encoder.bare(tick + 2, true), scenario.bare[1], `${scenario.name} a bare reset`);
+    sameBytes(encoder.delta({ ...last, reset: false }), scenario.bare[2], `${scenario.name} after a bare reset`);
   });
 }

@@ -6,7 +6,7 @@
 import assert from "node:assert/strict";
 import { test } from "node:test";
 
-import { Encoder } from "../../app/web/local/encode.js";
+import { Encoder, encodeDelta } from "../../app/web/local/encode.js";
 import { Frost } from "../../app/web/local/frost.js";
 import { FrostGeometry } from "../../app/web/local/geometry.js";
 import { decodeDelta, floatToHalf, halfToFloat } from "../../app/web/protocol.js";
@@ -50,7 +50,7 @@ function grown() {
   const geometry = new FrostGeometry(FERN);
   const encoder = new Encoder(geometry.cols, geometry.rows);
   const page = new Page(geometry.cols, geometry.rows);
-  const send = (delta) => page.apply(encoder.delta(delta), delta);
+  const send = (delta) => page.apply(encodeDelta(delta, encoder), delta);
   send(geometry.reset());
   for (const [x, y] of TOUCHES) assert.ok(frost.touch(x, y));
   const tick = () => send(geometry.update(frost, frost.step()));
