@@ -94,3 +94,10 @@ test("a melt that took nothing and a tick that added nothing change nothing", ()
   const idle = geometry.update(frost, frost.step());
   assert.deepEqual([idle.rows, idle.features.length], [[0, 0], 0]);
 });
+
+test("a melt's crystals that are not the frost's last melt are refused, saying so", () => {
+  const frost = new Frost(FERN, { seed: 1 });
+  const geometry = new FrostGeometry(FERN);
+  assert.ok(frost.touch(380, 640));
+  assert.throws(() => geometry.melt(frost, Int32Array.of(0)), /not the frost's last melt/);
+});
