@@ -1,0 +1,141 @@
+"""`sim/` answering the Node tests of the page's own simulation (tests/web/*.test.mjs):
+run as a script with one JSON request on stdin, it writes one JSON answer on stdout.
+The requests: a preset's parameters, a growth's figures (crystals at given ticks, the
+first arm, the shape's measures), the measures of a skeleton the page grew, and the
+exact parts (a walk step from given uniform numbers, the candidate cells of given
+crystals and the crystallization of given walkers)."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent.parent))
+
+from app.bench.morphology import mass_radius_dimension, six_fold_order, turn_shares  # noqa: E402
+from sim import FrostSim, Params  # noqa: E402
+from sim.core.buffers import Growable  # noqa: E402
+from sim.core.placement import TWO_PI  # noqa: E402
+from sim.core.walk import walk_water  # noqa: E402
+from sim.index.freezing import FreezingIndex  # noqa: E402
+
+
+class GivenStream:
+    """A stand-in for numpy's Generator that hands out given uniform numbers in order
+    (the shared seeded stream: the same numbers fed to both simulations)."""
+
+    def __init__(self, values) -> None:
+        self.values, self.at = np.asarray(values, np.float64), 0
+
+    def random(self, size, dtype=np.float64):
+        n = int(np.prod(size))
+        out = self.values[self.at:self.at + n]
+        if len(out) < n:
+            raise ValueError(f"the given stream has {len(self.values)} numbers; {self.at + n} drawn")
+        self.at += n
+        return out.astype(dtype).reshape(size)
+
+
+def params_of(request: dict) -> Params:
+    """The request's parameters: a preset with overrides, or fields given whole."""
+    if "preset" in request:
+        return Params.preset(request["preset"], **request.get("overrides", {}))
+    return Params(**request["fields"])
+
+
+def gyration_dimension(c: np.ndarray) -> float:
+    """D of M ~ Rg^D over the cluster's growth, M = 300 ... all (as tests/test_fern.py)."""
+    ks = np.geomspace(300, len(c), 12).astype(int)
+    rg = [np.sqrt(((c[:k] - c[:k].mean(axis=0)) ** 2).sum(axis=1).mean()) for k in ks]
+    return float(np.polyfit(np.log(rg), np.log(ks), 1)[0])
+
+
+def measures(crystals: np.ndarray, parents: np.ndarray, centre, hc: float) -> dict:
+    """The shape's figures of docs/benchmarks.md: dimension, S6, straight share."""
+    return {"dimension": mass_radius_dimension(crystals, centre, hc),
+            "s6": six_fold_order(crystals, parents),
+            "straight": turn_shares(crystals, parents)["straight"],
+            "gyration": gyration_dimension(crystals.astype(np.float64)) if len(crystals) >= 600
+            else float("nan")}
+
+
+def grow(request: dict) -> dict:
+    """One touch grown: crystals at `ticks`, the tick of the seed's first child, and the
+    measures at `measure_at` (or once `until_crystals` crystals are reached)."""
+    params, centre = params_of(request), tuple(request.get("touch", (380.0, 640.0)))
+    sim = FrostSim(params, seed=request["seed"])
+    sim.touch(*centre)
+    ticks, counts, first = set(request.get("ticks", ())), {}, None
+    last = max([*ticks, request.get("measure_at", 0)])
+    until = request.get("until_crystals")
+    while sim.tick < last or (until and len(sim.crystals) < until):
+        sim.step()
+        if first is None and len(sim.crystals) > 1:
+            first = sim.tick
+        if sim.tick in ticks:
+            counts[str(sim.tick)] = len(sim.crystals)
+        if sim.tick == request.get("measure_at") and not until:
+            break
+    alive = sim.crystal_alive
+    return {"counts": counts, "first_child": first,
+            "upsampled_per_link": len(sim.upsampled) / max(1, int((sim.parents >= 0).sum())),
+            "measures": measures(sim.crystals[alive], sim.parents[alive], centre, params.hc)}
+
+
+def measure(request: dict) -> dict:
+    c = np.asarray(request["crystals"], np.float32).reshape(-1, 2)
+    p = np.asarray(request["parents"], np.int32)
+    return measures(c, p, tuple(request["centre"]), request["hc"])
+
+
+def walk(request: dict) -> dict:
+    """One walk of walkers at `xy` in an area `area` (centre x, y, radius) by the given
+    uniforms: their new positions and which left."""
+    xy = np.asarray(request["xy"], np.float32).reshape(-1, 2)
+    x, y = xy[:, 0].copy(), xy[:, 1].copy()
+    columns = np.asarray(request["area"], np.float32)
+    left = walk_water(GivenStream(request["u"]), x, y, columns, request["step"], None,
+                      (request["width"], request["height"]), False)
+    # Where numpy's float32 cos and sin of a walker's angle are the correctly rounded ones
+    # (a float64 cos rounded to float32, as the page computes them).
+    theta = np.asarray(request["u"], np.float32)[len(x):] * TWO_PI
+    wide = theta.astype(np.float64)
+    rounded = ((np.cos(theta) == np.cos(wide).astype(np.float32))
+               & (np.sin(theta) == np.sin(wide).astype(np.float32)))
+    return {"x": x.tolist(), "y": y.tolist(), "left": left.tolist(), "trig_rounded": rounded.tolist()}
+
+
+def cells(request: dict) -> dict:
+    """The candidate cells of crystals at `crystals` (each cell's list), the cell of each
+    walker at `walkers`, and the walkers within hc of a crystal with their nearest."""
+    c = Growable(np.float32, (2,))
+    c.append(np.asarray(request["crystals"], np.float32).reshape(-1, 2))
+    index = FreezingIndex(c, request["width"], request["height"], request["hc"], "candidate",
+                          False, False)
+    index.register(slice(0, c.n))
+    listed = np.flatnonzero(index.candidates.count)
+    lists = {str(int(k)): index.candidates.items[k, :index.candidates.count[k]].tolist() for k in listed}
+    w = np.asarray(request["walkers"], np.float32).reshape(-1, 2)
+    x, y = np.ascontiguousarray(w[:, 0]), np.ascontiguousarray(w[:, 1])
+    hits, parents = index.nearest(x, y)
+    return {"lists": lists, "keys": index.grid.keys(x, y).tolist(), "hits": hits.tolist(),
+            "parents": parents.tolist()}
+
+
+def answer(request: dict) -> object:
+    kind = request["kind"]
+    if kind == "params":
+        return params_of(request).as_dict()
+    if kind == "grow":
+        return [grow({**request, "seed": s}) for s in request["seeds"]]
+    handlers = {"measure": measure, "walk": walk, "cells": cells}
+    if kind not in handlers:
+        raise ValueError(f"unknown request kind {kind!r}")
+    return handlers[kind](request)
+
+
+if __name__ == "__main__":
+    json.dump(answer(json.load(sys.stdin)), sys.stdout, allow_nan=True)
