@@ -2,7 +2,7 @@
 FrostSim grown, melted and redrawn, with `FrostGeometry`'s deltas and the `Encoder`'s
 bytes of each, written as JSON for the Node test to hold app/web/local/ to.
 
-Run as `python -m support.geometry_oracle OUT.json` from tests/ (the Node test does, with
+Run as `python tests/support/geometry_oracle.py OUT.json` (the Node test does, with
 FROST_PYTHON). Every event holds the simulation's arrays the geometry reads, as they were
 when Python's geometry read them, so the test builds a stand-in for the page's `Frost`
 from them; `near` holds each `segments_near` call the geometry made (its box, reach and
@@ -19,10 +19,12 @@ from pathlib import Path
 
 import numpy as np
 
-from app.serve import protocol
-from sim import Params
-from sim.core.frost import FrostSim
-from sim.look.geometry import FrostGeometry, live_features
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent.parent))
+
+from app.serve import protocol  # noqa: E402
+from sim import Params  # noqa: E402
+from sim.core.frost import FrostSim  # noqa: E402
+from sim.look.geometry import FrostGeometry, live_features  # noqa: E402
 
 # Snapshot parts this many vertices long, so a small frost's snapshot is cut in several.
 SMALL_PART = 3 * 1000

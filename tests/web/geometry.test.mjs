@@ -6,21 +6,25 @@
 // arrays and must give the same deltas and the same bytes.
 
 import assert from "node:assert/strict";
+import { execFileSync } from "node:child_process";
 import { mkdtempSync, readFileSync, rmSync } from "node:fs";
 import { tmpdir } from "node:os";
 import path from "node:path";
 import { test } from "node:test";
+import { fileURLToPath } from "node:url";
 
 import { Encoder } from "../../app/web/local/encode.js";
 import { FrostGeometry } from "../../app/web/local/geometry.js";
-import { python } from "./python.mjs";
+
+const ROOT = process.env.FROST_ROOT || path.resolve(path.dirname(fileURLToPath(import.meta.url)), "../..");
+const PYTHON = process.env.FROST_PYTHON || path.join(ROOT, ".venv/bin/python");
 
 // Python's scenarios (run once for every test here).
 function oracle() {
   const dir = mkdtempSync(path.join(tmpdir(), "frost-geometry-"));
   try {
     const out = path.join(dir, "oracle.json");
-    python("-m", "support.geometry_oracle", out);
+    execFileSync(PYTHON, [path.join(ROOT, "tests/support/geometry_oracle.py"), out], { stdio: "inherit" });
     return JSON.parse(readFileSync(out, "utf-8"));
   } finally {
     rmSync(dir, { recursive: true, force: true });

@@ -10,7 +10,7 @@ import { Encoder, encodeDelta } from "../../app/web/local/encode.js";
 import { Frost } from "../../app/web/local/frost.js";
 import { FrostGeometry } from "../../app/web/local/geometry.js";
 import { decodeDelta, floatToHalf, halfToFloat } from "../../app/web/protocol.js";
-import { presetParams } from "./python.mjs";
+import { presetParams } from "./simoracle.mjs";
 
 const FERN = presetParams("fern");
 const TOUCHES = [[380, 640], [300, 560], [470, 700]];
