@@ -2,7 +2,7 @@
 FrostSim grown, melted and redrawn, with `FrostGeometry`'s deltas and the `Encoder`'s
 bytes of each, written as JSON for the Node test to hold app/web/local/ to.
 
-Run as `python -m support.geometry_oracle OUT.json` from tests/ (the Node test does, with
+Run as `python tests/support/geometry_oracle.py OUT.json` (the Node test does, with
 FROST_PYTHON). Every event holds the simulation's arrays the geometry reads, as they were
 when Python's geometry read them, so the test builds a stand-in for the page's `Frost`
 from them; `near` holds each `segments_near` call the geometry made (its box, reach and
@@ -19,17 +19,22 @@ from pathlib import Path
 
 import numpy as np
 
-from app.serve import protocol
-from sim import Params
-from sim.core.frost import FrostSim
-from sim.look.geometry import FrostGeometry, live_features
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent.parent))
+
+from app.serve import protocol  # noqa: E402
+from sim import Params  # noqa: E402
+from sim.core.frost import FrostSim  # noqa: E402
+from sim.look.geometry import FrostGeometry, live_features  # noqa: E402
 
 # Snapshot parts this many vertices long, so a small frost's snapshot is cut in several.
 SMALL_PART = 3 * 1000
 SCENARIOS = (
-    # name, preset, seed, touches, ticks, melt (x, y, r), ticks after the melt
-    ("fern", "fern", 1, ((380, 640), (300, 560), (470, 700)), 120, (392, 646, 14.0), 10),
-    ("paper", "a-1", 2, ((380, 640), (200, 300)), 30, (390, 646, 15.0), 5),
+    # name, preset, seed, touches, ticks, melts ((x, y, r) each), ticks after them. The
+    # fern's first melt cuts an arm half way out (the links above it thin), its second
+    # leaves orphans.
+    ("fern", "fern", 1, ((380, 640), (300, 560), (470, 700)), 120,
+     ((380, 668, 9.0), (380, 668, 13.0)), 10),
+    ("paper", "a-1", 2, ((380, 640), (200, 300)), 30, ((390, 646, 15.0),), 5),
 )
 
 
@@ -69,7 +74,7 @@ class Recorder:
         sim.segments_near = recorded  # type: ignore[method-assign]
 
 
-def scenario(name: str, preset: str, seed: int, touches, ticks: int, melt, after: int) -> dict:
+def scenario(name: str, preset: str, seed: int, touches, ticks: int, melts, after: int) -> dict:
     params = Params.preset(preset)
     sim = FrostSim(params, seed=seed)
     geometry = FrostGeometry(params)
@@ -93,19 +98,26 @@ def scenario(name: str, preset: str, seed: int, touches, ticks: int, melt, after
             record("update", geometry.update(sim),
                    added=[added.crystals.start, added.crystals.stop])
     grow(ticks)
-    melted = sim.melt(*melt)
-    record("melt", geometry.melt(sim, melted),
-           melted={key: packed(getattr(melted, key).astype(np.int32))
-                   for key in ("crystals", "upsampled", "segments", "orphans")})
+    for melt in melts:
+        melted = sim.melt(*melt)
+        record("melt", geometry.melt(sim, melted),
+               melted={key: packed(getattr(melted, key).astype(np.int32))
+                       for key in ("crystals", "upsampled", "segments", "orphans")})
     grow(after)
-    record("redraw", geometry.redraw(sim))
+    redrawn = geometry.redraw(sim)
+    record("redraw", redrawn)
     protocol.PART_VERTICES = SMALL_PART
     parts = encoder.snapshot(sim.tick, live_features(sim, params), params.look,
                              events[-1]["delta"]["height_scale"])
+    # A tick with no change, a reset alone, then the redraw's heights again (not a reset):
+    # all of them runs, against the grid the reset emptied.
+    bare = [encoder.bare(sim.tick + 1, False), encoder.bare(sim.tick + 2, True),
+            encoder.delta(dataclasses.replace(redrawn, reset=False))]
     return {"name": name, "params": dataclasses.asdict(params),
             "grid": [geometry.cols, geometry.rows], "events": events,
             "snapshot": {"part_vertices": SMALL_PART, "tick": int(sim.tick),
-                         "parts": [base64.b64encode(p).decode("ascii") for p in parts]}}
+                         "parts": [base64.b64encode(p).decode("ascii") for p in parts]},
+            "bare": [base64.b64encode(b).decode("ascii") for b in bare]}
 
 
 def main(out: str) -> None:

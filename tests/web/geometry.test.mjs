@@ -16,18 +16,15 @@ import { fileURLToPath } from "node:url";
 import { Encoder } from "../../app/web/local/encode.js";
 import { FrostGeometry } from "../../app/web/local/geometry.js";
 
-const ROOT = process.env.FROST_ROOT ?? path.resolve(path.dirname(fileURLToPath(import.meta.url)), "../..");
-const PYTHON = process.env.FROST_PYTHON ?? path.join(ROOT, ".venv/bin/python");
+const ROOT = process.env.FROST_ROOT || path.resolve(path.dirname(fileURLToPath(import.meta.url)), "../..");
+const PYTHON = process.env.FROST_PYTHON || path.join(ROOT, ".venv/bin/python");
 
 // Python's scenarios (run once for every test here).
 function oracle() {
   const dir = mkdtempSync(path.join(tmpdir(), "frost-geometry-"));
   try {
     const out = path.join(dir, "oracle.json");
-    execFileSync(PYTHON, ["-m", "support.geometry_oracle", out], {
-      cwd: path.join(ROOT, "tests"), stdio: ["ignore", "inherit", "inherit"],
-      env: { ...process.env, PYTHONPATH: [ROOT, path.join(ROOT, "tests")].join(path.delimiter) },
-    });
+    execFileSync(PYTHON, [path.join(ROOT, "tests/support/geometry_oracle.py"), out], { stdio: "inherit" });
     return JSON.parse(readFileSync(out, "utf-8"));
   } finally {
     rmSync(dir, { recursive: true, force: true });
@@ -139,5 +136,9 @@ for (const scenario of SCENARIOS) {
     assert.ok(parts.length > 1, "the oracle's snapshot comes in one part: make its parts smaller");
     assert.equal(js.length, parts.length, "snapshot parts");
     js.forEach((part, i) => sameBytes(part, parts[i], `${scenario.name} snapshot part ${i}`));
+    // After them, a tick with no change, a reset alone, then the redraw's heights again.
+    sameBytes(encoder.bare(tick + 1, false), scenario.bare[0], `${scenario.name} a bare tick`);
+    sameBytes(encoder.bare(tick + 2, true), scenario.bare[1], `${scenario.name} a bare reset`);
+    sameBytes(encoder.delta({ ...last, reset: false }), scenario.bare[2], `${scenario.name} after a bare reset`);
   });
 }

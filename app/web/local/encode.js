@@ -21,11 +21,6 @@ export function rint(v) {
   return r - v === 0.5 && r % 2 !== 0 ? r - 1 : r;
 }
 
-// Half-float bits equal as numbers (+0 and -0 are the same height).
-function same(a, b) {
-  return a === b || ((a | b) & 0x7fff) === 0;
-}
-
 // The height grid as the renderer holds it (half floats), kept to diff each delta against:
 // a delta's heights go out as runs of the values that changed.
 export class Encoder {
@@ -88,7 +83,7 @@ export class Encoder {
     const old = this.heights, fresh = this._fresh, runs = this._runs;
     let nruns = 0, end = -1;
     for (let i = 0; i < n; i++) {
-      if (same(old[lo + i], fresh[i])) continue;
+      if (old[lo + i] === fresh[i]) continue;  // (a height is never -0)
       if (nruns > 0 && i - end <= RUN_GAP) {
         runs[2 * nruns - 1] = lo + i + 1 - runs[2 * nruns - 2];
       } else {

@@ -9,6 +9,7 @@
 // upsampledLink, upsampledAlive, upsampledCount, segments, segmentsLink, segmentsAlive,
 // segmentCount, and segmentsNear(box, reach) for a melt.
 
+import { lowerBound } from "./arrays.js";
 import { HeightGrid } from "./heightgrid.js";
 import { PipeRidges, topHeight, widest } from "./ridges.js";
 
@@ -21,17 +22,6 @@ export function featureScale(params) {
   const bound = params.look === "glass" ? topHeight(params)
     : params.feature_height * (params.hc + params.step);
   return Math.max(16.0, Math.ceil(bound));
-}
-
-// The first of rows [0, n) whose crystal (`link`, ascending) is `crystal` or after it.
-function firstRow(link, n, crystal) {
-  let lo = 0, hi = n;
-  while (lo < hi) {
-    const mid = (lo + hi) >>> 1;
-    if (link[mid] < crystal) lo = mid + 1;
-    else hi = mid;
-  }
-  return lo;
 }
 
 // Vertices of the paper's features of segments `ids` (indices into `segments`, x0 y0 x1
@@ -133,6 +123,14 @@ function segmentsIn(frost, box, width) {
   return out;
 }
 
+// The whole of a melt whose crystals Frost.melt returned: frost.melted (nothing, for a
+// melt that took none).
+function meltedOf(frost, crystals) {
+  if (crystals.length === 0) return { crystals, upsampled: crystals, segments: crystals, orphans: crystals };
+  if (frost.melted?.crystals !== crystals) throw new Error("geometry.melt: not the frost's last melt");
+  return frost.melted;
+}
+
 // The height grid and sharp features of a growing frost; each call returns a delta:
 // {tick, rows: [lo, hi), heights (Float32Array of those rows), features (Float32Array of
 // vertices x, y, z, nx, ny, nz), reset, clearBox ([x0, y0, x1, y1] px or null), look,
@@ -184,10 +182,12 @@ export class FrostGeometry {
     return this._delta(frost.tick, rows, feats);
   }
 
-  // A melt (`melted`: {crystals, upsampled, segments, orphans} as sim/'s Melted) taken
-  // out of the ice: its particles' bumps subtracted, its features wiped in a box and the
-  // survivors in that box sent again. Costs O(ice near the melt).
+  // A melt taken out of the ice: its particles' bumps subtracted, its features wiped in a
+  // box and the survivors in that box sent again. `melted`: {crystals, upsampled,
+  // segments, orphans} as sim/'s Melted, or the crystals Frost.melt returned (the rest
+  // read from frost.melted). Costs O(ice near the melt).
   melt(frost, melted) {
+    if (ArrayBuffer.isView(melted)) melted = meltedOf(frost, melted);
     const pts = this._meltedPoints(frost, melted);
     const rows = this.grid.finish(-1.0);
     if (this.ridges) return this._meltRidges(frost, melted, pts, rows);
@@ -250,7 +250,7 @@ export class FrostGeometry {
   // The rows [first, end) of a link table (`link`: each row's crystal, ascending, n rows)
   // that belong to the crystals of `added`.
   _rowsOf(link, n, added) {
-    return [firstRow(link, n, added.start), firstRow(link, n, added.end)];
+    return [lowerBound(link, n, added.start), lowerBound(link, n, added.end)];
   }
 
   _delta(tick, rows, features, { reset = false, clearBox = null } = {}) {
