@@ -6,13 +6,18 @@ server stopped, so it grows frost in its Web Worker; its CPU slowed N times (Chr
 - the worker's own tick durations (its clock: throttling does not reach a dedicated
   worker, so the phone figure is its p99 times the slowdown), and its ticks a second;
 - the page's frames under the throttle (requestAnimationFrame's intervals);
-- the Python simulation's tick beside it (sim/, the same preset and touches, this machine).
+- the Python simulation's tick beside it (sim/, the same preset and touches, this machine),
+  and the worker's tick in Node (where `node` is: the same code with no browser beside it).
 """
 
 from __future__ import annotations
 
+import json
+import shutil
+import subprocess
 import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -53,6 +58,37 @@ def python_ticks(preset: str, ticks: int, seed: int) -> np.ndarray:
     return np.array(times)
 
 
+# The worker's tick (LocalRun.tick: step, geometry, encoding) timed in Node.
+NODE_TICKS = """
+import { readFileSync } from "node:fs";
+import { LocalRun } from "./app/web/local/run.js";
+const [preset, ticks, seed, touches] = JSON.parse(process.argv[1]);
+const config = JSON.parse(readFileSync("app/web/local/params.json", "utf-8"));
+const run = new LocalRun(config, () => {}, { preset, seed });
+run.hello();
+for (const [x, y] of touches) run.input({ type: "touch", phase: "down", id: 0, x, y });
+const times = [];
+for (let i = 0; i < ticks; i++) {
+  const start = performance.now();
+  run.tick();
+  times.push(performance.now() - start);
+}
+console.log(JSON.stringify(times));
+"""
+
+
+def node_ticks(preset: str, ticks: int, seed: int) -> np.ndarray | None:
+    """ms of each of `ticks` of the worker's ticks run by Node, or None without Node."""
+    node = shutil.which("node")
+    if node is None:
+        return None
+    root = Path(__file__).resolve().parent.parent
+    out = subprocess.run([node, "--input-type=module", "-e", NODE_TICKS,
+                          json.dumps([preset, ticks, seed, TOUCHES])],
+                         cwd=root, capture_output=True, text=True, timeout=600, check=True)
+    return np.array(json.loads(out.stdout))
+
+
 def run(args, rate: float) -> int:
     from playwright.sync_api import sync_playwright
 
@@ -78,6 +114,7 @@ def run(args, rate: float) -> int:
         finally:
             ctx.close()
     py = python_ticks(preset, GROW_TICKS, args.seed)
+    js = node_ticks(preset, GROW_TICKS, args.seed)
     print(f"{preset}, three touches, {GROW_TICKS} ticks, the page's CPU slowed {rate:g}x "
           f"(Chromium, {args.angle}); {local['crystals']} crystals")
     print(f"worker tick (its own clock, last 250): median {local['tickMedianMs']:.2f} ms, "
@@ -89,4 +126,7 @@ def run(args, rate: float) -> int:
           f"{1000 / np.mean(frames):.1f} a second)")
     print(f"Python tick (sim/, this machine): median {np.median(py):.2f} ms, p99 "
           f"{np.percentile(py, 99):.2f} ms")
+    if js is not None:
+        print(f"the worker's tick in Node (no browser): median {np.median(js):.2f} ms, p99 "
+              f"{np.percentile(js, 99):.2f} ms")
     return 0

@@ -60,9 +60,9 @@ connection.onClosed = () => stream.closed();
 // (A server that answers while its socket fails is tried again: an HTTPS socket that an
 // untrusted certificate stops.)
 connection.onUnreachable = (answered) => {
-  if (!answered && alone.start()) return true;
+  // (the backdrop until the first frame, the phone's own frost's or the server's)
   if (!view.renderer) showOffline(true, canvas, query, pane.fit);
-  return false;
+  return !answered && alone.start();
 };
 
 // `names` of `part` read and set as `frost`'s own.

@@ -14,6 +14,12 @@ import { TickClock, TICK_MS } from "./clock.js";
 
 const STATS_EVERY = 5;   // ticks between two stats messages (5 a second)
 const MOST_BEHIND = 3;   // ticks run back to back to catch up; beyond, the clock starts anew
+// Before the first hello, a frost of its own grown this many ticks from three touches and
+// thrown away: the first ticks after a touch run before the JavaScript engine has compiled
+// the simulation's loops, and took 5-10 times as long (Node, fern: a p99 of 92-142 ms over
+// the first 250 ticks after three touches, 15-32 ms after this, on a loaded machine).
+const WARM_TICKS = 60;
+const WARM_TOUCHES = [[380, 640], [200, 300], [560, 1000]];
 
 let run = null;
 const clock = new TickClock();
@@ -47,6 +53,12 @@ function loop() {
   setTimeout(loop, Math.max(0, next - performance.now()));
 }
 
+function warmUp(config) {
+  const warm = new LocalRun(config, () => {}, { seed: 1 });
+  for (const [x, y] of WARM_TOUCHES) warm.input({ type: "touch", phase: "down", id: 0, x, y });
+  for (let i = 0; i < WARM_TICKS; i++) warm.tick();
+}
+
 function stats() {
   post({ type: "stats", tick: run.frost.tick, crystals: run.frost.count,
     ticksPerSecond: clock.perSecond(performance.now()), tickP99Ms: clock.p99(),
@@ -59,6 +71,7 @@ self.onmessage = (event) => {
   try {
     if (m.type === "start") {
       if (run) return;
+      warmUp(m.config);
       run = new LocalRun(m.config, post, m.start);
       run.hello();
       next = performance.now() + TICK_MS;
