@@ -25,8 +25,6 @@ from bench.page import ANGLE, TOUCHES, chromium_options
 from bench.phoneapp import serving
 from sim import FrostSim, Params
 
-PHONE = {"viewport": {"width": 390, "height": 844}, "device_scale_factor": 3, "has_touch": True,
-         "is_mobile": True}
 GROW_TICKS = 250  # ticks grown with the touches (the worker's p99 is of its last 250)
 FRAMES = """(ms) => new Promise((done) => { const t = [];
   const frame = (now) => { t.push(now); if (now - t[0] < ms) requestAnimationFrame(frame); else done(t); };
@@ -94,8 +92,9 @@ def run(args, rate: float) -> int:
 
     preset = args.preset or "fern"
     with tempfile.TemporaryDirectory() as profile, sync_playwright() as pw:
-        ctx = pw.chromium.launch_persistent_context(
-            profile, **chromium_options(pw, ANGLE[args.angle]), **PHONE)
+        ctx = pw.chromium.launch_persistent_context(  # (a phone of 390x844 CSS px)
+            profile, **chromium_options(pw, ANGLE[args.angle]), viewport={"width": 390, "height": 844},
+            device_scale_factor=3, has_touch=True, is_mobile=True)
         try:
             with serving(preset) as url:
                 page = installed_alone(ctx, url)
