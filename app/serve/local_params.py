@@ -14,7 +14,8 @@ import sys
 from typing import Any
 
 from app.backdrops import BACKDROPS
-from app.keys import DEFAULT_PRESET
+from app.keys import BINDINGS, DEFAULT_PRESET
+from app.serve.controls import KEY_COMMANDS
 from app.resources import WEB_DIR
 from app.serve.hello import hello_fields
 from sim import Params, all_presets
@@ -59,6 +60,9 @@ def local_params() -> dict[str, Any]:
                   "backdrops": backdrops},
         "drag_spacing_hc": DRAG_SPACING_HC, "melt_spacing": MELT_SPACING,
         "tick_rate": TICK_RATE,
+        # the window's keys that the page's own frost obeys, as frost serve does: name -> command
+        "keys": {name: KEY_COMMANDS[b.action] for b in BINDINGS if b.action in KEY_COMMANDS
+                 for name in b.keys},
         "session": {"format": FORMAT, "version": PHONE_VERSION},
     }
 

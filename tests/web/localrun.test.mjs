@@ -127,3 +127,20 @@ test("the phone's session is one that sim/ reads and replays", () => {
     env: { ...process.env, PYTHONPATH: ROOT } }).toString();
   assert.deepEqual(JSON.parse(out), ["phone", CONFIG.session.version, 8, 5]);
 });
+
+test("the window's keys do on the phone what frost serve does with them", () => {
+  const { run, sent } = newRun();
+  run.input(down(380, 640));
+  run.tick();
+  run.input({ type: "key", name: "SPACE" });
+  assert.equal(run.paused, true);
+  assert.equal(run.tick(), false);  // paused: no tick
+  run.input({ type: "key", name: "N" });  // one tick while paused
+  run.input({ type: "key", name: "PERIOD" });
+  assert.equal(run.frost.tick, 3);
+  run.input({ type: "key", name: "C" });
+  assert.equal(run.frost.count, 0);
+  run.input({ type: "key", name: "F" });
+  assert.match(sent.at(-1), /key F: not on this phone/);
+  assert.deepEqual(CONFIG.keys, { SPACE: "pause", N: "step", PERIOD: "step", C: "clear" });
+});

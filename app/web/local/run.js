@@ -11,7 +11,7 @@ import { Fingers } from "./fingers.js";
 import { SessionRecord } from "./record.js";
 
 export const TOUCHES_PER_TICK = 16;  // the page's touches and melts applied before a tick
-const TEXT_KINDS = ["preset", "look", "backdrop", "pause", "clear"];
+const TEXT_KINDS = ["preset", "look", "backdrop", "pause", "clear", "step"];
 
 export class LocalRun {
   // config: params.json; post(message, transfer): to the page; start: {preset, look, backdrop, seed}.
@@ -81,7 +81,7 @@ export class LocalRun {
     if (m.type === "touch" || m.type === "melt") this.fingers.take(m);
     else if (TEXT_KINDS.includes(m.type)) this[m.type](m.name);
     else if (m.type === "ping") this.text({ type: "pong", t: m.t, tick: this.frost.tick });
-    else if (m.type === "key") this.notice(`key ${String(m.name).slice(0, 16)}: not on this phone`);
+    else if (m.type === "key") this.key(String(m.name));
   }
 
   // One tick: the waiting touches and melts (at most TOUCHES_PER_TICK), then a step.
@@ -151,6 +151,21 @@ export class LocalRun {
     this.shown = name;
     this.record.add({ kind: "backdrop", tick: this.timeline, name });
     this.text({ type: "state", ...this.state() });
+  }
+
+  // A key of the window's: its pause, step and clear (params.json's keys), as frost serve's.
+  key(name) {
+    const command = Object.hasOwn(this.config.keys, name) ? this.config.keys[name] : null;
+    if (command) this[command]();
+    else this.notice(`key ${name.slice(0, 16)}: not on this phone`);
+  }
+
+  // One tick while paused.
+  step() {
+    if (!this.paused) return;
+    this.paused = false;
+    this.tick();
+    this.paused = true;
   }
 
   pause() {
