@@ -15,8 +15,8 @@ from typing import Any
 
 from app.backdrops import BACKDROPS
 from app.keys import BINDINGS, DEFAULT_PRESET
-from app.serve.controls import KEY_COMMANDS
 from app.resources import WEB_DIR
+from app.serve.controls import KEY_COMMANDS
 from app.serve.hello import hello_fields
 from sim import Params, all_presets
 from sim.io.gestures import DRAG_SPACING_HC, MELT_SPACING
