@@ -107,6 +107,7 @@ export class Alone {
 
   // The phone cannot grow frost: said once, and the page waits for a server again.
   fail(reason) {
+    if (this.failed) return;  // (a worker that fails may say so twice: its error and its message)
     this.failed = reason;
     console.warn(`frost: the phone's own frost stopped: ${reason}`);
     this.end();
