@@ -62,6 +62,7 @@ def alone(pw, serve, tmp_path):
                                f"document.getElementById('status').textContent === '{ON_PHONE}'",
                                timeout=60_000)
         assert page.evaluate("frost.error") is None
+        assert page.evaluate("navigator.serviceWorker.controller !== null")  # (its worker's page)
         yield page, lambda: serve("--port", port, folder=tmp_path)
     finally:
         ctx.close()
@@ -171,3 +172,30 @@ def test_a_storm_of_taps_and_bad_touches_leave_it_ticking(alone):
     assert local["crystals"] > 2000 and local["dropped"] <= 2000, local
     assert page.evaluate("frost.error") is None
 
+
+
+def test_a_page_that_never_cached_its_simulation_waits_for_the_server(pw, serve, tmp_path):
+    """No service worker (its cache is what the phone's frost loads from): with the server
+    gone the worker cannot load, and the page says the server is not reachable and syncs by
+    itself when it is back, as before."""
+    from support.phone import PHONE
+
+    from bench.page import launch
+
+    port = str(free_port())
+    s = serve("--port", port, folder=tmp_path)
+    b = launch(pw)
+    try:
+        page = b.new_context(**PHONE, service_workers="block").new_page()
+        page.goto(s.local)
+        synced(page, "frost.frames > 0")
+        s.stop()
+        page.wait_for_function("frost.alone.failed !== null", timeout=60_000)
+        page.wait_for_function("document.getElementById('status').textContent"
+                               ".startsWith('frost serve is not reachable')", timeout=30_000)
+        assert page.evaluate("frost.local") is None
+        serve("--port", port, folder=tmp_path)
+        synced(page, "frost.frames > 0 && frost.hellos === 2")
+        assert status(page) == ""
+    finally:
+        b.close()
