@@ -43,7 +43,8 @@ export class Areas {
   /** Widens area `i`'s reach to its crystal at (x, y). */
   reachTo(i, x, y) {
     const r = this.rows;
-    const d = Math.fround(Math.hypot(Math.fround(x - r[5 * i]), Math.fround(y - r[5 * i + 1])));
+    const dx = Math.fround(x - r[5 * i]), dy = Math.fround(y - r[5 * i + 1]);
+    const d = Math.fround(Math.sqrt(dx * dx + dy * dy));
     if (d > r[5 * i + 4]) r[5 * i + 4] = d;
   }
 

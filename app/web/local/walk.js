@@ -25,7 +25,7 @@ export function walkWater(water, areas, step, clearance, u, size, left) {
     const c = Math.fround(Math.cos(theta)), s = Math.fround(Math.sin(theta));
     if (clearance) {
       // (sim/ takes the jump and the step as float64 here: the product is not rounded)
-      const rim = Math.fround(r - Math.fround(Math.hypot(ox, oy)));
+      const rim = Math.fround(r - Math.fround(Math.sqrt(ox * ox + oy * oy)));
       const jump = clearance.radius(x[i], y[i], rim);
       if (jump > step) a = jump;
       x[i] = Math.fround(x[i] + a * c);
