@@ -47,7 +47,7 @@ def params_of(request: dict) -> Params:
 
 
 def gyration_dimension(c: np.ndarray) -> float:
-    """D of M ~ Rg^D over the cluster's growth, M = 300 ... all (as tests/test_fern.py)."""
+    """D of M ~ Rg^D: slope of log M on log Rg over the cluster's growth (M = 300 ... all)."""
     ks = np.geomspace(300, len(c), 12).astype(int)
     rg = [np.sqrt(((c[:k] - c[:k].mean(axis=0)) ** 2).sum(axis=1).mean()) for k in ks]
     return float(np.polyfit(np.log(rg), np.log(ks), 1)[0])
