@@ -80,15 +80,17 @@ test('the paper\'s c-2: the chain reaction\'s crystals, first crystal and dimens
 });
 
 test('Table 1\'s other settings: crystals after 400 ticks and the upsample particles', () => {
-  // (a-1, a-2, a-3 and b-3 share hc and humidity, b-2 is c-2: their crystals are the same)
-  const factors = { 'a-1': 1.05, 'b-1': 1.5, 'c-1': 1.5, 'c-3': 1.05 };
-  for (const [name, factor] of Object.entries(factors)) {
-    const seeds = factor > 1.1 ? [0, 1, 2, 3, 4, 5, 6, 7] : [0, 1, 2];
-    const params = presetParams(name);
+  // (a-1, a-2, a-3 and b-3 share hc and humidity, b-2 is c-2: their crystals are the same.)
+  // The sparse b-1 and c-1 vary most from seed to seed: their means over 32 seeds.
+  const mean = (values) => values.reduce((a, b) => a + b, 0) / values.length;
+  const settings = { 'a-1': [1.05, 3, median], 'c-3': [1.05, 3, median], 'b-1': [1.35, 32, mean],
+    'c-1': [1.35, 32, mean] };
+  for (const [name, [factor, n, average]] of Object.entries(settings)) {
+    const seeds = [...Array(n).keys()], params = presetParams(name);
     const sim = python({ kind: 'grow', preset: name, seeds, ticks: [400], measure_at: 0 });
     const page = seeds.map((seed) => growPage(params, seed, { ticks: [400] }));
-    withinFactor(`${name}: crystals at tick 400 (median)`, medianOf(page, (r) => r.counts[400]),
-      medianOf(sim, (r) => r.counts[400]), factor);
+    withinFactor(`${name}: crystals at tick 400 (${average === mean ? 'mean' : 'median'})`,
+      average(page.map((r) => r.counts[400])), average(sim.map((r) => r.counts[400])), factor);
     if (name === 'a-1') {  // D 1: a link of up to hc 10 px holds up to 9 upsample particles
       const frost = page[0].frost, perLink = frost.upsampledCount / (frost.count - 1);
       within('a-1: upsample particles per link', perLink, sim[0].upsampled_per_link, 0.3);
