@@ -47,15 +47,19 @@ def params_of(request: dict) -> Params:
 
 
 def gyration_dimension(c: np.ndarray) -> float:
-    """D of M ~ Rg^D over the cluster's growth, M = 300 ... all (as tests/test_fern.py)."""
+    """D of M ~ Rg^D: slope of log M on log Rg over the cluster's growth (M = 300 ... all)."""
     ks = np.geomspace(300, len(c), 12).astype(int)
     rg = [np.sqrt(((c[:k] - c[:k].mean(axis=0)) ** 2).sum(axis=1).mean()) for k in ks]
     return float(np.polyfit(np.log(rg), np.log(ks), 1)[0])
 
 
 def measures(crystals: np.ndarray, parents: np.ndarray, centre, hc: float) -> dict:
-    """The shape's figures of docs/benchmarks.md: dimension, S6, straight share."""
-    return {"dimension": mass_radius_dimension(crystals, centre, hc),
+    """The shape's figures of docs/benchmarks.md: dimension, S6, straight share; the
+    mean link length and the gyration dimension (tests/test_fern.py's)."""
+    child = np.flatnonzero(parents >= 0)
+    links = np.hypot(*(crystals[child] - crystals[parents[child]]).astype(np.float64).T)
+    return {"link": float(links.mean()) if len(links) else float("nan"),
+            "dimension": mass_radius_dimension(crystals, centre, hc),
             "s6": six_fold_order(crystals, parents),
             "straight": turn_shares(crystals, parents)["straight"],
             "gyration": gyration_dimension(crystals.astype(np.float64)) if len(crystals) >= 600

@@ -10,15 +10,27 @@ import { growPage, measurePage, median, presetParams, python } from './simoracle
 
 const SEEDS = [0, 1, 2, 3, 4];
 
+// The figures out of their tolerance in the test running now: a test checks every
+// figure, then fails with all those out (`held`).
+let out = [];
+
 /** `page` within a factor `factor` of `sim` (both positive). */
 function withinFactor(what, page, sim, factor) {
-  assert.ok(page <= sim * factor && page >= sim / factor,
-    `${what}: the page's ${page} against sim/'s ${sim} (a factor ${factor} allowed)`);
+  if (!(page <= sim * factor && page >= sim / factor)) {
+    out.push(`${what}: the page's ${page} against sim/'s ${sim} (a factor ${factor} allowed)`);
+  }
 }
 
 function within(what, page, sim, tolerance) {
-  assert.ok(Math.abs(page - sim) <= tolerance,
-    `${what}: the page's ${page} against sim/'s ${sim} (${tolerance} allowed)`);
+  if (!(Math.abs(page - sim) <= tolerance)) {
+    out.push(`${what}: the page's ${page} against sim/'s ${sim} (${tolerance} allowed)`);
+  }
+}
+
+function held() {
+  const failed = out;
+  out = [];
+  assert.deepEqual(failed, []);
 }
 
 /** Both simulations' runs of one touch at the centre of preset `name`, seeds SEEDS:
@@ -49,6 +61,9 @@ test('fern: crystals after 25, 100 and 400 ticks, the first arm and the fronds\'
     medianOf(sim, (r) => r.measures.straight), 0.04);
   within('mass-radius dimension at tick 500 (median)', medianOf(page, (r) => r.measures.dimension),
     medianOf(sim, (r) => r.measures.dimension), 0.08);
+  within('link length, px (mean)', medianOf(page, (r) => r.measures.link),
+    medianOf(sim, (r) => r.measures.link), 0.05);
+  held();
 });
 
 test('the paper\'s c-2: the chain reaction\'s crystals, first crystal and dimension', () => {
@@ -61,23 +76,27 @@ test('the paper\'s c-2: the chain reaction\'s crystals, first crystal and dimens
     medianOf(sim, (r) => r.first_child), 5);
   within('mass-radius dimension at tick 500 (median)', medianOf(page, (r) => r.measures.dimension),
     medianOf(sim, (r) => r.measures.dimension), 0.15);
+  held();
 });
 
 test('Table 1\'s other settings: crystals after 400 ticks and the upsample particles', () => {
-  // (a-1, a-2, a-3 and b-3 share hc and humidity, b-2 is c-2: their crystals are the same)
-  const factors = { 'a-1': 1.05, 'b-1': 1.5, 'c-1': 1.5, 'c-3': 1.05 };
-  for (const [name, factor] of Object.entries(factors)) {
-    const seeds = factor > 1.1 ? [0, 1, 2, 3, 4, 5, 6, 7] : [0, 1, 2];
-    const params = presetParams(name);
+  // (a-1, a-2, a-3 and b-3 share hc and humidity, b-2 is c-2: their crystals are the same.)
+  // The sparse b-1 and c-1 vary most from seed to seed: their means over 64 seeds.
+  const mean = (values) => values.reduce((a, b) => a + b, 0) / values.length;
+  const settings = { 'a-1': [1.05, 3, median], 'c-3': [1.05, 3, median], 'b-1': [1.25, 64, mean],
+    'c-1': [1.25, 64, mean] };
+  for (const [name, [factor, n, average]] of Object.entries(settings)) {
+    const seeds = [...Array(n).keys()], params = presetParams(name);
     const sim = python({ kind: 'grow', preset: name, seeds, ticks: [400], measure_at: 0 });
     const page = seeds.map((seed) => growPage(params, seed, { ticks: [400] }));
-    withinFactor(`${name}: crystals at tick 400 (median)`, medianOf(page, (r) => r.counts[400]),
-      medianOf(sim, (r) => r.counts[400]), factor);
+    withinFactor(`${name}: crystals at tick 400 (${average === mean ? 'mean' : 'median'})`,
+      average(page.map((r) => r.counts[400])), average(sim.map((r) => r.counts[400])), factor);
     if (name === 'a-1') {  // D 1: a link of up to hc 10 px holds up to 9 upsample particles
       const frost = page[0].frost, perLink = frost.upsampledCount / (frost.count - 1);
       within('a-1: upsample particles per link', perLink, sim[0].upsampled_per_link, 0.3);
     }
   }
+  held();
 });
 
 test('the long growth is off-lattice DLA in both: mass-radius-of-gyration dimension 1.71',
@@ -91,4 +110,5 @@ test('the long growth is off-lattice DLA in both: mass-radius-of-gyration dimens
     const pageD = mean(page.map((m) => m.gyration)), simD = mean(sim.map((r) => r.measures.gyration));
     within('mean gyration dimension against DLA\'s', pageD, 1.71, 0.08);
     within('mean gyration dimension', pageD, simD, 0.1);
+    held();
   });

@@ -43,7 +43,8 @@ export class Areas {
   /** Widens area `i`'s reach to its crystal at (x, y). */
   reachTo(i, x, y) {
     const r = this.rows;
-    const d = Math.fround(Math.hypot(Math.fround(x - r[5 * i]), Math.fround(y - r[5 * i + 1])));
+    const dx = Math.fround(x - r[5 * i]), dy = Math.fround(y - r[5 * i + 1]);
+    const d = Math.fround(Math.sqrt(dx * dx + dy * dy));
     if (d > r[5 * i + 4]) r[5 * i + 4] = d;
   }
 
@@ -55,12 +56,13 @@ export class Areas {
     r[5 * i + 3] = Math.max(0, Math.fround(reach - band));
   }
 
-  /** [inner, outer] radius water is placed between in area `i`: with a launch circle
-   * (fern rule 4) both `launch` px beyond its farthest ice while that lies inside it. */
+  /** The inner and outer radius water is placed between in area `i`, into (this.inner,
+   * this.outer): with a launch circle (fern rule 4) both `launch` px beyond its farthest
+   * ice while that lies inside it. (Fields, not an array: placement asks per walker.) */
   shell(i, launch) {
     const r = this.rows, outer = r[5 * i + 2], inner = r[5 * i + 3];
-    if (!launch) return [inner, outer];
-    const ring = Math.fround(r[5 * i + 4] + Math.fround(launch));
-    return ring < outer ? [ring, ring] : [inner, outer];
+    const ring = launch ? Math.fround(r[5 * i + 4] + Math.fround(launch)) : Infinity;
+    this.inner = ring < outer ? ring : inner;
+    this.outer = ring < outer ? ring : outer;
   }
 }

@@ -40,16 +40,21 @@ export class Clearance {
     }
   }
 
-  /** The clearance in px of a walker at on-screen (x, y) whose area's rim is `rim` px
-   * away (0 or less in and next to candidate cells). */
-  radius(x, y, rim) {
-    const s = this.cell;
-    const qx = Math.trunc(Math.fround(x / s)), qy = Math.trunc(Math.fround(y / s));
-    const fx = Math.fround(x - Math.fround(qx * s)), fy = Math.fround(y - Math.fround(qy * s));
-    const border = Math.min(fx, Math.fround(s - fx), fy, Math.fround(s - fy));
-    const k = this.padded[this.origin + qy * this.paddedCols + qx];
-    const rho = Math.max(this.beyond[k] + border, 0);
-    const edge = Math.min(x, Math.fround(this.w - x), y, Math.fround(this.h - y));
-    return Math.min(rho, rim, edge) - MARGIN;
+  /** The clearance in px of every walker of `water` (on-screen float32 positions, each
+   * in its area of `rows`: centre x, y, outer radius) into `out`: 0 or less in and next to
+   * candidate cells. One loop, nothing returned per walker (no number boxed). */
+  radii(water, rows, out) {
+    const s = this.cell, { x, y, area } = water, pc = this.paddedCols, rings = this.padded;
+    for (let i = 0; i < water.n; i++) {
+      const a5 = 5 * area[i], px = x[i], py = y[i];
+      const ox = Math.fround(px - rows[a5]), oy = Math.fround(py - rows[a5 + 1]);
+      const rim = Math.fround(rows[a5 + 2] - Math.fround(Math.sqrt(ox * ox + oy * oy)));
+      const qx = Math.trunc(Math.fround(px / s)), qy = Math.trunc(Math.fround(py / s));
+      const fx = Math.fround(px - Math.fround(qx * s)), fy = Math.fround(py - Math.fround(qy * s));
+      const border = Math.min(fx, Math.fround(s - fx), fy, Math.fround(s - fy));
+      const rho = Math.max(this.beyond[rings[this.origin + qy * pc + qx]] + border, 0);
+      const edge = Math.min(px, Math.fround(this.w - px), py, Math.fround(this.h - py));
+      out[i] = Math.min(rho, rim, edge) - MARGIN;
+    }
   }
 }

@@ -55,6 +55,8 @@ export class Frost extends Touches {
     this.grown = [];  // a tick's new crystals: walker, parent, x, y each
     this.scratch = new Float32Array(2 * this.water.x.length);  // a walk's uniforms
     this.left = new Uint8Array(this.water.x.length);  // walkers that left their area
+    this.jumps = new Float64Array(this.water.x.length);  // their clearance (long jumps)
+    this.size = [width, height];
     this.tick = 0;
     this.clear();
   }
@@ -99,10 +101,15 @@ export class Frost extends Touches {
     const water = this.water, m = water.n;
     if (m === 0) return;
     if (this.scratch.length < 2 * m) this.scratch = new Float32Array(4 * m);
-    if (this.left.length < m) this.left = new Uint8Array(2 * m);
+    if (this.left.length < m) {
+      this.left = new Uint8Array(2 * m);
+      this.jumps = new Float64Array(2 * m);
+    }
     drawWalk(this.uniform, m, this.scratch);
-    const gone = walkWater(water, this.areas, this.params.step, this.index.clearance, this.scratch,
-      [this.width, this.height], this.left);
+    const clearance = this.index.clearance;
+    if (clearance) clearance.radii(water, this.areas.rows, this.jumps);
+    const gone = walkWater(water, this.areas, this.params.step, clearance && this.jumps, this.scratch,
+      this.size, this.left);
     const ice = this.iceState();
     for (let i = 0; gone && i < m; i++) if (this.left[i]) this.supply.relocate(i, gone > 1024, ice);
   }

@@ -128,19 +128,29 @@ export class FreezingIndex {
     return Int32Array.from(out);
   }
 
-  /** Calls `visit(cell, near2, far2)` for each cell under the disc's bounding box, with
-   * the squared distance from (cx, cy) to the cell's nearest and farthest point. */
-  boxCells(cx, cy, r, visit) {
+  /** The cells under the disc's bounding box into `this.box` (flat indices), with the
+   * squared distance from (cx, cy) to each one's nearest point (`this.near2`) and farthest
+   * (`this.far2`); returns how many. Typed arrays kept between calls: nothing allocated. */
+  boxCells(cx, cy, r) {
     const [c0, c1, r0, r1] = this.grid.span(cx - r, cy - r, cx + r, cy + r);
-    const s = this.grid.cell;
+    const s = this.grid.cell, n = Math.max(0, (c1 - c0 + 1) * (r1 - r0 + 1));
+    if (!this.box || this.box.length < n) {
+      this.box = new Int32Array(2 * n);
+      this.near2 = new Float64Array(2 * n);
+      this.far2 = new Float64Array(2 * n);
+    }
+    let k = 0;
     for (let row = r0; row <= r1; row++) {
       const y0 = row * s, ny = Math.min(Math.max(cy, y0), y0 + s) - cy;
       const fy = Math.max(Math.abs(y0 - cy), Math.abs(y0 + s - cy));
-      for (let col = c0; col <= c1; col++) {
+      for (let col = c0; col <= c1; col++, k++) {
         const x0 = col * s, nx = Math.min(Math.max(cx, x0), x0 + s) - cx;
         const fx = Math.max(Math.abs(x0 - cx), Math.abs(x0 + s - cx));
-        visit(row * this.grid.cols + col, nx * nx + ny * ny, fx * fx + fy * fy);
+        this.box[k] = row * this.grid.cols + col;
+        this.near2[k] = nx * nx + ny * ny;
+        this.far2[k] = fx * fx + fy * fy;
       }
     }
+    return k;
   }
 }

@@ -3,7 +3,7 @@
 // directly (at most CELL_WORK a tick), so a full area costs one look at its cells and
 // nothing loops without bound.
 
-import { float32Of } from './random.js';
+import { drawInto } from './random.js';
 
 const TWO_PI = Math.fround(2 * Math.PI);
 // Draws a walker takes among its area's free cells before it is dropped.
@@ -22,8 +22,22 @@ export class Placer {
     this.plans = new Map();  // area -> its cells while the ice stays as it is
     this.plansKey = '';
     this.full = new Map();  // areas whose annulus was last seen with no free cell
-    this.x = 0;  // the spot `place` found
-    this.y = 0;
+    this.spot = new Float32Array(2);  // the spot `place` found (a field would box it)
+    // Uniform draws taken a block at a time (float32, as sim/ draws them): a number
+    // returned by a call for each draw would be boxed, thousands of times a tick.
+    this.draws = new Float32Array(4096);
+    this.at = this.draws.length;
+  }
+
+  /** The next `k` draws start at `this.at` (a fresh block where the last ran out). */
+  take(k) {
+    if (this.at + k > this.draws.length) {
+      drawInto(this.uniform, this.draws);
+      this.at = 0;
+    }
+    const at = this.at;
+    this.at += k;
+    return at;
   }
 
   clear() {
@@ -33,7 +47,7 @@ export class Placer {
   }
 
   /** A uniform spot of `area`'s annulus, on the screen, outside candidate cells, into
-   * (this.x, this.y); false where there is none. `many`: the walker is one of over 1 024
+   * `this.spot`; false where there is none. `many`: the walker is one of over 1 024
    * placed together (fewer disc draws before the cells, as sim/ does); `ice` says when
    * the ice last changed. */
   place(area, many, ice) {
@@ -47,17 +61,19 @@ export class Placer {
   }
 
   discSpot(area, tries) {
-    const a = this.areas.rows, [inner, outer] = this.areas.shell(area, this.launch);
+    this.areas.shell(area, this.launch);
+    const a = this.areas.rows, inner = this.areas.inner, outer = this.areas.outer;
     const cx = a[5 * area], cy = a[5 * area + 1];
     const i2 = Math.fround(inner * inner), span = Math.fround(Math.fround(outer * outer) - i2);
     for (let t = 0; t < tries; t++) {
-      const r = Math.fround(Math.sqrt(Math.fround(i2 + Math.fround(float32Of(this.uniform()) * span))));
-      const th = Math.fround(float32Of(this.uniform()) * TWO_PI);
+      const at = this.take(2), u = this.draws;
+      const r = Math.fround(Math.sqrt(Math.fround(i2 + Math.fround(u[at] * span))));
+      const th = Math.fround(u[at + 1] * TWO_PI);
       const x = Math.fround(cx + Math.fround(r * Math.fround(Math.cos(th))));
       const y = Math.fround(cy + Math.fround(r * Math.fround(Math.sin(th))));
       if (this.index.free(x, y)) {
-        this.x = x;
-        this.y = y;
+        this.spot[0] = x;
+        this.spot[1] = y;
         return true;
       }
     }
@@ -72,16 +88,17 @@ export class Placer {
     const a = this.areas.rows, cx = a[5 * area], cy = a[5 * area + 1], rOut = a[5 * area + 2];
     const index = this.index, cols = index.grid.cols, s = index.grid.cell;
     for (let t = 0; t < CELL_TRIES; t++) {
-      const cell = plan.cells[Math.min(Math.floor(float32Of(this.uniform()) * n), n - 1)];
-      const px = (cell % cols + float32Of(this.uniform())) * s;
-      const py = (Math.floor(cell / cols) + float32Of(this.uniform())) * s;
+      const at = this.take(3), u = this.draws;
+      const cell = plan.cells[Math.min(Math.floor(u[at] * n), n - 1)];
+      const px = (cell % cols + u[at + 1]) * s;
+      const py = (Math.floor(cell / cols) + u[at + 2]) * s;
       const d2 = (px - cx) ** 2 + (py - cy) ** 2;
       if (d2 > rOut * rOut || (!plan.glass && d2 < plan.rIn * plan.rIn)) continue;
       const x = Math.fround(px), y = Math.fround(py);
       if (px >= index.width || py >= index.height || x >= index.width || y >= index.height) continue;
       if (plan.glass && index.nearestD2(x, y) < index.apart2) continue;
-      this.x = x;
-      this.y = y;
+      this.spot[0] = x;
+      this.spot[1] = y;
       return true;
     }
     return false;
@@ -92,32 +109,34 @@ export class Placer {
    * disc, where a spot must be glass. Kept until the ice changes. */
   plan(area, ice) {
     if (ice !== this.plansKey) {
-      this.plans.clear();
+      for (const plan of this.plans.values()) plan.fresh = false;
       this.plansKey = ice;
     }
     let plan = this.plans.get(area);
-    if (plan) return plan;
+    if (plan && plan.fresh) return plan;
     const a = this.areas.rows, cx = a[5 * area], cy = a[5 * area + 1], rOut = a[5 * area + 2];
-    let rIn = a[5 * area + 3];
-    const count = this.index.candidates.count, annulus = [], free = [], disc = [];
-    this.index.boxCells(cx, cy, rOut, (cell, near2, far2) => {
-      if (near2 > rOut * rOut) return;
-      disc.push(cell);
-      if (count[cell] !== 0) return;
-      free.push(cell);
-      if (far2 >= rIn * rIn) annulus.push(cell);
-    });
-    let cells = annulus, glass = false;
-    const full = annulus.length === 0;
-    if (full && this.grow) {
-      rIn = 0;
-      cells = free;
-      if (free.length === 0) {
-        cells = disc;
-        glass = true;
-      }
+    const index = this.index, count = index.candidates.count, n = index.boxCells(cx, cy, rOut);
+    if (!plan || plan.all.length < n) plan = { all: new Int32Array(2 * n) };
+    // The box's cells sorted into three runs of `all`: the annulus's free cells from the
+    // front, the disc's other free cells after them, the disc's cells with ice from the back.
+    const { box, near2, far2 } = index, all = plan.all, rIn = a[5 * area + 3];
+    let annulus = 0, free = 0, iced = all.length;
+    for (let k = 0; k < n; k++) {
+      if (near2[k] > rOut * rOut) continue;
+      if (count[box[k]] !== 0) all[--iced] = box[k];
+      else if (far2[k] >= rIn * rIn) all[annulus++] = box[k];
+      else free++;
     }
-    plan = { cells: Int32Array.from(cells), rIn, glass };
+    for (let k = 0, f = annulus; free && k < n; k++) {  // the disc's free cells inside the annulus
+      if (near2[k] <= rOut * rOut && count[box[k]] === 0 && far2[k] < rIn * rIn) all[f++] = box[k];
+    }
+    const full = annulus === 0;
+    Object.assign(plan, { fresh: true, cells: all.subarray(0, annulus), rIn, glass: false });
+    if (full && this.grow) {
+      plan.rIn = 0;
+      plan.cells = free ? all.subarray(0, free) : all.subarray(iced);
+      plan.glass = free === 0;
+    }
     this.plans.set(area, plan);
     this.full.set(area, full);
     return plan;

@@ -28,7 +28,7 @@ export class Supply {
     const { water, placer } = this;
     for (let j = 0; j < k; j++) {
       if (placer.place(area, many, ice)) {
-        water.append(placer.x, placer.y, area);
+        water.append(placer.spot[0], placer.spot[1], area);
         this.created++;
       } else {
         this.dropped++;
@@ -41,8 +41,8 @@ export class Supply {
   relocate(i, many, ice) {
     const { water, placer } = this;
     if (placer.place(water.area[i], many, ice)) {
-      water.x[i] = placer.x;
-      water.y[i] = placer.y;
+      water.x[i] = placer.spot[0];
+      water.y[i] = placer.spot[1];
       return true;
     }
     water.drop[i] = 1;
