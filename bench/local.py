@@ -59,9 +59,10 @@ def python_ticks(preset: str, ticks: int, seed: int) -> np.ndarray:
 # The worker's tick (LocalRun.tick: step, geometry, encoding) timed in Node.
 NODE_TICKS = """
 import { readFileSync } from "node:fs";
-import { LocalRun } from "./app/web/local/run.js";
+import { LocalRun, warmUp } from "./app/web/local/run.js";
 const [preset, ticks, seed, touches] = JSON.parse(process.argv[1]);
 const config = JSON.parse(readFileSync("app/web/local/params.json", "utf-8"));
+warmUp(config);  // (as the worker does before its hello)
 const run = new LocalRun(config, () => {}, { preset, seed });
 run.hello();
 for (const [x, y] of touches) run.input({ type: "touch", phase: "down", id: 0, x, y });

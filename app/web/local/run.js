@@ -12,6 +12,19 @@ import { SessionRecord } from "./record.js";
 
 export const TOUCHES_PER_TICK = 16;  // the page's touches and melts applied before a tick
 const TEXT_KINDS = ["preset", "look", "backdrop", "pause", "clear", "step"];
+// Before the first hello, a frost of its own grown this many ticks from three touches and
+// thrown away: the first ticks after a touch run before the JavaScript engine has compiled
+// the simulation's loops, and took 5-10 times as long (Node, fern: a p99 of 92-142 ms over
+// the first 250 ticks after three touches, 15-32 ms after this, on a loaded machine).
+const WARM_TICKS = 60;
+const WARM_TOUCHES = [[380, 640], [200, 300], [560, 1000]];
+
+// A frost grown WARM_TICKS from WARM_TOUCHES and thrown away (the worker's, before its hello).
+export function warmUp(config) {
+  const warm = new LocalRun(config, () => {}, { seed: 1 });
+  for (const [x, y] of WARM_TOUCHES) warm.input({ type: "touch", phase: "down", id: 0, x, y });
+  for (let i = 0; i < WARM_TICKS; i++) warm.tick();
+}
 
 export class LocalRun {
   // config: params.json; post(message, transfer): to the page; start: {preset, look, backdrop, seed}.

@@ -9,17 +9,11 @@
 // ticksPerSecond, tickP99Ms, tickMedianMs, dropped}, {type: "session" | "meta", data}, and {type:
 // "failed", reason} where the frost cannot run.
 
-import { LocalRun } from "./run.js";
+import { LocalRun, warmUp } from "./run.js";
 import { TickClock, TICK_MS } from "./clock.js";
 
 const STATS_EVERY = 5;   // ticks between two stats messages (5 a second)
 const MOST_BEHIND = 3;   // ticks run back to back to catch up; beyond, the clock starts anew
-// Before the first hello, a frost of its own grown this many ticks from three touches and
-// thrown away: the first ticks after a touch run before the JavaScript engine has compiled
-// the simulation's loops, and took 5-10 times as long (Node, fern: a p99 of 92-142 ms over
-// the first 250 ticks after three touches, 15-32 ms after this, on a loaded machine).
-const WARM_TICKS = 60;
-const WARM_TOUCHES = [[380, 640], [200, 300], [560, 1000]];
 
 let run = null;
 const clock = new TickClock();
@@ -51,12 +45,6 @@ function loop() {
     now = performance.now();
   }
   setTimeout(loop, Math.max(0, next - performance.now()));
-}
-
-function warmUp(config) {
-  const warm = new LocalRun(config, () => {}, { seed: 1 });
-  for (const [x, y] of WARM_TOUCHES) warm.input({ type: "touch", phase: "down", id: 0, x, y });
-  for (let i = 0; i < WARM_TICKS; i++) warm.tick();
 }
 
 function stats() {
