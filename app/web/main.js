@@ -10,6 +10,7 @@ import { PhoneApp } from "./phone.js";
 import { Clock } from "./lockclock.js";
 import { showOffline } from "./offline.js";
 import { PhotoPicker } from "./photo.js";
+import { WeatherHere } from "./weather.js";
 import { StatusLine } from "./status.js";
 import { Connection } from "./connection.js";
 import { Pane } from "./pane.js";
@@ -34,7 +35,7 @@ const taps = new TapWatch();
 
 // What the page knows; `window.frost` exposes it to the tests and the bench: its parts'
 // fields by their names (frost.synced is the stream's), and the page's menu, phone app,
-// photo picker and clock.
+// photo picker, weather button and clock.
 const frost = { error: null, clock: new Clock() };
 window.frost = frost;
 
@@ -105,6 +106,8 @@ async function main() {
   frost.menu = new Menu(menuElement, send, screenshot, () => alone.download());
   frost.menu.pointers = pointers;
   frost.photo = new PhotoPicker(document.getElementById("panel"), query,
+    (text) => status.say(text), (text) => status.notice(text));
+  frost.weather = new WeatherHere(document.getElementById("panel"), query,
     (text) => status.say(text), (text) => status.notice(text));
   makeApp(menuElement, query, frost);
   frost.phone = new PhoneApp(frost, menuElement);

@@ -5,7 +5,10 @@ Kinds of event: "touch" (x, y), "melt" (x, y, r), "params" (params: a dict; rebu
 simulation), "clear" (drops the touches and melts, rebuilds) and, from version 10, "clock"
 (minute: the lock screen's clock shows that minute from here on, "YYYY-MM-DDTHH:MM", local
 time; the frost is untouched) and, from version 11, "backdrop" (name: the backdrop shown
-from here on, a built-in's or a photo's name; the frost is untouched). Each has its
+from here on, a built-in's or a photo's name; the frost is untouched) and, from version
+12, "weather" (reading: what the weather API said, sim.weather.Reading's JSON; glass: the
+glazing and the room it acts on, sim.weather.Glass's: the frost grows or thaws as they
+make it from here on). Each has its
 "tick": the tick of its timeline it applied at (a rebuild starts a new timeline at tick 0).
 From version 13 a file may say where it was grown: "source": "phone" (a phone's own
 session, grown by the page's simulation: it replays here, but not bit for bit).
@@ -24,6 +27,7 @@ from ..core.frost import VERSION as FROST_VERSION
 from ..core.versions import PHONE_VERSION
 from ..params import Params
 from ..screen import HEIGHT, WIDTH, melt_problem, touch_problem
+from ..weather import Glass, Reading
 from .files import one_line, read_json, write_atomic
 
 FORMAT = "frost-session"
@@ -32,13 +36,14 @@ FORMAT = "frost-session"
 VERSION = FROST_VERSION
 # The keys each event kind needs besides "tick" and "kind".
 EVENT_FIELDS = {"touch": ("x", "y"), "melt": ("x", "y", "r"), "params": ("params",),
-                "clear": (), "clock": ("minute",), "backdrop": ("name",)}
+                "clear": (), "clock": ("minute",), "backdrop": ("name",),
+                "weather": ("reading", "glass")}
 REBUILDS = ("params", "clear")  # kinds that start a new timeline at tick 0
 # Kinds that change only what is shown, not the frost: a session of these alone has
 # nothing to replay (no file is written for it).
 SHOWN_ONLY = ("clock", "backdrop")
 # The first version whose files may hold each kind of event (kinds not named: all).
-SINCE = {"clock": 10, "backdrop": 11}
+SINCE = {"clock": 10, "backdrop": 11, "weather": 12}
 # A backdrop event's name: a built-in's ("dusk") or a photo's ("photo-" and 32 hex digits):
 # the names the pages' protocol carries, never a path.
 BACKDROP_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]{0,63}\Z")
@@ -243,7 +248,23 @@ def check_event(event: Any, size: tuple[int, int] = (WIDTH, HEIGHT)) -> dict[str
                                             and BACKDROP_NAME.match(event["name"])):
         raise SessionError(f"event {event!r}: 'name' must be a backdrop's name (1 to 64 "
                            "letters, digits, '-' or '_')")
+    if event["kind"] == "weather":
+        _weather(event)
     return event
+
+
+def weather_event(reading: Reading, glass: Glass, tick: int = 0) -> dict[str, Any]:
+    """The weather event of `reading` on `glass` (at `tick`: a timeline given it records
+    its own tick)."""
+    return {"tick": tick, "kind": "weather", "reading": reading.as_json(), "glass": glass.as_json()}
+
+
+def _weather(event: dict) -> None:
+    try:
+        Reading.from_json(event["reading"])
+        Glass.from_json(event["glass"])
+    except ValueError as err:
+        raise SessionError(f"weather event at tick {event['tick']}: {err}") from None
 
 
 def _minute(v: Any) -> bool:
