@@ -110,7 +110,7 @@ def run(args, rate: float) -> int:
             start = page.evaluate("frost.local.tick")
             frames = np.diff(page.evaluate(FRAMES, GROW_TICKS * 40))
             page.wait_for_function(f"frost.local.tick >= {start + GROW_TICKS}", timeout=600_000)
-            local = page.evaluate("JSON.parse(JSON.stringify(frost.local))")
+            local = page.evaluate("frost.alone.stats")
         finally:
             ctx.close()
     py = python_ticks(preset, GROW_TICKS, args.seed)
