@@ -121,6 +121,15 @@ def test_the_menu_works_on_the_local_frost(alone, tmp_path):
     page.touchscreen.tap(*css_point(page, 380, 640))
     page.wait_for_function("frost.local.crystals > 20", timeout=120_000)
     page.click("#open")
+    # the backdrops the phone keeps (the lock screen's clock is the server's)
+    assert page.eval_on_selector_all("#backdrop option", "os => os.map((o) => o.value)") == ["dusk"]
+    page.check("#warm")  # the warm finger: a tap melts
+    page.click("#open")
+    page.touchscreen.tap(*css_point(page, 380, 640))
+    page.wait_for_function("frost.alone.ask('session').then((s) => s.events.some((e) => e.kind === 'melt'))",
+                           timeout=30_000)
+    page.click("#open")
+    page.uncheck("#warm")
     page.click("#clear")
     page.wait_for_function("frost.local.crystals === 0", timeout=30_000)
     png = page.evaluate("frost.screenshotPng().then((b) => Array.from(b))")
@@ -130,7 +139,7 @@ def test_the_menu_works_on_the_local_frost(alone, tmp_path):
         page.click("#session")
     session = json.loads(got.value.path().read_text(encoding="utf-8"))
     kinds = [e["kind"] for e in session["events"]]
-    assert session["source"] == "phone" and kinds == ["params", "params", "touch", "clear"], kinds
+    assert session["source"] == "phone" and kinds == ["params", "params", "touch", "melt", "clear"], kinds
     from sim.io.session import SessionLog  # (what frost replay reads)
 
     assert SessionLog.from_json(session).source == "phone"
