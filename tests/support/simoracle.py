@@ -3,7 +3,7 @@ run as a script with one JSON request on stdin, it writes one JSON answer on std
 The requests: a preset's parameters, a growth's figures (crystals at given ticks, the
 first arm, the shape's measures), the measures of a skeleton the page grew, and the
 exact parts (a walk step from given uniform numbers, the candidate cells of given
-crystals and the crystallization of given walkers)."""
+crystals, the crystallization of given walkers and the fern rule's decisions)."""
 
 from __future__ import annotations
 
@@ -19,8 +19,10 @@ from app.bench.morphology import mass_radius_dimension, six_fold_order, turn_sha
 from sim import FrostSim, Params  # noqa: E402
 from sim.core.buffers import Growable  # noqa: E402
 from sim.core.placement import TWO_PI  # noqa: E402
+from sim.core.skeleton import Skeleton  # noqa: E402
 from sim.core.walk import walk_water  # noqa: E402
 from sim.index.freezing import FreezingIndex  # noqa: E402
+from sim.rules.fern import FernGrowth  # noqa: E402
 
 
 class GivenStream:
@@ -37,6 +39,10 @@ class GivenStream:
             raise ValueError(f"the given stream has {len(self.values)} numbers; {self.at + n} drawn")
         self.at += n
         return out.astype(dtype).reshape(size)
+
+    def standard_normal(self, size):
+        """Zeros (a drift of 0 makes them count for nothing), none of the given drawn."""
+        return np.zeros(size)
 
 
 def params_of(request: dict) -> Params:
@@ -129,13 +135,41 @@ def cells(request: dict) -> dict:
             "parents": parents.tolist()}
 
 
+def fern(request: dict) -> list[dict]:
+    """The fern rule's decisions (sim/rules/fern.py FernGrowth.settle, newest rules) over
+    ticks of given walkers: seeds at `seeds` (their grains from the given uniforms `u`,
+    `ringed` each), then each tick the walkers within hc of a crystal settle, and those
+    that grow become crystals linked to their parents."""
+    params = params_of(request)
+    width, height = request["width"], request["height"]
+    ice = Skeleton()
+    index = FreezingIndex(ice.crystals, width, height, params.hc, "candidate", False,
+                          params.long_jumps)
+    growth = FernGrowth(params, GivenStream(request["u"]), pooled_first=True, capped=True)
+    seeds = np.asarray(request["seeds"], np.float32).reshape(-1, 2)
+    new = ice.add(seeds, np.full(len(seeds), -1, np.int32), np.zeros(len(seeds), np.int32))
+    growth.add_seeds(len(seeds), request["ringed"])
+    index.register(new)
+    out = []
+    for walkers in request["ticks"]:
+        w = np.asarray(walkers, np.float32).reshape(-1, 2)
+        hits, parents = index.nearest(np.ascontiguousarray(w[:, 0]), np.ascontiguousarray(w[:, 1]))
+        grown, parents, pts, counted = growth.settle(w[hits], hits, parents, ice, index)
+        new = ice.add(pts, parents, np.zeros(len(pts), np.int32))
+        ice.link(new.start, ice.crystals.raw()[parents], pts, params.D)
+        index.register(new)
+        out.append({"grown": grown.tolist(), "parents": parents.tolist(),
+                    "pts": pts.ravel().tolist(), "counted": sorted(counted.tolist())})
+    return out
+
+
 def answer(request: dict) -> object:
     kind = request["kind"]
     if kind == "params":
         return params_of(request).as_dict()
     if kind == "grow":
         return [grow({**request, "seed": s}) for s in request["seeds"]]
-    handlers = {"measure": measure, "walk": walk, "cells": cells}
+    handlers = {"measure": measure, "walk": walk, "cells": cells, "fern": fern}
     if kind not in handlers:
         raise ValueError(f"unknown request kind {kind!r}")
     return handlers[kind](request)
