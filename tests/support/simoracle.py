@@ -16,8 +16,10 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent.parent))
 
 from app.bench.morphology import mass_radius_dimension, six_fold_order, turn_shares  # noqa: E402
+from app.bench.taps import GAP_S, NEVER, tap_spots, waits  # noqa: E402
 from sim import FrostSim, Params  # noqa: E402
 from sim.core.buffers import Growable  # noqa: E402
+from sim.core.frost import VERSION  # noqa: E402
 from sim.core.placement import TWO_PI  # noqa: E402
 from sim.core.skeleton import Skeleton  # noqa: E402
 from sim.core.walk import walk_water  # noqa: E402
@@ -163,13 +165,21 @@ def fern(request: dict) -> list[dict]:
     return out
 
 
+def taps(request: dict) -> dict:
+    """The page bench's taps through sim/ (app/bench/taps.py): their spots, and each tap's
+    wait for its seed's first child, seed by seed (NEVER: none)."""
+    n = request["taps"]
+    return {"spots": tap_spots(n).ravel().tolist(), "never": NEVER, "gap_s": GAP_S,
+            "waits": [waits(request["preset"], VERSION, n, s).tolist() for s in request["seeds"]]}
+
+
 def answer(request: dict) -> object:
     kind = request["kind"]
     if kind == "params":
         return params_of(request).as_dict()
     if kind == "grow":
         return [grow({**request, "seed": s}) for s in request["seeds"]]
-    handlers = {"measure": measure, "walk": walk, "cells": cells, "fern": fern}
+    handlers = {"measure": measure, "walk": walk, "cells": cells, "fern": fern, "taps": taps}
     if kind not in handlers:
         raise ValueError(f"unknown request kind {kind!r}")
     return handlers[kind](request)

@@ -74,3 +74,27 @@ export function givenStream(values) {
     return values[at++];
   };
 }
+
+/** The page bench's taps (spots x, y interleaved, one every `gapS` s) through the page's
+ * Frost, as app/bench/taps.py's `waits` runs them through sim/: each tap's ticks to its
+ * seed's first child, `never` where it has none by then. */
+export function tapWaits(params, seed, spots, gapS, never) {
+  const frost = new Frost(params, { seed }), taps = spots.length / 2;
+  const tickOfTap = Array.from({ length: taps }, (_, k) => Math.floor(k * gapS * 25));
+  const seeds = [], out = new Array(taps).fill(never);
+  for (let tick = 0; tick < tickOfTap[taps - 1] + never; tick++) {
+    tickOfTap.forEach((t, k) => {
+      if (t !== tick) return;
+      frost.touch(spots[2 * k], spots[2 * k + 1]);
+      seeds.push([k, frost.count - 1, tick]);
+    });
+    frost.step();
+    const waiting = seeds.filter(([k]) => out[k] === never);
+    if (waiting.length === 0 && seeds.length === taps) break;
+    if (waiting.length === 0) continue;
+    const parents = new Set();
+    for (let i = 0; i < frost.count; i++) if (frost.crystalAlive[i]) parents.add(frost.parents[i]);
+    for (const [k, s, t] of waiting) if (parents.has(s) && frost.tick - t <= never) out[k] = frost.tick - t;
+  }
+  return out;
+}
