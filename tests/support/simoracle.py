@@ -66,35 +66,54 @@ def measures(crystals: np.ndarray, parents: np.ndarray, centre, hc: float) -> di
     mean link length and the gyration dimension (tests/test_fern.py's)."""
     child = np.flatnonzero(parents >= 0)
     links = np.hypot(*(crystals[child] - crystals[parents[child]]).astype(np.float64).T)
-    return {"link": float(links.mean()) if len(links) else float("nan"),
-            "dimension": mass_radius_dimension(crystals, centre, hc),
-            "s6": six_fold_order(crystals, parents),
-            "straight": turn_shares(crystals, parents)["straight"],
-            "gyration": gyration_dimension(crystals.astype(np.float64)) if len(crystals) >= 600
-            else float("nan")}
+    with np.errstate(divide="ignore"):  # (a melt's hole leaves no crystal near the centre)
+        return {"link": float(links.mean()) if len(links) else float("nan"),
+                "dimension": mass_radius_dimension(crystals, centre, hc),
+                "s6": six_fold_order(crystals, parents),
+                "straight": turn_shares(crystals, parents)["straight"],
+                "gyration": gyration_dimension(crystals.astype(np.float64))
+                if len(crystals) >= 600 else float("nan")}
+
+
+def live_skeleton(sim: FrostSim) -> tuple[np.ndarray, np.ndarray]:
+    """The live crystals and their parents, renumbered among the live (-1: a root)."""
+    alive = sim.crystal_alive
+    index = np.full(len(alive) + 1, -1, np.int32)  # (the last: a seed's parent, -1)
+    index[np.flatnonzero(alive)] = np.arange(int(alive.sum()), dtype=np.int32)
+    return sim.crystals[alive], index[sim.parents[alive]]
 
 
 def grow(request: dict) -> dict:
     """One touch grown: crystals at `ticks`, the tick of the seed's first child, and the
-    measures at `measure_at` (or once `until_crystals` crystals are reached)."""
+    measures at `measure_at` (or once `until_crystals` crystals are reached); with `melt`,
+    a warm finger, and the live crystals at the ticks of `live_at`."""
     params, centre = params_of(request), tuple(request.get("touch", (380.0, 640.0)))
     sim = FrostSim(params, seed=request["seed"])
     sim.touch(*centre)
     ticks, counts, first = set(request.get("ticks", ())), {}, None
     last = max([*ticks, request.get("measure_at", 0)])
     until = request.get("until_crystals")
+    melt = request.get("melt")  # [tick, x, y, r]: a warm finger before that tick
+    live = {}
     while sim.tick < last or (until and len(sim.crystals) < until):
+        if melt and sim.tick == melt[0]:
+            live["melted"] = len(sim.melt(*melt[1:]).crystals)
         sim.step()
+        if str(sim.tick) in request.get("live_at", ()):
+            live[str(sim.tick)] = int(sim.crystal_alive.sum())
         if first is None and len(sim.crystals) > 1:
             first = sim.tick
         if sim.tick in ticks:
             counts[str(sim.tick)] = len(sim.crystals)
         if sim.tick == request.get("measure_at") and not until:
             break
-    alive = sim.crystal_alive
-    return {"counts": counts, "first_child": first,
+    crystals, parents = live_skeleton(sim)
+    if melt:  # the live crystals that grew back inside the melted disc
+        inside = np.hypot(*(crystals.astype(np.float64) - melt[1:3]).T) < melt[3]
+        live["inside"] = int(inside.sum())
+    return {"counts": counts, "first_child": first, "live": live,
             "upsampled_per_link": len(sim.upsampled) / max(1, int((sim.parents >= 0).sum())),
-            "measures": measures(sim.crystals[alive], sim.parents[alive], centre, params.hc)}
+            "measures": measures(crystals, parents, centre, params.hc)}
 
 
 def measure(request: dict) -> dict:

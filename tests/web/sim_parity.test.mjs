@@ -78,6 +78,20 @@ test('fern: the page bench\'s 32 taps, 0.7 s apart: ticks to each seed\'s first 
   held();
 });
 
+test('a warm finger at the centre at tick 150 and the regrowth, fern and c-2', () => {
+  const seeds = [0, 1, 2, 3, 4], melt = [150, 380, 640, 60];
+  for (const name of ['fern', 'c-2']) {
+    const params = presetParams(name);
+    const sim = python({ kind: 'grow', preset: name, seeds, ticks: [300], measure_at: 0, melt, live_at: ['151', '300'] });
+    const page = seeds.map((seed) => growPage(params, seed, { ticks: [300], melt, liveAt: [151, 300] }));
+    for (const [what, key, factor] of [['crystals melted', 'melted', 1.15], ['live crystals a tick after', '151', 1.1],
+      ['live crystals at tick 300', '300', 1.1], ['crystals grown back inside the melted disc by tick 300', 'inside', 1.3]]) {
+      withinFactor(`${name}: ${what} (median)`, medianOf(page, (r) => r.live[key]), medianOf(sim, (r) => r.live[key]), factor);
+    }
+  }
+  held();
+});
+
 test('the paper\'s c-2: the chain reaction\'s crystals, first crystal and dimension', () => {
   const { sim, page } = bothGrown('c-2', [25, 100, 400], 500);
   withinFactor('crystals at tick 100 (median)', medianOf(page, (r) => r.counts[100]),

@@ -27,19 +27,28 @@ export function presetParams(preset, overrides = {}) {
 
 /** One touch at `touch` grown by the page's Frost, as simoracle.py's `grow` grows sim/'s:
  * crystals at `ticks`, the tick of the seed's first child, and the live skeleton at
- * `measureAt` (or once `untilCrystals` crystals are reached). */
-export function growPage(params, seed, { ticks = [], measureAt = 0, untilCrystals = 0, touch = CENTRE } = {}) {
+ * `measureAt` (or once `untilCrystals` crystals are reached); with `melt` ([tick, x, y, r])
+ * a warm finger before that tick, and the live crystals at the ticks of `liveAt`. */
+export function growPage(params, seed, { ticks = [], measureAt = 0, untilCrystals = 0, touch = CENTRE,
+  melt = null, liveAt = [] } = {}) {
   const frost = new Frost(params, { seed });
   frost.touch(...touch);
-  const counts = {}, last = Math.max(measureAt, ...ticks);
+  const counts = {}, live = {}, last = Math.max(measureAt, ...ticks);
   let first = null;
   while (frost.tick < last || (untilCrystals && frost.count < untilCrystals)) {
+    if (melt && frost.tick === melt[0]) live.melted = frost.melt(...melt.slice(1)).length;
     frost.step();
+    if (liveAt.includes(frost.tick)) live[frost.tick] = frost.crystalAlive.subarray(0, frost.count).reduce((a, b) => a + b, 0);
     if (first === null && frost.count > 1) first = frost.tick;
     if (ticks.includes(frost.tick)) counts[frost.tick] = frost.count;
     if (frost.tick === measureAt && !untilCrystals) break;
   }
-  return { counts, first_child: first, frost, ...liveSkeleton(frost) };
+  const skeleton = liveSkeleton(frost), c = skeleton.crystals;
+  if (melt) {  // the live crystals that grew back inside the melted disc
+    live.inside = 0;
+    for (let j = 0; j < c.length; j += 2) live.inside += Math.hypot(c[j] - melt[1], c[j + 1] - melt[2]) < melt[3];
+  }
+  return { counts, first_child: first, live, frost, ...skeleton };
 }
 
 /** The live crystals (x, y interleaved) and their parents, renumbered among the live. */
