@@ -1,4 +1,4 @@
-// The page's own simulation's tick time in Node: `node bench/local_ticks.mjs [seed]`.
+// The page's own simulation's tick time in Node: `node bench/local_ticks.mjs [seed] [--cold]`.
 // The fern preset, three and ten touches at the spots `frost bench sim --section fern`
 // uses (app/bench/fern.py TOUCHES), 250 ticks each; prints the median and the 99th
 // percentile of a tick in ms, by the wall clock and in the process's CPU time (which a
@@ -27,16 +27,15 @@ function quantile(sorted, q) {
 }
 
 const params = fernParams(), seed = Number(process.argv[2] || 0);
-// A worker grows frost for as long as the page is open: its first ticks, which the engine
-// compiles, are left out of the figures by a warm-up frost of its own seed.
-const warm = new Frost(params, { seed: seed + 1000 });
-for (const [x, y] of TOUCHES.slice(0, 3)) warm.touch(x, y);
-for (let t = 0; t < 100; t++) warm.step();
-console.log(`the page's simulation in Node ${process.version}: fern, ${TICKS} ticks, ms a tick`);
-for (const touches of [3, 10]) {
-  const frost = new Frost(params, { seed });
+// A worker grows frost for as long as the page is open: the first ticks of each code path,
+// which the engine compiles (and may compile again), are left out of the figures by a
+// warm-up run of every case on another seed. `--cold` measures without it.
+const cold = process.argv.includes('--cold');
+for (const touches of cold ? [] : [3, 10]) grow(touches, seed + 1000);
+
+function grow(touches, runSeed, wall = [], cpu = []) {
+  const frost = new Frost(params, { seed: runSeed });
   for (const [x, y] of TOUCHES.slice(0, touches)) frost.touch(x, y);
-  const wall = [], cpu = [];
   for (let t = 0; t < TICKS; t++) {
     const t0 = performance.now(), c0 = process.cpuUsage();
     frost.step();
@@ -44,6 +43,11 @@ for (const touches of [3, 10]) {
     wall.push(performance.now() - t0);
     cpu.push((c.user + c.system) / 1000);
   }
+  return frost;
+}
+
+for (const touches of [3, 10]) {
+  const wall = [], cpu = [], frost = grow(touches, seed, wall, cpu);
   const [w, c] = [wall.sort((a, b) => a - b), cpu.sort((a, b) => a - b)];
   const figures = (s) => `median ${quantile(s, 0.5).toFixed(2)} p99 ${quantile(s, 0.99).toFixed(2)}`;
   console.log(`${String(touches).padStart(2)} touches: wall ${figures(w)}; CPU ${figures(c)} `

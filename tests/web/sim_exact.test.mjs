@@ -1,17 +1,20 @@
 // The page's simulation against sim/ where the two must agree number for number, fed the
 // same numbers (docs/local-sim.md): one walk step from the same uniform draws, the
-// candidate cells of the same crystals, and the crystallization of the same walkers.
+// candidate cells of the same crystals, the crystallization of the same walkers, and the
+// fern rule's decisions on the same hits.
 
 import assert from 'node:assert/strict';
 import test from 'node:test';
 
 import { Areas } from '../../app/web/local/areas.js';
+import { Budget } from '../../app/web/local/budget.js';
+import { FernGrowth } from '../../app/web/local/fern.js';
 import { FreezingIndex } from '../../app/web/local/index.js';
 import { float32Of, seeded } from '../../app/web/local/random.js';
 import { Skeleton } from '../../app/web/local/skeleton.js';
 import { drawWalk, walkWater } from '../../app/web/local/walk.js';
 import { Water } from '../../app/web/local/water.js';
-import { python } from './simoracle.mjs';
+import { givenStream, presetParams, python } from './simoracle.mjs';
 
 const W = 760, H = 1280;
 
@@ -110,3 +113,51 @@ for (const hc of [7, 3, 10]) {
     assert.ok(hits.length > 50 && hits.length < walkers.length / 2 - 50, `${hits.length} hits`);
   });
 }
+
+test('the fern rule decides as sim/ does: which hits grow, where, and which only count', () => {
+  const params = presetParams('fern', { drift: 0 });  // (no normal draws to share)
+  // Seeds: ringed and not, one at the pane's edge (its slots off the pane are blocked and
+  // keep counting), two 12 px apart (their spots meet: only the first of a tick is kept).
+  const seeds = [380, 640, 200, 300, 560, 1000, 3, 900, 300, 500, 312, 500];
+  const ringed = [true, false, true, false, false, false];
+  const u = seeded(21), axes = ringed.map(() => u()), given = [...axes, ...Array(4000).fill(0.5)];
+  const ice = new Skeleton(), index = new FreezingIndex(ice, W, H, params.hc, params.long_jumps);
+  const growth = new FernGrowth(params, givenStream(given), ice, index, new Budget(index, params));
+  for (let j = 0; j < seeds.length; j += 2) {
+    ice.add(seeds[j], seeds[j + 1], -1, 0);
+    growth.addSeed(ringed[j / 2]);
+  }
+  index.register(0, ice.count);
+  const ticks = [], page = [], draw = seeded(22);
+  for (let t = 0; t < 100; t++) {  // walkers within 1.2 hc of random crystals, 40 a tick
+    const walkers = [], water = new Water(64);
+    for (let k = 0; k < 40; k++) {
+      const i = Math.floor(draw() * ice.count), a = 2 * Math.PI * draw(), d = 1.2 * params.hc * Math.sqrt(draw());
+      walkers.push(Math.fround(ice.crystals[2 * i] + d * Math.cos(a)), Math.fround(ice.crystals[2 * i + 1] + d * Math.sin(a)));
+      water.append(walkers[2 * k], walkers[2 * k + 1], 0);
+    }
+    ticks.push(walkers);
+    const hits = new Int32Array(40), parents = new Int32Array(40);
+    let n = 0;
+    for (let k = 0; k < 40; k++) {
+      const p = index.nearest(water.x[k], water.y[k], index.grid.key(water.x[k], water.y[k]));
+      if (p >= 0) [hits[n], parents[n++]] = [k, p];
+    }
+    const grown = [], counted = growth.settle(hits, parents, n, water, grown), start = ice.count;
+    const tick = { grown: [], parents: [], pts: [], counted: Array.from(hits.subarray(0, counted)).sort((a, b) => a - b) };
+    for (let g = 0; g < grown.length; g += 4) {
+      const [w, p, x, y] = grown.slice(g, g + 4), i = ice.add(x, y, p, 0);
+      ice.link(i, ice.crystals[2 * p], ice.crystals[2 * p + 1], params.D);
+      tick.grown.push(w);
+      tick.parents.push(p);
+      tick.pts.push(x, y);
+    }
+    index.register(start, ice.count);
+    page.push(tick);
+  }
+  const sim = python({ kind: 'fern', preset: 'fern', overrides: { drift: 0 }, seeds, ringed, u: axes, ticks,
+    width: W, height: H });
+  page.forEach((tick, t) => assert.deepEqual(tick, sim[t], `tick ${t}`));
+  const grew = page.reduce((s, tick) => s + tick.grown.length, 0);
+  assert.ok(grew >= 30, `${grew} crystals grew in 100 ticks`);
+});

@@ -106,3 +106,11 @@ test('a warm finger melts the crystals within its radius, their links and their 
     for (let t = 0; t < 5; t++) frost.step();  // and the frost grows on
   }
 });
+
+test('parameters it cannot run are refused in one line that names them', () => {
+  assert.throws(() => new Frost(presetParams('window')), /^Error: the frosted window preset needs frost serve$/);
+  const { hc, ...noHc } = FERN;
+  assert.ok(hc > 0);
+  assert.throws(() => new Frost(noHc), /^Error: parameters lack hc$/);
+  for (const name of ['a-1', 'b-1', 'c-3', 'fern']) assert.ok(new Frost(presetParams(name)).touch(380, 640), name);
+});

@@ -27,19 +27,28 @@ export function presetParams(preset, overrides = {}) {
 
 /** One touch at `touch` grown by the page's Frost, as simoracle.py's `grow` grows sim/'s:
  * crystals at `ticks`, the tick of the seed's first child, and the live skeleton at
- * `measureAt` (or once `untilCrystals` crystals are reached). */
-export function growPage(params, seed, { ticks = [], measureAt = 0, untilCrystals = 0, touch = CENTRE } = {}) {
+ * `measureAt` (or once `untilCrystals` crystals are reached); with `melt` ([tick, x, y, r])
+ * a warm finger before that tick, and the live crystals at the ticks of `liveAt`. */
+export function growPage(params, seed, { ticks = [], measureAt = 0, untilCrystals = 0, touch = CENTRE,
+  melt = null, liveAt = [] } = {}) {
   const frost = new Frost(params, { seed });
   frost.touch(...touch);
-  const counts = {}, last = Math.max(measureAt, ...ticks);
+  const counts = {}, live = {}, last = Math.max(measureAt, ...ticks);
   let first = null;
   while (frost.tick < last || (untilCrystals && frost.count < untilCrystals)) {
+    if (melt && frost.tick === melt[0]) live.melted = frost.melt(...melt.slice(1)).length;
     frost.step();
+    if (liveAt.includes(frost.tick)) live[frost.tick] = frost.crystalAlive.subarray(0, frost.count).reduce((a, b) => a + b, 0);
     if (first === null && frost.count > 1) first = frost.tick;
     if (ticks.includes(frost.tick)) counts[frost.tick] = frost.count;
     if (frost.tick === measureAt && !untilCrystals) break;
   }
-  return { counts, first_child: first, frost, ...liveSkeleton(frost) };
+  const skeleton = liveSkeleton(frost), c = skeleton.crystals;
+  if (melt) {  // the live crystals that grew back inside the melted disc
+    live.inside = 0;
+    for (let j = 0; j < c.length; j += 2) live.inside += Math.hypot(c[j] - melt[1], c[j + 1] - melt[2]) < melt[3];
+  }
+  return { counts, first_child: first, live, frost, ...skeleton };
 }
 
 /** The live crystals (x, y interleaved) and their parents, renumbered among the live. */
@@ -73,4 +82,28 @@ export function givenStream(values) {
     if (at >= values.length) throw new Error(`the given stream has ${values.length} numbers`);
     return values[at++];
   };
+}
+
+/** The page bench's taps (spots x, y interleaved, one every `gapS` s) through the page's
+ * Frost, as app/bench/taps.py's `waits` runs them through sim/: each tap's ticks to its
+ * seed's first child, `never` where it has none by then. */
+export function tapWaits(params, seed, spots, gapS, never) {
+  const frost = new Frost(params, { seed }), taps = spots.length / 2;
+  const tickOfTap = Array.from({ length: taps }, (_, k) => Math.floor(k * gapS * 25));
+  const seeds = [], out = new Array(taps).fill(never);
+  for (let tick = 0; tick < tickOfTap[taps - 1] + never; tick++) {
+    tickOfTap.forEach((t, k) => {
+      if (t !== tick) return;
+      frost.touch(spots[2 * k], spots[2 * k + 1]);
+      seeds.push([k, frost.count - 1, tick]);
+    });
+    frost.step();
+    const waiting = seeds.filter(([k]) => out[k] === never);
+    if (waiting.length === 0 && seeds.length === taps) break;
+    if (waiting.length === 0) continue;
+    const parents = new Set();
+    for (let i = 0; i < frost.count; i++) if (frost.crystalAlive[i]) parents.add(frost.parents[i]);
+    for (const [k, s, t] of waiting) if (parents.has(s) && frost.tick - t <= never) out[k] = frost.tick - t;
+  }
+  return out;
 }
