@@ -1,6 +1,6 @@
 // The page's status line: a word on what the page is doing, a notice that goes after a
-// while, the weather outside when nothing else is said, and, once the server refused the
-// page, the reason alone from then on.
+// while, what it says when nothing else is (the phone's own frost, the weather outside),
+// and, once the server refused the page, the reason alone from then on.
 
 const NOTICE_MS = 4000;
 
@@ -8,6 +8,7 @@ export class StatusLine {
   constructor(element) {
     this.element = element;
     this.refused = null;  // why the server refused the page, said instead of anything else
+    this.resting = "";  // said when nothing else is: "on this phone" (the phone's own frost)
     this.idle = "";  // said when nothing else is: the weather's place and reading
     this.timer = 0;
   }
@@ -17,12 +18,17 @@ export class StatusLine {
   }
 
   say(text) {
-    this.element.textContent = this.refused || text || this.idle;
+    this.element.textContent = this.refused || text || this.atRest();
+  }
+
+  // What the line says when nothing else is: the phone's own frost, the weather, or both.
+  atRest() {
+    return [this.resting, this.idle].filter(Boolean).join(" · ");
   }
 
   // The line said when nothing else is (now, if nothing else is said).
   setIdle(text) {
-    const showing = this.element.textContent === this.idle;
+    const showing = this.element.textContent === this.atRest();
     this.idle = text;
     if (showing) this.say("");
   }

@@ -76,7 +76,7 @@ export class Stream {
   // false while the GL context is lost (nothing to draw with).
   connect(msg) {
     this.hello = msg;
-    this.hellos += 1;
+    if (!msg.local) this.hellos += 1;  // (the server's: the phone's own frost is not a connection)
     this.connected = true;
     this.page.phone.connected(true);
     this.status.say("");

@@ -31,6 +31,11 @@ the newest. What each version changed:
    acts on (sim/weather); from their tick on the frost grows as that glass makes it (the
    window's temperature and supply), or thaws (nothing grows, the ice melts back from its
    thin edges). Without weather events the frost grows as in version 9.
+13. A file may say where it was grown: "source": "phone" is a phone's own session, grown by
+   the page's simulation in JavaScript (app/web/local/) with its own random numbers. It
+   replays here by this version's rules, with the same touches, parameters and backdrops,
+   but not bit for bit; a file without "source" was grown by this simulation. The frost
+   itself grows as in version 12.
 """
 
 from __future__ import annotations
@@ -39,7 +44,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-NEWEST = 12
+NEWEST = 13
+# The first version whose files may say where they were grown ("source", above).
+PHONE_VERSION = 13
 # Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
 REGROW_GAP = 12
 # The parts that draw random numbers, in the order their streams are spawned.
