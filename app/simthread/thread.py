@@ -102,11 +102,9 @@ class SimThread(threading.Thread):
         super().__init__(name="frost-sim", daemon=True)
         self.inbox: queue.Queue[Command] = queue.Queue()
         # Who is told of a snapshot or a notice: the maker (`wake`), then the other readers.
-        self.readers: Readers[Snapshot] = Readers(wake)
-        self.outbox, self.notices = self.readers.outbox, self.readers.notices
-        self.drain, self.subscribe = self.readers.drain, self.readers.subscribe
-        self.between_ticks, self.wake = self.readers.between_ticks, self.readers.wake
-        self.notify = self.readers.notify
+        self.readers = r = Readers[Snapshot](wake)
+        self.outbox, self.notices, self.drain, self.subscribe = r.outbox, r.notices, r.drain, r.subscribe
+        self.between_ticks, self.wake, self.notify = r.between_ticks, r.wake, r.notify
         self.size = (width, height)
         self.seed = seed
         self.first_params = params
@@ -223,15 +221,13 @@ class SimThread(threading.Thread):
             self._clock_shown.discard(who)
 
     def show_backdrop(self, name: str) -> int:
-        """The backdrop shown is now `name` (any thread): recorded as a backdrop event at the
-        next tick (a name of the protocol's, by a session version that records them), and
-        every snapshot from then on says it. Returns `send`'s count."""
+        """The backdrop is now `name` (any thread): a backdrop event at the next tick (by a
+        session version that records them) that every later snapshot says; `send`'s count."""
         return self.send("backdrop", name)
 
     def show_weather(self, reading: Reading, glass: Glass) -> int:
-        """The weather outside is now `reading` on `glass` (any thread, e.g. a
-        WeatherFeed's): a weather event at the next tick, from which the frost grows or
-        thaws as they make it. Returns `send`'s count."""
+        """The weather outside is now `reading` on `glass` (any thread: a WeatherFeed's): a
+        weather event at the next tick, the frost grows or thaws by it; `send`'s count."""
         return self.send("weather", (reading, glass))
 
     # ---- thread side ------------------------------------------------------------

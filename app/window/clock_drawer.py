@@ -38,5 +38,27 @@ class ClockDrawer:
         self._future = None
         return (*self.asked, future.result())
 
+    def follow(self, renderer, minute: str | None, outside: str) -> bool:
+        """The renderer's clock to show `minute` (None: the one it shows) with `outside`
+        under it: asked of the worker where the renderer patches its clock box, else set
+        at once. True when that changes what is shown."""
+        minute = minute or renderer.minute
+        if (minute, outside) == (renderer.minute, renderer.outside):
+            return False
+        if renderer.patches_clock():  # (its clock box alone, drawn on the worker)
+            self.ask(minute, outside)
+        else:
+            renderer.set_minute(minute, outside=outside)
+        return True
+
+    def upload(self, renderer) -> bool:
+        """The newest drawing, once ready, given to the renderer (unless it shows that
+        already); True when it did."""
+        drawn = self.ready()
+        if drawn is None or drawn[:2] == (renderer.minute, renderer.outside):
+            return False
+        renderer.set_minute(drawn[0], drawn[2], outside=drawn[1])
+        return True
+
     def close(self) -> None:
         self._pool.shutdown(wait=False, cancel_futures=True)

@@ -191,10 +191,7 @@ class FrostWindow:
     def _drain(self) -> None:
         for snapshot in self.thread.drain():
             self._apply(snapshot)
-        drawn = self.clock.ready()
-        renderer = self.presenter.renderer
-        if drawn is not None and drawn[:2] != (renderer.minute, renderer.outside):
-            renderer.set_minute(drawn[0], drawn[2], outside=drawn[1])
+        if self.clock.upload(self.presenter.renderer):
             self.dirty = True
         self._drain_notices()
 
@@ -218,12 +215,7 @@ class FrostWindow:
                 self.actions.follow(snapshot.params, snapshot.stats.handled)
         if self.actions.follow_backdrop(snapshot.backdrop, snapshot.stats.handled):
             self.dirty = True
-        minute, outside = snapshot.minute or renderer.minute, outside_line(snapshot.weather)
-        if (minute, outside) != (renderer.minute, renderer.outside):
-            if renderer.patches_clock():  # (its clock box alone, drawn on a worker)
-                self.clock.ask(minute, outside)
-            else:
-                renderer.set_minute(minute, outside=outside)
+        if self.clock.follow(renderer, snapshot.minute, outside_line(snapshot.weather)):
             self.dirty = True
         for melt in snapshot.melts:
             renderer.apply(melt)

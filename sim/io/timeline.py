@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..core.frost import FrostSim
-from ..core.versions import rules_of
+from ..core.versions import Rules, rules_of
 from ..look.geometry import FrostGeometry, GeometryDelta
 from ..params import Params
 from ..screen import HEIGHT, WIDTH, touch_problem
@@ -70,7 +70,48 @@ def rebuilt_words(ticks: list[int], melts: int) -> str:
     return f"rebuilt{joined}{planted}{again}"
 
 
-class Timeline:
+class Surroundings:
+    """A Timeline's events of the world around the frost, each kept across a rebuild: the
+    clock's minute, the backdrop behind the glass and the weather outside (which sets how
+    the frost grows or thaws)."""
+
+    rules: Rules
+    version: int
+    sim: FrostSim
+    minute: str | None
+    backdrop: str | None
+    weather: dict[str, Any] | None
+
+    def _clock(self, event: dict, notes: dict) -> None:
+        """The lock screen's clock shows `minute` from this tick on (the frost is untouched;
+        a rebuild keeps it: the clock is the screen's, not the frost's)."""
+        if not self.rules.clock_events:
+            raise ValueError(f"a clock event needs session version 10 or later, not {self.version}")
+        self.minute = notes["minute"] = event["minute"]
+
+    def _backdrop(self, event: dict, notes: dict) -> None:
+        """The backdrop `name` is shown from this tick on (the frost is untouched; a
+        rebuild keeps it)."""
+        if not self.rules.backdrop_events:
+            raise ValueError(f"a backdrop event needs session version 11 or later, not {self.version}")
+        self.backdrop = notes["backdrop"] = event["name"]
+
+    def _weather(self, event: dict, notes: dict) -> None:
+        """The weather outside from this tick on (sim/weather): the frost grows as its glass
+        makes it, or thaws; a rebuild keeps it (the weather is the night's, not the frost's)."""
+        if not self.rules.weather_events:
+            raise ValueError(f"a weather event needs session version 12 or later, not {self.version}")
+        self.weather = notes["weather"] = {"reading": event["reading"], "glass": event["glass"]}
+        self._set_weather()
+
+    def _set_weather(self) -> None:
+        if self.weather is not None:
+            reading = Reading.from_json(self.weather["reading"])
+            frost = frost_of(reading.temperature_c, Glass.from_json(self.weather["glass"]))
+            self.sim.set_weather(frost.temperature, frost.supply)
+
+
+class Timeline(Surroundings):
     """A FrostSim and its FrostGeometry driven by events (see the module docstring)."""
 
     def __init__(self, params: Params, seed: int, width: int = WIDTH, height: int = HEIGHT,
@@ -224,34 +265,6 @@ class Timeline:
         self.params, self.geometry = params, FrostGeometry(params, *self.size, wrap=self.wrap)
         notes["reset"] = True
         notes["deltas"][:] = [self.geometry.redraw(self.sim)]
-
-    def _clock(self, event: dict, notes: dict) -> None:
-        """The lock screen's clock shows `minute` from this tick on (the frost is untouched;
-        a rebuild keeps it: the clock is the screen's, not the frost's)."""
-        if not self.rules.clock_events:
-            raise ValueError(f"a clock event needs session version 10 or later, not {self.version}")
-        self.minute = notes["minute"] = event["minute"]
-
-    def _backdrop(self, event: dict, notes: dict) -> None:
-        """The backdrop `name` is shown from this tick on (the frost is untouched; a
-        rebuild keeps it)."""
-        if not self.rules.backdrop_events:
-            raise ValueError(f"a backdrop event needs session version 11 or later, not {self.version}")
-        self.backdrop = notes["backdrop"] = event["name"]
-
-    def _weather(self, event: dict, notes: dict) -> None:
-        """The weather outside from this tick on (sim/weather): the frost grows as its glass
-        makes it, or thaws; a rebuild keeps it (the weather is the night's, not the frost's)."""
-        if not self.rules.weather_events:
-            raise ValueError(f"a weather event needs session version 12 or later, not {self.version}")
-        self.weather = notes["weather"] = {"reading": event["reading"], "glass": event["glass"]}
-        self._set_weather()
-
-    def _set_weather(self) -> None:
-        if self.weather is not None:
-            reading = Reading.from_json(self.weather["reading"])
-            frost = frost_of(reading.temperature_c, Glass.from_json(self.weather["glass"]))
-            self.sim.set_weather(frost.temperature, frost.supply)
 
     def _thaw(self, notes: dict) -> None:
         """In a thaw, every THAW_TICKS ticks the ice's thin edges melt (one layer of tips)."""
