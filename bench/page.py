@@ -9,6 +9,7 @@ messages of the protocol (app.serve.protocol) for the deltas the desktop rendere
 python -m bench page [--preset fern] [--look paper] [--ticks 300] [--frames 60]
     [--out DIR]
 python -m bench page --phone-app [--out DIR]   (bench/phoneapp.py)
+python -m bench page --local [--cpu-slowdown 4]   (bench/local.py: the phone's own frost)
 Or, through `frost serve` (bench/network.py), on loopback or a phone-like network:
 python -m bench page --taps N | --join N | --scribble S | --photo N [--network wifi|4g]
     [--cpu-slowdown 4]
@@ -413,12 +414,15 @@ def main(argv: list[str] | None = None, prog: str = "python -m bench page") -> i
                    "a late join's snapshot, N times (the window pane grown --ticks ticks by the "
                    "simulation alone; no server): applying it, its features, the whole pane "
                    "drawn and the part a portrait and a landscape phone shows")
+    p.add_argument("--local", action="store_true", help="instead: the phone's own frost (the page "
+                   "installed, the server stopped): the worker's tick, the page's frames under "
+                   "--cpu-slowdown (default 4 here), the Python tick beside")
     p.add_argument("--network", metavar="PROFILE", help="with --taps, --join, --scribble, --photo: the "
                    "page reaches the server through a shaping proxy: " + "; ".join(
                        x.describe() for x in PROFILES.values()) + " (default: loopback)")
-    p.add_argument("--cpu-slowdown", type=slowdown, default=1.0, metavar="N",
-                   help="with --taps, --join, --scribble, --photo: the page's CPU N times slower "
-                   "(Chromium's throttling; 4 is Lighthouse's phone; default 1)")
+    p.add_argument("--cpu-slowdown", type=slowdown, default=None, metavar="N",
+                   help="with --taps, --join, --scribble, --photo, --local: the page's CPU N times slower "
+                   "(Chromium's throttling; 4 is Lighthouse's phone; default 1, 4 with --local)")
     p.add_argument("--out", help="write desktop.png, page.png, difference.png here")
     args = p.parse_args(argv)
     network = None
@@ -428,6 +432,13 @@ def main(argv: list[str] | None = None, prog: str = "python -m bench page") -> i
         except ValueError as err:
             p.error(f"argument --network: {err}")
     served = args.taps or args.join or args.scribble or args.photo
+    if args.local:
+        if browser_problem():
+            print(f"frost: error: {browser_problem()}")
+            return 2
+        from bench.local import run as local
+        return local(args, args.cpu_slowdown or 4.0)
+    args.cpu_slowdown = args.cpu_slowdown or 1.0
     if not served and (network or args.cpu_slowdown != 1):
         p.error("--network and --cpu-slowdown go with --taps, --join, --scribble or --photo "
                 "(the parity bench has no server)")

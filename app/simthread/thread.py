@@ -32,6 +32,7 @@ from sim.io.session import VERSION, SessionLog
 from sim.io.timeline import Timeline, apply_due
 from sim.look.geometry import GeometryDelta
 from sim.screen import HEIGHT, TICKS_PER_SECOND, WIDTH
+from sim.weather import Glass, Reading
 
 log = logging.getLogger(__name__)
 
@@ -68,6 +69,8 @@ class Snapshot:
     events: int = 0  # events recorded so far (a session file of this frame keeps these)
     minute: str | None = None  # the minute the lock screen's clock shows (None: none yet)
     backdrop: str | None = None  # the backdrop shown (None: none said yet, the default)
+    # The weather outside: the last weather event's {"reading": ..., "glass": ...} (None: none).
+    weather: dict[str, Any] | None = None
 
     def touch_ticks(self, timeline: Timeline) -> list[tuple[int, float, float]]:
         """(tick, x, y) of the touches its frame grows from: the timeline's, as long as no
@@ -225,6 +228,12 @@ class SimThread(threading.Thread):
         every snapshot from then on says it. Returns `send`'s count."""
         return self.send("backdrop", name)
 
+    def show_weather(self, reading: Reading, glass: Glass) -> int:
+        """The weather outside is now `reading` on `glass` (any thread, e.g. a
+        WeatherFeed's): a weather event at the next tick, from which the frost grows or
+        thaws as they make it. Returns `send`'s count."""
+        return self.send("weather", (reading, glass))
+
     # ---- thread side ------------------------------------------------------------
 
     def run(self) -> None:
@@ -279,7 +288,7 @@ class SimThread(threading.Thread):
     def _snapshot(self, delta, **extra) -> Snapshot:
         return Snapshot(delta, self._stats(), self.params, self.touches, steps=self.timeline.steps,
                         events=len(self.timeline.events), minute=self.timeline.minute,
-                        backdrop=self.backdrop, **extra)
+                        backdrop=self.backdrop, weather=self.timeline.weather, **extra)
 
     def _stats(self) -> Stats:
         return Stats(self.sim.tick, self.times.last_ms, len(self.sim.crystals),

@@ -67,6 +67,9 @@ class PaperGrowth:
     def nbytes(self) -> int:
         return 0
 
+    def chilled(self, params: Params) -> None:
+        """The paper's rule counts no hits: the temperature changes nothing."""
+
 
 class FernGrowth:
     """Grains and hit counters (see module doc) over per-crystal arrays."""
@@ -150,6 +153,11 @@ class FernGrowth:
         # across the clearing (six open slots each sprouted a stub: a band of stubs), and
         # goes back to branch order 0 (else a wipe regrew as a few high-order stubs).
         self.order.raw()[edge] = 0
+
+    def chilled(self, params: Params) -> None:
+        """The hits a slot needs from now on: `params`' (the weather's, `window_mode.chill`);
+        the hits counted so far are kept."""
+        self.need = np.array([params.tip_hits, params.side_hits, -1])
 
     def nbytes(self) -> int:
         return sum(b.nbytes() for b in (self.axis, self.slot, self.seed, self.ringed, self.child,

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 from pathlib import Path
 
@@ -24,3 +25,13 @@ def trusting_home(home: Path, cafile: Path | None) -> Path:
         subprocess.run(["certutil", "-d", f"sql:{db}", "-A", "-t", "C,,", "-n", "frost",
                         "-i", str(cafile)], check=True)
     return home
+
+
+def trusting_chromium(pw, home: Path, name: str):
+    """The system Chromium with `home` as its HOME (its NSS database of trusted
+    authorities is home/.pki/nssdb) and `name` resolved to this machine: a name that is no
+    loopback name, so that only HTTPS makes the page a secure context."""
+    from bench.page import CHROMIUM_ARGS, chromium_options
+
+    args = [*CHROMIUM_ARGS, f"--host-resolver-rules=MAP {name} 127.0.0.1"]
+    return pw.chromium.launch(**chromium_options(pw, args), env={**os.environ, "HOME": str(home)})
