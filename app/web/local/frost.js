@@ -92,9 +92,11 @@ export class Frost extends Touches {
     return this.closeTick(grown.length / 4);
   }
 
-  /** What changes when the ice does (placement's cached cells follow it). */
+  /** What changes when the ice does (placement's cached cells follow it): crystals
+   * added and melted, as one number (a string made each tick, passed to every placement,
+   * cost the tick a collection of young garbage every few ticks). */
   iceState() {
-    return `${this.ice.count},${this.waterMelted}`;
+    return this.ice.count * 4294967296 + this.waterMelted;
   }
 
   walk() {

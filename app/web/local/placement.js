@@ -20,7 +20,7 @@ export class Placer {
     this.grow = params.grow;
     this.cellWork = CELL_WORK;  // cell placements left in this tick
     this.plans = new Map();  // area -> its cells while the ice stays as it is
-    this.plansKey = '';
+    this.plansKey = -1;
     this.full = new Map();  // areas whose annulus was last seen with no free cell
     this.spot = new Float32Array(2);  // the spot `place` found (a field would box it)
     // Uniform draws taken a block at a time (float32, as sim/ draws them): a number
@@ -43,7 +43,7 @@ export class Placer {
   clear() {
     this.plans.clear();
     this.full.clear();
-    this.plansKey = '';
+    this.plansKey = -1;
   }
 
   /** A uniform spot of `area`'s annulus, on the screen, outside candidate cells, into
