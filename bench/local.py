@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bench.page import ANGLE, TOUCHES, chromium_options
+from bench.chromium import ANGLE, chromium_options
 from bench.phoneapp import serving
 from sim import FrostSim, Params
 
@@ -43,10 +43,10 @@ def installed_alone(ctx, url: str):
     return page
 
 
-def python_ticks(preset: str, ticks: int, seed: int) -> np.ndarray:
-    """ms of each of `ticks` steps of sim/ with the bench's touches."""
+def python_ticks(preset: str, ticks: int, seed: int, touches) -> np.ndarray:
+    """ms of each of `ticks` steps of sim/ grown from `touches`."""
     sim = FrostSim(Params.preset(preset), seed=seed)
-    for x, y in TOUCHES:
+    for x, y in touches:
         sim.touch(x, y)
     times = []
     for _ in range(ticks):
@@ -76,19 +76,21 @@ console.log(JSON.stringify(times));
 """
 
 
-def node_ticks(preset: str, ticks: int, seed: int) -> np.ndarray | None:
-    """ms of each of `ticks` of the worker's ticks run by Node, or None without Node."""
+def node_ticks(preset: str, ticks: int, seed: int, touches) -> np.ndarray | None:
+    """ms of each of `ticks` of the worker's ticks run by Node (grown from `touches`), or
+    None without Node."""
     node = shutil.which("node")
     if node is None:
         return None
     root = Path(__file__).resolve().parent.parent
     out = subprocess.run([node, "--input-type=module", "-e", NODE_TICKS,
-                          json.dumps([preset, ticks, seed, TOUCHES])],
+                          json.dumps([preset, ticks, seed, list(touches)])],
                          cwd=root, capture_output=True, text=True, timeout=600, check=True)
     return np.array(json.loads(out.stdout))
 
 
-def run(args, rate: float) -> int:
+def run(args, rate: float, touches) -> int:
+    """The bench: the page's CPU slowed `rate` times, its frost grown from `touches`."""
     from playwright.sync_api import sync_playwright
 
     preset = args.preset or "fern"
@@ -105,7 +107,7 @@ def run(args, rate: float) -> int:
             cdp = ctx.new_cdp_session(page)
             cdp.send("Emulation.setCPUThrottlingRate", {"rate": rate})
             rect = page.evaluate("frost.paneCss()")
-            for x, y in TOUCHES:
+            for x, y in touches:
                 page.touchscreen.tap(rect["x"] + x * rect["sx"], rect["y"] + y * rect["sy"])
             start = page.evaluate("frost.local.tick")
             frames = np.diff(page.evaluate(FRAMES, GROW_TICKS * 40))
@@ -113,8 +115,8 @@ def run(args, rate: float) -> int:
             local = page.evaluate("frost.alone.stats")
         finally:
             ctx.close()
-    py = python_ticks(preset, GROW_TICKS, args.seed)
-    js = node_ticks(preset, GROW_TICKS, args.seed)
+    py = python_ticks(preset, GROW_TICKS, args.seed, touches)
+    js = node_ticks(preset, GROW_TICKS, args.seed, touches)
     print(f"{preset}, three touches, {GROW_TICKS} ticks, the page's CPU slowed {rate:g}x "
           f"(Chromium, {args.angle}); {local['crystals']} crystals")
     print(f"worker tick (its own clock, last 250): median {local['tickMedianMs']:.2f} ms, "

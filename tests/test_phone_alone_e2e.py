@@ -190,7 +190,7 @@ def test_a_page_that_never_cached_its_simulation_waits_for_the_server(pw, serve,
     itself when it is back, as before."""
     from support.phone import PHONE
 
-    from bench.page import launch
+    from bench.chromium import launch
 
     port = str(free_port())
     s = serve("--port", port, folder=tmp_path)

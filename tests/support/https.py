@@ -8,7 +8,7 @@ from pathlib import Path
 
 
 def browser_problem() -> str | None:
-    from bench.page import browser_problem as problem
+    from bench.chromium import browser_problem as problem
 
     found = problem()
     if found is None and not Path("/usr/bin/certutil").is_file():
@@ -31,7 +31,7 @@ def trusting_chromium(pw, home: Path, name: str):
     """The system Chromium with `home` as its HOME (its NSS database of trusted
     authorities is home/.pki/nssdb) and `name` resolved to this machine: a name that is no
     loopback name, so that only HTTPS makes the page a secure context."""
-    from bench.page import CHROMIUM_ARGS, chromium_options
+    from bench.chromium import CHROMIUM_ARGS, chromium_options
 
     args = [*CHROMIUM_ARGS, f"--host-resolver-rules=MAP {name} 127.0.0.1"]
     return pw.chromium.launch(**chromium_options(pw, args), env={**os.environ, "HOME": str(home)})
