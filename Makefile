@@ -12,8 +12,9 @@ SETUP_LOG  := $(VENV)/setup.log
 # libraries, and glfw's wheel carries GLFW.
 RUN_PKGS := libegl1 libgles2 libgl1
 # The tests' (the demo's and): a display for the window tests, the shader compiler, the
-# browser that drives the phone page, and certutil for the phone's HTTPS.
-APT_PKGS := $(RUN_PKGS) xvfb xauth xdotool glslang-tools chromium libnss3-tools
+# browser that drives the phone page, certutil for the phone's HTTPS, and Node for the
+# page's own JavaScript (tests/web).
+APT_PKGS := $(RUN_PKGS) xvfb xauth xdotool glslang-tools chromium libnss3-tools nodejs
 
 .PHONY: run serve test quick test-deep bench bench-sim bench-render lint system-run system-test clean
 

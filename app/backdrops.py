@@ -27,14 +27,15 @@ LIVE = "lockscreen"  # the backdrop with a live clock (its static parts in its P
 
 
 def load_backdrop(name: str, size: tuple[int, int] = (WIDTH, HEIGHT),
-                  minute: str | None = DEFAULT_MINUTE, photos: Path | None = None) -> np.ndarray:
+                  minute: str | None = DEFAULT_MINUTE, photos: Path | None = None,
+                  outside: str = "") -> np.ndarray:
     """Backdrop `name` (built-in, a photo kept in the folder `photos`, or a file) as
     H x W x 3 uint8, top row first, covering `size` (width, height); the lock screen with
-    its clock at `minute` (None: its static parts only, the clock box bare). ValueError in
-    one line if it cannot be read."""
+    its clock at `minute` and `outside` under it (None: its static parts only, the clock
+    box bare). ValueError in one line if it cannot be read."""
     image = read_backdrop(name, photos)
     if name == LIVE and minute is not None:
-        image = Image.fromarray(with_clock(np.asarray(image), minute))
+        image = Image.fromarray(with_clock(np.asarray(image), minute, outside))
     return np.asarray(cover(image, size))
 
 

@@ -5,7 +5,9 @@ backdrop's clock box, each minute, by the window, `frost render`, `frost replay`
 `assets/lockscreen.png` (drawn by `assets/make_lockscreen.py`) holds the lock screen's
 static parts, with the box left as bare wallpaper; `clock_patch` draws a minute over the
 box's own pixels, and `with_clock` gives the whole backdrop at that minute. A minute is
-named as session files record it: local time, "YYYY-MM-DDTHH:MM" (`minute_name`).
+named as session files record it: local time, "YYYY-MM-DDTHH:MM" (`minute_name`). With the
+weather outside (--weather), the temperature outside is drawn under the clock, in the box
+too (`outside_line`).
 """
 
 from __future__ import annotations
@@ -70,9 +72,20 @@ def clock_from(start: datetime | None) -> Callable[[], datetime]:
     return lambda: start + timedelta(seconds=time.monotonic() - began)
 
 
-def clock_patch(static: np.ndarray, minute: str) -> np.ndarray:
+def outside_line(weather: dict | None) -> str:
+    """What the lock screen says under its clock of the weather event `weather` (a
+    snapshot's or an applied event's {"reading": ..., "glass": ...}): the temperature
+    outside in whole degrees, e.g. "-25 °C outside" (the font has no typographic minus);
+    "" without a reading."""
+    if not weather:
+        return ""
+    return f"{round(weather['reading']['temperature_c']):d} °C outside"  # (an int: never "-0")
+
+
+def clock_patch(static: np.ndarray, minute: str, outside: str = "") -> np.ndarray:
     """The clock box of the backdrop at `minute`: `static`'s (the whole 760x1280 static
-    backdrop, H x W x 3 uint8) box pixels with the date and the time drawn over them."""
+    backdrop, H x W x 3 uint8) box pixels with the date and the time drawn over them, and
+    `outside` (`outside_line`'s) under the time."""
     x0, y0, x1, y1 = CLOCK_BOX
     when = parse_minute(minute)
     box = Image.fromarray(np.ascontiguousarray(static[y0:y1, x0:x1]))
@@ -82,25 +95,28 @@ def clock_patch(static: np.ndarray, minute: str) -> np.ndarray:
     # A soft shadow under the white figures keeps them legible on a bright sky.
     mask = Image.new("L", (w, h), 0)
     shadow = ImageDraw.Draw(mask)
-    _text(shadow, date, clock, 255)
+    _text(shadow, date, clock, outside, 255)
     mask = mask.filter(ImageFilter.GaussianBlur(7)).point(lambda v: v * 0.55)
     box.paste(Image.new("RGB", (w, h), SHADOW), (0, 0), mask)
-    _text(ImageDraw.Draw(box), date, clock, TEXT)
+    _text(ImageDraw.Draw(box), date, clock, outside, TEXT)
     return np.asarray(box)
 
 
-def _text(draw: ImageDraw.ImageDraw, date: str, clock: str, fill) -> None:
+def _text(draw: ImageDraw.ImageDraw, date: str, clock: str, outside: str, fill) -> None:
     w = CLOCK_BOX[2] - CLOCK_BOX[0]
     draw.text((w / 2, 52), date, font=font(40), fill=fill, anchor="mm")
     draw.text((w / 2, 188), clock, font=font(196), fill=fill, anchor="mm")
+    if outside:  # (the time's figures end 56 px above; the box 26 px below)
+        draw.text((w / 2, 294), outside, font=font(36), fill=fill, anchor="mm")
 
 
-def with_clock(static: np.ndarray, minute: str) -> np.ndarray:
-    """The whole lock screen at `minute`: `static` with its clock box drawn."""
+def with_clock(static: np.ndarray, minute: str, outside: str = "") -> np.ndarray:
+    """The whole lock screen at `minute`: `static` with its clock box drawn (`outside`
+    under the time)."""
     if static.shape[:2] != (HEIGHT, WIDTH):
         raise ValueError(f"the lock screen is {WIDTH}x{HEIGHT}, not "
                          f"{static.shape[1]}x{static.shape[0]}")
     out = np.array(static, np.uint8)
     x0, y0, x1, y1 = CLOCK_BOX
-    out[y0:y1, x0:x1] = clock_patch(static, minute)
+    out[y0:y1, x0:x1] = clock_patch(static, minute, outside)
     return out

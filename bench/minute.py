@@ -124,7 +124,7 @@ PAGE_TIMES = """async (n) => {
 def page(samples: int) -> None:
     from playwright.sync_api import sync_playwright
 
-    from bench.page import launch
+    from bench.chromium import launch
 
     served = ServeProcess("--port", "0", "--session-dir", tempfile.mkdtemp(), "--preset", "fern",
                           "--seed", "5", "--background", LIVE, "--clock-start", "10:00").drain()

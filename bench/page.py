@@ -9,6 +9,7 @@ messages of the protocol (app.serve.protocol) for the deltas the desktop rendere
 python -m bench page [--preset fern] [--look paper] [--ticks 300] [--frames 60]
     [--out DIR]
 python -m bench page --phone-app [--out DIR]   (bench/phoneapp.py)
+python -m bench page --local [--cpu-slowdown 4]   (bench/local.py: the phone's own frost)
 Or, through `frost serve` (bench/network.py), on loopback or a phone-like network:
 python -m bench page --taps N | --join N | --scribble S | --photo N [--network wifi|4g]
     [--cpu-slowdown 4]
@@ -29,81 +30,18 @@ from app.backdrops import DEFAULT_BACKDROP, load_backdrop
 from app.bench.options import Parser, count, slowdown
 from app.resources import SHADER_DIR, WEB_DIR
 from app.serve.hello import hello_fields
+from bench.chromium import ANGLE, browser_problem, launch
 from bench.network import JOIN_TICKS
 from bench.shaper import PROFILES, profile
 from sim import Params, all_presets
 from sim.look.geometry import GeometryDelta
 from sim.screen import HEIGHT, WIDTH
 
-CHROMIUM = "/usr/bin/chromium"
-# SwiftShader (Chromium's CPU rasteriser) for WebGL2, on any machine, GPU or not.
-CHROMIUM_ARGS = ["--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist"]
-# Or the system's OpenGL through EGL (Mesa's llvmpipe here: the desktop renderer's rasteriser).
-ANGLE = {"swiftshader": CHROMIUM_ARGS, "gl-egl": ["--use-angle=gl-egl", "--ignore-gpu-blocklist"]}
-# Chromium 151 and later render the desktop address bar's popup (a WebUI page, in a renderer
-# of its own) ahead of time for every new window, headless too: about half a second of CPU
-# while each new context's page loads, on the two cores the page, the browser and the
-# server share (a late join: 1.88 against 1.41 s, docs/results/bench-page.md, run 9). A
-# phone's browser has no such popup; Puppeteer turns both off by default.
-QUIET_FEATURES = ("WebUIOmniboxPopup", "WebUIOmniboxAimPopup")
 ORIGIN = "http://frost.test"  # the page's address when Playwright serves it from disk
 # Touches the bench grows its frost from (screen px), and a warm finger's melt (x, y, r)
 # two thirds of the way (a wipe of the page's features, then the survivors re-sent).
 TOUCHES = ((380.0, 640.0), (200.0, 300.0), (560.0, 1000.0))
 MELT = (380.0, 600.0, 40.0)
-
-
-def browser_problem() -> str | None:
-    """Why the page cannot be driven here (no playwright, no chromium), or None."""
-    try:
-        import playwright.sync_api  # noqa: F401
-    except ImportError:
-        return "the playwright package is missing (pip install playwright; it is in the dev extra)"
-    if not Path(CHROMIUM).is_file():
-        return f"{CHROMIUM} is missing (apt-get install chromium)"
-    return None
-
-
-def launch(playwright, angle: str = "swiftshader"):
-    """The system Chromium, headless, with WebGL2 on SwiftShader (or `angle` of ANGLE)."""
-    return playwright.chromium.launch(**chromium_options(playwright, ANGLE[angle]))
-
-
-def chromium_options(playwright, args) -> dict[str, Any]:
-    """Launch options for the system Chromium, headless, with `args` and QUIET_FEATURES off.
-    Chromium keeps only the last --disable-features it is given, and Playwright gives its
-    own: so that list is left out and given again with QUIET_FEATURES added."""
-    options: dict[str, Any] = {"executable_path": CHROMIUM, "headless": True, "args": list(args)}
-    default = playwright_disabled(playwright)
-    if default is not None:
-        names = [n for n in default.split("=", 1)[1].split(",") if n]
-        options["ignore_default_args"] = [default]
-        options["args"].append("--disable-features=" + ",".join([*names, *QUIET_FEATURES]))
-    return options
-
-
-_DISABLED: list[str | None] = []
-
-
-def playwright_disabled(playwright) -> str | None:
-    """Playwright's own --disable-features switch, as the browser was given it (read once a
-    process from chrome://version of a browser launched for it), or None if it has none or
-    it cannot be read (then QUIET_FEATURES stay as they are)."""
-    if not _DISABLED:
-        found = None
-        try:
-            b = playwright.chromium.launch(executable_path=CHROMIUM, headless=True)
-            try:
-                page = b.new_page()
-                page.goto("chrome://version")
-                line = page.evaluate("document.getElementById('command_line').textContent")
-                found = next((a for a in line.split() if a.startswith("--disable-features=")), None)
-            finally:
-                b.close()
-        except Exception as e:  # (an older or odd Chromium: the popups are its own business)
-            print(f"bench: Chromium's command line could not be read ({e}); its features as they are")
-        _DISABLED.append(found)
-    return _DISABLED[0]
 
 
 def hello(params: Params, backdrop: str = DEFAULT_BACKDROP) -> dict:
@@ -413,12 +351,15 @@ def main(argv: list[str] | None = None, prog: str = "python -m bench page") -> i
                    "a late join's snapshot, N times (the window pane grown --ticks ticks by the "
                    "simulation alone; no server): applying it, its features, the whole pane "
                    "drawn and the part a portrait and a landscape phone shows")
+    p.add_argument("--local", action="store_true", help="instead: the phone's own frost (the page "
+                   "installed, the server stopped): the worker's tick, the page's frames under "
+                   "--cpu-slowdown (default 4 here), the Python tick beside")
     p.add_argument("--network", metavar="PROFILE", help="with --taps, --join, --scribble, --photo: the "
                    "page reaches the server through a shaping proxy: " + "; ".join(
                        x.describe() for x in PROFILES.values()) + " (default: loopback)")
-    p.add_argument("--cpu-slowdown", type=slowdown, default=1.0, metavar="N",
-                   help="with --taps, --join, --scribble, --photo: the page's CPU N times slower "
-                   "(Chromium's throttling; 4 is Lighthouse's phone; default 1)")
+    p.add_argument("--cpu-slowdown", type=slowdown, default=None, metavar="N",
+                   help="with --taps, --join, --scribble, --photo, --local: the page's CPU N times slower "
+                   "(Chromium's throttling; 4 is Lighthouse's phone; default 1, 4 with --local)")
     p.add_argument("--out", help="write desktop.png, page.png, difference.png here")
     args = p.parse_args(argv)
     network = None
@@ -428,6 +369,13 @@ def main(argv: list[str] | None = None, prog: str = "python -m bench page") -> i
         except ValueError as err:
             p.error(f"argument --network: {err}")
     served = args.taps or args.join or args.scribble or args.photo
+    if args.local:
+        if browser_problem():
+            print(f"frost: error: {browser_problem()}")
+            return 2
+        from bench.local import run as local
+        return local(args, args.cpu_slowdown or 4.0, TOUCHES)
+    args.cpu_slowdown = args.cpu_slowdown or 1.0
     if not served and (network or args.cpu_slowdown != 1):
         p.error("--network and --cpu-slowdown go with --taps, --join, --scribble or --photo "
                 "(the parity bench has no server)")

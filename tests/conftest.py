@@ -219,7 +219,7 @@ def pw():
 @pytest.fixture(scope="module")
 def browser(pw):
     """Headless Chromium (bench.page.launch) of the module's Playwright."""
-    from bench.page import launch
+    from bench.chromium import launch
 
     b = launch(pw)
     yield b

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
+from support.simoracle import gyration_dimension
 
 from app.bench.morphology import link_angles
 from app.cli.parser import build_parser
@@ -215,13 +216,6 @@ W, H = 760, 1280
 
 
 # ---- statistics: jumps keep off-lattice DLA ------------------------------------------------
-
-def gyration_dimension(c: np.ndarray) -> float:
-    """D of M ~ Rg^D: slope of log M on log Rg over the cluster's growth (M = 300 ... all)."""
-    ks = np.geomspace(300, len(c), 12).astype(int)
-    rg = [np.sqrt(((c[:k] - c[:k].mean(axis=0)) ** 2).sum(axis=1).mean()) for k in ks]
-    return float(np.polyfit(np.log(rg), np.log(ks), 1)[0])
-
 
 @pytest.mark.validation
 def test_sparse_growth_with_long_jumps_is_off_lattice_dla():

@@ -269,12 +269,14 @@ OVERRIDES = {"--hc", "--D", "--humidity", "--water-budget", "--step", "--active-
              "--side-hits", "--side-gap", "--long-jumps", "--launch", "--frame-sites",
              "--pane-sites", "--temperature", "--touch-water", "--look", "--order-hits",
              "--max-order", "--water-far", "--near-water", "--vapour-var", "--frame-chill"}
+WEATHER = {"--weather", "--weather-api", "--geocoding-api", "--glazing", "--room-temperature",
+           "--room-humidity"}
 HELP_LISTS = {
     "replay": {"--help", "--params", "--headless", "--ticks", "--out", "--melt-radius", "--session-dir",
                "--screenshot-dir", "--scale", "--max-seconds", "--background"},
     "figure8": {"--help", "--params", "--seed", "--ticks", "--touch", "--background"} | OVERRIDES,
     "render": {"--help", "--preset", "--window-frost", "--params", "--seed", "--touch", "--ticks", "--out",
-               "--melt", "--melt-path", "--melt-radius", "--background", "--clock"} | OVERRIDES,
+               "--melt", "--melt-path", "--melt-radius", "--background", "--clock"} | OVERRIDES | WEATHER,
     "bench render": {"--help", "--preset", "--params", "--seed", "--frames", "--cover", "--max-ticks",
                      "--background", "--record"},
     "maps": {"--help", "--preset", "--window-frost", "--params", "--seed", "--size", "--tile", "--normal-y",

@@ -24,7 +24,14 @@ import pytest
 from PIL import Image
 
 from app.backdrops import LIVE, load_backdrop, read_backdrop
-from app.lockscreen import CLOCK_BOX, DEFAULT_MINUTE, clock_patch, parse_clock, with_clock
+from app.lockscreen import (
+    CLOCK_BOX,
+    DEFAULT_MINUTE,
+    clock_patch,
+    outside_line,
+    parse_clock,
+    with_clock,
+)
 from sim import Params
 from sim.io.session import SessionError, SessionLog
 from sim.io.timeline import Timeline
@@ -70,6 +77,35 @@ def test_the_clock_tells_the_afternoon_from_the_morning():
                         ("2026-11-26T00:05", "2026-11-26T12:05")):
         a, b = clock_patch(STATIC, late), clock_patch(STATIC, early)
         assert np.array_equal(a[:100], b[:100]) and (a[110:] != b[110:]).any(), (late, early)
+
+
+def weather_at(celsius: float) -> dict:
+    """A weather event's reading and glass at `celsius` outside (the fields a Reading has)."""
+    return {"reading": {"place": "Stockholm", "latitude": 59.3, "longitude": 18.1,
+                        "temperature_c": celsius, "humidity_pct": 80.0, "dew_point_c": -27.6,
+                        "weather_code": 3, "is_day": False, "time": "2026-11-26T23:00"},
+            "glass": {"glazing": "single", "room_c": 20.0, "room_humidity": 40.0}}
+
+
+@pytest.mark.parametrize(("celsius", "says"), [(-25.0, "-25 °C outside"), (-0.4, "0 °C outside"),
+                                               (6.6, "7 °C outside"), (-12.5, "-12 °C outside")])
+def test_the_lock_screen_says_the_temperature_outside_in_whole_degrees(celsius, says):
+    assert outside_line(weather_at(celsius)) == says
+    assert outside_line(None) == ""
+
+
+def test_the_temperature_outside_is_drawn_under_the_time_inside_the_box():
+    """Under the time (the box's lower part, below its figures) and nowhere else; a new
+    temperature redraws that line alone."""
+    bare = clock_patch(STATIC, DEFAULT_MINUTE)
+    cold = clock_patch(STATIC, DEFAULT_MINUTE, outside_line(weather_at(-25)))
+    mild = clock_patch(STATIC, DEFAULT_MINUTE, outside_line(weather_at(6)))
+    changed = np.argwhere((bare != cold).any(axis=2))
+    assert (cold.min(axis=2) > 240).sum() - (bare.min(axis=2) > 240).sum() > 300  # white text
+    assert changed[:, 0].min() > 264 - 10  # below the time's figures (their shadow's edge)
+    assert np.array_equal(cold[:250], mild[:250]) and (cold[270:] != mild[270:]).any()
+    whole = with_clock(STATIC, DEFAULT_MINUTE, "-25 °C outside")
+    assert np.array_equal(box(whole), cold)
 
 
 def test_load_backdrop_draws_the_default_minute_or_none():

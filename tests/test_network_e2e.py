@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import pytest
 
+from bench.chromium import browser_problem, launch
 from bench.network import PINGS, Phone, css_point, served
-from bench.page import browser_problem, launch
 from bench.shaper import PROFILES
 
 PROBLEM = browser_problem()
@@ -84,7 +84,7 @@ def test_the_bench_browser_keeps_playwrights_switches_and_has_no_address_bar_pop
     starts it) and the two popups' features, and it renders no popup."""
     from playwright.sync_api import sync_playwright
 
-    from bench.page import CHROMIUM, QUIET_FEATURES
+    from bench.chromium import CHROMIUM, QUIET_FEATURES
 
     def disabled(switches: list[str]) -> list[list[str]]:
         return [s.split("=", 1)[1].split(",") for s in switches if s.startswith("--disable-features=")]

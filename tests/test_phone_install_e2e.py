@@ -1,9 +1,9 @@
 """The page as an installed app, end to end: `frost serve` in a subprocess, the page in
 headless Chromium with a persistent profile (a service worker and the installability check
 need one: incognito reports `in-incognito`). Chromium finds the page installable; with the
-server gone the page opens from the worker's cache and says so, and syncs again by itself
-when the server is back on the same port; a changed page replaces the cached one after one
-reload, whole."""
+server gone the page opens from the worker's cache and grows its own frost ("on this
+phone"), and joins the server again when it is back on the same port and the user says so;
+a changed page replaces the cached one after one reload, whole."""
 
 from __future__ import annotations
 
@@ -38,7 +38,7 @@ from bench.serve_process import ServeProcess
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
 
 ROOT = Path(__file__).resolve().parent.parent
-NOT_REACHABLE = "frost serve is not reachable"
+ON_PHONE = "on this phone"
 
 
 def free_port() -> int:
@@ -94,7 +94,8 @@ def test_chromium_finds_the_https_page_installable_and_it_opens_without_the_serv
     """On the LAN's HTTPS address (the machine's host name, mapped to this machine: no
     loopback name), in a Chromium whose NSS database trusts the kept authority. Opened from
     the cache, the page says the server is not reachable, and not the certificate's steps
-    an HTTPS page whose socket never opened shows (this phone trusted it, to cache it)."""
+    an HTTPS page whose socket never opened shows (this phone trusted it, to cache it): it
+    grows its own frost."""
     from support.https import browser_problem as https_problem
     from support.https import trusting_home
     from support.serve import lan_serve
@@ -116,7 +117,7 @@ def test_chromium_finds_the_https_page_installable_and_it_opens_without_the_serv
             page.reload()
             page.wait_for_function("window.frostInstall.openedOffline === true", timeout=30_000)
             page.wait_for_timeout(10_000)  # past makeapp.js's 8 s without a socket
-            assert NOT_REACHABLE in status(page)
+            assert status(page) == ON_PHONE
             assert page.evaluate("window.frost.makeApp.shown") is None
             assert not page.locator("#makeapp").is_visible()
             page.screenshot(path=str(tmp_path / "https-offline.png"))
@@ -128,7 +129,7 @@ def test_chromium_finds_the_https_page_installable_and_it_opens_without_the_serv
 
 # Loopback, and the LAN's server (its token kept across runs) opened on this machine.
 @pytest.mark.parametrize("host", ["127.0.0.1", "0.0.0.0"])
-def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, serve, tmp_path, host):
+def test_the_shell_opens_without_the_server_and_joins_it_when_it_is_back(pw, serve, tmp_path, host):
     port = str(free_port())
     s = serve("--port", port, "--host", host, "--no-https", folder=tmp_path)
     ctx = persistent(pw, tmp_path / "profile")
@@ -140,8 +141,8 @@ def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, serve,
         assert page.evaluate(meta) is True  # as the page's screenshot asks it
         s.stop()
         page.reload()  # no server: the page, its modules and shaders from the cache
-        page.wait_for_function(f"document.getElementById('status').textContent.includes('{NOT_REACHABLE}')",
-                               timeout=30_000)
+        page.wait_for_function(f"document.getElementById('status').textContent === '{ON_PHONE}' && "
+                               "frost.frames > 0", timeout=60_000)
         assert page.evaluate("window.frost.error") is None and page.evaluate("frost.sources") is not None
         # The cache holds the shell and nothing else; the live data is the server's alone.
         kept = page.evaluate("""async () => {
@@ -151,8 +152,8 @@ def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, serve,
         assert sorted(kept) == sorted(f"/{f}" for f in files)
         assert page.evaluate(meta) == "failed"
         page.screenshot(path=str(tmp_path / "offline.png"))
-        # Not a black screen: the backdrop it showed last (dusk), from the cache, covering
-        # the screen as the pane would (CSS's cover against Pillow's cover of the PNG)
+        # Not a black screen: the phone's own pane over its backdrop (dusk), from the cache,
+        # covering the screen (CSS's cover against Pillow's cover of the PNG)
         shot = np.asarray(Image.open(tmp_path / "offline.png").convert("RGB")).astype(int)
         want = np.asarray(cover(Image.open(ASSET_DIR / "background.png").convert("RGB"),
                                 shot.shape[1::-1])).astype(int)
@@ -160,8 +161,10 @@ def test_the_shell_opens_without_the_server_and_syncs_when_it_is_back(pw, serve,
         assert np.abs(shot[below] - want[below]).mean() < 6, np.abs(shot[below] - want[below]).mean()
         back = serve("--port", port, "--host", host, "--no-https", folder=tmp_path)
         assert (back.port, back.token) == (s.port, s.token)
-        # main.js retries with backoff (at most 8 s apart): synced again, nothing reloaded
-        synced(page, "frost.frames > 0 && frost.shownBackdrop")
+        # the server back is offered (alone.js asks every 3 s), and joined: nothing reloaded
+        page.wait_for_function("!document.getElementById('join').hidden", timeout=30_000)
+        page.click("#join")
+        synced(page, "frost.frames > 0 && frost.shownBackdrop && !frost.hello.local")
         assert status(page) == ""
         page.screenshot(path=str(tmp_path / "back.png"))
     finally:
@@ -305,8 +308,8 @@ def test_a_changed_page_replaces_the_cached_one_after_one_reload(pw, serve, tmp_
         wait_for_shell(page, shell_hash(new))  # the new worker's cache replaced A's
         new.stop()
         page.reload()  # and what opens without the server is B, whole
-        page.wait_for_function(f"document.getElementById('status').textContent.includes('{NOT_REACHABLE}')",
-                               timeout=30_000)
+        page.wait_for_function(f"document.getElementById('status').textContent === '{ON_PHONE}' && "
+                               "frost.frames > 0", timeout=60_000)
         assert versions(page) == dict.fromkeys(shell, "B")
         assert backdrop_pixel(page) == (1, 2, 3)
     finally:
@@ -336,6 +339,7 @@ def test_a_page_whose_token_was_replaced_says_so_and_its_app_opens_to_a_page_tha
         assert status(page) == "this page's link (its token) was replaced: scan the new QR code"
         # Stopped: no socket, none to come (a retry is a timer main.js keeps), no other word.
         assert page.evaluate("[frost.socket, frost.retry, frost.stopped]") == [None, None, True]
+        assert page.evaluate("frost.local") is None  # (nor the phone's own frost, which ended)
         assert page.evaluate("window.frost.makeApp.shown") is None
         response = page.goto(old.local)  # the installed app opens its start_url
         assert response.status == 403
@@ -351,8 +355,8 @@ def test_a_page_whose_token_was_replaced_says_so_and_its_app_opens_to_a_page_tha
         # Opened from the cache (no server), the app's socket is refused once one is back.
         new.stop()
         page.goto(old.local)
-        page.wait_for_function(f"document.getElementById('status').textContent.includes('{NOT_REACHABLE}')",
-                               timeout=30_000)
+        page.wait_for_function(f"document.getElementById('status').textContent === '{ON_PHONE}' && "
+                               "frost.frames > 0", timeout=60_000)
         back = serve("--port", port, "--host", "0.0.0.0", "--no-https", folder=tmp_path)
         assert back.token == new.token  # (kept)
         page.wait_for_function("document.getElementById('status').textContent.includes('token')",

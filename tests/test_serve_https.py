@@ -29,7 +29,7 @@ from cryptography import x509
 from cryptography.hazmat.primitives import serialization
 from cryptography.x509.oid import ExtendedKeyUsageOID
 from PIL import Image
-from support.https import browser_problem, trusting_home
+from support.https import browser_problem, trusting_chromium, trusting_home
 from support.phone import PHONE, synced
 from support.serve import lan_serve
 
@@ -468,16 +468,6 @@ def test_a_tls_handshake_never_finished_is_closed(tmp_path, monkeypatch):
 browser = pytest.mark.skipif(browser_problem() is not None, reason=str(browser_problem()))
 
 
-def chromium(pw, home: Path, name: str):
-    """The system Chromium with `home` as its HOME (its NSS database of trusted
-    authorities is home/.pki/nssdb) and `name` resolved to this machine: a name that is no
-    loopback name, so that only HTTPS makes the page a secure context."""
-    from bench.page import CHROMIUM_ARGS, chromium_options
-
-    args = [*CHROMIUM_ARGS, f"--host-resolver-rules=MAP {name} 127.0.0.1"]
-    return pw.chromium.launch(**chromium_options(pw, args), env={**os.environ, "HOME": str(home)})
-
-
 @pytest.mark.browser
 @browser
 @pytest.mark.usefixtures("subprocesses")
@@ -491,11 +481,11 @@ def test_a_chromium_trusting_the_authority_opens_the_https_page_as_a_secure_cont
     https = f"https://{name}:{s.https_port}/?token={s.token}"
     with sync_playwright() as pw:
         # Not trusting it: the certificate is refused (the oracle that trust is what counts).
-        b = chromium(pw, trusting_home(tmp_path / "stranger", None), name)
+        b = trusting_chromium(pw, trusting_home(tmp_path / "stranger", None), name)
         with pytest.raises(Error, match="ERR_CERT_AUTHORITY_INVALID"):
             b.new_context(**PHONE).new_page().goto(https)
         b.close()
-        b = chromium(pw, trusting_home(tmp_path / "home", cafile), name)
+        b = trusting_chromium(pw, trusting_home(tmp_path / "home", cafile), name)
         page = b.new_context(**PHONE).new_page()
         failed: list[str] = []
         page.on("response", lambda r: r.status >= 400 and failed.append(f"{r.status} {r.url}"))
@@ -548,7 +538,7 @@ def test_an_https_page_whose_socket_never_opens_shows_the_steps(serve, tmp_path)
     cafile = tmp_path / "config" / "frost" / "ca.crt"
     name = socket.gethostname().lower()
     with sync_playwright() as pw:
-        b = chromium(pw, trusting_home(tmp_path / "home", cafile), name)
+        b = trusting_chromium(pw, trusting_home(tmp_path / "home", cafile), name)
         page = b.new_context(**PHONE).new_page()
         # Every socket fails at once, as an untrusted certificate makes it fail; until the
         # test lets it through.

@@ -29,7 +29,7 @@ from app.simthread.thread import SimThread
 from app.window import lost_display
 from app.window.capture import Capture
 from app.window.record import FRAME_GAP, Recorder
-from app.window.status import IDLE_GAP, DrawRate, Status
+from app.window.status import IDLE_GAP, DrawRate, Status, params_line
 from app.window.view import cursor_to_phone, fit_scale, letterbox, screen_scale
 from sim import Params, preset_name, tuning
 from sim.io.gestures import path_points
@@ -489,6 +489,27 @@ def test_the_hud_says_paused_not_a_tick_rate_while_paused():
 
 
 VIEW = type("View", (), {"show_features": True, "show_bumps": False, "light": (0.0, 0.0, 1.0)})()
+
+
+def test_the_hud_shows_the_weather_outside_under_the_parameters():
+    """The place and the reading, worked by hand: -25 C outside single glazing makes the
+    glass 20 - 5.8 x 0.13 x 45 = -13.9 C."""
+    from sim.weather import Glass, Reading
+
+    stats = simthread.Stats(tick=9, tick_ms=0.1, crystals=5, water=7, rate=25.0, overruns=0,
+                            paused=False, tick_median_ms=0.1)
+    reading = Reading(place="Stockholm, Sweden", latitude=59.3, longitude=18.1,
+                      temperature_c=-25.0, humidity_pct=80.0, dew_point_c=-27.6, weather_code=71,
+                      is_day=False, time="2026-01-10T23:00")
+    weather = {"reading": reading.as_json(), "glass": Glass().as_json()}
+    params = Params.preset("window")
+    plain = Status().lines(0.0, simthread.Snapshot(None, stats, params, ()), params, VIEW, None, 1.5)
+    lines = Status().lines(0.0, simthread.Snapshot(None, stats, params, (), weather=weather),
+                           params, VIEW, None, 1.5)
+    assert lines[3] == params_line(params) and lines[:4] == plain[:4]
+    assert lines[4] == ("weather Stockholm, Sweden: -25.0 C, 80 %, dew point -27.6 C at 23:00: "
+                        "glass -14 C, frost grows")
+    assert lines[5:] == plain[4:]
 
 
 def window_keys(params: Params):

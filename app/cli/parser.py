@@ -98,6 +98,9 @@ def _window() -> Parser:
     options.add_background(p)
     options.add_ticks(p, options.DEFAULT_TICKS,
                       "with no display: how long the PNG render done instead grows")
+    options.add_weather(p, "read at the start and every --weather-every minutes; T and Y "
+                           "then change nothing")
+    options.add_weather_every(p)
     options.add_overrides(p)
     # What the no-display fallback (frost render's code) reads and the window has no options for.
     p.set_defaults(replay=None, melt=[], melt_path=[], out=None, clock=None)
@@ -118,6 +121,7 @@ def _render(root: Parser, subs) -> None:
     options.add_melts(p)
     options.add_background(p)
     options.add_clock(p)
+    options.add_weather(p, "read once, before tick 0 (at most 5 s)")
     options.add_overrides(p)
 
 
@@ -229,6 +233,8 @@ def _serve(root: Parser, subs) -> None:
                         "session, as it does alone; default off)")
     options.add_window(p)
     options.add_clock_start(p)
+    options.add_weather(p, "read at the start and every --weather-every minutes, for every page")
+    options.add_weather_every(p)
     options.add_overrides(p)
 
 

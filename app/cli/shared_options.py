@@ -12,10 +12,13 @@ from app.backdrops import BACKDROPS, DEFAULT_BACKDROP
 from app.cli import values
 from app.keys import DEFAULT_PRESET
 from app.lockscreen import DEFAULT_MINUTE
+from app.weather import EVERY_MIN, FORECAST_API, GEOCODING_API, LEAST_EVERY_MIN
 from app.window.view import SCALES
 from sim import PRESETS, Params, all_presets
 from sim.io.paramsets import load_params
 from sim.screen import HEIGHT, MAX_MELT_RADIUS, MELT_RADIUS, WIDTH
+from sim.weather import GLAZINGS
+from sim.weather.glass import ROOM_C, ROOM_C_RANGE, ROOM_HUMIDITY, ROOM_HUMIDITY_RANGE
 
 DEFAULT_TICKS = 250
 # The window's options and their defaults; a replay told to render headless refuses them.
@@ -133,6 +136,39 @@ def add_clock(p) -> None:
                         f"HH:MM (on {DEFAULT_MINUTE[:10]}) or YYYY-MM-DDTHH:MM (default "
                         f"{DEFAULT_MINUTE[11:]} on {DEFAULT_MINUTE[:10]}, a Thursday: a render is "
                         "the same every time)")
+
+
+def add_weather(p, what: str) -> None:
+    """The weather outside (docs/method.md, section 12): where, from which APIs, how often,
+    and the window it acts on. `what`: when the command reads it."""
+    g = p.add_argument_group("the weather outside (docs/command-line.md)")
+    g.add_argument("--weather", type=values.place, metavar="PLACE",
+                   help="grow the frost by the weather at PLACE: LAT,LON or a place's name (looked "
+                        f"up, first match); {what} (default off: the preset's temperature)")
+    g.add_argument("--weather-api", type=values.url, default=FORECAST_API, metavar="URL",
+                   help=f"the forecast API (Open-Meteo's or a mirror; default {FORECAST_API})")
+    g.add_argument("--geocoding-api", type=values.url, default=GEOCODING_API, metavar="URL",
+                   help=f"the geocoding API for a place's name (default {GEOCODING_API})")
+    g.add_argument("--glazing", choices=GLAZINGS, default="single", metavar="|".join(GLAZINGS),
+                   help="the window's glass: old single glazing (U 5.8 W/m2K) or double (2.8) "
+                        "(default single)")
+    lo, hi = ROOM_C_RANGE
+    g.add_argument("--room-temperature", type=lambda t: values.within(t, lo, hi, "room temperature"),
+                   default=ROOM_C, metavar="C",
+                   help=f"the room's air behind the glass, degrees C, {lo:g} to {hi:g} (default {ROOM_C:g})")
+    lo, hi = ROOM_HUMIDITY_RANGE
+    g.add_argument("--room-humidity", type=lambda t: values.within(t, lo, hi, "room humidity"),
+                   default=ROOM_HUMIDITY, metavar="PCT",
+                   help=f"the room's relative humidity, %%, {lo:g} to {hi:g} (default "
+                        f"{ROOM_HUMIDITY:g}: a dew point of 6 C)")
+
+
+def add_weather_every(p) -> None:
+    """How often a run that goes on reads the weather again (the window, frost serve)."""
+    p.add_argument("--weather-every", default=EVERY_MIN, metavar="MIN",
+                   type=lambda t: values.within(t, LEAST_EVERY_MIN, 24 * 60.0, "--weather-every"),
+                   help=f"with --weather: minutes between readings, at least {LEAST_EVERY_MIN:g} "
+                        f"(default {EVERY_MIN:g})")
 
 
 def add_overrides(p, looks: tuple[str, ...] = (DEFAULT_PRESET, "window")) -> None:

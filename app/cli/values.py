@@ -179,3 +179,36 @@ def seconds(text: str) -> float:
 
 def fraction(text: str) -> float:
     return positive(text, 1.0, "a fraction")
+
+
+def place(text: str) -> str:
+    """A place for --weather: LAT,LON (on the globe) or a name to look up."""
+    from app.weather.client import coordinates  # (aiohttp: only when the option is used)
+
+    try:
+        coordinates(text)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
+    if not text.strip() or len(text) > 200 or not text.isprintable():
+        raise argparse.ArgumentTypeError(f"place {text!r} must be LAT,LON or a place's name "
+                                         "(1 to 200 characters)")
+    return text.strip()
+
+
+def url(text: str) -> str:
+    """An API's address: http:// or https:// and a host."""
+    from urllib.parse import urlsplit
+
+    parts = urlsplit(text)
+    if parts.scheme not in ("http", "https") or not parts.netloc or not text.isprintable():
+        raise argparse.ArgumentTypeError(f"{text!r} must be an http:// or https:// URL, "
+                                         "e.g. https://api.open-meteo.com")
+    return text.rstrip("/")
+
+
+def within(text: str, lo: float, hi: float, what: str) -> float:
+    """A number in [lo, hi], `what` naming it in the error."""
+    v = number(text)
+    if not lo <= v <= hi:
+        raise argparse.ArgumentTypeError(f"{what} {text!r} must be a number in [{lo:g}, {hi:g}]")
+    return v

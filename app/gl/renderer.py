@@ -62,6 +62,7 @@ class Renderer:
         self.look, self.height_scale = params.look, FEATURE_HEIGHT_SCALE
         self.backdrop = DEFAULT_BACKDROP  # the background's name (or file), for the view
         self.minute = DEFAULT_MINUTE  # the lock screen's clock (app/lockscreen.py)
+        self.outside = ""  # the line under it: the temperature outside ("" none)
         self.photos: Path | None = None  # the folder photos are found in by name (app/photos.py)
         self._static: np.ndarray | None = None  # the lock screen's static parts, once read
         spacing = params.grid_spacing
@@ -98,23 +99,27 @@ class Renderer:
     def set_backdrop(self, name: str) -> None:
         """The view behind the glass: a built-in backdrop's name or an image file (the
         lock screen with its clock at `minute`)."""
-        self.set_background_image(load_backdrop(name, self.size, self.minute, self.photos), name)
+        self.set_background_image(
+            load_backdrop(name, self.size, self.minute, self.photos, self.outside), name)
 
-    def set_minute(self, minute: str, patch: np.ndarray | None = None) -> None:
-        """The lock screen's clock shows `minute` ("YYYY-MM-DDTHH:MM"): over the lock
-        screen, its clock box alone is drawn (unless `patch` is it, drawn already: see
-        `clock_box`) and uploaded (texture rows are the image's, top row first); any other
-        backdrop keeps it for when the lock screen is shown."""
-        if minute == self.minute:
+    def set_minute(self, minute: str, patch: np.ndarray | None = None,
+                   outside: str | None = None) -> None:
+        """The lock screen's clock shows `minute` ("YYYY-MM-DDTHH:MM") and `outside` under
+        it (None: the line it has): over the lock screen, its clock box alone is drawn
+        (unless `patch` is it, drawn already: see `clock_box`) and uploaded (texture rows
+        are the image's, top row first); any other backdrop keeps them for when the lock
+        screen is shown."""
+        outside = self.outside if outside is None else outside
+        if (minute, outside) == (self.minute, self.outside):
             return
-        self.minute = minute
+        self.minute, self.outside = minute, outside
         if self.backdrop != LIVE:
             return
         if not self.patches_clock():  # scaled: the whole backdrop again
             self.set_backdrop(LIVE)
             return
         x0, y0, x1, y1 = CLOCK_BOX
-        patch = self.clock_box(minute) if patch is None else patch
+        patch = self.clock_box(minute, outside) if patch is None else patch
         self._background.write(np.ascontiguousarray(patch).tobytes(),
                                viewport=(x0, y0, x1 - x0, y1 - y0))
 
@@ -123,12 +128,12 @@ class Renderer:
         its own size)."""
         return self.backdrop == LIVE and self.size == (WIDTH, HEIGHT)
 
-    def clock_box(self, minute: str) -> np.ndarray:
-        """The lock screen's clock box at `minute` (any thread: it draws no GL; the static
-        lock screen is read at the first call)."""
+    def clock_box(self, minute: str, outside: str = "") -> np.ndarray:
+        """The lock screen's clock box at `minute`, `outside` under it (any thread: it
+        draws no GL; the static lock screen is read at the first call)."""
         if self._static is None:
             self._static = np.asarray(read_backdrop(LIVE))
-        return clock_patch(self._static, minute)
+        return clock_patch(self._static, minute, outside)
 
     def set_background_image(self, image: np.ndarray, name: str) -> None:
         """The view behind the glass from an H x W x 3 uint8 image (top row first)."""

@@ -20,6 +20,7 @@ from app.serve.feed import Feed
 from app.serve.listen import Https, lan_address, listen
 from app.serve.server import finish, make_app
 from app.serve.window import serve_with_window
+from app.weather.feed import feed_for
 
 log = logging.getLogger("app.serve")
 
@@ -43,7 +44,16 @@ def serve(args, params) -> int:
     feed = Feed(params, args.seed, args.touch, args.melt_radius, args.background,
                 preset=args.preset or "", clock=clock_from(getattr(args, "clock_start", None)))
     app = make_app(feed, token, args.session_dir, ca_der=ca_der)
-    status = asyncio.run(_serve(app, args.host, args.port, token, args.max_seconds, https))
+    def say(line: str) -> None:  # a weather line: to the log, and to every page's status
+        log.info("%s", line)
+        feed.notice_soon(line)
+
+    feed.weather = feed_for(args, feed.thread.show_weather, say)  # (beside the loop)
+    try:
+        status = asyncio.run(_serve(app, args.host, args.port, token, args.max_seconds, https))
+    finally:
+        if feed.weather is not None:
+            feed.weather.stop()
     if status == 128 + signal.SIGINT:  # closed and saved: the command line says so, as
         raise KeyboardInterrupt        # it does for the window, and exits 130
     return status

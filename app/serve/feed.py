@@ -20,7 +20,7 @@ from collections.abc import Callable
 from app.backdrops import LIVE
 from app.serve import protocol
 from app.serve.controls import Controls
-from app.serve.hello import hello_fields
+from app.serve.hello import WeatherWords, hello_fields
 from app.serve.hello import view as default_view
 from app.serve.lock_clock import LockClock
 from app.serve.pages import ConnectedPage
@@ -28,6 +28,7 @@ from app.serve.snapshots import Snapshots
 from app.serve.workers import Workers
 from app.simthread.backlog import SERVE_TICK_BUDGET_S
 from app.simthread.thread import SimThread, Snapshot
+from app.weather.feed import WeatherFeed
 from sim import Params, all_presets
 from sim.screen import SIZE
 
@@ -79,12 +80,14 @@ class Feed:
         self.moment = (0, 0)
         self.error: str | None = None
         self.ending = False  # `close`d: input is no longer taken
+        self.weather: WeatherFeed | None = None  # --weather's readings (frost serve sets it)
         # For the bench: bytes sent a tick, the thread's tick time (ms), and the time from a
         # tap reaching the server to the tick that shows it being published (ms)
         self.sizes: deque[int] = deque(maxlen=SIZES_KEPT)
         self.tick_ms: deque[float] = deque(maxlen=SIZES_KEPT)
         self.tap_ms: deque[float] = deque(maxlen=SIZES_KEPT)
         self._state: dict = {}
+        self._weather = WeatherWords()
         self.lock_clock = LockClock(self.thread, self.pages, self.workers, SIZES_KEPT)
         self.snapshots = Snapshots(self.thread, self.encoder, self.pages, self.workers,
                                    self._starting)
@@ -181,7 +184,7 @@ class Feed:
         snap, c = self.latest, self.controls
         return {"paused": bool(snap and snap.stats.paused), "preset": c.preset(),
                 "look": c.params.look, "backdrop": c.backdrop, "backdrops": c.backdrops(),
-                "tick": self.tick()}
+                "weather": self._weather(snap.weather if snap else None), "tick": self.tick()}
 
     def send_state(self) -> None:
         """What changed of the state, to every page now (not at the next tick)."""
@@ -206,6 +209,13 @@ class Feed:
 
     def notice(self, text: str) -> None:
         self.broadcast(protocol.text("notice", text=text))
+
+    def notice_soon(self, text: str) -> None:
+        """`notice` from any thread (the weather feed's), on the loop once it runs."""
+        loop = self.workers.loop
+        if loop is not None:
+            with contextlib.suppress(RuntimeError):  # (the loop is closed: the end)
+                loop.call_soon_threadsafe(self.notice, text)
 
     def broadcast(self, message: str) -> None:
         for page in self.pages:

@@ -19,10 +19,11 @@ connect, even after they were gone. Here each connection is wrapped:
 - a head longer than MAX_HEAD_BYTES is closed as its bytes pass the mark;
 - an idle connection between requests is closed after IDLE_S (aiohttp's keep-alive).
 
-Only `POST /photo` (app/serve/photo.py) has a body: its head's Content-Length bytes after
-it are passed on as they are, not read as heads, and must arrive within BODY_S of the
-head's end, else the connection is closed; without a Content-Length (a chunked body) all
-that follows is its body, under the same deadline (the route answers 411 and closes).
+Only `POST /photo` (app/serve/photo.py) and `POST /weather` (app/serve/weather.py) have a
+body: a head's Content-Length bytes after it are passed on as they are, not read as heads,
+and must arrive within BODY_S of the head's end, else the connection is closed; without a
+Content-Length (a chunked body) all that follows is its body, under the same deadline (the
+route answers 411 and closes).
 Any other request has no body, so any byte after its head starts the next head.
 """
 
@@ -49,8 +50,8 @@ LOG_S = 10.0  # s: at most one line a while on connections closed to make room
 # a minute). The session is written before: nothing they could still do is kept.
 SHUTDOWN_S = 0.5
 END_OF_HEAD = b"\r\n\r\n"
-# The one route with a body, and the time its body may take (a few MB over a slow link).
-BODY_PATH = b"/photo"
+# The routes with a body, and the time a body may take (a photo's few MB over a slow link).
+BODY_PATHS = frozenset({b"/photo", b"/weather"})
 BODY_S = 120.0
 UNTIL_CLOSE = -1  # a body without a Content-Length: the rest of the connection
 _LENGTH = re.compile(rb"\r\ncontent-length:[ \t]*([0-9]{1,18})[ \t]*(?=\r\n)", re.IGNORECASE)
@@ -58,10 +59,10 @@ _LENGTH = re.compile(rb"\r\ncontent-length:[ \t]*([0-9]{1,18})[ \t]*(?=\r\n)", r
 
 def body_length(head: bytes) -> int:
     """The bytes of body that follow the head `head` (its request line and headers, up to
-    the blank line): 0 but for a POST to BODY_PATH (any query), its Content-Length, or
+    the blank line): 0 but for a POST to one of BODY_PATHS (any query), its Content-Length, or
     UNTIL_CLOSE where it has none (or says it twice)."""
     line = head.split(b"\r\n", 1)[0].split(b" ")
-    if len(line) < 2 or line[0] != b"POST" or line[1].split(b"?", 1)[0] != BODY_PATH:
+    if len(line) < 2 or line[0] != b"POST" or line[1].split(b"?", 1)[0] not in BODY_PATHS:
         return 0
     found = _LENGTH.findall(b"\r\n" + head + b"\r\n")
     return int(found[0]) if len(found) == 1 else UNTIL_CLOSE

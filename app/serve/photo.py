@@ -1,13 +1,9 @@
 """A photo from a page (docs/phone-design.md, Photos: what the server checks;
 docs/protocol.md): `POST /photo`, its checks, and `GET /backdrops/<photo>.jpg`, the photos kept.
 
-A request that changes the server's state has a body and an Origin: an Origin naming the
-Host it was sent to, with the scheme of the port (http on the HTTP port, https on the
-HTTPS one), is required, as a page of another site can post to a server on loopback (no
-token there) without reading its answer. Each remote address may send one photo every
-MIN_GAP_S (a page is known by its address: a client cannot choose another one for each
-try, as it could a cookie or a header); the request is refused before its body is read.
-The body is read to its Content-Length, at most photos.MAX_BYTES (the connection guard
+Its Origin is checked and its refusals are JSON as every POST's (app/serve/posts.py). Each
+remote address may send one photo every MIN_GAP_S; the request is refused before its body
+is read. The body is read to its Content-Length, at most photos.MAX_BYTES (the connection guard
 times it: guard.BODY_S). Checking and re-encoding it (app/photos.py) runs on a worker, one
 photo at a time; at most MAX_WAITING wait their turn, the rest are told to try again. A
 photo kept becomes every page's backdrop, as a page's backdrop command makes one; a bad
@@ -17,16 +13,15 @@ file is told to its sender alone and changes nothing.
 from __future__ import annotations
 
 import asyncio
-import json
 import logging
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 from aiohttp import web
 
 from app import photos
 from app.serve.appkeys import FEED
-from app.serve.sockets import same_origin
+from app.serve.posts import Gaps, head_refusal, refusal, unread
 
 log = logging.getLogger("app.serve")
 
@@ -37,66 +32,28 @@ ENDING = "frost serve is ending: the photo was not taken"
 
 
 @dataclass
-class PhotoDesk:
+class PhotoDesk(Gaps):
     """What the photo route keeps between requests: the folder of photos (None: this server
     keeps none), when each remote address last sent one, the worker's turn."""
 
-    store: Path | None
+    store: Path | None = None
     gap: float = MIN_GAP_S
-    last: dict[str, float] = field(default_factory=dict)  # remote address -> loop time
     waiting: int = 0
     turn: asyncio.Semaphore | None = None  # made on the server's loop
     kept: int = 0  # photos taken
     refused: int = 0  # files refused (not a photo, too large...)
-
-    def wait_left(self, remote: str, now: float) -> float:
-        """Seconds before `remote` may send again (0: now); old entries forgotten."""
-        if len(self.last) > 4096:
-            self.last = {k: t for k, t in self.last.items() if now - t < self.gap}
-        at = self.last.get(remote)
-        return 0.0 if at is None else max(0.0, at + self.gap - now)
-
-
-def refusal(status: int, text: str, retry: int | None = None) -> web.Response:
-    """A 4xx/5xx answer carrying {"error": text} (one line: the page shows it as it is);
-    `retry`: the seconds its Retry-After says."""
-    headers = {} if retry is None else {"Retry-After": str(retry)}
-    return web.Response(status=status, text=json.dumps({"error": text}),
-                        content_type="application/json", headers=headers)
-
-
-def unread(status: int, text: str) -> web.Response:
-    """`refusal` of a body the server will not read (none or too long): the connection
-    closes after the answer (aiohttp drops what comes of the body meanwhile, for at most
-    its lingering time, 10 s, so that the client gets the answer whole)."""
-    response = refusal(status, text)
-    response.force_close()
-    return response
-
-
-def origin_problem(request: web.Request) -> str | None:
-    """Why `request`, which changes the server's state, is refused for its Origin, or None."""
-    origin = request.headers.get("Origin")
-    if origin is None:
-        return "a request that changes the frost must carry an Origin (a browser's page sends one)"
-    if not same_origin(origin, request.host, request.scheme):
-        return f"the page's origin {origin[:60]!r} is not this server"
-    return None
 
 
 async def upload(request: web.Request) -> web.Response:
     """POST /photo: the body, a PNG, JPEG or WebP file; 200 {"backdrop": name} when it is
     every page's backdrop, else a 4xx/5xx {"error": one line}."""
     desk: PhotoDesk = request.app[PHOTOS]
-    problem = origin_problem(request)
-    if problem is not None:
-        return refusal(403, problem)
-    length = request.content_length
-    if length is None:
-        return unread(411, "a photo must come with its Content-Length")
-    if length > photos.MAX_BYTES:
-        return unread(413, f"the file is {length:,} bytes; at most "
-                           f"{photos.MAX_BYTES // 2**20} MB ({photos.MAX_BYTES:,} bytes) is taken")
+    refused = head_refusal(request, "a photo", photos.MAX_BYTES, lambda n: (
+        f"the file is {n:,} bytes; at most {photos.MAX_BYTES // 2**20} MB "
+        f"({photos.MAX_BYTES:,} bytes) is taken"))
+    if refused is not None:
+        return refused
+    length = request.content_length or 0
     if length == 0:
         return refusal(400, "the request holds no photo (Content-Length: 0)")
     if desk.store is None:
@@ -106,11 +63,9 @@ async def upload(request: web.Request) -> web.Response:
         return unread(503, ENDING)
     loop = asyncio.get_running_loop()
     remote = request.remote or "?"
-    left = desk.wait_left(remote, loop.time())
-    if left > 0:
-        wait = int(left) + 1
-        return refusal(429, f"one photo every {desk.gap:g} s: try again in {wait} s",
-                       retry=wait)
+    soon = desk.too_soon(remote, loop.time(), "photo")
+    if soon is not None:
+        return soon
     if desk.waiting >= MAX_WAITING:
         return refusal(503, "other photos are being checked: try again in a few seconds",
                        retry=max(1, int(desk.gap)))
@@ -157,6 +112,6 @@ PHOTOS = web.AppKey("photos", PhotoDesk)
 
 def routes_for(app: web.Application, store: Path | None) -> None:
     """POST /photo and GET /backdrops/<photo>.jpg on `app`, photos kept in `store`."""
-    app[PHOTOS] = PhotoDesk(store)
+    app[PHOTOS] = PhotoDesk(store=store)
     app.router.add_post(PATH, upload)
     app.router.add_get("/backdrops/{name}.jpg", kept_photo)

@@ -15,7 +15,7 @@ from aiohttp import web
 
 from app.backdrops import BACKDROPS, load_backdrop
 from app.images import frost_meta
-from app.serve import photo
+from app.serve import photo, posts, weather
 from app.serve.appkeys import BACKDROP_PNGS, CA_DER, FEED, PORTS, TOKEN
 from app.serve.feed import Feed
 
@@ -56,7 +56,9 @@ NOT_THIS_NAME = ("frost serve answers only to this machine's own names: open "
 # The page's own paths: a browser, or the installed app at its start_url, shows what they
 # answer to a person. The API's answers stay one line of text for programs (and the page).
 PAGE_PATHS = frozenset({"/", "/index.html"})
-API_PATHS = frozenset({"/ws", "/meta", "/photo", "/app.json", "/sw.js", "/manifest.webmanifest"})
+API_PATHS = frozenset({"/ws", "/meta", "/photo", "/weather", "/app.json", "/sw.js",
+                       "/manifest.webmanifest"})
+POST_PATHS = frozenset({photo.PATH, weather.PATH})  # their every refusal is JSON
 REFUSAL_PAGE = """<!doctype html>
 <html lang="en">
 <head>
@@ -83,13 +85,14 @@ def refused(request: web.Request, line: str, told: str) -> web.Response:
     """The 403 for `request`: on the page's own paths, or a browser's navigation to any
     path but the API's, a page sized for a phone that says `told` (the installed app opened
     at its start_url showed the one line below, in a desktop's tiny type); to POST /photo
-    JSON, as its every refusal is (the page shows the error it holds); else `line`."""
+    and /weather JSON, as their every refusal is (the page shows the error it holds); else
+    `line`."""
     navigation = request.headers.get("Sec-Fetch-Mode") == "navigate"
     if request.path in PAGE_PATHS or (navigation and request.path not in API_PATHS):
         return web.Response(status=403, text=REFUSAL_PAGE.format(text=html.escape(told, quote=False)),
                             content_type="text/html", headers={"Cache-Control": "no-store"})
-    if request.path == photo.PATH:
-        return photo.refusal(403, line)
+    if request.path in POST_PATHS:
+        return posts.refusal(403, line)
     return web.Response(status=403, text=f"frost: {line}\n")
 
 

@@ -18,6 +18,7 @@ from aiohttp import web
 from app import photos
 from app.resources import SHADER_DIR
 from app.serve import install, photo, routes, sockets
+from app.serve import weather as weather_route
 from app.serve.appkeys import BACKDROP_PNGS, CA_DER, FEED, FILES, PAGE_LINES, PORTS, STATS, TOKEN
 from app.serve.feed import Feed
 from app.serve.logs import RateLimitedLog, quiet_bad_requests
@@ -47,6 +48,7 @@ def make_app(feed: Feed, token: str | None = None, session_dir=None,
         photo_dir = Path(session_dir) / photos.FOLDER
     feed.controls.store = photo_dir
     photo.routes_for(app, photo_dir)  # POST /photo, GET /backdrops/<photo>.jpg
+    weather_route.routes_for(app)  # POST /weather: moves the feed's weather
     install.routes_for(app, web_dir)  # the page, its manifest and its worker (/sw.js)
     app.router.add_get("/web/{path:.*}", routes.folder_files(web_dir))
     app.router.add_get("/shaders/{path:.*}", routes.folder_files(SHADER_DIR))

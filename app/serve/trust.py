@@ -31,10 +31,11 @@ import re
 import secrets
 import socket
 import ssl
-import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
+
+from app.config import config_dir as config_dir  # (the folder of this module's files)
 
 CA_DAYS = 3650  # the authority: ten years (a phone trusts it once)
 LEAF_DAYS = 820  # the server's: Apple accepts at most 825 days for a TLS server certificate
@@ -46,23 +47,6 @@ DNS_RE = re.compile(r"[a-z0-9]([a-z0-9-]*[a-z0-9])?(\.[a-z0-9]([a-z0-9-]*[a-z0-9
 
 class TrustError(Exception):
     """Why HTTPS cannot be set up, in one line for the user."""
-
-
-def config_dir(env=None, platform: str | None = None, home: Path | None = None) -> Path:
-    """frost's folder of the user's configuration: $XDG_CONFIG_HOME/frost (else
-    ~/.config/frost) on Linux and other Unixes, ~/Library/Application Support/frost on
-    macOS, %APPDATA%\\frost on Windows."""
-    env = os.environ if env is None else env
-    platform = sys.platform if platform is None else platform
-    home = Path.home() if home is None else home
-    if platform == "win32":
-        base = env.get("APPDATA")
-        return Path(base) / "frost" if base else home / "AppData" / "Roaming" / "frost"
-    if platform == "darwin":
-        return home / "Library" / "Application Support" / "frost"
-    base = env.get("XDG_CONFIG_HOME", "")
-    # The XDG rule: a relative path is to be ignored.
-    return (Path(base) if base and os.path.isabs(base) else home / ".config") / "frost"
 
 
 def _folder(folder: Path) -> Path:

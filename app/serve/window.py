@@ -76,6 +76,7 @@ def serve_with_window(args, params, token: str | None, https: Https | None = Non
     def attach(window) -> None:
         feed = Feed(params, args.seed, melt_radius=args.melt_radius, backdrop=args.background,
                     thread=window.thread, preset=args.preset or "")
+        feed.weather = window.weather  # (the window's, which it stops)
         server.start(feed)
 
     args.view = view_from(args)

@@ -1,6 +1,7 @@
 """The commands the simulation thread applies at its ticks: input from the window and the
-pages (touches, melts, parameter changes, clear, pause, single step, the backdrop, a map
-export), each recorded on the timeline as an event or changing the thread's own state."""
+pages (touches, melts, parameter changes, clear, pause, single step, the backdrop, the
+weather outside, a map export), each recorded on the timeline as an event or changing the
+thread's own state."""
 
 from __future__ import annotations
 
@@ -17,9 +18,10 @@ from app.photos import is_photo
 from app.simthread.backlog import Backlog, group_melts
 from app.simthread.clicks import Clicks
 from sim import Params
-from sim.io.session import DEFAULT_BACKDROP
+from sim.io.session import DEFAULT_BACKDROP, weather_event
 from sim.io.timeline import Applied, Timeline
 from sim.look.geometry import GeometryDelta
+from sim.weather import Glass, Reading
 
 # Commands that change the frost, by the name a report gives them.
 INPUT_NAMES = {"touch": "touches", "melt": "melts", "melts": "melts",
@@ -51,7 +53,7 @@ class Commands:
         self._handlers: dict[str, Callable[[Any, dict], None]] = {
             "touch": self._touch, "melt": self._melt, "melts": self._melts,
             "params": self._set_params, "clear": self._clear, "pause": self._pause,
-            "step": self._single, "backdrop": self._show_backdrop,
+            "step": self._single, "backdrop": self._show_backdrop, "weather": self._weather,
             "export": lambda folder, _notes: export(folder)}
 
     @property
@@ -143,6 +145,16 @@ class Commands:
             notes["applied"].append(self.timeline.apply([{"kind": "backdrop", "name": name}]))
         else:
             self.unrecorded_backdrop = name
+
+    def _weather(self, arg: tuple[Reading, Glass], notes: dict) -> None:
+        """A reading of the weather outside, recorded as a weather event (a session
+        replayed by rules older than version 12 records none: its frost grows as it did)."""
+        reading, glass = arg
+        if not self.timeline.rules.weather_events:
+            notes["applied"].append(Applied(message="weather: a session of version "
+                                            f"{self.timeline.version} grows without the weather"))
+            return
+        notes["applied"].append(self.timeline.apply([weather_event(reading, glass)]))
 
 
 def inputs(command: Command) -> int:

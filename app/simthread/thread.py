@@ -32,6 +32,7 @@ from sim.io.session import VERSION, SessionLog
 from sim.io.timeline import Timeline, apply_due
 from sim.look.geometry import GeometryDelta
 from sim.screen import HEIGHT, TICKS_PER_SECOND, WIDTH
+from sim.weather import Glass, Reading
 
 log = logging.getLogger(__name__)
 
@@ -68,6 +69,8 @@ class Snapshot:
     events: int = 0  # events recorded so far (a session file of this frame keeps these)
     minute: str | None = None  # the minute the lock screen's clock shows (None: none yet)
     backdrop: str | None = None  # the backdrop shown (None: none said yet, the default)
+    # The weather outside: the last weather event's {"reading": ..., "glass": ...} (None: none).
+    weather: dict[str, Any] | None = None
 
     def touch_ticks(self, timeline: Timeline) -> list[tuple[int, float, float]]:
         """(tick, x, y) of the touches its frame grows from: the timeline's, as long as no
@@ -99,11 +102,9 @@ class SimThread(threading.Thread):
         super().__init__(name="frost-sim", daemon=True)
         self.inbox: queue.Queue[Command] = queue.Queue()
         # Who is told of a snapshot or a notice: the maker (`wake`), then the other readers.
-        self.readers: Readers[Snapshot] = Readers(wake)
-        self.outbox, self.notices = self.readers.outbox, self.readers.notices
-        self.drain, self.subscribe = self.readers.drain, self.readers.subscribe
-        self.between_ticks, self.wake = self.readers.between_ticks, self.readers.wake
-        self.notify = self.readers.notify
+        self.readers = r = Readers[Snapshot](wake)
+        self.outbox, self.notices, self.drain, self.subscribe = r.outbox, r.notices, r.drain, r.subscribe
+        self.between_ticks, self.wake, self.notify = r.between_ticks, r.wake, r.notify
         self.size = (width, height)
         self.seed = seed
         self.first_params = params
@@ -220,10 +221,14 @@ class SimThread(threading.Thread):
             self._clock_shown.discard(who)
 
     def show_backdrop(self, name: str) -> int:
-        """The backdrop shown is now `name` (any thread): recorded as a backdrop event at the
-        next tick (a name of the protocol's, by a session version that records them), and
-        every snapshot from then on says it. Returns `send`'s count."""
+        """The backdrop is now `name` (any thread): a backdrop event at the next tick (by a
+        session version that records them) that every later snapshot says; `send`'s count."""
         return self.send("backdrop", name)
+
+    def show_weather(self, reading: Reading, glass: Glass) -> int:
+        """The weather outside is now `reading` on `glass` (any thread: a WeatherFeed's): a
+        weather event at the next tick, the frost grows or thaws by it; `send`'s count."""
+        return self.send("weather", (reading, glass))
 
     # ---- thread side ------------------------------------------------------------
 
@@ -279,7 +284,7 @@ class SimThread(threading.Thread):
     def _snapshot(self, delta, **extra) -> Snapshot:
         return Snapshot(delta, self._stats(), self.params, self.touches, steps=self.timeline.steps,
                         events=len(self.timeline.events), minute=self.timeline.minute,
-                        backdrop=self.backdrop, **extra)
+                        backdrop=self.backdrop, weather=self.timeline.weather, **extra)
 
     def _stats(self) -> Stats:
         return Stats(self.sim.tick, self.times.last_ms, len(self.sim.crystals),

@@ -10,6 +10,7 @@ import numpy as np
 
 from app.gl.renderer import Renderer
 from app.images import frost_meta, read_image, save_image
+from app.lockscreen import outside_line
 from app.tools.progress import Progress
 from sim import Params
 from sim.io.files import one_line
@@ -78,11 +79,13 @@ class Offscreen:
 
     def show(self, applied: Applied) -> None:
         """Hand an event result to the renderer: a rebuild clears it, melts update it, a
-        clock event redraws the lock screen's clock, a backdrop event changes the backdrop."""
+        clock event redraws the lock screen's clock (a weather event the temperature under
+        it), a backdrop event changes the backdrop."""
         if applied.backdrop is not None and self.backdrops:
             self.renderer.set_backdrop(applied.backdrop)
-        if applied.minute is not None:
-            self.renderer.set_minute(applied.minute)
+        if applied.minute is not None or applied.weather is not None:
+            outside = None if applied.weather is None else outside_line(applied.weather)
+            self.renderer.set_minute(applied.minute or self.renderer.minute, outside=outside)
         if applied.reset:
             self.renderer.reset()
         for delta in applied.deltas:

@@ -11,6 +11,7 @@ from app.images import DEFAULT_FOLDER, timestamped_path
 from app.lockscreen import minute_name
 from app.tools.offscreen import Offscreen, make_context
 from app.tools.progress import Progress
+from app.weather.feed import first_event
 from sim import Params
 from sim.io.files import why
 from sim.io.gestures import MELT_SPACING, path_points
@@ -42,6 +43,7 @@ def melt_events(args) -> list[dict]:
 
 def run(args, params: Params) -> int:
     """`frost render ...`; returns the exit status."""
+    weather = first_event(args, print)  # (before the context: the wait is the network's)
     try:
         ctx = make_context()
     except RuntimeError as err:
@@ -52,13 +54,13 @@ def run(args, params: Params) -> int:
                           minute=None if clock is None else minute_name(clock))
     offscreen.progress = Progress(args.ticks)
     if args.touch or params.window_frost:  # a window frosts from its frame untouched
-        offscreen.grow(args.ticks, touch_events(args.touch) + melt_events(args))
+        offscreen.grow(args.ticks, weather + touch_events(args.touch) + melt_events(args))
         return write(offscreen, Path(args.out) if args.out else timestamped_path(DEFAULT_FOLDER),
                      "wrote {}")
-    return _run_demo(offscreen, args)
+    return _run_demo(offscreen, args, weather)
 
 
-def _run_demo(offscreen: Offscreen, args) -> int:
+def _run_demo(offscreen: Offscreen, args, weather: list[dict]) -> int:
     """No touches given: a short scripted demo, a PNG after each stage, all under one
     new name so that no earlier run's files are overwritten."""
     folder = Path(args.out).parent if args.out else DEFAULT_FOLDER
@@ -68,7 +70,7 @@ def _run_demo(offscreen: Offscreen, args) -> int:
     written = []
     try:
         for i, ((start, x, y), stop) in enumerate(zip(script, stops, strict=True)):
-            offscreen.grow(stop - start, touch_events([(x, y)], start))
+            offscreen.grow(stop - start, (weather if i == 0 else []) + touch_events([(x, y)], start))
             if stop not in stops[i + 1:]:  # stages that end together (short runs) share a PNG
                 written.append(offscreen.snapshot(folder / f"{stem}-tick{stop:04d}.png"))
         if args.out:

@@ -27,6 +27,9 @@ def load_session(path) -> SessionLog:
     if (log_.width, log_.height) != (WIDTH, HEIGHT):
         raise SessionError(f"{path}: a {log_.width}x{log_.height} session; this app renders "
                            f"{WIDTH}x{HEIGHT}")
+    if not log_.bit_for_bit():
+        print(f"{path}: a session grown on a {log_.source} (its own random numbers): replayed "
+              "with the same touches, parameters and backdrops, not bit for bit", file=sys.stderr)
     return log_
 
 

@@ -19,9 +19,12 @@ export class Connection {
     this.retry = null;    // the timer of the next try, while one waits
     this.stopped = false;  // no more tries: refused, or the page cannot draw
     this.early = [];      // [socket, event] of what came before the page could draw
+    this.answered = false;  // the server answered /meta when the socket last failed to open
     this.onMessage = null;      // (socket, event) of each message, once the page can draw
     this.onClosed = () => {};   // the socket closed: nothing is in sync any more
-    this.onUnreachable = () => {};  // no server answers
+    // The socket failed to open, and the server did not refuse the page (`answered`: it
+    // answered /meta); true where the page goes on without it (the phone's own frost).
+    this.onUnreachable = (_answered) => false;
   }
 
   connect(retry = RETRY_FIRST) {
@@ -58,7 +61,7 @@ export class Connection {
       }
       if (this.stopped) return true;  // (no WebGL2, found meanwhile)
       this.status.say("frost serve is not reachable: trying again");  // (the page may have opened from the cache)
-      this.onUnreachable();
+      if (this.onUnreachable(this.answered)) return true;
     } else {
       this.status.say(`reconnecting (${event.reason || "connection lost"})`);
     }
@@ -74,6 +77,17 @@ export class Connection {
     for (const [ws, event] of early) {
       if (ws === this.socket) onMessage(ws, event);
     }
+  }
+
+  // `socket`, a stand-in with a WebSocket's send, close, readyState and onmessage (the
+  // phone's own frost, alone.js), takes the socket's place: its messages go where the
+  // socket's would, waiting as theirs until the page can draw.
+  adopt(socket) {
+    this.socket = socket;
+    socket.onmessage = (event) => {
+      if (this.early) this.early.push([socket, event]);
+      else this.onMessage(socket, event);
+    };
   }
 
   send(message) {
@@ -93,12 +107,14 @@ export class Connection {
   // that is gone, 1006 and no reason, so /meta is asked: the server refuses it alike.
   async refusal() {
     let r;
+    this.answered = false;
     try {
       const signal = AbortSignal.timeout ? AbortSignal.timeout(ASK_MS) : undefined;
       r = await fetch(`meta${this.query}`, { cache: "no-store", signal });
     } catch {
       return null;  // not reachable
     }
+    this.answered = true;
     if (r.status !== 403) return null;
     if (this.token) return TOKEN_REPLACED;
     // No token: the server says why (a token in force now, a name not this machine's).

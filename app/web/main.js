@@ -10,6 +10,7 @@ import { PhoneApp } from "./phone.js";
 import { Clock } from "./lockclock.js";
 import { showOffline } from "./offline.js";
 import { PhotoPicker } from "./photo.js";
+import { WeatherHere } from "./weather.js";
 import { StatusLine } from "./status.js";
 import { Connection } from "./connection.js";
 import { Pane } from "./pane.js";
@@ -19,6 +20,7 @@ import { Stream } from "./stream.js";
 import { FrameLoop } from "./frames.js";
 import { Screenshots } from "./shot.js";
 import { listenToKeys } from "./keys.js";
+import { Alone } from "./alone.js";
 
 const token = new URLSearchParams(location.search).get("token");
 const query = token ? `?token=${encodeURIComponent(token)}` : "";
@@ -33,7 +35,7 @@ const taps = new TapWatch();
 
 // What the page knows; `window.frost` exposes it to the tests and the bench: its parts'
 // fields by their names (frost.synced is the stream's), and the page's menu, phone app,
-// photo picker and clock.
+// photo picker, weather button and clock.
 const frost = { error: null, clock: new Clock() };
 window.frost = frost;
 
@@ -50,9 +52,18 @@ const stream = new Stream(frost, { view, pane, taps, status, canvas, gl });
 const frames = new FrameLoop(frost, { view, stream, pane, taps, status, gl });
 const shots = new Screenshots(query, { view, pane, frames, stream });
 
+// No server answers: the phone grows its own frost (alone.js), else the remembered backdrop.
+const alone = new Alone(frost, { connection, stream, status, query, joinButton: document.getElementById("join") });
+frost.alone = alone;
+shots.localMeta = () => alone.running && alone.ask("meta");
+
 connection.onClosed = () => stream.closed();
-connection.onUnreachable = () => {
+// (A server that answers while its socket fails is tried again: an HTTPS socket that an
+// untrusted certificate stops.)
+connection.onUnreachable = (answered) => {
+  // (the backdrop until the first frame, the phone's own frost's or the server's)
   if (!view.renderer) showOffline(true, canvas, query, pane.fit);
+  return !answered && alone.start();
 };
 
 // `names` of `part` read and set as `frost`'s own.
@@ -92,9 +103,11 @@ async function main() {
   const pointers = new Pointers(canvas, () => pane.rect(), send, () => pane.screen);
   pointers.attach();
   pointers.onDown = (kind, p, t0) => taps.down(kind, p, t0);
-  frost.menu = new Menu(menuElement, send, screenshot);
+  frost.menu = new Menu(menuElement, send, screenshot, () => alone.download());
   frost.menu.pointers = pointers;
   frost.photo = new PhotoPicker(document.getElementById("panel"), query,
+    (text) => status.say(text), (text) => status.notice(text));
+  frost.weather = new WeatherHere(document.getElementById("panel"), query,
     (text) => status.say(text), (text) => status.notice(text));
   makeApp(menuElement, query, frost);
   frost.phone = new PhoneApp(frost, menuElement);

@@ -1,10 +1,11 @@
 // The page's small menu: preset, look, backdrop, warm finger, pause, clear, screenshot.
-// Choices go to the server (which tells every page what changed); the menu shows its state.
+// Choices go to the server (which tells every page what changed), or to the phone's own
+// frost while it grows (its hello says `local`); the menu shows its state.
 
 import { backdropLabels } from "./photo.js";
 
 export class Menu {
-  constructor(root, send, screenshot) {
+  constructor(root, send, screenshot, saveSession = () => {}) {
     this.root = root;
     this.send = send;
     this.pointers = null;
@@ -21,6 +22,7 @@ export class Menu {
     $("pause").addEventListener("click", () => send({ type: "pause" }));
     $("clear").addEventListener("click", () => send({ type: "clear" }));
     $("shot").addEventListener("click", () => screenshot());
+    $("session").addEventListener("click", () => saveSession());
     $("warm").addEventListener("change", (e) => { if (this.pointers) this.pointers.warm = e.target.checked; });
     this.$ = $;
   }
@@ -30,14 +32,21 @@ export class Menu {
     const lists = { preset: hello.presets, look: hello.looks, backdrop: hello.backdrops };
     for (const [kind, names] of Object.entries(lists)) {
       const select = this.$(kind);
-      const wanted = (names || []).join("\n");
+      // On the phone's own frost, what it cannot grow is shown as frost serve's alone.
+      const off = kind === "preset" && hello.local ? hello.server_only || [] : [];
+      const wanted = (names || []).join("\n") + (off.length ? `\n${off}` : "");
       if (select.dataset.names !== wanted) {
         const labels = kind === "backdrop" ? backdropLabels(names || []) : names || [];
-        select.replaceChildren(...(names || []).map((n, i) => new Option(labels[i], n)));
+        select.replaceChildren(...(names || []).map((n, i) => {
+          const option = new Option(off.includes(n) ? `${labels[i]} (needs frost serve)` : labels[i], n);
+          option.disabled = off.includes(n);
+          return option;
+        }));
         select.dataset.names = wanted;
       }
       if (hello[kind] !== undefined) select.value = hello[kind];
     }
     this.$("pause").textContent = hello.paused ? "Resume" : "Pause";
+    this.$("session").hidden = !hello.local;  // (frost serve keeps its own session file)
   }
 }

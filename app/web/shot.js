@@ -5,10 +5,23 @@ import { withText } from "./png.js";
 
 const REVOKE_MS = 10000;  // the download's URL kept this long for the browser to read it
 
+// `blob` downloaded as `prefix`-<date>-<time>.`ext`.
+export function save(blob, prefix, ext) {
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(blob);
+  const stamp = new Date().toISOString().replace(/[-:]/g, "").replace("T", "-").slice(0, 15);
+  a.download = `${prefix}-${stamp}.${ext}`;
+  document.body.append(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(a.href), REVOKE_MS);
+}
+
 export class Screenshots {
   // query: "?token=..." or ""; view, pane, frames, stream: the page's parts it reads.
   constructor(query, { view, pane, frames, stream }) {
     Object.assign(this, { query, view, pane, frames, stream });
+    this.localMeta = null;  // () => the phone's own frost's keys, while it grows (alone.js)
   }
 
   // What the screen shows of the pane, in pane px (all of it in "whole pane", the part the
@@ -26,7 +39,7 @@ export class Screenshots {
     const png = new Uint8Array(await blob.arrayBuffer());
     // frost_meta's keys in its order; parameters, seed and touches as the server gives them
     // (GET /meta).
-    const known = await this.serverMeta();
+    const known = (this.localMeta && await this.localMeta()) || await this.serverMeta();
     const local = new Date(Date.now() - new Date().getTimezoneOffset() * 60000);
     const meta = {
       parameters: known.parameters ?? null, seed: known.seed ?? null, tick: this.stream.tick,
@@ -36,6 +49,7 @@ export class Screenshots {
     };
     // A crop: where its px lie on the pane (the touches' px are the pane's).
     if (c.width !== screen[0] || c.height !== screen[1]) meta.view.crop = [x0, y0, c.width, c.height];
+    if (known.source) meta.source = known.source;  // "phone": grown by the page, not frost serve
     return withText(png, meta);
   }
 
@@ -50,14 +64,6 @@ export class Screenshots {
   // The screenshot downloaded as frost-<date>-<time>.png (nothing before the first hello).
   async take() {
     if (!this.view.renderer) return;
-    const png = await this.png();
-    const a = document.createElement("a");
-    a.href = URL.createObjectURL(new Blob([png], { type: "image/png" }));
-    const stamp = new Date().toISOString().replace(/[-:]/g, "").replace("T", "-").slice(0, 15);
-    a.download = `frost-${stamp}.png`;
-    document.body.append(a);
-    a.click();
-    a.remove();
-    setTimeout(() => URL.revokeObjectURL(a.href), REVOKE_MS);
+    save(new Blob([await this.png()], { type: "image/png" }), "frost", "png");
   }
 }

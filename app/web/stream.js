@@ -5,6 +5,7 @@
 import { decodeDelta } from "./protocol.js";
 import { isClock } from "./lockclock.js";
 import { showOffline } from "./offline.js";
+import { weatherText } from "./weather.js";
 
 export class Stream {
   // page: `window.frost` (its clock, menu and phone); parts: the page's view, pane, taps
@@ -58,6 +59,7 @@ export class Stream {
       const hello = Object.assign(this.hello, msg, { type: "hello" });
       this.view.apply(hello);
       this.page.menu.show(hello);
+      if ("weather" in msg) this.status.setIdle(weatherText(hello.weather));
       if (hello.backdrop !== this.view.backdrop) await this.view.loadBackdrop(hello.backdrop, this.page.clock, this.page);
     } else if (msg.type === "resync") {
       // The server dropped this page's queue: a snapshot follows (its first part resets).
@@ -74,7 +76,7 @@ export class Stream {
   // false while the GL context is lost (nothing to draw with).
   connect(msg) {
     this.hello = msg;
-    this.hellos += 1;
+    if (!msg.local) this.hellos += 1;  // (the server's: the phone's own frost is not a connection)
     this.connected = true;
     this.page.phone.connected(true);
     this.status.say("");

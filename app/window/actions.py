@@ -58,6 +58,7 @@ class Actions:
         self.preset = first_preset(params)  # the last chosen: the panel's reset goes to it
         self.params_sent = 0  # the thread's number of the last change sent (`_tune`)
         self.toggle_panel: Callable[[], None] = lambda: None  # the window sets it
+        self.weather_sets_temperature = False  # --weather: T and Y change nothing
         self.table: dict[str, Callable] = {
             "pause": lambda _: thread.send("pause"),
             "single_step": lambda _: thread.send("step"),
@@ -65,7 +66,7 @@ class Actions:
             "screenshot": lambda _: capture.screenshot(shown(), self.params),
             "export_maps": lambda _: capture.export_maps(),
             "scale": lambda arg: self._tune(tuning.scaled, *arg),
-            "shift": lambda arg: self._tune(tuning.shifted, *arg),
+            "shift": self._shift,
             "preset": self._preset,
             "set_param": lambda arg: self._tune(tuning.changed, *arg),
             "set_backdrop": self._set_backdrop, "save_params": self._save_params,
@@ -174,6 +175,14 @@ class Actions:
     def _move_light(self, arg) -> None:
         self.presenter.renderer.light = moved_light(self.presenter.renderer.light, *arg)
         self.redraw()
+
+    def _shift(self, arg) -> None:
+        """A length or the temperature stepped; under --weather the weather sets the
+        temperature (every reading), so T and Y say so and change nothing."""
+        if arg[0] == "temperature" and self.weather_sets_temperature:
+            self.status.say("temperature: the weather sets it (--weather): T and Y change nothing")
+            return
+        self._tune(tuning.shifted, *arg)
 
     def _tune(self, change, *arg, said: str = "params") -> None:
         """The parameters changed by `change(params, *arg)`, sent to the thread; the HUD

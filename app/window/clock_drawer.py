@@ -12,30 +12,53 @@ import numpy as np
 
 
 class ClockDrawer:
-    """`draw(minute)` (app.gl.Renderer.clock_box) on one worker; `wake()` after each."""
+    """`draw(minute, outside)` (app.gl.Renderer.clock_box) on one worker; `wake()` after each."""
 
-    def __init__(self, draw: Callable[[str], np.ndarray], wake: Callable[[], None]):
+    def __init__(self, draw: Callable[[str, str], np.ndarray], wake: Callable[[], None]):
         self.draw, self.wake = draw, wake
         self._pool = ThreadPoolExecutor(1, thread_name_prefix="frost-clock")
-        self.asked: str | None = None  # the newest minute asked for
+        self.asked: tuple[str, str] | None = None  # the newest (minute, outside) asked for
         self._future: Future | None = None
 
-    def ask(self, minute: str) -> None:
-        """Draw `minute` (once: asking again for the minute asked last does nothing)."""
-        if minute == self.asked:
+    def ask(self, minute: str, outside: str = "") -> None:
+        """Draw `minute` with `outside` under it (once: asking again for what was asked
+        last does nothing)."""
+        if (minute, outside) == self.asked:
             return
-        self.asked = minute
-        self._future = self._pool.submit(self.draw, minute)
+        self.asked = (minute, outside)
+        self._future = self._pool.submit(self.draw, minute, outside)
         self._future.add_done_callback(lambda _f: self.wake())
 
-    def ready(self) -> tuple[str, np.ndarray] | None:
-        """(minute, box) of the newest minute asked once it is drawn, then None until the
+    def ready(self) -> tuple[str, str, np.ndarray] | None:
+        """(minute, outside, box) of the newest asked once it is drawn, then None until the
         next; a drawing that failed raises its error here, on the loop's thread."""
         future = self._future
-        if future is None or not future.done():
+        if future is None or not future.done() or self.asked is None:
             return None
         self._future = None
-        return self.asked or "", future.result()
+        return (*self.asked, future.result())
+
+    def follow(self, renderer, minute: str | None, outside: str) -> bool:
+        """The renderer's clock to show `minute` (None: the one it shows) with `outside`
+        under it: asked of the worker where the renderer patches its clock box, else set
+        at once. True when that changes what is shown."""
+        minute = minute or renderer.minute
+        if (minute, outside) == (renderer.minute, renderer.outside):
+            return False
+        if renderer.patches_clock():  # (its clock box alone, drawn on the worker)
+            self.ask(minute, outside)
+        else:
+            renderer.set_minute(minute, outside=outside)
+        return True
+
+    def upload(self, renderer) -> bool:
+        """The newest drawing, once ready, given to the renderer (unless it shows that
+        already); True when it did."""
+        drawn = self.ready()
+        if drawn is None or drawn[:2] == (renderer.minute, renderer.outside):
+            return False
+        renderer.set_minute(drawn[0], drawn[2], outside=drawn[1])
+        return True
 
     def close(self) -> None:
         self._pool.shutdown(wait=False, cancel_futures=True)

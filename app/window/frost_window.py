@@ -21,9 +21,10 @@ import moderngl
 
 from app.backdrops import BACKDROPS, LIVE
 from app.keys import help_lines
-from app.lockscreen import clock_from
+from app.lockscreen import clock_from, outside_line
 from app.photos import PhotoError, is_photo, keep, read_file, store_of
 from app.simthread.thread import SimThread, Snapshot
+from app.weather.feed import feed_for
 from app.window.actions import Actions
 from app.window.capture import Capture
 from app.window.clock_drawer import ClockDrawer
@@ -85,6 +86,9 @@ class FrostWindow:
         self.panel = PanelHost(window, self.actions) if PanelHost is not None \
             else NoPanel(self.status.say, PANEL_ERROR)
         self.actions.toggle_panel = self.panel.toggle
+        # --weather: readings beside the loop (its own thread); T and Y then change nothing.
+        self.weather = feed_for(args, self.thread.show_weather, log.info)
+        self.actions.weather_sets_temperature = self.weather is not None
         self.latest: Snapshot | None = None
         self.running, self.exit_status = True, 0
         self.ended_by: signal.Signals | None = None  # the signal that ended the loop
@@ -141,6 +145,8 @@ class FrostWindow:
         return self.exit_status
 
     def close(self) -> None:
+        if self.weather is not None:
+            self.weather.stop()
         self.thread.stop()
         self.clock.close()
         self._write_out()
@@ -185,9 +191,7 @@ class FrostWindow:
     def _drain(self) -> None:
         for snapshot in self.thread.drain():
             self._apply(snapshot)
-        drawn = self.clock.ready()
-        if drawn is not None and drawn[0] != self.presenter.renderer.minute:
-            self.presenter.renderer.set_minute(*drawn)
+        if self.clock.upload(self.presenter.renderer):
             self.dirty = True
         self._drain_notices()
 
@@ -211,11 +215,7 @@ class FrostWindow:
                 self.actions.follow(snapshot.params, snapshot.stats.handled)
         if self.actions.follow_backdrop(snapshot.backdrop, snapshot.stats.handled):
             self.dirty = True
-        if snapshot.minute is not None and snapshot.minute != renderer.minute:
-            if renderer.patches_clock():  # (its clock box alone, drawn on a worker)
-                self.clock.ask(snapshot.minute)
-            else:
-                renderer.set_minute(snapshot.minute)
+        if self.clock.follow(renderer, snapshot.minute, outside_line(snapshot.weather)):
             self.dirty = True
         for melt in snapshot.melts:
             renderer.apply(melt)

@@ -10,6 +10,7 @@ from collections import deque
 
 from app.simthread.thread import Snapshot, Stats
 from sim import Params, preset_name
+from sim.weather import event_words
 
 log = logging.getLogger("app.window")
 
@@ -114,7 +115,8 @@ class Status:
     def lines(self, now: float, snapshot: Snapshot | None, params: Params, view,
               recording: str | None, render_ms: float, panel: str | None = None) -> list[str]:
         """The HUD's stats: `params` and the stats of the snapshot shown (else `params`), the
-        renderer's `view` switches, `recording` (e.g. "REC 12 frames") when on, the tuning
+        weather outside where it has one (its place and reading), the renderer's `view`
+        switches, `recording` (e.g. "REC 12 frames") when on, the tuning
         panel's cost while it is shown (on the second line, which the log's lines keep)."""
         stats = snapshot.stats if snapshot else NO_STATS
         shown = snapshot.params if snapshot else params  # what the frame shows
@@ -133,6 +135,9 @@ class Status:
             f"bumps {onoff(view.show_bumps)}  " + "light ({:.2f}, {:.2f}, {:.2f})".format(*view.light),
             "  ".join(state) or "running",
         ]
+        if snapshot is not None and snapshot.weather is not None:
+            place, words = event_words(snapshot.weather)
+            lines.insert(4, f"weather {place}: {words}")
         lines += [text for text, until in self.messages if now < until]
         return lines + ["H help"]
 

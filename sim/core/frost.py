@@ -81,7 +81,18 @@ class FrostSim(Touches):
         self.supply = Supply(p, streams.supply, self._water, self._areas, self.placer, self.pane,
                              self.index, rules.touch_creates)
         self.added = Added(0, slice(0, 0), slice(0, 0), slice(0, 0), 0)
+        self.thawing = False  # the weather's thaw (`set_weather`): no step grows
         self._start_pane()
+
+    def set_weather(self, temperature: float | None, supply: float = 1.0) -> None:
+        """The weather's glass from the next step on (sim/weather): window mode grows as
+        if its `temperature` were `temperature` and its pane's water were `supply` times
+        as much; None: a thaw, whose steps grow nothing (the walkers wait where they are;
+        `melt_tips` takes the ice back). Touch mode has no temperature: a thaw alone acts."""
+        self.thawing = temperature is None
+        if temperature is not None and self.params.window_frost:
+            self.growth.chilled(chill(self.params.replace(temperature=temperature)))
+            self.pane.chilled(temperature, supply)
 
     def _start_pane(self) -> None:
         """Window mode: the pane-wide area, then the frame's and the glass's own seeds."""
@@ -94,7 +105,10 @@ class FrostSim(Touches):
     # ---- a tick -------------------------------------------------------------------
 
     def step(self) -> Added:
-        """One tick: the phases of the module doc, in order."""
+        """One tick: the phases of the module doc, in order (none in a thaw)."""
+        if self.thawing:
+            self.tick += 1
+            return self._close_tick(0)
         self.placer.cell_work = placement.CELL_WORK
         self.walk()
         keys, dropped = drop_in_full_cells(self._water, self.index)

@@ -25,9 +25,7 @@ def melt_discs(discs, ice: Skeleton, index: FreezingIndex, growth, pane) -> Melt
     their children (which become roots) are cut. The water they held is the caller's."""
     discs = checked_discs(discs)
     dead = _union([index.crystals_near(x, y, r) for x, y, r in discs])
-    ice.crystal_alive.raw()[dead] = False
-    pane.melted(dead)
-    index.remove(dead)
+    _kill(dead, ice, index, pane)
     # A child lies within one link of its parent: look no further than that.
     reach = ice.longest_link + 1.0
     near = _union([index.crystals_near(x, y, r + reach) for x, y, r in discs])
@@ -37,6 +35,26 @@ def melt_discs(discs, ice: Skeleton, index: FreezingIndex, growth, pane) -> Melt
     parents[orphans] = -1
     segments, upsampled = ice.cut(np.concatenate([dead, orphans]))
     return Melted(dead, upsampled, segments, orphans)
+
+
+def melt_tips(ice: Skeleton, index: FreezingIndex, growth, pane) -> Melted:
+    """The weather's thaw (sim/weather): the crystals no live crystal grows from (the
+    ice's thin edges) melt as in `melt_discs`. None of them has a child to orphan, and
+    their parents, the new tips, keep their slots as they were (no clearing is made for
+    the frost to regrow across, as a finger's is)."""
+    dead = ice.tips()
+    _kill(dead, ice, index, pane)
+    none = dead[:0]
+    growth.melted(dead, ice.parents.raw(), none, none)
+    segments, upsampled = ice.cut(dead)
+    return Melted(dead, upsampled, segments, none)
+
+
+def _kill(dead: np.ndarray, ice: Skeleton, index: FreezingIndex, pane) -> None:
+    """The crystals `dead` die in `ice` and leave `index` and `pane`."""
+    ice.crystal_alive.raw()[dead] = False
+    pane.melted(dead)
+    index.remove(dead)
 
 
 def _union(ids: list[np.ndarray]) -> np.ndarray:

@@ -54,6 +54,13 @@ class Skeleton:
         self.segments_alive = Growable(bool)
         self.longest_link = 0.0  # a crystal's children lie within this of it
 
+    def tips(self) -> np.ndarray:
+        """The live crystals no live crystal grows from (the ice's thin edges), ascending."""
+        alive, parents = self.crystal_alive.raw(), self.parents.raw()
+        has_child = np.zeros(len(alive), bool)
+        has_child[parents[alive & (parents >= 0)]] = True
+        return np.flatnonzero(alive & ~has_child)
+
     def add(self, pts: np.ndarray, parents: np.ndarray, area: np.ndarray) -> slice:
         """Append live crystals with their parents and areas."""
         new = self.crystals.append(pts)

@@ -10,7 +10,7 @@ import numpy as np
 from ..params import Params
 from ..screen import touch_problem
 from . import budget
-from .melting import melt_discs
+from .melting import melt_discs, melt_tips
 from .skeleton import Melted
 from .versions import Rules
 from .views import Holdings
@@ -101,7 +101,15 @@ class Touches(Holdings):
     def melt_many(self, discs) -> Melted:
         """One melt of the crystals within any of `discs` ((x, y, radius) each): as `melt`,
         in one pass over the ice they cover, one return of their water."""
-        melted = melt_discs(discs, self.ice, self.index, self.growth, self.pane)
+        return self._returned(melt_discs(discs, self.ice, self.index, self.growth, self.pane))
+
+    def melt_tips(self) -> Melted:
+        """The weather's thaw, one layer: the ice's thin edges (`Skeleton.tips`) melt and
+        their water returns, as a warm finger's does."""
+        return self._returned(melt_tips(self.ice, self.index, self.growth, self.pane))
+
+    def _returned(self, melted: Melted) -> Melted:
+        """The water of the crystals `melted` back in its areas' pools."""
         self.water_melted += len(melted.crystals)
         dead_area = self.ice.area.raw()[melted.crystals]
         self._areas.count_ice(dead_area, -1)

@@ -27,6 +27,15 @@ the newest. What each version changed:
    or a render shows what the session showed, a photo brought from a phone included. A
    session starts on the default backdrop (dusk) unless one at tick 0 says otherwise. The
    frost itself grows as in version 9.
+12. The weather: "weather" events hold a reading of the weather outside and the glass it
+   acts on (sim/weather); from their tick on the frost grows as that glass makes it (the
+   window's temperature and supply), or thaws (nothing grows, the ice melts back from its
+   thin edges). Without weather events the frost grows as in version 9.
+13. A file may say where it was grown: "source": "phone" is a phone's own session, grown by
+   the page's simulation in JavaScript (app/web/local/) with its own random numbers. It
+   replays here by this version's rules, with the same touches, parameters and backdrops,
+   but not bit for bit; a file without "source" was grown by this simulation. The frost
+   itself grows as in version 12.
 """
 
 from __future__ import annotations
@@ -35,7 +44,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-NEWEST = 11
+NEWEST = 13
+# The first version whose files may say where they were grown ("source", above).
+PHONE_VERSION = 13
 # Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
 REGROW_GAP = 12
 # The parts that draw random numbers, in the order their streams are spawned.
@@ -58,6 +69,7 @@ class Rules:
     capped_touches: bool  # 9: a touch into a full cell plants nothing
     clock_events: bool  # 10: "clock" events (the lock screen's minutes) may be recorded
     backdrop_events: bool  # 11: "backdrop" events (the backdrop shown) may be recorded
+    weather_events: bool  # 12: "weather" events (the weather outside) may be recorded
 
 
 def rules_of(version: int) -> Rules:
@@ -67,7 +79,7 @@ def rules_of(version: int) -> Rules:
         raise ValueError(f"version={version!r} must be a whole number in [1, {NEWEST}]")
     v = int(version)
     return Rules(v, REGROW_GAP if v >= 2 else 0, v >= 3, v >= 4, v >= 5, v >= 5, v >= 6, v >= 7,
-                 v >= 8, v >= 9, v >= 10, v >= 11)
+                 v >= 8, v >= 9, v >= 10, v >= 11, v >= 12)
 
 
 @dataclass(frozen=True)

@@ -5,8 +5,13 @@ Kinds of event: "touch" (x, y), "melt" (x, y, r), "params" (params: a dict; rebu
 simulation), "clear" (drops the touches and melts, rebuilds) and, from version 10, "clock"
 (minute: the lock screen's clock shows that minute from here on, "YYYY-MM-DDTHH:MM", local
 time; the frost is untouched) and, from version 11, "backdrop" (name: the backdrop shown
-from here on, a built-in's or a photo's name; the frost is untouched). Each has its
+from here on, a built-in's or a photo's name; the frost is untouched) and, from version
+12, "weather" (reading: what the weather API said, sim.weather.Reading's JSON; glass: the
+glazing and the room it acts on, sim.weather.Glass's: the frost grows or thaws as they
+make it from here on). Each has its
 "tick": the tick of its timeline it applied at (a rebuild starts a new timeline at tick 0).
+From version 13 a file may say where it was grown: "source": "phone" (a phone's own
+session, grown by the page's simulation: it replays here, but not bit for bit).
 """
 
 from __future__ import annotations
@@ -19,8 +24,10 @@ from pathlib import Path
 from typing import Any
 
 from ..core.frost import VERSION as FROST_VERSION
+from ..core.versions import PHONE_VERSION
 from ..params import Params
 from ..screen import HEIGHT, WIDTH, melt_problem, touch_problem
+from ..weather import Glass, Reading
 from .files import one_line, read_json, write_atomic
 
 FORMAT = "frost-session"
@@ -29,18 +36,22 @@ FORMAT = "frost-session"
 VERSION = FROST_VERSION
 # The keys each event kind needs besides "tick" and "kind".
 EVENT_FIELDS = {"touch": ("x", "y"), "melt": ("x", "y", "r"), "params": ("params",),
-                "clear": (), "clock": ("minute",), "backdrop": ("name",)}
+                "clear": (), "clock": ("minute",), "backdrop": ("name",),
+                "weather": ("reading", "glass")}
 REBUILDS = ("params", "clear")  # kinds that start a new timeline at tick 0
 # Kinds that change only what is shown, not the frost: a session of these alone has
 # nothing to replay (no file is written for it).
 SHOWN_ONLY = ("clock", "backdrop")
 # The first version whose files may hold each kind of event (kinds not named: all).
-SINCE = {"clock": 10, "backdrop": 11}
+SINCE = {"clock": 10, "backdrop": 11, "weather": 12}
 # A backdrop event's name: a built-in's ("dusk") or a photo's ("photo-" and 32 hex digits):
 # the names the pages' protocol carries, never a path.
 BACKDROP_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]{0,63}\Z")
 DEFAULT_BACKDROP = "dusk"  # what a session shows before its first backdrop event
 MINUTE_FORMAT = "%Y-%m-%dT%H:%M"  # a clock event's minute, local time
+# Where a file may say it was grown ("source", from version 13): a phone's page, whose
+# simulation draws other random numbers. A file without it was grown by sim/.
+SOURCES = ("phone",)
 
 
 class SessionError(ValueError):
@@ -65,11 +76,14 @@ class SessionLog:
     # None in files older than it: the renderer's defaults.
     view: dict[str, Any] | None = None
     version: int = VERSION  # the rules it replays with (the frost's and the timeline's)
+    source: str | None = None  # "phone": grown by a phone's page (SOURCES), not bit for bit
 
     def as_json(self) -> dict[str, Any]:
         data = {"format": FORMAT, "version": self.version, "seed": self.seed, "width": self.width,
                 "height": self.height, "params": self.params, "steps": self.steps,
                 "events": self.events}
+        if self.source is not None:
+            data["source"] = self.source
         return data if self.view is None else {**data, "view": self.view}
 
     def save(self, path) -> Path:
@@ -109,7 +123,13 @@ class SessionLog:
         except ValueError as err:
             raise SessionError(str(err)) from None
         return cls(_whole(data, "seed", 0, MAX_SEED), dict(data["params"]), *size,
-                   events, _whole(data, "steps", 0, MAX_TICK, 0), view, version)
+                   events, _whole(data, "steps", 0, MAX_TICK, 0), view, version,
+                   _source(data, version))
+
+    def bit_for_bit(self) -> bool:
+        """Whether a replay here grows this very frost (not a phone's, whose random numbers
+        were its own)."""
+        return self.source is None
 
     def replayable(self) -> bool:
         """Whether it holds an event that changes the frost (not only clock minutes)."""
@@ -124,6 +144,20 @@ MAX_COORD = 1e9
 # second.
 MAX_SEED = 2**63 - 1
 MAX_TICK = 2**31 - 1
+
+
+def _source(data: dict, version: int) -> str | None:
+    """The file's "source" (None: grown by sim/); SessionError if not one of SOURCES or
+    in a file older than PHONE_VERSION."""
+    source = data.get("source")
+    if source is None:
+        return None
+    if source not in SOURCES:
+        raise SessionError(f"'source' {str(source)[:40]!r} must be one of {', '.join(SOURCES)}")
+    if version < PHONE_VERSION:
+        raise SessionError(f"'source' needs version {PHONE_VERSION} or later "
+                           f"(this file is version {version})")
+    return source
 
 
 def _whole(data: dict, key: str, lo: int, hi: int, default: int | None = None) -> int:
@@ -214,7 +248,23 @@ def check_event(event: Any, size: tuple[int, int] = (WIDTH, HEIGHT)) -> dict[str
                                             and BACKDROP_NAME.match(event["name"])):
         raise SessionError(f"event {event!r}: 'name' must be a backdrop's name (1 to 64 "
                            "letters, digits, '-' or '_')")
+    if event["kind"] == "weather":
+        _weather(event)
     return event
+
+
+def weather_event(reading: Reading, glass: Glass, tick: int = 0) -> dict[str, Any]:
+    """The weather event of `reading` on `glass` (at `tick`: a timeline given it records
+    its own tick)."""
+    return {"tick": tick, "kind": "weather", "reading": reading.as_json(), "glass": glass.as_json()}
+
+
+def _weather(event: dict) -> None:
+    try:
+        Reading.from_json(event["reading"])
+        Glass.from_json(event["glass"])
+    except ValueError as err:
+        raise SessionError(f"weather event at tick {event['tick']}: {err}") from None
 
 
 def _minute(v: Any) -> bool:

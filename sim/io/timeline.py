@@ -24,10 +24,11 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..core.frost import FrostSim
-from ..core.versions import rules_of
+from ..core.versions import Rules, rules_of
 from ..look.geometry import FrostGeometry, GeometryDelta
 from ..params import Params
 from ..screen import HEIGHT, WIDTH, touch_problem
+from ..weather import THAW_TICKS, Glass, Reading, frost_of
 from .session import REBUILDS, VERSION, SessionLog
 
 log = logging.getLogger(__name__)
@@ -53,6 +54,7 @@ class Applied:
     message: str | None = None
     minute: str | None = None  # a clock event's minute: the lock screen shows it from now
     backdrop: str | None = None  # a backdrop event's name: shown from now
+    weather: dict[str, Any] | None = None  # a weather event (its reading, its glass): from now
 
 
 def rebuilt_words(ticks: list[int], melts: int) -> str:
@@ -68,7 +70,48 @@ def rebuilt_words(ticks: list[int], melts: int) -> str:
     return f"rebuilt{joined}{planted}{again}"
 
 
-class Timeline:
+class Surroundings:
+    """A Timeline's events of the world around the frost, each kept across a rebuild: the
+    clock's minute, the backdrop behind the glass and the weather outside (which sets how
+    the frost grows or thaws)."""
+
+    rules: Rules
+    version: int
+    sim: FrostSim
+    minute: str | None
+    backdrop: str | None
+    weather: dict[str, Any] | None
+
+    def _clock(self, event: dict, notes: dict) -> None:
+        """The lock screen's clock shows `minute` from this tick on (the frost is untouched;
+        a rebuild keeps it: the clock is the screen's, not the frost's)."""
+        if not self.rules.clock_events:
+            raise ValueError(f"a clock event needs session version 10 or later, not {self.version}")
+        self.minute = notes["minute"] = event["minute"]
+
+    def _backdrop(self, event: dict, notes: dict) -> None:
+        """The backdrop `name` is shown from this tick on (the frost is untouched; a
+        rebuild keeps it)."""
+        if not self.rules.backdrop_events:
+            raise ValueError(f"a backdrop event needs session version 11 or later, not {self.version}")
+        self.backdrop = notes["backdrop"] = event["name"]
+
+    def _weather(self, event: dict, notes: dict) -> None:
+        """The weather outside from this tick on (sim/weather): the frost grows as its glass
+        makes it, or thaws; a rebuild keeps it (the weather is the night's, not the frost's)."""
+        if not self.rules.weather_events:
+            raise ValueError(f"a weather event needs session version 12 or later, not {self.version}")
+        self.weather = notes["weather"] = {"reading": event["reading"], "glass": event["glass"]}
+        self._set_weather()
+
+    def _set_weather(self) -> None:
+        if self.weather is not None:
+            reading = Reading.from_json(self.weather["reading"])
+            frost = frost_of(reading.temperature_c, Glass.from_json(self.weather["glass"]))
+            self.sim.set_weather(frost.temperature, frost.supply)
+
+
+class Timeline(Surroundings):
     """A FrostSim and its FrostGeometry driven by events (see the module docstring)."""
 
     def __init__(self, params: Params, seed: int, width: int = WIDTH, height: int = HEIGHT,
@@ -89,11 +132,13 @@ class Timeline:
         self._pending: list[dict[str, Any]] = touch_events(self.touches)
         self._handlers = {"touch": self._touch, "melt": self._melt,
                           "params": self._params, "clear": self._clear, "clock": self._clock,
-                          "backdrop": self._backdrop}
+                          "backdrop": self._backdrop, "weather": self._weather}
         # The minute the lock screen shows (the last clock event's; None before any).
         self.minute: str | None = None
         # The backdrop shown (the last backdrop event's; None before any).
         self.backdrop: str | None = None
+        # The weather outside (the last weather event; None before any: the preset's own).
+        self.weather: dict[str, Any] | None = None
         self._groups = 0  # melt groups applied (their ids in the recorded events)
         self._build(params)
 
@@ -113,7 +158,7 @@ class Timeline:
         "group" (a replay); every melt is recorded with its group's id, so a replay groups
         them as they were."""
         notes: dict[str, Any] = {"reset": False, "deltas": [], "message": None, "minute": None,
-                                 "backdrop": None}
+                                 "backdrop": None, "weather": None}
         events, i = list(events), 0
         while i < len(events):
             j = self._group_end(events, i)
@@ -124,7 +169,7 @@ class Timeline:
                 self._handlers[events[i]["kind"]](events[i], notes)
             i = j
         return Applied(notes["reset"], tuple(notes["deltas"]), notes["message"], notes["minute"],
-                       notes["backdrop"])
+                       notes["backdrop"], notes["weather"])
 
     def _group_end(self, events: list, i: int) -> int:
         """The end of the run of melts of one group that starts at `i` (i + 1 if none)."""
@@ -158,6 +203,7 @@ class Timeline:
         here, not in `apply`, so a pause or the end of a recording cannot move them.)"""
         notes: dict[str, Any] = {"deltas": []}
         self._due(notes)
+        self._thaw(notes)
         self.sim.step()
         self.steps += 1
         return [*notes["deltas"], self.geometry.update(self.sim)]
@@ -220,19 +266,12 @@ class Timeline:
         notes["reset"] = True
         notes["deltas"][:] = [self.geometry.redraw(self.sim)]
 
-    def _clock(self, event: dict, notes: dict) -> None:
-        """The lock screen's clock shows `minute` from this tick on (the frost is untouched;
-        a rebuild keeps it: the clock is the screen's, not the frost's)."""
-        if not self.rules.clock_events:
-            raise ValueError(f"a clock event needs session version 10 or later, not {self.version}")
-        self.minute = notes["minute"] = event["minute"]
-
-    def _backdrop(self, event: dict, notes: dict) -> None:
-        """The backdrop `name` is shown from this tick on (the frost is untouched; a
-        rebuild keeps it)."""
-        if not self.rules.backdrop_events:
-            raise ValueError(f"a backdrop event needs session version 11 or later, not {self.version}")
-        self.backdrop = notes["backdrop"] = event["name"]
+    def _thaw(self, notes: dict) -> None:
+        """In a thaw, every THAW_TICKS ticks the ice's thin edges melt (one layer of tips)."""
+        if self.sim.thawing and self.sim.tick % THAW_TICKS == 0:
+            melted = self.sim.melt_tips()
+            if len(melted.crystals):
+                notes["deltas"].append(self.geometry.melt(self.sim, melted))
 
     def _clear(self, _event: dict, notes: dict) -> None:
         self.touches, self.melts, self._pending, self._planted = (), [], [], []
@@ -256,6 +295,7 @@ class Timeline:
         self.sim = FrostSim(params, *self.size, seed=self.seed, version=self.version,
                             wrap=self.wrap)
         self.geometry = FrostGeometry(params, *self.size, wrap=self.wrap)
+        self._set_weather()
         while self._pending and self._pending[0]["tick"] == 0 \
                 and self._pending[0]["kind"] == "touch":  # (melts wait for the step)
             self._plant_due()

@@ -67,6 +67,9 @@ class PaperGrowth:
     def nbytes(self) -> int:
         return 0
 
+    def chilled(self, params: Params) -> None:
+        """The paper's rule counts no hits: the temperature changes nothing."""
+
 
 class FernGrowth:
     """Grains and hit counters (see module doc) over per-crystal arrays."""
@@ -151,6 +154,11 @@ class FernGrowth:
         # goes back to branch order 0 (else a wipe regrew as a few high-order stubs).
         self.order.raw()[edge] = 0
 
+    def chilled(self, params: Params) -> None:
+        """The hits a slot needs from now on: `params`' (the weather's, `window_mode.chill`);
+        the hits counted so far are kept."""
+        self.need = np.array([params.tip_hits, params.side_hits, -1])
+
     def nbytes(self) -> int:
         return sum(b.nbytes() for b in (self.axis, self.slot, self.seed, self.ringed, self.child,
                                          self.hits, self.order))
@@ -221,21 +229,7 @@ class FernGrowth:
     def gap_clear(self, crystals, k, parent) -> np.ndarray:
         """No side child in slot k within side_gap - 1 links up or down the stem of each
         of `crystals` (`parent`: every crystal's parent)."""
-        clear = np.empty(len(crystals), bool)
-        clear.fill(True)
-        child, slot = self.child.raw(), self.slot.raw()
-        up, down = crystals, crystals
-        for step in range(self.gap - 1):
-            if step == 0:  # (the crystals themselves: all real)
-                up = np.where(slot[up] == 0, parent[up], -1)
-                down = child[down, 0]
-            else:
-                stem = (up >= 0) & (slot[np.maximum(up, 0)] == 0)
-                up = np.where(stem, parent[np.maximum(up, 0)], -1)
-                down = np.where(down >= 0, child[np.maximum(down, 0), 0], -1)
-            for ring in (up, down):
-                clear &= ~((ring >= 0) & (child[np.maximum(ring, 0), k] >= 0))
-        return clear
+        return gap_clear(self.child.raw(), self.slot.raw(), self.gap, crystals, k, parent)
 
     def _fresh(self, crystals) -> np.ndarray:
         """Ringed seeds with no child yet."""
@@ -290,3 +284,22 @@ def _first_apart(pts: np.ndarray, gap: float) -> np.ndarray:
 def make_growth(params: Params, rng: np.random.Generator, pooled_first: bool = True,
                 capped: bool = False):
     return FernGrowth(params, rng, pooled_first, capped) if params.grains else PaperGrowth()
+
+
+def gap_clear(child: np.ndarray, slot: np.ndarray, gap: int, crystals, k, parent) -> np.ndarray:
+    """FernGrowth.gap_clear over its arrays: `child` (a crystal's child in each slot, -1
+    none), `slot` (the slot each crystal fills) and `gap` (side_gap)."""
+    clear = np.empty(len(crystals), bool)
+    clear.fill(True)
+    up, down = crystals, crystals
+    for step in range(gap - 1):
+        if step == 0:  # (the crystals themselves: all real)
+            up = np.where(slot[up] == 0, parent[up], -1)
+            down = child[down, 0]
+        else:
+            stem = (up >= 0) & (slot[np.maximum(up, 0)] == 0)
+            up = np.where(stem, parent[np.maximum(up, 0)], -1)
+            down = np.where(down >= 0, child[np.maximum(down, 0), 0], -1)
+        for ring in (up, down):
+            clear &= ~((ring >= 0) & (child[np.maximum(ring, 0), k] >= 0))
+    return clear

@@ -66,6 +66,10 @@ class OpenGlass(Pane):
             self.rings = np.where(near_frame, 0, self.far_rings).astype(np.int16)
         return super().start()
 
+    def chilled(self, temperature: float, supply: float) -> None:
+        """The weather's glass: the supply follows its `temperature`, times `supply`."""
+        self.supply = temperature / REFERENCE_C * supply
+
     def melted(self, dead: np.ndarray) -> None:
         """The cells whose crystals melted stay wet until they hold a crystal again."""
         super().melted(dead)

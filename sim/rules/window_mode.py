@@ -62,6 +62,9 @@ class NoPane:
     def place(self, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         raise NotImplementedError  # (touch mode places water in its areas)
 
+    def chilled(self, temperature: float, supply: float) -> None:
+        pass  # (touch mode's water follows the touches, not the glass)
+
 
 class Pane:
     """The pane's seeds and its one pool of water (see module doc). It reads the ice (the
@@ -93,6 +96,9 @@ class Pane:
         seen = dead[dead < self._seen]
         c = self.ice.crystals.raw()[seen]
         np.subtract.at(self._own, self.index.grid.keys(c[:, 0], c[:, 1]), 1)
+
+    def chilled(self, temperature: float, supply: float) -> None:
+        pass  # (without the frond rules the pool keeps to the band's density)
 
     def ice_key(self) -> tuple[int, int]:
         """What the band follows: crystals added and melted."""

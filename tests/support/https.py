@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 from pathlib import Path
 
 
 def browser_problem() -> str | None:
-    from bench.page import browser_problem as problem
+    from bench.chromium import browser_problem as problem
 
     found = problem()
     if found is None and not Path("/usr/bin/certutil").is_file():
@@ -24,3 +25,13 @@ def trusting_home(home: Path, cafile: Path | None) -> Path:
         subprocess.run(["certutil", "-d", f"sql:{db}", "-A", "-t", "C,,", "-n", "frost",
                         "-i", str(cafile)], check=True)
     return home
+
+
+def trusting_chromium(pw, home: Path, name: str):
+    """The system Chromium with `home` as its HOME (its NSS database of trusted
+    authorities is home/.pki/nssdb) and `name` resolved to this machine: a name that is no
+    loopback name, so that only HTTPS makes the page a secure context."""
+    from bench.chromium import CHROMIUM_ARGS, chromium_options
+
+    args = [*CHROMIUM_ARGS, f"--host-resolver-rules=MAP {name} 127.0.0.1"]
+    return pw.chromium.launch(**chromium_options(pw, args), env={**os.environ, "HOME": str(home)})

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from app.backdrops import load_backdrop
-from bench.page import ANGLE, browser_problem, chromium_options
+from bench.chromium import ANGLE, browser_problem, chromium_options
 from bench.serve_process import ServeProcess
 from sim.screen import HEIGHT, WIDTH
 

@@ -1,0 +1,150 @@
+// Where walkers are placed in their areas (Sec. 3.4.2; sim/core/placement.py): uniform
+// draws in the area's annulus outside candidate cells, a few rounds, then its free cells
+// directly (at most CELL_WORK a tick), so a full area costs one look at its cells and
+// nothing loops without bound.
+
+import { drawInto } from './random.js';
+
+const TWO_PI = Math.fround(2 * Math.PI);
+// Draws a walker takes among its area's free cells before it is dropped.
+export const CELL_TRIES = 8;
+// Walkers one tick may place from cells; the rest find no spot and are dropped.
+export const CELL_WORK = 400;
+
+export class Placer {
+  constructor(uniform, index, areas, params) {
+    this.uniform = uniform;
+    this.index = index;
+    this.areas = areas;
+    this.launch = params.launch;
+    this.grow = params.grow;
+    this.cellWork = CELL_WORK;  // cell placements left in this tick
+    this.plans = new Map();  // area -> its cells while the ice stays as it is
+    this.plansKey = -1;
+    this.full = new Map();  // areas whose annulus was last seen with no free cell
+    this.spot = new Float32Array(2);  // the spot `place` found (a field would box it)
+    // Uniform draws taken a block at a time (float32, as sim/ draws them): a number
+    // returned by a call for each draw would be boxed, thousands of times a tick.
+    this.draws = new Float32Array(4096);
+    this.at = this.draws.length;
+  }
+
+  /** The next `k` draws start at `this.at` (a fresh block where the last ran out). */
+  take(k) {
+    if (this.at + k > this.draws.length) {
+      drawInto(this.uniform, this.draws);
+      this.at = 0;
+    }
+    const at = this.at;
+    this.at += k;
+    return at;
+  }
+
+  clear() {
+    this.plans.clear();
+    this.full.clear();
+    this.plansKey = -1;
+  }
+
+  /** A uniform spot of `area`'s annulus, on the screen, outside candidate cells, into
+   * `this.spot`; false where there is none. `many`: the walker is one of over 1 024
+   * placed together (fewer disc draws before the cells, as sim/ does); `ice` says when
+   * the ice last changed. */
+  place(area, many, ice) {
+    if (!this.full.get(area)) {
+      const tries = (many ? 3 : 4) + (this.launch ? 16 : 0);
+      if (this.discSpot(area, tries)) return true;
+    }
+    if (this.cellWork <= 0) return false;
+    this.cellWork--;
+    return this.cellSpot(area, ice);
+  }
+
+  discSpot(area, tries) {
+    this.areas.shell(area, this.launch);
+    const a = this.areas.rows, inner = this.areas.inner, outer = this.areas.outer;
+    const cx = a[5 * area], cy = a[5 * area + 1];
+    const i2 = Math.fround(inner * inner), span = Math.fround(Math.fround(outer * outer) - i2);
+    for (let t = 0; t < tries; t++) {
+      const at = this.take(2), u = this.draws;
+      const r = Math.fround(Math.sqrt(Math.fround(i2 + Math.fround(u[at] * span))));
+      const th = Math.fround(u[at + 1] * TWO_PI);
+      const x = Math.fround(cx + Math.fround(r * Math.fround(Math.cos(th))));
+      const y = Math.fround(cy + Math.fround(r * Math.fround(Math.sin(th))));
+      if (this.index.free(x, y)) {
+        this.spot[0] = x;
+        this.spot[1] = y;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  /** A spot from the area's cells (`plan`): a uniform cell, a uniform point in it, kept
+   * if it lies in the annulus (anywhere in the disc on glass) and on the screen. */
+  cellSpot(area, ice) {
+    const plan = this.plan(area, ice), n = plan.cells.length;
+    if (n === 0) return false;
+    const a = this.areas.rows, cx = a[5 * area], cy = a[5 * area + 1], rOut = a[5 * area + 2];
+    const index = this.index, cols = index.grid.cols, s = index.grid.cell;
+    for (let t = 0; t < CELL_TRIES; t++) {
+      const at = this.take(3), u = this.draws;
+      const cell = plan.cells[Math.min(Math.floor(u[at] * n), n - 1)];
+      const px = (cell % cols + u[at + 1]) * s;
+      const py = (Math.floor(cell / cols) + u[at + 2]) * s;
+      const d2 = (px - cx) ** 2 + (py - cy) ** 2;
+      if (d2 > rOut * rOut || (!plan.glass && d2 < plan.rIn * plan.rIn)) continue;
+      const x = Math.fround(px), y = Math.fround(py);
+      if (px >= index.width || py >= index.height || x >= index.width || y >= index.height) continue;
+      if (plan.glass && index.nearestD2(x, y) < index.apart2) continue;
+      this.spot[0] = x;
+      this.spot[1] = y;
+      return true;
+    }
+    return false;
+  }
+
+  /** The cells an area's water is drawn from when its disc draws fail: its annulus's
+   * free cells; in growth mode, else its whole disc's free cells, else any cell of its
+   * disc, where a spot must be glass. Kept until the ice changes. */
+  plan(area, ice) {
+    if (ice !== this.plansKey) {
+      for (const plan of this.plans.values()) plan.fresh = false;
+      this.plansKey = ice;
+    }
+    let plan = this.plans.get(area);
+    if (plan && plan.fresh) return plan;
+    const a = this.areas.rows, cx = a[5 * area], cy = a[5 * area + 1], rOut = a[5 * area + 2];
+    const index = this.index, count = index.candidates.count, n = index.boxCells(cx, cy, rOut);
+    if (!plan || plan.all.length < n) plan = { all: new Int32Array(2 * n) };
+    // The box's cells sorted into three runs of `all`: the annulus's free cells from the
+    // front, the disc's other free cells after them, the disc's cells with ice from the back.
+    const { box, near2, far2 } = index, all = plan.all, rIn = a[5 * area + 3];
+    let annulus = 0, free = 0, iced = all.length;
+    for (let k = 0; k < n; k++) {
+      if (near2[k] > rOut * rOut) continue;
+      if (count[box[k]] !== 0) all[--iced] = box[k];
+      else if (far2[k] >= rIn * rIn) all[annulus++] = box[k];
+      else free++;
+    }
+    for (let k = 0, f = annulus; free && k < n; k++) {  // the disc's free cells inside the annulus
+      if (near2[k] <= rOut * rOut && count[box[k]] === 0 && far2[k] < rIn * rIn) all[f++] = box[k];
+    }
+    const full = annulus === 0;
+    Object.assign(plan, { fresh: true, cells: all.subarray(0, annulus), rIn, glass: false });
+    if (full && this.grow) {
+      plan.rIn = 0;
+      plan.cells = free ? all.subarray(0, free) : all.subarray(iced);
+      plan.glass = free === 0;
+    }
+    this.plans.set(area, plan);
+    this.full.set(area, full);
+    return plan;
+  }
+}
+
+/** A uniform point of the ring from hc to 2 hc around (cx, cy), float32, as [x, y]. */
+export function ringSpot(uniform, cx, cy, hc) {
+  const r = hc * Math.sqrt(1 + 3 * uniform()), th = TWO_PI * uniform();
+  return [Math.fround(cx + r * Math.cos(th)), Math.fround(cy + r * Math.sin(th))];
+}

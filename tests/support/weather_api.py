@@ -1,0 +1,102 @@
+"""A stand-in for Open-Meteo's two APIs (the forecast's /v1/forecast, the geocoding's
+/v1/search) on 127.0.0.1, on a thread of its own: answers in the documented JSON shapes,
+or as told (`mode`): "429", "500", "slow", "garbage", "missing" (`missing` names the field
+left out). Every request is kept (`asked`), so a test sees what was sent."""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import threading
+from typing import Any
+
+from aiohttp import web
+
+# The places the stand-in geocoder knows, in the API's shape (a name it does not know: no
+# "results", as the API answers).
+PLACES = {"Oslo": {"id": 3143244, "name": "Oslo", "latitude": 59.91273, "longitude": 10.74609,
+                   "elevation": 26.0, "country_code": "NO", "timezone": "Europe/Oslo",
+                   "country": "Norway", "admin1": "Oslo"}}
+
+
+class StandIn:
+    """Both APIs at `url`; `current` is what /v1/forecast answers under "current"."""
+
+    def __init__(self, temperature_c: float = -25.0):
+        self.current: dict[str, Any] = {
+            "time": "2026-01-10T23:00", "interval": 900, "temperature_2m": temperature_c,
+            "relative_humidity_2m": 80, "dew_point_2m": -27.6, "weather_code": 71, "is_day": 0,
+            "wind_speed_10m": 11.2, "apparent_temperature": -31.4, "cloud_cover": 100}
+        self.mode = "ok"
+        self.missing = "dew_point_2m"
+        self.slow_s = 30.0
+        self.asked: list[tuple[str, dict[str, str]]] = []
+        self.arrived = threading.Event()  # set at each request, before its answer
+        self.answered = threading.Event()  # set at each answer
+        self.url = ""
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._ready = threading.Event()
+        self._stop: asyncio.Event | None = None
+        self._thread = threading.Thread(target=lambda: asyncio.run(self._main()), daemon=True)
+
+    def __enter__(self) -> StandIn:
+        self._thread.start()
+        assert self._ready.wait(30), "the stand-in API did not start"
+        return self
+
+    def __exit__(self, *_exc) -> None:
+        if self._loop is not None and self._stop is not None:
+            self._loop.call_soon_threadsafe(self._stop.set)
+        self._thread.join(30)
+
+    def paths(self) -> list[str]:
+        return [path for path, _query in self.asked]
+
+    async def _main(self) -> None:
+        app = web.Application()
+        app.router.add_get("/v1/forecast", self._forecast)
+        app.router.add_get("/v1/search", self._search)
+        runner = web.AppRunner(app)
+        await runner.setup()
+        site = web.TCPSite(runner, "127.0.0.1", 0)
+        await site.start()
+        port = runner.addresses[0][1]
+        self.url = f"http://127.0.0.1:{port}"
+        self._loop, self._stop = asyncio.get_running_loop(), asyncio.Event()
+        self._ready.set()
+        await self._stop.wait()
+        await runner.cleanup()
+
+    async def _answer(self, request: web.Request, body: dict) -> web.StreamResponse:
+        self.asked.append((request.path, dict(request.query)))
+        self.arrived.set()
+        try:
+            if self.mode == "429":
+                return web.json_response({"error": True, "reason": "Too many requests"}, status=429)
+            if self.mode == "500":
+                return web.Response(status=500, text="Internal Server Error")
+            if self.mode == "garbage":
+                return web.Response(text="<html>a captive portal</html>", content_type="text/html")
+            if self.mode == "slow" and self._stop is not None:  # (until the stand-in stops)
+                with contextlib.suppress(asyncio.TimeoutError):
+                    await asyncio.wait_for(self._stop.wait(), self.slow_s)
+            return web.json_response(body)
+        finally:
+            self.answered.set()
+
+    async def _forecast(self, request: web.Request) -> web.StreamResponse:
+        current = dict(self.current)
+        if self.mode == "missing":
+            current.pop(self.missing, None)
+        q = request.query
+        return await self._answer(request, {
+            "latitude": float(q.get("latitude", 0)), "longitude": float(q.get("longitude", 0)),
+            "generationtime_ms": 0.05, "utc_offset_seconds": 3600, "timezone": "Europe/Stockholm",
+            "current_units": {"temperature_2m": "°C"}, "current": current})
+
+    async def _search(self, request: web.Request) -> web.StreamResponse:
+        place = PLACES.get(request.query.get("name", ""))
+        body: dict[str, Any] = {"generationtime_ms": 0.3}
+        if place is not None:
+            body["results"] = [place]
+        return await self._answer(request, body)
