@@ -25,18 +25,21 @@ serve: $(RUN_STAMP)
 	$(PY) -m app serve $(ARGS)
 
 # Two workers (pytest-xdist): CI's machine has two cores, and half the suite waits on
-# subprocesses (the window under Xvfb, the CLI), so two halve the wall time.
+# subprocesses (the window under Xvfb, the CLI), so two halve the wall time; the
+# costliest modules go first (tests/conftest.py).
 WORKERS ?= 2
 
 test: $(TEST_STAMP)
 	$(PY) -m pytest -n $(WORKERS) $(PYTEST_ARGS)
 
 # A change's inner loop: the suite without what opens Chromium or a window under Xvfb,
-# the slow tests (the wheel's install, the serve bench) and the validation runs (docs/testing.md); the same test stage.
-QUICK := not browser and not window and not slow and not validation
+# what starts Python in a subprocess (frost, frost serve, pytest), the slow tests and the
+# validation runs, with a fifth of the property tests' examples (docs/testing.md); the
+# same test stage.
+QUICK := not browser and not window and not subprocess and not slow and not validation
 
 quick: $(TEST_STAMP)
-	$(PY) -m pytest -n $(WORKERS) -m "$(QUICK)" $(PYTEST_ARGS)
+	FROST_HYPOTHESIS=frost-quick $(PY) -m pytest -n $(WORKERS) -m "$(QUICK)" $(PYTEST_ARGS)
 
 # The suite plus its validation runs (DLA dimension, full-screen wipe, long brute force).
 test-deep: $(TEST_STAMP)

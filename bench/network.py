@@ -20,12 +20,7 @@ from __future__ import annotations
 
 import json
 import os
-import re
-import signal
-import subprocess
-import sys
 import tempfile
-import threading
 import time
 import urllib.request
 from collections.abc import Iterator
@@ -36,9 +31,12 @@ from pathlib import Path
 import numpy as np
 
 from app.bench.taps import GAP_S, tap_spots
+from bench.serve_process import ServeProcess
 from bench.shaper import Profile, ShaperThread
 from sim.screen import HEIGHT, WIDTH
 
+# The checkout this module is part of: its server is the one started, whatever is installed.
+ROOT = Path(__file__).resolve().parents[1]
 PHONE = {"viewport": {"width": 390, "height": 844}, "device_scale_factor": 3,
          "has_touch": True, "is_mobile": True}
 JOIN_TICKS = 2250  # the window preset's frosted pane (docs/phone-design.md's snapshot: 2.12 MB)
@@ -117,29 +115,12 @@ def served(preset: str, network: Profile | None = None) -> Iterator[Served]:
     """`frost serve --preset P` on a free loopback port (in a child process), with the
     shaper in front of it when `network` is given; stopped (SIGINT) at the end."""
     with tempfile.TemporaryDirectory() as tmp, ExitStack() as stack:
-        # The server of this checkout (the one this module is part of), whatever is installed.
-        root = str(Path(__file__).resolve().parents[2])
-        env = {**os.environ, "PYTHONPATH": os.pathsep.join(
-            [root, *filter(None, [os.environ.get("PYTHONPATH")])]), "PYTHONUNBUFFERED": "1"}
-        proc = subprocess.Popen([sys.executable, "-m", "app", "serve", "--port", "0",
-                                 "--preset", preset, "--session-dir", tmp], cwd=tmp, env=env,
-                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        log: list[str] = []
+        env = {"PYTHONPATH": os.pathsep.join([str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])}
+        server = ServeProcess("--port", "0", "--preset", preset, "--session-dir", tmp, cwd=tmp,
+                              env=env).drain()
         try:
-            url = None
-            for line in proc.stdout or ():
-                log.append(line)
-                found = re.search(r"open (http://\S+)", line)
-                if found:
-                    url = found.group(1)
-                    break
-            if url is None:
-                raise RuntimeError("frost serve did not start: " + "".join(log[-5:]))
-            # Its log read on, so that a full pipe never stops the server.
-            threading.Thread(target=lambda: log.extend(proc.stdout or ()), daemon=True).start()
-            shaper = None
+            url, port = server.url, server.port
             if network is not None:
-                port = int(re.search(r":(\d+)/", url).group(1))  # type: ignore[union-attr]
                 shaper = stack.enter_context(ShaperThread(("127.0.0.1", port), network))
                 # The page sees the proxy's address: Host and Origin name 127.0.0.1 and its
                 # port, which a loopback server accepts (any port).
@@ -148,8 +129,7 @@ def served(preset: str, network: Profile | None = None) -> Iterator[Served]:
                 yield Served(url, url, None)
         finally:
             stack.close()
-            proc.send_signal(signal.SIGINT)
-            proc.wait(timeout=60)
+            server.stop()
 
 
 def server_tick(s: Served) -> int:

@@ -14,10 +14,6 @@ loopback (started here, on a free port), pages on emulated phones in headless Ch
 from __future__ import annotations
 
 import io
-import re
-import signal
-import subprocess
-import sys
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
@@ -26,6 +22,7 @@ import numpy as np
 from PIL import Image
 
 from app.backdrops import DEFAULT_BACKDROP, load_backdrop
+from bench.serve_process import ServeProcess
 
 # (CSS width, height, device px a CSS px): an iPhone 12-15, a small Android, a Pixel 6-8.
 PHONES = ((390, 844, 3.0), (360, 800, 3.0), (412, 915, 2.625))
@@ -40,22 +37,12 @@ STEPS = 10  # tilt steps timed
 def serving(preset: str = "fern"):
     """`frost serve` on a free port; yields the page's URL."""
     with tempfile.TemporaryDirectory() as tmp:
-        proc = subprocess.Popen([sys.executable, "-m", "app", "serve", "--port", "0", "--preset", preset,
-                                 "--seed", "5", "--session-dir", tmp],
-                                cwd=tmp, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        server = ServeProcess("--port", "0", "--preset", preset, "--seed", "5", "--session-dir",
+                              tmp, cwd=tmp).drain()
         try:
-            url = None
-            for line in proc.stdout or ():
-                found = re.search(r"open (http://\S+)", line)
-                if found:
-                    url = found.group(1)
-                    break
-            if url is None:
-                raise RuntimeError("frost serve did not start")
-            yield url
+            yield server.url
         finally:
-            proc.send_signal(signal.SIGINT)
-            proc.communicate(timeout=60)
+            server.stop()
 
 
 def open_phone(browser, url: str, width: int, height: int, scale: float):

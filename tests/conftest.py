@@ -6,6 +6,7 @@ import atexit
 import importlib.util
 import os
 import shutil
+import sys
 import tempfile
 
 import pytest
@@ -25,6 +26,8 @@ settings.register_profile("frost", database=None, deadline=None)
 # A deeper search for the property tests, to run by hand after a change to what they
 # cover: FROST_HYPOTHESIS=frost-deep .venv/bin/python -m pytest tests/test_inputs.py
 settings.register_profile("frost-deep", settings.get_profile("frost"), max_examples=3000)
+# `make quick`'s (a change's inner loop): a fifth of the examples; the full suite keeps 100.
+settings.register_profile("frost-quick", settings.get_profile("frost"), max_examples=20)
 settings.load_profile(os.environ.get("FROST_HYPOTHESIS", "frost"))
 _HYPOTHESIS_HOME = tempfile.mkdtemp(prefix="frost-hypothesis-")
 set_hypothesis_home_dir(_HYPOTHESIS_HOME)  # its caches too
@@ -52,7 +55,15 @@ def gl_ctx():
 
 
 @pytest.fixture(scope="session")
-def window_tools():
+def subprocesses():
+    """Asked for by a test that starts Python in a subprocess (`frost`, `frost serve`,
+    pytest, `python -c`), directly or through a fixture: it marks the test `subprocess`,
+    which `make quick` leaves out (a Python's start and imports are most of such a test).
+    A test that starts one without asking fails, saying so (`_starts_python` below)."""
+
+
+@pytest.fixture(scope="session")
+def window_tools(subprocesses):
     """Xvfb and xdotool, for the tests that run the window on a display of their own
     (support.window). They are dependencies (Makefile's APT_PKGS): missing is a failure."""
     missing = [t for t in ("Xvfb", "xdotool") if shutil.which(t) is None]
@@ -80,7 +91,8 @@ def pytest_addoption(parser):
 # What a test needs is what it uses: a test is marked from its fixtures (those it asks for
 # and theirs), so that `-m "not browser"` leaves out every test that opens Chromium
 # however it came to, and no marker is forgotten by hand.
-FIXTURE_MARKS = {"gl_ctx": "gl", "window_tools": "window", "pw": "browser"}
+FIXTURE_MARKS = {"gl_ctx": "gl", "window_tools": "window", "pw": "browser",
+                 "subprocesses": "subprocess"}
 
 
 @pytest.hookimpl(tryfirst=True)  # before `-m` selects by them
@@ -88,12 +100,68 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         for fixture in FIXTURE_MARKS.keys() & set(item.fixturenames):
             item.add_marker(FIXTURE_MARKS[fixture])
+    items[:] = slowest_modules_first(items)
     if config.getoption("--deep"):
         return
     skip = pytest.mark.skip(reason="a validation run: `make test-deep` (pytest --deep) runs it")
     for item in items:
         if "validation" in item.keywords:
             item.add_marker(skip)
+
+
+# The markers of the costliest tests, costliest first: a module runs as early as its
+# costliest test says, so that two workers start on the long ones and end on short ones
+# together, not one worker alone on a long test at the end.
+COSTLIEST = ("slow", "window", "browser", "subprocess", "gl")
+
+
+def slowest_modules_first(items: list) -> list:
+    """`items` with the modules ordered by the costliest marker of their tests
+    (COSTLIEST), each module's tests in their own order, modules of a kind in theirs."""
+    def cost(item) -> int:
+        return next((n for n, mark in enumerate(COSTLIEST) if item.get_closest_marker(mark)),
+                    len(COSTLIEST))
+
+    module_cost: dict = {}
+    for item in items:
+        module_cost[item.path] = min(module_cost.get(item.path, len(COSTLIEST)), cost(item))
+    first = {module: n for n, module in enumerate(module_cost)}
+    return sorted(items, key=lambda item: (module_cost[item.path], first[item.path]))
+
+
+# The test running in this process, while it runs (set-up and teardown included).
+_RUNNING: list = [None]
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    _RUNNING[0] = item
+    yield
+    _RUNNING[0] = None
+
+
+def _runs_python(executable, argv) -> bool:
+    """Whether a subprocess.Popen of `argv` (or `executable`) starts Python: this
+    interpreter, any `python*`, a script (`.py`) or the `frost` command."""
+    first = executable or (argv.split()[0] if isinstance(argv, (str, bytes)) else argv[0])
+    first = os.fsdecode(first)
+    name = os.path.basename(first)
+    return (name.startswith("python") or name == "frost" or name.endswith(".py")
+            or os.path.realpath(first) == os.path.realpath(sys.executable))
+
+
+def _starts_python(event: str, args: tuple) -> None:
+    """An audit hook: a test that starts Python in a subprocess without asking for
+    `subprocesses` fails there, saying so, so that no such test is left in `make quick`."""
+    item = _RUNNING[0]
+    if event != "subprocess.Popen" or item is None or item.get_closest_marker("subprocess"):
+        return
+    if _runs_python(args[0], args[1]):
+        raise RuntimeError(f"{item.nodeid} starts Python in a subprocess ({args[1]!r:.80}) "
+                           "without asking for the `subprocesses` fixture (tests/conftest.py)")
+
+
+sys.addaudithook(_starts_python)
 
 
 @pytest.fixture(scope="session")
@@ -103,7 +171,7 @@ def deep(request) -> bool:
 
 
 @pytest.fixture
-def serve(tmp_path):
+def serve(tmp_path, subprocesses):
     """Starts `frost serve` (support.serve.phone_serve) with these arguments, in `folder`
     (default the test's tmp_path), as many as a test asks for; each stopped after the test."""
     from support.serve import phone_serve

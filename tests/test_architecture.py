@@ -94,3 +94,35 @@ def test_the_arrows_of_docs_architecture_are_the_imports_of_the_code():
         assert (unsaid, untrue) == ([], []), (
             f"docs/architecture.md: {folder} imports {unsaid} (no arrow there) and "
             f"does not import {untrue} (an arrow there)")
+
+
+def serve_popens(path: Path) -> list[int]:
+    """The lines of `path` where a subprocess.Popen's argument list names `serve`: a
+    `frost serve` started by hand."""
+    import ast
+
+    text = path.read_text(encoding="utf-8")
+    if "Popen" not in text:  # (most files: no tree to walk)
+        return []
+    return [node.lineno for node in ast.walk(ast.parse(text))
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)
+            and node.func.attr == "Popen" and node.args and isinstance(node.args[0], ast.List)
+            and any(isinstance(e, ast.Constant) and e.value == "serve" for e in node.args[0].elts)]
+
+
+def test_the_finder_of_a_frost_serve_started_by_hand_finds_one(tmp_path):
+    (tmp_path / "x.py").write_text(
+        "import subprocess, sys\n\n"
+        "subprocess.run([sys.executable, '-m', 'app', 'serve', '--port', '99999'])\n"
+        "p = subprocess.Popen([sys.executable, '-m', 'app', 'serve', '--port', '0'])\n",
+        encoding="utf-8")
+    assert serve_popens(tmp_path / "x.py") == [4]
+
+
+def test_every_frost_serve_a_benchmark_or_a_test_starts_is_a_serve_process():
+    """One ServeProcess (bench/serve_process.py) starts `frost serve` for the benchmarks
+    and the tests: none starts it by hand (a run refused at once may be a subprocess.run)."""
+    found = [f"{path.relative_to(ROOT)}:{line}"
+             for folder in ("bench", "tests", "tests/support") for path in (ROOT / folder).glob("*.py")
+             if path.name != "serve_process.py" for line in serve_popens(path)]
+    assert found == []

@@ -169,10 +169,14 @@ def test_frost_bench_of_a_checkout_s_benchmark_says_in_one_line_where_it_moved(w
      "python -m bench shaper: error: --to 'nowhere' must be HOST:PORT (a port from 1 to 65535)"),
     (["page", "--network", "wifi"], "python -m bench page: error: --network and --cpu-slowdown go with"),
     (["serve", "--attack", "x"], "python -m bench serve: error: argument --attack: invalid choice: 'x'"),
-    (["clock", "--samples", "0"], "python -m bench clock: error: argument --samples: '0' must be"),
+    (["minute", "--samples", "0"], "python -m bench minute: error: argument --samples: '0' must be"),
+    (["tiles", "--max-ticks", "x"], "python -m bench tiles: error: argument --max-ticks: invalid int"),
+    (["shaper", "--to", "127.0.0.1:9", "--record"],
+     "python -m bench: error: --record: shaper measures nothing to keep"),
     (["sim"], "python -m bench: error: argument WHAT: invalid choice: 'sim'"),
     ([], "python -m bench: error: the following arguments are required: WHAT"),
 ])
+@pytest.mark.usefixtures("subprocesses")
 def test_python_m_bench_hands_the_rest_to_the_benchmark_named(argv, says):
     """`python -m bench WHAT ...` from the checkout: WHAT's own command line reads what
     follows (its refusals name it), and a missing or unknown WHAT is refused in one line."""

@@ -1,5 +1,6 @@
-"""`frost bench sim --record` and `frost bench render --record`: each run's figures kept as
-a dated entry at the top of the benchmark's results file (app/bench/results.py)."""
+"""`frost bench sim --record`, `frost bench render --record` and `python -m bench NAME
+--record`: each run's figures kept as a dated entry at the top of the benchmark's results
+file (app/bench/results.py)."""
 
 from __future__ import annotations
 
@@ -10,12 +11,14 @@ import json
 import re
 import subprocess
 import sys
+import types
 from pathlib import Path
 
 import pytest
 
 from app import cli
 from app.bench import results, simulation
+from bench import __main__ as python_m_bench
 
 ROOT = Path(__file__).resolve().parent.parent
 FIELDS = ("date", "commit", "machine", "load average (1, 5, 15 min)")
@@ -23,15 +26,17 @@ FIELDS = ("date", "commit", "machine", "load average (1, 5, 15 min)")
 
 def entries(text: str) -> list[dict]:
     """The file's entries, top to bottom, read back by hand: the heading's date, each
-    `- name: value` line, and the JSON block."""
+    `- name: value` line, the JSON block (`figures`) and the text block (`printed`)."""
     found = []
     for block in re.split(r"^## ", text, flags=re.MULTILINE)[1:]:
         heading, _, body = block.partition("\n")
         fields = dict(line[2:].split(": ", 1) for line in body.splitlines()
                       if line.startswith("- "))
         figures = re.search(r"```json\n(.*?)\n```", body, flags=re.DOTALL)
+        printed = re.search(r"```text\n(.*?)\n```", body, flags=re.DOTALL)
         found.append({"command": heading, **fields,
-                      "figures": json.loads(figures.group(1)) if figures else None})
+                      "figures": json.loads(figures.group(1)) if figures else None,
+                      "printed": printed.group(1) if printed else None})
     return found
 
 
@@ -116,6 +121,7 @@ def test_a_record_that_cannot_be_written_is_refused_before_the_run(monkeypatch, 
     assert err.count("\n") == 1 and f"--record: {tmp_path / 'missing'}: no such folder" in err, err
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_frost_bench_render_record_keeps_what_it_printed(tmp_path):
     """A short real run (its own process: an EGL context stays out of the test process)."""
     script = ("import sys\nfrom pathlib import Path\nfrom app.bench import results\n"
@@ -143,3 +149,82 @@ def test_the_commit_recorded_is_the_one_the_run_started_on(monkeypatch, tmp_path
     assert status == 0, err
     (kept,) = entries((tmp_path / "bench-sim.md").read_text(encoding="utf-8"))
     assert kept["commit"] == "1a2b3c4"
+
+
+def a_bench(monkeypatch, main) -> None:
+    """`python -m bench fake` runs `main(argv, prog=...)`: a benchmark written for the test."""
+    module = types.ModuleType("fake_bench")
+    module.main = main  # type: ignore[attr-defined]
+    monkeypatch.setitem(sys.modules, "fake_bench", module)
+    monkeypatch.setitem(python_m_bench.BENCHES, "fake", ("fake_bench", "the test's"))
+
+
+def test_python_m_bench_record_keeps_what_the_benchmark_printed(monkeypatch, tmp_path, capsys):
+    """What the benchmark printed is shown as it comes and kept as the entry's text, headed
+    by the command that prints it again (no --record), with the commit the run started on."""
+    monkeypatch.setattr(results, "RESULTS", tmp_path)
+    heads = iter(["1a2b3c4", "5d6e7f8"])  # at the start, then at the end
+    monkeypatch.setattr(results, "commit", lambda: next(heads))
+
+    def bench(argv, prog):
+        print(f"{prog} with {argv}")
+        print("taps: median 41 ms", flush=True)
+        return 0
+
+    a_bench(monkeypatch, bench)
+    assert python_m_bench.main(["fake", "--taps", "3", "--record"]) == 0
+    said = "python -m bench fake with ['--taps', '3']\ntaps: median 41 ms\n"
+    assert capsys.readouterr().out == said + f"recorded in {tmp_path / 'bench-fake.md'}\n"
+    text = (tmp_path / "bench-fake.md").read_text(encoding="utf-8")
+    assert text.startswith("# Results: python -m bench fake\n\nEach run of "
+                           "`python -m bench fake --record`")
+    (kept,) = entries(text)
+    assert kept["command"] == "`python -m bench fake --taps 3`"
+    assert kept["printed"] == said.rstrip("\n") and kept["figures"] is None
+    assert kept["commit"] == "1a2b3c4" and set(FIELDS) <= set(kept)
+
+
+@pytest.mark.parametrize("ending", ["status 1", "its command line refused", "--help"])
+def test_a_python_m_bench_run_that_fails_keeps_nothing(monkeypatch, tmp_path, ending):
+    monkeypatch.setattr(results, "RESULTS", tmp_path)
+
+    def bench(argv, prog):
+        print("half a run")
+        if ending == "status 1":
+            return 1
+        raise SystemExit(2 if ending.startswith("its") else 0)
+
+    a_bench(monkeypatch, bench)
+    try:
+        status = python_m_bench.main(["fake", "--record"])
+    except SystemExit as stop:
+        status = stop.code
+    assert status == {"status 1": 1, "--help": 0}.get(ending, 2)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_python_m_bench_record_that_cannot_be_written_is_refused_before_the_run(
+        monkeypatch, tmp_path, capsys):
+    ran = []
+    monkeypatch.setattr(results, "RESULTS", tmp_path / "missing")
+    a_bench(monkeypatch, lambda argv, prog: ran.append(argv) or 0)
+    assert python_m_bench.main(["fake", "--record"]) == 2 and ran == []
+    err = capsys.readouterr().err
+    assert err == (f"python -m bench fake: error: --record: {tmp_path / 'missing'}: no such "
+                   "folder (--record writes into a checkout's docs/results/)\n")
+
+
+@pytest.mark.usefixtures("subprocesses")
+def test_python_m_bench_tiles_record_keeps_what_it_printed(tmp_path):
+    """A short real run of the tile benchmark, from the checkout as a maintainer runs it."""
+    script = ("import sys\nfrom pathlib import Path\nfrom app.bench import results\n"
+              "results.RESULTS = Path(sys.argv[1])\nfrom bench.__main__ import main\n"
+              "raise SystemExit(main(sys.argv[2:]))")
+    argv = ["tiles", "64", "--max-ticks", "40", "--record"]
+    done = subprocess.run([sys.executable, "-c", script, str(tmp_path), *argv], cwd=ROOT,
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    (kept,) = entries((tmp_path / "bench-tiles.md").read_text(encoding="utf-8"))
+    assert kept["command"] == "`python -m bench tiles 64 --max-ticks 40`"
+    assert "64x64 window tile: frosted end at tick None (ran 40)" in kept["printed"]
+    assert done.stdout == kept["printed"] + f"\nrecorded in {tmp_path / 'bench-tiles.md'}\n"

@@ -221,6 +221,7 @@ def test_stats_table_lists_every_preset(figure):
     assert all(s.extent >= 0 and s.density >= 0 for s in stats)
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_cli_figure8_writes_a_sheet_with_metadata(tmp_path):
     """In a subprocess: the app makes its own GL context there."""
     out = tmp_path / "fig8.png"

@@ -10,6 +10,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 from support.imports import import_graph
 
 import app.bench
@@ -43,12 +44,14 @@ def modules_of(package) -> list[str]:
     return [m.name for m in pkgutil.walk_packages(package.__path__, package.__name__ + ".")]
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_the_simulation_thread_loads_no_gl_no_window_and_no_tools():
     loaded = loaded_by("app.simthread.thread")
     assert "app.simthread.thread" in loaded and "sim.look.maps" in loaded  # it did import
     assert under(loaded, *GL_AND_WINDOW, "app.tools", "app.gl", "app.window") == set()
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_sim_loads_nothing_of_the_app_nor_gl_nor_images():
     names = modules_of(sim)
     assert "sim.look.maps" in names and "sim.look.material" in names
@@ -56,12 +59,14 @@ def test_sim_loads_nothing_of_the_app_nor_gl_nor_images():
     assert under(loaded, *GL_AND_WINDOW, "app", "PIL") == set()
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_the_server_loads_no_gl_and_no_window_library():
     loaded = loaded_by("app.serve.command", "bench.serve")
     assert "aiohttp" in loaded and "app.serve.feed" in loaded
     assert under(loaded, *GL_AND_WINDOW, "app.gl", "app.tools") == set()
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_the_server_loads_nothing_of_the_window_package():
     """The key table serves the window and the page: it lives outside app/window
     (app/keys.py), so the server loads no module of the window (`--window` opens one only
@@ -71,12 +76,14 @@ def test_the_server_loads_nothing_of_the_window_package():
     assert under(loaded, "app.window") == set()
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_the_tools_load_no_window():
     loaded = loaded_by(*modules_of(app.tools))
     assert "app.tools.maps" in loaded and "moderngl" in loaded  # the renderer's GL is theirs
     assert under(loaded, "glfw", "app.window") == set()
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_the_benchmarks_load_no_window_and_nothing_of_the_app_loads_them():
     loaded = loaded_by(*modules_of(app.bench))
     assert "app.bench.simulation" in loaded and "app.bench.render" in loaded  # it did import
@@ -85,6 +92,7 @@ def test_the_benchmarks_load_no_window_and_nothing_of_the_app_loads_them():
     assert users == {"app.cli"}  # the command line runs them; no other part leans on them
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_the_checkout_s_benchmarks_load_no_window():
     loaded = loaded_by(*modules_of(bench))
     assert "bench.page" in loaded and "bench.serve" in loaded  # it did import
@@ -183,6 +191,7 @@ def test_no_module_of_the_project_imports_itself_through_others():
     assert circle(graph) == [], " -> ".join(circle(graph))
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_every_module_imports_as_on_windows():
     """No SIGHUP, no `resource`, no `fcntl` (tests/windows_like.py): a module that reads one
     at import (the window read signal.SIGHUP) would stop `frost` on Windows."""

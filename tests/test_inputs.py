@@ -22,13 +22,13 @@ from hypothesis import strategies as st
 from support.cli import assert_refused_in_one_line, run_main
 
 from app.bench import render as bench
-from app.cli import commands, main, paths
+from app.cli import commands, main, paths, shared_options
 from app.cli.parser import build_parser
 from app.tools import figure8, figure_fern, maps
 from app.tools import render_png as render
 from app.tools import replay as replay_tool
 from app.window import frost_window as window
-from sim import PRESETS, FrostSim, Params
+from sim import PRESETS, FrostSim, Params, all_presets
 from sim.io.files import one_line
 from sim.io.session import SessionError, SessionLog, check_event
 from sim.io.timeline import replay
@@ -314,10 +314,31 @@ def test_each_option_says_its_default(command):
     assert ("keys in the window:" in text) == (command == ""), command  # the window's keys
 
 
+def test_the_parser_builds_each_presets_parameters_once(monkeypatch):
+    """Every command's help shows each preset's value of each parameter: read from one
+    Params a preset, built once in a process, not one per parameter and command (two
+    thousand a parser, which every `frost` start and every command line parsed builds).
+    The oracle: the presets, counted by hand from all_presets()."""
+    made: list[str] = []
+    preset = Params.preset.__func__  # type: ignore[attr-defined]
+
+    def counted(cls, name, **overrides):
+        made.append(name)
+        return preset(cls, name, **overrides)
+
+    monkeypatch.setattr(Params, "preset", classmethod(counted))
+    shared_options._preset.cache_clear()
+    build_parser()
+    assert sorted(made) == sorted(all_presets())
+    build_parser()
+    assert len(made) == len(all_presets())
+
+
 def test_bench_sim_hands_its_arguments_to_the_simulations_benchmark():
     assert "--repeats" in help_text(["bench", "sim"]) and "--repeats" not in help_text(["bench"])
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_python_m_app_is_the_frost_command(tmp_path):
     frost = Path(sys.executable).with_name("frost")
     # A hard requirement, not a skip: the package declares the script (make test installs it).

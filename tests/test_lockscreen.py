@@ -232,6 +232,7 @@ def test_a_replay_shows_the_minute_the_session_showed_at_each_tick(gl_ctx):
 
 
 @pytest.mark.gl
+@pytest.mark.usefixtures("subprocesses")
 def test_frost_render_shows_the_clock_it_is_given_and_the_same_every_time(tmp_path):
     def render(*extra: str) -> np.ndarray:
         out = tmp_path / f"r{len(list(tmp_path.iterdir()))}.png"

@@ -10,14 +10,15 @@ from __future__ import annotations
 
 import pytest
 
-from bench.network import PINGS, Phone, css_point, served
 from bench.chromium import browser_problem, launch
+from bench.network import PINGS, Phone, css_point, served
 from bench.shaper import PROFILES
 
 PROBLEM = browser_problem()
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_the_page_works_through_the_shaper():
     from playwright.sync_api import sync_playwright
 
@@ -103,6 +104,7 @@ def test_the_bench_browser_keeps_playwrights_switches_and_has_no_address_bar_pop
             browser.close()
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_the_page_asks_for_its_shaders_with_its_modules_and_once():
     """Each shader file programs.js loads is asked for by index.html's preload, while the
     modules load (initiator "link", not main.js's fetch), and once: its fetch takes the

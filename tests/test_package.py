@@ -17,11 +17,13 @@ import pytest
 from PIL import Image
 from support import ROOT
 from support.checkout import TOOLING
-from support.serve import ServeProcess
+from support.shared import made_once
+
+from bench.serve_process import ServeProcess
 
 # Longer than the suite's timeout by nature: the first test to use `venv` waits for its
 # two steps, each allowed 5 minutes (_run), and a wheel is built before.
-pytestmark = [pytest.mark.slow, pytest.mark.timeout(1200)]
+pytestmark = [pytest.mark.slow, pytest.mark.timeout(1200), pytest.mark.usefixtures("subprocesses")]
 
 # The render the test asks the installed command for (arguments after `frost`).
 RENDER_ARGS = ["render", "--touch", "380,640", "--ticks", "50", "--out", "x.png"]
@@ -47,10 +49,12 @@ def _copy(tmp: Path) -> Path:
 
 @pytest.fixture(scope="module")
 def wheel(tmp_path_factory) -> Path:
-    """The wheel, built from a copy."""
-    tmp = tmp_path_factory.mktemp("wheel")
-    _run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "-w", tmp / "dist", _copy(tmp)], tmp)
-    (found,) = (tmp / "dist").glob("frost-*.whl")
+    """The wheel, built from a copy, once a run (support.shared: the workers share it)."""
+    def build(tmp: Path) -> None:
+        _run([sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "-w", tmp / "dist", _copy(tmp)],
+             tmp)
+
+    (found,) = (made_once(tmp_path_factory, "wheel", build) / "dist").glob("frost-*.whl")
     return found
 
 
@@ -64,11 +68,14 @@ WINDOWS_STEPS = ["py -m venv .venv", r".venv\Scripts\python -m pip install ."]
 def venv(tmp_path_factory) -> Path:
     """The package as the Mac's steps install it, run word for word by a shell in a copy of
     the checkout: a fresh virtual environment in it, the package and its dependencies (from
-    the index or pip's cache) installed into it. Its bin folder."""
-    folder = _copy(tmp_path_factory.mktemp("user"))
-    for step in MAC_STEPS:
-        _run(["sh", "-c", step], folder)
-    return folder / ".venv" / "bin"
+    the index or pip's cache) installed into it, once a run (support.shared: the workers
+    share it, and use it only to run it). Its bin folder."""
+    def install(tmp: Path) -> None:
+        folder = _copy(tmp)
+        for step in MAC_STEPS:
+            _run(["sh", "-c", step], folder)
+
+    return made_once(tmp_path_factory, "user", install) / "frost" / ".venv" / "bin"
 
 
 @pytest.mark.parametrize("page", ["README.md", "docs/platforms.md"])

@@ -30,10 +30,10 @@ from support.phone import (
     wait_for_shell,
     worker_shell,
 )
-from support.serve import ServeProcess
 
 from app.images import cover
 from app.resources import ASSET_DIR
+from bench.serve_process import ServeProcess
 
 pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
 
@@ -89,6 +89,7 @@ def test_chromium_finds_the_page_installable(pw, serve, tmp_path, host):
             assert json.loads(r.read())["start_url"] == f"/?token={s.token}"
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_chromium_finds_the_https_page_installable_and_it_opens_without_the_server(pw, tmp_path):
     """On the LAN's HTTPS address (the machine's host name, mapped to this machine: no
     loopback name), in a Chromium whose NSS database trusts the kept authority. Opened from

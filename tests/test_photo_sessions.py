@@ -106,6 +106,7 @@ def test_a_file_given_by_path_is_shown_and_not_recorded(tmp_path, path):
     assert backdrop_events(thread) == []
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_a_replay_never_takes_a_backdrops_name_as_a_path(tmp_path):
     (tmp_path / "cwdpic").write_bytes(photo_bytes())  # (a picture a name could reach)
     path = tmp_path / "s.json"
@@ -158,6 +159,7 @@ def run_replay(tmp_path, path, *more):
                           text=True, timeout=300)
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_frost_replay_draws_the_photo_kept_beside_the_session(tmp_path):
     store = photos.store_of(tmp_path)
     name = photos.keep(photo_bytes(), store)
@@ -355,6 +357,7 @@ def test_the_pages_follow_the_windows_backdrop_but_not_past_their_own_choice(tmp
 
 # ---- a photo sent from a page, then replayed -----------------------------------------
 
+@pytest.mark.usefixtures("subprocesses")
 def test_a_served_sessions_photo_is_drawn_by_frost_replay(tmp_path):
     import asyncio
 

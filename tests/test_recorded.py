@@ -536,6 +536,7 @@ def test_a_second_demo_overwrites_nothing_of_the_first(monkeypatch, gl_ctx, caps
                                  ["maps", "OUT", "--ticks", "3"]])
 @pytest.mark.parametrize("frost", [["-m", "app"], [str(ROOT / "tests" / "windows_like.py")]],
                          ids=["here", "as-on-windows"])
+@pytest.mark.usefixtures("subprocesses")
 def test_each_file_a_headless_run_writes_is_named_on_one_line(tmp_path, cmd, frost):
     """Also as on Windows (tests/windows_like.py: no os.fchmod, no os.getloadavg...,
     text without an encoding an error): every file is written all the same."""
@@ -587,6 +588,7 @@ LONG_RUN = ["--preset", "c-3", "--ticks", "100000000"]
                                   ["maps", "OUT/maps", *LONG_RUN],
                                   ["figure8", "OUT/f.png", "--ticks", "100000000"],
                                   ["replay", "LONG", "--out", "OUT/x.png"]])
+@pytest.mark.usefixtures("subprocesses")
 def test_ctrl_c_ends_a_long_headless_run_with_130_and_no_file(tmp_path, mode):
     out, long = tmp_path / "out", tmp_path / "long.json"
     SessionLog(0, PARAMS.as_dict(), events=[{"tick": 0, "kind": "touch", "x": 380, "y": 640}],
@@ -598,6 +600,7 @@ def test_ctrl_c_ends_a_long_headless_run_with_130_and_no_file(tmp_path, mode):
     assert not out.exists()
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_a_display_that_does_not_exist_falls_back_to_headless(tmp_path):
     env = {**os.environ, "DISPLAY": ":97531", "PYTHONPATH": str(ROOT)}
     env.pop("WAYLAND_DISPLAY", None)

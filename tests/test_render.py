@@ -163,6 +163,7 @@ FROZEN_CLOCK = ("import sys, time; time.strftime = lambda fmt, *t: '20261125-120
                 "from app.cli import main; sys.exit(main(sys.argv[1:]))")
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_runs_started_together_overwrite_none_of_each_others_files(gl_ctx, tmp_path):
     """Four headless renders at once with one frozen clock (so every run starts in the same
     second), two scripted demos and two with a touch, all into frost-out/: every file a run
@@ -201,6 +202,7 @@ def run_cli(*args, cwd=ROOT):
                           capture_output=True, text=True, timeout=120)
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_headless_cli_writes_png_with_metadata(gl_ctx, tmp_path):
     out = tmp_path / "shot.png"
     run = run_cli("--preset", "c-2", "--seed", "5", "--touch", "380,640", "--touch", "100,200",
@@ -217,6 +219,7 @@ def test_headless_cli_writes_png_with_metadata(gl_ctx, tmp_path):
 
 
 @pytest.mark.parametrize("name", ["shot.jpg", "shot.JPEG"])
+@pytest.mark.usefixtures("subprocesses")
 def test_headless_cli_writes_a_real_jpeg_under_a_jpeg_name(gl_ctx, tmp_path, name):
     argv = ("--seed", "3", "--touch", "380,640", "--ticks", "12")
     jpeg, png = tmp_path / name, tmp_path / "same.png"
@@ -246,6 +249,7 @@ def test_a_jpeg_comment_too_long_leaves_out_its_largest_entries(tmp_path):
     assert json.loads(Image.open(small).info["comment"]) == {"seed": 7}
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_headless_cli_bad_touch_is_a_clear_error(gl_ctx, tmp_path):
     run = run_cli("--touch", "9999,5", "--ticks", "1", "--out", str(tmp_path / "x.png"))
     assert run.returncode == 2
@@ -340,6 +344,7 @@ np.save(sys.argv[1], paper_frame(ctx, "c-2"))
 """
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_under_a_macs_opengl_every_program_compiles_and_draws_the_frost(gl_ctx, tmp_path,
                                                                         monkeypatch):
     """Under a Mac's limits every program of every look compiles (as 3.30 core: the ES 3.00
@@ -397,6 +402,7 @@ def test_the_headless_context_comes_from_the_platforms_backends_in_turn(monkeypa
 
 
 @pytest.mark.parametrize("limits", [False, True], ids=["here", "macs-limits"])
+@pytest.mark.usefixtures("subprocesses")
 def test_frost_info_says_what_a_bug_report_needs(limits):
     env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
     run = subprocess.run([sys.executable, "-m", "app", "info"], capture_output=True, text=True,

@@ -416,8 +416,20 @@ def test_an_autosave_in_flight_never_replaces_the_last_save(tmp_path, monkeypatc
     assert writes == [1, 2] and len(SessionLog.load(path).events) == 2
 
 
+def test_a_drained_server_is_read_as_it_goes_and_stop_returns_all_it_printed(serve):
+    """ServeProcess.drain (a benchmark's long run): its output read on in a thread of its
+    own, so that a long log never fills the pipe; stop() still returns all of it, from the
+    address it started with to the line Ctrl-C ends it with, and its status is Ctrl-C's."""
+    served = serve().drain()
+    said = served.stop()
+    assert said.startswith(served.lines[0]) and f"open {served.url}" in served.lines[0]
+    assert said.endswith("frost: interrupted (Ctrl-C)\n"), said
+    assert served.proc.returncode == 130
+
+
 @pytest.mark.parametrize("frost", [["-m", "app"], [str(WINDOWS_LIKE)]],
                          ids=["here", "as-on-windows"])
+@pytest.mark.usefixtures("subprocesses")
 def test_frost_serve_from_the_command_line(tmp_path, frost):
     """The command: it prints its URL, a page grows frost, Ctrl-C writes the session and
     exits 130 (as the window does), and the session replays to the frost the page saw; also
@@ -578,6 +590,7 @@ def test_the_backdrop_key_steps_through_the_built_ins_from_a_photo_first_to_the_
     assert shown == [first, second, first] == ["dusk", "lockscreen", "dusk"]
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_a_port_taken_or_out_of_range_is_one_clear_error():
     import subprocess
     import sys
@@ -600,6 +613,7 @@ def test_a_port_taken_or_out_of_range_is_one_clear_error():
     (["--session-dir", "/proc/no-such-folder"], "--session-dir /proc/no-such-folder"),
     (["--window"], "--window: no window can open here (DISPLAY is unset)"),
 ])
+@pytest.mark.usefixtures("subprocesses")
 def test_bad_command_lines_are_one_clear_error(args, says):
     import os
     import subprocess
@@ -638,6 +652,7 @@ def test_meta_needs_the_token_too():
     serve(test, token="sesame")
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_ctrl_c_with_a_page_connected_closes_it_and_writes_the_session(tmp_path):
     """The page's socket is closed by the server (1001) rather than waited on, and the
     server exits 130 with the session written."""

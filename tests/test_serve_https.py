@@ -31,9 +31,10 @@ from cryptography.x509.oid import ExtendedKeyUsageOID
 from PIL import Image
 from support.https import browser_problem, trusting_chromium, trusting_home
 from support.phone import PHONE, synced
-from support.serve import ServeProcess, lan_serve
+from support.serve import lan_serve
 
 from app.serve import trust
+from bench.serve_process import ServeProcess
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -266,6 +267,7 @@ def qr_modules(path: Path, scale: int = 8, border: int = 4) -> list[list[bool]]:
 
 
 @pytest.mark.parametrize("encoding", ["utf-8", "cp1252"])
+@pytest.mark.usefixtures("subprocesses")
 def test_the_qr_codes_are_drawn_where_the_console_can_show_them_else_written_as_images(
         serve, tmp_path, encoding):
     """A console that is not UTF-8 (a redirected Windows console, cp1252) cannot show the
@@ -291,6 +293,7 @@ def test_the_qr_codes_are_drawn_where_the_console_can_show_them_else_written_as_
     assert "Traceback" not in out and "UnicodeEncodeError" not in out
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_the_lan_server_answers_over_https_with_the_kept_authoritys_certificate_in_two_runs(
         serve, tmp_path):
     config = tmp_path / "config"
@@ -348,6 +351,7 @@ def test_the_lan_server_answers_over_https_with_the_kept_authoritys_certificate_
     assert (folder / "token").read_text(encoding="utf-8").strip() == third.token
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_without_the_token_only_the_authoritys_public_certificate_is_served_on_both_ports(
         serve, tmp_path):
     s = serve()
@@ -370,6 +374,7 @@ def test_without_the_token_only_the_authoritys_public_certificate_is_served_on_b
     asyncio.run(main())
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_the_socket_on_the_https_port_takes_https_origins_of_that_port_only(serve, tmp_path):
     s = serve()
     ctx = trusting(tmp_path / "config" / "frost" / "ca.crt")
@@ -387,6 +392,7 @@ def test_the_socket_on_the_https_port_takes_https_origins_of_that_port_only(serv
     assert asyncio.run(refused("https://evil.example"))
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_no_https_serves_http_alone_and_no_authority(serve, tmp_path):
     s = serve("--no-https")
     out = s.stop()
@@ -394,6 +400,7 @@ def test_no_https_serves_http_alone_and_no_authority(serve, tmp_path):
     assert not (tmp_path / "config" / "frost" / "ca.key").exists()
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_a_certificate_of_the_users_own_is_served_on_loopback_when_asked(tmp_path):
     mine = tmp_path / "mine"
     trust.local_certificate(mine, ["127.0.0.1", "localhost"])
@@ -419,6 +426,7 @@ def test_a_certificate_of_the_users_own_is_served_on_loopback_when_asked(tmp_pat
     (["--port", "65535"], "--port 65535 leaves no next port"),
     (["--cert", "/no/such.pem", "--key", "/no/such.pem"], "cannot use the certificate /no/such.pem"),
 ])
+@pytest.mark.usefixtures("subprocesses")
 def test_bad_https_command_lines_are_one_clear_error(tmp_path, args, says):
     run = subprocess.run([sys.executable, "-m", "app", "serve", "--host", "0.0.0.0",
                           "--max-seconds", "5", *args], cwd=ROOT, capture_output=True, text=True,
@@ -462,6 +470,7 @@ browser = pytest.mark.skipif(browser_problem() is not None, reason=str(browser_p
 
 @pytest.mark.browser
 @browser
+@pytest.mark.usefixtures("subprocesses")
 def test_a_chromium_trusting_the_authority_opens_the_https_page_as_a_secure_context(serve, tmp_path):
     from playwright.sync_api import Error, sync_playwright
 
@@ -518,6 +527,7 @@ def test_a_chromium_trusting_the_authority_opens_the_https_page_as_a_secure_cont
 
 @pytest.mark.browser
 @browser
+@pytest.mark.usefixtures("subprocesses")
 def test_an_https_page_whose_socket_never_opens_shows_the_steps(serve, tmp_path):
     """A page cannot learn that the certificate failed its socket (iOS refuses the WSS of
     an untrusted authority after the page loaded): after a while with no hello it shows the

@@ -215,6 +215,7 @@ def stopped(proc: subprocess.Popen) -> tuple[float, str]:
 
 
 @pytest.mark.parametrize("frost", FROSTS.values(), ids=FROSTS.keys())
+@pytest.mark.usefixtures("subprocesses")
 def test_ctrl_c_with_a_photo_half_sent_ends_at_once_with_the_session_written(tmp_path, frost):
     """The photo's handler waits for the rest of its body when Ctrl-C comes (after a touch
     the pong answered): the process exits within EXIT_BOUND_S (aiohttp waited 60 s for
@@ -343,6 +344,7 @@ def stop_at_random(folder: Path, rng: random.Random) -> float:
     return took
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_stops_at_random_moments_keep_all_that_was_answered(tmp_path):
     """Three stops (the validation run below does twenty)."""
     rng = random.Random(46)

@@ -19,7 +19,7 @@ ROOT = Path(__file__).resolve().parent.parent
 
 def start_with_window(out: Path, preset: str, seconds: int) -> tuple[subprocess.Popen, str]:
     """`frost serve --window` (files in `out`, closing at `seconds`) and the URL it printed."""
-    from support.serve import ServeProcess
+    from bench.serve_process import ServeProcess
 
     served = ServeProcess("--window", "--port", "0", "--preset", preset, "--max-seconds",
                           str(seconds), "--session-dir", str(out), "--screenshot-dir", str(out),
@@ -108,5 +108,5 @@ def test_a_page_and_the_window_share_the_frost(tmp_path):
 
 
 if __name__ == "__main__":
-    sys.path.insert(0, str(ROOT / "tests"))
+    sys.path[:0] = [str(ROOT), str(ROOT / "tests")]  # bench.serve_process, support
     (drive_changes if sys.argv[2:] == ["changes"] else drive)(Path(sys.argv[1]))

@@ -123,6 +123,7 @@ def test_a_bad_session_file_is_a_clear_error(tmp_path, text, problem):
     assert str(path) in str(err.value)
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_replay_cli_exits_2_naming_the_file(tmp_path):
     path = tmp_path / "broken.json"
     path.write_text(json.dumps({"format": "frost-session", "events": []}), encoding="utf-8")

@@ -1,6 +1,7 @@
 """The suite's own rules: a test is marked from the fixtures it uses, an unknown marker is
-refused, a test that hangs fails by name at the per-test timeout, `make quick` leaves out
-the browser and the window, and no test module imports another (their shared helpers are
+refused, a test that hangs fails by name at the per-test timeout, a test that starts Python
+in a subprocess says so, `make quick` leaves out the browser, the window and the
+subprocesses, and no test module imports another (their shared helpers are
 tests/support's). The oracles: the tests' own signatures, read by hand below, and pytest
 run on files written for the purpose."""
 
@@ -15,6 +16,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+from hypothesis import settings
 from support import ROOT
 from support.make import planned
 
@@ -47,6 +50,7 @@ def collected_marks(tmp_path: Path, *args: str) -> dict[str, set[str]]:
     return {nodeid: set(marks) for nodeid, marks in found}
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_a_test_is_marked_from_the_fixtures_it_uses(tmp_path):
     """gl_ctx asked for directly or through a fixture of the test's module makes a test
     `gl`; window_tools (asked for by a module's usefixtures) `window`; pw, through the
@@ -64,6 +68,7 @@ def test_a_test_is_marked_from_the_fixtures_it_uses(tmp_path):
     assert sim and not any(needs & m for m in sim)
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_each_fixture_marks_the_tests_that_use_it_and_only_those(tmp_path):
     """Tests written for the purpose, under tests/conftest.py (loaded as a plugin): each
     marker comes from its fixture, asked for directly, through another fixture or by
@@ -74,7 +79,9 @@ def test_each_fixture_marks_the_tests_that_use_it_and_only_those(tmp_path):
         "def test_gl(gl_ctx):\n    pass\n\n"
         "@pytest.mark.usefixtures('window_tools')\ndef test_window():\n    pass\n\n"
         "def test_browser(browser):\n    pass\n\n"
-        "def test_phones(phones):\n    pass\n", encoding="utf-8")
+        "def test_phones(phones):\n    pass\n\n"
+        "def test_subprocess(subprocesses):\n    pass\n\n"
+        "def test_serve(serve):\n    pass\n", encoding="utf-8")
     (tmp_path / "markprint.py").write_text(MARKERS_PLUGIN, encoding="utf-8")
     run = pytest_run("-c", str(ROOT / "pyproject.toml"), "--rootdir", str(tmp_path),
                      "-p", "conftest", "-p", "markprint", "--collect-only", "-q",
@@ -83,26 +90,72 @@ def test_each_fixture_marks_the_tests_that_use_it_and_only_those(tmp_path):
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     marks = dict(json.loads(line[len("MARKS "):]) for line in run.stdout.splitlines()
                  if line.startswith("MARKS "))
+    # the window runs the app in a subprocess, and the phones' page is `frost serve`'s
     assert marks == {"test_uses.py::test_plain": [], "test_uses.py::test_gl": ["gl"],
-                     "test_uses.py::test_window": ["usefixtures", "window"],
+                     "test_uses.py::test_window": ["subprocess", "usefixtures", "window"],
                      "test_uses.py::test_browser": ["browser"],
-                     "test_uses.py::test_phones": ["browser"]}
+                     "test_uses.py::test_phones": ["browser", "subprocess"],
+                     "test_uses.py::test_subprocess": ["subprocess"],
+                     "test_uses.py::test_serve": ["subprocess"]}
 
 
+@pytest.mark.usefixtures("subprocesses")
+def test_a_test_that_starts_python_without_asking_fails_saying_so(tmp_path):
+    """Starting Python (this interpreter, a script) in a subprocess takes the `subprocesses`
+    fixture, so that `make quick` leaves the test out: without it the test fails, named, and
+    the fixture named; with it, or for a program that is not Python, the test runs."""
+    (tmp_path / "test_starts.py").write_text(
+        "import subprocess, sys\n\n"
+        "def test_unasked():\n    subprocess.run([sys.executable, '-c', 'pass'], check=True)\n\n"
+        "def test_a_script(tmp_path):\n"
+        "    (tmp_path / 'x.py').write_text('', encoding='utf-8')\n"
+        "    subprocess.run([sys.executable, str(tmp_path / 'x.py')], check=True)\n\n"
+        "def test_asked(subprocesses):\n"
+        "    subprocess.run([sys.executable, '-c', 'pass'], check=True)\n\n"
+        "def test_not_python():\n    subprocess.run(['true'], check=True)\n", encoding="utf-8")
+    run = pytest_run("-c", str(ROOT / "pyproject.toml"), "--rootdir", str(tmp_path),
+                     "-p", "conftest", str(tmp_path / "test_starts.py"), cwd=tmp_path,
+                     plugins=str(ROOT / "tests"))
+    assert "2 failed, 2 passed" in run.stdout, run.stdout[-3000:]
+    for name in ("test_unasked", "test_a_script"):
+        assert f"FAILED test_starts.py::{name} - RuntimeError" in run.stdout, run.stdout[-3000:]
+        assert re.search(rf"RuntimeError: test_starts.py::{name} starts Python in a subprocess "
+                         r".* without asking for the `subprocesses` fixture", run.stdout)
+
+
+@pytest.mark.usefixtures("subprocesses")
 def test_make_quick_sets_up_the_test_stage_and_leaves_out_the_browser_and_the_window(tmp_path):
     """`make quick` installs what `make test` does, and its selection collects the plain
-    tests of a module and none of the browser's, the window's or the wheel's."""
+    tests of a module and none of the browser's, the window's, the wheel's or those that
+    start `frost` in a subprocess; its property tests draw fewer examples than the suite's."""
     plan = planned("quick", tmp_path / "venv")
     assert 0 <= plan.index("pip install -q -e .;") < plan.index("pip install -q -e '.[dev]'")
-    command = shlex.split(plan.splitlines()[-1])
+    env, command = quick_command(plan)
     assert command[1:3] == ["-m", "pytest"]
+    quick = settings.get_profile(env["FROST_HYPOTHESIS"])
+    assert quick.database is None and quick.deadline is None
+    assert 0 < quick.max_examples < settings.get_profile("frost").max_examples
     selection = command[command.index("-m", 3) + 1]
     marks = collected_marks(tmp_path, "-m", selection, "tests/test_page.py",
                             "tests/test_window_e2e.py", "tests/test_package.py",
-                            "tests/test_sim.py")
-    assert marks and {nodeid.split("::")[0] for nodeid in marks} == {"tests/test_sim.py"}
+                            "tests/test_sim.py", "tests/test_serve.py")
+    assert {nodeid.split("::")[0] for nodeid in marks} == {"tests/test_sim.py", "tests/test_serve.py"}
+    serve = {nodeid.split("::")[1].split("[")[0] for nodeid in marks
+             if nodeid.startswith("tests/test_serve.py")}
+    assert "test_a_touch_grows_frost_on_the_page" in serve  # aiohttp's client, in process
+    assert "test_frost_serve_from_the_command_line" not in serve  # the command, a subprocess
 
 
+def quick_command(plan: str) -> tuple[dict[str, str], list[str]]:
+    """The environment `make quick` sets (its leading NAME=VALUE words) and its command."""
+    words = shlex.split(plan.splitlines()[-1])
+    n = 0
+    while re.fullmatch(r"[A-Z_]+=\S*", words[n]):
+        n += 1
+    return dict(w.split("=", 1) for w in words[:n]), words[n:]
+
+
+@pytest.mark.usefixtures("subprocesses")
 def test_an_unknown_marker_is_refused_by_name(tmp_path):
     (tmp_path / "test_typo.py").write_text(
         "import pytest\n\n@pytest.mark.brower\ndef test_x():\n    pass\n", encoding="utf-8")
@@ -112,6 +165,7 @@ def test_an_unknown_marker_is_refused_by_name(tmp_path):
     assert "'brower' not found in `markers` configuration option" in run.stdout, run.stdout
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_a_test_that_hangs_fails_at_the_timeout_saying_which(tmp_path):
     """A test waiting on what never comes (an event nobody sets) fails at the timeout,
     named, and the run goes on to the next test."""
@@ -145,3 +199,47 @@ def test_no_test_module_imports_another():
             found += [f"{path.name}: {name}" for name in names
                       if name.removeprefix("tests.") in modules]
     assert found == []
+
+
+@pytest.mark.usefixtures("subprocesses")
+def test_the_costliest_modules_run_first_each_in_its_own_order(tmp_path):
+    """Modules ordered by their costliest test's marker (slow, window, browser, subprocess,
+    gl, then the rest), so that the workers start on the long tests; a module's own tests
+    in the file's order (the oracle: the order of its test functions in its source)."""
+    files = ["tests/test_sim.py", "tests/test_render.py", "tests/test_package.py",
+             "tests/test_window_e2e.py", "tests/test_suite.py"]
+    together = list(collected_marks(tmp_path, *files))
+    modules = [nodeid.split("::")[0] for nodeid in together]
+    runs = [m for n, m in enumerate(modules) if n == 0 or modules[n - 1] != m]
+    # slow; window; subprocess (frost render's runs, then this module's pytest runs, in the
+    # order given); plain
+    assert runs == ["tests/test_package.py", "tests/test_window_e2e.py", "tests/test_render.py",
+                    "tests/test_suite.py", "tests/test_sim.py"]
+    # a module whose tests differ in cost (gl, subprocess, plain) keeps the file's order
+    names = [n.split("::")[1].split("[")[0] for n in together if n.startswith("tests/test_render.py::")]
+    source = ast.parse((ROOT / "tests" / "test_render.py").read_text(encoding="utf-8"))
+    assert [k for n, k in enumerate(names) if n == 0 or names[n - 1] != k] == [
+        node.name for node in source.body
+        if isinstance(node, ast.FunctionDef) and node.name.startswith("test_")]
+
+
+@pytest.mark.usefixtures("subprocesses")
+def test_what_is_made_once_a_run_is_made_by_one_worker_and_shared(tmp_path):
+    """support.shared.made_once under two workers (the wheel's and the virtualenv's way):
+    a module-scoped fixture on each worker asks, one makes, both use what it made."""
+    log = tmp_path / "made.log"
+    (tmp_path / "test_shares.py").write_text(
+        "import os\n\nimport pytest\nfrom support.shared import made_once\n\n\n"
+        "@pytest.fixture(scope='module')\ndef thing(tmp_path_factory):\n"
+        "    def make(folder):\n"
+        f"        with open({str(log)!r}, 'a', encoding='utf-8') as f:\n"
+        "            f.write(os.environ['PYTEST_XDIST_WORKER'] + '\\n')\n"
+        "        (folder / 'x').write_text('made', encoding='utf-8')\n\n"
+        "    return made_once(tmp_path_factory, 'thing', make)\n\n\n"
+        "@pytest.mark.parametrize('i', range(8))\ndef test_uses(thing, i):\n"
+        "    assert (thing / 'x').read_text(encoding='utf-8') == 'made'\n", encoding="utf-8")
+    run = pytest_run("-c", str(ROOT / "pyproject.toml"), "--rootdir", str(tmp_path), "-n", "2",
+                     "-v", str(tmp_path / "test_shares.py"), cwd=tmp_path, plugins=str(ROOT / "tests"))
+    assert "8 passed" in run.stdout, run.stdout[-3000:]
+    assert "[gw0]" in run.stdout and "[gw1]" in run.stdout  # both workers used it
+    assert len(log.read_text(encoding="utf-8").splitlines()) == 1

@@ -84,6 +84,7 @@ def said(page) -> list[str]:
     return page.evaluate("window.said")
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_a_place_refused_by_the_browser_or_the_server_says_why(pw, tmp_path):
     s = lan_serve(tmp_path / "config")  # (no --weather: the server refuses a place)
     phones = Phones(pw, s, tmp_path / "config", tmp_path / "home")
@@ -103,6 +104,7 @@ def test_a_place_refused_by_the_browser_or_the_server_says_why(pw, tmp_path):
 
 
 @pytest.mark.slow
+@pytest.mark.usefixtures("subprocesses")
 def test_the_place_of_a_phone_moves_everyones_weather_and_is_kept_rounded_alone(pw, browser,
                                                                                tmp_path):
     """A phone at Stockholm taps "Weather where I am": the weather API is asked at 59.3,

@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 from PIL import Image
 from support.weather_api import StandIn
 
@@ -34,6 +35,7 @@ def frosted(image: np.ndarray, bare: np.ndarray) -> float:
     return float((np.abs(image - bare) > 12).any(axis=2).mean())
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_minus_25_outside_frosts_the_pane_and_plus_6_leaves_it_clear(gl_ctx, tmp_path):
     bare, _ = render(tmp_path, "bare", "--ticks", "1")
     with StandIn(-25.0) as api:
@@ -49,6 +51,7 @@ def test_minus_25_outside_frosts_the_pane_and_plus_6_leaves_it_clear(gl_ctx, tmp
     assert frosted(warm, bare) <= 0.02
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_an_api_out_of_reach_still_renders_and_says_so_in_one_line(gl_ctx, tmp_path):
     with StandIn() as api:
         closed = api.url  # (nothing listens there once it has stopped)

@@ -36,6 +36,7 @@ def web_test_files() -> list[str]:
 
 
 @pytest.mark.slow
+@pytest.mark.usefixtures("subprocesses")
 def test_the_pages_javascript_passes_its_node_tests():
     """Every tests/web/*.test.mjs passes (the long validation runs are skipped there)."""
     run = node_test(*web_test_files())
@@ -43,6 +44,7 @@ def test_the_pages_javascript_passes_its_node_tests():
 
 
 @pytest.mark.validation
+@pytest.mark.usefixtures("subprocesses")
 def test_the_pages_long_growth_holds_to_sim():
     """The validation runs of the Node tests (FROST_DEEP: the paper's long growth)."""
     run = node_test(*web_test_files(), deep=True)

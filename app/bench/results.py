@@ -1,5 +1,6 @@
 """`--record`: a benchmark's figures kept as a dated entry of its results file,
-`docs/results/bench-NAME.md`, newest first.
+`docs/results/bench-NAME.md`, newest first: `frost bench sim|render`'s as JSON, what a
+checkout's `python -m bench NAME` printed as text (`keep_printed`).
 
 The reference pages (docs/benchmarks.md) hold each benchmark's current figures and no date;
 the results file holds the history: each entry says when, on which commit, on which
@@ -8,12 +9,15 @@ machine and under what load its figures were taken, as those decide what a time 
 
 from __future__ import annotations
 
+import contextlib
 import datetime as dt
+import io
 import json
 import os
 import platform
 import subprocess
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 from sim.io.files import not_regular, refusal, why, write_atomic
@@ -34,16 +38,48 @@ def shown(name: str) -> str:
     return str(path.relative_to(ROOT)) if path.is_relative_to(ROOT) else str(path)
 
 
-def keep(name: str, command: str, figures: dict, prog: str, head: str) -> int:
+def keep(name: str, command: str, figures: dict | str, prog: str, head: str) -> int:
     """`--record` at a benchmark's end: `figures` kept in its results file, with `head`, the
     commit taken when the run started (the code that ran). Exit status 0, or 1 when the
     file cannot be written (the figures are printed already: none is lost)."""
-    problem = record(results_file(name), command, figures, head=head)
+    problem = record(results_file(name), command, figures, head=head, title=prog)
     if problem:
         print(f"{prog}: error: --record: {problem}", file=sys.stderr)
         return 1
     print(f"recorded in {shown(name)}")
     return 0
+
+
+def keep_printed(name: str, prog: str, argv: list[str], run: Callable[..., int]) -> int:
+    """`run(argv, prog=prog)`, a benchmark, with what it prints shown as it comes and kept,
+    dated, as an entry of its results file headed by `prog argv`: the file checked before
+    the run (which may take minutes), the commit taken at its start. A run that fails, or
+    stops at its own command line (`--help`, a bad option: SystemExit), keeps nothing."""
+    problem = record_problem(results_file(name))
+    if problem:
+        print(f"{prog}: error: --record: {problem}", file=sys.stderr)
+        return 2
+    head = commit()
+    printed = Tee(sys.stdout)
+    with contextlib.redirect_stdout(printed):
+        status = run(argv, prog=prog)
+    if status:
+        return status
+    return keep(name, " ".join([prog, *argv]), printed.kept.getvalue(), prog, head)
+
+
+class Tee(io.TextIOBase):
+    """A stream that writes through to `shown` (the terminal) and keeps a copy."""
+
+    def __init__(self, shown):
+        self.shown, self.kept = shown, io.StringIO()
+
+    def write(self, text: str) -> int:
+        self.shown.write(text)
+        return self.kept.write(text)
+
+    def flush(self) -> None:
+        self.shown.flush()
 
 
 def record_problem(path: Path) -> str | None:
@@ -59,12 +95,13 @@ def record_problem(path: Path) -> str | None:
     return None
 
 
-def record(path: Path, command: str, figures: dict, now: dt.datetime | None = None,
-           head: str | None = None) -> str | None:
-    """Put an entry for `figures` (what `command` printed as JSON) at the top of `path`'s
-    entries, under its title; the file is made if missing. `head`: the commit (default:
-    the checkout's now). Returns why it could not be written (one line), or None."""
-    text = path.read_text(encoding="utf-8") if path.exists() else header(path)
+def record(path: Path, command: str, figures: dict | str, now: dt.datetime | None = None,
+           head: str | None = None, title: str | None = None) -> str | None:
+    """Put an entry for `figures` (what `command` printed: JSON's figures, or its text) at
+    the top of `path`'s entries, under its title; the file is made if missing, titled by
+    `title` (the benchmark's command, default `frost bench NAME`). `head`: the commit
+    (default: the checkout's now). Returns why it could not be written (one line), or None."""
+    text = path.read_text(encoding="utf-8") if path.exists() else header(path, title)
     new = entry(command, figures, now, head)
     try:
         write_atomic(path, lambda f: f.write(insert(text, new).encode()))
@@ -73,10 +110,10 @@ def record(path: Path, command: str, figures: dict, now: dt.datetime | None = No
     return None
 
 
-def header(path: Path) -> str:
+def header(path: Path, title: str | None = None) -> str:
     """A new results file's title and what it holds."""
-    name = path.stem.removeprefix("bench-")
-    return (f"# Results: frost bench {name}\n\nEach run of `frost bench {name} --record`, "
+    name = title or f"frost bench {path.stem.removeprefix('bench-')}"
+    return (f"# Results: {name}\n\nEach run of `{name} --record`, "
             "newest first: the command, when, on which commit, on which machine and under "
             "what load, and the figures it printed. [benchmarks.md](../benchmarks.md) holds the "
             "current figures.\n")
@@ -91,7 +128,7 @@ def insert(text: str, new: str) -> str:
     return head + new + ("\n" + rest if rest else "")
 
 
-def entry(command: str, figures: dict, now: dt.datetime | None = None,
+def entry(command: str, figures: dict | str, now: dt.datetime | None = None,
           head: str | None = None) -> str:
     """One entry: headed by the command, so that a link to the command's heading finds its
     newest entry (the first of that name); the facts that decide what the figures mean;
@@ -102,7 +139,8 @@ def entry(command: str, figures: dict, now: dt.datetime | None = None,
             f"- commit: {head or commit()}\n"
             f"- machine: {machine()}\n"
             f"- load average (1, 5, 15 min): {load()}\n\n"
-            f"```json\n{as_json(figures)}\n```\n")
+            + (f"```text\n{figures.rstrip()}\n```\n" if isinstance(figures, str) else
+               f"```json\n{as_json(figures)}\n```\n"))
 
 
 def as_json(figures: dict) -> str:

@@ -3,12 +3,11 @@ of hash cells holding a crystal gains less than END_GAIN over END_TICKS ticks,
 app.bench.measures), timed as `frost maps --tile` grows it (simulation, geometry, growth clock),
 then its maps computed and written, with the peak memory of the process.
 
-python -m app.bench.tiles [SIZE] [--max-ticks N] [--out DIR]
+python -m bench tiles [SIZE] [--max-ticks N] [--out DIR] [--record] (from a checkout)
 """
 
 from __future__ import annotations
 
-import argparse
 import tempfile
 import time
 
@@ -16,6 +15,7 @@ import numpy as np
 
 from app.bench.measures import frosted_end
 from app.bench.memory import mb, peak_rss_mb
+from app.bench.options import Parser
 from app.tools.engine_maps import EngineRun, write_engine_maps
 from app.tools.maps import tile_window
 from sim import Params
@@ -51,8 +51,8 @@ def grow_to_end(params: Params, size: tuple[int, int], max_ticks: int):
     return timeline, clock, end
 
 
-def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m app.bench.tiles")
+def main(argv: list[str] | None = None, prog: str = "python -m bench tiles") -> int:
+    p = Parser(prog=prog, description=__doc__.split("\n\n")[0])
     p.add_argument("size", type=int, nargs="?", default=2048, help="tile side, px (default 2048)")
     p.add_argument("--max-ticks", type=int, default=6000, help="give up after (default 6000)")
     p.add_argument("--out", help="write the maps here (default a temporary folder)")

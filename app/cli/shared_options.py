@@ -5,6 +5,7 @@ parsed command line asks for."""
 from __future__ import annotations
 
 import argparse
+import functools
 import os
 
 from app.backdrops import BACKDROPS, DEFAULT_BACKDROP
@@ -194,13 +195,21 @@ def preset_defaults(name: str, looks: tuple[str, ...]) -> str:
     presets that have it, e.g. 'default: fern, window 2.5; Table 1 1.0-10.0'."""
     groups: dict[str, list[str]] = {}
     for look in looks:
-        groups.setdefault(_shown(getattr(Params.preset(look), name)), []).append(look)
-    table = sorted({getattr(Params.preset(n), name) for n in PRESETS})
+        groups.setdefault(_shown(getattr(_preset(look), name)), []).append(look)
+    table = sorted({getattr(_preset(n), name) for n in PRESETS})
     span = _shown(table[0]) + (f"-{_shown(table[-1])}" if len(table) > 1 else "")
     groups.setdefault(span, []).append("Table 1")
     if len(groups) == 1 and len(table) == 1:
         return f"default {span}"
     return "default: " + "; ".join(f"{', '.join(names)} {v}" for v, names in groups.items())
+
+
+@functools.cache
+def _preset(name: str) -> Params:
+    """A preset's Params (frozen), built once: the help texts of every command read each
+    parameter of every preset, thousands of reads a parser, and every `frost` start builds
+    one."""
+    return Params.preset(name)
 
 
 def _shown(value) -> str:

@@ -15,8 +15,8 @@ import pytest
 
 from app.backdrops import load_backdrop
 from bench.chromium import ANGLE, browser_problem, chromium_options
+from bench.serve_process import ServeProcess
 from sim.screen import HEIGHT, WIDTH
-from support.serve import ServeProcess
 
 PROBLEM = browser_problem()
 BACKDROP = load_backdrop("dusk").astype(int)

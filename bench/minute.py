@@ -5,15 +5,12 @@ cost of that minute's frame: on the desktop (the box drawn, uploaded with
 message's PNG decoded, `texSubImage2D`, a whole frame drawn and one pixel read back),
 each beside a frame with no new minute. Both over frost grown from three touches.
 
-python -m bench clock [--samples 20]
+python -m bench minute [--samples 20]
 """
 
 from __future__ import annotations
 
 import io
-import os
-import re
-import subprocess
 import sys
 import tempfile
 import time
@@ -25,6 +22,7 @@ from app.backdrops import LIVE, load_backdrop, read_backdrop
 from app.bench.options import Parser, count
 from app.lockscreen import CLOCK_BOX, clock_patch
 from app.serve.protocol import clock_message
+from bench.serve_process import ServeProcess
 from sim import Params
 
 TOUCHES = ((380.0, 330.0), (170.0, 760.0), (600.0, 1050.0))
@@ -126,25 +124,16 @@ PAGE_TIMES = """async (n) => {
 def page(samples: int) -> None:
     from playwright.sync_api import sync_playwright
 
-    from bench.page import launch
+    from bench.chromium import launch
 
-    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-    cmd = [sys.executable, "-m", "app", "serve", "--port", "0", "--session-dir", tempfile.mkdtemp(),
-           "--preset", "fern", "--seed", "5", "--background", LIVE, "--clock-start", "10:00"]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
-    assert proc.stdout is not None
-    port = None
-    while port is None and proc.poll() is None:
-        found = re.search(r"open http://[^:/]+:(\d+)/", proc.stdout.readline())
-        port = found.group(1) if found else None
-    if port is None:
-        raise SystemExit("frost serve did not start")
+    served = ServeProcess("--port", "0", "--session-dir", tempfile.mkdtemp(), "--preset", "fern",
+                          "--seed", "5", "--background", LIVE, "--clock-start", "10:00").drain()
     try:
         with sync_playwright() as pw:
             browser = launch(pw)
             tab = browser.new_context(viewport={"width": 390, "height": 844},
                                       device_scale_factor=3).new_page()
-            tab.goto(f"http://127.0.0.1:{port}/")
+            tab.goto(served.local)
             tab.wait_for_function("window.frost && frost.synced && frost.clock.shown", timeout=60_000)
             for look in ("glass", "paper"):
                 tab.evaluate(f"frost.socket.send(JSON.stringify({{type: 'look', name: '{look}'}}))")
@@ -162,11 +151,10 @@ def page(samples: int) -> None:
                 print("  " + figures("the minute's frame (decoded, uploaded, frame drawn)", t["minute"]))
             browser.close()
     finally:
-        proc.terminate()
-        proc.wait(30)
+        served.stop()
 
 
-def main(argv: list[str] | None = None, prog: str = "python -m bench clock") -> int:
+def main(argv: list[str] | None = None, prog: str = "python -m bench minute") -> int:
     p = Parser(prog=prog, description=__doc__.split("\n\n")[0])
     p.add_argument("--samples", type=count, default=20, metavar="N",
                    help="minutes timed in each place (default 20)")
