@@ -76,16 +76,18 @@ class ServeProcess:
         return self
 
     def stop(self) -> str:
-        """Stop as Ctrl-C does; everything it printed."""
+        """Stop as Ctrl-C does; everything it printed. (Read through the file that read its
+        first lines: what that read ahead is in its buffer, which `communicate`, reading
+        the pipe itself, would lose.)"""
+        if self._reader is None:
+            self.drain()
+            if self.proc.stderr is not None:  # (kept apart: read, so that it never blocks the end)
+                threading.Thread(target=self.proc.stderr.read, daemon=True).start()
         if self.proc.poll() is None:
             self.proc.send_signal(signal.SIGINT)
-        if self._reader is not None:  # the reader has the output: wait for the end alone
-            rest = ""
-            self._wait(self.proc.wait)
-            self._reader.join(30)
-        else:
-            rest = self._wait(lambda timeout=None: self.proc.communicate(timeout=timeout)[0])
-        return "".join(self.lines) + (rest or "")
+        self._wait(self.proc.wait)
+        self._reader.join(30)  # type: ignore[union-attr]
+        return "".join(self.lines)
 
     def _wait(self, wait):
         """`wait(timeout=30)`, or the process killed and waited for if it is still there."""

@@ -14,6 +14,7 @@ pytestmark = [pytest.mark.browser, pytest.mark.slow,
               pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
 
 
+@pytest.mark.usefixtures("subprocesses")
 def test_the_bench_prints_the_workers_figures_and_the_python_tick(capsys):
     from bench.page import main
 

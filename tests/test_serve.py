@@ -688,6 +688,34 @@ def test_an_ipv6_host_is_bracketed_in_the_url(capsys):
     assert "http://[::1]:8025/" in capsys.readouterr().out
 
 
+def test_the_urls_and_their_qr_codes_are_printed_in_one_write(monkeypatch):
+    """A log line of another thread between two writes would land inside a QR code (no
+    camera reads it then): the announcement is one write, both codes whole in it."""
+    import io
+
+    import segno
+
+    from app.serve import listen
+
+    writes: list[str] = []
+
+    class Console(io.StringIO):
+        encoding = "utf-8"
+
+        def write(self, text: str) -> int:
+            writes.append(text)
+            return len(text)
+
+    monkeypatch.setattr(listen.sys, "stdout", Console())
+    monkeypatch.setattr(listen, "lan_address", lambda: "192.0.2.7")
+    listen.announce("0.0.0.0", 8025, "T0KEN", 8026)
+    [said] = [w for w in writes if w]
+    for url in ("http://192.0.2.7:8025/?token=T0KEN", "https://192.0.2.7:8026/?token=T0KEN"):
+        drawn = io.StringIO()
+        segno.make(url, error="m").terminal(out=drawn, compact=True)
+        assert url in said and drawn.getvalue() in said
+
+
 def test_input_waiting_for_the_thread_stays_bounded(monkeypatch):
     """A page dragging a warm finger corner to corner as fast as its message rate allows
     asks for far more melts than the thread applies; what waits stays bounded (the rest is

@@ -99,34 +99,36 @@ def url_host(host: str) -> str:
 
 def announce(host: str, port: int, token: str | None, https_port: int | None = None) -> None:
     """Print the URLs to open (with the token, and their QR codes for a phone's camera):
-    the HTTP one, then the HTTPS one where it is served."""
+    the HTTP one, then the HTTPS one where it is served. All in one write, so that no log
+    line of another thread lands inside a QR code (which no camera could read then)."""
+    said: list[str] = []
     if token is None:
-        print(f"frost serve: open http://{url_host(host)}:{port}/ (Ctrl-C ends it)", flush=True)
+        said.append(f"frost serve: open http://{url_host(host)}:{port}/ (Ctrl-C ends it)\n")
         if https_port is not None:
-            print(f"frost serve: over HTTPS: https://{url_host(host)}:{https_port}/", flush=True)
-        return
-    shown = lan_address() if unspecified(host) else host
-    url = f"http://{url_host(shown)}:{port}/?token={token}"
-    print(f"frost serve: open {url} on a phone of this network (Ctrl-C ends it)", flush=True)
-    _qr(url, "qr-page.png")
-    if https_port is not None:
-        url = f"https://{url_host(shown)}:{https_port}/?token={token}"
-        print(f"frost serve: as an app: {url} once the phone trusts this computer "
-              "(the page's menu: Make it an app)", flush=True)
-        _qr(url, "qr-app.png")
+            said.append(f"frost serve: over HTTPS: https://{url_host(host)}:{https_port}/\n")
+    else:
+        shown = lan_address() if unspecified(host) else host
+        url = f"http://{url_host(shown)}:{port}/?token={token}"
+        said.append(f"frost serve: open {url} on a phone of this network (Ctrl-C ends it)\n")
+        said.append(_qr(url, "qr-page.png"))
+        if https_port is not None:
+            url = f"https://{url_host(shown)}:{https_port}/?token={token}"
+            said.append(f"frost serve: as an app: {url} once the phone trusts this computer "
+                        "(the page's menu: Make it an app)\n")
+            said.append(_qr(url, "qr-app.png"))
+    sys.stdout.write("".join(said))
     sys.stdout.flush()
 
 
-def _qr(url: str, name: str) -> None:
-    """`url`'s QR code drawn in the console, where its encoding has the code's block
+def _qr(url: str, name: str) -> str:
+    """`url`'s QR code to draw in the console, where its encoding has the code's block
     characters; else (a redirected Windows console in cp1252, say) written as the PNG
     `name` in the user's config folder, beside the token it carries (a folder for the user
-    alone), and one line says where."""
+    alone), and a line saying where."""
     try:
         import segno
     except ImportError:
-        print("frost serve: (no QR code: the segno package is missing)")
-        return
+        return "frost serve: (no QR code: the segno package is missing)\n"
     code = segno.make(url, error="m")
     drawn = io.StringIO()
     code.terminal(out=drawn, compact=True)
@@ -134,9 +136,8 @@ def _qr(url: str, name: str) -> None:
     try:
         drawn.getvalue().encode(encoding)
     except (UnicodeEncodeError, LookupError):
-        print(f"frost serve: {_qr_file(code, name, encoding)}", flush=True)
-        return
-    sys.stdout.write(drawn.getvalue())
+        return f"frost serve: {_qr_file(code, name, encoding)}\n"
+    return drawn.getvalue()
 
 
 def _qr_file(code, name: str, encoding: str) -> str:
