@@ -9,6 +9,9 @@ export class Areas {
     this.rows = new Float32Array(5 * 16);
     this.ice = new Int32Array(16);  // live crystals of each area
     this.n = 0;
+    // shell's answer; doubles from the start (as Skeleton's longestLink)
+    this.inner = NaN;
+    this.outer = NaN;
   }
 
   clear() {

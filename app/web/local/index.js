@@ -19,6 +19,12 @@ export class FreezingIndex {
     this.candidates = new CellLists(this.grid.size);  // Fig. 3d: state = count > 0
     this.clearance = longJumps ? new Clearance(this.grid, width, height) : null;
     this.found = new Int32Array(64);  // crystalsInBox's answer
+    // nearestIn's and boxCells' answers, made here (one object shape from the start, which
+    // the compiled simulation is specialised for)
+    this.nearestId = -1;
+    this.box = new Int32Array(0);
+    this.near2 = new Float64Array(0);
+    this.far2 = new Float64Array(0);
   }
 
   clear() {
@@ -134,7 +140,7 @@ export class FreezingIndex {
   boxCells(cx, cy, r) {
     const [c0, c1, r0, r1] = this.grid.span(cx - r, cy - r, cx + r, cy + r);
     const s = this.grid.cell, n = Math.max(0, (c1 - c0 + 1) * (r1 - r0 + 1));
-    if (!this.box || this.box.length < n) {
+    if (this.box.length < n) {
       this.box = new Int32Array(2 * n);
       this.near2 = new Float64Array(2 * n);
       this.far2 = new Float64Array(2 * n);

@@ -65,7 +65,9 @@ export class Placer {
     const a = this.areas.rows, inner = this.areas.inner, outer = this.areas.outer;
     const cx = a[5 * area], cy = a[5 * area + 1];
     const i2 = Math.fround(inner * inner), span = Math.fround(Math.fround(outer * outer) - i2);
-    for (let t = 0; t < tries; t++) {
+    // (the count runs down in the loop's test, which every call runs: a step run only when
+    // a draw misses, seen first deep into a growth, would throw the compiled placement away)
+    while (tries-- > 0) {
       const at = this.take(2), u = this.draws;
       const r = Math.fround(Math.sqrt(Math.fround(i2 + Math.fround(u[at] * span))));
       const th = Math.fround(u[at + 1] * TWO_PI);

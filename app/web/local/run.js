@@ -17,12 +17,18 @@ const TEXT_KINDS = ["preset", "look", "backdrop", "pause", "clear", "step"];
 // the simulation's loops, and took 5-10 times as long (Node, fern: a p99 of 92-142 ms over
 // the first 250 ticks after three touches, 15-32 ms after this, on a loaded machine).
 const WARM_TICKS = 60;
-const WARM_TOUCHES = [[380, 640], [200, 300], [560, 1000]];
+// The warm-up's touches come as a page's taps do: one a tick, off the pixel grid (a
+// fraction makes other number types than a whole pixel, and the engine compiles for the
+// types it has seen: a tap of the page's own would throw that code away mid-growth).
+const WARM_TOUCHES = [[380.37, 640.61], [200.52, 300.29], [560.73, 1000.18]];
 
 // A frost grown WARM_TICKS from WARM_TOUCHES and thrown away (the worker's, before its hello).
 export function warmUp(config) {
   const warm = new LocalRun(config, () => {}, { seed: 1 });
-  for (const [x, y] of WARM_TOUCHES) warm.input({ type: "touch", phase: "down", id: 0, x, y });
+  for (const [x, y] of WARM_TOUCHES) {
+    warm.input({ type: "touch", phase: "down", id: 0, x, y });
+    warm.tick();
+  }
   for (let i = 0; i < WARM_TICKS; i++) warm.tick();
 }
 

@@ -17,6 +17,10 @@ export class Skeleton {
     this.segments = new Float32Array(4 * 256);  // x0, y0, x1, y1 along each chain
     this.segmentsLink = new Int32Array(256);
     this.segmentsAlive = new Uint8Array(256);
+    // A double from the start: a field that holds a small integer first and a fraction
+    // later changes the skeleton's object shape, and the code compiled for the old one
+    // (a frost grown before: the worker's warm-up) is thrown away mid-growth.
+    this.longestLink = NaN;
     this.clear();
   }
 

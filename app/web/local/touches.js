@@ -22,7 +22,8 @@ export class Touches {
       return false;
     }
     const fx = Math.min(Math.fround(x), below(this.width)), fy = Math.min(Math.fround(y), below(this.height));
-    if (!this.budget.roomFor([fx, fy], 2)[0]) return false;
+    // (a typed array, as a tick's crystals come: an array here would cost the compiled tick)
+    if (!this.budget.roomFor(Float32Array.of(fx, fy), 2)[0]) return false;
     const { params, ice } = this, area = this.areas.areaFor(fx, fy, params.active_radius);
     const ringed = params.touch_water > 0;
     const seed = ice.add(fx, fy, -1, area);

@@ -10,6 +10,9 @@ export class Water {
     this.area = new Int32Array(capacity);
     this.drop = new Uint8Array(capacity);  // walkers marked to leave at the next `sweep`
     this.n = 0;
+    // counts' answer, made here: every field a constructor makes keeps one object shape,
+    // which the compiled simulation is specialised for
+    this.perArea = new Int32Array(16);
   }
 
   clear() {
@@ -51,7 +54,7 @@ export class Water {
 
   /** Walkers of each area: `counts[a]` for a < areas (a reused Int32Array). */
   counts(areas) {
-    if (!this.perArea || this.perArea.length < areas) this.perArea = new Int32Array(Math.max(16, 2 * areas));
+    if (this.perArea.length < areas) this.perArea = new Int32Array(Math.max(16, 2 * areas));
     const c = this.perArea;
     c.fill(0, 0, areas);
     for (let i = 0; i < this.n; i++) c[this.area[i]]++;
