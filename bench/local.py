@@ -141,6 +141,6 @@ def run(args, rate: float, touches) -> int:
 
 def threads_line(worker, page, seconds: float) -> str:
     """Where the worker's wall-clock ticks went (ThreadTimes over the `seconds` grown)."""
-    return (f"its threads over the {seconds:.1f} s grown (Linux schedstat): the worker {worker.cpu_ms:.0f} ms "
-            f"on a CPU, {worker.wait_ms:.0f} ms waiting for one; the page's main thread "
-            f"{page.cpu_ms:.0f} ms on a CPU (Chromium's throttle busy-waits there)")
+    return (f"its threads over the {seconds:.1f} s grown (Linux schedstat): the worker "
+            f"{worker.cpu_ms:.0f} ms on a CPU, {worker.wait_ms:.0f} ms waiting for one; the page's main "
+            f"thread {page.cpu_ms:.0f} ms on a CPU (Chromium's throttle busy-waits there)")

@@ -38,14 +38,16 @@ def proc(tmp_path: Path) -> Path:
     process(proc, 20, ["chromium", "--type=renderer", "--user-data-dir=/tmp/other"],
             {20: ("chromium", "1 1 1"), 21: ("DedicatedWorker", "7000000 7000000 7")})
     process(proc, 30, ["chromium --type=renderer --user-data-dir=" + MARKER],  # (a rewritten title)
-            {30: ("chromium", "6500000000 2400000000 19057"), 31: ("DedicatedWorker", "565000000 634000000 2005"),
+            {30: ("chromium", "6500000000 2400000000 19057"),
+             31: ("DedicatedWorker", "565000000 634000000 2005"),
              32: ("Compositor", "287000000 279000000 2844")})
     (proc / "self").mkdir()  # (not a process number)
     return proc
 
 
 def test_the_pages_worker_and_main_thread_are_read_in_ms(proc: Path):
-    assert page_threads(MARKER, proc) == {"worker": ThreadTime(565.0, 634.0), "page": ThreadTime(6500.0, 2400.0)}
+    assert page_threads(MARKER, proc) == {"worker": ThreadTime(565.0, 634.0),
+                                          "page": ThreadTime(6500.0, 2400.0)}
 
 
 def test_two_workers_are_summed_and_a_difference_is_the_time_between(proc: Path):
@@ -55,7 +57,8 @@ def test_two_workers_are_summed_and_a_difference_is_the_time_between(proc: Path)
     threads = page_threads(MARKER, proc)
     assert threads is not None
     assert threads["worker"] == ThreadTime(566.0, 637.0)
-    assert threads["worker"] - ThreadTime(500.0, 600.0) == ThreadTime(pytest.approx(66.0), pytest.approx(37.0))
+    since = threads["worker"] - ThreadTime(500.0, 600.0)
+    assert (since.cpu_ms, since.wait_ms) == (pytest.approx(66.0), pytest.approx(37.0))
 
 
 @pytest.mark.parametrize("broken", ["no worker", "no schedstat", "not numbers", "no proc"])
