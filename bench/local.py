@@ -135,12 +135,14 @@ def run(args, rate: float, touches) -> int:
         print(f"the worker's tick in Node (no browser): median {np.median(js):.2f} ms, p99 "
               f"{np.percentile(js, 99):.2f} ms")
     if before and after:
-        print(threads_line(after["worker"] - before["worker"], after["page"] - before["page"], seconds))
+        print(threads_line(after["worker"] - before["worker"], after["page"] - before["page"], seconds, rate))
     return 0
 
 
-def threads_line(worker, page, seconds: float) -> str:
-    """Where the worker's wall-clock ticks went (ThreadTimes over the `seconds` grown)."""
+def threads_line(worker, page, seconds: float, rate: float) -> str:
+    """Where the worker's wall-clock ticks went (ThreadTimes over the `seconds` grown, the
+    page slowed `rate` times)."""
+    spin = " (Chromium's throttle busy-waits there)" if rate > 1 else ""
     return (f"its threads over the {seconds:.1f} s grown (Linux schedstat): the worker "
             f"{worker.cpu_ms:.0f} ms on a CPU, {worker.wait_ms:.0f} ms waiting for one; the page's main "
-            f"thread {page.cpu_ms:.0f} ms on a CPU (Chromium's throttle busy-waits there)")
+            f"thread {page.cpu_ms:.0f} ms on a CPU{spin}")

@@ -73,3 +73,13 @@ def test_nothing_is_said_where_proc_tells_nothing(proc: Path, broken: str):
     else:
         proc = proc / "missing"
     assert page_threads(MARKER, proc) is None
+
+
+@pytest.mark.parametrize(("rate", "throttled"), [(1.0, False), (4.0, True)])
+def test_the_benchs_line_names_the_throttle_only_where_the_page_is_slowed(rate: float, throttled: bool):
+    from bench.local import threads_line
+
+    line = threads_line(ThreadTime(444.4, 727.0), ThreadTime(6903.0, 10.0), 10.64, rate)
+    assert "the worker 444 ms on a CPU, 727 ms waiting for one" in line
+    assert "over the 10.6 s grown" in line and "main thread 6903 ms on a CPU" in line
+    assert ("throttle" in line) == throttled
