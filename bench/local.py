@@ -23,6 +23,7 @@ import numpy as np
 
 from bench.chromium import ANGLE, chromium_options
 from bench.phoneapp import serving
+from bench.threads import page_threads
 from sim import FrostSim, Params
 
 GROW_TICKS = 250  # ticks grown with the touches (the worker's p99 is of its last 250)
@@ -107,12 +108,14 @@ def run(args, rate: float, touches) -> int:
             cdp = ctx.new_cdp_session(page)
             cdp.send("Emulation.setCPUThrottlingRate", {"rate": rate})
             rect = page.evaluate("frost.paneCss()")
+            before, began = page_threads(profile), time.monotonic()
             for x, y in touches:
                 page.touchscreen.tap(rect["x"] + x * rect["sx"], rect["y"] + y * rect["sy"])
             start = page.evaluate("frost.local.tick")
             frames = np.diff(page.evaluate(FRAMES, GROW_TICKS * 40))
             page.wait_for_function(f"frost.local.tick >= {start + GROW_TICKS}", timeout=600_000)
             local = page.evaluate("frost.alone.stats")
+            after, seconds = page_threads(profile), time.monotonic() - began
         finally:
             ctx.close()
     py = python_ticks(preset, GROW_TICKS, args.seed, touches)
@@ -131,4 +134,15 @@ def run(args, rate: float, touches) -> int:
     if js is not None:
         print(f"the worker's tick in Node (no browser): median {np.median(js):.2f} ms, p99 "
               f"{np.percentile(js, 99):.2f} ms")
+    if before and after:
+        print(threads_line(after["worker"] - before["worker"], after["page"] - before["page"], seconds, rate))
     return 0
+
+
+def threads_line(worker, page, seconds: float, rate: float) -> str:
+    """Where the worker's wall-clock ticks went (ThreadTimes over the `seconds` grown, the
+    page slowed `rate` times)."""
+    spin = " (Chromium's throttle busy-waits there)" if rate > 1 else ""
+    return (f"its threads over the {seconds:.1f} s grown (Linux schedstat): the worker "
+            f"{worker.cpu_ms:.0f} ms on a CPU, {worker.wait_ms:.0f} ms waiting for one; the page's main "
+            f"thread {page.cpu_ms:.0f} ms on a CPU{spin}")

@@ -29,12 +29,16 @@ export class Encoder {
     this.heights = new Uint16Array(rows * cols);  // row-major half-float bits
     this.look = "paper";
     this.heightScale = 16.0;
-    this._fresh = new Uint16Array(rows * cols);  // a delta's rows, converted
+    // The float32 bits each half of `heights` was made from: a height whose float is
+    // unchanged keeps its half, so a delta converts only the floats that changed (a
+    // tick's rows span every area grown, tens of thousands of heights; a few hundred change).
+    this._floatBits = new Int32Array(rows * cols);
     this._runs = new Int32Array(2 * rows * cols);  // (start, count) pairs
   }
 
   reset() {
     this.heights.fill(0);
+    this._floatBits.fill(0);  // (+0.0's bits: half 0)
   }
 
   // One message (an ArrayBuffer) for `delta` (`reset`: the renderer clears first).
@@ -45,9 +49,7 @@ export class Encoder {
     this.heightScale = delta.heightScale;
     const cols = this.grid[0];
     const lo = delta.rows[0] * cols, n = (delta.rows[1] - delta.rows[0]) * cols;
-    const fresh = this._fresh;
-    for (let i = 0; i < n; i++) fresh[i] = floatToHalf(delta.heights[i]);
-    const nruns = this._diff(lo, n);
+    const nruns = this._diff(delta.heights, lo, n);
     return message(resets ? FLAG_RESET : 0, delta.look, delta.tick, this.grid, delta.heightScale,
       this._runs.subarray(0, 2 * nruns), this.heights, delta.features, delta.clearBox);
   }
@@ -77,13 +79,19 @@ export class Encoder {
     return parts;
   }
 
-  // Runs covering every changed height of the `n` fresh values at `lo` (changed ones at
-  // most RUN_GAP apart share a run), written into this.heights; the number of runs.
-  _diff(lo, n) {
-    const old = this.heights, fresh = this._fresh, runs = this._runs;
+  // Runs covering every changed height of the `n` float32 `values` at `lo` (changed ones
+  // at most RUN_GAP apart share a run), written into this.heights; the number of runs.
+  _diff(values, lo, n) {
+    const old = this.heights, seen = this._floatBits, runs = this._runs;
+    const bits = new Int32Array(values.buffer, values.byteOffset, n);
     let nruns = 0, end = -1;
     for (let i = 0; i < n; i++) {
-      if (old[lo + i] === fresh[i]) continue;  // (a height is never -0)
+      const b = bits[i];
+      if (b === seen[lo + i]) continue;  // the same float, so the same half
+      seen[lo + i] = b;
+      const half = floatToHalf(values[i]);
+      if (old[lo + i] === half) continue;  // (a height is never -0)
+      old[lo + i] = half;
       if (nruns > 0 && i - end <= RUN_GAP) {
         runs[2 * nruns - 1] = lo + i + 1 - runs[2 * nruns - 2];
       } else {
@@ -93,7 +101,6 @@ export class Encoder {
       }
       end = i + 1;
     }
-    old.set(fresh.subarray(0, n), lo);
     return nruns;
   }
 }
