@@ -26,11 +26,14 @@ serve: $(RUN_STAMP)
 
 # Two workers (pytest-xdist): CI's machine has two cores, and half the suite waits on
 # subprocesses (the window under Xvfb, the CLI), so two halve the wall time; the
-# costliest modules go first (tests/conftest.py).
+# costliest modules go first (tests/conftest.py), and a worker left without tests takes
+# half of the other's (worksteal: xdist's default hands each worker a fixed share, and one
+# sat idle for minutes while the other ran the browser tests).
 WORKERS ?= 2
+XDIST   := -n $(WORKERS) --dist worksteal
 
 test: $(TEST_STAMP)
-	$(PY) -m pytest -n $(WORKERS) $(PYTEST_ARGS)
+	$(PY) -m pytest $(XDIST) $(PYTEST_ARGS)
 
 # A change's inner loop: the suite without what opens Chromium or a window under Xvfb,
 # what starts Python in a subprocess (frost, frost serve, pytest), the slow tests and the
@@ -39,11 +42,11 @@ test: $(TEST_STAMP)
 QUICK := not browser and not window and not subprocess and not slow and not validation
 
 quick: $(TEST_STAMP)
-	FROST_HYPOTHESIS=frost-quick $(PY) -m pytest -n $(WORKERS) -m "$(QUICK)" $(PYTEST_ARGS)
+	FROST_HYPOTHESIS=frost-quick $(PY) -m pytest $(XDIST) -m "$(QUICK)" $(PYTEST_ARGS)
 
 # The suite plus its validation runs (DLA dimension, full-screen wipe, long brute force).
 test-deep: $(TEST_STAMP)
-	$(PY) -m pytest -n $(WORKERS) --deep $(PYTEST_ARGS)
+	$(PY) -m pytest $(XDIST) --deep $(PYTEST_ARGS)
 
 bench: bench-sim bench-render
 

@@ -26,7 +26,7 @@ from bench.phoneapp import serving
 from bench.threads import page_threads
 from sim import FrostSim, Params
 
-GROW_TICKS = 250  # ticks grown with the touches (the worker's p99 is of its last 250)
+GROW_TICKS = 250  # ticks grown with the touches (the worker's p99 is of its last 250): --ticks
 FRAMES = """(ms) => new Promise((done) => { const t = [];
   const frame = (now) => { t.push(now); if (now - t[0] < ms) requestAnimationFrame(frame); else done(t); };
   requestAnimationFrame(frame); })"""
@@ -95,6 +95,7 @@ def run(args, rate: float, touches) -> int:
     from playwright.sync_api import sync_playwright
 
     preset = args.preset or "fern"
+    ticks = args.ticks or GROW_TICKS
     with tempfile.TemporaryDirectory() as profile, sync_playwright() as pw:
         ctx = pw.chromium.launch_persistent_context(  # (a phone of 390x844 CSS px)
             profile, **chromium_options(pw, ANGLE[args.angle]), viewport={"width": 390, "height": 844},
@@ -112,15 +113,15 @@ def run(args, rate: float, touches) -> int:
             for x, y in touches:
                 page.touchscreen.tap(rect["x"] + x * rect["sx"], rect["y"] + y * rect["sy"])
             start = page.evaluate("frost.local.tick")
-            frames = np.diff(page.evaluate(FRAMES, GROW_TICKS * 40))
-            page.wait_for_function(f"frost.local.tick >= {start + GROW_TICKS}", timeout=600_000)
+            frames = np.diff(page.evaluate(FRAMES, ticks * 40))
+            page.wait_for_function(f"frost.local.tick >= {start + ticks}", timeout=600_000)
             local = page.evaluate("frost.alone.stats")
             after, seconds = page_threads(profile), time.monotonic() - began
         finally:
             ctx.close()
-    py = python_ticks(preset, GROW_TICKS, args.seed, touches)
-    js = node_ticks(preset, GROW_TICKS, args.seed, touches)
-    print(f"{preset}, three touches, {GROW_TICKS} ticks, the page's CPU slowed {rate:g}x "
+    py = python_ticks(preset, ticks, args.seed, touches)
+    js = node_ticks(preset, ticks, args.seed, touches)
+    print(f"{preset}, three touches, {ticks} ticks, the page's CPU slowed {rate:g}x "
           f"(Chromium, {args.angle}); {local['crystals']} crystals")
     print(f"worker tick (its own clock, last 250): median {local['tickMedianMs']:.2f} ms, "
           f"p99 {local['tickP99Ms']:.2f} ms; on a phone {rate:g}x slower: p99 "

@@ -31,6 +31,7 @@ from app.bench.options import Parser, count, slowdown
 from app.resources import SHADER_DIR, WEB_DIR
 from app.serve.hello import hello_fields
 from bench.chromium import ANGLE, browser_problem, launch
+from bench.local import GROW_TICKS
 from bench.network import JOIN_TICKS
 from bench.shaper import PROFILES, profile
 from sim import Params, all_presets
@@ -331,7 +332,8 @@ def main(argv: list[str] | None = None, prog: str = "python -m bench page") -> i
     p.add_argument("--look", choices=("paper", "glass"), help="default: the preset's")
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--ticks", type=count, help="ticks to grow (default 300; with --join "
-                   f"{JOIN_TICKS}: the frosted window pane)")
+                   f"{JOIN_TICKS}: the frosted window pane; with --local {GROW_TICKS}, the worker's "
+                   "p99 window)")
     p.add_argument("--frames", type=count, default=60, help="page frames timed (default 60)")
     p.add_argument("--angle", choices=list(ANGLE), default="swiftshader",
                    help="the page's WebGL: Chromium's SwiftShader (default) or the system's "

@@ -18,7 +18,7 @@ pytestmark = [pytest.mark.browser, pytest.mark.slow,
 def test_the_bench_prints_the_workers_figures_and_the_python_tick(capsys):
     from bench.page import main
 
-    assert main(["--local", "--cpu-slowdown", "2"]) == 0
+    assert main(["--local", "--cpu-slowdown", "2", "--ticks", "50"]) == 0
     out = capsys.readouterr().out
     lines = dict(zip(("head", "worker", "rate", "frames", "python"), out.splitlines(), strict=False))
     figures = {name: [float(v) for v in re.findall(r"(\d+(?:\.\d+)?) ms", line)]
@@ -27,4 +27,4 @@ def test_the_bench_prints_the_workers_figures_and_the_python_tick(capsys):
     assert 0 < median <= p99 and phone == pytest.approx(2 * p99, abs=0.1), out
     assert float(re.search(r"last 5 s\): ([\d.]+)", out).group(1)) > 0, out
     assert len(figures["frames"]) == 2 and len(figures["python"]) == 2, out
-    assert "slowed 2x" in out, out
+    assert "slowed 2x" in out and ", 50 ticks," in lines["head"], out

@@ -114,9 +114,10 @@ def test_chromium_finds_the_https_page_installable_and_it_opens_without_the_serv
             assert installability_errors(ctx, page) == []
             wait_for_shell(page)
             s.stop()
+            page.clock.install()  # (the page's timers on a clock the test moves on)
             page.reload()
             page.wait_for_function("window.frostInstall.openedOffline === true", timeout=30_000)
-            page.wait_for_timeout(10_000)  # past makeapp.js's 8 s without a socket
+            page.clock.fast_forward(10_000)  # past makeapp.js's 8 s without a socket
             assert status(page) == ON_PHONE
             assert page.evaluate("window.frost.makeApp.shown") is None
             assert not page.locator("#makeapp").is_visible()

@@ -552,9 +552,15 @@ def test_an_https_page_whose_socket_never_opens_shows_the_steps(serve, tmp_path)
             };
             window.WebSocket.OPEN = 1;
         """)
+        # The page's timers on a clock the test moves on: its wait for a hello (8 s) and
+        # its sockets' retries (up to 8 s) jumped over, not waited out.
+        page.clock.install()
         page.goto(f"https://{name}:{s.https_port}/?token={s.token}")
         page.wait_for_function("window.frost && window.frost.makeApp", timeout=30_000)
         assert page.evaluate("window.frost.makeApp.shown") is None  # not at once
+        page.clock.fast_forward(7_000)
+        assert page.evaluate("window.frost.makeApp.shown") is None  # not before its time
+        page.clock.fast_forward(1_500)
         page.wait_for_function("window.frost.makeApp.shown === 'never-opened'", timeout=30_000)
         assert page.locator("#makeapp").is_visible()
         text = page.inner_text("#makeapp")
@@ -564,6 +570,7 @@ def test_an_https_page_whose_socket_never_opens_shows_the_steps(serve, tmp_path)
             f"http://{name}:{s.port}/?token={s.token}"
         page.screenshot(path=str(tmp_path / "never-opened.png"))
         page.evaluate("window.letThrough = true")
+        page.clock.fast_forward(8_500)  # (the next retry, at most 8 s away)
         page.wait_for_function("window.frost.hellos > 0 && window.frost.makeApp.shown === null",
                                timeout=60_000)
         assert not page.locator("#makeapp").is_visible()

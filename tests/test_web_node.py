@@ -35,11 +35,14 @@ def web_test_files() -> list[str]:
     return sorted(p.name for p in WEB_TESTS.glob("*.test.mjs"))
 
 
+# A file a test, so that the suite's two workers share them (all in one `node --test`
+# took over half a minute on one worker while the other waited).
 @pytest.mark.slow
 @pytest.mark.usefixtures("subprocesses")
-def test_the_pages_javascript_passes_its_node_tests():
-    """Every tests/web/*.test.mjs passes (the long validation runs are skipped there)."""
-    run = node_test(*web_test_files())
+@pytest.mark.parametrize("name", web_test_files())
+def test_the_pages_javascript_passes_its_node_tests(name):
+    """Each tests/web/*.test.mjs passes (the long validation runs are skipped there)."""
+    run = node_test(name)
     assert run.returncode == 0, run.stdout[-6000:] + run.stderr[-3000:]
 
 

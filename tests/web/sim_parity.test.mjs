@@ -3,49 +3,10 @@
 // seeds, sim/ grown in the same test through the checkout's Python. Each tolerance is the
 // table's; a figure out of it fails with both values.
 
-import assert from 'node:assert/strict';
 import test from 'node:test';
 
-import { growPage, measurePage, median, presetParams, python, tapWaits } from './simoracle.mjs';
-
-const SEEDS = [0, 1, 2, 3, 4];
-
-// The figures out of their tolerance in the test running now: a test checks every
-// figure, then fails with all those out (`held`).
-let out = [];
-
-/** `page` within a factor `factor` of `sim` (both positive). */
-function withinFactor(what, page, sim, factor) {
-  if (!(page <= sim * factor && page >= sim / factor)) {
-    out.push(`${what}: the page's ${page} against sim/'s ${sim} (a factor ${factor} allowed)`);
-  }
-}
-
-function within(what, page, sim, tolerance) {
-  if (!(Math.abs(page - sim) <= tolerance)) {
-    out.push(`${what}: the page's ${page} against sim/'s ${sim} (${tolerance} allowed)`);
-  }
-}
-
-function held() {
-  const failed = out;
-  out = [];
-  assert.deepEqual(failed, []);
-}
-
-/** Both simulations' runs of one touch at the centre of preset `name`, seeds SEEDS:
- * crystals at `ticks`, the first child's tick, the measures at `measureAt`. */
-function bothGrown(name, ticks, measureAt, seeds = SEEDS) {
-  const params = presetParams(name);
-  const sim = python({ kind: 'grow', preset: name, seeds, ticks, measure_at: measureAt });
-  const page = seeds.map((seed) => {
-    const run = growPage(params, seed, { ticks, measureAt });
-    return { ...run, measures: measurePage(run, params.hc) };
-  });
-  return { sim, page };
-}
-
-const medianOf = (runs, pick) => median(runs.map(pick));
+import { bothGrown, held, medianOf, within, withinFactor } from './parity.mjs';
+import { growPage, median, presetParams, python, tapWaits } from './simoracle.mjs';
 
 test('fern: crystals after 25, 100 and 400 ticks, the first arm and the fronds\' shape', () => {
   const { sim, page } = bothGrown('fern', [25, 100, 400], 500);
@@ -104,37 +65,3 @@ test('the paper\'s c-2: the chain reaction\'s crystals, first crystal and dimens
     medianOf(sim, (r) => r.measures.dimension), 0.15);
   held();
 });
-
-test('Table 1\'s other settings: crystals after 400 ticks and the upsample particles', () => {
-  // (a-1, a-2, a-3 and b-3 share hc and humidity, b-2 is c-2: their crystals are the same.)
-  // The sparse b-1 and c-1 vary most from seed to seed: their means over 64 seeds.
-  const mean = (values) => values.reduce((a, b) => a + b, 0) / values.length;
-  const settings = { 'a-1': [1.05, 3, median], 'c-3': [1.05, 3, median], 'b-1': [1.25, 64, mean],
-    'c-1': [1.25, 64, mean] };
-  for (const [name, [factor, n, average]] of Object.entries(settings)) {
-    const seeds = [...Array(n).keys()], params = presetParams(name);
-    const sim = python({ kind: 'grow', preset: name, seeds, ticks: [400], measure_at: 0 });
-    const page = seeds.map((seed) => growPage(params, seed, { ticks: [400] }));
-    withinFactor(`${name}: crystals at tick 400 (${average === mean ? 'mean' : 'median'})`,
-      average(page.map((r) => r.counts[400])), average(sim.map((r) => r.counts[400])), factor);
-    if (name === 'a-1') {  // D 1: a link of up to hc 10 px holds up to 9 upsample particles
-      const frost = page[0].frost, perLink = frost.upsampledCount / (frost.count - 1);
-      within('a-1: upsample particles per link', perLink, sim[0].upsampled_per_link, 0.3);
-    }
-  }
-  held();
-});
-
-test('the long growth is off-lattice DLA in both: mass-radius-of-gyration dimension 1.71',
-  { skip: !process.env.FROST_DEEP && 'a validation run: FROST_DEEP=1 (pytest --deep) runs it' }, () => {
-    const fields = { hc: 3.0, step: 3.0, D: 3.0, humidity: 20, replenish: true, long_jumps: true,
-      launch: 10.0, active_radius: 600.0 };
-    const seeds = [0, 1, 2, 3, 4, 5], params = python({ kind: 'params', fields });
-    const sim = python({ kind: 'grow', fields, seeds, until_crystals: 3000 });
-    const page = seeds.map((seed) => measurePage(growPage(params, seed, { untilCrystals: 3000 }), 3));
-    const mean = (values) => values.reduce((a, b) => a + b, 0) / values.length;
-    const pageD = mean(page.map((m) => m.gyration)), simD = mean(sim.map((r) => r.measures.gyration));
-    within('mean gyration dimension against DLA\'s', pageD, 1.71, 0.08);
-    within('mean gyration dimension', pageD, simD, 0.1);
-    held();
-  });
