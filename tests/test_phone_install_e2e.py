@@ -118,7 +118,8 @@ def test_chromium_finds_the_https_page_installable_and_it_opens_without_the_serv
             page.reload()
             page.wait_for_function("window.frostInstall.openedOffline === true", timeout=30_000)
             page.clock.fast_forward(10_000)  # past makeapp.js's 8 s without a socket
-            assert status(page) == ON_PHONE
+            page.wait_for_function(f"document.getElementById('status').textContent === {ON_PHONE!r}",
+                                   timeout=30_000)
             assert page.evaluate("window.frost.makeApp.shown") is None
             assert not page.locator("#makeapp").is_visible()
             page.screenshot(path=str(tmp_path / "https-offline.png"))
