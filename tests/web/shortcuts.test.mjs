@@ -1,0 +1,56 @@
+// The worker's tick takes shortcuts (docs/local-sim.md, "Its tick"); each is held here to
+// the plain way it stands for, bit for bit: the height grid's raise against every vertex
+// of its stencil measured with Math.hypot.
+
+import assert from "node:assert/strict";
+import { test } from "node:test";
+
+import { HeightGrid, falloff } from "../../app/web/local/heightgrid.js";
+import { seeded } from "../../app/web/local/random.js";
+import { presetParams } from "./simoracle.mjs";
+
+const FERN = presetParams("fern");
+
+// The raise the plain way: every vertex of the stencil, each distance by Math.hypot; the
+// uncapped sums.
+function plainRaise(params, width, height, points) {
+  const grid = new HeightGrid(params, width, height), gs = grid.spacing, hc = params.hc;
+  const sum = new Float64Array(grid.rows * grid.cols);
+  for (const [x, y] of points) {
+    const r0 = Math.round(y / gs), c0 = Math.round(x / gs);
+    for (let r = r0 - grid.reach - 1; r <= r0 + grid.reach + 1; r++) {
+      for (let c = c0 - grid.reach - 1; c <= c0 + grid.reach + 1; c++) {
+        const d = Math.hypot(c * gs - x, r * gs - y);
+        if (d < hc && r >= 0 && r < grid.rows && c >= 0 && c < grid.cols) {
+          sum[r * grid.cols + c] += params.bump * falloff(d, hc);
+        }
+      }
+    }
+  }
+  return sum;
+}
+
+// The raise of `points` on a `width` x `height` px grid: its sums and heights as the plain one's.
+function raisesAsPlain(points, width = 200, height = 120) {
+  const grid = new HeightGrid(FERN, width, height);
+  for (const [x, y] of points) grid.point(x, y);
+  grid.finish();
+  const sum = plainRaise(FERN, width, height, points);
+  const heights = sum.map((s) => { const h = Math.min(s, FERN.max_height); return h < 1e-6 ? 0 : h; });
+  assert.ok(sum.some((s) => s > 0));
+  assert.deepEqual(grid.sum, sum);
+  assert.deepEqual(Float64Array.from(grid.heights), Float64Array.from(heights, Math.fround));
+}
+
+test("the height grid's raise skips only vertices outside hc: every sum as the plain raise's", () => {
+  const uniform = seeded(7);
+  raisesAsPlain(Array.from({ length: 400 }, () => [uniform() * 200, uniform() * 120]));
+  // A vertex a hair inside hc of its point (bumps too small for a height, not for a sum),
+  // across a row or along a column, and one exactly hc away.
+  const rim = [];
+  for (let k = 0; k < 6; k++) {
+    const gx = 32 * k + 8, gy = 16 + 4 * k;
+    rim.push([gx + FERN.hc * (1 - 1e-10), gy], [gx, gy + 40 - FERN.hc * (1 - 1e-12)], [gx + 12, gy + 80 + FERN.hc]);
+  }
+  raisesAsPlain(rim);
+});
