@@ -1,15 +1,20 @@
 // The worker's tick takes shortcuts (docs/local-sim.md, "Its tick"); each is held here to
 // the plain way it stands for, bit for bit: the height grid's raise against every vertex
-// of its stencil measured with Math.hypot.
+// of its stencil measured with Math.hypot, the encoder's diff of a delta's changed
+// vertices against a diff of all its rows.
 
 import assert from "node:assert/strict";
 import { test } from "node:test";
 
+import { Encoder } from "../../app/web/local/encode.js";
+import { Frost } from "../../app/web/local/frost.js";
+import { FrostGeometry } from "../../app/web/local/geometry.js";
 import { HeightGrid, falloff } from "../../app/web/local/heightgrid.js";
 import { seeded } from "../../app/web/local/random.js";
 import { presetParams } from "./simoracle.mjs";
 
 const FERN = presetParams("fern");
+const TOUCHES = [[380, 640], [200, 300], [560, 1000]];
 
 // The raise the plain way: every vertex of the stencil, each distance by Math.hypot; the
 // uncapped sums.
@@ -53,4 +58,29 @@ test("the height grid's raise skips only vertices outside hc: every sum as the p
     rim.push([gx + FERN.hc * (1 - 1e-10), gy], [gx, gy + 40 - FERN.hc * (1 - 1e-12)], [gx + 12, gy + 80 + FERN.hc]);
   }
   raisesAsPlain(rim);
+});
+
+// Every delta of a growing, melting frost encoded twice: by an encoder that diffs its
+// changed vertices and by one that diffs every height of its rows.
+test("a delta's message from its changed vertices is the message from all its rows, byte for byte", () => {
+  const frost = new Frost(FERN, { seed: 3 }), geometry = new FrostGeometry(FERN);
+  const quick = new Encoder(geometry.cols, geometry.rows), plain = new Encoder(geometry.cols, geometry.rows);
+  let shortcuts = 0;
+  const both = (delta) => {
+    const a = Buffer.from(quick.delta(delta)), b = Buffer.from(plain.delta({ ...delta, changed: null }));
+    assert.ok(a.equals(b), `tick ${delta.tick}: ${a.length} bytes, all rows' ${b.length}`);
+    if (delta.changed && delta.changed.length < (delta.rows[1] - delta.rows[0]) * geometry.cols) shortcuts++;
+  };
+  both(geometry.reset());
+  for (const [x, y] of TOUCHES) frost.touch(x, y);
+  for (let t = 0; t < 120; t++) {
+    if (t === 80) both(geometry.melt(frost, frost.melt(380, 668, 8)));
+    both(geometry.update(frost, frost.step()));
+  }
+  assert.ok(shortcuts > 100, `only ${shortcuts} deltas took the shortcut`);
+  // After a reset of the encoder's alone its grid is not the geometry's: all rows again.
+  both(geometry.update(frost, frost.step()));
+  plain.bare(frost.tick, true);
+  quick.bare(frost.tick, true);
+  both(geometry.update(frost, frost.step()));
 });

@@ -134,7 +134,9 @@ function meltedOf(frost, crystals) {
 // The height grid and sharp features of a growing frost; each call returns a delta:
 // {tick, rows: [lo, hi), heights (Float32Array of those rows), features (Float32Array of
 // vertices x, y, z, nx, ny, nz), reset, clearBox ([x0, y0, x1, y1] px or null), look,
-// heightScale}, as sim/'s GeometryDelta.
+// heightScale}, as sim/'s GeometryDelta, and `changed`: the grid's vertices (flat,
+// ascending) whose heights it may change, the rest of its rows as the last delta left
+// them (null in a reset: all of them).
 export class FrostGeometry {
   constructor(params, { width = 760, height = 1280 } = {}) {
     this.params = params;
@@ -258,6 +260,7 @@ export class FrostGeometry {
     return {
       tick, rows, heights: this.grid.heights.slice(rows[0] * cols, rows[1] * cols), features,
       reset, clearBox, look: this.params.look, heightScale: this.heightScale,
+      changed: reset ? null : this.grid.changed,
     };
   }
 }

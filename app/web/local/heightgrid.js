@@ -39,6 +39,7 @@ export class HeightGrid {
     this._ntouched = 0;
     this._lo = Infinity;
     this._hi = -1;
+    this.changed = new Int32Array(0);  // the last raise's vertices (`finish`)
   }
 
   clear() {
@@ -73,7 +74,8 @@ export class HeightGrid {
   }
 
   // The raise's bumps added (sign -1: taken back) and capped; its dirty rows [lo, hi)
-  // ([0, 0] if it touched none).
+  // ([0, 0] if it touched none). `changed` holds the vertices it touched, ascending: the
+  // only heights of those rows that can differ from before it.
   finish(sign = 1.0) {
     const add = this._add, sum = this.sum, heights = this.heights, top = this.maxHeight;
     for (let i = 0; i < this._ntouched; i++) {
@@ -85,6 +87,7 @@ export class HeightGrid {
       this._marked[v] = 0;
     }
     const rows = this._hi < 0 ? [0, 0] : [this._lo, this._hi + 1];
+    this.changed = this._touched.slice(0, this._ntouched).sort();
     this._ntouched = 0;
     this._lo = Infinity;
     this._hi = -1;
