@@ -1,11 +1,13 @@
 // The worker's tick takes shortcuts (docs/local-sim.md, "Its tick"); each is held here to
 // the plain way it stands for, bit for bit: the height grid's raise against every vertex
 // of its stencil measured with Math.hypot, the encoder's diff of a delta's changed
-// vertices against a diff of all its rows.
+// vertices against a diff of all its rows, a clearance's cell by a product against the
+// float32 quotient.
 
 import assert from "node:assert/strict";
 import { test } from "node:test";
 
+import { cellOf } from "../../app/web/local/clearance.js";
 import { Encoder } from "../../app/web/local/encode.js";
 import { Frost } from "../../app/web/local/frost.js";
 import { FrostGeometry } from "../../app/web/local/geometry.js";
@@ -83,4 +85,25 @@ test("a delta's message from its changed vertices is the message from all its ro
   plain.bare(frost.tick, true);
   quick.bare(frost.tick, true);
   both(geometry.update(frost, frost.step()));
+});
+
+// float32's neighbours of v, `k` steps each way.
+function neighbours(v, k) {
+  const f = new Float32Array([v]), bits = new Int32Array(f.buffer), out = [];
+  for (let d = -k; d <= k; d++) {
+    const b = new Int32Array([bits[0] + d]);
+    out.push(new Float32Array(b.buffer)[0]);
+  }
+  return out;
+}
+
+test("a walker's clearance cell by the product is the float32 quotient's, whole multiples included", () => {
+  const uniform = seeded(11);
+  for (const s of [14, 10, 6, 7.5, Math.fround(4.6), Math.fround(2 * Math.PI)]) {
+    const values = Array.from({ length: 20000 }, () => Math.fround(uniform() * 1400));
+    for (let k = 0; k * s < 1400; k++) values.push(...neighbours(Math.fround(k * s), 3));
+    for (const v of values) {
+      assert.equal(cellOf(v, s, 1 / s), Math.trunc(Math.fround(v / s)), `${v} / ${s}`);
+    }
+  }
 });
