@@ -62,29 +62,55 @@ test("the height grid's raise skips only vertices outside hc: every sum as the p
   raisesAsPlain(rim);
 });
 
-// Every delta of a growing, melting frost encoded twice: by an encoder that diffs its
-// changed vertices and by one that diffs every height of its rows.
+// Every delta of a growing, melting frost encoded twice: the worker's way (heights viewed
+// in the grid, the changed vertices diffed) and the plain way (heights copied, every
+// height of the rows diffed).
 test("a delta's message from its changed vertices is the message from all its rows, byte for byte", () => {
-  const frost = new Frost(FERN, { seed: 3 }), geometry = new FrostGeometry(FERN);
-  const quick = new Encoder(geometry.cols, geometry.rows), plain = new Encoder(geometry.cols, geometry.rows);
+  const frost = new Frost(FERN, { seed: 3 });
+  const viewed = new FrostGeometry(FERN, { views: true }), copied = new FrostGeometry(FERN);
+  const quick = new Encoder(copied.cols, copied.rows), plain = new Encoder(copied.cols, copied.rows);
   let shortcuts = 0;
-  const both = (delta) => {
-    const a = Buffer.from(quick.delta(delta)), b = Buffer.from(plain.delta({ ...delta, changed: null }));
+  const both = (make) => {
+    const delta = make(viewed), a = Buffer.from(quick.delta(delta));
+    const b = Buffer.from(plain.delta({ ...make(copied), changed: null }));
     assert.ok(a.equals(b), `tick ${delta.tick}: ${a.length} bytes, all rows' ${b.length}`);
-    if (delta.changed && delta.changed.length < (delta.rows[1] - delta.rows[0]) * geometry.cols) shortcuts++;
+    if (delta.changed && delta.changed.length < (delta.rows[1] - delta.rows[0]) * copied.cols) shortcuts++;
   };
-  both(geometry.reset());
+  const tick = () => {
+    const added = frost.step();
+    both((geometry) => geometry.update(frost, added));
+  };
+  both((geometry) => geometry.reset());
   for (const [x, y] of TOUCHES) frost.touch(x, y);
   for (let t = 0; t < 120; t++) {
-    if (t === 80) both(geometry.melt(frost, frost.melt(380, 668, 8)));
-    both(geometry.update(frost, frost.step()));
+    if (t === 80) {
+      const melted = frost.melt(380, 668, 8);
+      both((geometry) => geometry.melt(frost, melted));
+    }
+    tick();
   }
   assert.ok(shortcuts > 100, `only ${shortcuts} deltas took the shortcut`);
   // After a reset of the encoder's alone its grid is not the geometry's: all rows again.
-  both(geometry.update(frost, frost.step()));
+  tick();
   plain.bare(frost.tick, true);
   quick.bare(frost.tick, true);
-  both(geometry.update(frost, frost.step()));
+  tick();
+});
+
+test("a geometry's deltas keep their heights through the next ticks unless it was made for views", () => {
+  const frost = new Frost(FERN, { seed: 3 });
+  for (const [x, y] of TOUCHES) frost.touch(x, y);
+  const copied = new FrostGeometry(FERN), viewed = new FrostGeometry(FERN, { views: true });
+  const added = frost.step(), kept = copied.update(frost, added), seen = viewed.update(frost, added);
+  const first = Float32Array.from(kept.heights);
+  assert.deepEqual(seen.heights, first);
+  for (let t = 0; t < 5; t++) {
+    const next = frost.step();
+    copied.update(frost, next);
+    viewed.update(frost, next);
+  }
+  assert.deepEqual(kept.heights, first);
+  assert.notDeepEqual(seen.heights, first);  // (the grid's rows now)
 });
 
 // float32's neighbours of v, `k` steps each way.
