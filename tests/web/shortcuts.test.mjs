@@ -2,7 +2,7 @@
 // the plain way it stands for, bit for bit: the height grid's raise against every vertex
 // of its stencil measured with Math.hypot, the encoder's diff of a delta's changed
 // vertices against a diff of all its rows, a clearance's cell by a product against the
-// float32 quotient.
+// float32 quotient, the generator's fill against its draws one by one.
 
 import assert from "node:assert/strict";
 import { test } from "node:test";
@@ -12,7 +12,7 @@ import { Encoder } from "../../app/web/local/encode.js";
 import { Frost } from "../../app/web/local/frost.js";
 import { FrostGeometry } from "../../app/web/local/geometry.js";
 import { HeightGrid, falloff } from "../../app/web/local/heightgrid.js";
-import { seeded } from "../../app/web/local/random.js";
+import { float32Of, seeded } from "../../app/web/local/random.js";
 import { presetParams } from "./simoracle.mjs";
 
 const FERN = presetParams("fern");
@@ -131,5 +131,14 @@ test("a walker's clearance cell by the product is the float32 quotient's, whole 
     for (const v of values) {
       assert.equal(cellOf(v, s, 1 / s), Math.trunc(Math.fround(v / s)), `${v} / ${s}`);
     }
+  }
+});
+
+test("a generator's fill gives the draws of as many calls, and goes on where they would", () => {
+  const filled = seeded(21), called = seeded(21), out = new Float32Array(5000);
+  for (const n of [1, 7, 4999, 0, 12]) {
+    filled.fill(out, n);
+    for (let i = 0; i < n; i++) assert.equal(out[i], float32Of(called()), `draw ${i} of ${n}`);
+    assert.equal(filled(), called());
   }
 });
