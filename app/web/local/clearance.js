@@ -6,6 +6,19 @@ export const CAP = 8;
 // Jumps stop this many px short of the bound (float32 rounding never lands one on ice).
 const MARGIN = Math.fround(1e-2);
 
+// Within this of a whole number, a product with 1 / cell may not truncate as the float32
+// quotient does: well above the double product's error and the float32 rounding (2^-24 of
+// a quotient below 2^7: under 1e-5), well below the share of walkers it sends the slow way.
+const NEAR_WHOLE = 1e-4;
+
+/** trunc(float32(v / s)), sim/'s cell of a coordinate v >= 0: by the product with
+ * `inverse` (1 / s) where that cannot be wrong, else by the division (a division of a
+ * walker's x and y took a quarter of the clearances' time). */
+export function cellOf(v, s, inverse) {
+  const t = v * inverse, q = Math.trunc(t), part = t - q;
+  return part > NEAR_WHOLE && part < 1 - NEAR_WHOLE ? q : Math.trunc(Math.fround(v / s));
+}
+
 export class Clearance {
   constructor(grid, width, height, cap = CAP) {
     this.grid = grid;
@@ -45,15 +58,17 @@ export class Clearance {
    * candidate cells. One loop, nothing returned per walker (no number boxed). */
   radii(water, rows, out) {
     const s = this.cell, { x, y, area } = water, pc = this.paddedCols, rings = this.padded;
-    for (let i = 0; i < water.n; i++) {
+    const beyond = this.beyond, origin = this.origin, w = this.w, h = this.h, n = water.n;
+    const inverse = 1 / s;
+    for (let i = 0; i < n; i++) {
       const a5 = 5 * area[i], px = x[i], py = y[i];
       const ox = Math.fround(px - rows[a5]), oy = Math.fround(py - rows[a5 + 1]);
       const rim = Math.fround(rows[a5 + 2] - Math.fround(Math.sqrt(ox * ox + oy * oy)));
-      const qx = Math.trunc(Math.fround(px / s)), qy = Math.trunc(Math.fround(py / s));
+      const qx = cellOf(px, s, inverse), qy = cellOf(py, s, inverse);
       const fx = Math.fround(px - Math.fround(qx * s)), fy = Math.fround(py - Math.fround(qy * s));
       const border = Math.min(fx, Math.fround(s - fx), fy, Math.fround(s - fy));
-      const rho = Math.max(this.beyond[rings[this.origin + qy * pc + qx]] + border, 0);
-      const edge = Math.min(px, Math.fround(this.w - px), py, Math.fround(this.h - py));
+      const rho = Math.max(beyond[rings[origin + qy * pc + qx]] + border, 0);
+      const edge = Math.min(px, Math.fround(w - px), py, Math.fround(h - py));
       out[i] = Math.min(rho, rim, edge) - MARGIN;
     }
   }

@@ -34,6 +34,10 @@ export class Encoder {
     // tick's rows span every area grown, tens of thousands of heights; a few hundred change).
     this._floatBits = new Int32Array(rows * cols);
     this._runs = new Int32Array(2 * rows * cols);  // (start, count) pairs
+    // Whether this grid is the geometry's outside a delta's `changed` (every delta since
+    // the geometry's last reset came here): then a delta's heights are diffed at those
+    // vertices only, not across all its rows.
+    this._follows = false;
   }
 
   reset() {
@@ -49,14 +53,19 @@ export class Encoder {
     this.heightScale = delta.heightScale;
     const cols = this.grid[0];
     const lo = delta.rows[0] * cols, n = (delta.rows[1] - delta.rows[0]) * cols;
-    const nruns = this._diff(delta.heights, lo, n);
+    if (resets) this._follows = delta.reset;  // (a reset of the page's alone: the geometry's grid stays)
+    const changed = this._follows && !resets ? delta.changed : null;
+    const nruns = changed ? this._diffAt(delta.heights, lo, changed) : this._diff(delta.heights, lo, n);
     return message(resets ? FLAG_RESET : 0, delta.look, delta.tick, this.grid, delta.heightScale,
       this._runs.subarray(0, 2 * nruns), this.heights, delta.features, delta.clearBox);
   }
 
   // A message with no change (a reset alone).
   bare(tick, reset) {
-    if (reset) this.reset();
+    if (reset) {
+      this.reset();
+      this._follows = false;
+    }
     return message(reset ? FLAG_RESET : 0, this.look, tick, this.grid, this.heightScale,
       this._runs.subarray(0, 0), this.heights, new Float32Array(0), null);
   }
@@ -82,9 +91,9 @@ export class Encoder {
   // Runs covering every changed height of the `n` float32 `values` at `lo` (changed ones
   // at most RUN_GAP apart share a run), written into this.heights; the number of runs.
   _diff(values, lo, n) {
-    const old = this.heights, seen = this._floatBits, runs = this._runs;
+    const old = this.heights, seen = this._floatBits;
     const bits = new Int32Array(values.buffer, values.byteOffset, n);
-    let nruns = 0, end = -1;
+    let nruns = 0;
     for (let i = 0; i < n; i++) {
       const b = bits[i];
       if (b === seen[lo + i]) continue;  // the same float, so the same half
@@ -92,16 +101,40 @@ export class Encoder {
       const half = floatToHalf(values[i]);
       if (old[lo + i] === half) continue;  // (a height is never -0)
       old[lo + i] = half;
-      if (nruns > 0 && i - end <= RUN_GAP) {
-        runs[2 * nruns - 1] = lo + i + 1 - runs[2 * nruns - 2];
-      } else {
-        runs[2 * nruns] = lo + i;
-        runs[2 * nruns + 1] = 1;
-        nruns++;
-      }
-      end = i + 1;
+      nruns = this._extend(nruns, lo + i);
     }
     return nruns;
+  }
+
+  // _diff's runs where only the vertices `changed` (flat, ascending, within the rows at
+  // `lo`) can differ: the same runs, without a look at the rest.
+  _diffAt(values, lo, changed) {
+    const old = this.heights, seen = this._floatBits;
+    const bits = new Int32Array(values.buffer, values.byteOffset, values.length);
+    let nruns = 0;
+    for (let k = 0; k < changed.length; k++) {
+      const v = changed[k], i = v - lo, b = bits[i];
+      if (b === seen[v]) continue;
+      seen[v] = b;
+      const half = floatToHalf(values[i]);
+      if (old[v] === half) continue;
+      old[v] = half;
+      nruns = this._extend(nruns, v);
+    }
+    return nruns;
+  }
+
+  // The changed height at `v` in the last run (at most RUN_GAP past its end) or a new
+  // one; the number of runs.
+  _extend(nruns, v) {
+    const runs = this._runs;
+    if (nruns > 0 && v - runs[2 * nruns - 2] - runs[2 * nruns - 1] <= RUN_GAP) {
+      runs[2 * nruns - 1] = v + 1 - runs[2 * nruns - 2];
+      return nruns;
+    }
+    runs[2 * nruns] = v;
+    runs[2 * nruns + 1] = 1;
+    return nruns + 1;
   }
 }
 

@@ -134,10 +134,16 @@ function meltedOf(frost, crystals) {
 // The height grid and sharp features of a growing frost; each call returns a delta:
 // {tick, rows: [lo, hi), heights (Float32Array of those rows), features (Float32Array of
 // vertices x, y, z, nx, ny, nz), reset, clearBox ([x0, y0, x1, y1] px or null), look,
-// heightScale}, as sim/'s GeometryDelta.
+// heightScale}, as sim/'s GeometryDelta, and `changed`: the grid's vertices (flat,
+// ascending) whose heights it may change, the rest of its rows as the last delta left
+// them (null in a reset: all of them).
 export class FrostGeometry {
-  constructor(params, { width = 760, height = 1280 } = {}) {
+  // views: each delta's heights a view of the grid's rows, good until the next call (the
+  // worker encodes each delta at once: a copy of most of the grid a tick was a tenth of
+  // its geometry's time), not a copy.
+  constructor(params, { width = 760, height = 1280, views = false } = {}) {
     this.params = params;
+    this.views = views;
     this.grid = new HeightGrid(params, width, height);
     this.rows = this.grid.rows;
     this.cols = this.grid.cols;
@@ -254,10 +260,11 @@ export class FrostGeometry {
   }
 
   _delta(tick, rows, features, { reset = false, clearBox = null } = {}) {
-    const cols = this.cols;
+    const grid = this.grid.heights, lo = rows[0] * this.cols, hi = rows[1] * this.cols;
     return {
-      tick, rows, heights: this.grid.heights.slice(rows[0] * cols, rows[1] * cols), features,
+      tick, rows, heights: this.views ? grid.subarray(lo, hi) : grid.slice(lo, hi), features,
       reset, clearBox, look: this.params.look, heightScale: this.heightScale,
+      changed: reset ? null : this.grid.changed,
     };
   }
 }

@@ -26,6 +26,9 @@ export class HeightGrid {
     this.maxHeight = params.max_height;
     // Vertices that can lie within hc of a particle, around the vertex nearest it.
     this.reach = Math.ceil(params.hc / this.spacing) + 1;
+    // Squared distances past this are outside hc whatever the rounding (a margin of 1e-9
+    // of hc squared; Math.hypot is within an ulp of the true distance).
+    this.past = this.hc * this.hc * (1 + 1e-9);
     const cells = this.rows * this.cols;
     this.heights = new Float32Array(cells);
     // The uncapped sum of the bumps, so a melt takes a particle's share back out exactly.
@@ -36,6 +39,7 @@ export class HeightGrid {
     this._ntouched = 0;
     this._lo = Infinity;
     this._hi = -1;
+    this.changed = new Int32Array(0);  // the last raise's vertices (`finish`)
   }
 
   clear() {
@@ -45,12 +49,18 @@ export class HeightGrid {
 
   // Add one particle's bumps to the raise under way.
   point(x, y) {
-    const gs = this.spacing, reach = this.reach, hc = this.hc;
+    const gs = this.spacing, reach = this.reach, hc = this.hc, past = this.past;
     const r0 = rint(Math.fround(y / gs)), c0 = rint(Math.fround(x / gs));
     for (let r = r0 - reach; r <= r0 + reach; r++) {
+      if (r < 0 || r >= this.rows) continue;
+      const dy = r * gs - y;
       for (let c = c0 - reach; c <= c0 + reach; c++) {
-        const d = Math.hypot(c * gs - x, r * gs - y);
-        if (!(d < hc) || r < 0 || r >= this.rows || c < 0 || c >= this.cols) continue;
+        const dx = c * gs - x;
+        // Most of the stencil lies well outside hc: only the rest pays for Math.hypot
+        // (sim/'s np.hypot's distance, which a square root of the squares may miss by an ulp).
+        if (dx * dx + dy * dy > past || c < 0 || c >= this.cols) continue;
+        const d = Math.hypot(dx, dy);
+        if (!(d < hc)) continue;
         const v = r * this.cols + c;
         if (!this._marked[v]) {
           this._marked[v] = 1;
@@ -64,7 +74,8 @@ export class HeightGrid {
   }
 
   // The raise's bumps added (sign -1: taken back) and capped; its dirty rows [lo, hi)
-  // ([0, 0] if it touched none).
+  // ([0, 0] if it touched none). `changed` holds the vertices it touched, ascending: the
+  // only heights of those rows that can differ from before it.
   finish(sign = 1.0) {
     const add = this._add, sum = this.sum, heights = this.heights, top = this.maxHeight;
     for (let i = 0; i < this._ntouched; i++) {
@@ -76,6 +87,7 @@ export class HeightGrid {
       this._marked[v] = 0;
     }
     const rows = this._hi < 0 ? [0, 0] : [this._lo, this._hi + 1];
+    this.changed = this._touched.slice(0, this._ntouched).sort();
     this._ntouched = 0;
     this._lo = Infinity;
     this._hi = -1;

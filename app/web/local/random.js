@@ -37,11 +37,23 @@ class Sfc32 {
     return (t >>> 0) / TWO_32;
   }
 
+  // next() n times, its four words kept in locals meanwhile (not loaded from and stored to
+  // the generator at each of a walk's 12 000 draws).
   fill(array, n) {
+    let { a, b, c, d } = this;
     for (let i = 0; i < n; i++) {
-      const f = Math.fround(this.next());
+      const t = (((a + b) | 0) + d) | 0;
+      d = (d + 1) | 0;
+      a = b ^ (b >>> 9);
+      b = (c + (c << 3)) | 0;
+      c = (((c << 21) | (c >>> 11)) + t) | 0;
+      const f = Math.fround((t >>> 0) / TWO_32);
       array[i] = f < 1 ? f : BELOW_ONE;
     }
+    this.a = a;
+    this.b = b;
+    this.c = c;
+    this.d = d;
   }
 }
 

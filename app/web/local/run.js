@@ -62,8 +62,14 @@ export class LocalRun {
   build() {
     const [width, height] = this.screen;
     this.frost = new Frost(this.params, { width, height, seed: this.seed });
-    this.geometry = new FrostGeometry(this.params, { width, height });
+    this.geometry = this.drawn();
     this.encoder = new Encoder(...this.config.hello.grid);
+  }
+
+  // The geometry of this.params' look (its deltas' heights views: each is encoded at once).
+  drawn() {
+    const [width, height] = this.screen;
+    return new FrostGeometry(this.params, { width, height, views: true });
   }
 
   state() {
@@ -157,8 +163,7 @@ export class LocalRun {
     this.params = { ...this.params, look: name };
     this.record.add({ kind: "params", tick: this.timeline, params: { ...this.params } });
     // A look is drawn anew, not grown anew (as frost serve): the same frost, its new geometry.
-    const [width, height] = this.screen;
-    this.geometry = new FrostGeometry(this.params, { width, height });
+    this.geometry = this.drawn();
     this.text({ type: "state", ...this.state() });
     this.snapshot();
   }

@@ -24,19 +24,23 @@ export function walkWater(water, areas, step, jumps, u, size, left) {
     let a = Math.fround(u[i] * step32);
     const theta = Math.fround(u[m + i] * TWO_PI);
     const c = Math.fround(Math.cos(theta)), s = Math.fround(Math.sin(theta));
+    let nx, ny;
     if (jumps) {
       // (sim/ takes the jump and the step as float64 here: the product is not rounded)
       if (jumps[i] > step) a = jumps[i];
-      x[i] = Math.fround(x[i] + a * c);
-      y[i] = Math.fround(y[i] + a * s);
+      nx = Math.fround(x[i] + a * c);
+      ny = Math.fround(y[i] + a * s);
     } else {
-      x[i] = Math.fround(x[i] + Math.fround(a * c));
-      y[i] = Math.fround(y[i] + Math.fround(a * s));
+      nx = Math.fround(x[i] + Math.fround(a * c));
+      ny = Math.fround(y[i] + Math.fround(a * s));
     }
-    const ox = Math.fround(x[i] - cx), oy = Math.fround(y[i] - cy);
+    x[i] = nx;
+    y[i] = ny;
+    const ox = Math.fround(nx - cx), oy = Math.fround(ny - cy);
     const out = Math.fround(Math.fround(ox * ox) + Math.fround(oy * oy)) > Math.fround(r * r);
-    left[i] = out || x[i] < 0 || x[i] >= w || y[i] < 0 || y[i] >= h ? 1 : 0;
-    gone += left[i];
+    const off = out || nx < 0 || nx >= w || ny < 0 || ny >= h ? 1 : 0;
+    left[i] = off;
+    gone += off;
   }
   return gone;
 }
