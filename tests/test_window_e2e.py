@@ -157,6 +157,9 @@ def interrupt(app: subprocess.Popen, log: Path, signum: int | None = signal.SIGI
     wait_for(log, r"stats \(")
     xdo("mousemove", "--window", wid, "200", "300")
     xdo("click", "1")
+    # (the seed shown: its touch applied, so the screenshot's session holds it; a loaded
+    # machine may take the screenshot a frame before the simulation takes the click)
+    wait_for(log, r"click-to-first-frost", timeout=60)
     xdo("key", "r", "s")
     wait_for(log, r"screenshot: ")
     time.sleep(0.5)
