@@ -24,12 +24,14 @@ run: $(RUN_STAMP)
 serve: $(RUN_STAMP)
 	$(PY) -m app serve $(ARGS)
 
-# Two workers (pytest-xdist): CI's machine has two cores, and half the suite waits on
-# subprocesses (the window under Xvfb, the CLI), so two halve the wall time; the
-# costliest modules go first (tests/conftest.py), and a worker left without tests takes
-# half of the other's (worksteal: xdist's default hands each worker a fixed share, and one
-# sat idle for minutes while the other ran the browser tests).
-WORKERS ?= 2
+# Three workers (pytest-xdist) on CI's two cores: the suite waits on its subprocesses (the
+# window under Xvfb, Chromium, frost serve) for much of its run, and two workers kept the
+# cores busy only about 60 % of the time (the whole suite on the quiet two-core machine:
+# two workers 463 s, three 407 s, four 430 s). The costliest modules go
+# first (tests/conftest.py), and a worker left without tests takes half of another's
+# (worksteal: xdist's default hands each worker a fixed share, and one sat idle for
+# minutes while the other ran the browser tests).
+WORKERS ?= 3
 XDIST   := -n $(WORKERS) --dist worksteal
 
 test: $(TEST_STAMP)
