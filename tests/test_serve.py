@@ -766,8 +766,10 @@ def test_a_storm_of_preset_changes_regrows_the_frost_a_few_times_not_each(monkey
         for name in names:
             await good.send_json({"type": "preset", "name": name})
         await read_until(good, page, lambda: page.state("preset") == "c-3")
-        thread = feed.thread
-        await read_until(good, page, lambda: thread.handled == thread.sent, timeout=30)
+        thread, turns = feed.thread, feed.controls.turns
+        # (the page's commands reach the thread in turns: none may still wait for one)
+        await read_until(good, page, lambda: turns.waiting() == 0
+                         and thread.handled == thread.sent, timeout=30)
         changes = [e for e in thread.session().events if e.get("kind") == "params"]
         assert 1 <= len(changes) < 20, len(changes)
         assert thread.params == Params.preset("c-3").replace(grid_spacing=PAPER.grid_spacing,
