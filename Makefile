@@ -34,6 +34,13 @@ serve: $(RUN_STAMP)
 WORKERS ?= 3
 XDIST   := -n $(WORKERS) --dist worksteal
 
+# The suite starts Python some hundreds of times (frost, frost serve, pytest in pytest), and
+# where bytecode is not written (PYTHONDONTWRITEBYTECODE, which some machines set) each
+# compiled the app's modules and pytest rewrote every test module again: the test targets
+# write their bytecode into the virtualenv instead, out of the checkout.
+test quick test-deep: export PYTHONDONTWRITEBYTECODE :=
+test quick test-deep: export PYTHONPYCACHEPREFIX := $(abspath $(VENV))/pycache
+
 test: $(TEST_STAMP)
 	$(PY) -m pytest $(XDIST) $(PYTEST_ARGS)
 

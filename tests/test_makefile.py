@@ -1,10 +1,15 @@
 """The Makefile's stages, read from `make -n` (what make would run, run by nothing): `make
 run` sets up the demo's packages and nothing of the tests', `make test` adds the test stack
-on top, `make serve` runs `frost serve`; a stage already set up is not set up again."""
+on top, `make serve` runs `frost serve`; a stage already set up is not set up again; the suite's
+bytecode goes into the virtualenv."""
 
 from __future__ import annotations
 
+import os
+import subprocess
+
 import pytest
+from support import ROOT
 from support.make import planned
 
 # What the demo needs from Debian, and what only the tests add (written out by hand).
@@ -60,3 +65,24 @@ def test_what_make_would_run_reads_the_same_when_the_tests_run_under_make(tmp_pa
     monkeypatch.setenv("MAKELEVEL", "1")
     monkeypatch.setenv("MAKEFLAGS", " -- VENV=elsewhere")
     assert planned("test", tmp_path / "venv") == alone
+
+
+@pytest.mark.parametrize("target", ["test", "quick"])
+def test_the_suite_writes_its_bytecode_into_the_virtualenv(tmp_path, target):
+    """The suite's Pythons write bytecode (each would compile the app's modules again, and
+    pytest rewrite every test module, where PYTHONDONTWRITEBYTECODE is set), into the
+    virtualenv's folder, not the checkout: the environment `make test` and `make quick` run
+    the suite in, read by a stand-in for the virtualenv's Python."""
+    venv = tmp_path / "venv"
+    (venv / "bin").mkdir(parents=True)
+    for stage in (".installed-run", ".installed-test"):  # (both stages set up)
+        (venv / stage).touch()
+    python = venv / "bin" / "python"
+    python.write_text('#!/bin/sh\necho "[$PYTHONDONTWRITEBYTECODE] [$PYTHONPYCACHEPREFIX]"\n',
+                      encoding="utf-8")
+    python.chmod(0o755)
+    env = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MFLAGS", "MAKELEVEL")}
+    done = subprocess.run(["make", "-s", target, f"VENV={venv}"], cwd=ROOT, capture_output=True,
+                          text=True, timeout=60, env={**env, "PYTHONDONTWRITEBYTECODE": "1"})
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines()[-1] == f"[] [{venv}/pycache]"

@@ -479,14 +479,14 @@ def test_a_clear_while_paused_clears_every_page():
     serve(test)
 
 
-@pytest.mark.slow  # (its attacks' rounds: half a minute, a twelfth of make quick alone)
+@pytest.mark.slow  # (seven phases, each a server of its own and its pages: 17 s and more)
 def test_the_bench_prints_its_figures(capsys):
     """python -m bench serve runs (briefly) and says each figure, its attacks' too; no speed is
     asserted."""
     from bench import serve as bench
     bench.bytes_offline("c-2", 30, scribble=True)
     attacks = [a for name in bench.ATTACKS for a in ("--attack", name)]
-    assert bench.main(["--skip-bytes", "--seconds", "3", "--pages", "2", *attacks,
+    assert bench.main(["--skip-bytes", "--seconds", "1.5", "--pages", "2", *attacks,
                        "--grid", "fine"]) == 0
     out = capsys.readouterr().out
     for says in ("per tick p50", "snapshot", "no page", "2 pages: tick median", "memory (RSS)",
