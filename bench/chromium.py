@@ -4,6 +4,7 @@ SwiftShader or the system's OpenGL, the desktop-only popups off)."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -31,9 +32,10 @@ def browser_problem() -> str | None:
     return None
 
 
-def launch(playwright, angle: str = "swiftshader"):
-    """The system Chromium, headless, with WebGL2 on SwiftShader (or `angle` of ANGLE)."""
-    return playwright.chromium.launch(**chromium_options(playwright, ANGLE[angle]))
+def launch(playwright, angle: str = "swiftshader", args: Sequence[str] = ()):
+    """The system Chromium, headless, with WebGL2 on SwiftShader (or `angle` of ANGLE) and
+    `args` more."""
+    return playwright.chromium.launch(**chromium_options(playwright, [*ANGLE[angle], *args]))
 
 
 def chromium_options(playwright, args) -> dict[str, Any]:

@@ -218,9 +218,9 @@ def pw():
 
 @pytest.fixture(scope="module")
 def browser(pw):
-    """Headless Chromium (bench.page.launch) of the module's Playwright."""
-    from bench.chromium import launch
+    """Headless Chromium (support.phone.launch_browser) of the module's Playwright."""
+    from support.phone import launch_browser
 
-    b = launch(pw)
+    b = launch_browser(pw)
     yield b
     b.close()

@@ -9,8 +9,9 @@ only that lower bound."""
 from __future__ import annotations
 
 import pytest
+from support.phone import launch_browser
 
-from bench.chromium import browser_problem, launch
+from bench.chromium import browser_problem
 from bench.network import PINGS, Phone, css_point, served
 from bench.shaper import PROFILES
 
@@ -24,7 +25,7 @@ def test_the_page_works_through_the_shaper():
 
     with sync_playwright() as pw, served("fern", PROFILES["4g"]) as s:
         assert s.shaper is not None and f":{s.shaper.port}/" in s.url and s.url != s.server
-        browser = launch(pw)
+        browser = launch_browser(pw)
         try:
             with Phone(browser, cpu_slowdown=2) as phone:
                 page = phone.page
@@ -95,7 +96,7 @@ def test_the_bench_browser_keeps_playwrights_switches_and_has_no_address_bar_pop
             (playwrights,) = disabled(command_line(plain))
         finally:
             plain.close()
-        browser = launch(pw)
+        browser = launch_browser(pw)
         try:
             (ours,) = disabled(command_line(browser))
             assert set(playwrights) | set(QUIET_FEATURES) == set(ours)
@@ -119,7 +120,7 @@ def test_the_page_asks_for_its_shaders_with_its_modules_and_once():
     shaders = json.loads(re.search(r"export const SHADERS = (\[.*?\]);",
                                    (WEB_DIR / "programs.js").read_text(encoding="utf-8"), re.S).group(1))
     with sync_playwright() as pw, served("fern") as s:
-        browser = launch(pw)
+        browser = launch_browser(pw)
         try:
             with Phone(browser) as phone:
                 phone.open(s.url)

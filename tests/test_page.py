@@ -12,6 +12,7 @@ import time
 import numpy as np
 import pytest
 from PIL import Image
+from support.phone import launch_browser
 
 from app.gl import shaders
 from app.resources import WEB_DIR
@@ -23,7 +24,6 @@ from bench.page import (
     encode,
     grow,
     hello,
-    launch,
     wire_deltas,
 )
 from sim import Params
@@ -269,7 +269,7 @@ def test_on_the_same_rasteriser_the_page_draws_the_desktops_pixels(pw, grown, gl
     params, messages, _desktop = grown
     monkeypatch.setattr(shaders, "DESKTOP", "es")
     desktop = desktop_frame(gl_ctx, params, wire_deltas(messages, params))
-    b = launch(pw, "gl-egl")
+    b = launch_browser(pw, "gl-egl")
     try:
         with Page(hello(params), messages, browser=b) as page:
             renderer = page.page.evaluate("""() => { const gl = document.createElement('canvas')

@@ -13,7 +13,16 @@ import socket
 import numpy as np
 import pytest
 from PIL import Image
-from support.phone import PROBLEM, css_point, open_page, persistent, pixels, synced, wait_for_shell
+from support.phone import (
+    PROBLEM,
+    css_point,
+    launch_browser,
+    open_page,
+    persistent,
+    pixels,
+    synced,
+    wait_for_shell,
+)
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow,
               pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
@@ -190,11 +199,10 @@ def test_a_page_that_never_cached_its_simulation_waits_for_the_server(pw, serve,
     itself when it is back, as before."""
     from support.phone import PHONE
 
-    from bench.chromium import launch
 
     port = str(free_port())
     s = serve("--port", port, folder=tmp_path)
-    b = launch(pw)
+    b = launch_browser(pw)
     try:
         page = b.new_context(**PHONE, service_workers="block").new_page()
         page.goto(s.local)

@@ -32,6 +32,7 @@ def trusting_chromium(pw, home: Path, name: str):
     authorities is home/.pki/nssdb) and `name` resolved to this machine: a name that is no
     loopback name, so that only HTTPS makes the page a secure context."""
     from bench.chromium import CHROMIUM_ARGS, chromium_options
+    from support.phone import TEST_ARGS
 
-    args = [*CHROMIUM_ARGS, f"--host-resolver-rules=MAP {name} 127.0.0.1"]
+    args = [*CHROMIUM_ARGS, *TEST_ARGS, f"--host-resolver-rules=MAP {name} 127.0.0.1"]
     return pw.chromium.launch(**chromium_options(pw, args), env={**os.environ, "HOME": str(home)})

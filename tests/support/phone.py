@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from app.backdrops import load_backdrop
-from bench.chromium import ANGLE, browser_problem, chromium_options
+from bench.chromium import ANGLE, browser_problem, chromium_options, launch
 from bench.serve_process import ServeProcess
 from sim.screen import HEIGHT, WIDTH
 
@@ -22,6 +22,16 @@ PROBLEM = browser_problem()
 BACKDROP = load_backdrop("dusk").astype(int)
 PHONE = {"viewport": {"width": 390, "height": 844}, "device_scale_factor": 3,
          "has_touch": True, "is_mobile": True}
+# The tests' Chromium puts its frames together on the CPU (Skia) rather than on SwiftShader:
+# the page draws as before (its WebGL is SwiftShader's, and frost.framePixels reads that),
+# and a page growing frost takes about a quarter less of the two cores the suite shares
+# (59 % of a core against 45 %). The benchmarks keep Chromium's own way.
+TEST_ARGS = ["--disable-gpu-compositing"]
+
+
+def launch_browser(pw, angle: str = "swiftshader"):
+    """Headless Chromium for a test (bench.chromium.launch, with TEST_ARGS)."""
+    return launch(pw, angle, TEST_ARGS)
 
 
 def open_page(context, url: str):
@@ -115,7 +125,7 @@ def token_needed(s: ServeProcess, paths) -> None:
 def persistent(pw, profile: Path, **context):
     """Chromium with a profile kept in `profile` (not incognito), as a phone (`context`:
     more of launch_persistent_context's options; `args` are added to the WebGL ones)."""
-    options = chromium_options(pw, [*ANGLE["swiftshader"], *context.pop("args", [])])
+    options = chromium_options(pw, [*ANGLE["swiftshader"], *TEST_ARGS, *context.pop("args", [])])
     return pw.chromium.launch_persistent_context(str(profile), **options, **{**PHONE, **context})
 
 
