@@ -4,7 +4,13 @@ SwiftShader or the system's OpenGL, the desktop-only popups off)."""
 
 from __future__ import annotations
 
+import json
+import os
+import re
+import sys
 from collections.abc import Sequence
+from contextlib import ExitStack, contextmanager
+from importlib.metadata import version
 from pathlib import Path
 from typing import Any
 
@@ -52,24 +58,90 @@ def chromium_options(playwright, args) -> dict[str, Any]:
 
 
 _DISABLED: list[str | None] = []
+# Where that switch is kept once read, for every later process of this Python (the suite's
+# workers, each benchmark it starts): beside the environment's own files, keyed by the
+# Playwright and the Chromium that gave it. Reading it again costs a browser's launch.
+SWITCH_FILE = Path(sys.prefix) / "frost-chromium-switch.json"
+SWITCH = re.compile(r"--disable-features=[\w,.-]*")
 
 
 def playwright_disabled(playwright) -> str | None:
-    """Playwright's own --disable-features switch, as the browser was given it (read once a
-    process from chrome://version of a browser launched for it), or None if it has none or
-    it cannot be read (then QUIET_FEATURES stay as they are)."""
+    """Playwright's own --disable-features switch, as the browser was given it (read from
+    chrome://version of a browser launched for it, once for this Playwright and Chromium:
+    SWITCH_FILE), or None if it has none or it cannot be read (then QUIET_FEATURES stay as
+    they are)."""
     if not _DISABLED:
-        found = None
-        try:
-            b = playwright.chromium.launch(executable_path=CHROMIUM, headless=True)
-            try:
-                page = b.new_page()
-                page.goto("chrome://version")
-                line = page.evaluate("document.getElementById('command_line').textContent")
-                found = next((a for a in line.split() if a.startswith("--disable-features=")), None)
-            finally:
-                b.close()
-        except Exception as e:  # (an older or odd Chromium: the popups are its own business)
-            print(f"bench: Chromium's command line could not be read ({e}); its features as they are")
-        _DISABLED.append(found)
+        key = switch_key()
+        with switch_lock():
+            kept = kept_switch(key)
+            if kept is not None:
+                _DISABLED.append(kept["disabled"])
+            else:
+                _DISABLED.append(read_switch(playwright))
+                keep_switch(key, _DISABLED[0])
     return _DISABLED[0]
+
+
+def read_switch(playwright) -> str | None:
+    """The --disable-features switch of a Chromium that `playwright` launched, or None."""
+    try:
+        b = playwright.chromium.launch(executable_path=CHROMIUM, headless=True)
+        try:
+            page = b.new_page()
+            page.goto("chrome://version")
+            line = page.evaluate("document.getElementById('command_line').textContent")
+            return next((a for a in line.split() if a.startswith("--disable-features=")), None)
+        finally:
+            b.close()
+    except Exception as e:  # (an older or odd Chromium: the popups are its own business)
+        print(f"bench: Chromium's command line could not be read ({e}); its features as they are")
+        return None
+
+
+def switch_key() -> list:
+    """What the switch depends on: Playwright's version and the Chromium binary's file."""
+    try:
+        st = Path(CHROMIUM).stat()
+        binary = [st.st_size, st.st_mtime_ns]
+    except OSError:
+        binary = None
+    return [version("playwright"), CHROMIUM, binary]
+
+
+def kept_switch(key: list) -> dict | None:
+    """SWITCH_FILE's entry if it was kept for `key` and reads as a switch (or none), else None."""
+    try:
+        kept = json.loads(SWITCH_FILE.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    if not isinstance(kept, dict) or kept.get("key") != key:
+        return None
+    disabled = kept.get("disabled")
+    return kept if disabled is None or isinstance(disabled, str) and SWITCH.fullmatch(disabled) else None
+
+
+def keep_switch(key: list, disabled: str | None) -> None:
+    """Write SWITCH_FILE (not where the environment's folder cannot be written: then each
+    process reads the switch again)."""
+    try:
+        tmp = SWITCH_FILE.with_name(f"{SWITCH_FILE.name}.{os.getpid()}")
+        tmp.write_text(json.dumps({"key": key, "disabled": disabled}), encoding="utf-8")
+        os.replace(tmp, SWITCH_FILE)
+    except OSError:
+        pass
+
+
+@contextmanager
+def switch_lock():
+    """One process at a time reads or writes SWITCH_FILE (the suite's workers start
+    together: one launches the browser, the others wait for what it kept). Where locking
+    is not to be had (no fcntl, a folder not written), none."""
+    with ExitStack() as held:
+        try:
+            import fcntl
+
+            lock = held.enter_context(SWITCH_FILE.with_name(SWITCH_FILE.name + ".lock").open("a"))
+            fcntl.flock(lock, fcntl.LOCK_EX)
+        except (ImportError, OSError):
+            pass
+        yield
