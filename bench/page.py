@@ -20,6 +20,7 @@ from __future__ import annotations
 import io
 import json
 import mimetypes
+from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -90,6 +91,15 @@ def reset_delta(tick: int, params: Params) -> GeometryDelta:
                          np.zeros((0, 6), np.float32), reset=True, look=params.look)
 
 
+@lru_cache(maxsize=4)
+def backdrop_png(name: str) -> bytes:
+    """Backdrop `name` as a PNG, as the page asks for it (made once a process: every page of
+    a run asks for the same)."""
+    buf = io.BytesIO()
+    Image.fromarray(load_backdrop(name)).save(buf, format="PNG")
+    return buf.getvalue()
+
+
 class Page:
     """The page in headless Chromium, served from disk, fed `messages` over a stand-in
     WebSocket; what the page sends is kept in `sent`. Use as a context manager; `browser`
@@ -155,10 +165,7 @@ class Page:
         if path == "/meta" and self.meta is not None:
             return route.fulfill(body=json.dumps(self.meta), content_type="application/json")
         if path.startswith("/backdrops/") and path.endswith(".png"):
-            image = load_backdrop(path[len("/backdrops/"):-4])
-            buf = io.BytesIO()
-            Image.fromarray(image).save(buf, format="PNG")
-            return route.fulfill(body=buf.getvalue(), content_type="image/png")
+            return route.fulfill(body=backdrop_png(path[len("/backdrops/"):-4]), content_type="image/png")
         return route.fulfill(status=404, body="not found")
 
     def _socket(self, ws) -> None:
