@@ -204,7 +204,7 @@ def test_a_page_that_never_cached_its_simulation_waits_for_the_server(pw, serve,
     s = serve("--port", port, folder=tmp_path)
     b = launch_browser(pw)
     try:
-        page = b.new_context(**PHONE, service_workers="block").new_page()
+        page = b.new_context(**{**PHONE, "service_workers": "block"}).new_page()
         page.goto(s.local)
         synced(page, "frost.frames > 0")
         s.stop()

@@ -23,9 +23,12 @@ from PIL import Image
 from support.phone import (
     PHONE,
     PROBLEM,
+    WITH_WORKER,
+    grown,
     open_page,
     persistent,
     synced,
+    tap,
     token_needed,
     wait_for_shell,
     worker_shell,
@@ -228,6 +231,31 @@ def test_the_worker_serves_its_cache_only_to_a_page_of_its_own_hash(browser):
     changed = "the page changed while it was being cached"
     files = got["files"]
     assert got["installs"] == [["installed", files], [changed, files - 1], [changed, files - 1]]
+
+
+def test_a_first_visits_worker_takes_over_a_page_growing_frost(serve, browser):
+    """A page's first visit (a new context: nothing cached) installs the worker while the
+    page grows frost from a tap. The worker takes the page over (clients.claim) with the
+    shell cached, and the page goes on as before: its ticks keep coming, a tap after the
+    take-over grows frost, and neither the page nor a request of it says an error. (The
+    other tests' pages block the worker: support.phone.PHONE.)"""
+    s = serve()
+    context = browser.new_context(**WITH_WORKER)
+    try:
+        page = open_page(context, s.local)
+        errors: list[str] = []
+        page.on("console", lambda m: m.type == "error" and errors.append(m.text))
+        page.on("response", lambda r: r.status >= 400 and errors.append(f"{r.status} {r.url}"))
+        tap(page, 380, 640)
+        wait_for_shell(page, shell_hash(s))
+        grown(page, 25)
+        tap(page, 200, 300)
+        page.wait_for_function("frost.frostLatencies.length >= 2", timeout=30_000)
+        grown(page, 10)
+        assert page.evaluate("[frost.error, frost.connected]") == [None, True]
+        assert errors == []
+    finally:
+        context.close()
 
 
 def marked_copy(folder: Path, mark: str) -> Path:

@@ -20,8 +20,14 @@ from sim.screen import HEIGHT, WIDTH
 
 PROBLEM = browser_problem()
 BACKDROP = load_backdrop("dusk").astype(int)
+# A phone's browser context. Its service worker is blocked: a page's first visit installs the
+# worker, which fetches and caches the whole shell again (0.6-0.9 s of CPU a page, on the two
+# cores the suite shares), and a test's server is a new origin, so every page is a first
+# visit. The worker is the subject of the installed app's tests (`persistent` profiles allow
+# it) and of test_phone_install_e2e's first visit, where it takes over a page growing frost.
 PHONE = {"viewport": {"width": 390, "height": 844}, "device_scale_factor": 3,
-         "has_touch": True, "is_mobile": True}
+         "has_touch": True, "is_mobile": True, "service_workers": "block"}
+WITH_WORKER = {**PHONE, "service_workers": "allow"}
 # The tests' Chromium puts its frames together on the CPU (Skia) rather than on SwiftShader:
 # the page draws as before (its WebGL is SwiftShader's, and frost.framePixels reads that),
 # and a page growing frost takes about a quarter less of the two cores the suite shares
@@ -123,10 +129,11 @@ def token_needed(s: ServeProcess, paths) -> None:
 
 
 def persistent(pw, profile: Path, **context):
-    """Chromium with a profile kept in `profile` (not incognito), as a phone (`context`:
-    more of launch_persistent_context's options; `args` are added to the WebGL ones)."""
+    """Chromium with a profile kept in `profile` (not incognito), as a phone with its
+    service worker (`context`: more of launch_persistent_context's options; `args` are added
+    to the WebGL ones)."""
     options = chromium_options(pw, [*ANGLE["swiftshader"], *TEST_ARGS, *context.pop("args", [])])
-    return pw.chromium.launch_persistent_context(str(profile), **options, **{**PHONE, **context})
+    return pw.chromium.launch_persistent_context(str(profile), **options, **{**WITH_WORKER, **context})
 
 
 def cached_shells(page) -> list[str]:
