@@ -1,6 +1,8 @@
 """The phone page (app/web) in headless Chromium, without a server: Playwright serves its
 files from disk and stands in for the WebSocket (bench.page.Page). The desktop
-renderer (EGL) and numpy are the oracles."""
+renderer (EGL) and numpy are the oracles. The page's WebGL is the tests' (the system's
+OpenGL: llvmpipe here), or SwiftShader where the page's frost is held to the desktop's
+across two rasterisers."""
 
 from __future__ import annotations
 
@@ -45,6 +47,15 @@ def sent_until(page: Page, done, what: str, timeout: float = 30.0) -> list[dict]
     return page.sent
 
 
+@pytest.fixture(scope="module")
+def swiftshader(pw):
+    """Headless Chromium with WebGL on SwiftShader, not the tests' OpenGL (llvmpipe, the
+    desktop renderer's): the page's frost is held to the desktop's across two rasterisers."""
+    b = launch_browser(pw, "swiftshader")
+    yield b
+    b.close()
+
+
 @pytest.fixture(scope="module", params=["glass", "paper"])
 def grown(gl_ctx, request):
     """A frost of each look grown 120 ticks from three touches with a melt at tick 80:
@@ -53,6 +64,13 @@ def grown(gl_ctx, request):
     _off, deltas = grow(params, 3, 120, ctx=gl_ctx)
     messages = encode(deltas, params)
     return params, messages, desktop_frame(gl_ctx, params, wire_deltas(messages, params))
+
+
+def webgl_renderer(page: Page) -> str:
+    """What the page's WebGL says draws it (WEBGL_debug_renderer_info)."""
+    return page.page.evaluate("""() => { const gl = document.createElement('canvas')
+        .getContext('webgl2'); const d = gl.getExtension('WEBGL_debug_renderer_info');
+        return gl.getParameter(d.UNMASKED_RENDERER_WEBGL); }""")
 
 
 def page_source() -> str:
@@ -178,13 +196,14 @@ def test_the_page_refuses_a_run_that_reaches_past_the_grid_as_the_server_does(br
     assert got == ["refused", [[cells - 2, 2]]]
 
 
-def test_the_page_draws_the_frost_as_the_desktop_does(browser, grown):
+def test_the_page_draws_the_frost_as_the_desktop_does(swiftshader, grown):
     """The page's frame of the messages against the desktop renderer's frame of the same
     messages: only the two rasterisers differ (SwiftShader, llvmpipe)."""
     params, messages, desktop = grown
-    with Page(hello(params), messages, browser=browser) as page:
+    with Page(hello(params), messages, browser=swiftshader) as page:
+        assert "SwiftShader" in webgl_renderer(page)
         shown = page.pixels()
-    with Page(hello(params), [], browser=browser) as page:
+    with Page(hello(params), [], browser=swiftshader) as page:
         bare = page.pixels()
     assert compare(desktop, bare)["within8"] < 0.97  # the frost is there to compare
     got = compare(desktop, shown)
@@ -272,9 +291,7 @@ def test_on_the_same_rasteriser_the_page_draws_the_desktops_pixels(pw, grown, gl
     b = launch_browser(pw, "gl-egl")
     try:
         with Page(hello(params), messages, browser=b) as page:
-            renderer = page.page.evaluate("""() => { const gl = document.createElement('canvas')
-                .getContext('webgl2'); const d = gl.getExtension('WEBGL_debug_renderer_info');
-                return gl.getParameter(d.UNMASKED_RENDERER_WEBGL); }""")
+            renderer = webgl_renderer(page)
             if "llvmpipe" not in renderer:
                 pytest.skip(f"Chromium's OpenGL is not llvmpipe here: {renderer}")
             shown = page.pixels()
@@ -423,14 +440,14 @@ def test_the_visible_part_of_the_pane_holds_every_pane_px_the_screen_shows(brows
         assert view == [x0, y0, x1, y1], (w, h, fit)
 
 
-def test_the_programs_warmed_while_a_snapshot_comes_leave_no_trace(browser, grown):
+def test_the_programs_warmed_while_a_snapshot_comes_leave_no_trace(swiftshader, grown):
     """Between the hello and its snapshot the page runs each program of the hello's look
     once (SwiftShader builds a program's code at its first draw), on a px it then wipes: the
     frost drawn after is the same, px for px, as a page's that never waited."""
     params, messages, _ = grown
-    with Page(hello(params), messages, browser=browser) as page:
+    with Page(hello(params), messages, browser=swiftshader) as page:
         want = page.pixels()
-    with Page(hello(params), [], browser=browser, hang_up=False) as page:
+    with Page(hello(params), [], browser=swiftshader, hang_up=False) as page:
         p = page.page
         p.wait_for_function("frost.warm === null")
         assert p.evaluate("Object.keys(frost.renderer.iceProgs)") == [params.look]
@@ -797,14 +814,14 @@ def test_a_snapshot_is_drawn_once_whole_not_part_by_part(browser, monkeypatch):
     assert shown.std() > 0  # (not a blank pane)
 
 
-def test_the_snapshot_work_bench_times_each_step_of_a_late_joins_snapshot(browser, capsys):
+def test_the_snapshot_work_bench_times_each_step_of_a_late_joins_snapshot(swiftshader, capsys):
     """`python -m bench page --snapshot-work N` grows the window pane, gives the page its
     snapshot N times and prints a median and p99 for each step, the landscape phone's the
     rows its screen shows."""
     from bench.page import snapshot_work
 
     # (in the tests' browser: a second Playwright beside it would refuse to start)
-    assert snapshot_work(2, 40, "swiftshader", browser=browser) == 0
+    assert snapshot_work(2, 40, "swiftshader", browser=swiftshader) == 0
     out = capsys.readouterr().out
     assert "window, glass, tick 40: a snapshot of" in out
     for step in ("applied", "its features rasterized", "the whole pane drawn",

@@ -31,8 +31,8 @@ def trusting_chromium(pw, home: Path, name: str):
     """The system Chromium with `home` as its HOME (its NSS database of trusted
     authorities is home/.pki/nssdb) and `name` resolved to this machine: a name that is no
     loopback name, so that only HTTPS makes the page a secure context."""
-    from bench.chromium import CHROMIUM_ARGS, chromium_options
-    from support.phone import TEST_ARGS
+    from bench.chromium import ANGLE, chromium_options
+    from support.phone import TEST_ANGLE, TEST_ARGS
 
-    args = [*CHROMIUM_ARGS, *TEST_ARGS, f"--host-resolver-rules=MAP {name} 127.0.0.1"]
+    args = [*ANGLE[TEST_ANGLE], *TEST_ARGS, f"--host-resolver-rules=MAP {name} 127.0.0.1"]
     return pw.chromium.launch(**chromium_options(pw, args), env={**os.environ, "HOME": str(home)})
