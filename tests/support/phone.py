@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import base64
 import json
+import os
 import time
 import urllib.error
 import urllib.request
@@ -35,8 +36,11 @@ WITH_WORKER = {**PHONE, "service_workers": "allow"}
 # growing frost takes 0.49 of a core against 0.67 on SwiftShader, and a page opens for 1.07 s
 # of CPU against 1.30. SwiftShader is kept where it is the subject: tests/test_page.py's
 # browser (the page against the desktop across two rasterisers) and the benchmarks, which
-# keep Chromium's own compositing too.
-TEST_ANGLE = "gl-egl"
+# keep Chromium's own compositing too. Where the system's OpenGL cannot draw headless
+# Chromium's WebGL, FROST_TEST_ANGLE=swiftshader draws every test's on SwiftShader.
+TEST_ANGLE = os.environ.get("FROST_TEST_ANGLE", "gl-egl")
+if TEST_ANGLE not in ANGLE:
+    raise ValueError(f"FROST_TEST_ANGLE={TEST_ANGLE!r}: one of {', '.join(ANGLE)}")
 TEST_ARGS = ["--disable-gpu-compositing"]
 
 
