@@ -86,3 +86,30 @@ def test_the_suite_writes_its_bytecode_into_the_virtualenv(tmp_path, target):
                           text=True, timeout=60, env={**env, "PYTHONDONTWRITEBYTECODE": "1"})
     assert done.returncode == 0, done.stderr
     assert done.stdout.splitlines()[-1] == f"[] [{venv}/pycache]"
+
+
+def test_the_test_stage_compiles_the_suites_bytecode_where_the_suite_reads_it(tmp_path):
+    """Setting up the test stack ends with a collection of the suite that writes its
+    bytecode into the folder the suite's run then reads it from, whichever target set the
+    stage up: `make lint` does on CI (.ci/run), then `make test` runs the suite. Stand-ins
+    for the virtualenv's Python, ruff and mypy write down how each call was made."""
+    venv = tmp_path / "venv"
+    (venv / "bin").mkdir(parents=True)
+    (venv / ".installed-run").touch()  # (the demo's stage set up, the tests' not)
+    calls = tmp_path / "calls"
+    for tool in ("python", "ruff", "mypy"):
+        (venv / "bin" / tool).write_text(
+            f'#!/bin/sh\necho "{tool} $* [$PYTHONDONTWRITEBYTECODE] [$PYTHONPYCACHEPREFIX]" >> {calls}\n',
+            encoding="utf-8")
+        (venv / "bin" / tool).chmod(0o755)
+    env = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MFLAGS", "MAKELEVEL")}
+    for target in ("lint", "test"):
+        done = subprocess.run(["make", "-s", target, f"VENV={venv}"], cwd=ROOT, capture_output=True,
+                              text=True, timeout=120, env={**env, "PYTHONDONTWRITEBYTECODE": "1"})
+        assert done.returncode == 0, done.stdout + done.stderr
+    made = calls.read_text(encoding="utf-8").splitlines()
+    warm = [c for c in made if c.startswith("python -m pytest --collect-only")]
+    run = [c for c in made if c.startswith("python -m pytest -n")]
+    assert len(warm) == 1 and len(run) == 1, made
+    assert made.index(warm[0]) < made.index(run[0])
+    assert warm[0].endswith(f"[] [{venv}/pycache]") and run[0].endswith(f"[] [{venv}/pycache]"), made
