@@ -28,8 +28,10 @@ def start_with_window(out: Path, preset: str, seconds: int) -> tuple[subprocess.
 
 
 def drive(out: Path) -> None:
-    """Under Xvfb: start the command, be a page, let the window close at --max-seconds."""
+    """Under Xvfb: start the command, be a page, then close the window with Esc (or it
+    closes at --max-seconds)."""
     from support.page_model import CENTRE, PageModel, near, pause, read_until
+    from support.window import escape, window_id
 
     app, url = start_with_window(out, "c-2", 12)
     page = PageModel()
@@ -42,6 +44,7 @@ def drive(out: Path) -> None:
             await read_until(ws, page, lambda: near(page, CENTRE) and page.tick > 30)
             await pause(ws, page)
     asyncio.run(main())
+    escape(window_id())
     status = app.wait(60)
     np.save(out / "page.npy", page.heights)
     (out / "result.json").write_text(json.dumps({"status": status, "tick": page.tick,
@@ -49,10 +52,10 @@ def drive(out: Path) -> None:
 
 
 def drive_changes(out: Path) -> None:
-    """Under Xvfb: a page chooses preset c-3, then the window's `=` (humidity up); the
-    window closes at --max-seconds."""
+    """Under Xvfb: a page chooses preset c-3, then the window's `=` (humidity up); then Esc
+    closes the window (or it closes at --max-seconds)."""
     from support.page_model import PageModel, read_until
-    from support.window import window_id, xdo
+    from support.window import escape, window_id, xdo
 
     app, url = start_with_window(out, "fern", 14)
     page = PageModel()
@@ -68,6 +71,7 @@ def drive_changes(out: Path) -> None:
             xdo("key", "--window", window_id(), "equal")
             await read_until(ws, page, lambda: page.resets >= 2)
     asyncio.run(main())
+    escape(window_id())
     status = app.wait(60)
     (out / "result.json").write_text(json.dumps({"status": status,
                                                  "stderr": app.stderr.read()[-3000:]}), encoding="utf-8")
