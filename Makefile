@@ -27,8 +27,9 @@ serve: $(RUN_STAMP)
 # Three workers (pytest-xdist) on CI's two cores: the suite waits on its subprocesses (the
 # window under Xvfb, Chromium, frost serve) for much of its run, and two workers kept the
 # cores busy only about 60 % of the time (the whole suite on the quiet two-core machine:
-# two workers 463 s, three 407 s, four 430 s; as it is now, three 360-364 s and four 377 s:
-# three keep the cores about 88 % busy, and a fourth only slows each test). The costliest
+# two workers 463 s, three 407 s, four 430 s; as it is now, three 342-359 s and four 345 s,
+# four taking more CPU, 624 s against 587: three keep the cores about 86 % busy, and a
+# fourth only slows each test). The costliest
 # modules go first (tests/conftest.py), and a worker left without tests takes half of
 # another's (worksteal: xdist's default hands each worker a fixed share, and one sat idle
 # for minutes while the other ran the browser tests).
