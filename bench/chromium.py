@@ -58,10 +58,12 @@ def chromium_options(playwright, args) -> dict[str, Any]:
 
 
 _DISABLED: list[str | None] = []
-# Where that switch is kept once read, for every later process of this Python (the suite's
-# workers, each benchmark it starts): beside the environment's own files, keyed by the
-# Playwright and the Chromium that gave it. Reading it again costs a browser's launch.
-SWITCH_FILE = Path(sys.prefix) / "frost-chromium-switch.json"
+# Where that switch is kept once read, for every later process of this virtualenv (the
+# suite's workers, each benchmark it starts): beside the environment's own files, keyed by
+# the Playwright and the Chromium that gave it. Reading it again costs a browser's launch.
+# Outside a virtualenv (a system's Python) nothing is kept.
+SWITCH_FILE: Path | None = (Path(sys.prefix) / "frost-chromium-switch.json"
+                            if sys.prefix != sys.base_prefix else None)
 SWITCH = re.compile(r"--disable-features=[\w,.-]*")
 
 
@@ -71,14 +73,16 @@ def playwright_disabled(playwright) -> str | None:
     SWITCH_FILE), or None if it has none or it cannot be read (then QUIET_FEATURES stay as
     they are)."""
     if not _DISABLED:
-        key = switch_key()
-        with switch_lock():
-            kept = kept_switch(key)
-            if kept is not None:
-                _DISABLED.append(kept["disabled"])
-            else:
-                _DISABLED.append(read_switch(playwright))
-                keep_switch(key, _DISABLED[0])
+        file = SWITCH_FILE
+        if file is None:
+            _DISABLED.append(read_switch(playwright))
+        else:
+            key = switch_key()
+            with switch_lock(file):
+                kept = kept_switch(file, key)
+                _DISABLED.append(kept["disabled"] if kept is not None else read_switch(playwright))
+                if kept is None:
+                    keep_switch(file, key, _DISABLED[0])
     return _DISABLED[0]
 
 
@@ -108,10 +112,10 @@ def switch_key() -> list:
     return [version("playwright"), CHROMIUM, binary]
 
 
-def kept_switch(key: list) -> dict | None:
-    """SWITCH_FILE's entry if it was kept for `key` and reads as a switch (or none), else None."""
+def kept_switch(file: Path, key: list) -> dict | None:
+    """`file`'s entry if it was kept for `key` and reads as a switch (or none), else None."""
     try:
-        kept = json.loads(SWITCH_FILE.read_text(encoding="utf-8"))
+        kept = json.loads(file.read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return None
     if not isinstance(kept, dict) or kept.get("key") != key:
@@ -120,27 +124,27 @@ def kept_switch(key: list) -> dict | None:
     return kept if disabled is None or isinstance(disabled, str) and SWITCH.fullmatch(disabled) else None
 
 
-def keep_switch(key: list, disabled: str | None) -> None:
-    """Write SWITCH_FILE (not where the environment's folder cannot be written: then each
+def keep_switch(file: Path, key: list, disabled: str | None) -> None:
+    """Write `file` (not where the environment's folder cannot be written: then each
     process reads the switch again)."""
     try:
-        tmp = SWITCH_FILE.with_name(f"{SWITCH_FILE.name}.{os.getpid()}")
+        tmp = file.with_name(f"{file.name}.{os.getpid()}")
         tmp.write_text(json.dumps({"key": key, "disabled": disabled}), encoding="utf-8")
-        os.replace(tmp, SWITCH_FILE)
+        os.replace(tmp, file)
     except OSError:
         pass
 
 
 @contextmanager
-def switch_lock():
-    """One process at a time reads or writes SWITCH_FILE (the suite's workers start
+def switch_lock(file: Path):
+    """One process at a time reads or writes `file` (the suite's workers start
     together: one launches the browser, the others wait for what it kept). Where locking
     is not to be had (no fcntl, a folder not written), none."""
     with ExitStack() as held:
         try:
             import fcntl
 
-            lock = held.enter_context(SWITCH_FILE.with_name(SWITCH_FILE.name + ".lock").open("a"))
+            lock = held.enter_context(file.with_name(file.name + ".lock").open("a"))
             fcntl.flock(lock, fcntl.LOCK_EX)
         except (ImportError, OSError):
             pass

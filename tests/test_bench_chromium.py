@@ -116,6 +116,17 @@ def test_where_the_file_cannot_be_written_the_switch_is_read_each_process(tmp_pa
         assert browser.launches == 1
 
 
+def test_outside_a_virtualenv_nothing_is_kept_and_the_switch_is_read_each_process(kept, monkeypatch):
+    """A system's Python (no virtualenv: SWITCH_FILE is None) keeps nothing in its folder."""
+    monkeypatch.setattr(chromium, "SWITCH_FILE", None)
+    for _ in range(2):
+        another_process(monkeypatch)
+        browser = StandIn()
+        assert chromium.playwright_disabled(browser) == SWITCH
+        assert browser.launches == 1
+    assert list(kept.parent.glob("switch*")) == []
+
+
 WORKER = textwrap.dedent("""
     import sys, time
     from pathlib import Path
