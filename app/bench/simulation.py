@@ -22,6 +22,9 @@ asserts nothing.
 8. Taps (app/bench/taps.py): ticks from a tap to its seed's first child, the page bench's
    taps through the simulation alone, by version 7's and version 8's rules side by side
    (`--section taps`).
+9. A storm of taps (app/bench/storm_taps.py): the 2 000 taps of tests/data/storm-2000-taps.json
+   in the fern look, crystals and tick times at tick 1 600 for seeds 1-10 by session version
+   13's rules and the newest side by side (`--section storm-taps`).
 
 `--record` also keeps the figures as a dated entry of docs/results/bench-sim.md
 (app/bench/results.py).
@@ -41,6 +44,7 @@ from app.bench.growth import section_busy, section_fig9, section_growth, section
 from app.bench.options import Parser, count
 from app.bench.pane import WINDOW_TICKS, window_section
 from app.bench.results import commit, keep, record_problem, results_file, shown
+from app.bench.storm_taps import storm_taps_section
 from app.bench.taps import taps_section
 from sim import all_presets
 
@@ -48,7 +52,8 @@ SECTIONS = {"fig9": section_fig9, "busy": section_busy, "growth": section_growth
             "memory": section_memory, "abuse": section_abuse,
             "fern": lambda args: {"fern": fern_section(*_fern_sizes(args))},
             "window": lambda args: {"window": window_section(*_window_sizes(args))},
-            "taps": lambda args: {"taps": taps_section(seeds=1 if args.quick else 4)}}
+            "taps": lambda args: {"taps": taps_section(seeds=1 if args.quick else 4)},
+            "storm-taps": lambda args: {"storm_taps": storm_taps_section(seeds=2 if args.quick else 10)}}
 
 
 def main(argv: list[str] | None = None, prog: str = "python -m app.bench.simulation") -> int:

@@ -20,7 +20,7 @@ from app.serve.controls import KEY_COMMANDS
 from app.serve.hello import hello_fields
 from sim import Params, all_presets
 from sim.io.gestures import DRAG_SPACING_HC, MELT_SPACING
-from sim.io.session import FORMAT, PHONE_VERSION
+from sim.io.session import FORMAT, VERSION
 from sim.look.geometry import FrostGeometry
 from sim.screen import MELT_RADIUS, SIZE
 
@@ -63,7 +63,7 @@ def local_params() -> dict[str, Any]:
         # the window's keys that the page's own frost obeys, as frost serve does: name -> command
         "keys": {name: KEY_COMMANDS[b.action] for b in BINDINGS if b.action in KEY_COMMANDS
                  for name in b.keys},
-        "session": {"format": FORMAT, "version": PHONE_VERSION},
+        "session": {"format": FORMAT, "version": VERSION},  # the rules the page grows by
     }
 
 

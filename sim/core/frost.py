@@ -77,9 +77,9 @@ class FrostSim(Touches):
                                   rules.capped_touches)
         self.pane = make_pane(p, streams.pane, self.index, self.ice, rules.tries_at_once)
         self.placer = Placer(streams.placement, self.index, self._areas, self.pane, p,
-                             rules.batched_placement)
+                             rules.batched_placement, rules.kept_water)
         self.supply = Supply(p, streams.supply, self._water, self._areas, self.placer, self.pane,
-                             self.index, rules.touch_creates)
+                             self.index, rules.touch_creates, rules.kept_water)
         self.added = Added(0, slice(0, 0), slice(0, 0), slice(0, 0), 0)
         self.thawing = False  # the weather's thaw (`set_weather`): no step grows
         self._start_pane()
@@ -110,6 +110,8 @@ class FrostSim(Touches):
             self.tick += 1
             return self._close_tick(0)
         self.placer.cell_work = placement.CELL_WORK
+        if self.rules.kept_water:  # the water last tick's cell work cut comes first
+            self.supply.repay(self.ice_state())
         self.walk()
         keys, dropped = drop_in_full_cells(self._water, self.index)
         self.supply.dropped += dropped
@@ -129,6 +131,8 @@ class FrostSim(Touches):
         self.supply.spent(frozen, lost)
         if self.pane.on:  # the pane keeps its pool full
             self.supply.fill(_PANE, self.ice_state())
+        elif self.rules.kept_water and (self.params.replenish or self.params.grow):
+            self.supply.top_up(self.ice_state())  # a kept pool gets back what was lost
         self.tick += 1
         return self._close_tick(len(frozen))
 

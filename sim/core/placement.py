@@ -22,6 +22,9 @@ CELL_TRIES = 8
 # (1 000 still ~30). One touch's growth needs at most 173 a tick (fern, seed 0), Table 1's
 # at most 13.
 CELL_WORK = 400
+# Draws of an area's cells, all on ice, that show its disc has no glass left (version 14:
+# its kept pool waits for a melt, not topped up every tick in vain).
+BARE_DRAWS = 64
 # Draws per walker among glass cells (`glass_spots`) before it is dropped.
 GLASS_TRIES = 8
 _NONE = np.empty(0, np.int64)
@@ -96,10 +99,21 @@ def ring_spots(rng: np.random.Generator, centre: tuple[float, float], hc: float,
 class Placer:
     """Places walkers of given areas (see module doc); window mode hands it to the pane."""
 
-    def __init__(self, rng: np.random.Generator, index, areas, pane, params, batched: bool):
+    def __init__(self, rng: np.random.Generator, index, areas, pane, params, batched: bool,
+                 owing: bool = False):
         self.rng, self.index, self.areas, self.pane = rng, index, areas, pane
         self.launch, self.grow = float(params.launch), params.grow
         self.batched = batched
+        # Version 14: the walkers the cell work cut (not tried this tick) are kept, by
+        # area, for `take_cut`: they are owed to their areas, not dropped; and a launch
+        # circle wholly beyond the screen sends its area's water to its disc's glass.
+        self.owing = owing
+        self._cut: list[np.ndarray] = []
+        self.first_cut = _NONE  # `place_both`: the areas of its first walkers the cut took
+        # Version 14: areas whose disc was last seen with no glass left (BARE_DRAWS draws
+        # of its cells all on ice), and the melt count then: a kept pool is not topped up
+        # there until a melt makes glass (`bare`).
+        self._bare: dict[int, int] = {}
         self.wrap = (index.width, index.height) if index.grid.period is not None else None
         self.cell_work = CELL_WORK  # cell placements left in this tick
         self._plans: dict[int, tuple[np.ndarray, float, bool, bool]] = {}
@@ -147,10 +161,21 @@ class Placer:
         elif self.batched and (len(todo) or (direct is not None and direct.any())):
             if direct is not None:
                 todo = np.union1d(todo, np.flatnonzero(direct))
-            todo = todo[:self.cell_work]
+            if self.owing and len(todo) > self.cell_work:
+                self._cut.append(area[todo[max(0, self.cell_work):]])
+            todo = todo[:max(0, self.cell_work)]
             self.cell_work -= len(todo)
             x[todo], y[todo], ok[todo] = self.cell_spots_all(area[todo], ice)
         return x, y, ok
+
+    def take_cut(self) -> np.ndarray:
+        """The areas of the walkers the cell work cut, or whose draws of their area's
+        cells missed while it may hold glass, since the last call (one entry each: they
+        are owed; version 14, else none)."""
+        if not self._cut:
+            return _NONE
+        cut, self._cut = np.concatenate(self._cut), []
+        return cut
 
     def rounds(self, n: int) -> tuple[int, ...]:
         """The tries of each round of disc draws for n walkers."""
@@ -170,9 +195,10 @@ class Placer:
         always), both rounds are drawn at once and their spots placed and checked in one
         pass; else the draws are taken back and the calls made in turn."""
         n1, n2 = len(first), len(second)
+        self.first_cut = _NONE
         if (self.pane.on or not self.batched or n1 == 0 or n2 == 0 or max(n1, n2) > 1024
                 or self.annulus_full(first) is not None or self.annulus_full(second) is not None):
-            return self._place(first, ice), self._place(second, ice)
+            return self._in_turn(first, second, ice)
         t1, t2 = self.rounds(n1)[0], self.rounds(n2)[0]
         m1 = t1 * n1
         before = self.rng.bit_generator.state
@@ -187,9 +213,15 @@ class Placer:
         placed, pick = first_good(good[:m1].reshape(t1, n1))
         if not placed.all():  # the first goes on to another round: draw as in turn
             self.rng.bit_generator.state = before
-            return self._place(first, ice), self._place(second, ice)
+            return self._in_turn(first, second, ice)
         rest = first_good(good[m1:].reshape(t2, n2))
         return (px[pick], py[pick], placed), self._place(second, ice, (px[m1:], py[m1:], *rest))
+
+    def _in_turn(self, first: np.ndarray, second: np.ndarray, ice: tuple[int, int]):
+        """`place(first)`, then `place(second)`; the first's cut walkers in `first_cut`."""
+        one = self._place(first, ice)
+        self.first_cut = self.take_cut()
+        return one, self._place(second, ice)
 
     def cell_spots(self, area: int, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """k uniform spots of `area`'s annulus outside candidate cells: a free cell that
@@ -252,7 +284,30 @@ class Placer:
         self._on_glass(px, py, good, check & ~first & ~np.tile(good[:len(todo)], CELL_TRIES))
         placed, pick = first_good(good.reshape(CELL_TRIES, len(todo)))
         x[todo[placed]], y[todo[placed]], ok[todo[placed]] = px[pick], py[pick], True
+        if self.owing and not placed.all():
+            self._missed(ua, glass, inv[todo], placed, ice)
         return x, y, ok
+
+    def _missed(self, ua: np.ndarray, glass: np.ndarray, owner: np.ndarray,
+                placed: np.ndarray, ice: tuple[int, int]) -> None:
+        """Version 14: the walkers (`owner`: each one's row of `ua`) whose CELL_TRIES draws
+        of their area's cells all missed are owed (`take_cut`), as the cut are, while
+        their area may still hold glass; an area with no free cell (`glass`) whose
+        walkers drew BARE_DRAWS or more spots and placed none has none left (`bare`)."""
+        tried = np.bincount(owner, minlength=len(ua)) * CELL_TRIES
+        hit = np.bincount(owner[placed], minlength=len(ua))
+        bare = glass & (tried >= BARE_DRAWS) & (hit == 0)
+        for a in ua[bare]:
+            self._bare[int(a)] = ice[1]
+        missed = owner[~placed]
+        self._cut.append(ua[missed[~bare[missed]]])
+
+    def bare(self, n: int, ice: tuple[int, int]) -> np.ndarray:
+        """Per area (n): its disc was last seen with no glass, and nothing melted since."""
+        out = np.zeros(n, bool)
+        for a, melted in self._bare.items():
+            out[a] = melted == ice[1]
+        return out
 
     def _on_glass(self, px: np.ndarray, py: np.ndarray, good: np.ndarray, check: np.ndarray) -> None:
         """`good` stays True where `check` only if the point is at least hc / 2 from every
@@ -274,7 +329,7 @@ class Placer:
             disc = near2 <= r_out ** 2
             free = disc & (self.index.candidates.count[flat] == 0)
             cells, glass = flat[free & (far2 >= r_in ** 2)], False
-            full = len(cells) == 0
+            full = len(cells) == 0 or self.beyond_screen(cx, cy, float(self.areas.rows.raw()[area, 4]))
             if full and self.grow:
                 r_in, cells = 0.0, flat[free]
                 if len(cells) == 0:
@@ -282,6 +337,16 @@ class Placer:
             self._plans[area] = (cells, r_in, glass, full)
             self._full[area] = full
         return self._plans[area]
+
+    def beyond_screen(self, cx: float, cy: float, reach: float) -> bool:
+        """Version 14, growth mode: the launch circle of an area at (cx, cy) whose ice
+        reaches `reach` lies wholly beyond the screen (past its farthest corner), so no
+        draw on it can land on the screen (on a tile every circle meets it)."""
+        if not (self.owing and self.grow and self.launch) or self.wrap:
+            return False
+        w, h = self.index.width, self.index.height
+        far = max(cx, w - cx) ** 2 + max(cy, h - cy) ** 2
+        return (reach + self.launch) ** 2 > far
 
     def annulus_full(self, area: np.ndarray) -> np.ndarray | None:
         """Per walker: its area's annulus held no free cell when its cells were last

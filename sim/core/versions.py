@@ -36,6 +36,14 @@ the newest. What each version changed:
    replays here by this version's rules, with the same touches, parameters and backdrops,
    but not bit for bit; a file without "source" was grown by this simulation. The frost
    itself grows as in version 12.
+14. Water is never lost to the tick's budget (sim/core/supply.py, docs/method.md 4.4):
+   walkers whose placement the tick's cell work (CELL_WORK) cut are owed to their area
+   and placed first in the next tick; a kept pool (replenish, growth mode) is topped up
+   to `humidity` every tick wherever its area has ice and the water budget has room; and
+   an area whose launch circle lies wholly beyond the screen places its water on the
+   free glass of its disc, as a full annulus does. Before, a storm of touches could make
+   one area whose launch circle left the screen: every draw missed, hundreds of walkers a
+   tick were dropped, and the pool, topped up only by touches, drained for good.
 """
 
 from __future__ import annotations
@@ -44,7 +52,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-NEWEST = 13
+NEWEST = 14
 # The first version whose files may say where they were grown ("source", above).
 PHONE_VERSION = 13
 # Longest pause a rebuild keeps between two touches it replants: 12 ticks, about 0.5 s.
@@ -70,6 +78,7 @@ class Rules:
     clock_events: bool  # 10: "clock" events (the lock screen's minutes) may be recorded
     backdrop_events: bool  # 11: "backdrop" events (the backdrop shown) may be recorded
     weather_events: bool  # 12: "weather" events (the weather outside) may be recorded
+    kept_water: bool  # 14: water owed, not dropped, when the tick's cell work runs out; kept pools topped up
 
 
 def rules_of(version: int) -> Rules:
@@ -79,7 +88,7 @@ def rules_of(version: int) -> Rules:
         raise ValueError(f"version={version!r} must be a whole number in [1, {NEWEST}]")
     v = int(version)
     return Rules(v, REGROW_GAP if v >= 2 else 0, v >= 3, v >= 4, v >= 5, v >= 5, v >= 6, v >= 7,
-                 v >= 8, v >= 9, v >= 10, v >= 11, v >= 12)
+                 v >= 8, v >= 9, v >= 10, v >= 11, v >= 12, v >= 14)
 
 
 @dataclass(frozen=True)

@@ -3,7 +3,8 @@
 // full cells -> crystallize (the nearest crystal within hc) and admit within the tick's
 // budgets -> settle (the growth rule) -> link and upsample -> register the new crystals
 // -> follow the ice (growth mode, launch circle) -> place again the walkers whose hits
-// only counted. Touches and melts (./touches.js) come between ticks. The newest session
+// only counted -> top a kept pool up (the water a tick's budget cut is owed to its area
+// and placed first in the next tick: session version 14). Touches and melts (./touches.js) come between ticks. The newest session
 // version's rules only; no objects per particle, nothing allocated per walker.
 
 import { Areas } from './areas.js';
@@ -76,8 +77,11 @@ export class Frost extends Touches {
    * last tick included: { start, end } of the crystals, and `upsampled`, `segments`. */
   step() {
     this.placer.cellWork = CELL_WORK;
+    this.supply.repay(this.iceState());  // the water last tick's cell work cut comes first
     this.walk();
-    const [n, dropped] = this.budget.admit(this.hits, this.hitParents, this.crystallize(), this.water);
+    // (crystallize first: it may widen this.hits, and admit must see the wide arrays)
+    const found = this.crystallize();
+    const [n, dropped] = this.budget.admit(this.hits, this.hitParents, found, this.water);
     this.supply.dropped += dropped;
     const grown = this.grown;
     grown.length = 0;
@@ -88,6 +92,8 @@ export class Frost extends Touches {
     this.followIce(start, this.ice.count);
     this.replace(counted, grown);
     this.water.sweep();
+    // A kept pool gets back what full cells and failed placements took, while glass remains.
+    if (this.params.replenish || this.params.grow) this.supply.topUp(this.iceState());
     this.tick++;
     return this.closeTick(grown.length / 4);
   }

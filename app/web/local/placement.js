@@ -8,8 +8,12 @@ import { drawInto } from './random.js';
 const TWO_PI = Math.fround(2 * Math.PI);
 // Draws a walker takes among its area's free cells before it is dropped.
 export const CELL_TRIES = 8;
-// Walkers one tick may place from cells; the rest find no spot and are dropped.
+// Walkers one tick may place from cells; the rest are owed to their areas (`owe`) and
+// placed first in the next tick.
 export const CELL_WORK = 400;
+// Draws of an area's cells, all on ice, that show its disc has no glass left: its kept
+// pool waits for a melt, not topped up every tick in vain.
+export const BARE_DRAWS = 64;
 
 export class Placer {
   constructor(uniform, index, areas, params) {
@@ -22,6 +26,10 @@ export class Placer {
     this.plans = new Map();  // area -> its cells while the ice stays as it is
     this.plansKey = -1;
     this.full = new Map();  // areas whose annulus was last seen with no free cell
+    this.bare = new Map();  // areas whose disc was last seen with no glass: the melts then
+    this.owe = false;  // `place` found no spot, but the walker is owed, not dropped
+    this.width = index.width;
+    this.height = index.height;
     this.spot = new Float32Array(2);  // the spot `place` found (a field would box it)
     // Uniform draws taken a block at a time (float32, as sim/ draws them): a number
     // returned by a call for each draw would be boxed, thousands of times a tick.
@@ -43,21 +51,45 @@ export class Placer {
   clear() {
     this.plans.clear();
     this.full.clear();
+    this.bare.clear();
     this.plansKey = -1;
   }
 
   /** A uniform spot of `area`'s annulus, on the screen, outside candidate cells, into
    * `this.spot`; false where there is none. `many`: the walker is one of over 1 024
    * placed together (fewer disc draws before the cells, as sim/ does); `ice` says when
-   * the ice last changed. */
+   * the ice last changed. Where it finds no spot, `this.owe` says whether the walker is
+   * owed to its area (the tick's cell work ran out, or its draws missed while the area
+   * may still hold glass) rather than dropped (no free cell, no glass left). */
   place(area, many, ice) {
+    this.owe = false;
     if (!this.full.get(area)) {
       const tries = (many ? 3 : 4) + (this.launch ? 16 : 0);
       if (this.discSpot(area, tries)) return true;
     }
-    if (this.cellWork <= 0) return false;
+    if (this.cellWork <= 0) {
+      this.owe = true;
+      return false;
+    }
     this.cellWork--;
-    return this.cellSpot(area, ice);
+    if (this.cellSpot(area, ice)) return true;
+    this.owe = this.plans.get(area).cells.length > 0 && !this.isBare(area, ice);
+    return false;
+  }
+
+  /** Area `area`'s disc was last seen with no glass, and nothing melted since. */
+  isBare(area, ice) {
+    return this.bare.get(area) === ice % 4294967296;
+  }
+
+  /** Growth mode: area `area`'s launch circle lies wholly beyond the screen (past its
+   * farthest corner), so no draw on it lands on the screen. */
+  beyondScreen(area) {
+    if (!(this.grow && this.launch)) return false;
+    const a = this.areas.rows, cx = a[5 * area], cy = a[5 * area + 1];
+    const fx = Math.max(cx, this.width - cx), fy = Math.max(cy, this.height - cy);
+    const ring = a[5 * area + 4] + this.launch;
+    return ring * ring > fx * fx + fy * fy;
   }
 
   discSpot(area, tries) {
@@ -87,6 +119,17 @@ export class Placer {
   cellSpot(area, ice) {
     const plan = this.plan(area, ice), n = plan.cells.length;
     if (n === 0) return false;
+    if (this.cellDraw(plan, area)) {
+      plan.misses = 0;
+      return true;
+    }
+    // All on ice: BARE_DRAWS such draws in a row with no free cell left say no glass is.
+    if (plan.glass && (plan.misses += CELL_TRIES) >= BARE_DRAWS) this.bare.set(area, ice % 4294967296);
+    return false;
+  }
+
+  cellDraw(plan, area) {
+    const n = plan.cells.length;
     const a = this.areas.rows, cx = a[5 * area], cy = a[5 * area + 1], rOut = a[5 * area + 2];
     const index = this.index, cols = index.grid.cols, s = index.grid.cell;
     for (let t = 0; t < CELL_TRIES; t++) {
@@ -132,8 +175,8 @@ export class Placer {
     for (let k = 0, f = annulus; free && k < n; k++) {  // the disc's free cells inside the annulus
       if (near2[k] <= rOut * rOut && count[box[k]] === 0 && far2[k] < rIn * rIn) all[f++] = box[k];
     }
-    const full = annulus === 0;
-    Object.assign(plan, { fresh: true, cells: all.subarray(0, annulus), rIn, glass: false });
+    const full = annulus === 0 || this.beyondScreen(area);
+    Object.assign(plan, { fresh: true, cells: all.subarray(0, annulus), rIn, glass: false, misses: 0 });
     if (full && this.grow) {
       plan.rIn = 0;
       plan.cells = free ? all.subarray(0, free) : all.subarray(iced);

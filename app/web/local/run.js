@@ -78,6 +78,13 @@ export class LocalRun {
   }
 
   // The hello a page starts from, then the whole frost.
+  /** What the page's stats show of the frost: its tick, the crystals alive (melted ones
+   * are not), the touches dropped, and whether it is paused. */
+  stats() {
+    return { tick: this.frost.tick, crystals: this.frost.alive, dropped: this.fingers.dropped,
+      paused: this.paused };
+  }
+
   hello() {
     this.text({ type: "hello", ...this.config.hello, ...this.state(), local: true,
       server_only: this.config.server_only });

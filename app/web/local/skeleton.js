@@ -26,6 +26,7 @@ export class Skeleton {
 
   clear() {
     this.count = 0;
+    this.alive = 0;  // crystals not melted
     this.upsampledCount = 0;
     this.segmentCount = 0;
     this.longestLink = 0;  // a crystal's children lie within this of it
@@ -45,6 +46,7 @@ export class Skeleton {
     this.parents[i] = parent;
     this.area[i] = area;
     this.crystalAlive[i] = 1;
+    this.alive++;
     return i;
   }
 

@@ -16,28 +16,47 @@ export class Supply {
     this.placer = placer;
     this.index = index;
     this.picks = new Int32Array(64);  // waterSeed's walkers of the area
+    this.owed = new Int32Array(16);  // walkers owed to each area, placed first next tick
     this.clear();
   }
 
   clear() {
     this.created = this.frozen = this.dropped = 0;
+    this.owed.fill(0);
   }
 
-  /** `k` new walkers of `area`; those with no free spot are dropped. */
-  spawn(area, k, many, ice) {
+  /** Walkers owed to their areas, to be placed in a later tick. */
+  get waiting() {
+    return sum(this.owed);
+  }
+
+  owe(area) {
+    this.owed = room(this.owed, Math.max(this.areas.n, area + 1));
+    this.owed[area]++;
+  }
+
+  /** `k` walkers of `area`: new ones (counted created once placed or owed; one with no
+   * spot at all is never created), or `repaid` owed ones (created already: one with no
+   * spot at all is dropped). The placer's `owe` keeps those it could not place this
+   * tick owed. */
+  spawn(area, k, many, ice, repaid = false) {
     const { water, placer } = this;
     for (let j = 0; j < k; j++) {
       if (placer.place(area, many, ice)) {
         water.append(placer.spot[0], placer.spot[1], area);
-        this.created++;
-      } else {
+        if (!repaid) this.created++;
+      } else if (placer.owe) {
+        this.owe(area);
+        if (!repaid) this.created++;
+      } else if (repaid) {
         this.dropped++;
       }
     }
   }
 
   /** Places walker `i` again in its area; false (it is marked to drop) where it found
-   * no spot. */
+   * no spot: it is then owed to its area (placed in a later tick) or, with no spot
+   * left at all, dropped. */
   relocate(i, many, ice) {
     const { water, placer } = this;
     if (placer.place(water.area[i], many, ice)) {
@@ -46,8 +65,44 @@ export class Supply {
       return true;
     }
     water.drop[i] = 1;
-    this.dropped++;
+    if (placer.owe) this.owe(water.area[i]);
+    else this.dropped++;
     return false;
+  }
+
+  /** At a tick's start: the owed walkers are placed again within the water budget
+   * (what it has no room for stays owed), those cut again stay owed; an area whose ice
+   * all melted, or with no glass left, is owed nothing (its owed are dropped). */
+  repay(ice) {
+    const { owed, placer, areas } = this, n = Math.min(owed.length, areas.n);
+    let roomLeft = Math.max(0, this.params.water_budget - this.water.n);
+    for (let a = 0; a < n; a++) {
+      if (owed[a] === 0) continue;
+      if (areas.ice[a] === 0 || placer.isBare(a, ice)) {
+        this.dropped += owed[a];
+        owed[a] = 0;
+        continue;
+      }
+      const k = Math.min(owed[a], roomLeft);
+      roomLeft -= k;
+      owed[a] -= k;
+      this.spawn(a, k, k > 1024, ice, true);
+    }
+  }
+
+  /** At a tick's end, for a kept pool (replenish, growth mode): a pool short of
+   * `humidity` (its owed walkers counted in it) is topped up within the water budget
+   * wherever its area still has ice and glass; nothing is trimmed from other pools. */
+  topUp(ice) {
+    const { water, params, areas, placer } = this, n = areas.n, counts = water.counts(n);
+    this.owed = room(this.owed, n);
+    let roomLeft = params.water_budget - water.n - this.waiting;
+    for (let a = 0; a < n && roomLeft > 0; a++) {
+      if (areas.ice[a] === 0 || placer.isBare(a, ice)) continue;
+      const k = Math.min(Math.max(0, params.humidity - counts[a] - this.owed[a]), roomLeft);
+      roomLeft -= k;
+      this.spawn(a, k, k > 1024, ice);
+    }
   }
 
   /** Tops the pools of `areas` (distinct) up to `humidity` within `water_budget`; when
@@ -56,13 +111,15 @@ export class Supply {
   fill(areas, ice) {
     const { water, params } = this, n = this.areas.n;
     const counts = water.counts(n), pool = params.humidity;
-    let roomLeft = params.water_budget - water.n;
-    const want = areas.map((a) => Math.max(0, pool - counts[a]));
+    this.owed = room(this.owed, n);
+    const owed = this.owed;  // owed walkers are the pool's too
+    let roomLeft = params.water_budget - water.n - this.waiting;
+    const want = areas.map((a) => Math.max(0, pool - counts[a] - owed[a]));
     if (sum(want) > roomLeft) {
       let holding = 0;
       for (let a = 0; a < n; a++) if (counts[a] > 0 || areas.includes(a)) holding++;
       const share = Math.floor(params.water_budget / holding);
-      areas.forEach((a, j) => { want[j] = Math.min(want[j], Math.max(0, share - counts[a])); });
+      areas.forEach((a, j) => { want[j] = Math.min(want[j], Math.max(0, share - counts[a] - owed[a])); });
       roomLeft += this.trim(counts, areas, sum(want) - roomLeft, share);
     }
     let given = 0;
@@ -84,7 +141,9 @@ export class Supply {
       const a = water.area[i];
       if (!areas.includes(a) && seen[a]++ >= limit) water.drop[i] = 1;
     }
-    return water.sweep();
+    const cut = water.sweep();
+    this.dropped += cut;
+    return cut;
   }
 
   /** Melted crystals' water (one entry per crystal: its area) goes back to its area,
@@ -93,7 +152,7 @@ export class Supply {
   returned(deadAreas, ice) {
     const { water, params, areas } = this;
     for (let i = 0; i < water.n; i++) if (areas.ice[water.area[i]] === 0) water.drop[i] = 1;
-    water.sweep();
+    this.dropped += water.sweep();
     const back = [...new Set(deadAreas)].filter((a) => areas.ice[a] > 0).sort((p, q) => p - q);
     if (params.replenish || params.grow) {
       this.fill(back, ice);

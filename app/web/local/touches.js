@@ -48,6 +48,7 @@ export class Touches {
     const { ice, index } = this;
     const dead = index.crystalsNear(x, y, r);
     for (const d of dead) ice.crystalAlive[d] = 0;
+    ice.alive -= dead.length;
     index.remove(dead);
     // A child lies within one link of its parent: look no further than that.
     const near = index.crystalsNear(x, y, r + ice.longestLink + 1);
@@ -79,7 +80,8 @@ export class Touches {
   }
 
   // ---- what the simulation holds (the arrays themselves; valid until the next tick) ----
-  get count() { return this.ice.count; }
+  get count() { return this.ice.count; }  // crystals ever grown, melted ones included
+  get alive() { return this.ice.alive; }  // crystals not melted
   get crystals() { return this.ice.crystals; }
   get parents() { return this.ice.parents; }
   get crystalAlive() { return this.ice.crystalAlive; }

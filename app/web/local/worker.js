@@ -48,10 +48,9 @@ function loop() {
 }
 
 function stats() {
-  post({ type: "stats", tick: run.frost.tick, crystals: run.frost.count,
+  post({ type: "stats", ...run.stats(),
     ticksPerSecond: clock.perSecond(performance.now()), tickP99Ms: clock.p99(),
-    tickMedianMs: clock.percentile(0.5),
-    dropped: run.fingers.dropped, paused: run.paused });
+    tickMedianMs: clock.percentile(0.5) });
 }
 
 self.onmessage = (event) => {
