@@ -149,6 +149,27 @@ def test_each_failure_of_the_api_is_one_line_naming_its_cause(mode, words):
     assert "\n" not in str(err.value)
 
 
+def test_a_reply_in_pieces_is_read_to_its_end():
+    # A forecast sent in three pieces, 0.3 s apart: the reading of a reply in one piece.
+    with StandIn() as api:
+        whole = ask(lambda s: current(s, api.url, coordinates("59.33,18.07")))
+        api.mode = "pieces"
+        pieces = ask(lambda s: current(s, api.url, coordinates("59.33,18.07")))
+    assert pieces == whole and pieces.temperature_c == -25.0
+
+
+@pytest.mark.parametrize("mode, size", [("huge", "5,000,000 bytes"),
+                                        ("huge-chunked", "more than 1,048,576 bytes")])
+def test_a_reply_over_the_limit_is_said_too_large(mode, size):
+    # 5 MB of valid JSON, its length said before it comes or not (chunked).
+    with StandIn() as api:
+        api.mode = mode
+        with pytest.raises(WeatherError) as err:
+            ask(lambda s: current(s, api.url, coordinates("59.33,18.07")))
+    assert re.fullmatch(rf"127\.0\.0\.1:\d+ answered {size}: too large for the API's JSON "
+                        r"\(at most 1,048,576\)", str(err.value)), err.value
+
+
 def test_a_place_not_found_and_an_api_not_reached_are_one_line_each():
     with StandIn() as api:
         none = r"^no place called 'Atlantis' \(127\.0\.0\.1:\d+ found none\)$"

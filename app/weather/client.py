@@ -133,7 +133,7 @@ async def _json(session: aiohttp.ClientSession, url: str, query: dict[str, str],
                 raise WeatherError(f"{host} refused: too many requests (HTTP 429)")
             if reply.status != 200:
                 raise WeatherError(f"{host} answered HTTP {reply.status} {reply.reason or ''}".rstrip())
-            body = await reply.content.read(MOST_BYTES + 1)
+            body = await _body(reply, host)
     except asyncio.TimeoutError:
         raise WeatherError(f"{host} did not answer within {timeout_s:g} s") from None
     except aiohttp.ClientConnectorError as err:  # (refused, no route, a name not found)
@@ -142,12 +142,31 @@ async def _json(session: aiohttp.ClientSession, url: str, query: dict[str, str],
         raise WeatherError(f"cannot read {host}'s answer: {err or type(err).__name__}") from None
     except ValueError as err:  # (a URL aiohttp cannot ask)
         raise WeatherError(f"cannot ask {url}: {err}") from None
-    if len(body) > MOST_BYTES:
-        raise WeatherError(f"{host} answered more than {MOST_BYTES} bytes: not the API's JSON")
     try:
         return json.loads(body.decode("utf-8"))
     except (UnicodeDecodeError, ValueError):
         raise WeatherError(f"{host} answered something that is not JSON: {short(body)}") from None
+
+
+async def _body(reply: aiohttp.ClientResponse, host: str) -> bytes:
+    """The reply's whole body, read as its pieces arrive (a network may split it anywhere),
+    to its end; WeatherError when it is longer than MOST_BYTES (said before reading when its
+    Content-Length says so)."""
+    if reply.content_length is not None and reply.content_length > MOST_BYTES:
+        raise _too_large(host, reply.content_length)
+    body = bytearray()
+    while len(body) <= MOST_BYTES:
+        piece = await reply.content.read(MOST_BYTES + 1 - len(body))
+        if not piece:  # (the end)
+            return bytes(body)
+        body += piece
+    raise _too_large(host)
+
+
+def _too_large(host: str, length: int | None = None) -> WeatherError:
+    size = f"{length:,} bytes" if length is not None else f"more than {MOST_BYTES:,} bytes"
+    return WeatherError(f"{host} answered {size}: too large for the API's JSON "
+                        f"(at most {MOST_BYTES:,})")
 
 
 def _reason(err: OSError) -> str:

@@ -1,12 +1,16 @@
 """A stand-in for Open-Meteo's two APIs (the forecast's /v1/forecast, the geocoding's
 /v1/search) on 127.0.0.1, on a thread of its own: answers in the documented JSON shapes,
 or as told (`mode`): "429", "500", "slow", "garbage", "missing" (`missing` names the field
-left out). Every request is kept (`asked`), so a test sees what was sent."""
+left out), "pieces" (the JSON in three pieces, each sent and flushed PIECE_GAP_S after the
+one before), "huge" (a JSON body of HUGE_BYTES, its Content-Length said) or "huge-chunked"
+(the same, chunked: no length said before it comes). Every request is kept (`asked`), so a
+test sees what was sent."""
 
 from __future__ import annotations
 
 import asyncio
 import contextlib
+import json
 import threading
 from typing import Any
 
@@ -17,6 +21,9 @@ from aiohttp import web
 PLACES = {"Oslo": {"id": 3143244, "name": "Oslo", "latitude": 59.91273, "longitude": 10.74609,
                    "elevation": 26.0, "country_code": "NO", "timezone": "Europe/Oslo",
                    "country": "Norway", "admin1": "Oslo"}}
+
+PIECE_GAP_S = 0.3  # between two pieces of a reply in pieces
+HUGE_BYTES = 5_000_000
 
 
 class StandIn:
@@ -80,9 +87,42 @@ class StandIn:
             if self.mode == "slow" and self._stop is not None:  # (until the stand-in stops)
                 with contextlib.suppress(asyncio.TimeoutError):
                     await asyncio.wait_for(self._stop.wait(), self.slow_s)
+            if self.mode == "pieces":
+                return await self._in_pieces(request, json.dumps(body).encode())
+            if self.mode.startswith("huge"):
+                return await self._huge(request, body)
             return web.json_response(body)
         finally:
             self.answered.set()
+
+    async def _in_pieces(self, request: web.Request, data: bytes) -> web.StreamResponse:
+        """`data` in three pieces, each flushed to the socket, PIECE_GAP_S apart."""
+        reply = web.StreamResponse(headers={"Content-Type": "application/json"})
+        reply.content_length = len(data)
+        await reply.prepare(request)
+        cuts = (0, len(data) // 3, 2 * len(data) // 3, len(data))
+        for start, end in zip(cuts, cuts[1:], strict=False):
+            if start:
+                await asyncio.sleep(PIECE_GAP_S)
+            await reply.write(data[start:end])  # (write drains: the piece is sent)
+        await reply.write_eof()
+        return reply
+
+    async def _huge(self, request: web.Request, body: dict) -> web.StreamResponse:
+        """`body` padded to HUGE_BYTES of valid JSON, its length said or chunked."""
+        data = json.dumps(body).encode()
+        data = data[:-1] + b', "padding": "' + b"x" * (HUGE_BYTES - len(data) - 15) + b'"}'
+        reply = web.StreamResponse(headers={"Content-Type": "application/json"})
+        if self.mode == "huge":
+            reply.content_length = len(data)
+        else:
+            reply.enable_chunked_encoding()
+        await reply.prepare(request)
+        with contextlib.suppress(ConnectionError):  # (the client may stop reading)
+            for start in range(0, len(data), 1 << 16):
+                await reply.write(data[start:start + (1 << 16)])
+            await reply.write_eof()
+        return reply
 
     async def _forecast(self, request: web.Request) -> web.StreamResponse:
         current = dict(self.current)
