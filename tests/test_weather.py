@@ -180,10 +180,44 @@ def test_a_place_not_found_and_an_api_not_reached_are_one_line_each():
         ask(lambda s: current(s, closed, coordinates("59.33,18.07")))
 
 
+NUMBER_LIKE = ["91,10", "1e3,5", "nan,nan", "inf,0", " 91 , 0", "-inf,-inf", "0,1e3",
+               "10,nan", "Infinity,0"]
+
+
 def test_a_place_off_the_globe_is_refused_before_any_request():
     assert coordinates("Oslo") is None and coordinates("1,2,3") is None
-    with pytest.raises(ValueError, match="latitude must be in"):
-        coordinates("91,10")
+    assert coordinates("Nan, Thailand") is None and coordinates("Paris, France") is None
+    # Whatever Python reads as two numbers is coordinates, on the globe or refused.
+    assert coordinates("1e1,5") == coordinates("10,5.0") == coordinates(" +10.0 , 5 ")
+    assert coordinates("-33.87,151.21").longitude == 151.21  # (Sydney: east of 90)
+    for text in NUMBER_LIKE:
+        with pytest.raises(ValueError, match="latitude must be in"):
+            coordinates(text)
+
+
+@pytest.mark.parametrize("text", NUMBER_LIKE)
+def test_a_place_that_reads_as_two_numbers_is_never_geocoded(text, monkeypatch):
+    # frost render --weather TEXT: refused in one line at once, the geocoder never asked
+    # (the command stands in for the render: it asks the weather as a render does).
+    from app.cli import commands
+    from app.weather.feed import first_event
+    monkeypatch.setitem(commands.RUN, "render", lambda args, _params: len(first_event(args, print)))
+    with StandIn() as api:
+        status, err = run_main(["render", "--weather", text, "--weather-api", api.url,
+                                "--geocoding-api", api.url])
+        assert api.asked == []
+    assert_refused_in_one_line(status, err, "latitude must be in [-90, 90]")
+
+
+def test_a_place_geocoded_anywhere_on_the_globe_is_taken_and_one_off_it_refused():
+    # Tokyo lies east of 90 degrees: a latitude's bound on its longitude would refuse it.
+    with StandIn() as api:
+        tokyo = ask(lambda s: find(s, api.url, "Tokyo"))
+        sydney = ask(lambda s: find(s, api.url, "Sydney"))
+        with pytest.raises(WeatherError, match="'Nowhere' lies off the globe"):
+            ask(lambda s: find(s, api.url, "Nowhere"))  # latitude 95, longitude 10
+    assert (tokyo.name, tokyo.latitude, tokyo.longitude) == ("Tokyo, Japan", 35.69, 139.69)
+    assert (sydney.latitude, sydney.longitude) == (-33.87, 151.21)
 
 
 # ---- the kept reading ------------------------------------------------------------------
@@ -292,10 +326,17 @@ def test_a_stopped_feed_gives_up_a_slow_request_at_once(tmp_path):
     (["render", "--weather", "91,10"], "latitude must be in [-90, 90]"),
     (["render", "--weather", ""], "must be LAT,LON or a place's name"),
     (["render", "--weather", "Oslo", "--weather-api", "ftp://mirror"], "must be an http:// or https:// URL"),
+    (["render", "--weather", "Oslo", "--weather-api", "https://"], "'https://' must be an http://"),
+    (["render", "--weather", "Oslo", "--geocoding-api", "http://"], "'http://' must be an http://"),
     (["render", "--weather", "Oslo", "--glazing", "triple"], "invalid choice: 'triple'"),
     (["render", "--weather", "Oslo", "--room-humidity", "0"], "room humidity '0' must be a number in [1, 1"),
     (["serve", "--weather", "Oslo", "--weather-every", "4"], "'4' must be a number in [5, 1440]"),
     (["render", "--weather-every", "15"], "unrecognized arguments: --weather-every")])
-def test_a_bad_weather_option_is_refused_in_one_line(argv, words):
+def test_a_bad_weather_option_is_refused_in_one_line(argv, words, monkeypatch):
+    from app.cli import commands
+    ran: list[str] = []  # (a command let through runs no render here: it says so)
+    for command in ("render", "serve"):
+        monkeypatch.setitem(commands.RUN, command, lambda args, _params: ran.append(args.command) or 0)
     status, err = run_main(argv)
     assert_refused_in_one_line(status, err, words)
+    assert ran == []

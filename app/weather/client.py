@@ -10,7 +10,6 @@ import asyncio
 import json
 import math
 import os
-import re
 import socket
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -31,8 +30,6 @@ REQUIRED = CURRENT[:5]
 # The reading's field each optional value fills.
 OPTIONAL = {"wind_speed_10m": "wind_speed_kmh", "apparent_temperature": "apparent_c",
             "cloud_cover": "cloud_pct"}
-# "LAT,LON": two decimal numbers (a sign allowed), a comma, spaces around it allowed.
-LAT_LON = re.compile(r"\s*([-+]?\d+(?:\.\d*)?)\s*,\s*([-+]?\d+(?:\.\d*)?)\s*\Z")
 DIGITS = 2  # decimals of the coordinates sent (about a kilometre)
 MOST_BYTES = 1 << 20  # a reply longer than this is not the API's
 
@@ -59,12 +56,17 @@ class Place:
 
 def coordinates(text: str) -> Place | None:
     """The place `text` names as `LAT,LON` (rounded to DIGITS decimals), None when it is
-    not two numbers; ValueError when it is, but off the globe."""
-    match = LAT_LON.match(text)
-    if not match:
+    not two numbers; ValueError when it is, but off the globe. Whatever reads as two numbers
+    with a comma between ("1e3,5", "nan,nan", "inf,0", " 91 , 0") is a place by coordinates,
+    never a name for the geocoder."""
+    parts = text.split(",")
+    if len(parts) != 2:
         return None
-    lat, lon = float(match[1]), float(match[2])
-    if not (-90 <= lat <= 90 and -180 <= lon <= 180):
+    try:
+        lat, lon = float(parts[0]), float(parts[1])
+    except ValueError:
+        return None
+    if not (-90 <= lat <= 90 and -180 <= lon <= 180):  # (NaN is in neither)
         raise ValueError(f"{text.strip()!r}: a latitude must be in [-90, 90] and a "
                          "longitude in [-180, 180]")
     return at(lat, lon)

@@ -20,7 +20,15 @@ from aiohttp import web
 # "results", as the API answers).
 PLACES = {"Oslo": {"id": 3143244, "name": "Oslo", "latitude": 59.91273, "longitude": 10.74609,
                    "elevation": 26.0, "country_code": "NO", "timezone": "Europe/Oslo",
-                   "country": "Norway", "admin1": "Oslo"}}
+                   "country": "Norway", "admin1": "Oslo"},
+          "Tokyo": {"id": 1850147, "name": "Tokyo", "latitude": 35.6895, "longitude": 139.69171,
+                    "elevation": 44.0, "country_code": "JP", "timezone": "Asia/Tokyo",
+                    "country": "Japan", "admin1": "Tokyo"},
+          "Sydney": {"id": 2147714, "name": "Sydney", "latitude": -33.86785, "longitude": 151.20732,
+                     "elevation": 58.0, "country_code": "AU", "timezone": "Australia/Sydney",
+                     "country": "Australia", "admin1": "New South Wales"},
+          # (a match off the globe, which no real geocoder gives: the client refuses it)
+          "Nowhere": {"id": 1, "name": "Nowhere", "latitude": 95.0, "longitude": 10.0}}
 
 PIECE_GAP_S = 0.3  # between two pieces of a reply in pieces
 HUGE_BYTES = 5_000_000
