@@ -306,6 +306,66 @@ def test_the_feed_reads_at_the_start_again_when_asked_and_at_a_new_place(tmp_pat
                                                               ("48.86,2.35", 3.5)]
 
 
+def moved_while_asking(api: StandIn, asker: Asker, latitude: float, longitude: float,
+                       then: str = "ok"):
+    """`asker.ask()`, the place moved while the stand-in holds its answer back (then
+    answered in the mode `then`)."""
+    async def run():
+        api.mode = "slow"
+        task = asyncio.create_task(asker.ask())
+        assert await asyncio.to_thread(api.arrived.wait, WAIT_S)
+        asker.move(latitude, longitude)  # (on the asking loop, as the feed's _move is)
+        api.mode = then
+        api.release()
+        return await task
+    api.arrived.clear()
+    return asyncio.run(run())
+
+
+def test_a_reading_is_kept_and_used_only_for_the_place_it_was_asked_for(tmp_path):
+    said: list[str] = []
+    with StandIn() as api:
+        asker = Asker("59.33,18.07", said.append, api.url, api.url, tmp_path)
+        assert moved_while_asking(api, asker, 48.8566, 2.3522) is None  # Stockholm's, dropped
+        assert kept("48.86,2.35", tmp_path) is None and kept("59.33,18.07", tmp_path) is None
+        api.mode = "500"
+        assert asyncio.run(asker.ask()) is None  # nothing had: the preset's temperature
+        api.mode = "ok"
+        paris = asyncio.run(asker.ask())
+        # A name moved from while it is looked up: its match is dropped, the move stands.
+        named = Asker("Oslo", said.append, api.url, api.url, tmp_path)
+        assert moved_while_asking(api, named, 35.6895, 139.69171) is None
+        tokyo = asyncio.run(named.ask())
+        # A failure at the place moved from is not said: the new place is asked at once.
+        assert moved_while_asking(api, named, 59.33, 18.07, then="500") is None
+        asked = [(q.get("name"), q.get("latitude"), q.get("longitude")) for _p, q in api.asked]
+    assert (paris.place, paris.latitude, paris.longitude) == ("48.86,2.35", 48.86, 2.35)
+    assert kept("48.86,2.35", tmp_path) is None  # (the file holds the last place's: Tokyo's)
+    assert (tokyo.place, tokyo.latitude, tokyo.longitude) == ("35.69,139.69", 35.69, 139.69)
+    assert kept("35.69,139.69", tmp_path)[0] == tokyo
+    assert asked == [(None, "59.33", "18.07"), (None, "48.86", "2.35"), (None, "48.86", "2.35"),
+                     ("Oslo", None, None), (None, "35.69", "139.69"), (None, "35.69", "139.69")]
+    assert said == ["weather: 127.0.0.1:{} answered HTTP 500 Internal Server Error: the frost "
+                    "grows by the preset's own temperature".format(api.url.rsplit(":", 1)[1])]
+
+
+def test_a_failure_after_a_move_says_the_frost_goes_on_with_the_last_reading(tmp_path):
+    said: list[str] = []
+    with StandIn() as api:
+        asker = Asker("59.33,18.07", said.append, api.url, api.url, tmp_path)
+        assert asyncio.run(asker.ask()).place == "59.33,18.07"  # what the frost grows by
+        asker.move(48.8566, 2.3522)
+        api.mode = "500"
+        assert asyncio.run(asker.ask()) is None  # (the frost keeps Stockholm's reading)
+        api.mode = "ok"
+        assert asyncio.run(asker.ask()).place == "48.86,2.35"
+        api.mode = "500"
+        assert asyncio.run(asker.ask()) is None
+    assert [line.split("Error: ")[1] for line in said] == [
+        "the frost goes on with the last reading, of 59.33,18.07",
+        "the frost goes on with the last reading"]
+
+
 def test_the_feed_refuses_to_ask_more_often_than_every_5_minutes():
     with pytest.raises(ValueError, match="at least 5 minutes"):
         WeatherFeed.at_place("59.33,18.07", print, print, every_min=4.9)

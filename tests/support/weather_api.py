@@ -1,7 +1,8 @@
 """A stand-in for Open-Meteo's two APIs (the forecast's /v1/forecast, the geocoding's
 /v1/search) on 127.0.0.1, on a thread of its own: answers in the documented JSON shapes,
-or as told (`mode`): "429", "500", "slow", "garbage", "missing" (`missing` names the field
-left out), "pieces" (the JSON in three pieces, each sent and flushed PIECE_GAP_S after the
+or as told (`mode`): "429", "500", "slow" (held `slow_s`, or until `release()`, then
+answered as `mode` says by then), "garbage", "missing" (`missing` names the field left
+out), "pieces" (the JSON in three pieces, each sent and flushed PIECE_GAP_S after the
 one before), "huge" (a JSON body of HUGE_BYTES, its Content-Length said) or "huge-chunked"
 (the same, chunked: no length said before it comes). Every request is kept (`asked`), so a
 test sees what was sent."""
@@ -52,6 +53,7 @@ class StandIn:
         self._loop: asyncio.AbstractEventLoop | None = None
         self._ready = threading.Event()
         self._stop: asyncio.Event | None = None
+        self._go: asyncio.Event | None = None  # set: the slow answers held go out
         self._thread = threading.Thread(target=lambda: asyncio.run(self._main()), daemon=True)
 
     def __enter__(self) -> StandIn:
@@ -61,8 +63,18 @@ class StandIn:
 
     def __exit__(self, *_exc) -> None:
         if self._loop is not None and self._stop is not None:
-            self._loop.call_soon_threadsafe(self._stop.set)
+            stop = self._stop
+            self._loop.call_soon_threadsafe(lambda: (self._go and self._go.set(), stop.set()))
         self._thread.join(30)
+
+    def release(self) -> None:
+        """The slow answers held so far go out now (later ones are held again)."""
+        def go() -> None:
+            if self._go is not None:
+                self._go.set()
+            self._go = asyncio.Event()
+        if self._loop is not None:
+            self._loop.call_soon_threadsafe(go)
 
     def paths(self) -> list[str]:
         return [path for path, _query in self.asked]
@@ -77,7 +89,7 @@ class StandIn:
         await site.start()
         port = runner.addresses[0][1]
         self.url = f"http://127.0.0.1:{port}"
-        self._loop, self._stop = asyncio.get_running_loop(), asyncio.Event()
+        self._loop, self._stop, self._go = asyncio.get_running_loop(), asyncio.Event(), asyncio.Event()
         self._ready.set()
         await self._stop.wait()
         await runner.cleanup()
@@ -86,15 +98,17 @@ class StandIn:
         self.asked.append((request.path, dict(request.query)))
         self.arrived.set()
         try:
+            go = self._go
+            if self.mode == "slow" and go is not None:  # (until released or stopped)
+                with contextlib.suppress(asyncio.TimeoutError):
+                    await asyncio.wait_for(go.wait(), self.slow_s)
+            # (then as the mode now says: a held answer may be released as a failure)
             if self.mode == "429":
                 return web.json_response({"error": True, "reason": "Too many requests"}, status=429)
             if self.mode == "500":
                 return web.Response(status=500, text="Internal Server Error")
             if self.mode == "garbage":
                 return web.Response(text="<html>a captive portal</html>", content_type="text/html")
-            if self.mode == "slow" and self._stop is not None:  # (until the stand-in stops)
-                with contextlib.suppress(asyncio.TimeoutError):
-                    await asyncio.wait_for(self._stop.wait(), self.slow_s)
             if self.mode == "pieces":
                 return await self._in_pieces(request, json.dumps(body).encode())
             if self.mode.startswith("huge"):
