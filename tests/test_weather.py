@@ -83,6 +83,44 @@ def test_the_line_says_what_was_read_and_what_it_does_in_ascii():
     assert describe(STOCKHOLM).isascii()
 
 
+STATED = Glass()  # single glazing, the room at 20 C and 40 %
+
+
+def outside_for(glass_c: float, glass: Glass = STATED) -> float:
+    """By hand: the outside temperature that puts `glass`'s inner surface at `glass_c`
+    (room - U R_si (room - outside) solved for outside)."""
+    u = {"single": 5.8, "double": 2.8}[glass.glazing]
+    return glass.room_c - (glass.room_c - glass_c) / (u * 0.13)
+
+
+GLASS_SAID = re.compile(r".*: glass (just below |just above )?(-?\d+(?:\.\d)?) C, frost (\w+).*")
+
+
+def test_the_glass_near_0_c_never_reads_across_0_from_what_the_frost_does():
+    # Hand-worked: -7 C outside on single glazing is glass 20 - 0.754 x 27 = -0.358 C, below
+    # the stated room's onset (0 C: its frost point, 5.6 C, lies above): it grows.
+    def said(glass_c: float, glass: Glass = STATED) -> str:
+        reading = Reading.from_json({**STOCKHOLM.as_json(), "temperature_c": outside_for(glass_c, glass)})
+        return describe(reading, glass).split(": ", 2)[2]
+    assert said(-0.358) == "glass -0.4 C, frost grows"
+    assert said(0.396) == "glass 0.4 C, frost melts"
+    assert said(-0.004) == "glass just below 0 C, frost grows"
+    assert said(0.02) == "glass just above 0 C, frost melts"
+    assert said(0.0) == "glass 0 C, frost melts"  # (0 C is the thaw's: at or above)
+    assert said(-0.6) == "glass -1 C, frost grows" and said(0.6) == "glass 1 C, frost melts"
+    # Swept: every glass from -2 to +2 C in steps of 0.001 C (single, double, a dry room's
+    # fade), the printed temperature on the side of 0 C its state says.
+    for glass in (STATED, Glass("double"), Glass(room_humidity=10.0)):
+        for step in range(-2000, 2001):
+            line = describe(Reading.from_json({**STOCKHOLM.as_json(), "temperature_c":
+                                               outside_for(step / 1000, glass)}), glass)
+            near, value, state = GLASS_SAID.fullmatch(line).groups()
+            shown = float(value) * (-1 if near == "just below " else 1)
+            g = frost_of(outside_for(step / 1000, glass), glass).glass_c
+            assert (shown < 0 or near == "just below ") if state in ("grows", "fades") \
+                else (shown > 0 or near == "just above " or g == 0), line
+
+
 def test_a_reading_goes_to_json_and_back_and_a_bad_one_is_one_line():
     assert Reading.from_json(STOCKHOLM.as_json()) == STOCKHOLM
     full = Reading(**{**STOCKHOLM.as_json(), "wind_speed_kmh": 11.2, "apparent_c": -31.4,
