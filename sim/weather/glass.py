@@ -157,6 +157,12 @@ def glass_words(glass_c: float) -> str:
     return "just below 0" if glass_c < 0 else "just above 0"
 
 
+def event_frost(weather: dict[str, Any]) -> Frost:
+    """What a weather event's {"reading": ..., "glass": ...} does to the frost."""
+    reading, glass = Reading.from_json(weather["reading"]), Glass.from_json(weather["glass"])
+    return frost_of(reading.temperature_c, glass)
+
+
 def event_words(weather: dict[str, Any]) -> tuple[str, str]:
     """A weather event's {"reading": ..., "glass": ...} (a session's, a snapshot's) in words:
     its reading's place, and `describe`'s line without its "weather: " (the HUD and the
