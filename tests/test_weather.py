@@ -424,7 +424,7 @@ def test_a_stopped_feed_gives_up_a_slow_request_at_once(tmp_path):
     (["render", "--weather", "91,10"], "latitude must be in [-90, 90]"),
     (["render", "--weather", ""], "must be LAT,LON or a place's name"),
     (["render", "--weather", "Oslo", "--weather-api", "ftp://mirror"], "must be an http:// or https:// URL"),
-    (["render", "--weather", "Oslo", "--weather-api", "https://"], "'https://' must be an http://"),
+    (["render", "--weather", "Oslo", "--weather-api", "https://"], "https:// URL with a host"),
     (["render", "--weather", "Oslo", "--geocoding-api", "http://"], "'http://' must be an http://"),
     (["render", "--weather", "Oslo", "--glazing", "triple"], "invalid choice: 'triple'"),
     (["render", "--weather", "Oslo", "--room-humidity", "0"], "room humidity '0' must be a number in [1, 1"),
