@@ -1027,6 +1027,20 @@ def test_a_melt_path_point_off_the_screen_is_refused(stubbed):
     assert_refused_in_one_line(status, err, "--melt-path", "(-5, 3) is off the 760x1280 screen")
 
 
+@pytest.mark.parametrize("argv, least, said", [
+    # A path is two points or more; a benchmark times one frame or more.
+    (["render", "--touch=1,1", "--melt-path", "{}@5"], ("10,10", "10,10:20,20"),
+     ("--melt-path", "melt path '10,10@5' must be X1,Y1:X2,Y2[:...]@TICK")),
+    (["bench", "render", "--frames", "{}"], ("0", "1"), ("--frames", "'0' must be a whole number >= 1"))])
+def test_a_value_short_of_its_least_is_refused_in_one_line(stubbed, argv, least, said):
+    short, enough = least
+    status, err = run_main([a.format(short) for a in argv])
+    assert_refused_in_one_line(status, err, *said)
+    assert not stubbed
+    status, err = run_main([a.format(enough) for a in argv])
+    assert status == 0 and len(stubbed) == 1, err
+
+
 @pytest.mark.parametrize("option", ["--melt=5,5@{}", "--melt-path=5,5:9,9@{}"])
 def test_a_melt_after_the_last_tick_is_refused(stubbed, option):
     status, err = run_main(["render", "--touch=1,1", "--ticks=10", option.format(11)])

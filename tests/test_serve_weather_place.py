@@ -81,6 +81,13 @@ def test_a_place_is_rounded_to_a_tenth_of_a_degree_and_moves_the_weather():
     ({"latitude": "59.3", "longitude": 18.1}, "latitude must be a number"),
     ({"latitude": True, "longitude": 18.1}, "latitude must be a number"),
     (b'{"latitude": NaN, "longitude": 18.1}', "latitude nan is not within"),
+    # (the values --weather refuses as coordinates off the globe, as a page could send them)
+    ({"latitude": 1e3, "longitude": 5}, "latitude 1000 is not within -90 and 90"),
+    (b'{"latitude": NaN, "longitude": NaN}', "latitude nan is not within"),
+    (b'{"latitude": Infinity, "longitude": 0}', "latitude inf is not within"),
+    (b'{"latitude": 1e999, "longitude": 0}', "latitude inf is not within"),
+    ({"latitude": 10, "longitude": float("-inf")}, "longitude -inf is not within"),
+    ({"latitude": " 91 ", "longitude": 0}, "latitude must be a number of degrees, not \" 91 \""),
     ({"latitude": 90.5, "longitude": 18.1}, "latitude 90.5 is not within -90 and 90"),
     ({"latitude": 59.3, "longitude": -181}, "longitude -181 is not within -180 and 180"),
     (b"[" * 500 + b"]" * 500, "JSON object")])

@@ -83,6 +83,44 @@ def test_the_line_says_what_was_read_and_what_it_does_in_ascii():
     assert describe(STOCKHOLM).isascii()
 
 
+STATED = Glass()  # single glazing, the room at 20 C and 40 %
+
+
+def outside_for(glass_c: float, glass: Glass = STATED) -> float:
+    """By hand: the outside temperature that puts `glass`'s inner surface at `glass_c`
+    (room - U R_si (room - outside) solved for outside)."""
+    u = {"single": 5.8, "double": 2.8}[glass.glazing]
+    return glass.room_c - (glass.room_c - glass_c) / (u * 0.13)
+
+
+GLASS_SAID = re.compile(r".*: glass (just below |just above )?(-?\d+(?:\.\d)?) C, frost (\w+).*")
+
+
+def test_the_glass_near_0_c_never_reads_across_0_from_what_the_frost_does():
+    # Hand-worked: -7 C outside on single glazing is glass 20 - 0.754 x 27 = -0.358 C, below
+    # the stated room's onset (0 C: its frost point, 5.6 C, lies above): it grows.
+    def said(glass_c: float, glass: Glass = STATED) -> str:
+        reading = Reading.from_json({**STOCKHOLM.as_json(), "temperature_c": outside_for(glass_c, glass)})
+        return describe(reading, glass).split(": ", 2)[2]
+    assert said(-0.358) == "glass -0.4 C, frost grows"
+    assert said(0.396) == "glass 0.4 C, frost melts"
+    assert said(-0.004) == "glass just below 0 C, frost grows"
+    assert said(0.02) == "glass just above 0 C, frost melts"
+    assert said(0.0) == "glass 0 C, frost melts"  # (0 C is the thaw's: at or above)
+    assert said(-0.6) == "glass -1 C, frost grows" and said(0.6) == "glass 1 C, frost melts"
+    # Swept: every glass from -2 to +2 C in steps of 0.001 C (single, double, a dry room's
+    # fade), the printed temperature on the side of 0 C its state says.
+    for glass in (STATED, Glass("double"), Glass(room_humidity=10.0)):
+        for step in range(-2000, 2001):
+            line = describe(Reading.from_json({**STOCKHOLM.as_json(), "temperature_c":
+                                               outside_for(step / 1000, glass)}), glass)
+            near, value, state = GLASS_SAID.fullmatch(line).groups()
+            shown = float(value) * (-1 if near == "just below " else 1)
+            g = frost_of(outside_for(step / 1000, glass), glass).glass_c
+            assert (shown < 0 or near == "just below ") if state in ("grows", "fades") \
+                else (shown > 0 or near == "just above " or g == 0), line
+
+
 def test_a_reading_goes_to_json_and_back_and_a_bad_one_is_one_line():
     assert Reading.from_json(STOCKHOLM.as_json()) == STOCKHOLM
     full = Reading(**{**STOCKHOLM.as_json(), "wind_speed_kmh": 11.2, "apparent_c": -31.4,
@@ -149,6 +187,27 @@ def test_each_failure_of_the_api_is_one_line_naming_its_cause(mode, words):
     assert "\n" not in str(err.value)
 
 
+def test_a_reply_in_pieces_is_read_to_its_end():
+    # A forecast sent in three pieces, 0.3 s apart: the reading of a reply in one piece.
+    with StandIn() as api:
+        whole = ask(lambda s: current(s, api.url, coordinates("59.33,18.07")))
+        api.mode = "pieces"
+        pieces = ask(lambda s: current(s, api.url, coordinates("59.33,18.07")))
+    assert pieces == whole and pieces.temperature_c == -25.0
+
+
+@pytest.mark.parametrize("mode, size", [("huge", "5,000,000 bytes"),
+                                        ("huge-chunked", "more than 1,048,576 bytes")])
+def test_a_reply_over_the_limit_is_said_too_large(mode, size):
+    # 5 MB of valid JSON, its length said before it comes or not (chunked).
+    with StandIn() as api:
+        api.mode = mode
+        with pytest.raises(WeatherError) as err:
+            ask(lambda s: current(s, api.url, coordinates("59.33,18.07")))
+    assert re.fullmatch(rf"127\.0\.0\.1:\d+ answered {size}: too large for the API's JSON "
+                        r"\(at most 1,048,576\)", str(err.value)), err.value
+
+
 def test_a_place_not_found_and_an_api_not_reached_are_one_line_each():
     with StandIn() as api:
         none = r"^no place called 'Atlantis' \(127\.0\.0\.1:\d+ found none\)$"
@@ -159,10 +218,44 @@ def test_a_place_not_found_and_an_api_not_reached_are_one_line_each():
         ask(lambda s: current(s, closed, coordinates("59.33,18.07")))
 
 
+NUMBER_LIKE = ["91,10", "1e3,5", "nan,nan", "inf,0", " 91 , 0", "-inf,-inf", "0,1e3",
+               "10,nan", "Infinity,0"]
+
+
 def test_a_place_off_the_globe_is_refused_before_any_request():
     assert coordinates("Oslo") is None and coordinates("1,2,3") is None
-    with pytest.raises(ValueError, match="latitude must be in"):
-        coordinates("91,10")
+    assert coordinates("Nan, Thailand") is None and coordinates("Paris, France") is None
+    # Whatever Python reads as two numbers is coordinates, on the globe or refused.
+    assert coordinates("1e1,5") == coordinates("10,5.0") == coordinates(" +10.0 , 5 ")
+    assert coordinates("-33.87,151.21").longitude == 151.21  # (Sydney: east of 90)
+    for text in NUMBER_LIKE:
+        with pytest.raises(ValueError, match="latitude must be in"):
+            coordinates(text)
+
+
+@pytest.mark.parametrize("text", NUMBER_LIKE)
+def test_a_place_that_reads_as_two_numbers_is_never_geocoded(text, monkeypatch):
+    # frost render --weather TEXT: refused in one line at once, the geocoder never asked
+    # (the command stands in for the render: it asks the weather as a render does).
+    from app.cli import commands
+    from app.weather.feed import first_event
+    monkeypatch.setitem(commands.RUN, "render", lambda args, _params: len(first_event(args, print)))
+    with StandIn() as api:
+        status, err = run_main(["render", "--weather", text, "--weather-api", api.url,
+                                "--geocoding-api", api.url])
+        assert api.asked == []
+    assert_refused_in_one_line(status, err, "latitude must be in [-90, 90]")
+
+
+def test_a_place_geocoded_anywhere_on_the_globe_is_taken_and_one_off_it_refused():
+    # Tokyo lies east of 90 degrees: a latitude's bound on its longitude would refuse it.
+    with StandIn() as api:
+        tokyo = ask(lambda s: find(s, api.url, "Tokyo"))
+        sydney = ask(lambda s: find(s, api.url, "Sydney"))
+        with pytest.raises(WeatherError, match="'Nowhere' lies off the globe"):
+            ask(lambda s: find(s, api.url, "Nowhere"))  # latitude 95, longitude 10
+    assert (tokyo.name, tokyo.latitude, tokyo.longitude) == ("Tokyo, Japan", 35.69, 139.69)
+    assert (sydney.latitude, sydney.longitude) == (-33.87, 151.21)
 
 
 # ---- the kept reading ------------------------------------------------------------------
@@ -251,6 +344,66 @@ def test_the_feed_reads_at_the_start_again_when_asked_and_at_a_new_place(tmp_pat
                                                               ("48.86,2.35", 3.5)]
 
 
+def moved_while_asking(api: StandIn, asker: Asker, latitude: float, longitude: float,
+                       then: str = "ok"):
+    """`asker.ask()`, the place moved while the stand-in holds its answer back (then
+    answered in the mode `then`)."""
+    async def run():
+        api.mode = "slow"
+        task = asyncio.create_task(asker.ask())
+        assert await asyncio.to_thread(api.arrived.wait, WAIT_S)
+        asker.move(latitude, longitude)  # (on the asking loop, as the feed's _move is)
+        api.mode = then
+        api.release()
+        return await task
+    api.arrived.clear()
+    return asyncio.run(run())
+
+
+def test_a_reading_is_kept_and_used_only_for_the_place_it_was_asked_for(tmp_path):
+    said: list[str] = []
+    with StandIn() as api:
+        asker = Asker("59.33,18.07", said.append, api.url, api.url, tmp_path)
+        assert moved_while_asking(api, asker, 48.8566, 2.3522) is None  # Stockholm's, dropped
+        assert kept("48.86,2.35", tmp_path) is None and kept("59.33,18.07", tmp_path) is None
+        api.mode = "500"
+        assert asyncio.run(asker.ask()) is None  # nothing had: the preset's temperature
+        api.mode = "ok"
+        paris = asyncio.run(asker.ask())
+        # A name moved from while it is looked up: its match is dropped, the move stands.
+        named = Asker("Oslo", said.append, api.url, api.url, tmp_path)
+        assert moved_while_asking(api, named, 35.6895, 139.69171) is None
+        tokyo = asyncio.run(named.ask())
+        # A failure at the place moved from is not said: the new place is asked at once.
+        assert moved_while_asking(api, named, 59.33, 18.07, then="500") is None
+        asked = [(q.get("name"), q.get("latitude"), q.get("longitude")) for _p, q in api.asked]
+    assert (paris.place, paris.latitude, paris.longitude) == ("48.86,2.35", 48.86, 2.35)
+    assert kept("48.86,2.35", tmp_path) is None  # (the file holds the last place's: Tokyo's)
+    assert (tokyo.place, tokyo.latitude, tokyo.longitude) == ("35.69,139.69", 35.69, 139.69)
+    assert kept("35.69,139.69", tmp_path)[0] == tokyo
+    assert asked == [(None, "59.33", "18.07"), (None, "48.86", "2.35"), (None, "48.86", "2.35"),
+                     ("Oslo", None, None), (None, "35.69", "139.69"), (None, "35.69", "139.69")]
+    assert said == ["weather: 127.0.0.1:{} answered HTTP 500 Internal Server Error: the frost "
+                    "grows by the preset's own temperature".format(api.url.rsplit(":", 1)[1])]
+
+
+def test_a_failure_after_a_move_says_the_frost_goes_on_with_the_last_reading(tmp_path):
+    said: list[str] = []
+    with StandIn() as api:
+        asker = Asker("59.33,18.07", said.append, api.url, api.url, tmp_path)
+        assert asyncio.run(asker.ask()).place == "59.33,18.07"  # what the frost grows by
+        asker.move(48.8566, 2.3522)
+        api.mode = "500"
+        assert asyncio.run(asker.ask()) is None  # (the frost keeps Stockholm's reading)
+        api.mode = "ok"
+        assert asyncio.run(asker.ask()).place == "48.86,2.35"
+        api.mode = "500"
+        assert asyncio.run(asker.ask()) is None
+    assert [line.split("Error: ")[1] for line in said] == [
+        "the frost goes on with the last reading, of 59.33,18.07",
+        "the frost goes on with the last reading"]
+
+
 def test_the_feed_refuses_to_ask_more_often_than_every_5_minutes():
     with pytest.raises(ValueError, match="at least 5 minutes"):
         WeatherFeed.at_place("59.33,18.07", print, print, every_min=4.9)
@@ -271,10 +424,17 @@ def test_a_stopped_feed_gives_up_a_slow_request_at_once(tmp_path):
     (["render", "--weather", "91,10"], "latitude must be in [-90, 90]"),
     (["render", "--weather", ""], "must be LAT,LON or a place's name"),
     (["render", "--weather", "Oslo", "--weather-api", "ftp://mirror"], "must be an http:// or https:// URL"),
+    (["render", "--weather", "Oslo", "--weather-api", "https://"], "https:// URL with a host"),
+    (["render", "--weather", "Oslo", "--geocoding-api", "http://"], "'http://' must be an http://"),
     (["render", "--weather", "Oslo", "--glazing", "triple"], "invalid choice: 'triple'"),
     (["render", "--weather", "Oslo", "--room-humidity", "0"], "room humidity '0' must be a number in [1, 1"),
     (["serve", "--weather", "Oslo", "--weather-every", "4"], "'4' must be a number in [5, 1440]"),
     (["render", "--weather-every", "15"], "unrecognized arguments: --weather-every")])
-def test_a_bad_weather_option_is_refused_in_one_line(argv, words):
+def test_a_bad_weather_option_is_refused_in_one_line(argv, words, monkeypatch):
+    from app.cli import commands
+    ran: list[str] = []  # (a command let through runs no render here: it says so)
+    for command in ("render", "serve"):
+        monkeypatch.setitem(commands.RUN, command, lambda args, _params: ran.append(args.command) or 0)
     status, err = run_main(argv)
     assert_refused_in_one_line(status, err, words)
+    assert ran == []

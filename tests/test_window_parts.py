@@ -29,7 +29,7 @@ from app.simthread.thread import SimThread
 from app.window import lost_display
 from app.window.capture import Capture
 from app.window.record import FRAME_GAP, Recorder
-from app.window.status import IDLE_GAP, DrawRate, Status, params_line
+from app.window.status import IDLE_GAP, DrawRate, Status
 from app.window.view import cursor_to_phone, fit_scale, letterbox, screen_scale
 from sim import Params, preset_name, tuning
 from sim.io.gestures import path_points
@@ -506,10 +506,47 @@ def test_the_hud_shows_the_weather_outside_under_the_parameters():
     plain = Status().lines(0.0, simthread.Snapshot(None, stats, params, ()), params, VIEW, None, 1.5)
     lines = Status().lines(0.0, simthread.Snapshot(None, stats, params, (), weather=weather),
                            params, VIEW, None, 1.5)
-    assert lines[3] == params_line(params) and lines[:4] == plain[:4]
+    assert lines[:3] == plain[:3]
+    # The temperature the frost grows by is the weather's: 13.9 C below the onset (0 C: the
+    # stated room's frost point, 5.6 C, lies above it), not the preset's 10.
+    assert plain[3].endswith("  temperature -10 C")
+    assert lines[3] == plain[3].replace("temperature -10 C", "temperature -13.9 C (the weather's)")
     assert lines[4] == ("weather Stockholm, Sweden: -25.0 C, 80 %, dew point -27.6 C at 23:00: "
                         "glass -14 C, frost grows")
     assert lines[5:] == plain[4:]
+
+
+def test_in_a_thaw_the_hud_counts_the_crystals_alive_and_says_what_the_drawing_waits_for():
+    from sim.weather import THAW_TICKS, Glass, Reading
+
+    thread = SimThread(Params.preset("c-3"), 0, [(380, 640)])
+    for _ in range(40):
+        thread.tick()
+    grown = thread.drain()[-1].stats.crystals
+    warm = Reading("59.30,18.10", 59.3, 18.1, 6.0, 80.0, 2.0, 61, False, "2026-01-10T23:00")
+    thread.show_weather(warm, Glass())  # glass 20 - 0.754 x 14 = 9.4 C: the ice melts
+    for _ in range(2 * THAW_TICKS + 1):
+        thread.tick()
+    snaps = thread.drain()
+    counts = [snap.stats.crystals for snap in snaps]
+    # By hand: the crystals ever made, less those whose alive flag a melt cleared.
+    ice = thread.sim.ice
+    assert counts[-1] == len(ice.crystal_alive.raw()) - int((~ice.crystal_alive.raw()).sum())
+    assert counts[-1] < grown and len(set(counts)) == 3  # two layers of tips melted
+    status = Status()
+    lines = status.lines(0.0, snaps[-1], snaps[-1].params, VIEW, None, 1.5)
+    assert lines[1] == "drawing at each thaw step (the ice's edges melt every 50 ticks)  render  1.5 ms"
+    assert lines[2].startswith(f"tick {snaps[-1].stats.tick}  crystals {counts[-1]}  ")
+    assert lines[4].endswith("glass 9 C, frost melts")
+    # The frosted window's temperature in a thaw: none, the weather's thaw.
+    window = dataclasses.replace(snaps[-1], params=Params.preset("window"))
+    line = status.lines(0.0, window, window.params, VIEW, None, 1.5)[3]
+    assert line.endswith("  temperature: none, frost melts (the weather's)")
+    # Paused, or with no ice left, nothing changes: idle.
+    for stats in (dataclasses.replace(snaps[-1].stats, paused=True),
+                  dataclasses.replace(snaps[-1].stats, crystals=0)):
+        still = dataclasses.replace(snaps[-1], stats=stats)
+        assert status.lines(0.0, still, still.params, VIEW, None, 1.5)[1].startswith("drawing idle")
 
 
 def window_keys(params: Params):

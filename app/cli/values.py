@@ -201,7 +201,7 @@ def url(text: str) -> str:
 
     parts = urlsplit(text)
     if parts.scheme not in ("http", "https") or not parts.netloc or not text.isprintable():
-        raise argparse.ArgumentTypeError(f"{text!r} must be an http:// or https:// URL, "
+        raise argparse.ArgumentTypeError(f"{text!r} must be an http:// or https:// URL with a host, "
                                          "e.g. https://api.open-meteo.com")
     return text.rstrip("/")
 

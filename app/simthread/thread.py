@@ -20,6 +20,8 @@ from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
 
+import numpy as np
+
 from app.lockscreen import minute_name
 from app.simthread.backlog import Backlog
 from app.simthread.clicks import Click, Clicks
@@ -41,7 +43,7 @@ log = logging.getLogger(__name__)
 class Stats:
     tick: int
     tick_ms: float  # simulation + geometry time of the last tick
-    crystals: int
+    crystals: int  # alive: a melt or a thaw takes them off
     water: int
     rate: float  # achieved ticks per second over the last RATE_WINDOW ticks
     overruns: int  # scheduled ticks skipped because a tick ran late
@@ -287,7 +289,7 @@ class SimThread(threading.Thread):
                         backdrop=self.backdrop, weather=self.timeline.weather, **extra)
 
     def _stats(self) -> Stats:
-        return Stats(self.sim.tick, self.times.last_ms, len(self.sim.crystals),
+        return Stats(self.sim.tick, self.times.last_ms, int(np.count_nonzero(self.sim.crystal_alive)),
                      len(self.sim.water_area), self.times.rate(), self.schedule.overruns,
                      self.paused, self.handled, self.times.median_ms(),
                      sum(map(inputs, self.backlog)))

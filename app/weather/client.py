@@ -10,7 +10,6 @@ import asyncio
 import json
 import math
 import os
-import re
 import socket
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -31,8 +30,6 @@ REQUIRED = CURRENT[:5]
 # The reading's field each optional value fills.
 OPTIONAL = {"wind_speed_10m": "wind_speed_kmh", "apparent_temperature": "apparent_c",
             "cloud_cover": "cloud_pct"}
-# "LAT,LON": two decimal numbers (a sign allowed), a comma, spaces around it allowed.
-LAT_LON = re.compile(r"\s*([-+]?\d+(?:\.\d*)?)\s*,\s*([-+]?\d+(?:\.\d*)?)\s*\Z")
 DIGITS = 2  # decimals of the coordinates sent (about a kilometre)
 MOST_BYTES = 1 << 20  # a reply longer than this is not the API's
 
@@ -59,12 +56,17 @@ class Place:
 
 def coordinates(text: str) -> Place | None:
     """The place `text` names as `LAT,LON` (rounded to DIGITS decimals), None when it is
-    not two numbers; ValueError when it is, but off the globe."""
-    match = LAT_LON.match(text)
-    if not match:
+    not two numbers; ValueError when it is, but off the globe. Whatever reads as two numbers
+    with a comma between ("1e3,5", "nan,nan", "inf,0", " 91 , 0") is a place by coordinates,
+    never a name for the geocoder."""
+    parts = text.split(",")
+    if len(parts) != 2:
         return None
-    lat, lon = float(match[1]), float(match[2])
-    if not (-90 <= lat <= 90 and -180 <= lon <= 180):
+    try:
+        lat, lon = float(parts[0]), float(parts[1])
+    except ValueError:
+        return None
+    if not (-90 <= lat <= 90 and -180 <= lon <= 180):  # (NaN is in neither)
         raise ValueError(f"{text.strip()!r}: a latitude must be in [-90, 90] and a "
                          "longitude in [-180, 180]")
     return at(lat, lon)
@@ -133,7 +135,7 @@ async def _json(session: aiohttp.ClientSession, url: str, query: dict[str, str],
                 raise WeatherError(f"{host} refused: too many requests (HTTP 429)")
             if reply.status != 200:
                 raise WeatherError(f"{host} answered HTTP {reply.status} {reply.reason or ''}".rstrip())
-            body = await reply.content.read(MOST_BYTES + 1)
+            body = await _body(reply, host)
     except asyncio.TimeoutError:
         raise WeatherError(f"{host} did not answer within {timeout_s:g} s") from None
     except aiohttp.ClientConnectorError as err:  # (refused, no route, a name not found)
@@ -142,12 +144,31 @@ async def _json(session: aiohttp.ClientSession, url: str, query: dict[str, str],
         raise WeatherError(f"cannot read {host}'s answer: {err or type(err).__name__}") from None
     except ValueError as err:  # (a URL aiohttp cannot ask)
         raise WeatherError(f"cannot ask {url}: {err}") from None
-    if len(body) > MOST_BYTES:
-        raise WeatherError(f"{host} answered more than {MOST_BYTES} bytes: not the API's JSON")
     try:
         return json.loads(body.decode("utf-8"))
     except (UnicodeDecodeError, ValueError):
         raise WeatherError(f"{host} answered something that is not JSON: {short(body)}") from None
+
+
+async def _body(reply: aiohttp.ClientResponse, host: str) -> bytes:
+    """The reply's whole body, read as its pieces arrive (a network may split it anywhere),
+    to its end; WeatherError when it is longer than MOST_BYTES (said before reading when its
+    Content-Length says so)."""
+    if reply.content_length is not None and reply.content_length > MOST_BYTES:
+        raise _too_large(host, reply.content_length)
+    body = bytearray()
+    while len(body) <= MOST_BYTES:
+        piece = await reply.content.read(MOST_BYTES + 1 - len(body))
+        if not piece:  # (the end)
+            return bytes(body)
+        body += piece
+    raise _too_large(host)
+
+
+def _too_large(host: str, length: int | None = None) -> WeatherError:
+    size = f"{length:,} bytes" if length is not None else f"more than {MOST_BYTES:,} bytes"
+    return WeatherError(f"{host} answered {size}: too large for the API's JSON "
+                        f"(at most {MOST_BYTES:,})")
 
 
 def _reason(err: OSError) -> str:

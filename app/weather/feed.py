@@ -30,7 +30,9 @@ KEPT_FROM = "going on with the reading kept from "  # a failure's line when the 
 
 class Asker:
     """Asks for the weather at one place (a `LAT,LON` or a name, geocoded once); `say(line)`
-    hears each line for the user (the place found, a failure, the kept reading used)."""
+    hears each line for the user (the place found, a failure, the kept reading used). A
+    reading, a place found or a failure that comes after the place moved (`move`) is the old
+    place's: it is dropped, neither kept nor handed on (the feed asks at the new place)."""
 
     def __init__(self, place: str, say: Say, api: str = FORECAST_API,
                  geocoding_api: str = GEOCODING_API, folder: Path | None = None,
@@ -38,7 +40,8 @@ class Asker:
         self.asked, self.say, self.api, self.geocoding_api = place.strip(), say, api, geocoding_api
         self.folder, self.timeout_s = folder, timeout_s
         self.place: Place | None = client.coordinates(self.asked)  # (ValueError: off the globe)
-        self.had_one = False  # a reading was handed on this run (then the kept one is not)
+        self.had_one = False  # a reading of this place was handed on (then the kept one is not)
+        self.last: Reading | None = None  # the last reading handed on, of any place: the frost's
 
     def move(self, latitude: float, longitude: float) -> None:
         """Ask at (latitude, longitude) from now on (rounded as sent)."""
@@ -46,30 +49,43 @@ class Asker:
         self.asked, self.had_one = self.place.name, False
 
     async def ask(self) -> Reading | None:
-        """A reading now: the API's, else (the first time) the one kept for this place."""
+        """A reading now: the API's, else (the first time) the one kept for this place; None
+        when there is neither, or the place moved while it was asked."""
+        asked, place = self.asked, self.place
         try:
             async with _session() as session:
-                if self.place is None:
-                    self.place = await client.find(session, self.geocoding_api, self.asked, self.timeout_s)
-                    self.say(f"weather: {self.place.words()}")
-                reading = await client.current(session, self.api, self.place, self.timeout_s)
+                if place is None:
+                    place = await client.find(session, self.geocoding_api, asked, self.timeout_s)
+                    if self.asked != asked:
+                        return None
+                    self.place = place
+                    self.say(f"weather: {place.words()}")
+                reading = await client.current(session, self.api, place, self.timeout_s)
         except WeatherError as err:
-            return self.failed(str(err))
-        self.had_one = True
-        keep(self.asked, reading, self.folder)
+            return None if self.asked != asked else self.failed(str(err))
+        if self.asked != asked:  # (moved while asking: the reading is another place's)
+            log.info("weather: a reading of %s came after the place moved: dropped", asked)
+            return None
+        self.had_one, self.last = True, reading
+        keep(asked, reading, self.folder)
         return reading
 
     def failed(self, why: str) -> Reading | None:
         """No reading came (`why`): said in one line with what the frost goes on with: the
-        last reading of this run, else the one kept for this place (returned), else the
-        preset's own temperature."""
+        last reading of this place, else the one kept for it (returned), else the last
+        reading of the place before a move, else the preset's own temperature."""
         found = None if self.had_one else kept(self.asked, self.folder)
         if found is not None:
-            self.had_one = True
+            self.had_one, self.last = True, found[0]
             self.say(f"weather: {why}: {KEPT_FROM}{found[1]}")
             return found[0]
-        self.say(f"weather: {why}: " + ("the frost goes on with the last reading" if self.had_one
-                                          else "the frost grows by the preset's own temperature"))
+        if self.last is None:
+            goes_on = "the frost grows by the preset's own temperature"
+        elif self.had_one:
+            goes_on = "the frost goes on with the last reading"
+        else:
+            goes_on = f"the frost goes on with the last reading, of {self.last.place}"
+        self.say(f"weather: {why}: {goes_on}")
         return None
 
 

@@ -10,7 +10,8 @@ from collections import deque
 
 from app.simthread.thread import Snapshot, Stats
 from sim import Params, preset_name
-from sim.weather import event_words
+from sim.weather import THAW_TICKS, Frost, event_frost, event_words
+from sim.weather.glass import WORDS
 
 log = logging.getLogger("app.window")
 
@@ -120,8 +121,16 @@ class Status:
         panel's cost while it is shown (on the second line, which the log's lines keep)."""
         stats = snapshot.stats if snapshot else NO_STATS
         shown = snapshot.params if snapshot else params  # what the frame shows
+        weather = snapshot.weather if snapshot is not None else None
+        frost = event_frost(weather) if weather is not None else None
         state = [w for w in ("PAUSED" if stats.paused else None, recording) if w]
-        drawing = "idle (nothing changed)" if self.fps is None else f"{self.fps:4.1f} fps"
+        if self.fps is not None:
+            drawing = f"{self.fps:4.1f} fps"
+        elif frost is not None and frost.thaw and stats.crystals and not stats.paused:
+            # (a thaw takes a layer of tips every THAW_TICKS ticks: a redraw each, idle between)
+            drawing = f"at each thaw step (the ice's edges melt every {THAW_TICKS} ticks)"
+        else:
+            drawing = "idle (nothing changed)"
         rate = "paused" if stats.paused else f"{stats.rate:4.1f} ticks/s"
         waiting = f"  input waiting {stats.waiting}" if stats.waiting else ""
         lines = [
@@ -130,13 +139,13 @@ class Status:
             f"drawing {drawing}  render {render_ms:4.1f} ms" + (f"  {panel}" if panel else ""),
             f"tick {stats.tick}  crystals {stats.crystals}  water {stats.water}  "
             f"preset {preset_name(shown)}",
-            params_line(shown),
+            params_line(shown, frost),
             f"look {shown.look}  features {onoff(view.show_features)}  "
             f"bumps {onoff(view.show_bumps)}  " + "light ({:.2f}, {:.2f}, {:.2f})".format(*view.light),
             "  ".join(state) or "running",
         ]
-        if snapshot is not None and snapshot.weather is not None:
-            place, words = event_words(snapshot.weather)
+        if weather is not None:
+            place, words = event_words(weather)
             lines.insert(4, f"weather {place}: {words}")
         lines += [text for text, until in self.messages if now < until]
         return lines + ["H help"]
@@ -163,10 +172,18 @@ def latency_summary(latencies: list[tuple[str, int, float]]) -> str:
     return ", ".join(parts) or "none"
 
 
-def params_line(params: Params) -> str:
+def params_line(params: Params, weather: Frost | None = None) -> str:
     """The HUD's line of the parameters the keys change (the window's temperature in its
-    look, as degrees below freezing)."""
-    cold = f"  temperature -{params.temperature:g} C" if params.window_frost else ""
+    look, as degrees below freezing: the weather's where it sets it, `weather` being what
+    the weather does to the frost; None: no weather)."""
+    if not params.window_frost:
+        cold = ""
+    elif weather is None:
+        cold = f"  temperature -{params.temperature:g} C"
+    elif weather.temperature is not None:
+        cold = f"  temperature -{weather.temperature:.1f} C (the weather's)"
+    else:  # (a thaw: nothing grows)
+        cold = f"  temperature: none, {WORDS[weather.state]} (the weather's)"
     return (f"hc {params.hc:g}  D {params.D:g}  humidity {params.humidity}  "
             f"step {params.step:g}  bump {params.bump:g}  grow {onoff(params.grow)}{cold}")
 

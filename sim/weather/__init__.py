@@ -8,11 +8,12 @@ from .glass import (
     Frost,
     Glass,
     describe,
+    event_frost,
     event_words,
     frost_of,
     glass_temperature,
 )
 from .reading import Reading
 
-__all__ = ["GLAZINGS", "THAW_TICKS", "Frost", "Glass", "Reading", "describe", "event_words",
-           "frost_of", "glass_temperature"]
+__all__ = ["GLAZINGS", "THAW_TICKS", "Frost", "Glass", "Reading", "describe", "event_frost",
+           "event_words", "frost_of", "glass_temperature"]

@@ -141,7 +141,26 @@ def describe(reading: Reading, glass: Glass = Glass()) -> str:
     frost = frost_of(reading.temperature_c, glass)
     return (f"weather: {_signed(reading.temperature_c, 1)} C, {reading.humidity_pct:.0f} %, "
             f"dew point {_signed(reading.dew_point_c, 1)} C at {reading.clock}: "
-            f"glass {_signed(frost.glass_c, 0)} C, {WORDS[frost.state]}")
+            f"glass {glass_words(frost.glass_c)} C, {WORDS[frost.state]}")
+
+
+def glass_words(glass_c: float) -> str:
+    """The glass's temperature in whole degrees, never read across 0 C from where it is (the
+    state beside it turns at 0): one decimal where whole degrees would read 0 (-0.36: "-0.4",
+    +0.4: "0.4"), "just below 0" / "just above 0" where one decimal would too; 0 itself "0"."""
+    if glass_c == 0:
+        return "0"
+    for digits in (0, 1):
+        text = _signed(glass_c, digits)
+        if float(text) != 0:
+            return text
+    return "just below 0" if glass_c < 0 else "just above 0"
+
+
+def event_frost(weather: dict[str, Any]) -> Frost:
+    """What a weather event's {"reading": ..., "glass": ...} does to the frost."""
+    reading, glass = Reading.from_json(weather["reading"]), Glass.from_json(weather["glass"])
+    return frost_of(reading.temperature_c, glass)
 
 
 def event_words(weather: dict[str, Any]) -> tuple[str, str]:
