@@ -9,6 +9,7 @@ from __future__ import annotations
 import io
 import json
 import socket
+import time
 
 import numpy as np
 import pytest
@@ -28,6 +29,9 @@ pytestmark = [pytest.mark.browser, pytest.mark.slow,
               pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
 
 ON_PHONE = "on this phone"
+# Said for a few seconds once a join shows the server's frost (alone.js's KEPT).
+KEPT = "your frost waits on this phone (the menu saves it)"
+PHONE_SIZE = (390, 844)  # support.phone.PHONE's viewport, CSS px
 # sim/'s crystals after 100 ticks of one touch at the pane's centre, seeds 1-3 (fern): the
 # median, and the factor the phone's may differ by (the issue's "Done when").
 SIM_MEDIAN, FACTOR = 366, 1.5
@@ -135,8 +139,7 @@ def test_the_menu_works_on_the_local_frost(alone, tmp_path):
     page.check("#warm")  # the warm finger: a tap melts
     page.click("#open")
     page.touchscreen.tap(*css_point(page, 380, 640))
-    page.wait_for_function("frost.alone.ask('session').then((s) => s.events.some((e) => e.kind === 'melt'))",
-                           timeout=30_000)
+    session_when(page, "s.events.some((e) => e.kind === 'melt')")
     page.click("#open")
     page.uncheck("#warm")
     page.click("#clear")
@@ -166,8 +169,119 @@ def test_a_server_back_is_offered_and_joined(alone):
     assert page.evaluate("frost.hello.local") is True and status(page) == ON_PHONE
     page.click("#join")
     synced(page, "frost.frames > 0 && frost.hello && !frost.hello.local")
-    assert page.evaluate("frost.local") is None and status(page) == ""
+    assert page.evaluate("frost.local") is None and status(page) in ("", KEPT)
     assert page.locator("#join").is_hidden()
+
+
+def phone_session(page) -> dict:
+    """The phone's own session as Save session downloads it (asked of its worker)."""
+    return page.evaluate("frost.alone.ask('session')")
+
+
+def session_when(page, holds: str, timeout_s: float = 30) -> dict:
+    """The phone's session once `holds` (a JavaScript expression of it, `s`) is true.
+    (wait_for_function does not wait for a promise: a pending one is truthy.)"""
+    deadline = time.monotonic() + timeout_s
+    while True:
+        session = page.evaluate(f"frost.alone.ask('session').then((s) => ({holds}) ? s : null)")
+        if session:
+            return session
+        if time.monotonic() > deadline:
+            raise AssertionError(f"the phone's session never held {holds}: {phone_session(page)}")
+        page.wait_for_timeout(100)
+
+
+def near_taps_changed(page, bare, taps) -> float:
+    """The share of the pane's pixels within 60 px of `taps` that differ from `bare`."""
+    now = pixels(page)
+    shares = []
+    for x, y in taps:
+        box = (slice(y - 60, y + 60), slice(x - 60, x + 60))
+        shares.append((np.abs(now[box].astype(int) - bare[box].astype(int)).max(axis=2) > 8).mean())
+    return min(shares)
+
+
+def test_joining_keeps_the_phones_frost_and_it_goes_on_when_the_server_goes(alone, tmp_path):
+    """Issue 56 item 9: the offer says the phone's frost stays; after joining, its session
+    is still the phone's to save; with no server again, the phone's frost goes on from where
+    it was (its crystals, its events), not from a blank pane."""
+    page, start_again = alone
+    bare = pixels(page)
+    taps = [(380, 640), (250, 420), (520, 880)]
+    for x, y in taps:
+        page.touchscreen.tap(*css_point(page, x, y))
+    page.wait_for_function("frost.local.crystals > 60", timeout=120_000)
+    s = start_again()
+    page.wait_for_function("!document.getElementById('join').hidden", timeout=30_000)
+    offer = page.locator("#join").inner_text()
+    assert "your frost stays on this phone" in offer, offer
+    before = phone_session(page)
+    assert [e["kind"] for e in before["events"]] == ["touch"] * 3, before["events"]
+    crystals = page.evaluate("frost.local.crystals")
+    page.evaluate("""() => { const line = document.getElementById('status'); window.said = [];
+        new MutationObserver(() => said.push(line.textContent)).observe(line, {childList: true,
+            characterData: true, subtree: true}); }""")
+    page.click("#join")
+    synced(page, "frost.frames > 0 && frost.hello && !frost.hello.local")
+    assert page.evaluate("frost.local") is None
+    assert KEPT in page.evaluate("said"), page.evaluate("said")
+
+    # joined: the phone's session is kept, and saved from the menu
+    page.click("#open")
+    assert page.locator("#session").is_visible()
+    with page.expect_download() as got:
+        page.click("#session")
+    saved = json.loads(got.value.path().read_text(encoding="utf-8"))
+    page.click("#open")
+    assert saved["source"] == "phone" and saved["seed"] == before["seed"]
+    assert saved["events"] == before["events"], saved["events"]
+    assert saved["steps"] >= before["steps"]
+    page.wait_for_timeout(1000)  # held: it does not tick meanwhile
+    assert phone_session(page)["steps"] == saved["steps"]
+
+    # the server goes: the phone's frost goes on from where it was
+    s.stop()
+    page.wait_for_function(f"frost.local && frost.hello.local && frost.synced && "
+                           f"document.getElementById('status').textContent === '{ON_PHONE}'",
+                           timeout=60_000)
+    assert page.evaluate("frost.local.crystals") >= crystals
+    after = phone_session(page)
+    assert after["seed"] == before["seed"] and after["events"] == before["events"]
+    assert after["steps"] >= saved["steps"]
+    ticks_later(page, 10)
+    page.wait_for_timeout(500)  # (a frame or two drawn)
+    assert near_taps_changed(page, bare, taps) >= 0.05
+    page.touchscreen.tap(*css_point(page, 300, 300))
+    last = session_when(page, "s.events.length === 4")["events"][-1]
+    assert last["kind"] == "touch" and last["tick"] > before["events"][-1]["tick"], last
+    assert page.evaluate("frost.error") is None
+
+
+def test_the_join_button_takes_no_part_of_the_panes_taps(alone):
+    """Issue 56 item 10: with the join offered, taps across the pane's bottom and beside the
+    button plant frost on the phone (each a touch of its session where it was tapped), and
+    a tap on the button joins, planting nothing."""
+    page, start_again = alone
+    start_again()
+    page.wait_for_function("!document.getElementById('join').hidden", timeout=30_000)
+    box = page.locator("#join").bounding_box()
+    width, height = PHONE_SIZE
+    spots = [(x, y) for y in (height - 100, height - 58, height - 20) for x in (60, width / 2, width - 60)]
+    middle = (box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+    spots += [(box["x"] - 12, middle[1]), (middle[0], box["y"] + box["height"] + 12)]  # beside it
+    under = page.evaluate("(spots) => spots.map(([x, y]) => document.elementFromPoint(x, y).id)", spots)
+    assert under == ["frost"] * len(spots), list(zip(spots, under, strict=True))
+    for x, y in spots:
+        page.touchscreen.tap(x, y)
+    session = session_when(page, f"s.events.length >= {len(spots)}")
+    pane = page.evaluate("frost.paneCss()")
+    want = [((x - pane["x"]) / pane["sx"], (y - pane["y"]) / pane["sy"]) for x, y in spots]
+    got = [(e["x"], e["y"]) for e in session["events"] if e["kind"] == "touch"]
+    assert len(got) == len(want), (got, want)
+    assert all(abs(a - c) < 1 and abs(b - d) < 1 for (a, b), (c, d) in zip(got, want, strict=True)), got
+    page.touchscreen.tap(*middle)
+    synced(page, "frost.frames > 0 && frost.hello && !frost.hello.local")
+    assert len(phone_session(page)["events"]) == len(spots)
 
 
 def test_a_storm_of_taps_and_bad_touches_leave_it_ticking(alone):

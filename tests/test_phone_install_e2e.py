@@ -170,7 +170,8 @@ def test_the_shell_opens_without_the_server_and_joins_it_when_it_is_back(pw, ser
         page.wait_for_function("!document.getElementById('join').hidden", timeout=30_000)
         page.click("#join")
         synced(page, "frost.frames > 0 && frost.shownBackdrop && !frost.hello.local")
-        assert status(page) == ""
+        # (nothing said but, for a few seconds, that the phone's own frost waits: alone.js's KEPT)
+        assert status(page) in ("", "your frost waits on this phone (the menu saves it)")
         page.screenshot(path=str(tmp_path / "back.png"))
     finally:
         ctx.close()

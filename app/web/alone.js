@@ -3,12 +3,16 @@
 // through a stand-in for the socket, so the stream and the renderer draw it as they draw
 // the server's. The status line says "on this phone"; `window.frost.local` states the
 // worker's own figures; while it runs the page asks for the server now and then, and when
-// one answers it offers to join it ("frost serve is back: join"), never unasked.
+// one answers it offers to join it ("frost serve is back: join"), never unasked. Joining
+// keeps the phone's frost: its worker waits (held), its session still saved from the menu,
+// and when the server goes again the frost goes on from where it was.
 
 import { save } from "./shot.js";
 
 export const ON_PHONE = "on this phone";
 const PROBE_MS = 3000;   // between two asks whether a server answers again (Connection.refusal)
+// Said once the server's frost shows after a join.
+export const KEPT = "your frost waits on this phone (the menu saves it)";
 
 // The worker as the page's socket: what Connection and Stream use of a WebSocket.
 class WorkerSocket {
@@ -42,17 +46,27 @@ export class Alone {
     this.asking = false;  // a probe waits for its answer
     this.asked = new Map();  // "session" | "meta" -> resolve
     this.stats = null;  // the worker's last stats message
+    this.held = false;  // the page joined a server: the worker keeps the phone's frost, not ticking
+    this.waking = false;  // resumed: what the worker sent before it held is dropped until it says so
+    this.joined = false;  // joining: the server's hello is told the phone's frost is kept
     page.local = null;
     joinButton.addEventListener("click", () => this.join());
   }
 
+  // The phone's frost grows on the page now.
   get running() {
+    return this.worker !== null && !this.held;
+  }
+
+  // A phone's frost is kept, growing or held (its session can be saved).
+  get kept() {
     return this.worker !== null;
   }
 
-  // Grow frost on this phone (no server answers); false where it cannot (then the page
-  // waits for a server as before).
+  // Grow frost on this phone (no server answers): the held frost again, from where it was,
+  // or a new one; false where it cannot (then the page waits for a server as before).
   start() {
+    if (this.held) return this.resume();
     if (this.worker || this.failed) return !!this.worker;
     const worker = new Worker(new URL(`local/worker.js${this.query}`, import.meta.url), { type: "module" });
     this.worker = worker;
@@ -77,10 +91,16 @@ export class Alone {
   }
 
   // A message of the worker: frost serve's (text or bytes) to the stream, or its own.
+  // Held, or resumed before the worker says so, its frost's messages (ticks it stepped
+  // before it held) are not the page's to draw.
   message(data) {
+    const quiet = this.held || this.waking;
     if (typeof data === "string" || data instanceof ArrayBuffer) {
-      if (this.socket.onmessage) this.socket.onmessage({ data });
+      if (!quiet && this.socket.onmessage) this.socket.onmessage({ data });
+    } else if (data.type === "resumed") {
+      this.waking = false;
     } else if (data.type === "stats") {
+      if (quiet) return;
       // A plain object of own properties, the issue's five (the tests read it as JSON); the
       // worker's other figures (its median tick, the touches dropped) in `stats`.
       this.stats = data;
@@ -113,7 +133,9 @@ export class Alone {
     if (this.failed) return;  // (a worker that fails may say so twice: its error and its message)
     this.failed = reason;
     console.warn(`frost: the phone's own frost stopped: ${reason}`);
+    const growing = this.running;
     this.end();
+    if (!growing) return;  // (held: the page shows the server's frost)
     this.status.say("frost serve is not reachable: trying again");
     this.connection.connect();
   }
@@ -121,16 +143,35 @@ export class Alone {
   // The worker ended, the page's state of it dropped.
   end() {
     if (this.worker) this.worker.terminate();
+    const growing = this.running;
     this.worker = null;
     this.socket = null;
+    this.held = false;
+    if (growing) this.leave();
+    for (const resolve of this.asked.values()) resolve(null);
+    this.asked.clear();
+  }
+
+  // The page stops showing the phone's frost (ended, or held while it joins a server).
+  leave() {
     clearInterval(this.probing);
     this.joinButton.hidden = true;
     this.status.resting = "";
     this.page.local = null;
     this.connection.socket = null;
     this.stream.closed();
-    for (const resolve of this.asked.values()) resolve(null);
-    this.asked.clear();
+  }
+
+  // The held frost goes on (no server again): the worker's hello and snapshot replace what
+  // the page showed, its ticks go on from the tick it held at.
+  resume() {
+    this.held = false;
+    this.waking = true;
+    this.connection.adopt(this.socket);
+    this.status.resting = ON_PHONE;
+    this.send({ type: "resume" });
+    this.probing = setInterval(() => this.probe(), PROBE_MS);
+    return true;
   }
 
   // Whether a server answers again: then the join is offered (the frost stays the phone's).
@@ -140,7 +181,7 @@ export class Alone {
     if (this.asking) return;  // (an answer may take up to 5 s)
     this.asking = true;
     const why = await this.connection.refusal().finally(() => { this.asking = false; });
-    if (!this.worker) return;
+    if (!this.running) return;
     if (why) {
       this.end();
       this.connection.refuse(why);
@@ -149,11 +190,23 @@ export class Alone {
     this.joinButton.hidden = !this.connection.answered;
   }
 
-  // The user's choice: the server's frost replaces the phone's.
+  // The user's choice: the server's frost is shown, the phone's waits in its worker (held:
+  // no ticks), its session kept for Save session; it goes on when no server answers again.
   join() {
-    this.end();
+    if (!this.running) return;
+    this.send({ type: "hold" });
+    this.held = true;
+    this.leave();
+    this.joined = true;
     this.status.say("");
     this.connection.connect();
+  }
+
+  // The server's hello came: after a join, the page says where the phone's frost is.
+  serverHello() {
+    if (!this.joined) return;
+    this.joined = false;
+    if (this.held) this.status.notice(KEPT);
   }
 
   // The phone's session file downloaded (frost-phone-<date>-<time>.json).

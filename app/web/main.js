@@ -103,7 +103,7 @@ async function main() {
   const pointers = new Pointers(canvas, () => pane.rect(), send, () => pane.screen);
   pointers.attach();
   pointers.onDown = (kind, p, t0) => taps.down(kind, p, t0);
-  frost.menu = new Menu(menuElement, send, screenshot, () => alone.download());
+  frost.menu = new Menu(menuElement, send, screenshot, () => alone.download(), () => alone.kept);
   frost.menu.pointers = pointers;
   frost.photo = new PhotoPicker(document.getElementById("panel"), query,
     (text) => status.say(text), (text) => status.notice(text));

@@ -5,9 +5,12 @@
 import { backdropLabels } from "./photo.js";
 
 export class Menu {
-  constructor(root, send, screenshot, saveSession = () => {}) {
+  // saveSession(): the phone's own session downloaded; phoneKept(): whether the phone keeps
+  // a frost of its own (growing, or waiting while the page shows the server's).
+  constructor(root, send, screenshot, saveSession = () => {}, phoneKept = () => false) {
     this.root = root;
     this.send = send;
+    this.phoneKept = phoneKept;
     this.pointers = null;
     const $ = (id) => root.querySelector(`#${id}`);
     this.panel = $("panel");
@@ -47,6 +50,10 @@ export class Menu {
       if (hello[kind] !== undefined) select.value = hello[kind];
     }
     this.$("pause").textContent = hello.paused ? "Resume" : "Pause";
-    this.$("session").hidden = !hello.local;  // (frost serve keeps its own session file)
+    // The phone's own session (frost serve keeps its own session file): while its frost
+    // grows, and after a join while it waits on the phone.
+    const session = this.$("session");
+    session.hidden = !(hello.local || this.phoneKept());
+    session.textContent = hello.local ? "Save session" : "Save this phone's session";
   }
 }

@@ -80,6 +80,7 @@ export class Stream {
     this.connected = true;
     this.page.phone.connected(true);
     this.status.say("");
+    if (!msg.local && this.page.alone) this.page.alone.serverHello();
     showOffline(false, this.canvas);
     this.pane.screen = msg.screen;
     if (this.gl.isContextLost()) return false;

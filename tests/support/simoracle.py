@@ -124,11 +124,13 @@ def measure(request: dict) -> dict:
 
 def walk(request: dict) -> dict:
     """One walk of walkers at `xy` in an area `area` (centre x, y, radius) by the given
-    uniforms: their new positions and which left."""
+    uniforms, with `jump` (each walker's clearance, float64: long jumps) if given: their
+    new positions and which left."""
     xy = np.asarray(request["xy"], np.float32).reshape(-1, 2)
     x, y = xy[:, 0].copy(), xy[:, 1].copy()
     columns = np.asarray(request["area"], np.float32)
-    left = walk_water(GivenStream(request["u"]), x, y, columns, request["step"], None,
+    jump = None if request.get("jump") is None else np.asarray(request["jump"], np.float64)
+    left = walk_water(GivenStream(request["u"]), x, y, columns, request["step"], jump,
                       (request["width"], request["height"]), False)
     # Where numpy's float32 cos and sin of a walker's angle are the correctly rounded ones
     # (a float64 cos rounded to float32, as the page computes them).

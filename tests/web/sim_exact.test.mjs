@@ -6,15 +6,13 @@
 import assert from 'node:assert/strict';
 import test from 'node:test';
 
-import { Areas } from '../../app/web/local/areas.js';
 import { Budget } from '../../app/web/local/budget.js';
 import { FernGrowth } from '../../app/web/local/fern.js';
 import { FreezingIndex } from '../../app/web/local/index.js';
 import { float32Of, seeded } from '../../app/web/local/random.js';
 import { Skeleton } from '../../app/web/local/skeleton.js';
-import { drawWalk, walkWater } from '../../app/web/local/walk.js';
 import { Water } from '../../app/web/local/water.js';
-import { givenStream, presetParams, python } from './simoracle.mjs';
+import { givenStream, presetParams, python, walkPage } from './simoracle.mjs';
 
 const W = 760, H = 1280;
 
@@ -45,13 +43,7 @@ test('one walk step from the same uniform draws lands where sim/ lands it', () =
   const m = 4000, xy = points(m, 380, 640, 205, 3), area = [380, 640, 200], step = 5;
   const u = seeded(11), draws = Array.from({ length: 2 * m }, () => float32Of(u()));
   const want = python({ kind: 'walk', xy, u: draws, area, step, width: W, height: H });
-  const water = new Water(m), areas = new Areas();
-  areas.open(...area);
-  for (let j = 0; j < m; j++) water.append(xy[2 * j], xy[2 * j + 1], 0);
-  const scratch = new Float32Array(2 * m), left = new Uint8Array(m);
-  let at = 0;
-  drawWalk(() => draws[at++], m, scratch);
-  walkWater(water, areas, step, null, scratch, [W, H], left);
+  const { water, left: leftJs } = walkPage(xy, area, step, draws, null, [W, H]);
   // numpy's float32 cos and sin are within one unit in the last place of the correctly
   // rounded value that Math.fround(Math.cos()) gives (17 % of angles differ by one): where
   // they agree (sim/ says which) the walker lands on sim/'s float32 exactly, elsewhere
@@ -64,7 +56,6 @@ test('one walk step from the same uniform draws lands where sim/ lands it', () =
     exact += want.trig_rounded[j];
   }
   assert.ok(exact >= 0.5 * m, `${exact} of ${m} walkers' angles have a correctly rounded cos and sin`);
-  const leftJs = [...left.keys()].filter((j) => left[j]);
   assert.deepEqual(leftJs, want.left);
   assert.ok(leftJs.length > 0, 'some walkers leave the area (the test sees the rim)');
 });

@@ -6,11 +6,28 @@ import { execFileSync } from 'node:child_process';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 
+import { Areas } from '../../app/web/local/areas.js';
 import { Frost } from '../../app/web/local/frost.js';
+import { drawWalk, walkWater } from '../../app/web/local/walk.js';
+import { Water } from '../../app/web/local/water.js';
 
 const ROOT = process.env.FROST_ROOT || path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 const PYTHON = process.env.FROST_PYTHON || path.join(ROOT, '.venv/bin/python');
 export const CENTRE = [380, 640];
+
+/** One walk of the page's walkers at `xy` (float32, interleaved) in one area `area` (centre
+ * x, y, radius) on a `size` screen, by the uniforms `draws`, with `jump` (each walker's
+ * clearance) or null: the water moved and which walkers left ({water, left}). */
+export function walkPage(xy, area, step, draws, jump, size) {
+  const m = xy.length / 2, water = new Water(m), areas = new Areas();
+  areas.open(...area);
+  for (let j = 0; j < m; j++) water.append(xy[2 * j], xy[2 * j + 1], 0);
+  const scratch = new Float32Array(2 * m), left = new Uint8Array(m);
+  let at = 0;
+  drawWalk(() => draws[at++], m, scratch);
+  walkWater(water, areas, step, jump, scratch, size, left);
+  return { water, left: [...left.keys()].filter((j) => left[j]) };
+}
 
 /** sim/'s answer to `request` (tests/support/simoracle.py). */
 export function python(request) {

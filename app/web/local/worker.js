@@ -4,10 +4,13 @@
 //
 // Page -> worker: {type: "start", config (params.json), start}, then each input message
 // as the page sends frost serve ({type: "touch", ...}), and {type: "session"} /
-// {type: "meta"} / {type: "resync"}. Worker -> page: frost serve's messages (a string of
-// JSON, or an ArrayBuffer of the binary protocol), {type: "stats", tick, crystals,
-// ticksPerSecond, tickP99Ms, tickMedianMs, dropped}, {type: "session" | "meta", data}, and {type:
-// "failed", reason} where the frost cannot run.
+// {type: "meta"} / {type: "resync"}; {type: "hold"} (the page joined frost serve: the frost
+// waits, kept, and still answers "session") and {type: "resume"} (no server again: it goes
+// on from where it was, a hello and its snapshot first). Worker -> page: frost serve's
+// messages (a string of JSON, or an ArrayBuffer of the binary protocol), {type: "stats",
+// tick, crystals, ticksPerSecond, tickP99Ms, tickMedianMs, dropped}, {type: "session" |
+// "meta", data}, {type: "resumed"} (before a resume's hello), and {type: "failed", reason}
+// where the frost cannot run.
 
 import { LocalRun, warmUp } from "./run.js";
 import { TickClock, TICK_MS } from "./clock.js";
@@ -19,6 +22,8 @@ let run = null;
 const clock = new TickClock();
 let next = 0;      // when the next tick is due (performance.now())
 let ticks = 0;
+let timer = 0;     // the loop's next call
+let held = false;  // the page joined frost serve: no ticks until it resumes
 
 function post(message, transfer = []) {
   self.postMessage(message, transfer);
@@ -44,7 +49,7 @@ function loop() {
     next += TICK_MS;
     now = performance.now();
   }
-  setTimeout(loop, Math.max(0, next - performance.now()));
+  timer = setTimeout(loop, Math.max(0, next - performance.now()));
 }
 
 function stats() {
@@ -62,9 +67,20 @@ self.onmessage = (event) => {
       run = new LocalRun(m.config, post, m.start);
       run.hello();
       next = performance.now() + TICK_MS;
-      setTimeout(loop, TICK_MS);
+      timer = setTimeout(loop, TICK_MS);
     } else if (!run) {
       return;
+    } else if (m.type === "hold") {
+      held = true;
+      clearTimeout(timer);
+    } else if (m.type === "resume") {
+      if (!held) return;
+      held = false;
+      post({ type: "resumed" });
+      run.hello();
+      stats();
+      next = performance.now() + TICK_MS;
+      timer = setTimeout(loop, TICK_MS);
     } else if (m.type === "session") {
       post({ type: "session", data: run.session() });
     } else if (m.type === "meta") {
