@@ -158,6 +158,46 @@ def test_a_dragged_slider_sends_one_change_when_let_go(gui):
     assert 7.0 < value <= 16.0 and value == float(f"{value:.4g}")
 
 
+
+def clicked(io, panel: TuningPanel, x: float, y: float) -> None:
+    """A left click at (x, y) of the panel, a frame for each of its events."""
+    io.add_mouse_pos_event(x, y)
+    frame(io, panel)
+    for down in (True, False):
+        io.add_mouse_button_event(0, down)
+        frame(io, panel)
+
+
+def test_keys_typed_into_the_file_field_stay_there_and_others_are_the_phones(gui):
+    """With the set's file field clicked (ImGui wants text), C, Backspace and Esc edit the
+    field, none reaches the phone's keys (C would clear the frost, Esc quit); typing
+    replaces the name. Esc leaves the field: C is then the phone's. The oracle: the field
+    ImGui holds, and the keys the phone was given."""
+    from app.window.panel_input import PanelInput, Redraws
+
+    actions = FakeActions(Params.preset("fern"))
+    panel = TuningPanel(actions)
+    phone: list[tuple] = []
+    keys = PanelInput(Redraws(), lambda *key: phone.append(key), lambda: None)
+    frame(gui, panel)
+    x, y, w, h = panel.rects["file"]
+    clicked(gui, panel, x + w / 2, y + h / 2)
+    assert gui.want_text_input
+    for key, char in ((glfw.KEY_C, "c"), (glfw.KEY_BACKSPACE, None), (glfw.KEY_C, "c"),
+                      (glfw.KEY_ESCAPE, None)):
+        keys.on_key(None, key, 0, glfw.PRESS, 0)
+        if char:
+            keys.on_char(None, ord(char))
+        frame(gui, panel)
+        keys.on_key(None, key, 0, glfw.RELEASE, 0)
+        frame(gui, panel)
+        if key != glfw.KEY_ESCAPE:
+            assert panel.path == (char or ""), (key, panel.path)
+    assert phone == []
+    assert not gui.want_text_input  # Esc left the field
+    keys.on_key(None, glfw.KEY_C, 0, glfw.PRESS, 0)
+    assert phone == [(glfw.KEY_C, 0, glfw.PRESS, 0)]
+
 # ---- the panel's change takes the keys' path into the session --------------------------
 
 

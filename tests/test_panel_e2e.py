@@ -104,7 +104,7 @@ def close_window(wid: str) -> None:
 def drive(out: Path) -> None:
     log = out / "app.log"
     cmd = [sys.executable, "-c", APP, "--preset", "fern", "--seed", "2",
-           "--screenshot-dir", "shots", "--session-dir", "sessions", "--max-seconds", "60"]
+           "--screenshot-dir", "shots", "--session-dir", "sessions", "--max-seconds", "300"]
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     with open(log, "w", encoding="utf-8") as sink:
         app = subprocess.Popen(cmd, cwd=out, stdout=sink, stderr=subprocess.STDOUT, env=env)
@@ -156,7 +156,7 @@ def session(app: subprocess.Popen, log: Path) -> dict:
     close_window(window_id(name=PANEL))
     wait_for(log, r"panel: hidden", 2)  # closed: hidden, the app goes on
     xdo("key", "Escape")
-    return {"status": app.wait(timeout=15), "hc_box": hc, "panel_at": place,
+    return {"status": app.wait(timeout=60), "hc_box": hc, "panel_at": place,
             "phone_at": phone_place}
 
 

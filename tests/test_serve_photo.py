@@ -273,8 +273,9 @@ def test_a_body_has_its_own_deadline(tmp_path, monkeypatch):
         t0 = loop.time()
         writer.write(post_head(port, len(data) + 1) + data)
         with pytest.raises((asyncio.IncompleteReadError, ConnectionError)):
-            await answer(reader, within=10)
-        assert 2.5 < loop.time() - t0 < 6 and runner.timed_out == 1
+            await answer(reader, within=60)  # (a bound on a failure: nothing else ends it)
+        # the body's deadline, not the head's (0.4 s): a loaded machine only adds time
+        assert loop.time() - t0 > 2.5 and runner.timed_out == 1
         assert len(stored(store)) == 1
         writer.close()
     run(test, tmp_path, gap=0)

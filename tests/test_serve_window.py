@@ -7,7 +7,7 @@ import asyncio
 import json
 import subprocess
 import sys
-import time
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -29,11 +29,11 @@ def start_with_window(out: Path, preset: str, seconds: int) -> tuple[subprocess.
 
 def drive(out: Path) -> None:
     """Under Xvfb: start the command, be a page, then close the window with Esc (or it
-    closes at --max-seconds)."""
+    closes at --max-seconds, a bound on a failure)."""
     from support.page_model import CENTRE, PageModel, near, pause, read_until
     from support.window import escape, window_id
 
-    app, url = start_with_window(out, "c-2", 12)
+    app, url = start_with_window(out, "c-2", 120)
     page = PageModel()
 
     async def main():
@@ -52,13 +52,21 @@ def drive(out: Path) -> None:
 
 
 def drive_changes(out: Path) -> None:
-    """Under Xvfb: a page chooses preset c-3, then the window's `=` (humidity up); then Esc
-    closes the window (or it closes at --max-seconds)."""
+    """Under Xvfb: a page chooses preset c-3, then, once the window says it took the page's
+    change (its log), the window's `=` (humidity up); then Esc closes the window (or it
+    closes at --max-seconds, a bound on a failure)."""
     from support.page_model import PageModel, read_until
     from support.window import escape, window_id, xdo
 
-    app, url = start_with_window(out, "fern", 14)
+    app, url = start_with_window(out, "fern", 120)
     page = PageModel()
+    said: list[str] = []  # the window's log, read as it comes
+
+    def read_log() -> None:
+        for line in app.stderr:  # type: ignore[union-attr]
+            said.append(line)
+    reader = threading.Thread(target=read_log, daemon=True)
+    reader.start()
 
     async def main():
         from aiohttp import ClientSession
@@ -66,15 +74,18 @@ def drive_changes(out: Path) -> None:
             await read_until(ws, page, lambda: page.snapshots >= 1, timeout=60)
             await ws.send_json({"type": "preset", "name": "c-3"})
             await read_until(ws, page, lambda: page.state("preset") == "c-3" and page.resets)
-            later = time.monotonic() + 1.5  # the window has had the reset's snapshot too
-            await read_until(ws, page, lambda: time.monotonic() > later)
+            # (the page reads on meanwhile, as a page does)
+            await read_until(ws, page, lambda: any("params (a page's change): " in line
+                                                   for line in said), timeout=60)
+            before = page.resets  # (the preset's may come in more than one)
             xdo("key", "--window", window_id(), "equal")
-            await read_until(ws, page, lambda: page.resets >= 2)
+            await read_until(ws, page, lambda: page.resets > before, timeout=60)
     asyncio.run(main())
     escape(window_id())
     status = app.wait(60)
+    reader.join(60)
     (out / "result.json").write_text(json.dumps({"status": status,
-                                                 "stderr": app.stderr.read()[-3000:]}), encoding="utf-8")
+                                                 "stderr": "".join(said)[-3000:]}), encoding="utf-8")
 
 
 def test_a_window_key_changes_the_parameters_a_page_chose_not_the_window_s_own(tmp_path):

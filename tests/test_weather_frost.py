@@ -68,6 +68,45 @@ def test_the_thaw_melts_the_tips_every_thaw_ticks_as_a_slow_loop_finds_them():
     assert ice.crystal_alive.raw().sum() == after.sum()  # no layer until the next THAW_TICKS
 
 
+
+def heights(alive: np.ndarray, parents: np.ndarray) -> np.ndarray:
+    """Each live crystal's height in the live tree: 0 for one no live crystal grows from,
+    else one more than its highest live child's (-1 for a dead one). Worked from the last
+    crystal to the first, a crystal's children being later than it (asserted)."""
+    height = np.where(alive, 0, -1)
+    for j in range(len(alive) - 1, -1, -1):
+        if alive[j] and parents[j] >= 0:
+            assert parents[j] < j and alive[parents[j]]
+            height[parents[j]] = max(height[parents[j]], height[j] + 1)
+    return height
+
+
+def test_a_thaw_melts_layer_after_layer_until_the_ice_is_gone():
+    """Layer k of a thaw melts the crystals of height k in the tree as it was when the thaw
+    began: its first layers as the weather's thaw melts them (one every THAW_TICKS ticks),
+    then the rest one `melt_tips` at a time, until no ice is left, and none after that.
+    The oracle: the heights worked once at the start, not the tips layer by layer."""
+    timeline = Timeline(WINDOW, SEED)
+    grow(timeline, 2 * THAW_TICKS, [weather_event(reading(-25.0), Glass()),
+                                    weather_event(reading(6.0), Glass(), 2 * THAW_TICKS - 1)])
+    ice = timeline.sim.ice
+    height = heights(ice.crystal_alive.raw().copy(), ice.parents.raw().copy())
+    layers = int(height.max()) + 1
+    assert layers >= 5, layers  # (a tree deep enough to tell a thaw that stops)
+    for k in range(3):  # the weather's thaw: a layer at each THAW_TICKS
+        before = ice.crystal_alive.raw().copy()
+        for _ in range(THAW_TICKS):
+            timeline.step()
+        gone = set(np.flatnonzero(before & ~ice.crystal_alive.raw()))
+        assert gone == set(np.flatnonzero(height == k)), k
+    for k in range(3, layers):
+        melted = timeline.sim.melt_tips()
+        assert sorted(melted.crystals) == sorted(np.flatnonzero(height == k)), k
+        assert not ice.crystal_alive.raw()[height == k].any()
+        assert ice.crystal_alive.raw()[height > k].all()
+    assert not ice.crystal_alive.raw().any()  # all the ice melted
+    assert len(timeline.sim.melt_tips().crystals) == 0
+
 def test_a_rebuild_keeps_the_weather():
     timeline = Timeline(WINDOW, SEED)
     grow(timeline, 5, [weather_event(reading(6.0), Glass()),

@@ -73,7 +73,7 @@ def drive(out: Path, api: str) -> None:
             if offs["with"] < offs["without"] / 5:
                 result.update(seen=told, offs=offs)
         escape(wid)
-        result["status"] = app.wait(timeout=30)
+        result["status"] = app.wait(timeout=60)
     finally:
         finish(app, out, result)
 

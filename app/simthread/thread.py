@@ -1,7 +1,7 @@
 """The simulation thread: FrostSim + FrostGeometry at a fixed 25 ticks per second.
 
 Input (touches, melts, parameter changes, clear, pause, single step) arrives on `inbox`
-and applies at the next tick; the simulation's events go through `sim.io.session.Timeline`
+and applies at the next tick; the simulation's events go through `sim.io.timeline.Timeline`
 (the same code headless runs and replays use), which records them with their ticks.
 After each tick an immutable `Snapshot` goes on `outbox` (and to each reader that
 `subscribe`d: `frost serve --window` feeds pages beside the window), the work asked with

@@ -86,7 +86,7 @@ class PageModel:
             raise AssertionError(f"socket ended: {msg.type} {msg.data} {msg.extra}")
 
 
-async def read_until(ws, page: PageModel, done, timeout: float = 20.0):
+async def read_until(ws, page: PageModel, done, timeout: float = 60.0):
     loop = asyncio.get_running_loop()
     end = loop.time() + timeout
     while not done():

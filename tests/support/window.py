@@ -77,8 +77,9 @@ def played(script: str, out: Path, *args: str, timeout: float = 120) -> tuple[st
     return (out / "app.log").read_text(encoding="utf-8"), result
 
 
-def wait_for(log: Path, pattern: str, count: int = 1, timeout: float = 20.0) -> list[str]:
-    """The first `count` matches of `pattern` in the log, waiting up to `timeout` s."""
+def wait_for(log: Path, pattern: str, count: int = 1, timeout: float = 60.0) -> list[str]:
+    """The first `count` matches of `pattern` in the log, waiting up to `timeout` s (a
+    bound on a failure, however loaded the machine: never a claim on its speed)."""
     end = time.monotonic() + timeout
     while time.monotonic() < end:
         found = re.findall(pattern, log.read_text(encoding="utf-8"))
