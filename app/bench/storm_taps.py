@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from sim import FrostSim, Params
-from sim.core.versions import NEWEST
+from sim.io.session import VERSION as NEWEST
 
 # The checkout's storm (the benchmarks run from a checkout; tests/test_storms.py plays it too).
 TAPS = Path(__file__).resolve().parents[2] / "tests" / "data" / "storm-2000-taps.json"
