@@ -433,6 +433,7 @@ def test_bad_https_command_lines_are_one_clear_error(tmp_path, args, says):
                          timeout=60, env={**os.environ, "XDG_CONFIG_HOME": str(tmp_path)})
     assert (run.returncode, run.stderr.count("\n")) == (2, 1), run.stderr
     assert run.stderr.startswith("frost: error: ") and says in run.stderr
+    assert run.stderr.endswith(" (see frost serve --help)\n"), run.stderr  # (command-line.md)
 
 
 def test_a_tls_handshake_never_finished_is_closed(tmp_path, monkeypatch):

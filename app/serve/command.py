@@ -8,7 +8,6 @@ import asyncio
 import contextlib
 import logging
 import signal
-import sys
 import time
 
 from aiohttp import web
@@ -17,7 +16,7 @@ from app.lockscreen import clock_from
 from app.serve import trust
 from app.serve.appkeys import FEED
 from app.serve.feed import Feed
-from app.serve.listen import Https, lan_address, listen
+from app.serve.listen import Https, lan_address, listen, say_error
 from app.serve.server import close_pages, finish, make_app
 from app.serve.window import serve_with_window
 from app.weather.feed import feed_for
@@ -37,7 +36,7 @@ def serve(args, params) -> int:
     try:
         token, https, ca_der = plan(args)
     except trust.TrustError as err:
-        print(f"frost: error: {err}", file=sys.stderr)
+        say_error(str(err))
         return 2
     if args.window:
         return serve_with_window(args, params, token, https, ca_der)

@@ -15,7 +15,7 @@ from aiohttp import web
 from app.serve import guard, trust
 from app.serve.appkeys import FILES, PORTS
 from app.serve.trust import unspecified
-from sim.io.files import why, write_atomic
+from sim.io.files import one_line, why, write_atomic
 
 HANDSHAKE_S = guard.HEAD_S  # s a TLS handshake may take (asyncio's own default: 60 s)
 
@@ -61,11 +61,17 @@ async def listen(app: web.Application, host: str, port: int, token: str | None,
     except OSError as err:
         app[FILES].folder = None  # nothing was served: no word on a session
         await runner.cleanup()
-        print(f"frost: error: {listen_problem(host, asked, err)}", file=sys.stderr)
+        say_error(listen_problem(host, asked, err) or "")
         return None
     app[PORTS].update(http=ports[0], https=ports[1] if https else None)
     announce(host, ports[0], token, ports[1] if https else None)
     return runner
+
+
+def say_error(problem: str) -> None:
+    """`frost serve`'s error: one line on stderr, naming the problem and, as every error of
+    the command line does (docs/command-line.md), its help."""
+    print(f"frost: error: {one_line(problem)} (see frost serve --help)", file=sys.stderr)
 
 
 def listen_problem(host: str, port: int, err: OSError | None = None) -> str | None:
