@@ -5,10 +5,12 @@ from __future__ import annotations
 
 import asyncio
 import io
+import re
 import socket
 import ssl
 import sys
 from dataclasses import dataclass
+from urllib.parse import urlsplit
 
 from aiohttp import web
 
@@ -116,14 +118,37 @@ def announce(host: str, port: int, token: str | None, https_port: int | None = N
         shown = lan_address() if unspecified(host) else host
         url = f"http://{url_host(shown)}:{port}/?token={token}"
         said.append(f"frost serve: open {url} on a phone of this network (Ctrl-C ends it)\n")
-        said.append(_qr(url, "qr-page.png"))
+        said.append(_qr(url, qr_name("page", url)))
         if https_port is not None:
             url = f"https://{url_host(shown)}:{https_port}/?token={token}"
             said.append(f"frost serve: as an app: {url} once the phone trusts this computer "
                         "(the page's menu: Make it an app)\n")
-            said.append(_qr(url, "qr-app.png"))
-    sys.stdout.write("".join(said))
+            said.append(_qr(url, qr_name("app", url)))
+    _write("".join(said))
+
+
+def _write(text: str) -> None:
+    """`text` on stdout, whatever its encoding: a character it has no byte for (a config
+    folder's path under a user's name in another script, on a cp1252 console) is written
+    as its escape (\\u0436), the rest as it is, rather than the whole lost to an error."""
+    encoding = getattr(sys.stdout, "encoding", None) or "ascii"
+    try:
+        text.encode(encoding)
+    except UnicodeEncodeError:
+        text = text.encode(encoding, "backslashreplace").decode(encoding)
+    except LookupError:
+        pass
+    sys.stdout.write(text)
     sys.stdout.flush()
+
+
+def qr_name(kind: str, url: str) -> str:
+    """The name of the PNG of `url`'s QR code (`kind`: page, app), its host and port in it:
+    servers that share a config folder (each on its own port) each write their own, e.g.
+    qr-page-192.168.1.20-8025.png."""
+    parts = urlsplit(url)
+    host = re.sub(r"[^A-Za-z0-9.]+", "-", parts.hostname or "").strip("-.") or "host"
+    return f"qr-{kind}-{host}-{parts.port}.png"
 
 
 def _qr(url: str, name: str) -> str:
