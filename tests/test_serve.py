@@ -603,6 +603,7 @@ def test_a_port_taken_or_out_of_range_is_one_clear_error():
                              capture_output=True, text=True, timeout=60)
     assert run.returncode == 2 and run.stderr.count("\n") == 1
     assert run.stderr.startswith(f"frost: error: cannot listen on 127.0.0.1:{port}")
+    assert run.stderr.endswith(" (see frost serve --help)\n"), run.stderr  # (command-line.md)
     run = subprocess.run([sys.executable, "-m", "app", "serve", "--port", "65536"],
                          capture_output=True, text=True, timeout=60)
     assert run.returncode == 2 and run.stderr.count("\n") == 1 and "--port" in run.stderr
@@ -625,6 +626,7 @@ def test_bad_command_lines_are_one_clear_error(args, says):
                          capture_output=True, text=True, timeout=60, env=env)
     assert (run.returncode, run.stderr.count("\n")) == (2, 1), run.stderr
     assert run.stderr.startswith("frost: error: ") and says in run.stderr
+    assert run.stderr.endswith(" (see frost serve --help)\n"), run.stderr  # (command-line.md)
 
 
 def test_meta_states_the_parameters_seed_and_touches_of_the_frame_published():

@@ -55,6 +55,19 @@ def test_the_config_folder_is_the_platforms_own():
         Path("C:/Users/ann/AppData/Roaming/frost")
 
 
+@pytest.mark.usefixtures("subprocesses")
+def test_frost_info_names_the_config_folder_and_what_it_holds(tmp_path):
+    """A user has a way to find the authority, the token and the QR images: `frost info`
+    names the folder they are in (here the one XDG_CONFIG_HOME says)."""
+    run = subprocess.run([sys.executable, "-m", "app", "info"], cwd=ROOT, capture_output=True,
+                         text=True, timeout=120,
+                         env={**os.environ, "XDG_CONFIG_HOME": str(tmp_path)})
+    assert run.returncode == 0, run.stderr
+    [line] = [line for line in run.stdout.splitlines() if line.startswith("config folder: ")]
+    assert line.startswith(f"config folder: {tmp_path / 'frost'} ("), line
+    assert all(word in line for word in ("authority", "token", "QR images", "weather")), line
+
+
 NAMES = sorted(["127.0.0.1", "::1", "localhost", "192.168.1.20", "pane", "pane.local"])
 
 
@@ -266,6 +279,23 @@ def qr_modules(path: Path, scale: int = 8, border: int = 4) -> list[list[bool]]:
     return [[bool(image[y, x] < 128) for x in centre] for y in centre]
 
 
+SAID_IMAGE = re.compile(r"frost serve: the console \(cp1252\) cannot show the QR code: open "
+                        r"the image (.+)\n")
+
+
+def images_said(out: str) -> list[Path]:
+    """The QR images a cp1252 console's lines name, in order (the page's, the app's)."""
+    return [Path(found) for found in SAID_IMAGE.findall(out)]
+
+
+def assert_qr_of(path: Path, url: str) -> None:
+    """The PNG at `path` is the QR code of `url`, module for module."""
+    import segno
+
+    code = segno.make(url, error="m")
+    assert qr_modules(path) == [[bool(m) for m in row] for row in code.matrix], (path, url)
+
+
 @pytest.mark.parametrize("encoding", ["utf-8", "cp1252"])
 @pytest.mark.usefixtures("subprocesses")
 def test_the_qr_codes_are_drawn_where_the_console_can_show_them_else_written_as_images(
@@ -280,17 +310,45 @@ def test_the_qr_codes_are_drawn_where_the_console_can_show_them_else_written_as_
     out = s.stop()
     assert s.proc.returncode == 130, out
     folder = tmp_path / "config" / "frost"
-    for name, url in (("qr-page.png", s.url), ("qr-app.png", s.https)):
-        code = segno.make(url, error="m")
-        if encoding == "utf-8":
+    if encoding == "utf-8":
+        for url in (s.url, s.https):
             drawn = io.StringIO()
-            code.terminal(out=drawn, compact=True)
-            assert drawn.getvalue() in out and not (folder / name).exists()
-        else:
-            said = "the console (cp1252) cannot show the QR code: open the image"
-            assert f"frost serve: {said} {folder / name}\n" in out, out
-            assert qr_modules(folder / name) == [[bool(m) for m in row] for row in code.matrix]
+            segno.make(url, error="m").terminal(out=drawn, compact=True)
+            assert drawn.getvalue() in out
+        assert not list(folder.glob("*.png"))
+    else:
+        page, app = images_said(out)
+        assert page.parent == app.parent == folder, out
+        assert_qr_of(page, s.url)
+        assert_qr_of(app, s.https)
     assert "Traceback" not in out and "UnicodeEncodeError" not in out
+
+
+@pytest.mark.parametrize("name", ["zima", "\u0437\u0438\u043c\u0430"], ids=["ascii", "cyrillic"])
+@pytest.mark.usefixtures("subprocesses")
+def test_two_servers_on_one_config_folder_each_name_their_own_qr_images(serve, tmp_path, name):
+    """Two LAN servers on one config folder, on a cp1252 console, both serving: each line
+    names an image of that server's own address (the second wrote qr-page.png over the
+    first's, whose line then named the second's address). A folder whose name holds
+    letters cp1252 has no byte for (a user name in Cyrillic, "зима") is said with their
+    escapes: the lines survive it (the server died of a UnicodeEncodeError)."""
+    config = tmp_path / name
+    servers = [serve(config=config, env={"PYTHONIOENCODING": "cp1252"}) for _ in range(2)]
+    said = []
+    for s in servers:  # (the app's line follows its address, read so far)
+        s.lines.append(s.proc.stdout.readline())  # type: ignore[union-attr]
+        said.append(images_said("".join(s.lines)))
+    first, second = said
+    assert len(set(first + second)) == 4, said
+    said = [[Path(str(p).encode("ascii").decode("unicode_escape")) for p in paths]
+            for paths in said]  # (the escapes a cp1252 console got read back)
+    for s, (page, app) in zip(servers, said, strict=True):
+        assert_qr_of(page, s.url)
+        assert_qr_of(app, s.https)
+        assert page.parent == config / "frost"
+    for s in servers:
+        out = s.stop()
+        assert s.proc.returncode == 130 and "Traceback" not in out, out
 
 
 @pytest.mark.usefixtures("subprocesses")
@@ -433,6 +491,7 @@ def test_bad_https_command_lines_are_one_clear_error(tmp_path, args, says):
                          timeout=60, env={**os.environ, "XDG_CONFIG_HOME": str(tmp_path)})
     assert (run.returncode, run.stderr.count("\n")) == (2, 1), run.stderr
     assert run.stderr.startswith("frost: error: ") and says in run.stderr
+    assert run.stderr.endswith(" (see frost serve --help)\n"), run.stderr  # (command-line.md)
 
 
 def test_a_tls_handshake_never_finished_is_closed(tmp_path, monkeypatch):

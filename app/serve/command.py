@@ -8,7 +8,6 @@ import asyncio
 import contextlib
 import logging
 import signal
-import sys
 import time
 
 from aiohttp import web
@@ -17,8 +16,8 @@ from app.lockscreen import clock_from
 from app.serve import trust
 from app.serve.appkeys import FEED
 from app.serve.feed import Feed
-from app.serve.listen import Https, lan_address, listen
-from app.serve.server import finish, make_app
+from app.serve.listen import Https, lan_address, listen, say_error
+from app.serve.server import close_pages, finish, make_app
 from app.serve.window import serve_with_window
 from app.weather.feed import feed_for
 
@@ -37,7 +36,7 @@ def serve(args, params) -> int:
     try:
         token, https, ca_der = plan(args)
     except trust.TrustError as err:
-        print(f"frost: error: {err}", file=sys.stderr)
+        say_error(str(err))
         return 2
     if args.window:
         return serve_with_window(args, params, token, https, ca_der)
@@ -104,8 +103,8 @@ async def _serve(app: web.Application, host: str, port: int, token: str | None,
     signals, ended = Signals(asyncio.get_running_loop()), False
     try:
         status = await _until_ended(app[FEED], max_seconds, signals)
-        finish(app)  # the session written, before the open requests end
-        await _end_requests(runner, signals)
+        finish(app)  # the session written, before the pages and the open requests end
+        await _end_requests(app, runner, signals)
         ended = True
         return status
     finally:
@@ -114,17 +113,20 @@ async def _serve(app: web.Application, host: str, port: int, token: str | None,
             await runner.cleanup()
 
 
-async def _end_requests(runner: web.AppRunner, signals: Signals) -> None:
-    """The server closed: the pages' sockets, and the requests still open given at most
-    guard.SHUTDOWN_S to end (a photo half sent would hold the exit as long as it
-    likes); a second signal meanwhile ends the wait at once (the session is written)."""
-    cleanup = asyncio.ensure_future(runner.cleanup())
-    while not cleanup.done():
-        if len(signals.got) > 1:
-            log.info("serve: %s again: exiting now", signal.Signals(signals.got[-1]).name)
-            cleanup.cancel()
-            break
-        await asyncio.wait([cleanup], timeout=0.1)
+async def _end_requests(app: web.Application, runner: web.AppRunner,
+                        signals: Signals) -> None:
+    """The server closed: the pages' sockets (each page's input until it saw the close
+    counted: server.close_pages), then the requests still open given at most
+    guard.SHUTDOWN_S to end (a photo half sent would hold the exit as long as it likes); a
+    second signal meanwhile ends the wait at once (the session is written)."""
+    for step in (lambda: close_pages(app), runner.cleanup):
+        task = asyncio.ensure_future(step())
+        while not task.done():
+            if len(signals.got) > 1:
+                log.info("serve: %s again: exiting now", signal.Signals(signals.got[-1]).name)
+                task.cancel()
+                return
+            await asyncio.wait([task], timeout=0.1)
 
 
 class Signals:

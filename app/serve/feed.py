@@ -14,7 +14,7 @@ import contextlib
 import logging
 import threading
 import time
-from collections import deque
+from collections import Counter, deque
 from collections.abc import Callable
 
 from app.backdrops import LIVE
@@ -80,6 +80,8 @@ class Feed:
         self.moment = (0, 0)
         self.error: str | None = None
         self.ending = False  # `close`d: input is no longer taken
+        # The pages' input that came once ending (none taken), by what it is: the end's warning.
+        self.late: Counter[str] = Counter()
         self.weather: WeatherFeed | None = None  # --weather's readings (frost serve sets it)
         # For the bench: bytes sent a tick, the thread's tick time (ms), and the time from a
         # tap reaching the server to the tick that shows it being published (ms)
@@ -123,6 +125,14 @@ class Feed:
         if self.own_thread:
             self.thread.stop(timeout=END_TICK_S, apply_s=APPLY_AT_END_S)
         self.pump()  # the last ticks, for the session's file
+
+    def say_late(self) -> None:
+        """The warning of the input the pages sent once the server was ending (`late`), if
+        any: none of it is in the session. Said once (then counted anew)."""
+        if self.late:
+            log.warning("input sent once frost serve was ending, not taken (not in the "
+                        "session): %s", ", ".join(f"{n} {k}" for k, n in self.late.items()))
+            self.late.clear()
 
     def _woken(self) -> None:
         """The thread's wake-up: after every tick (on its thread) and for its notices."""

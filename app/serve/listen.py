@@ -5,17 +5,19 @@ from __future__ import annotations
 
 import asyncio
 import io
+import re
 import socket
 import ssl
 import sys
 from dataclasses import dataclass
+from urllib.parse import urlsplit
 
 from aiohttp import web
 
 from app.serve import guard, trust
 from app.serve.appkeys import FILES, PORTS
 from app.serve.trust import unspecified
-from sim.io.files import why, write_atomic
+from sim.io.files import one_line, why, write_atomic
 
 HANDSHAKE_S = guard.HEAD_S  # s a TLS handshake may take (asyncio's own default: 60 s)
 
@@ -61,11 +63,17 @@ async def listen(app: web.Application, host: str, port: int, token: str | None,
     except OSError as err:
         app[FILES].folder = None  # nothing was served: no word on a session
         await runner.cleanup()
-        print(f"frost: error: {listen_problem(host, asked, err)}", file=sys.stderr)
+        say_error(listen_problem(host, asked, err) or "")
         return None
     app[PORTS].update(http=ports[0], https=ports[1] if https else None)
     announce(host, ports[0], token, ports[1] if https else None)
     return runner
+
+
+def say_error(problem: str) -> None:
+    """`frost serve`'s error: one line on stderr, naming the problem and, as every error of
+    the command line does (docs/command-line.md), its help."""
+    print(f"frost: error: {one_line(problem)} (see frost serve --help)", file=sys.stderr)
 
 
 def listen_problem(host: str, port: int, err: OSError | None = None) -> str | None:
@@ -110,14 +118,37 @@ def announce(host: str, port: int, token: str | None, https_port: int | None = N
         shown = lan_address() if unspecified(host) else host
         url = f"http://{url_host(shown)}:{port}/?token={token}"
         said.append(f"frost serve: open {url} on a phone of this network (Ctrl-C ends it)\n")
-        said.append(_qr(url, "qr-page.png"))
+        said.append(_qr(url, qr_name("page", url)))
         if https_port is not None:
             url = f"https://{url_host(shown)}:{https_port}/?token={token}"
             said.append(f"frost serve: as an app: {url} once the phone trusts this computer "
                         "(the page's menu: Make it an app)\n")
-            said.append(_qr(url, "qr-app.png"))
-    sys.stdout.write("".join(said))
+            said.append(_qr(url, qr_name("app", url)))
+    _write("".join(said))
+
+
+def _write(text: str) -> None:
+    """`text` on stdout, whatever its encoding: a character it has no byte for (a config
+    folder's path under a user's name in another script, on a cp1252 console) is written
+    as its escape (\\u0436), the rest as it is, rather than the whole lost to an error."""
+    encoding = getattr(sys.stdout, "encoding", None) or "ascii"
+    try:
+        text.encode(encoding)
+    except UnicodeEncodeError:
+        text = text.encode(encoding, "backslashreplace").decode(encoding)
+    except LookupError:
+        pass
+    sys.stdout.write(text)
     sys.stdout.flush()
+
+
+def qr_name(kind: str, url: str) -> str:
+    """The name of the PNG of `url`'s QR code (`kind`: page, app), its host and port in it:
+    servers that share a config folder (each on its own port) each write their own, e.g.
+    qr-page-192.168.1.20-8025.png."""
+    parts = urlsplit(url)
+    host = re.sub(r"[^A-Za-z0-9.]+", "-", parts.hostname or "").strip("-.") or "host"
+    return f"qr-{kind}-{host}-{parts.port}.png"
 
 
 def _qr(url: str, name: str) -> str:

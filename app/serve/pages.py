@@ -57,8 +57,9 @@ class ConnectedPage:
     """A WebSocket's outgoing side. States: waiting (for a snapshot; gets no deltas) and
     live. `ask_snapshot` is called when it waits with nothing left to write."""
 
-    def __init__(self, ws: web.WebSocketResponse, name: str, ask_snapshot: Callable[[], None]):
-        self.ws, self.name, self.ask_snapshot = ws, name, ask_snapshot
+    def __init__(self, ws: web.WebSocketResponse, name: str, ask_snapshot: Callable[[], None],
+                 wake: Callable[[], None] = lambda: None):
+        self.ws, self.name, self.ask_snapshot, self.wake = ws, name, ask_snapshot, wake
         self.queue: deque[tuple[str | bytes, bool]] = deque()  # (message, ends a tick)
         self.behind_ticks = self.behind_bytes = 0
         self.waiting, self.busy, self.closed = True, False, False
@@ -68,6 +69,16 @@ class ConnectedPage:
         self.points = TokenBucket(POINT_RATE, POINT_BURST)
         self.fingers: dict[tuple[str, int], tuple[float, float]] = {}  # a drag's last spot
         self._ready = asyncio.Event()
+        # The server's end: `end` called; `gone` is set once the socket's handler is over.
+        self.ending, self.gone = False, asyncio.Event()
+
+    def end(self) -> None:
+        """The server ends: the page's socket is closed by its handler, woken by `wake`
+        (app/serve/sockets.py), which reads, and counts, what the page sent until it
+        answers the close."""
+        if not self.ending:
+            self.ending = True
+            self.wake()
 
     def text(self, message: str) -> None:
         self._put(message, False)

@@ -94,10 +94,28 @@ def stats_line(seconds: float, ticks: int, tick_ms: list[float], sizes: list[int
     return f"stats ({seconds:.1f} s): {rate}, {tick}, {pages} page{'s' * (pages != 1)}{sent}"
 
 
+async def close_pages(app: web.Application) -> None:
+    """Every page's socket closed (1001, "frost serve is ending") by its own handler, which
+    reads, and counts, what the page sent until the page answers the close (at most
+    sockets.CLOSE_S, all pages at once); then the warning of the input that came once the
+    server was ending, if any. Before the runner's cleanup: from its start aiohttp reads
+    nothing more from a connection (what a page sent then could not be counted)."""
+    pages = list(app[FEED].pages)
+    for page in pages:
+        page.end()
+    if pages:
+        await asyncio.wait([asyncio.ensure_future(p.gone.wait()) for p in pages],
+                           timeout=sockets.CLOSE_S + 1.0)
+    app[FEED].say_late()
+
+
 async def _close_pages(app: web.Application) -> None:
+    """The pages still connected closed at once (the runner's cleanup: what they send is
+    no longer read), and the warning of the input that came once the server was ending."""
     for page in list(app[FEED].pages):
         page.close()
-        await page.ws.close(code=1001, message=b"frost serve is ending")
+        await page.ws.close(code=sockets.GOING_AWAY, message=sockets.ENDING)
+    app[FEED].say_late()
 
 
 def finish(app: web.Application) -> None:

@@ -18,7 +18,7 @@ Files in the folder (private ones readable by the user alone, 0600):
 | `ca.key` | the authority's private key (private; never read but to sign) |
 | `server.pem` | the server's key and certificate in one file (private), replaced whole |
 | `token` | the token the URL carries (private) |
-| `qr-page.png`, `qr-app.png` | the URLs' QR codes, where the console cannot draw them (listen.py) |
+| `qr-page-HOST-PORT.png`, `qr-app-...` | the URLs' QR codes where the console cannot draw them (listen.py) |
 """
 
 from __future__ import annotations

@@ -7,11 +7,10 @@ from __future__ import annotations
 
 import asyncio
 import logging
-import sys
 import threading
 
 from app.serve.feed import Feed
-from app.serve.listen import Https, listen, listen_problem
+from app.serve.listen import Https, listen, listen_problem, say_error
 from app.serve.server import make_app
 
 log = logging.getLogger("app.serve")
@@ -65,7 +64,7 @@ def serve_with_window(args, params, token: str | None, https: Https | None = Non
     for port in [args.port] + ([https.port] if https else []):
         problem = listen_problem(args.host, port)  # before a window opens for nothing
         if problem:
-            print(f"frost: error: {problem}", file=sys.stderr)
+            say_error(problem)
             return 2
     from pathlib import Path
 

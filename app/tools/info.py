@@ -1,7 +1,7 @@
 """`frost info`: what a bug report needs, a line each: the platform, Python and the libraries,
-the tuning panel (or why there is none), GLFW and the screen (platform, monitor, content
-scale, a window's OpenGL), the headless OpenGL context (vendor, renderer, version) and the
-shader dialect they compile."""
+frost's config folder (what is kept across runs), the tuning panel (or why there is none),
+GLFW and the screen (platform, monitor, content scale, a window's OpenGL), the headless
+OpenGL context (vendor, renderer, version) and the shader dialect they compile."""
 
 from __future__ import annotations
 
@@ -9,9 +9,12 @@ import platform
 import sys
 from importlib import metadata
 
+from app.config import config_dir
 from app.gl.shaders import DESKTOP, load_program
 from sim.io.files import one_line
 
+# What the config folder holds (app/config.py), as `frost info` says it.
+KEPT = ("frost serve's local authority, token and QR images; the last weather reading")
 PACKAGES = ("frost", "numpy", "moderngl", "glfw", "Pillow", "aiohttp", "imgui-bundle")
 
 
@@ -20,6 +23,7 @@ def lines() -> list[tuple[str, str]]:
     out = [("frost", _version("frost")), ("platform", platform.platform()),
            ("python", f"{platform.python_implementation()} {sys.version.split()[0]}"),
            ("packages", ", ".join(f"{p} {_version(p)}" for p in PACKAGES[1:])),
+           ("config folder", f"{config_dir()} ({KEPT})"),
            ("tuning panel", _panel()),
            ("shader dialect", f"GLSL {DESKTOP} (files in shaders/; the page: ES 3.00)")]
     # (the window's GLX context first: a standalone EGL context made before it kills the
