@@ -522,3 +522,92 @@ def test_every_walker_created_is_walking_owed_frozen_or_dropped(preset, over):
         sim.step()
         held = len(sim.water) + sim.supply.waiting + sim.water_frozen + sim.water_dropped
         assert held == sim.water_created, (t, held, sim.water_created)
+
+
+# ---- version 14's budget and bare areas, case by case (issue 56: mutants that survived) ---
+
+
+def test_owed_walkers_repaid_never_take_the_water_past_its_budget():
+    # A 60 px screen, the launch circle beyond it: a touch places CELL_WORK = 400 walkers
+    # of its pool (500, the budget) and owes 100; its ring brings 48 more (touch_water:
+    # new ones, the pool short), so 448 walk and 100 are owed, 48 over the budget. The
+    # next tick's repay may place only 500 - 448 = 52 of them: the budget holds.
+    p = Params.preset("fern", launch=100.0, water_budget=500)
+    sim = FrostSim(p, 60, 60, seed=0)
+    sim.touch(30.0, 30.0)
+    walking, owed = len(sim.water), sim.supply.waiting
+    assert walking + owed > p.water_budget, (walking, owed)  # (the ring's walkers are new)
+    sim.placer.cell_work = frost.CELL_WORK
+    sim.supply.repay(sim.ice_state())
+    assert len(sim.water) <= p.water_budget
+    assert owed - sim.supply.waiting == p.water_budget - walking  # repaid up to the budget
+    for _ in range(5):
+        sim.step()
+        assert len(sim.water) <= p.water_budget
+
+
+def _bare_pool():
+    """A fern touch whose pool lost 100 walkers (dropped), and whose area is then marked as
+    last seen with no glass (`Placer._bare`, as `_missed` marks it) at the ice now."""
+    sim = FrostSim(Params.preset("fern"), seed=0)
+    sim.touch(380.0, 640.0)
+    sim.supply.spent(np.empty(0, np.int64), np.arange(100))
+    return sim
+
+
+def test_a_bare_areas_pool_is_not_topped_up_until_a_melt():
+    sim = _bare_pool()
+    short = len(sim.water)
+    assert short == sim.params.humidity - 100
+    # not bare: the tick's end tops the pool up to humidity
+    sim.supply.top_up(sim.ice_state())
+    assert len(sim.water) == sim.params.humidity
+    sim = _bare_pool()
+    sim.placer._bare[0] = sim.water_melted  # no glass left, nothing melted since
+    work, created = sim.placer.cell_work, sim.water_created
+    sim.supply.top_up(sim.ice_state())
+    assert len(sim.water) == short and sim.water_created == created
+    assert sim.placer.cell_work == work  # nothing tried in vain
+    sim.water_melted += 1  # a melt made glass: topped up again
+    sim.supply.top_up(sim.ice_state())
+    assert len(sim.water) == sim.params.humidity
+
+
+def test_a_bare_areas_owed_walkers_are_dropped_at_once():
+    sim = _bare_pool()
+    sim.supply.owed = np.array([40], np.int64)  # 40 walkers owed to the touch's area
+    sim.supply.created += 40  # (created when they were cut)
+    sim.placer._bare[0] = sim.water_melted
+    n, dropped, work = len(sim.water), sim.water_dropped, sim.placer.cell_work
+    sim.supply.repay(sim.ice_state())
+    assert sim.supply.waiting == 0 and sim.water_dropped == dropped + 40
+    assert len(sim.water) == n and sim.placer.cell_work == work  # none placed, none tried
+
+
+@pytest.mark.parametrize("walkers, bare", [(8, True), (7, False), (9, True)])
+def test_an_area_is_bare_after_bare_draws_all_missed(walkers, bare):
+    # Each walker drew CELL_TRIES = 8 spots of its glass area: 8 walkers' 64 = BARE_DRAWS
+    # draws all missed say the disc has no glass left (not owed: dropped); 7 walkers' 56
+    # do not (owed, one entry each).
+    assert placement.CELL_TRIES * 8 == placement.BARE_DRAWS
+    sim = FrostSim(Params.preset("fern"), seed=0)
+    sim.touch(380.0, 640.0)
+    placer = sim.placer
+    placer.take_cut()
+    placer._missed(np.array([0]), np.array([True]), np.zeros(walkers, np.int64),
+                   np.zeros(walkers, bool), (5, 0))
+    assert bool(placer.bare(1, (5, 0))[0]) is bare
+    assert len(placer.take_cut()) == (0 if bare else walkers)
+    assert not placer.bare(1, (5, 1))[0]  # a melt since: glass again
+
+
+def test_a_replenished_pool_gets_back_water_it_lost_at_the_ticks_end():
+    # Table 1's c-2 with replenish (no growth mode): a kept pool that lost walkers (here
+    # 100 dropped) is topped up to humidity by the next tick's end.
+    sim = FrostSim(Params.preset("c-2", replenish=True), *SMALL, seed=0)
+    sim.touch(120.0, 160.0)
+    sim.step()
+    sim.supply.spent(np.empty(0, np.int64), np.arange(100))
+    assert len(sim.water) + sim.supply.waiting == sim.params.humidity - 100
+    sim.step()
+    assert len(sim.water) + sim.supply.waiting == sim.params.humidity
