@@ -141,6 +141,20 @@ def test_over_the_size_limit_or_without_a_length_is_refused_before_the_body(tmp_
     run(test, tmp_path, gap=0)
 
 
+def test_a_photo_of_exactly_the_size_limit_is_taken(tmp_path):
+    """The limit is a most (docs/phone.md: "up to 8 MB"): a JPEG padded after its
+    end to exactly photos.MAX_BYTES is taken (200) and kept whole; one byte more is the
+    413 above."""
+    jpeg = encoded(quadrants(380, 640), "JPEG", quality=95)
+    exact = jpeg + bytes(photos.MAX_BYTES - len(jpeg))  # (a decoder stops at its end marker)
+
+    async def test(port, runner, feed, store):
+        status, _, body = await upload(port, exact)
+        assert status == 200, body
+        assert feed.controls.backdrop == json.loads(body)["backdrop"] and len(stored(store)) == 1
+    run(test, tmp_path, gap=0)
+
+
 def test_an_empty_post_is_told_it_holds_no_photo(tmp_path):
     async def test(port, runner, feed, store):
         status, _, body = await upload(port, b"")

@@ -10,12 +10,18 @@ regular file (sim.io.files refuses to replace a device, a FIFO or a socket; a sy
 checked where it leads). The window's folders are checked the same way but only get a
 start-up warning: the window reports each failed write and runs on, as the user chose
 (tests/test_window_e2e.py runs it so). The session to replay must be a readable file.
+
+A name Windows keeps for a device (CON, PRN, AUX, NUL, COM0-9, LPT0-9 and COM/LPT with a
+superscript 1-3; any case, with any extension, with the trailing dots and spaces Windows
+strips) anywhere in an output path, the window's folders too, is refused on every system:
+a command line that works here must work there, where `CON.png` writes to the console.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import re
 from pathlib import Path
 
 from app.cli.shared_options import has_display
@@ -28,6 +34,9 @@ OUTPUT_FOLDERS = ("out_dir",)
 # Files a folder option's command writes under fixed names: checked like an output file.
 FOLDER_FILES = {"out_dir": ENGINE_FILES}
 WINDOW_FOLDERS = ("screenshot_dir", "session_dir")
+# Windows' device names (Microsoft, "Naming Files, Paths, and Namespaces"), in upper case.
+RESERVED = frozenset(["CON", "PRN", "AUX", "NUL", *(f"{port}{n}" for port in ("COM", "LPT")
+                                                    for n in [*"0123456789", *"\u00b9\u00b2\u00b3"])])
 NAME_MAX = 255  # bytes in one name, where the file system does not say (Linux's limit;
 # NTFS allows 255 characters)
 
@@ -39,6 +48,9 @@ def check_paths(args: argparse.Namespace, parser: argparse.ArgumentParser) -> li
     failing). Folders left at their defaults are the window's to report at run time."""
     warnings = []
     for action in parser._actions:  # this command's own options, not the root's defaults
+        reserved = _reserved_option(args, action)
+        if reserved:  # (a window's folder too: no system could take the command line then)
+            raise ValueError(reserved)
         problem = _option_problem(args, action)
         if problem and action.dest in WINDOW_FOLDERS and not (
                 args.command == "serve" and action.dest == "session_dir"):
@@ -68,6 +80,31 @@ def _option_problem(args: argparse.Namespace, action: argparse.Action) -> str | 
         (suffix_problem(value) if is_file else None) or \
         _files_problem(Path(value), FOLDER_FILES.get(name, ()))
     return problem and f"{_named(action, value)}: {problem}"
+
+
+def _reserved_option(args: argparse.Namespace, action: argparse.Action) -> str | None:
+    """Why the output path an option was given holds a name Windows keeps for a device,
+    naming the option; None if it holds none, or is no output path."""
+    value = getattr(args, action.dest, None)
+    if action.dest not in OUTPUT_FILES + OUTPUT_FOLDERS + WINDOW_FOLDERS or value is None:
+        return None
+    problem = reserved_problem(str(value))
+    return problem and f"{_named(action, value)}: {problem}"
+
+
+def reserved_problem(path: str) -> str | None:
+    """Why `path` cannot be written on Windows for a name in it that Windows keeps for a
+    device (of any part: a folder named AUX cannot be made either), or None. Both slashes
+    part a path (Windows takes either)."""
+    for part in re.split(r"[\\/]", path):
+        # Windows drops a name's trailing dots and spaces, then the device is the part
+        # before the first dot (spaces before it dropped too): "nul .txt." is NUL.
+        device = part.rstrip(" .").split(".", 1)[0].rstrip(" ").upper()
+        if device in RESERVED:
+            where = "" if part == path else f"{one_line(part)!r} in it: "
+            return (f"{where}Windows keeps the name {device} for a device (in any case, with "
+                    "any extension), so no file could be written there: choose another name")
+    return None
 
 
 def _writes_default_folder(args: argparse.Namespace) -> bool:
