@@ -1027,6 +1027,14 @@ def test_a_melt_path_point_off_the_screen_is_refused(stubbed):
     assert_refused_in_one_line(status, err, "--melt-path", "(-5, 3) is off the 760x1280 screen")
 
 
+def test_a_melt_path_point_of_three_numbers_is_refused(stubbed):
+    # A path's points are X,Y: a radius (a melt's X,Y,R) is not one of them.
+    status, err = run_main(["render", "--touch=1,1", "--melt-path", "10,10,5:20,20@5"])
+    assert_refused_in_one_line(status, err, "--melt-path",
+                               "melt path '10,10,5:20,20@5' must be X1,Y1:X2,Y2[:...]@TICK")
+    assert not stubbed
+
+
 @pytest.mark.parametrize("argv, least, said", [
     # A path is two points or more; a benchmark times one frame or more.
     (["render", "--touch=1,1", "--melt-path", "{}@5"], ("10,10", "10,10:20,20"),

@@ -11,10 +11,11 @@ import threading
 
 import aiohttp
 import pytest
+import support.weather_api as weather_api
 from support.cli import assert_refused_in_one_line, run_main
 from support.weather_api import StandIn
 
-from app.weather.client import WeatherError, coordinates, current, find
+from app.weather.client import MOST_BYTES, WeatherError, coordinates, current, find
 from app.weather.feed import Asker, WeatherFeed, read_once
 from app.weather.kept import kept
 from sim.weather import Frost, Glass, Reading, describe, frost_of, glass_temperature
@@ -426,6 +427,8 @@ def test_a_stopped_feed_gives_up_a_slow_request_at_once(tmp_path):
     (["render", "--weather", "Oslo", "--weather-api", "ftp://mirror"], "must be an http:// or https:// URL"),
     (["render", "--weather", "Oslo", "--weather-api", "https://"], "https:// URL with a host"),
     (["render", "--weather", "Oslo", "--geocoding-api", "http://"], "'http://' must be an http://"),
+    (["render", "--weather", "Oslo", "--weather-api", "https://api.open-meteo.com\t"],
+     "must be an http:// or https:// URL"),  # (urlsplit drops the tab: a host, unprintable)
     (["render", "--weather", "Oslo", "--glazing", "triple"], "invalid choice: 'triple'"),
     (["render", "--weather", "Oslo", "--room-humidity", "0"], "room humidity '0' must be a number in [1, 1"),
     (["serve", "--weather", "Oslo", "--weather-every", "4"], "'4' must be a number in [5, 1440]"),
@@ -438,3 +441,24 @@ def test_a_bad_weather_option_is_refused_in_one_line(argv, words, monkeypatch):
     status, err = run_main(argv)
     assert_refused_in_one_line(status, err, words)
     assert ran == []
+
+
+@pytest.mark.parametrize("mode", ["huge", "huge-chunked"])
+def test_a_reply_of_exactly_the_limit_is_read_and_one_byte_more_is_not(mode, monkeypatch):
+    # MOST_BYTES (1 048 576) of valid JSON, its length said or chunked: read; one byte more
+    # (the stand-in's padding one longer) is too large.
+    with StandIn() as api:
+        api.mode = mode
+        monkeypatch.setattr(weather_api, "HUGE_BYTES", MOST_BYTES)
+        reading = ask(lambda s: current(s, api.url, coordinates("59.33,18.07")))
+        assert reading.temperature_c == -25.0
+        monkeypatch.setattr(weather_api, "HUGE_BYTES", MOST_BYTES + 1)
+        with pytest.raises(WeatherError, match="too large for the API's JSON"):
+            ask(lambda s: current(s, api.url, coordinates("59.33,18.07")))
+
+
+def test_a_place_rounded_to_0_is_named_without_a_minus_sign():
+    # -0.001 rounds to -0.0 at 2 decimals: named and sent as 0.00, never "-0.00".
+    place = coordinates("-0.001,-0.004")
+    assert place.name == "0.00,0.00" and place.words() == "0.00,0.00 (0.00, 0.00)"
+    assert math.copysign(1.0, place.latitude) == 1.0 == math.copysign(1.0, place.longitude)

@@ -55,3 +55,33 @@ test("the reconnect waits double from 0.25 s and stop at 8 s", async () => {
   assert.equal(await lose(connection, { opened: true }), 250);
   assert.equal(await lose(connection), 500);
 });
+
+test("a socket the server refuses for its size or policy is said refused", async () => {
+  // 1008 (policy), 1009 (a message too big) and 4403 (a token) are refusals, said as such
+  for (const code of [1008, 1009, 4403]) {
+    const said = { said: [], say(text) { this.said.push(text); }, refuse() {} };
+    const connection = new Connection(null, "", said);
+    connection.connect();
+    const ws = FakeSocket.made.at(-1);
+    globalThis.setTimeout = () => 1;
+    try {
+      await ws.onclose({ code, reason: "too big" });
+    } finally {
+      globalThis.setTimeout = realSetTimeout;
+    }
+    assert.deepEqual(said.said, ["refused: too big"], `close code ${code}`);
+  }
+});
+
+test("what came before the page could draw is handed on only from the socket open now", async () => {
+  const connection = new Connection(null, "", status);
+  connection.connect();
+  FakeSocket.made.at(-1).onmessage({ data: "from the lost socket" });
+  await lose(connection);  // lost, and a new socket opened
+  FakeSocket.made.at(-1).onmessage({ data: "from the new socket" });
+  const got = [];
+  connection.ready((_ws, event) => got.push(event.data));
+  assert.deepEqual(got, ["from the new socket"]);
+  FakeSocket.made.at(-1).onmessage({ data: "later" });  // from now on, as it comes
+  assert.deepEqual(got, ["from the new socket", "later"]);
+});
