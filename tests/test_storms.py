@@ -529,21 +529,39 @@ def test_every_walker_created_is_walking_owed_frozen_or_dropped(preset, over):
 
 def test_owed_walkers_repaid_never_take_the_water_past_its_budget():
     # A 60 px screen, the launch circle beyond it: a touch places CELL_WORK = 400 walkers
-    # of its pool (500, the budget) and owes 100; its ring brings 48 more (touch_water:
-    # new ones, the pool short), so 448 walk and 100 are owed, 48 over the budget. The
-    # next tick's repay may place only 500 - 448 = 52 of them: the budget holds.
+    # of its pool (500, the budget) and owes the other 100. Its ring of 48 then finds the
+    # pool full, owed walkers counted (version 14), so it moves 48 of the pool's own and
+    # brings none: walkers and owed stay within the budget.
     p = Params.preset("fern", launch=100.0, water_budget=500)
     sim = FrostSim(p, 60, 60, seed=0)
     sim.touch(30.0, 30.0)
     walking, owed = len(sim.water), sim.supply.waiting
-    assert walking + owed > p.water_budget, (walking, owed)  # (the ring's walkers are new)
+    assert walking + owed == p.water_budget, (walking, owed)
+    # Walkers put there by hand (more than the room left): the repay places only what
+    # the budget has room for, and the rest stay owed.
+    sim.set_water(np.tile(sim.water[:1], (450, 1)))
     sim.placer.cell_work = frost.CELL_WORK
     sim.supply.repay(sim.ice_state())
-    assert len(sim.water) <= p.water_budget
-    assert owed - sim.supply.waiting == p.water_budget - walking  # repaid up to the budget
+    assert len(sim.water) == p.water_budget
+    assert sim.supply.waiting == owed - (p.water_budget - 450)
     for _ in range(5):
         sim.step()
         assert len(sim.water) <= p.water_budget
+
+
+@pytest.mark.parametrize("preset", ["fern", "c-2"])
+def test_walkers_and_owed_stay_within_the_water_budget_through_a_storm(preset):
+    # Touches all over a small screen with a small budget: a touch's top-up and its ring
+    # count the owed walkers, so walkers + owed never pass `water_budget`.
+    p = Params.preset(preset, water_budget=900, humidity=600)
+    sim = FrostSim(p, *SMALL, seed=5)
+    rng = np.random.default_rng(5)
+    for t in range(120):
+        for x, y in rng.uniform((0, 0), SMALL, (6 if t < 50 else 0, 2)):
+            sim.touch(x, y)
+            assert len(sim.water) + sim.supply.waiting <= p.water_budget, t
+        sim.step()
+        assert len(sim.water) + sim.supply.waiting <= p.water_budget, t
 
 
 def _bare_pool():

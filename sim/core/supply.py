@@ -206,7 +206,11 @@ class Supply:
         new = 0
         if self.touch_creates:  # a pool short of `humidity` brings new ones, in the budget
             short = self.pane.pool(self.params.humidity) - len(mine)
-            new = max(0, min(want, short, self.params.water_budget - self.water.n))
+            room = self.params.water_budget - self.water.n
+            if self.kept:  # (version 14) owed walkers are the pool's and the budget's too
+                owed = self._owed_of(self.areas.n)
+                short, room = short - int(owed[area]), room - int(owed.sum())
+            new = max(0, min(want, short, room))
         if len(mine) > want - new:
             mine = np.sort(self.rng.choice(mine, want - new, replace=False))
         k = len(mine) + new

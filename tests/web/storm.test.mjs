@@ -123,3 +123,16 @@ test('the crystals the page counts are the live ones: a warm finger takes its me
   run.frost.step();
   assert.equal(run.stats().crystals, aliveByHand(run.frost));
 });
+
+test('a touch ring counts the owed walkers: walkers and owed stay within the budget', () => {
+  // A 60 px screen, the launch circle beyond it, a budget of 500: the touch places 400
+  // and owes 100; its ring of 48 finds the pool full (owed counted) and brings none.
+  const p = { ...FERN, launch: 100, water_budget: 500 };
+  const frost = new Frost(p, { width: 60, height: 60, seed: 0 });
+  frost.touch(30, 30);
+  assert.equal(frost.water.n + frost.supply.waiting, 500);
+  for (let t = 0; t < 5; t++) {
+    frost.step();
+    assert.ok(frost.water.n + frost.supply.waiting <= 500, `tick ${t}`);
+  }
+});

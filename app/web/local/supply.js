@@ -181,7 +181,9 @@ export class Supply {
       this.picks = room(this.picks, mine + 1);
       this.picks[mine++] = i;
     }
-    const fresh = Math.max(0, Math.min(want, params.humidity - mine, params.water_budget - water.n));
+    this.owed = room(this.owed, this.areas.n);  // owed walkers are the pool's and the budget's too
+    const fresh = Math.max(0, Math.min(want, params.humidity - mine - this.owed[area],
+      params.water_budget - water.n - this.waiting));
     const moved = Math.min(mine, want - fresh);
     for (let j = 0; j < moved; j++) {  // a random `moved` of the area's walkers (Fisher-Yates)
       const k = j + Math.min(Math.floor(this.uniform() * (mine - j)), mine - j - 1);
