@@ -16,13 +16,18 @@ RUN_PKGS := libegl1 libgles2 libgl1
 # page's own JavaScript (tests/web).
 APT_PKGS := $(RUN_PKGS) xvfb xauth xdotool glslang-tools chromium libnss3-tools nodejs
 
-.PHONY: run serve test quick test-deep bench bench-sim bench-render lint system-run system-test clean
+.PHONY: run serve web test quick test-deep bench bench-sim bench-render lint system-run system-test clean
 
 run: $(RUN_STAMP)
 	$(PY) -m app $(ARGS)
 
 serve: $(RUN_STAMP)
 	$(PY) -m app serve $(ARGS)
+
+# The phone page as a static site in site/ (docs/phone.md, Without a computer); ARGS as
+# `frost web`'s (--weather-api URL, --geocoding-api URL). The Pages workflow runs the same.
+web: $(RUN_STAMP)
+	$(PY) -m app web site $(ARGS)
 
 # Three workers (pytest-xdist) on CI's two cores: the suite waits on its subprocesses (the
 # window under Xvfb, Chromium, frost serve) for much of its run, and two workers kept the

@@ -250,6 +250,11 @@ def _serve(args: argparse.Namespace, params: Params) -> int:
     return serve(args, params)
 
 
+def _web(args: argparse.Namespace, params: Params) -> int:
+    from app.tools.web_site import run
+    return run(args, params)
+
+
 def _info(args: argparse.Namespace, params: Params) -> int:
     from app.tools.info import run
     return run(args, params)
@@ -257,7 +262,7 @@ def _info(args: argparse.Namespace, params: Params) -> int:
 
 RUN = {None: _window, "render": _render, "replay": _replay, "figure8": _figure8,
        "figure": _figure, "maps": _maps, "bench": _bench_render, "serve": _serve,
-       "info": _info}
+       "web": _web, "info": _info}
 
 
 def no_display_words(env) -> str:

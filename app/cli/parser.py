@@ -55,7 +55,7 @@ def build_parser() -> Parser:
     root = _window()
     subs = root.add_subparsers(dest="command", title="commands (frost COMMAND --help for each)",
                                metavar="COMMAND")
-    for add in (_render, _replay, _figure8, _figure, _maps, _bench, _serve, _info):
+    for add in (_render, _replay, _figure8, _figure, _maps, _bench, _serve, _web, _info):
         add(root, subs)
     return root
 
@@ -236,6 +236,18 @@ def _serve(root: Parser, subs) -> None:
     options.add_weather(p, "read at the start and every --weather-every minutes, for every page")
     options.add_weather_every(p)
     options.add_overrides(p)
+
+
+def _web(root: Parser, subs) -> None:
+    p = root.command(subs, "web", "the phone page as a static site, for any web host (no "
+                     "computer needed)", "Write the phone page into DIR as a static site "
+                     "(docs/phone.md, Without a computer): any static web server serves it as "
+                     "it is, at its root or under a sub-path; opened there, the page grows its "
+                     "own frost at once, installs to the home screen and opens offline. A site "
+                     "built again into DIR replaces the old one whole.", "DIR [options]")
+    p.add_argument("site_dir", metavar="DIR", help="the folder to write the site into (new, "
+                   "empty, or a site frost web wrote before)")
+    options.add_weather_apis(p, ", which the page asks itself")
 
 
 def _bench(root: Parser, subs) -> None:

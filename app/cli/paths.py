@@ -30,7 +30,7 @@ from app.tools.engine_maps import ENGINE_FILES
 from sim.io.files import not_regular, one_line, refusal, temp_file
 
 OUTPUT_FILES = ("out",)
-OUTPUT_FOLDERS = ("out_dir",)
+OUTPUT_FOLDERS = ("out_dir", "site_dir")
 # Files a folder option's command writes under fixed names: checked like an output file.
 FOLDER_FILES = {"out_dir": ENGINE_FILES}
 WINDOW_FOLDERS = ("screenshot_dir", "session_dir")

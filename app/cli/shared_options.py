@@ -145,10 +145,7 @@ def add_weather(p, what: str) -> None:
     g.add_argument("--weather", type=values.place, metavar="PLACE",
                    help="grow the frost by the weather at PLACE: LAT,LON or a place's name (looked "
                         f"up, first match); {what} (default off: the preset's temperature)")
-    g.add_argument("--weather-api", type=values.url, default=FORECAST_API, metavar="URL",
-                   help=f"the forecast API (Open-Meteo's or a mirror; default {FORECAST_API})")
-    g.add_argument("--geocoding-api", type=values.url, default=GEOCODING_API, metavar="URL",
-                   help=f"the geocoding API for a place's name (default {GEOCODING_API})")
+    add_weather_apis(g)
     g.add_argument("--glazing", choices=GLAZINGS, default="single", metavar="|".join(GLAZINGS),
                    help="the window's glass: old single glazing (U 5.8 W/m2K) or double (2.8) "
                         "(default single)")
@@ -161,6 +158,14 @@ def add_weather(p, what: str) -> None:
                    default=ROOM_HUMIDITY, metavar="PCT",
                    help=f"the room's relative humidity, %%, {lo:g} to {hi:g} (default "
                         f"{ROOM_HUMIDITY:g}: a dew point of 6 C)")
+
+
+def add_weather_apis(g, whose: str = "") -> None:
+    """--weather-api and --geocoding-api (`whose`: who asks them, said in the help)."""
+    g.add_argument("--weather-api", type=values.url, default=FORECAST_API, metavar="URL",
+                   help=f"the forecast API{whose} (Open-Meteo's or a mirror; default {FORECAST_API})")
+    g.add_argument("--geocoding-api", type=values.url, default=GEOCODING_API, metavar="URL",
+                   help=f"the geocoding API for a place's name{whose} (default {GEOCODING_API})")
 
 
 def add_weather_every(p) -> None:

@@ -79,14 +79,17 @@ def shell_hash(files: list[tuple[str, Path]]) -> str:
     return h.hexdigest()[:16]
 
 
-def manifest(token: str) -> dict:
-    """The web app manifest, every address with `token` (where one is in force)."""
+def manifest(token: str, static: bool = False) -> dict:
+    """The web app manifest, every address with `token` (where one is in force). `static`:
+    the static site's (`frost web`), whose addresses are all relative, so that it installs
+    from wherever it is served (a sub-path such as /frost/ too)."""
     query = f"?token={token}" if token else ""
+    root = "./" if static else "/"
     return {
-        "name": NAME, "short_name": NAME, "id": "/",
-        "description": "Window frost that grows under your finger, shared by every phone "
-                       "of frost serve",
-        "start_url": f"/{query}", "scope": "/", "display": "standalone", "orientation": "any",
+        "name": NAME, "short_name": NAME, "id": root,
+        "description": "Window frost that grows under your finger" + (
+            "" if static else ", shared by every phone of frost serve"),
+        "start_url": f"{root}{query}", "scope": root, "display": "standalone", "orientation": "any",
         "theme_color": THEME, "background_color": BACKGROUND,
         "icons": [{"src": f"web/{file}{query}", "sizes": f"{size}x{size}", "type": "image/png",
                    "purpose": purpose} for (purpose, size), file in ICONS.items()],

@@ -157,11 +157,12 @@ async def backdrop(request: web.Request) -> web.Response:
     if name not in BACKDROPS:
         raise web.HTTPNotFound(text=f"frost: no backdrop {name[:40]!r}\n")
     if name not in cache:
-        cache[name] = await asyncio.to_thread(_png, name)
+        cache[name] = await asyncio.to_thread(backdrop_png, name)
     return web.Response(body=cache[name], content_type="image/png")
 
 
-def _png(name: str) -> bytes:
+def backdrop_png(name: str) -> bytes:
+    """Built-in backdrop `name` as the pages get it (the static site's file too)."""
     from PIL import Image
     out = io.BytesIO()
     # (the lock screen's static parts: each page gets its clock box as a clock message)

@@ -35,10 +35,11 @@ class WorkerSocket {
 
 export class Alone {
   // page: `window.frost`; parts: the page's connection, stream and status line, its
-  // ?token= query, the join button, and `start()` giving the preset, look and backdrop to
-  // begin with.
-  constructor(page, { connection, stream, status, query, joinButton }) {
-    Object.assign(this, { page, connection, stream, status, query, joinButton });
+  // ?token= query, the join button; `serverless`: the static site's page (`frost web`),
+  // which has no server to ask for, nor to join; `wanted`: the preset to begin with where
+  // the page showed none (a deep link's).
+  constructor(page, { connection, stream, status, query, joinButton, serverless = false, wanted = {} }) {
+    Object.assign(this, { page, connection, stream, status, query, joinButton, serverless, wanted });
     this.worker = null;
     this.socket = null;
     this.failed = null;  // why the phone cannot grow frost (its modules not loaded: no cache)
@@ -73,9 +74,10 @@ export class Alone {
     worker.onmessage = (event) => this.message(event.data);
     worker.onerror = (event) => this.fail(event.message || "its modules did not load");
     this.socket = new WorkerSocket(worker);
-    this.status.resting = ON_PHONE;
+    // (the static site's frost is the phone's own always: nothing to tell apart from a server's)
+    this.status.resting = this.serverless ? "" : ON_PHONE;
     this.configure(worker).catch((err) => this.fail(err.message));
-    this.probing = setInterval(() => this.probe(), PROBE_MS);
+    if (!this.serverless) this.probing = setInterval(() => this.probe(), PROBE_MS);
     return true;
   }
 
@@ -87,7 +89,7 @@ export class Alone {
     const shown = this.stream.hello || {};
     this.connection.adopt(this.socket);
     worker.postMessage({ type: "start", config,
-      start: { preset: shown.preset, look: shown.look, backdrop: shown.backdrop } });
+      start: { preset: shown.preset ?? this.wanted.preset, look: shown.look, backdrop: shown.backdrop } });
   }
 
   // A message of the worker: frost serve's (text or bytes) to the stream, or its own.
@@ -104,7 +106,8 @@ export class Alone {
       // A plain object of own properties, the issue's five (the tests read it as JSON); the
       // worker's other figures (its median tick, the touches dropped) in `stats`.
       this.stats = data;
-      this.page.local = { tick: data.tick, crystals: data.crystals, ticksPerSecond: data.ticksPerSecond,
+      // (what other parts put on it, such as the weather's, stays)
+      this.page.local = { ...this.page.local, tick: data.tick, crystals: data.crystals, ticksPerSecond: data.ticksPerSecond,
         tickP99Ms: data.tickP99Ms, clear: () => this.send({ type: "clear" }) };
     } else if (data.type === "session" || data.type === "meta") {
       const resolve = this.asked.get(data.type);
@@ -136,6 +139,7 @@ export class Alone {
     const growing = this.running;
     this.end();
     if (!growing) return;  // (held: the page shows the server's frost)
+    if (this.serverless) return this.status.say(`this browser cannot grow the frost: ${reason}`);
     this.status.say("frost serve is not reachable: trying again");
     this.connection.connect();
   }

@@ -21,6 +21,9 @@ import { FrameLoop } from "./frames.js";
 import { Screenshots } from "./shot.js";
 import { listenToKeys } from "./keys.js";
 import { Alone } from "./alone.js";
+import { SITE } from "./site.js";
+import { DeepLinks } from "./links.js";
+import { startWeather } from "./weather_local.js";
 
 const token = new URLSearchParams(location.search).get("token");
 const query = token ? `?token=${encodeURIComponent(token)}` : "";
@@ -39,10 +42,14 @@ const taps = new TapWatch();
 const frost = { error: null, clock: new Clock() };
 window.frost = frost;
 
+// The address's deep links (?preset=, ?weather=): taken with the first hello.
+const links = new DeepLinks(location.search);
+
 // The socket first, before the GL context and the shaders (a few hundred ms on a slow
 // phone): the server writes this page's hello and snapshot meanwhile. What comes waits in
-// the connection, in order, until main() can draw it.
-connection.connect();
+// the connection, in order, until main() can draw it. The static site (`frost web`) has no
+// server: it asks none, and grows its own frost at once (below).
+if (!SITE.static) connection.connect();
 
 const gl = canvas.getContext("webgl2", {
   alpha: false, antialias: false, depth: false, premultipliedAlpha: false, preserveDrawingBuffer: true,
@@ -53,9 +60,25 @@ const frames = new FrameLoop(frost, { view, stream, pane, taps, status, gl });
 const shots = new Screenshots(query, { view, pane, frames, stream });
 
 // No server answers: the phone grows its own frost (alone.js), else the remembered backdrop.
-const alone = new Alone(frost, { connection, stream, status, query, joinButton: document.getElementById("join") });
+const alone = new Alone(frost, { connection, stream, status, query, joinButton: document.getElementById("join"),
+  serverless: SITE.static, wanted: { preset: links.preset } });
 frost.alone = alone;
+frost.site = SITE;
 shots.localMeta = () => alone.running && alone.ask("meta");
+// The weather a deep link asks for: the page's own (weather_local.js), where the phone grows
+// its own frost (at once on the static site; when the server is not reachable on frost
+// serve's page, which follows the server's weather meanwhile).
+let weatherAsked = false;
+function ownWeather() {
+  if (weatherAsked || !links.weather) return;
+  weatherAsked = true;
+  startWeather(links.weather);
+}
+if (SITE.static) {
+  showOffline(true, canvas, query, pane.fit);  // (the remembered backdrop until the first frame)
+  alone.start();
+  ownWeather();
+}
 
 connection.onClosed = () => stream.closed();
 // (A server that answers while its socket fails is tried again: an HTTPS socket that an
@@ -63,7 +86,9 @@ connection.onClosed = () => stream.closed();
 connection.onUnreachable = (answered) => {
   // (the backdrop until the first frame, the phone's own frost's or the server's)
   if (!view.renderer) showOffline(true, canvas, query, pane.fit);
-  return !answered && alone.start();
+  const growing = !answered && alone.start();
+  if (growing) ownWeather();
+  return growing;
 };
 
 // `names` of `part` read and set as `frost`'s own.
@@ -109,14 +134,17 @@ async function main() {
     (text) => status.say(text), (text) => status.notice(text));
   frost.weather = new WeatherHere(document.getElementById("panel"), query,
     (text) => status.say(text), (text) => status.notice(text));
-  makeApp(menuElement, query, frost);
+  if (!SITE.static) makeApp(menuElement, query, frost);  // (a static host has no ports nor authority)
   frost.phone = new PhoneApp(frost, menuElement);
   listenToKeys(send, screenshot);
   addEventListener("resize", () => { pane.dirty = true; });
   view.watchContext(canvas, () => {
     if (connection.socket) connection.socket.close(4001, "page: the GPU context was restored");
   });
-  connection.ready((ws, event) => stream.receive(ws, event));
+  connection.ready((ws, event) => {
+    stream.receive(ws, event);
+    if (stream.hello && !links.applied) links.hello(stream.hello, send, (text) => status.say(text));
+  });
   frames.start();
 }
 

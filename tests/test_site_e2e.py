@@ -1,0 +1,242 @@
+"""The static site of `frost web` (issue 57, items 1 and 5), end to end: built once for the
+module with `frost web`, its parent folder served by a plain static server (the standard
+library's, in a thread: no frost serve anywhere) so that the site lies under /frost/, and
+opened by a 390x844 touch phone in headless Chromium. It grows its own frost at once and
+asks no server anything; a tap grows frost; the deep links open it on a preset and hand
+the weather on; Chromium finds it installable; with the static server stopped it opens
+from its worker's cache and grows frost; a site built again replaces it after one
+reload, every file at once."""
+
+from __future__ import annotations
+
+import functools
+import json
+import shutil
+import threading
+from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
+from pathlib import Path
+
+import pytest
+from support.phone import PHONE, PROBLEM, css_point, persistent, wait_for_shell
+
+from app.cli.commands import main as frost
+from app.resources import WEB_DIR
+from app.tools.web_site import build
+
+pytestmark = [pytest.mark.browser, pytest.mark.skipif(PROBLEM is not None, reason=str(PROBLEM))]
+
+SUB = "frost"  # the site's sub-path: https://USER.github.io/frost/ as GitHub Pages serves a repository
+
+
+class Quiet(SimpleHTTPRequestHandler):
+    def log_message(self, *args) -> None:  # (the test's output is the test's)
+        pass
+
+
+class Server(ThreadingHTTPServer):
+    def handle_error(self, request, client_address) -> None:
+        pass  # (a page that went while a file was sent: no traceback)
+
+
+class StaticServer:
+    """A plain static web server of `root` on loopback (in a thread): files, and nothing
+    of ours. `stop()` and `start()` again on the same port; `paths` lists what was asked."""
+
+    def __init__(self, root: Path):
+        self.root, self.port, self.http = root, 0, None
+        self.paths: list[str] = []
+        self.start()
+
+    def start(self) -> None:
+        paths = self.paths
+
+        class Handler(Quiet):
+            def do_GET(self):  # noqa: N802 (http.server's name)
+                paths.append(self.path)
+                super().do_GET()
+
+        self.http = Server(("127.0.0.1", self.port),
+                                        functools.partial(Handler, directory=str(self.root)))
+        self.port = self.http.server_address[1]
+        threading.Thread(target=self.http.serve_forever, daemon=True).start()
+
+    def stop(self) -> None:
+        self.http.shutdown()
+        self.http.server_close()
+
+    @property
+    def url(self) -> str:
+        return f"http://127.0.0.1:{self.port}/{SUB}/"
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory):
+    """The site built by `frost web` into ROOT/frost, ROOT served: (the server, ROOT)."""
+    root = tmp_path_factory.mktemp("static")
+    assert frost(["web", str(root / SUB)]) == 0
+    server = StaticServer(root)
+    yield server, root
+    server.stop()
+
+
+def status(page) -> str:
+    return page.evaluate("document.getElementById('status').textContent")
+
+
+def watched(context, url: str):
+    """A page of `url` whose failed requests and console errors are listed in `page.bad`."""
+    page = context.new_page()
+    page.bad = []
+    page.on("console", lambda m: m.type == "error" and page.bad.append(m.text))
+    page.on("response", lambda r: r.status >= 400 and page.bad.append(f"{r.status} {r.url}"))
+    page.on("requestfailed", lambda r: page.bad.append(f"failed {r.url}"))
+    page.goto(url)
+    return page
+
+
+def growing(page, ticks: int = 5) -> int:
+    """Wait until the phone's own frost has ticked `ticks` (however slowly a loaded machine
+    steps it); its tick."""
+    page.wait_for_function(f"window.frost && frost.local && frost.local.tick >= {ticks} && frost.frames > 0",
+                           timeout=60_000)
+    return page.evaluate("frost.local.tick")
+
+
+def tap_grows(page) -> None:
+    """A tap at the pane's centre grows frost: crystals beyond the one seed it plants."""
+    before = page.evaluate("frost.local.crystals")
+    page.touchscreen.tap(*css_point(page, 380, 640))
+    page.wait_for_function(f"frost.local.crystals >= {before} + 20", timeout=60_000)
+
+
+def test_the_site_grows_frost_at_once_and_asks_no_server(site, browser, tmp_path):
+    server, _ = site
+    context = browser.new_context(**PHONE)
+    try:
+        del server.paths[:]
+        page = watched(context, server.url)
+        growing(page)
+        assert page.evaluate("frost.site.static") is True
+        assert status(page) == ""  # (not "not reachable": nothing was tried)
+        tap_grows(page)
+        page.screenshot(path=str(tmp_path / "site.png"))
+        assert page.bad == []
+        asked = {p.split("?")[0] for p in server.paths}
+        assert all(p.startswith(f"/{SUB}/") for p in asked), asked
+        # no socket, no /meta, no /app.json: nothing a server of ours would answer
+        assert not asked & {f"/{SUB}/{name}" for name in ("ws", "meta", "app.json", "photo", "weather")}
+        assert page.evaluate("frost.hellos") == 0 and page.evaluate("frost.hello.local") is True
+    finally:
+        context.close()
+
+
+def test_deep_links_open_the_site_on_a_preset_and_hand_the_weather_on(site, browser):
+    server, _ = site
+    context = browser.new_context(**PHONE)
+    try:
+        page = watched(context, server.url + "?preset=c-2&weather=59.33,18.07")
+        growing(page)
+        shown = "[frost.hello.preset, document.getElementById('preset').value]"
+        assert page.evaluate(shown) == ["c-2", "c-2"]
+        page.wait_for_function("frost.local.weatherRequest !== undefined", timeout=30_000)
+        assert page.evaluate("frost.local.weatherRequest") == {"latitude": 59.33, "longitude": 18.07}
+        assert status(page) == "" and page.bad == []
+        here = watched(context, server.url + "?weather=here")
+        growing(here)
+        here.wait_for_function("frost.local.weatherRequest !== undefined", timeout=30_000)
+        assert here.evaluate("frost.local.weatherRequest") == {"here": True}
+        assert here.evaluate("frost.hello.preset") == "fern"
+        bad = watched(context, server.url + "?preset=nope&weather=91,18")
+        growing(bad)
+        bad.wait_for_function("document.getElementById('status').textContent !== ''", timeout=30_000)
+        line = status(bad)
+        assert "?preset=nope is no preset: one of " in line and "c-2" in line, line
+        assert "?weather=91,18 is not a place" in line and "\n" not in line, line
+        assert bad.evaluate("frost.hello.preset") == "fern"  # (the rest opens as without them)
+        assert bad.evaluate("frost.local.weatherRequest") is None
+    finally:
+        context.close()
+
+
+MARKED = "globalThis.frostMarks = [...(globalThis.frostMarks || []), '{name}:{mark}'];\n"
+
+
+def marked_web(folder: Path, mark: str) -> Path:
+    """A copy of the page's folder whose every module, stylesheet and page says `mark`."""
+    web = folder / "web"
+    shutil.copytree(WEB_DIR, web, ignore=shutil.ignore_patterns("__pycache__"))
+    for js in web.glob("*.js"):
+        if js.name != "sw.js":
+            js.write_text(js.read_text(encoding="utf-8") + MARKED.format(name=js.name, mark=mark),
+                          encoding="utf-8")
+    css = web / "page.css"
+    css.write_text(css.read_text(encoding="utf-8") + f'\n:root {{ --frost-mark: "{mark}"; }}\n',
+                   encoding="utf-8")
+    page = web / "index.html"
+    page.write_text(page.read_text(encoding="utf-8").replace(
+        "<title>", f'<meta name="frost-mark" content="{mark}">\n<title>'), encoding="utf-8")
+    return web
+
+
+def versions(page) -> dict[str, str | None]:
+    """Which build each module, the stylesheet and the page the page runs came from."""
+    return page.evaluate("""() => {
+        const found = {};
+        for (const m of globalThis.frostMarks || []) {
+            const [name, v] = m.split(':');
+            found[name] = v;
+        }
+        found.css = getComputedStyle(document.documentElement).getPropertyValue('--frost-mark')
+            .trim().replaceAll('"', '') || null;
+        found.html = document.querySelector('meta[name=frost-mark]')?.content || null;
+        return found;
+    }""")
+
+
+def build_hash(root: Path) -> str:
+    return json.loads((root / SUB / "version.json").read_text())["build"]
+
+
+def test_the_site_installs_opens_offline_and_a_new_build_replaces_it_whole(pw, tmp_path):
+    """In a persistent profile (the worker and the installability check need one), on a
+    site of its own (it is rebuilt): installable; the server stopped, a reload opens it
+    from the cache and a tap grows frost; built again with every module changed, one
+    reload runs the new build, every file of it, and so does a reload offline after."""
+    root = tmp_path / "static"
+    old = marked_web(tmp_path / "a", "A")
+    build(root / SUB, "https://a.test", "https://a.test", web_dir=old)
+    server = StaticServer(root)
+    ctx = persistent(pw, tmp_path / "profile")
+    try:
+        page = watched(ctx, server.url)
+        growing(page)
+        shell = versions(page)
+        assert {"main.js", "alone.js", "links.js", "css", "html"} <= set(shell), shell
+        assert set(shell.values()) == {"A"}, shell
+        assert page.evaluate("frost.site.weather_api") == "https://a.test"  # (site.js: the build's own)
+        wait_for_shell(page, build_hash(root))
+        cdp = ctx.new_cdp_session(page)
+        assert cdp.send("Page.getInstallabilityErrors")["installabilityErrors"] == []
+        cdp.detach()
+        server.stop()
+        page.reload()  # no server at all: the page, its modules, shaders and simulation from the cache
+        growing(page)
+        assert versions(page) == shell
+        tap_grows(page)
+        new = marked_web(tmp_path / "b", "B")
+        build(root / SUB, "https://b.test", "https://b.test", web_dir=new)
+        server.start()
+        page.reload()  # one reload: the new build, whole
+        growing(page)
+        assert versions(page) == dict.fromkeys(shell, "B")
+        assert page.evaluate("frost.site.weather_api") == "https://b.test"
+        wait_for_shell(page, build_hash(root))  # the new worker's cache replaced A's
+        server.stop()
+        page.reload()  # and what opens without the server is B, whole
+        growing(page)
+        assert versions(page) == dict.fromkeys(shell, "B")
+        tap_grows(page)
+    finally:
+        ctx.close()
+        if server.http:
+            server.http.server_close()
