@@ -29,6 +29,13 @@ SUB = "frost"  # the site's sub-path: https://USER.github.io/frost/ as GitHub Pa
 
 
 class Quiet(SimpleHTTPRequestHandler):
+    """A plain static server's files, kept by a browser for 10 minutes as GitHub Pages
+    lets it (Cache-Control: max-age=600): a new build must come past that."""
+
+    def end_headers(self) -> None:
+        self.send_header("Cache-Control", "max-age=600")
+        super().end_headers()
+
     def log_message(self, *args) -> None:  # (the test's output is the test's)
         pass
 
@@ -240,3 +247,4 @@ def test_the_site_installs_opens_offline_and_a_new_build_replaces_it_whole(pw, t
         ctx.close()
         if server.http:
             server.http.server_close()
+

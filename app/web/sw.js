@@ -84,8 +84,19 @@ self.addEventListener("fetch", (event) => {
   const request = event.request;
   const url = new URL(request.url);
   if (request.method !== "GET" || url.origin !== ROOT.origin || !PATHS.has(url.pathname)) return;
-  event.respondWith(request.mode === "navigate" ? page(event) : file(event));
+  event.respondWith((request.mode === "navigate" ? page(event) : file(event)).then(unkept));
 });
+
+// `response` as the page is given it: never kept by the browser beyond the page (no-cache),
+// so that each page's files come through this worker, by the page's own choice, and never
+// from the browser's memory of another page's (a static host's max-age kept the old build's
+// modules beside a new build's page).
+function unkept(response) {
+  if (response.status !== 200 || (response.type !== "basic" && response.type !== "default")) return response;
+  const headers = new Headers(response.headers);
+  headers.set("Cache-Control", "no-cache");
+  return new Response(response.body, { status: 200, statusText: response.statusText, headers });
+}
 
 function cached(request) {
   // The cache's keys have no token: the page's requests carry one.
