@@ -395,3 +395,19 @@ def test_the_menu_and_the_status_line_keep_clear_of_notches(serve, phones):
     page.wait_for_function("document.getElementById('menu').getBoundingClientRect().top === 47")
     menu, status = page.evaluate(box, "menu"), page.evaluate(box, "status")
     assert menu["right"] == 390 - 30 and status["bottom"] == 844 - 34 - 12 and status["height"] > 0
+
+
+def test_a_deep_link_sets_the_servers_preset_as_the_menu_does(serve, phones):
+    """`?preset=c-2` on frost serve's page sets the server's preset, as the menu's choice
+    does (its /meta's parameters are then c-2's); a name that is no preset is one line in
+    that page's status line and changes nothing."""
+    s = serve()
+    page = phones(s.local + "?preset=c-2")
+    page.wait_for_function("frost.hello.preset === 'c-2'", timeout=60_000)
+    with urlopen(s.local + "meta", timeout=10) as r:
+        assert json.loads(r.read())["parameters"] == json.loads(json.dumps(Params.preset("c-2").as_dict()))
+    other = phones(s.local + "?preset=zzz")
+    other.wait_for_function("document.getElementById('status').textContent !== ''", timeout=30_000)
+    line = other.evaluate("document.getElementById('status').textContent")
+    assert line.startswith("?preset=zzz is no preset: one of ") and "c-2" in line, line
+    assert other.evaluate("frost.hello.preset") == "c-2"
