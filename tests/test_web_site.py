@@ -153,3 +153,18 @@ def test_make_web_writes_site_which_git_ignores(tmp_path):
     if git and (ROOT / ".git").exists():
         done = subprocess.run([git, "check-ignore", "-q", "site/index.html"], cwd=ROOT, timeout=30)
         assert done.returncode == 0, "site/ is not git-ignored"
+
+
+def test_the_pages_workflow_builds_the_site_with_frost_web_and_deploys_it():
+    """.github/workflows/pages.yml (read as text: no YAML parser among the dependencies):
+    on a push to main it runs `frost web site`, uploads site/ as the Pages artifact and
+    deploys it, with the permissions Pages needs."""
+    text = (ROOT / ".github" / "workflows" / "pages.yml").read_text(encoding="utf-8")
+    lines = [line.split("#")[0].rstrip() for line in text.splitlines()]
+    assert "  push:" in lines and "    branches: [main]" in lines
+    assert "        run: frost web site" in lines
+    upload = lines.index("      - uses: actions/upload-pages-artifact@v3")
+    assert lines[upload + 1:upload + 3] == ["        with:", "          path: site"]
+    assert "        uses: actions/deploy-pages@v4" in lines
+    assert {"  pages: write", "  id-token: write"} <= set(lines)
+    assert lines.index("        run: frost web site") < upload < lines.index("        uses: actions/deploy-pages@v4")

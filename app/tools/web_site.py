@@ -111,7 +111,7 @@ def run(args: argparse.Namespace, params: Params) -> int:
     except OSError as err:
         problem = err.strerror or str(err)
     if problem or size is None:
-        print(f"frost: error: {one_line(str(folder))}: {problem}", file=sys.stderr)
+        print(f"frost: error: {one_line(str(folder))}: {problem} (see frost web --help)", file=sys.stderr)
         return 2
     print(f"frost web: wrote the static site to {one_line(str(folder))} ({size / 1e6:.1f} MB): "
           "any static web server serves it as it is, at its root or under a sub-path")
