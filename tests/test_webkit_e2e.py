@@ -41,10 +41,10 @@ def viewport_point(webkit, x: float, y: float) -> tuple[float, float]:
 
 
 def boxes(shot: np.ndarray, at: tuple[float, float]) -> tuple[np.ndarray, np.ndarray]:
-    """The screenshot's 80 x 80 CSS px around `at`, and 60 x 60 at the left, a quarter
-    down (far from it: under the status line, away from the menu's button)."""
+    """The screenshot's 80 x 80 CSS px around `at`, and 60 x 60 at the left, an eighth
+    down (far from it: some 550 pane px from the pane's centre, away from the menu's button)."""
     cx, cy = round(at[0]), round(at[1])
-    top = shot.shape[0] // 4
+    top = shot.shape[0] // 8
     return (shot[cy - 40:cy + 40, cx - 40:cx + 40].astype(int),
             shot[top:top + 60, 5:65].astype(int))
 
@@ -65,13 +65,13 @@ def test_a_click_grows_frost_on_the_served_page(serve, webkit):
                     "frost.shownBackdrop))", what="window.frost && [frost.synced, frost.frames]")
     assert webkit.js("frost.error") is None
     assert webkit.js("frost.hello.local") is not True  # the server's frost, not the phone's
-    assert webkit.js(f"{ICED}({TAP[0]}, {TAP[1]}, 300)") == [0, 0]  # a blank pane
+    assert webkit.js(f"{ICED}({TAP[0]}, {TAP[1]}, 500)") == [0, 0]  # a blank pane
     at = viewport_point(webkit, *TAP)
     before = webkit.screenshot()
     tick = webkit.js("frost.tick")
     webkit.click(*at)
     webkit.wait_for(f"frost.tick >= {tick + 50}", timeout=120)  # two seconds of frost
-    near, far = webkit.js(f"{ICED}({TAP[0]}, {TAP[1]}, 300)")
+    near, far = webkit.js(f"{ICED}({TAP[0]}, {TAP[1]}, 500)")
     assert near >= 50 and far == 0, (near, far)
     webkit.wait_for("new Promise((done) => requestAnimationFrame(() => "
                     "requestAnimationFrame(() => done(true))))")  # (the last ticks drawn)
