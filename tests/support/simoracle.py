@@ -258,7 +258,8 @@ def answer(request: dict) -> object:
         return [grow({**request, "seed": s}) for s in request["seeds"]]
     if kind == "window":
         return [window({**request, "seed": s}) for s in request["seeds"]]
-    handlers = {"pane_measure": pane_measure, "measure": measure, "walk": walk, "cells": cells, "fern": fern, "taps": taps}
+    handlers = {"pane_measure": pane_measure, "measure": measure, "walk": walk, "cells": cells,
+                "fern": fern, "taps": taps}
     if kind not in handlers:
         raise ValueError(f"unknown request kind {kind!r}")
     return handlers[kind](request)
