@@ -25,9 +25,9 @@ from sim.look.geometry import FrostGeometry
 from sim.screen import MELT_RADIUS, SIZE
 
 FILE = WEB_DIR / "local" / "params.json"
-# Presets the page's simulation does not grow (window mode is sim/rules/window_mode.py's
-# alone): the menu shows them as needing frost serve.
-SERVER_ONLY = ("window",)
+# Presets the page's simulation does not grow: the menu shows them as needing frost serve
+# (none: app/web/local/ grows the frosted window too).
+SERVER_ONLY: tuple[str, ...] = ()
 # Backdrops a phone shows alone: the lock screen's clock is drawn by the server.
 SERVER_BACKDROPS = ("lockscreen",)
 TICK_RATE = 25  # ticks a second, as the window's and the server's simulation thread

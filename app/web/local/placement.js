@@ -16,8 +16,9 @@ export const CELL_WORK = 400;
 export const BARE_DRAWS = 64;
 
 export class Placer {
-  constructor(uniform, index, areas, params) {
+  constructor(uniform, index, areas, params, pane = null) {
     this.uniform = uniform;
+    this.pane = pane && pane.on ? pane : null;  // window mode: the pane places its water
     this.index = index;
     this.areas = areas;
     this.launch = params.launch;
@@ -63,6 +64,12 @@ export class Placer {
    * may still hold glass) rather than dropped (no free cell, no glass left). */
   place(area, many, ice) {
     this.owe = false;
+    if (this.pane) {  // (no cell work: the pane's cells are its own)
+      if (!this.pane.placeOne()) return false;
+      this.spot[0] = this.pane.spot[0];
+      this.spot[1] = this.pane.spot[1];
+      return true;
+    }
     if (!this.full.get(area)) {
       const tries = (many ? 3 : 4) + (this.launch ? 16 : 0);
       if (this.discSpot(area, tries)) return true;
