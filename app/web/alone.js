@@ -88,6 +88,7 @@ export class Alone {
     this.connection.adopt(this.socket);
     worker.postMessage({ type: "start", config,
       start: { preset: shown.preset, look: shown.look, backdrop: shown.backdrop } });
+    if (this.page.localWeather && this.page.localWeather.message) worker.postMessage(this.page.localWeather.message);
   }
 
   // A message of the worker: frost serve's (text or bytes) to the stream, or its own.
@@ -105,7 +106,7 @@ export class Alone {
       // worker's other figures (its median tick, the touches dropped) in `stats`.
       this.stats = data;
       this.page.local = { tick: data.tick, crystals: data.crystals, ticksPerSecond: data.ticksPerSecond,
-        tickP99Ms: data.tickP99Ms, clear: () => this.send({ type: "clear" }) };
+        tickP99Ms: data.tickP99Ms, weather: this.page.weatherLocal, clear: () => this.send({ type: "clear" }) };
     } else if (data.type === "session" || data.type === "meta") {
       const resolve = this.asked.get(data.type);
       this.asked.delete(data.type);

@@ -3,7 +3,8 @@ run as a script with one JSON request on stdin, it writes one JSON answer on std
 The requests: a preset's parameters, a growth's figures (crystals at given ticks, the
 first arm, the shape's measures), the measures of a skeleton the page grew, and the
 exact parts (a walk step from given uniform numbers, the candidate cells of given
-crystals, the crystallization of given walkers and the fern rule's decisions)."""
+crystals, the crystallization of given walkers and the fern rule's decisions), and the
+glass model of sim/weather/ (what given readings do to the frost, and its line)."""
 
 from __future__ import annotations
 
@@ -27,6 +28,7 @@ from sim.core.walk import walk_water  # noqa: E402
 from sim.index.freezing import FreezingIndex  # noqa: E402
 from sim.index.grid import HashGrid  # noqa: E402
 from sim.rules.fern import FernGrowth  # noqa: E402
+from sim.weather import Glass, Reading, describe, frost_of  # noqa: E402
 
 
 class GivenStream:
@@ -250,6 +252,19 @@ def window(request: dict) -> dict:
     return {**out, "reached": reached}
 
 
+def glass(request: dict) -> list[dict]:
+    """sim/weather's glass for each reading of `readings` ({"reading": Reading's JSON,
+    "glass": Glass's JSON}): the glass's temperature, the state, the preset's temperature,
+    the supply and the reading's line."""
+    out = []
+    for case in request["readings"]:
+        reading, window = Reading.from_json(case["reading"]), Glass.from_json(case["glass"])
+        frost = frost_of(reading.temperature_c, window)
+        out.append({"glass": frost.glass_c, "state": frost.state, "temperature": frost.temperature,
+                    "supply": frost.supply, "line": describe(reading, window)})
+    return out
+
+
 def answer(request: dict) -> object:
     kind = request["kind"]
     if kind == "params":
@@ -259,7 +274,7 @@ def answer(request: dict) -> object:
     if kind == "window":
         return [window({**request, "seed": s}) for s in request["seeds"]]
     handlers = {"pane_measure": pane_measure, "measure": measure, "walk": walk, "cells": cells,
-                "fern": fern, "taps": taps}
+                "fern": fern, "taps": taps, "glass": glass}
     if kind not in handlers:
         raise ValueError(f"unknown request kind {kind!r}")
     return handlers[kind](request)

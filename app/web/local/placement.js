@@ -4,16 +4,15 @@
 // nothing loops without bound.
 
 import { drawInto } from './random.js';
+import { BARE_DRAWS, CELL_TRIES, CELL_WORK } from './shared.js';
 
 const TWO_PI = Math.fround(2 * Math.PI);
-// Draws a walker takes among its area's free cells before it is dropped.
-export const CELL_TRIES = 8;
-// Walkers one tick may place from cells; the rest are owed to their areas (`owe`) and
-// placed first in the next tick.
-export const CELL_WORK = 400;
-// Draws of an area's cells, all on ice, that show its disc has no glass left: its kept
-// pool waits for a melt, not topped up every tick in vain.
-export const BARE_DRAWS = 64;
+// (CELL_TRIES: draws a walker takes among its area's free cells before it is dropped;
+// CELL_WORK: walkers one tick may place from cells, the rest owed to their areas (`owe`)
+// and placed first in the next tick; BARE_DRAWS: draws of an area's cells, all on ice,
+// that show its disc has no glass left, its kept pool waiting for a melt, not topped up
+// every tick in vain.)
+export { BARE_DRAWS, CELL_TRIES, CELL_WORK };
 
 export class Placer {
   constructor(uniform, index, areas, params, pane = null) {

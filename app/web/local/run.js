@@ -9,12 +9,13 @@ import { FrostGeometry } from "./geometry.js";
 import { Encoder } from "./encode.js";
 import { Fingers } from "./fingers.js";
 import { SessionRecord } from "./record.js";
+import { THAW_TICKS } from "./shared.js";
 
 export const TOUCHES_PER_TICK = 16;  // the page's touches and melts applied before a tick
 const TEXT_KINDS = ["preset", "look", "backdrop", "pause", "clear", "step"];
 // In a thaw, a layer of the ice's tips melts every THAW_TICKS ticks (sim/weather/glass.py,
 // as the desktop's timeline melts them).
-export const THAW_TICKS = 50;
+export { THAW_TICKS };
 // Before the first hello, a frost of its own grown this many ticks from three touches and
 // thrown away: the first ticks after a touch run before the JavaScript engine has compiled
 // the simulation's loops, and took 5-10 times as long (Node, fern: a p99 of 92-142 ms over

@@ -3,9 +3,10 @@
 
 import { room } from './arrays.js';
 import { ringSpot } from './placement.js';
+import { TOUCH_TRIES } from './shared.js';
 
 // Draws for each walker a touch brings to its ring.
-export const TOUCH_TRIES = 32;
+export { TOUCH_TRIES };
 
 export class Supply {
   constructor(params, uniform, water, areas, placer, index, pane) {

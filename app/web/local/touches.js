@@ -3,7 +3,7 @@
 // water back. And what it holds, as the geometry and the worker read it (sim/core/views.py).
 // Bad input (off the pane, not finite) changes nothing.
 
-const MAX_MELT_RADIUS = 10000;  // px (sim/screen.py)
+import { MAX_MELT_RADIUS } from './shared.js';  // px (sim/screen.py)
 
 /** The largest float32 below `size`: an on-screen float64 point stays on the screen. */
 function below(size) {
