@@ -12,9 +12,10 @@ SETUP_LOG  := $(VENV)/setup.log
 # libraries, and glfw's wheel carries GLFW.
 RUN_PKGS := libegl1 libgles2 libgl1
 # The tests' (the demo's and): a display for the window tests, the shader compiler, the
-# browser that drives the phone page, certutil for the phone's HTTPS, and Node for the
-# page's own JavaScript (tests/web).
-APT_PKGS := $(RUN_PKGS) xvfb xauth xdotool glslang-tools chromium libnss3-tools nodejs
+# browser that drives the phone page, certutil for the phone's HTTPS, Node for the page's
+# own JavaScript (tests/web), and WebKitWebDriver with WebKitGTK's MiniBrowser for the page
+# in WebKit, the iPhone's engine (tests/test_webkit_e2e.py).
+APT_PKGS := $(RUN_PKGS) xvfb xauth xdotool glslang-tools chromium libnss3-tools nodejs webkit2gtk-driver
 
 .PHONY: run serve web test quick test-deep bench bench-sim bench-render lint system-run system-test clean
 

@@ -89,10 +89,10 @@ def pytest_addoption(parser):
 
 
 # What a test needs is what it uses: a test is marked from its fixtures (those it asks for
-# and theirs), so that `-m "not browser"` leaves out every test that opens Chromium
-# however it came to, and no marker is forgotten by hand.
+# and theirs), so that `-m "not browser"` leaves out every test that opens Chromium or
+# WebKit however it came to, and no marker is forgotten by hand.
 FIXTURE_MARKS = {"gl_ctx": "gl", "window_tools": "window", "pw": "browser",
-                 "subprocesses": "subprocess"}
+                 "webkit": "browser", "subprocesses": "subprocess"}
 
 
 @pytest.hookimpl(tryfirst=True)  # before `-m` selects by them
@@ -224,3 +224,14 @@ def browser(pw):
     b = launch_browser(pw)
     yield b
     b.close()
+
+
+@pytest.fixture(scope="module")
+def webkit(tmp_path_factory):
+    """WebKit, the iPhone's engine, for a test module (support.webkit.WebKit: WebKitWebDriver
+    and WebKitGTK's MiniBrowser on an Xvfb display of their own): one session a module."""
+    from support.webkit import WebKit
+
+    w = WebKit(tmp_path_factory.mktemp("webkit"))
+    yield w
+    w.close()

@@ -14,7 +14,8 @@ from support.make import planned
 
 # What the demo needs from Debian, and what only the tests add (written out by hand).
 DEMO_PACKAGES = ["libegl1", "libgles2", "libgl1"]
-TEST_PACKAGES = ["xvfb", "xauth", "xdotool", "glslang-tools", "chromium", "libnss3-tools", "nodejs"]
+TEST_PACKAGES = ["xvfb", "xauth", "xdotool", "glslang-tools", "chromium", "libnss3-tools", "nodejs",
+                 "webkit2gtk-driver"]
 RUNTIME_INSTALL = "pip install -q -e .;"
 DEV_INSTALL = "pip install -q -e '.[dev]'"
 

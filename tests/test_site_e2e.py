@@ -18,6 +18,7 @@ from pathlib import Path
 
 import pytest
 from support.phone import PHONE, PROBLEM, css_point, persistent, wait_for_shell
+from support.weather_api import StandIn
 
 from app.cli.commands import main as frost
 from app.resources import WEB_DIR
@@ -78,12 +79,14 @@ class StaticServer:
 
 @pytest.fixture(scope="module")
 def site(tmp_path_factory):
-    """The site built by `frost web` into ROOT/frost, ROOT served: (the server, ROOT)."""
+    """The site built by `frost web` into ROOT/frost, ROOT served, its weather API a
+    stand-in's (at -25 C): (the server, the stand-in)."""
     root = tmp_path_factory.mktemp("static")
-    assert frost(["web", str(root / SUB)]) == 0
-    server = StaticServer(root)
-    yield server, root
-    server.stop()
+    with StandIn(-25.0) as api:
+        assert frost(["web", str(root / SUB), "--weather-api", api.url]) == 0
+        server = StaticServer(root)
+        yield server, api
+        server.stop()
 
 
 def status(page) -> str:
@@ -117,7 +120,7 @@ def tap_grows(page) -> None:
 
 
 def test_the_site_grows_frost_at_once_and_asks_no_server(site, browser, tmp_path):
-    server, _ = site
+    server, api = site
     context = browser.new_context(**PHONE)
     try:
         del server.paths[:]
@@ -133,34 +136,40 @@ def test_the_site_grows_frost_at_once_and_asks_no_server(site, browser, tmp_path
         # no socket, no /meta, no /app.json: nothing a server of ours would answer
         assert not asked & {f"/{SUB}/{name}" for name in ("ws", "meta", "app.json", "photo", "weather")}
         assert page.evaluate("frost.hellos") == 0 and page.evaluate("frost.hello.local") is True
+        assert api.asked == []  # (no weather unless asked)
     finally:
         context.close()
 
 
-def test_deep_links_open_the_site_on_a_preset_and_hand_the_weather_on(site, browser):
-    server, _ = site
-    context = browser.new_context(**PHONE)
+def test_deep_links_open_the_site_on_a_preset_and_the_weather_given(site, browser, tmp_path):
+    """?preset=c-2 opens c-2; ?weather=LAT,LON reads the weather there from the site's API
+    (the place rounded to 0.1 degree), ?weather=here where the phone is; bad values are one
+    line in the status line, and the rest opens as without them."""
+    server, api = site
+    context = browser.new_context(**PHONE, geolocation={"latitude": 48.8566, "longitude": 2.3522},
+                                  permissions=["geolocation"])
     try:
         page = watched(context, server.url + "?preset=c-2&weather=59.33,18.07")
         growing(page)
         shown = "[frost.hello.preset, document.getElementById('preset').value]"
         assert page.evaluate(shown) == ["c-2", "c-2"]
-        page.wait_for_function("frost.local.weatherRequest !== undefined", timeout=30_000)
-        assert page.evaluate("frost.local.weatherRequest") == {"latitude": 59.33, "longitude": 18.07}
-        assert status(page) == "" and page.bad == []
+        page.wait_for_function("frost.local.weather && frost.local.weather.outside === -25", timeout=60_000)
         here = watched(context, server.url + "?weather=here")
         growing(here)
-        here.wait_for_function("frost.local.weatherRequest !== undefined", timeout=30_000)
-        assert here.evaluate("frost.local.weatherRequest") == {"here": True}
+        here.wait_for_function("frost.local.weather && frost.local.weather.outside === -25", timeout=60_000)
         assert here.evaluate("frost.hello.preset") == "fern"
+        asked = [(q["latitude"], q["longitude"]) for path, q in api.asked if path == "/v1/forecast"]
+        assert asked == [("59.3", "18.1"), ("48.9", "2.4")]
+        assert page.bad == [] and here.bad == []
         bad = watched(context, server.url + "?preset=nope&weather=91,18")
         growing(bad)
         bad.wait_for_function("document.getElementById('status').textContent !== ''", timeout=30_000)
         line = status(bad)
         assert "?preset=nope is no preset: one of " in line and "c-2" in line, line
         assert "?weather=91,18 is not a place" in line and "\n" not in line, line
+        bad.screenshot(path=str(tmp_path / "bad-links.png"))
         assert bad.evaluate("frost.hello.preset") == "fern"  # (the rest opens as without them)
-        assert bad.evaluate("frost.local.weatherRequest") is None
+        assert len(api.asked) == 2  # (no weather asked for the bad place)
     finally:
         context.close()
 

@@ -80,6 +80,7 @@ def test_each_fixture_marks_the_tests_that_use_it_and_only_those(tmp_path):
         "@pytest.mark.usefixtures('window_tools')\ndef test_window():\n    pass\n\n"
         "def test_browser(browser):\n    pass\n\n"
         "def test_phones(phones):\n    pass\n\n"
+        "def test_webkit(webkit):\n    pass\n\n"
         "def test_subprocess(subprocesses):\n    pass\n\n"
         "def test_serve(serve):\n    pass\n", encoding="utf-8")
     (tmp_path / "markprint.py").write_text(MARKERS_PLUGIN, encoding="utf-8")
@@ -95,6 +96,7 @@ def test_each_fixture_marks_the_tests_that_use_it_and_only_those(tmp_path):
                      "test_uses.py::test_window": ["subprocess", "usefixtures", "window"],
                      "test_uses.py::test_browser": ["browser"],
                      "test_uses.py::test_phones": ["browser", "subprocess"],
+                     "test_uses.py::test_webkit": ["browser"],
                      "test_uses.py::test_subprocess": ["subprocess"],
                      "test_uses.py::test_serve": ["subprocess"]}
 
@@ -137,8 +139,8 @@ def test_make_quick_sets_up_the_test_stage_and_leaves_out_the_browser_and_the_wi
     assert 0 < quick.max_examples < settings.get_profile("frost").max_examples
     selection = command[command.index("-m", 3) + 1]
     marks = collected_marks(tmp_path, "-m", selection, "tests/test_page.py",
-                            "tests/test_window_e2e.py", "tests/test_package.py",
-                            "tests/test_sim.py", "tests/test_serve.py")
+                            "tests/test_window_e2e.py", "tests/test_webkit_e2e.py",
+                            "tests/test_package.py", "tests/test_sim.py", "tests/test_serve.py")
     assert {nodeid.split("::")[0] for nodeid in marks} == {"tests/test_sim.py", "tests/test_serve.py"}
     serve = {nodeid.split("::")[1].split("[")[0] for nodeid in marks
              if nodeid.startswith("tests/test_serve.py")}

@@ -4,6 +4,12 @@ the drag's spacing and the warm finger's radius of the window. They are written 
 app/web/local/params.json, which the page's shell carries (the service worker caches it
 with the rest); `python -m app.serve.local_params` writes it again, and
 tests/test_local_params.py fails while the file is not what this module makes.
+
+The numbers the page's JavaScript shares with sim/ and frost serve (the budgets, the
+supply's draws, the pending-touch bound, the tick rate, the glass model's constants) are
+written beside it as app/web/local/shared.js, one `export const` each, from the Python
+constants themselves: the page's modules import them from there, and no copy is typed by
+hand (tests/test_local_params.py fails on one).
 """
 
 from __future__ import annotations
@@ -18,19 +24,24 @@ from app.keys import BINDINGS, DEFAULT_PRESET
 from app.resources import WEB_DIR
 from app.serve.controls import KEY_COMMANDS
 from app.serve.hello import hello_fields
+from app.serve.turns import PAGE_WAITING
 from sim import Params, all_presets
+from sim.core import budget, placement, supply
+from sim.core.versions import REGROW_GAP
 from sim.io.gestures import DRAG_SPACING_HC, MELT_SPACING
 from sim.io.session import FORMAT, VERSION
 from sim.look.geometry import FrostGeometry
-from sim.screen import MELT_RADIUS, SIZE
+from sim.screen import MAX_MELT_RADIUS, MELT_RADIUS, SIZE, TICKS_PER_SECOND
+from sim.weather import glass
 
 FILE = WEB_DIR / "local" / "params.json"
-# Presets the page's simulation does not grow (window mode is sim/rules/window_mode.py's
-# alone): the menu shows them as needing frost serve.
-SERVER_ONLY = ("window",)
+SHARED = WEB_DIR / "local" / "shared.js"
+# Presets the page's simulation does not grow: the menu shows them as needing frost serve
+# (none: app/web/local/ grows the frosted window too).
+SERVER_ONLY: tuple[str, ...] = ()
 # Backdrops a phone shows alone: the lock screen's clock is drawn by the server.
 SERVER_BACKDROPS = ("lockscreen",)
-TICK_RATE = 25  # ticks a second, as the window's and the server's simulation thread
+TICK_RATE = TICKS_PER_SECOND  # ticks a second, as the window's and the server's simulation thread
 
 
 def limits() -> dict[str, dict[str, Any]]:
@@ -59,7 +70,6 @@ def local_params() -> dict[str, Any]:
                   "presets": list(all_presets()), "melt_radius": MELT_RADIUS,
                   "backdrops": backdrops},
         "drag_spacing_hc": DRAG_SPACING_HC, "melt_spacing": MELT_SPACING,
-        "tick_rate": TICK_RATE,
         # the window's keys that the page's own frost obeys, as frost serve does: name -> command
         "keys": {name: KEY_COMMANDS[b.action] for b in BINDINGS if b.action in KEY_COMMANDS
                  for name in b.keys},
@@ -72,9 +82,62 @@ def text() -> str:
     return json.dumps(local_params(), indent=1) + "\n"
 
 
+def shared_numbers() -> dict[str, tuple[Any, str]]:
+    """The numbers shared.js exports: name -> (value, where it comes from)."""
+    return {
+        "CELL_CAP": (budget.CELL_CAP, "sim/core/budget.py: crystals a cell may list"),
+        "FREEZE_WORK": (budget.FREEZE_WORK, "sim/core/budget.py: grid-vertex raises of freezes a tick"),
+        "CELL_TRIES": (placement.CELL_TRIES, "sim/core/placement.py: draws among an area's free cells"),
+        "CELL_WORK": (placement.CELL_WORK, "sim/core/placement.py: walkers placed from cells a tick"),
+        "BARE_DRAWS": (placement.BARE_DRAWS, "sim/core/placement.py: draws that show a disc has no glass"),
+        "GLASS_TRIES": (placement.GLASS_TRIES, "sim/core/placement.py: draws for a spot on open glass"),
+        "TOUCH_TRIES": (supply.TOUCH_TRIES, "sim/core/supply.py: draws for each walker of a touch's ring"),
+        "REGROW_GAP": (REGROW_GAP, "sim/core/versions.py: the longest pause a rebuild keeps"),
+        "PENDING_MOST": (PAGE_WAITING, "app/serve/turns.py: a page's commands waiting their turn"),
+        "MAX_MELT_RADIUS": (MAX_MELT_RADIUS, "sim/screen.py: px"),
+        "TICK_RATE": (TICK_RATE, "sim/screen.py: ticks a second"),
+        "TICK_MS": (1000 / TICK_RATE, "ms between two ticks"),
+        "THAW_TICKS": (glass.THAW_TICKS, "sim/weather/glass.py: ticks between two thaw layers"),
+        "R_SI": (glass.R_SI, "sim/weather/glass.py: the inner surface's resistance, m2K/W"),
+        "U_VALUES": (glass.U_VALUES, "sim/weather/glass.py: W/m2K of each glazing"),
+        "ROOM_C": (glass.ROOM_C, "sim/weather/glass.py: the room's air, C"),
+        "ROOM_HUMIDITY": (glass.ROOM_HUMIDITY, "sim/weather/glass.py: the room's humidity, %"),
+        "ROOM_C_RANGE": (glass.ROOM_C_RANGE, "sim/weather/glass.py"),
+        "ROOM_HUMIDITY_RANGE": (glass.ROOM_HUMIDITY_RANGE, "sim/weather/glass.py"),
+        "E0": (glass.E0, "sim/weather/glass.py: Magnus, hPa"),
+        "WATER": (glass.WATER, "sim/weather/glass.py: Magnus's a, b over water"),
+        "ICE": (glass.ICE, "sim/weather/glass.py: Magnus's a, b over ice"),
+        "LEAST_UNDERCOOLING": (glass.LEAST_UNDERCOOLING, "sim/weather/glass.py"),
+        "MOST_UNDERCOOLING": (glass.MOST_UNDERCOOLING, "sim/weather/glass.py"),
+        "SUPPLY_RANGE": (glass.SUPPLY_RANGE, "sim/weather/glass.py: the supply's bounds"),
+    }
+
+
+def shared_text() -> str:
+    """shared.js's text: a header saying it is generated, then one export a number."""
+    lines = ["// GENERATED by app/serve/local_params.py (python -m app.serve.local_params): do not",
+             "// edit. The numbers the page's own frost shares with sim/ and frost serve, each",
+             "// from its Python constant (docs/local-sim.md); tests/test_local_params.py fails",
+             "// while this file is not what that module writes, and on a copy typed elsewhere.",
+             ""]
+    for name, (value, source) in shared_numbers().items():
+        lines.append(f"export const {name} = {_js(value)};  // {source}")
+    return "\n".join(lines) + "\n"
+
+
+def _js(value: Any) -> str:
+    """`value` as a JS literal: tuples as frozen arrays, dicts as frozen objects."""
+    if isinstance(value, tuple):
+        return f"Object.freeze({json.dumps(list(value))})"
+    if isinstance(value, dict):
+        return f"Object.freeze({json.dumps(value)})"
+    return json.dumps(value)
+
+
 def main() -> int:
     FILE.write_text(text(), encoding="utf-8")
-    print(f"wrote {FILE}", file=sys.stderr)
+    SHARED.write_text(shared_text(), encoding="utf-8")
+    print(f"wrote {FILE} and {SHARED}", file=sys.stderr)
     return 0
 
 

@@ -90,6 +90,7 @@ export class Alone {
     this.connection.adopt(this.socket);
     worker.postMessage({ type: "start", config,
       start: { preset: shown.preset ?? this.wanted.preset, look: shown.look, backdrop: shown.backdrop } });
+    if (this.page.localWeather && this.page.localWeather.message) worker.postMessage(this.page.localWeather.message);
   }
 
   // A message of the worker: frost serve's (text or bytes) to the stream, or its own.
@@ -108,7 +109,7 @@ export class Alone {
       this.stats = data;
       // (what other parts put on it, such as the weather's, stays)
       this.page.local = { ...this.page.local, tick: data.tick, crystals: data.crystals, ticksPerSecond: data.ticksPerSecond,
-        tickP99Ms: data.tickP99Ms, clear: () => this.send({ type: "clear" }) };
+        tickP99Ms: data.tickP99Ms, weather: this.page.weatherLocal, clear: () => this.send({ type: "clear" }) };
     } else if (data.type === "session" || data.type === "meta") {
       const resolve = this.asked.get(data.type);
       this.asked.delete(data.type);

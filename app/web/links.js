@@ -12,15 +12,16 @@ function said(value) {
   return clean.length > SHOWN ? `${clean.slice(0, SHOWN)}…` : clean;
 }
 
-// `?weather=`'s value: {here: true}, {latitude, longitude} (degrees), or a string: why not.
+// `?weather=`'s place as weather_local.js's startWeather takes it: "here", or {latitude,
+// longitude} (degrees); else {problem}: why not.
 export function weatherSpec(value) {
-  if (value === "here") return { here: true };
+  if (value === "here") return "here";
   const parts = value.split(",");
   if (parts.length === 2 && parts.every((p) => NUMBER.test(p.trim()))) {
     const [latitude, longitude] = parts.map((p) => Number(p.trim()));
     if (Math.abs(latitude) <= 90 && Math.abs(longitude) <= 180) return { latitude, longitude };
   }
-  return `?weather=${said(value)} is not a place: here, or LAT,LON in degrees (such as 59.33,18.07)`;
+  return { problem: `?weather=${said(value)} is not a place: here, or LAT,LON in degrees (such as 59.33,18.07)` };
 }
 
 // The links of a page's address (its `location.search`).
@@ -28,13 +29,13 @@ export class DeepLinks {
   constructor(search) {
     const query = new URLSearchParams(search);
     this.preset = query.get("preset");  // the preset asked for, or null
-    this.weather = null;  // the weather asked for: {here: true} or {latitude, longitude}
+    this.weather = null;  // the weather asked for: "here" or {latitude, longitude}
     this.problems = [];   // what the page could not take, said on the first hello
     this.applied = false;
     const weather = query.get("weather");
     if (weather !== null) {
       const spec = weatherSpec(weather);
-      if (typeof spec === "string") this.problems.push(spec);
+      if (spec.problem) this.problems.push(spec.problem);
       else this.weather = spec;
     }
   }

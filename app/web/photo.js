@@ -4,11 +4,43 @@
 // the browser adds the page's Origin), which checks it again, keeps it and shows it on
 // every page (docs/phone.md, A photo from the phone). A file the browser cannot decode is
 // sent as it is (at most SERVER_MOST): the server says why it is refused.
+// With no server (the phone's own frost, the static site) the photo goes nowhere: the same
+// JPEG is kept on the phone (IndexedDB) and drawn behind the phone's frost, again after a
+// reload, offline too, until a backdrop is chosen in the menu.
 
 export const PANE = [760, 1280];
 export const MAX_BYTES = 1 << 20;  // the JPEG sent: lower qualities until it fits
 const QUALITIES = [0.9, 0.82, 0.74, 0.66, 0.58, 0.5, 0.42, 0.34, 0.26];
 const SERVER_MOST = 8 << 20;  // app/photos.py MAX_BYTES
+// frost.shownBackdrop while the phone's own photo is drawn.
+export const LOCAL_PHOTO = "your photo";
+const DB = "frost", STORE = "photo", KEY = "backdrop";  // IndexedDB: {blob, shown, at}
+const WATCH_MS = 250;  // how often the page checks that the kept photo is what it draws
+
+// `work(store)` in one transaction of the photo's store ("readonly" or "readwrite"); its
+// request's result.
+function stored(mode, work) {
+  return new Promise((resolve, reject) => {
+    const open = indexedDB.open(DB, 1);
+    open.onupgradeneeded = () => open.result.createObjectStore(STORE);
+    open.onerror = () => reject(open.error);
+    open.onsuccess = () => {
+      const db = open.result;
+      const request = work(db.transaction(STORE, mode).objectStore(STORE));
+      request.onsuccess = () => { db.close(); resolve(request.result); };
+      request.onerror = () => { db.close(); reject(request.error); };
+    };
+  });
+}
+
+// The photo kept on this phone ({blob, shown, at}), or null.
+export function keptPhoto() {
+  return stored("readonly", (store) => store.get(KEY)).then((k) => k || null, () => null);
+}
+
+function keepPhoto(value) {
+  return stored("readwrite", (store) => store.put(value, KEY));
+}
 
 // A photo's backdrop name (app/photos.py): photo- and 32 hex digits.
 export function isPhoto(name) {
@@ -58,12 +90,18 @@ export async function paneJpeg(file) {
 // answered} or {status, error, answered} (`answered`: when the server's answer came, ms
 // since the epoch; null if none came).
 export class PhotoPicker {
-  constructor(panel, query, say, notice) {
+  // page: window.frost (no server: its `alone` grows the frost, its renderer draws the photo).
+  constructor(panel, query, say, notice, page = globalThis.frost) {
     this.query = query;
     this.say = say;
     this.notice = notice;
+    this.page = page;
     this.last = null;
     this.sending = false;
+    this.shown = null;  // the phone's own photo (an ImageBitmap) while it is the backdrop
+    keptPhoto().then((k) => (k && k.shown && !this.shown ? this.decode(k.blob) : null))
+      .then((image) => { if (image && !this.shown) this.shown = image; }, () => {});
+    this.watch = setInterval(() => this.draw(), WATCH_MS);
     this.input = Object.assign(document.createElement("input"), {
       type: "file", accept: "image/*", hidden: true, id: "photo-file",
     });
@@ -75,9 +113,55 @@ export class PhotoPicker {
       if (file) this.send(file).catch((err) => this.failed(0, err.message));
     });
     const backdrop = panel.querySelector("#backdrop");
+    // A backdrop chosen on the phone's own frost replaces its photo (kept, not shown).
+    if (backdrop) backdrop.addEventListener("change", () => this.local() && this.forget());
     const after = backdrop ? backdrop.closest("label") : null;
     if (after) after.after(this.button, this.input);
     else panel.append(this.button, this.input);
+  }
+
+  // No server: the phone grows its own frost, and a photo stays on the phone.
+  local() {
+    return !!(this.page && this.page.alone && this.page.alone.running);
+  }
+
+  decode(blob) {
+    return createImageBitmap(blob, { colorSpaceConversion: "none", premultiplyAlpha: "none" });
+  }
+
+  // The kept photo drawn behind the phone's frost, whenever another backdrop took its place
+  // (the worker's hello after a reload, a lost GPU context, a return from the server's frost).
+  draw() {
+    const page = this.page;
+    if (!this.shown || !this.local() || !page.renderer || !page.shownBackdrop || page.shownBackdrop === LOCAL_PHOTO) return;
+    page.renderer.setBackgroundImage(this.shown);
+    page.shownBackdrop = LOCAL_PHOTO;
+  }
+
+  // The photo is no longer the backdrop (kept on the phone all the same).
+  forget() {
+    if (!this.shown) return;
+    this.shown = null;
+    this.page.backdrop = null;  // (the worker's backdrop drawn again at its next word)
+    keptPhoto().then((k) => k && keepPhoto({ ...k, shown: false })).catch(() => {});
+  }
+
+  // `file` covering the pane, kept on the phone and drawn behind its frost; sent nowhere.
+  async keepHere(file) {
+    this.say("putting your photo behind the frost…");
+    const blob = await paneJpeg(file);
+    if (!blob) return this.failed(0, "this browser cannot read the file as a picture");
+    const image = await this.decode(blob);
+    try {
+      await keepPhoto({ blob, shown: true, at: Date.now() });
+    } catch (err) {
+      this.notice(`your photo is shown but not kept on the phone: ${err.message || err}`);
+    }
+    this.shown = image;
+    if (this.page.shownBackdrop === LOCAL_PHOTO) this.page.shownBackdrop = "";  // (drawn again)
+    this.draw();
+    this.last = { status: 0, backdrop: LOCAL_PHOTO, bytes: blob.size, answered: null, local: true };
+    this.say("");
   }
 
   async send(file) {
@@ -85,6 +169,7 @@ export class PhotoPicker {
     this.sending = true;
     this.button.disabled = true;
     try {
+      if (this.local()) return await this.keepHere(file);
       this.say("sending your photo…");
       let body = await paneJpeg(file);
       if (!body) {
@@ -111,6 +196,6 @@ export class PhotoPicker {
   failed(status, text, answered = null) {
     this.last = { status, error: text, answered };
     this.say("");
-    this.notice(`photo refused: ${text}`);
+    this.notice(this.local() ? `photo: ${text}` : `photo refused: ${text}`);
   }
 }

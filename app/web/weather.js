@@ -54,6 +54,11 @@ export class WeatherHere {
   async ask() {
     const problem = placeProblem(this.win);
     if (problem) return this.failed(0, problem);
+    // The phone's own frost: its weather is asked from the page (weather_local.js).
+    if (this.win.frost && this.win.frost.alone && this.win.frost.alone.running) {
+      const { startWeather } = await import("./weather_local.js");
+      return startWeather("here");
+    }
     if (this.asking) return this.notice("the weather here is being asked for already");
     this.asking = true;
     this.button.disabled = true;

@@ -3,7 +3,8 @@ run as a script with one JSON request on stdin, it writes one JSON answer on std
 The requests: a preset's parameters, a growth's figures (crystals at given ticks, the
 first arm, the shape's measures), the measures of a skeleton the page grew, and the
 exact parts (a walk step from given uniform numbers, the candidate cells of given
-crystals, the crystallization of given walkers and the fern rule's decisions)."""
+crystals, the crystallization of given walkers and the fern rule's decisions), and the
+glass model of sim/weather/ (what given readings do to the frost, and its line)."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent.parent))
 
+from app.bench.measures import clear_boxes, frame_mid, skeleton_measures  # noqa: E402
 from app.bench.morphology import mass_radius_dimension, six_fold_order, turn_shares  # noqa: E402
 from app.bench.taps import GAP_S, NEVER, tap_spots, waits  # noqa: E402
 from sim import FrostSim, Params  # noqa: E402
@@ -24,7 +26,9 @@ from sim.core.placement import TWO_PI  # noqa: E402
 from sim.core.skeleton import Skeleton  # noqa: E402
 from sim.core.walk import walk_water  # noqa: E402
 from sim.index.freezing import FreezingIndex  # noqa: E402
+from sim.index.grid import HashGrid  # noqa: E402
 from sim.rules.fern import FernGrowth  # noqa: E402
+from sim.weather import Glass, Reading, describe, frost_of  # noqa: E402
 
 
 class GivenStream:
@@ -194,13 +198,83 @@ def taps(request: dict) -> dict:
             "waits": [waits(request["preset"], VERSION, n, s).tolist() for s in request["seeds"]]}
 
 
+def pane_figures(crystals, parents, alive, upsampled, width: int, height: int, hc: float) -> dict:
+    """app/bench/measures.py's pane measures (its `pane_measures`) of a skeleton given as
+    arrays: every crystal (x, y), its parent (-1 a root) and alive flag, and the live
+    upsample particles."""
+    c = np.asarray(crystals, np.float32).reshape(-1, 2)
+    alive = np.asarray(alive, bool)
+    out = skeleton_measures(c, np.asarray(parents, np.int64), alive)
+    nodes = np.vstack((c[alive], np.asarray(upsampled, np.float32).reshape(-1, 2))).astype(np.float64)
+    out["clear21"] = clear_boxes(nodes, width, height)
+    out["frame_mid"] = frame_mid(nodes, width, height)
+    grid = HashGrid(width, height, hc)
+    held = np.zeros(grid.size, bool)
+    held[grid.keys(c[alive, 0], c[alive, 1])] = True
+    out["cells"] = float(held.mean())
+    return out
+
+
+def pane_measure(request: dict) -> dict:
+    return pane_figures(request["crystals"], request["parents"], request["alive"], request["upsampled"],
+                        request["width"], request["height"], request["hc"])
+
+
+def cover(sim: FrostSim) -> float:
+    """Share of the hash cells holding a live crystal."""
+    c = sim.crystals[sim.crystal_alive]
+    held = np.zeros(sim.grid.size, bool)
+    held[sim.grid.keys(c[:, 0], c[:, 1])] = True
+    return float(held.mean())
+
+
+def window(request: dict) -> dict:
+    """The window preset (`overrides` applied) grown on a `size` pane from `seed` with no
+    touch: the ticks to `cover_to` of the cells (None past `most` ticks) and, at
+    `measure_at`, the pane's measures."""
+    params = params_of({"preset": "window", **request})
+    width, height = request.get("size", (760, 1280))
+    sim = FrostSim(params, width, height, seed=request["seed"])
+    reached, to, at = None, request.get("cover_to"), request.get("measure_at", 0)
+    out: dict = {}
+    while sim.tick < max(at, request.get("most", 0)):
+        sim.step()
+        if to is not None and reached is None and cover(sim) >= to:
+            reached = sim.tick
+            if sim.tick >= at:
+                break
+        if sim.tick == at:
+            alive = sim.crystal_alive
+            out["measures"] = pane_figures(sim.crystals, sim.parents, alive,
+                                           sim.upsampled[sim.upsampled_alive], width, height, params.hc)
+            if to is None or reached is not None:
+                break
+    return {**out, "reached": reached}
+
+
+def glass(request: dict) -> list[dict]:
+    """sim/weather's glass for each reading of `readings` ({"reading": Reading's JSON,
+    "glass": Glass's JSON}): the glass's temperature, the state, the preset's temperature,
+    the supply and the reading's line."""
+    out = []
+    for case in request["readings"]:
+        reading, window = Reading.from_json(case["reading"]), Glass.from_json(case["glass"])
+        frost = frost_of(reading.temperature_c, window)
+        out.append({"glass": frost.glass_c, "state": frost.state, "temperature": frost.temperature,
+                    "supply": frost.supply, "line": describe(reading, window)})
+    return out
+
+
 def answer(request: dict) -> object:
     kind = request["kind"]
     if kind == "params":
         return params_of(request).as_dict()
     if kind == "grow":
         return [grow({**request, "seed": s}) for s in request["seeds"]]
-    handlers = {"measure": measure, "walk": walk, "cells": cells, "fern": fern, "taps": taps}
+    if kind == "window":
+        return [window({**request, "seed": s}) for s in request["seeds"]]
+    handlers = {"pane_measure": pane_measure, "measure": measure, "walk": walk, "cells": cells,
+                "fern": fern, "taps": taps, "glass": glass}
     if kind not in handlers:
         raise ValueError(f"unknown request kind {kind!r}")
     return handlers[kind](request)

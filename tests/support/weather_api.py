@@ -5,7 +5,8 @@ answered as `mode` says by then), "garbage", "missing" (`missing` names the fiel
 out), "pieces" (the JSON in three pieces, each sent and flushed PIECE_GAP_S after the
 one before), "huge" (a JSON body of HUGE_BYTES, its Content-Length said) or "huge-chunked"
 (the same, chunked: no length said before it comes). Every request is kept (`asked`), so a
-test sees what was sent."""
+test sees what was sent. Every answer says `Access-Control-Allow-Origin: *`, as
+Open-Meteo's do: a page of another origin (the phone's own weather) reads them."""
 
 from __future__ import annotations
 
@@ -81,6 +82,7 @@ class StandIn:
 
     async def _main(self) -> None:
         app = web.Application()
+        app.on_response_prepare.append(_cors)
         app.router.add_get("/v1/forecast", self._forecast)
         app.router.add_get("/v1/search", self._search)
         runner = web.AppRunner(app)
@@ -162,3 +164,7 @@ class StandIn:
         if place is not None:
             body["results"] = [place]
         return await self._answer(request, body)
+
+
+async def _cors(_request: web.Request, response: web.StreamResponse) -> None:
+    response.headers["Access-Control-Allow-Origin"] = "*"

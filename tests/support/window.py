@@ -3,6 +3,7 @@ and its log."""
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import re
@@ -19,25 +20,33 @@ from support import ROOT
 SCREEN = "-screen 0 1280x1400x24"  # taller than the 1280 px phone
 
 
-def xvfb(args: list, **kw) -> subprocess.CompletedProcess:
-    """`args` run (captured) with DISPLAY on an Xvfb server of its own. `-displayfd` makes
-    the server pick a free display and say which once it accepts clients, so concurrent
-    runs never share one and nothing waits on a guess (`xvfb-run -a` can race under load)."""
+@contextlib.contextmanager
+def display():
+    """An Xvfb server of its own while the block runs; its DISPLAY (such as ":5").
+    `-displayfd` makes the server pick a free display and say which once it accepts
+    clients, so concurrent runs never share one and nothing waits on a guess (`xvfb-run -a`
+    can race under load)."""
     read, write = os.pipe()
     server = subprocess.Popen(["Xvfb", "-displayfd", str(write), *SCREEN.split(), "-nolisten",
                                "tcp", "-noreset"], pass_fds=(write,), stderr=subprocess.DEVNULL)
     os.close(write)
     try:
         ready, _, _ = select.select([read], [], [], 60)
-        display = os.read(read, 64).decode().strip() if ready else ""
-        if not display:
+        number = os.read(read, 64).decode().strip() if ready else ""
+        if not number:
             pytest.fail("Xvfb did not start within 60 s")
-        env = {**os.environ, "DISPLAY": f":{display}"}
-        return subprocess.run(args, capture_output=True, text=True, env=env, **kw)
+        yield f":{number}"
     finally:
         os.close(read)
         server.terminate()
         server.wait(10)
+
+
+def xvfb(args: list, **kw) -> subprocess.CompletedProcess:
+    """`args` run (captured) with DISPLAY on an Xvfb server of its own (`display`)."""
+    with display() as number:
+        env = {**os.environ, "DISPLAY": number}
+        return subprocess.run(args, capture_output=True, text=True, env=env, **kw)
 
 
 def xdo(*args: str) -> str:

@@ -108,9 +108,10 @@ test('a warm finger melts the crystals within its radius, their links and their 
 });
 
 test('parameters it cannot run are refused in one line that names them', () => {
-  assert.throws(() => new Frost(presetParams('window')), /^Error: the frosted window preset needs frost serve$/);
+  assert.throws(() => new Frost({ ...FERN, window_frost: true, grains: false, frame_sites: 3, pane_sites: 4,
+    temperature: 10 }), /^Error: window mode needs grains$/);
   const { hc, ...noHc } = FERN;
   assert.ok(hc > 0);
   assert.throws(() => new Frost(noHc), /^Error: parameters lack hc$/);
-  for (const name of ['a-1', 'b-1', 'c-3', 'fern']) assert.ok(new Frost(presetParams(name)).touch(380, 640), name);
+  for (const name of ['a-1', 'b-1', 'c-3', 'fern', 'window']) assert.ok(new Frost(presetParams(name)).touch(380, 640), name);
 });

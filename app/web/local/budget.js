@@ -1,8 +1,8 @@
 // The budgets a tick keeps (sim/core/budget.py): the cells' cap (CELL_CAP crystals a
 // cell may list) and the freezing work (FREEZE_WORK grid-vertex raises a tick).
 
-export const CELL_CAP = 128;
-export const FREEZE_WORK = 400000;
+import { CELL_CAP, FREEZE_WORK } from './shared.js';
+export { CELL_CAP, FREEZE_WORK };
 
 /** Grid vertices one new crystal may raise: its link's particles times the geometry
  * stencil (vertices `gridSpacing` apart within hc). */

@@ -40,6 +40,12 @@ export class Clearance {
     this.padded.fill(this.cap);
   }
 
+  /** The rings from flat cell `cell` to the nearest candidate cell (at most the cap). */
+  ring(cell) {
+    const cols = this.grid.cols;
+    return this.padded[this.origin + Math.floor(cell / cols) * this.paddedCols + (cell % cols)];
+  }
+
   /** `cell` just became a candidate cell: lower the rings around it. */
   lower(cell) {
     const cap = this.cap, pc = this.paddedCols, cols = this.grid.cols;

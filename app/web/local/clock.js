@@ -2,7 +2,8 @@
 // 99th percentile) and when each ended (the last 5 s, for the ticks done a second). A
 // dedicated worker is not slowed by the page's CPU throttling, so it times itself.
 
-export const TICK_MS = 40;      // 25 ticks a second, as frost serve's simulation thread
+import { TICK_MS } from "./shared.js";
+export { TICK_MS };  // 25 ticks a second, as frost serve's simulation thread
 export const RECENT = 250;      // durations kept for the p99
 export const RATE_MS = 5000;    // ticks a second: those that ended in the last 5 s, / 5
 

@@ -7,6 +7,7 @@
 // to the pool. Per-crystal state lives in typed arrays beside the skeleton's.
 
 import { room } from './arrays.js';
+import { FRAME_PX, chilled, edgeDistance, rint } from './pane.js';
 import { normal } from './random.js';
 
 const SIXTH = Math.PI / 3;
@@ -29,12 +30,6 @@ export class PaperGrowth {
   melted() {}
 }
 
-/** Round half to even (numpy's rint). */
-function rint(t) {
-  const r = Math.round(t);
-  return r - t === 0.5 && r % 2 !== 0 ? r - 1 : r;
-}
-
 export class FernGrowth {
   constructor(params, uniform, ice, index, budget) {
     this.uniform = uniform;
@@ -44,7 +39,14 @@ export class FernGrowth {
     this.L = params.hc;
     this.drift = params.drift * Math.PI / 180;
     this.gap = params.side_gap;
-    this.need = [params.tip_hits, params.side_hits, -1];
+    this.need = [...chilled(params), -1];  // (window mode: scaled by its temperature)
+    // Fronds (sim/rules/fronds.py): rule 1's branch order, rule 4's colder frame.
+    this.orderHits = params.order_hits ?? 1;
+    this.maxOrder = params.max_order ?? 0;
+    this.frameChill = params.frame_chill ?? 0;
+    this.fronds = this.orderHits !== 1 || this.maxOrder > 0 || this.frameChill > 0;
+    this.width = index.width;
+    this.height = index.height;
     this.axis = new Float64Array(256);  // radians: direction of slot 0
     this.slot = new Int8Array(256);  // which slot of its parent holds each crystal (-1 none)
     this.seed = new Uint8Array(256);  // a seed: six tip slots
@@ -101,7 +103,9 @@ export class FernGrowth {
       const p = parents[j], w = hits[j];
       const turn = (Math.atan2(water.y[w] - c[2 * p + 1], water.x[w] - c[2 * p]) - this.axis[p]) / SIXTH;
       const k = ((rint(turn) % 6) + 6) % 6;
-      const need = this.need[this.seed[p] ? TIP : SLOT_KIND[k]];
+      const kind = this.seed[p] ? TIP : SLOT_KIND[k];
+      const need = this.fronds ? this.frondNeed(this.need[kind], kind === SIDE, this.order[p], c[2 * p], c[2 * p + 1])
+        : this.need[kind];
       if (need > 0 && this.child[6 * p + k] < 0) {  // an open, empty slot: its hit counts
         const key = 6 * p + (this.fresh(p) ? 0 : k), first = this.stamp[key] !== settle;
         this.stamp[key] = settle;
@@ -115,6 +119,24 @@ export class FernGrowth {
       hits[counted++] = w;
     }
     return this.grow(hits, counted, grown);
+  }
+
+  /** The hits a slot needs under frond rules 1 and 4 (sim/rules/fronds.py): its kind's
+   * `need` x order_hits^order / (1 + frame_chill e^(-d / FRAME_PX)), d its crystal's (at
+   * x, y) distance to the edge, rounded, at least 1; -1 (closed) for a closed slot and
+   * a side slot of a crystal of order max_order or more. */
+  frondNeed(need, side, order, x, y) {
+    if (need <= 0 || (this.maxOrder && side && order >= this.maxOrder)) return -1;
+    let scale = 1;
+    if (this.orderHits !== 1) scale *= this.orderHits ** order;
+    if (this.frameChill) scale /= 1 + this.frameChill * Math.exp(-edgeDistance(x, y, this.width, this.height) / FRAME_PX);
+    return Math.max(1, rint(need * scale));
+  }
+
+  /** The hits a slot needs from now on: the weather's glass at `temperature` (window
+   * mode); the hits counted so far are kept. */
+  chilledTo(params, temperature) {
+    this.need = [...chilled(params, temperature), -1];
   }
 
   /** The due hits' spots (one hc from the parent along the slot's axis), kept where on
@@ -164,8 +186,9 @@ export class FernGrowth {
 
   /** A melt: a melted crystal frees its parent's slot (whose count starts over), its own
    * slots go with it, its orphans hang from no slot, and the live crystals at the melt's
-   * `edge` open all six slots, as a seed's (docs/method.md 5.4). `parents`: as before the
-   * melt. */
+   * `edge` open all six slots, as a seed's (docs/method.md 5.4), or under the frond rules
+   * keep their own (their stems grow on across the clearing); either way they go back to
+   * branch order 0. `parents`: as before the melt. */
   melted(dead, parents, orphans, edge) {
     for (const d of dead) {
       const p = parents[d];
@@ -180,7 +203,7 @@ export class FernGrowth {
     }
     for (const o of orphans) this.slot[o] = -1;
     for (const e of edge) {
-      this.seed[e] = 1;
+      if (!this.fronds) this.seed[e] = 1;
       this.order[e] = 0;
     }
   }

@@ -4,7 +4,8 @@
 // most PENDING_MOST wait (more are dropped and counted), so a storm of taps holds no more
 // memory and no more work than that.
 
-export const PENDING_MOST = 250;  // as frost serve's bound on a page's waiting commands
+import { PENDING_MOST } from "./shared.js";
+export { PENDING_MOST };  // frost serve's bound on a page's waiting commands
 const FINGERS = 32;                // finger ids 0..31, as the protocol's
 
 export class Fingers {

@@ -4,13 +4,15 @@
 // budgets -> settle (the growth rule) -> link and upsample -> register the new crystals
 // -> follow the ice (growth mode, launch circle) -> place again the walkers whose hits
 // only counted -> top a kept pool up (the water a tick's budget cut is owed to its area
-// and placed first in the next tick: session version 14). Touches and melts (./touches.js) come between ticks. The newest session
-// version's rules only; no objects per particle, nothing allocated per walker.
+// and placed first in the next tick: session version 14), or the window's pane keeps its
+// one pool full (./pane.js). Touches and melts (./touches.js) come between ticks. The
+// newest session version's rules only; no objects per particle, nothing allocated per walker.
 
 import { Areas } from './areas.js';
 import { Budget, CELL_CAP } from './budget.js';
 import { FernGrowth, PaperGrowth } from './fern.js';
 import { FreezingIndex } from './index.js';
+import { makePane } from './pane.js';
 import { CELL_WORK, Placer } from './placement.js';
 import { seeded } from './random.js';
 import { Skeleton } from './skeleton.js';
@@ -28,8 +30,11 @@ const NEEDED = ['hc', 'D', 'humidity', 'water_budget', 'step', 'active_radius', 
 export function paramsProblem(params) {
   const missing = NEEDED.filter((name) => !(params && name in params));
   if (missing.length) return `parameters lack ${missing.join(', ')}`;
-  if (params.window_frost) return 'the frosted window preset needs frost serve';
-  if (params.order_hits > 1 || params.max_order > 0) return 'the frond rules need frost serve';
+  const window = params.window_frost || params.water_far > 0;
+  if (window && !params.grains) return 'window mode needs grains';
+  if (window && ['frame_sites', 'pane_sites', 'temperature'].some((name) => !(name in params))) {
+    return 'window mode lacks its frame_sites, pane_sites or temperature';
+  }
   return null;
 }
 
@@ -45,12 +50,14 @@ export class Frost extends Touches {
     this.ice = new Skeleton();
     this.areas = new Areas();
     this.water = new Water(params.water_budget + params.touch_water);
-    this.index = new FreezingIndex(this.ice, width, height, params.hc, params.long_jumps);
+    this.index = new FreezingIndex(this.ice, width, height, params.hc, params.long_jumps || params.window_frost);
     this.budget = new Budget(this.index, params);
     this.growth = params.grains
       ? new FernGrowth(params, this.uniform, this.ice, this.index, this.budget) : new PaperGrowth();
-    this.placer = new Placer(this.uniform, this.index, this.areas, params);
-    this.supply = new Supply(params, this.uniform, this.water, this.areas, this.placer, this.index);
+    this.pane = makePane(params, this.uniform, this.index, this.ice);
+    this.placer = new Placer(this.uniform, this.index, this.areas, params, this.pane);
+    this.supply = new Supply(params, this.uniform, this.water, this.areas, this.placer, this.index, this.pane);
+    this.thawing = false;  // the weather's thaw (`setWeather`): no step grows
     this.hits = new Int32Array(1024);  // a tick's hits: walkers, their nearest crystals
     this.hitParents = new Int32Array(1024);
     this.grown = [];  // a tick's new crystals: walker, parent, x, y each
@@ -62,20 +69,50 @@ export class Frost extends Touches {
     this.clear();
   }
 
-  /** Empties the pane: no ice, no water, no areas; the tick count goes on. */
+  /** Empties the pane: no ice, no water, no areas; the tick count goes on. Window mode
+   * starts its pane again: the pane-wide area, the frame's and the glass's seeds. */
   clear() {
-    for (const part of [this.ice, this.areas, this.water, this.index, this.growth, this.placer, this.supply]) {
+    for (const part of [this.ice, this.areas, this.water, this.index, this.growth, this.placer, this.supply,
+      this.pane]) {
       part.clear();
     }
     this.waterMelted = 0;
+    this.melted = null;
+    this.startPane();
     this.rowsAtTickEnd = [0, 0, 0];
     this.added = this.closeTick(0);
-    this.melted = null;
+  }
+
+  startPane() {
+    const start = this.pane.start();
+    if (!start) return;
+    this.areas.open(...start.area);
+    this.plant(start.sites, false);  // the pane's own seeds: its pool is theirs
+  }
+
+  /** The weather's glass from the next step on (sim/weather): window mode grows as if its
+   * `temperature` (degrees below freezing) were `temperature` and its pane's water were
+   * `supply` times as much; null: a thaw, whose steps grow nothing (the walkers wait where
+   * they are; `meltTips` takes the ice back). Touch mode has no temperature: a thaw alone
+   * acts. */
+  setWeather(temperature, supply = 1) {
+    this.thawing = temperature === null || temperature === undefined;
+    if (this.thawing || !this.params.window_frost) return;
+    if (!(Number.isFinite(temperature) && temperature > 0 && Number.isFinite(supply) && supply >= 0)) {
+      throw new RangeError(`setWeather(${temperature}, ${supply}): a temperature above 0 and a supply of 0 or more`);
+    }
+    if (this.growth.chilledTo) this.growth.chilledTo(this.params, temperature);
+    this.pane.chilled(temperature, supply);
   }
 
   /** One tick (the module doc's phases); returns the rows it added, touches since the
-   * last tick included: { start, end } of the crystals, and `upsampled`, `segments`. */
+   * last tick included: { start, end } of the crystals, and `upsampled`, `segments`.
+   * In a thaw nothing grows. */
   step() {
+    if (this.thawing) {
+      this.tick++;
+      return this.closeTick(0);
+    }
     this.placer.cellWork = CELL_WORK;
     this.supply.repay(this.iceState());  // the water last tick's cell work cut comes first
     this.walk();
@@ -92,8 +129,10 @@ export class Frost extends Touches {
     this.followIce(start, this.ice.count);
     this.replace(counted, grown);
     this.water.sweep();
-    // A kept pool gets back what full cells and failed placements took, while glass remains.
-    if (this.params.replenish || this.params.grow) this.supply.topUp(this.iceState());
+    // The pane keeps its pool full; a kept pool gets back what full cells and failed
+    // placements took, while glass remains.
+    if (this.pane.on) this.supply.fill([0], this.iceState());
+    else if (this.params.replenish || this.params.grow) this.supply.topUp(this.iceState());
     this.tick++;
     return this.closeTick(grown.length / 4);
   }
@@ -114,7 +153,7 @@ export class Frost extends Touches {
       this.jumps = new Float64Array(2 * m);
     }
     drawWalk(this.uniform, m, this.scratch);
-    const clearance = this.index.clearance;
+    const clearance = this.params.long_jumps ? this.index.clearance : null;
     if (clearance) clearance.radii(water, this.areas.rows, this.jumps);
     const gone = walkWater(water, this.areas, this.params.step, clearance && this.jumps, this.scratch,
       this.size, this.left);
@@ -174,7 +213,7 @@ export class Frost extends Touches {
    * reach too (crystals [start, end)). */
   followIce(start, end) {
     const { params, areas, ice } = this;
-    if (!(params.grow || params.launch)) return;
+    if (this.pane.on || !(params.grow || params.launch)) return;  // (the pane's area covers the screen)
     for (let i = start; i < end; i++) {
       areas.reachTo(ice.area[i], ice.crystals[2 * i], ice.crystals[2 * i + 1]);
       if (params.grow) areas.ride(ice.area[i], params.active_radius);
@@ -182,11 +221,12 @@ export class Frost extends Touches {
   }
 
   /** Hits that only counted (`hits[0, counted)`) are placed again; a kept pool
-   * (replenish, growth mode) gets its frozen water back as new walkers. */
+   * (replenish, growth mode; not the pane's: it refills) gets its frozen water back as
+   * new walkers. */
   replace(counted, grown) {
     const ice = this.iceState(), many = counted > 1024;
     for (let j = 0; j < counted; j++) this.supply.relocate(this.hits[j], many, ice);
-    if (!(this.params.replenish || this.params.grow)) return;
+    if (this.pane.on || !(this.params.replenish || this.params.grow)) return;
     for (let g = 0; g < grown.length; g += 4) this.supply.spawn(this.water.area[grown[g]], 1, false, ice);
   }
 

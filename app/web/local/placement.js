@@ -4,20 +4,20 @@
 // nothing loops without bound.
 
 import { drawInto } from './random.js';
+import { BARE_DRAWS, CELL_TRIES, CELL_WORK } from './shared.js';
 
 const TWO_PI = Math.fround(2 * Math.PI);
-// Draws a walker takes among its area's free cells before it is dropped.
-export const CELL_TRIES = 8;
-// Walkers one tick may place from cells; the rest are owed to their areas (`owe`) and
-// placed first in the next tick.
-export const CELL_WORK = 400;
-// Draws of an area's cells, all on ice, that show its disc has no glass left: its kept
-// pool waits for a melt, not topped up every tick in vain.
-export const BARE_DRAWS = 64;
+// (CELL_TRIES: draws a walker takes among its area's free cells before it is dropped;
+// CELL_WORK: walkers one tick may place from cells, the rest owed to their areas (`owe`)
+// and placed first in the next tick; BARE_DRAWS: draws of an area's cells, all on ice,
+// that show its disc has no glass left, its kept pool waiting for a melt, not topped up
+// every tick in vain.)
+export { BARE_DRAWS, CELL_TRIES, CELL_WORK };
 
 export class Placer {
-  constructor(uniform, index, areas, params) {
+  constructor(uniform, index, areas, params, pane = null) {
     this.uniform = uniform;
+    this.pane = pane && pane.on ? pane : null;  // window mode: the pane places its water
     this.index = index;
     this.areas = areas;
     this.launch = params.launch;
@@ -63,6 +63,12 @@ export class Placer {
    * may still hold glass) rather than dropped (no free cell, no glass left). */
   place(area, many, ice) {
     this.owe = false;
+    if (this.pane) {  // (no cell work: the pane's cells are its own)
+      if (!this.pane.placeOne()) return false;
+      this.spot[0] = this.pane.spot[0];
+      this.spot[1] = this.pane.spot[1];
+      return true;
+    }
     if (!this.full.get(area)) {
       const tries = (many ? 3 : 4) + (this.launch ? 16 : 0);
       if (this.discSpot(area, tries)) return true;

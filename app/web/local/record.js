@@ -4,7 +4,8 @@
 // (`frost replay` grows it again with the Python simulation, not bit for bit). A rebuild
 // schedules the touches so far again as sim/io/timeline.py does (`regrow`).
 
-export const REGROW_GAP = 12;  // sim/core/versions.py: the longest pause a rebuild keeps
+import { REGROW_GAP } from "./shared.js";
+export { REGROW_GAP };  // sim/core/versions.py: the longest pause a rebuild keeps
 export const MOST_EVENTS = 200000;  // beyond, the file keeps what it has (and says so)
 
 export class SessionRecord {

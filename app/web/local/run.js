@@ -9,9 +9,13 @@ import { FrostGeometry } from "./geometry.js";
 import { Encoder } from "./encode.js";
 import { Fingers } from "./fingers.js";
 import { SessionRecord } from "./record.js";
+import { THAW_TICKS } from "./shared.js";
 
 export const TOUCHES_PER_TICK = 16;  // the page's touches and melts applied before a tick
 const TEXT_KINDS = ["preset", "look", "backdrop", "pause", "clear", "step"];
+// In a thaw, a layer of the ice's tips melts every THAW_TICKS ticks (sim/weather/glass.py,
+// as the desktop's timeline melts them).
+export { THAW_TICKS };
 // Before the first hello, a frost of its own grown this many ticks from three touches and
 // thrown away: the first ticks after a touch run before the JavaScript engine has compiled
 // the simulation's loops, and took 5-10 times as long (Node, fern: a p99 of 92-142 ms over
@@ -45,6 +49,7 @@ export class LocalRun {
     this.shown = config.hello.backdrops.includes(start.backdrop) ? start.backdrop : config.hello.backdrops[0];
     this.seed = Number.isInteger(start.seed) ? start.seed : Math.floor(Math.random() * 2 ** 31);
     this.paused = false;
+    this.weather = null;  // the page's last weather: {temperature, supply} (null temperature: a thaw)
     this.steps = 0;      // ticks stepped in all (the session's steps)
     this.timeline = 0;   // ticks of this timeline (a rebuild starts one at 0)
     this.again = [];     // what a rebuild plants again, [[tick, kind, x, y, r], ...]
@@ -54,7 +59,7 @@ export class LocalRun {
     this.build();
   }
 
-  // Whether the phone grows preset `name` (the window's frost is frost serve's alone).
+  // Whether the phone grows preset `name` (params.json's server_only: none now).
   runs(name) {
     return name in this.config.presets && !this.config.server_only.includes(name);
   }
@@ -62,6 +67,7 @@ export class LocalRun {
   build() {
     const [width, height] = this.screen;
     this.frost = new Frost(this.params, { width, height, seed: this.seed });
+    this.applyWeather();  // (a rebuild keeps it: the weather is the night's, not the frost's)
     this.geometry = this.drawn();
     this.encoder = new Encoder(...this.config.hello.grid);
   }
@@ -114,12 +120,31 @@ export class LocalRun {
     else if (TEXT_KINDS.includes(m.type)) this[m.type](m.name);
     else if (m.type === "ping") this.text({ type: "pong", t: m.t, tick: this.frost.tick });
     else if (m.type === "key") this.key(String(m.name));
+    else if (m.type === "weather") this.setWeather(m.temperature, m.supply);
+  }
+
+  // The page's weather (its glass model's answer): the window's frost grows as if its
+  // `temperature` (degrees C below freezing, > 0) were this, its pane's water `supply`
+  // times as much (default 1); null temperature: a thaw, the ice's tips melting a layer
+  // every THAW_TICKS ticks. Anything else is refused in one notice and changes nothing.
+  setWeather(temperature, supply = 1) {
+    const thaw = temperature === null;
+    const ok = (thaw || (Number.isFinite(temperature) && temperature > 0 && temperature <= 1000))
+      && Number.isFinite(supply) && supply >= 0 && supply <= 1000;
+    if (!ok) return this.notice(`weather ${String(temperature).slice(0, 16)}, ${String(supply).slice(0, 16)} refused`);
+    this.weather = { temperature, supply };
+    this.applyWeather();
+  }
+
+  applyWeather() {
+    if (this.weather) this.frost.setWeather(this.weather.temperature, this.weather.supply);
   }
 
   // One tick: the waiting touches and melts (at most TOUCHES_PER_TICK), then a step.
   tick() {
     if (this.paused) return false;
     for (const [kind, x, y, r] of this.due()) this.apply(kind, x, y, r);
+    this.thaw();
     const added = this.frost.step();
     this.steps += 1;
     this.timeline += 1;
@@ -144,6 +169,13 @@ export class LocalRun {
     if (kind === "touch") {
       this.frost.touch(x, y);
     } else if (this.frost.melt(x, y, r).length) {  // (what it took: frost.melted)
+      this.send(this.geometry.melt(this.frost, this.frost.melted));
+    }
+  }
+
+  // In a thaw, every THAW_TICKS ticks the ice's thin edges melt (sim/io/timeline.py _thaw).
+  thaw() {
+    if (this.frost.thawing && this.frost.tick % THAW_TICKS === 0 && this.frost.meltTips().length) {
       this.send(this.geometry.melt(this.frost, this.frost.melted));
     }
   }

@@ -97,6 +97,18 @@ export class Skeleton {
       killRows(this.upsampledLink, this.upsampledAlive, this.upsampledCount, crystals)];
   }
 
+  /** The live crystals no live crystal grows from (the ice's thin edges), ascending (an
+   * Int32Array). */
+  tips() {
+    const n = this.count, alive = this.crystalAlive, parents = this.parents, hasChild = new Uint8Array(n);
+    for (let i = 0; i < n; i++) if (alive[i] && parents[i] >= 0) hasChild[parents[i]] = 1;
+    let m = 0;
+    for (let i = 0; i < n; i++) if (alive[i] && !hasChild[i]) m++;
+    const out = new Int32Array(m);
+    for (let i = 0, k = 0; i < n; i++) if (alive[i] && !hasChild[i]) out[k++] = i;
+    return out;
+  }
+
   /** The live segments of the links of `crystals` (an Int32Array). */
   liveSegments(crystals) {
     return liveRows(this.segmentsLink, this.segmentsAlive, this.segmentCount, crystals);

@@ -3,12 +3,14 @@
 
 import { room } from './arrays.js';
 import { ringSpot } from './placement.js';
+import { TOUCH_TRIES } from './shared.js';
 
 // Draws for each walker a touch brings to its ring.
-export const TOUCH_TRIES = 32;
+export { TOUCH_TRIES };
 
 export class Supply {
-  constructor(params, uniform, water, areas, placer, index) {
+  constructor(params, uniform, water, areas, placer, index, pane) {
+    this.pane = pane;  // its pool's size (window mode; else `humidity`)
     this.params = params;
     this.uniform = uniform;
     this.water = water;
@@ -110,7 +112,7 @@ export class Supply {
    * (each keeps its oldest walkers). */
   fill(areas, ice) {
     const { water, params } = this, n = this.areas.n;
-    const counts = water.counts(n), pool = params.humidity;
+    const counts = water.counts(n), pool = this.pane.pool(params.humidity);
     this.owed = room(this.owed, n);
     const owed = this.owed;  // owed walkers are the pool's too
     let roomLeft = params.water_budget - water.n - this.waiting;
@@ -148,13 +150,13 @@ export class Supply {
 
   /** Melted crystals' water (one entry per crystal: its area) goes back to its area,
    * never above `humidity` nor the budget; an area with no ice left loses its pool; a
-   * kept pool (replenish, growth mode) is topped up. */
+   * kept pool (replenish, growth mode, the pane) is topped up. */
   returned(deadAreas, ice) {
     const { water, params, areas } = this;
     for (let i = 0; i < water.n; i++) if (areas.ice[water.area[i]] === 0) water.drop[i] = 1;
     this.dropped += water.sweep();
     const back = [...new Set(deadAreas)].filter((a) => areas.ice[a] > 0).sort((p, q) => p - q);
-    if (params.replenish || params.grow) {
+    if (params.replenish || params.grow || this.pane.on) {
       this.fill(back, ice);
       return;
     }
@@ -182,7 +184,7 @@ export class Supply {
       this.picks[mine++] = i;
     }
     this.owed = room(this.owed, this.areas.n);  // owed walkers are the pool's and the budget's too
-    const fresh = Math.max(0, Math.min(want, params.humidity - mine - this.owed[area],
+    const fresh = Math.max(0, Math.min(want, this.pane.pool(params.humidity) - mine - this.owed[area],
       params.water_budget - water.n - this.waiting));
     const moved = Math.min(mine, want - fresh);
     for (let j = 0; j < moved; j++) {  // a random `moved` of the area's walkers (Fisher-Yates)

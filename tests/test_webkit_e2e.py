@@ -1,0 +1,113 @@
+"""The phone page in WebKit, the engine of every browser on an iPhone: WebKitWebDriver and
+WebKitGTK's MiniBrowser under Xvfb (support.webkit), one session for the module. A click
+on `frost serve`'s page grows frost (the page's own height grid, and the pixels WebKit
+shows); with the server stopped, the reloaded page (its service worker's) grows its own
+frost, and its tick figures read sensibly on WebKit's clock, coarsened to 1 ms as Safari's
+is."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from support.webkit import webkit_problem
+
+pytestmark = pytest.mark.skipif(webkit_problem() is not None, reason=str(webkit_problem()))
+
+ON_PHONE = "on this phone"
+STATUS = "document.getElementById('status').textContent"
+# sim/'s crystals after 100 ticks of one touch at the pane's centre, seeds 1-3 (fern): the
+# median, and the factor the phone's may differ by (as tests/test_phone_alone_e2e.py's).
+SIM_MEDIAN, FACTOR = 366, 1.5
+TAP = (380, 640)  # the pane's px (its centre)
+# The page's ice where its height grid holds it: vertices above zero within `r` px of (x, y)
+# (pane px) and beyond.
+ICED = """((x, y, r) => {
+  const h = frost.renderer.heights, [cols] = h.gridSize, s = h.spacing;
+  let near = 0, far = 0;
+  h.grid.forEach((v, i) => {
+    if (v <= 0) return;
+    if (Math.hypot((i % cols) * s - x, Math.floor(i / cols) * s - y) <= r) near += 1; else far += 1;
+  });
+  return [near, far];
+})"""
+
+
+def viewport_point(webkit, x: float, y: float) -> tuple[float, float]:
+    """CSS px of the viewport of the pane's px (x, y)."""
+    r = webkit.js("frost.paneCss()")
+    return r["x"] + x * r["sx"], r["y"] + y * r["sy"]
+
+
+def boxes(shot: np.ndarray, at: tuple[float, float]) -> tuple[np.ndarray, np.ndarray]:
+    """The screenshot's 80 x 80 CSS px around `at`, and 60 x 60 at the left, an eighth
+    down (far from it: some 550 pane px from the pane's centre, away from the menu's button)."""
+    cx, cy = round(at[0]), round(at[1])
+    top = shot.shape[0] // 8
+    return (shot[cy - 40:cy + 40, cx - 40:cx + 40].astype(int),
+            shot[top:top + 60, 5:65].astype(int))
+
+
+def frost_under(before: np.ndarray, after: np.ndarray, at) -> None:
+    """Frost grew in the screenshots around `at`, and nothing changed far from it."""
+    near0, far0 = boxes(before, at)
+    near1, far1 = boxes(after, at)
+    changed = np.abs(near1 - near0).max(axis=2) > 40
+    assert changed.mean() > 0.05, f"no frost grew under the click: {changed.mean():.3f}"
+    assert np.abs(far1 - far0).max() == 0, "the pane changed far from the click"
+
+
+def test_a_click_grows_frost_on_the_served_page(serve, webkit):
+    s = serve()
+    webkit.open(s.local)
+    webkit.wait_for("window.frost && (frost.error || (frost.synced && frost.frames > 0 && "
+                    "frost.shownBackdrop))", what="window.frost && [frost.synced, frost.frames]")
+    assert webkit.js("frost.error") is None
+    assert webkit.js("frost.hello.local") is not True  # the server's frost, not the phone's
+    assert webkit.js(f"{ICED}({TAP[0]}, {TAP[1]}, 500)") == [0, 0]  # a blank pane
+    at = viewport_point(webkit, *TAP)
+    before = webkit.screenshot()
+    tick = webkit.js("frost.tick")
+    webkit.click(*at)
+    webkit.wait_for(f"frost.tick >= {tick + 50}", timeout=120)  # two seconds of frost
+    near, far = webkit.js(f"{ICED}({TAP[0]}, {TAP[1]}, 500)")
+    assert near >= 50 and far == 0, (near, far)
+    webkit.wait_for("new Promise((done) => requestAnimationFrame(() => "
+                    "requestAnimationFrame(() => done(true))))")  # (the last ticks drawn)
+    frost_under(before, webkit.screenshot(), at)
+
+
+def test_with_the_server_gone_the_reloaded_page_grows_its_own_frost(serve, webkit):
+    s = serve()
+    webkit.open(s.local)
+    webkit.wait_for("window.frost && frost.synced && frost.frames > 0")
+    # its service worker in control, the shell cached
+    webkit.wait_for("navigator.serviceWorker.controller !== null && caches.keys().then((k) => "
+                    "k.some((n) => n.startsWith('frost-shell-')))", timeout=60)
+    s.stop()
+    webkit.reload()  # no server: the page, its modules, its worker's from the cache
+    webkit.wait_for(f"window.frost && frost.local && frost.frames > 0 && {STATUS} === {ON_PHONE!r}",
+                    what=f"window.frost && [{STATUS}, frost.error, frost.frames]")
+    assert webkit.js("frost.error") is None and webkit.js("frost.hello.local") is True
+    assert webkit.js("frost.local.crystals") == 0
+    at = viewport_point(webkit, *TAP)
+    before = webkit.screenshot()
+    tick = webkit.js("frost.local.tick")
+    webkit.click(*at)
+    webkit.wait_for(f"frost.local.tick >= {tick + 100}", timeout=120)
+    local = webkit.js("frost.local")
+    stats = webkit.js("frost.alone.stats")
+    # (the stats come every 5 ticks, the click lands a tick or two late: a few ticks either side)
+    assert SIM_MEDIAN / FACTOR <= local["crystals"] <= SIM_MEDIAN * FACTOR, local
+    # The tick figures on a clock of whole milliseconds (WebKit's, as Safari's): durations
+    # in whole ms (but for the doubles' rounding), and the frost's ticks take some (a p99 of
+    # 0 would say the clock read nothing).
+    p99, median = local["tickP99Ms"], stats["tickMedianMs"]
+    assert 0 < p99 < math.inf and abs(p99 - round(p99)) < 1e-6 and 0 <= median <= p99, stats
+    assert local["ticksPerSecond"] > 0, local
+    webkit.wait_for("new Promise((done) => requestAnimationFrame(() => "
+                    "requestAnimationFrame(() => done(true))))")
+    frost_under(before, webkit.screenshot(), at)
+    print(f"benchmark: WebKit, the phone's own frost: {local['ticksPerSecond']} ticks/s, "
+          f"tick p99 {p99} ms, median {median} ms, {local['crystals']} crystals at tick {local['tick']}")
