@@ -157,8 +157,12 @@ class Page:
         if path == "/":
             return route.fulfill(path=str(WEB_DIR / "index.html"))
         for prefix, folder in (("/web/", WEB_DIR), ("/shaders/", SHADER_DIR)):
-            if path.startswith(prefix) and "/" not in path[len(prefix):]:
-                file = folder / path[len(prefix):]
+            name = path[len(prefix):]
+            # (a page module's own folder too: /web/local/shared.js, which weather_local.js
+            # imports; no other depth, and nothing outside the folder)
+            if path.startswith(prefix) and ("/" not in name or name.count("/") == 1
+                                            and name.startswith("local/") and ".." not in name):
+                file = folder / name
                 if file.is_file():
                     kind = "text/javascript" if file.suffix == ".js" else mimetypes.guess_type(file.name)[0]
                     return route.fulfill(body=file.read_bytes(), content_type=kind or "text/plain")
