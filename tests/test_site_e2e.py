@@ -210,7 +210,7 @@ def versions(page) -> dict[str, str | None]:
 
 
 def build_hash(root: Path) -> str:
-    return json.loads((root / SUB / "version.json").read_text())["build"]
+    return json.loads((root / SUB / "version.json").read_text(encoding="utf-8"))["build"]
 
 
 def test_the_site_installs_opens_offline_and_a_new_build_replaces_it_whole(pw, tmp_path):

@@ -74,7 +74,7 @@ def test_the_version_is_the_hash_of_every_cached_file(site):
         h.update(url.encode() + b"\0" + str(len(data)).encode() + b"\0" + data)
     digest = h.hexdigest()[:16]
     assert shell(site)["hash"] == digest
-    assert json.loads((site / "version.json").read_text()) == {"build": digest}
+    assert json.loads((site / "version.json").read_text(encoding="utf-8")) == {"build": digest}
     assert shell(site)["version"] == "version.json"
     assert "version.json" not in shell(site)["files"]  # (asked of the network, never cached)
 
@@ -101,7 +101,7 @@ def test_every_address_is_relative(site):
             text = (site / rel).read_text(encoding="utf-8")
             for absolute in ('src="/', "href=\"/", "href='/", "src='/", "url(/", 'url("/', "url('/"):
                 assert absolute not in text, (rel, absolute)
-    manifest = json.loads((site / "manifest.webmanifest").read_text())
+    manifest = json.loads((site / "manifest.webmanifest").read_text(encoding="utf-8"))
     assert (manifest["start_url"], manifest["scope"], manifest["id"]) == ("./", "./", "./")
     assert manifest["display"] == "standalone"
     for icon in manifest["icons"]:
@@ -112,11 +112,11 @@ def test_every_address_is_relative(site):
 def test_a_rebuild_replaces_the_old_site_whole(tmp_path):
     folder = tmp_path / "site"
     assert frost(["web", str(folder)]) == 0
-    (folder / "web" / "old.js").write_text("// of an older build\n")
-    first = (folder / "version.json").read_text()
+    (folder / "web" / "old.js").write_text("// of an older build\n", encoding="utf-8")
+    first = (folder / "version.json").read_text(encoding="utf-8")
     assert frost(["web", str(folder), "--weather-api", "https://elsewhere.test"]) == 0
     assert not (folder / "web" / "old.js").exists()
-    assert (folder / "version.json").read_text() != first  # site.js changed: a new build
+    assert (folder / "version.json").read_text(encoding="utf-8") != first  # site.js changed: a new build
     assert sorted(p.name for p in tmp_path.iterdir()) == ["site"]  # nothing left beside it
 
 
@@ -125,10 +125,10 @@ def test_a_dir_it_cannot_take_is_one_line_and_exit_status_2(tmp_path, capsys, ca
     folder = tmp_path / "x"
     args = ["web", str(folder)]
     if case == "a file":
-        folder.write_text("not a folder")
+        folder.write_text("not a folder", encoding="utf-8")
     elif case == "a foreign folder":
         folder.mkdir()
-        (folder / "notes.txt").write_text("mine")
+        (folder / "notes.txt").write_text("mine", encoding="utf-8")
     else:
         args += ["--weather-api", "ftp://weather.test"]
     try:

@@ -79,7 +79,8 @@ class WebKit:
                 self.driver.kill()
                 self.driver.wait(10)
             else:
-                raise WebDriverError(f"{DRIVER} did not start: {self.log.read_text(encoding="utf-8", errors="replace")[-2000:]}")
+                said = self.log.read_text(encoding="utf-8", errors="replace")[-2000:]
+                raise WebDriverError(f"{DRIVER} did not start: {said}")
             caps = {"capabilities": {"alwaysMatch": {"webkitgtk:browserOptions": {
                 "binary": str(browser()), "args": ["--automation"]}}}}
             self.session = self._call("POST", "/session", caps, timeout=120)["sessionId"]
