@@ -3,15 +3,24 @@ WebKitGTK's MiniBrowser under Xvfb (support.webkit), one session for the module.
 on `frost serve`'s page grows frost (the page's own height grid, and the pixels WebKit
 shows); with the server stopped, the reloaded page (its service worker's) grows its own
 frost, and its tick figures read sensibly on WebKit's clock, coarsened to 1 ms as Safari's
-is."""
+is. The static site of `frost web` on a plain static server: ?preset=window grows the
+frosted window at once, and with the server stopped the reloaded site (its service
+worker's) grows frost under a click."""
 
 from __future__ import annotations
 
+import base64
 import math
 
 import numpy as np
 import pytest
+from PIL import Image
+from support.static_site import SUB, StaticServer
 from support.webkit import webkit_problem
+
+from app.backdrops import load_backdrop
+from app.tools.web_site import build
+from sim.screen import HEIGHT, WIDTH
 
 pytestmark = pytest.mark.skipif(webkit_problem() is not None, reason=str(webkit_problem()))
 
@@ -111,3 +120,66 @@ def test_with_the_server_gone_the_reloaded_page_grows_its_own_frost(serve, webki
     frost_under(before, webkit.screenshot(), at)
     print(f"benchmark: WebKit, the phone's own frost: {local['ticksPerSecond']} ticks/s, "
           f"tick p99 {p99} ms, median {median} ms, {local['crystals']} crystals at tick {local['tick']}")
+
+
+DUSK = load_backdrop("dusk").astype(int)  # the bare pane (the window preset's backdrop)
+
+
+def frosted(webkit) -> float:
+    """The share of the pane's px that differ from the bare pane by more than 12 in a
+    channel (as tests/test_site_e2e.py counts the frosted window), read from the page's
+    WebGL (frost.framePixels)."""
+    raw = base64.b64decode(webkit.js("frost.framePixels()"))
+    pane = np.frombuffer(raw, np.uint8).reshape(HEIGHT, WIDTH, 4)[:, :, :3].astype(int)
+    return float((np.abs(pane - DUSK) > 12).any(axis=2).mean())
+
+
+def test_the_static_site_grows_the_frosted_window_and_opens_offline(webkit, tmp_path):
+    """The site of `frost web` on a plain static server (support.static_site): ?preset=window
+    grows the frosted window at once (its crystals and frosted share rise over 100 ticks);
+    with the server stopped, the site reloaded (its service worker's) grows frost under a
+    click. The click is the fern's (the site's own preset), whose frost grows only where a
+    touch puts it: the window's fronds grow everywhere by themselves."""
+    root = tmp_path / "static"
+    nowhere = "http://127.0.0.1:9"  # (no weather is asked here)
+    build(root / SUB, nowhere, nowhere)
+    server = StaticServer(root)
+    try:
+        webkit.open(server.url + "?preset=window")
+        webkit.wait_for("window.frost && frost.local && frost.local.tick >= 25 && frost.frames > 0",
+                        timeout=120, what=f"window.frost && [{STATUS}, frost.error, frost.local]")
+        assert webkit.js("frost.error") is None and webkit.js("frost.site.static") is True
+        assert webkit.js("frost.hello.preset") == "window"
+        first = webkit.js("frost.local")
+        share = frosted(webkit)
+        webkit.wait_for(f"frost.local.tick >= {first['tick'] + 100}", timeout=120)
+        later = webkit.js("frost.local")
+        share_later = frosted(webkit)
+        Image.fromarray(webkit.screenshot()).save(tmp_path / "webkit-window.png")
+        print(f"WebKit, the frosted window on the static site: {first['crystals']} crystals, "
+              f"{share:.1%} frosted at tick {first['tick']}; {later['crystals']}, {share_later:.1%} "
+              f"at tick {later['tick']}; tick p99 {later['tickP99Ms']} ms")
+        assert first["crystals"] > 0 and later["crystals"] > first["crystals"] + 100, (first, later)
+        assert share_later > share + 0.01, (share, share_later)
+        # its service worker in control, the shell cached
+        webkit.wait_for("navigator.serviceWorker.controller !== null && caches.keys().then((k) => "
+                        "k.some((n) => n.startsWith('frost-shell-')))", timeout=60)
+        webkit.open(server.url)  # (the fern: its frost grows only where a click puts it)
+        webkit.wait_for("window.frost && frost.local && frost.frames > 0")
+    finally:
+        server.stop()
+    webkit.reload()  # no server: the site from its worker's cache
+    webkit.wait_for("window.frost && frost.local && frost.local.tick >= 5 && frost.frames > 0",
+                    timeout=120, what=f"window.frost && [{STATUS}, frost.error, frost.local]")
+    assert webkit.js("frost.error") is None and webkit.js("frost.hello.preset") == "fern"
+    assert webkit.js("navigator.serviceWorker.controller !== null")
+    at = viewport_point(webkit, *TAP)
+    before, crystals = webkit.screenshot(), webkit.js("frost.local.crystals")
+    webkit.click(*at)
+    webkit.wait_for(f"frost.local.crystals >= {crystals + 20}", timeout=120)
+    webkit.wait_for("new Promise((done) => requestAnimationFrame(() => "
+                    "requestAnimationFrame(() => done(true))))")
+    after = webkit.screenshot()
+    Image.fromarray(after).save(tmp_path / "webkit-offline-click.png")
+    frost_under(before, after, at)
+    print(f"WebKit offline: {crystals} crystals before the click, {webkit.js('frost.local')}")
