@@ -39,8 +39,9 @@ SHARED = WEB_DIR / "local" / "shared.js"
 # Presets the page's simulation does not grow: the menu shows them as needing frost serve
 # (none: app/web/local/ grows the frosted window too).
 SERVER_ONLY: tuple[str, ...] = ()
-# Backdrops a phone shows alone: the lock screen's clock is drawn by the server.
-SERVER_BACKDROPS = ("lockscreen",)
+# Backdrops a phone cannot show alone (none: with no server the page draws the lock screen's
+# clock box itself, app/web/lockclock.js).
+SERVER_BACKDROPS: tuple[str, ...] = ()
 TICK_RATE = TICKS_PER_SECOND  # ticks a second, as the window's and the server's simulation thread
 
 
