@@ -21,6 +21,7 @@ from typing import Any
 
 from app.backdrops import BACKDROPS
 from app.keys import BINDINGS, DEFAULT_PRESET
+from app.lockscreen import CLOCK_BOX, CLOCK_LINES
 from app.resources import WEB_DIR
 from app.serve.controls import KEY_COMMANDS
 from app.serve.hello import hello_fields
@@ -111,6 +112,8 @@ def shared_numbers() -> dict[str, tuple[Any, str]]:
         "LEAST_UNDERCOOLING": (glass.LEAST_UNDERCOOLING, "sim/weather/glass.py"),
         "MOST_UNDERCOOLING": (glass.MOST_UNDERCOOLING, "sim/weather/glass.py"),
         "SUPPLY_RANGE": (glass.SUPPLY_RANGE, "sim/weather/glass.py: the supply's bounds"),
+        "CLOCK_BOX": (CLOCK_BOX, "app/lockscreen.py: the lock screen's clock box, x0 y0 x1 y1 px"),
+        "CLOCK_LINES": (CLOCK_LINES, "app/lockscreen.py: each line's centre and size, px"),
     }
 
 

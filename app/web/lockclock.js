@@ -8,14 +8,13 @@
 // calls `outside`), the temperature outside under the time.
 
 import { backdropUrl } from "./photo.js";
+import { CLOCK_BOX, CLOCK_LINES } from "./local/shared.js";
 
 export const CLOCK = 2;  // the binary message type
 export const LIVE = "lockscreen";
 const HEADER = 28;
-// app/lockscreen.py's CLOCK_BOX (x0, y0, x1, y1 on the 760x1280 backdrop) and its drawing:
-// each line's centre (px from the box's top), its size (px), the colours.
-export const BOX = [40, 150, 720, 470];
-const LINES = { date: [52, 40], time: [188, 196], outside: [294, 36] };
+// app/lockscreen.py's drawing: the box's colours (its CLOCK_BOX, x0, y0, x1, y1 on the
+// 760x1280 backdrop, and CLOCK_LINES, each line's centre and size, come from shared.js).
 const TEXT = "rgb(248, 249, 252)";
 const SHADOW = "rgba(8, 14, 34, 0.55)";  // (Pillow's mask, blurred with a radius of 7, times 0.55)
 const FONT = "Aileron, 'Helvetica Neue', Helvetica, Arial, sans-serif";
@@ -122,7 +121,7 @@ export class Clock {
     clearTimeout(this.timer);
     if (!state.renderer || state.shownBackdrop !== LIVE) return;
     const seq = ++this.seq;
-    const [x0, y0, x1, y1] = BOX;
+    const [x0, y0, x1, y1] = CLOCK_BOX;
     const w = x1 - x0, h = y1 - y0;
     if (!this.box) {
       const r = await fetch(backdropUrl(LIVE, state.alone.query || ""));
@@ -140,7 +139,7 @@ export class Clock {
     // White figures over a soft shadow (a blur of sigma 7 px), as the desktop draws them.
     Object.assign(g, { textAlign: "center", textBaseline: "middle", fillStyle: TEXT,
       shadowColor: SHADOW, shadowBlur: 14 });
-    for (const [name, [y, size]] of Object.entries(LINES)) {
+    for (const [name, [y, size]] of Object.entries(CLOCK_LINES)) {
       if (!lines[name]) continue;
       g.font = `${size}px ${FONT}`;
       g.fillText(lines[name], w / 2, y);
