@@ -25,6 +25,10 @@ from sim.screen import HEIGHT, WIDTH
 # The clock's rectangle on the 760x1280 backdrop: x0, y0, x1, y1 (px, y down). The
 # minute's change is these pixels only; nothing static is drawn inside it.
 CLOCK_BOX = (40, 150, 720, 470)
+# Each line of the box: its centre (px from the box's top, centred across it) and its size
+# (px): the date, the time, and the temperature outside (the time's figures end 56 px above
+# it; the box 26 px below). The page draws its own box with these too (app/web/lockclock.js).
+CLOCK_LINES = {"date": (52, 40), "time": (188, 196), "outside": (294, 36)}
 # The minute `frost render` and a session with no minute of its own show (a render is
 # the same every time): a Thursday morning, 09:41.
 DEFAULT_MINUTE = "2026-11-26T09:41"
@@ -104,10 +108,10 @@ def clock_patch(static: np.ndarray, minute: str, outside: str = "") -> np.ndarra
 
 def _text(draw: ImageDraw.ImageDraw, date: str, clock: str, outside: str, fill) -> None:
     w = CLOCK_BOX[2] - CLOCK_BOX[0]
-    draw.text((w / 2, 52), date, font=font(40), fill=fill, anchor="mm")
-    draw.text((w / 2, 188), clock, font=font(196), fill=fill, anchor="mm")
-    if outside:  # (the time's figures end 56 px above; the box 26 px below)
-        draw.text((w / 2, 294), outside, font=font(36), fill=fill, anchor="mm")
+    for name, text in (("date", date), ("time", clock), ("outside", outside)):
+        if text:
+            y, size = CLOCK_LINES[name]
+            draw.text((w / 2, y), text, font=font(size), fill=fill, anchor="mm")
 
 
 def with_clock(static: np.ndarray, minute: str, outside: str = "") -> np.ndarray:

@@ -32,7 +32,7 @@ from app.bench.options import Parser, count, slowdown
 from app.resources import SHADER_DIR, WEB_DIR
 from app.serve.hello import hello_fields
 from bench.chromium import ANGLE, browser_problem, launch
-from bench.local import GROW_TICKS
+from bench.local import GROW_TICKS, WINDOW_TICKS
 from bench.network import JOIN_TICKS
 from bench.shaper import PROFILES, profile
 from sim import Params, all_presets
@@ -344,7 +344,7 @@ def main(argv: list[str] | None = None, prog: str = "python -m bench page") -> i
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--ticks", type=count, help="ticks to grow (default 300; with --join "
                    f"{JOIN_TICKS}: the frosted window pane; with --local {GROW_TICKS}, the worker's "
-                   "p99 window)")
+                   f"p99 window; with --local --preset window {WINDOW_TICKS}: the full pane)")
     p.add_argument("--frames", type=count, default=60, help="page frames timed (default 60)")
     p.add_argument("--angle", choices=list(ANGLE), default="swiftshader",
                    help="the page's WebGL: Chromium's SwiftShader (default) or the system's "
@@ -366,7 +366,9 @@ def main(argv: list[str] | None = None, prog: str = "python -m bench page") -> i
                    "drawn and the part a portrait and a landscape phone shows")
     p.add_argument("--local", action="store_true", help="instead: the phone's own frost (the page "
                    "installed, the server stopped): the worker's tick, the page's frames under "
-                   "--cpu-slowdown (default 4 here), the Python tick beside")
+                   "--cpu-slowdown (default 4 here), the Python tick beside; with --preset window the "
+                   "frosted window grown to the full pane (its worker's tick, its frosted share), then "
+                   "the fern in the same page")
     p.add_argument("--network", metavar="PROFILE", help="with --taps, --join, --scribble, --photo: the "
                    "page reaches the server through a shaping proxy: " + "; ".join(
                        x.describe() for x in PROFILES.values()) + " (default: loopback)")

@@ -5,6 +5,7 @@ import json
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
@@ -184,3 +185,20 @@ def test_python_m_bench_hands_the_rest_to_the_benchmark_named(argv, says):
                           text=True, timeout=120)
     assert done.returncode == 2
     assert done.stderr.count("\n") == 1 and done.stderr.startswith(says), done.stderr
+
+
+def test_the_windows_figures_are_its_stretches_worst_p99_and_their_median():
+    from bench.local import frosted_share, window_figures
+
+    runs = [{"tickMedianMs": m, "tickP99Ms": p, "ticksPerSecond": r, "crystals": c, "tick": t}
+            for m, p, r, c, t in ((1.0, 4.0, 25.0, 10, 250), (2.0, 9.0, 24.8, 20, 500),
+                                  (1.5, 3.0, 25.2, 30, 750))]
+    got = window_figures(runs)
+    assert got["median"] == 1.5 and got["medians"] == (1.0, 2.0)
+    assert got["p99"] == 9.0 and got["p99s"] == [4.0, 9.0, 3.0] and got["rates"] == (24.8, 25.2)
+    assert got["crystals"] == 30 and got["tick"] == 750
+    bare = np.zeros((4, 5, 3), int)
+    now = bare.copy()
+    now[0, :2] = 13  # frosted: more than 12 away
+    now[1, 0] = (0, 0, 12)  # not
+    assert frosted_share(bare, now) == 2 / 20

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import re
 
+from app.backdrops import BACKDROPS
 from app.resources import WEB_DIR
 from app.serve import local_params
 from app.serve.hello import hello_fields
@@ -39,7 +40,7 @@ def test_the_hello_is_the_servers_for_the_default_preset():
     server = json.loads(json.dumps(hello_fields(fern, "dusk", tuple(hello["grid"]))))
     assert {k: hello[k] for k in server} == server
     assert hello["grid"] == [760 // fern.grid_spacing + 1, 1280 // fern.grid_spacing + 1]
-    assert "lockscreen" not in hello["backdrops"]  # (its clock is the server's)
+    assert hello["backdrops"] == list(BACKDROPS)  # (the lock screen's clock box the page's own)
 
 
 def test_the_installed_app_caches_it_and_the_local_modules():

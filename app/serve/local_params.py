@@ -21,6 +21,7 @@ from typing import Any
 
 from app.backdrops import BACKDROPS
 from app.keys import BINDINGS, DEFAULT_PRESET
+from app.lockscreen import CLOCK_BOX, CLOCK_LINES
 from app.resources import WEB_DIR
 from app.serve.controls import KEY_COMMANDS
 from app.serve.hello import hello_fields
@@ -39,8 +40,9 @@ SHARED = WEB_DIR / "local" / "shared.js"
 # Presets the page's simulation does not grow: the menu shows them as needing frost serve
 # (none: app/web/local/ grows the frosted window too).
 SERVER_ONLY: tuple[str, ...] = ()
-# Backdrops a phone shows alone: the lock screen's clock is drawn by the server.
-SERVER_BACKDROPS = ("lockscreen",)
+# Backdrops a phone cannot show alone (none: with no server the page draws the lock screen's
+# clock box itself, app/web/lockclock.js).
+SERVER_BACKDROPS: tuple[str, ...] = ()
 TICK_RATE = TICKS_PER_SECOND  # ticks a second, as the window's and the server's simulation thread
 
 
@@ -110,6 +112,8 @@ def shared_numbers() -> dict[str, tuple[Any, str]]:
         "LEAST_UNDERCOOLING": (glass.LEAST_UNDERCOOLING, "sim/weather/glass.py"),
         "MOST_UNDERCOOLING": (glass.MOST_UNDERCOOLING, "sim/weather/glass.py"),
         "SUPPLY_RANGE": (glass.SUPPLY_RANGE, "sim/weather/glass.py: the supply's bounds"),
+        "CLOCK_BOX": (CLOCK_BOX, "app/lockscreen.py: the lock screen's clock box, x0 y0 x1 y1 px"),
+        "CLOCK_LINES": (CLOCK_LINES, "app/lockscreen.py: each line's centre and size, px"),
     }
 
 

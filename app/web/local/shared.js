@@ -28,3 +28,5 @@ export const ICE = Object.freeze([22.46, 272.62]);  // sim/weather/glass.py: Mag
 export const LEAST_UNDERCOOLING = 0.5;  // sim/weather/glass.py
 export const MOST_UNDERCOOLING = 40.0;  // sim/weather/glass.py
 export const SUPPLY_RANGE = Object.freeze([0.25, 2.0]);  // sim/weather/glass.py: the supply's bounds
+export const CLOCK_BOX = Object.freeze([40, 150, 720, 470]);  // app/lockscreen.py: the lock screen's clock box, x0 y0 x1 y1 px
+export const CLOCK_LINES = Object.freeze({"date": [52, 40], "time": [188, 196], "outside": [294, 36]});  // app/lockscreen.py: each line's centre and size, px
