@@ -18,6 +18,7 @@ from app.serve import command as serve_command
 from app.tools import figure8, figure_fern, maps
 from app.tools import render_png as render
 from app.tools import replay as replay_tool
+from app.tools import web_site
 from app.window import frost_window as window
 from sim import Params
 from sim.io.session import SessionLog
@@ -43,7 +44,8 @@ OUTPUTS = [(["render", "--out", "PATH"], "--out"),
            (["replay", "s.json", "--session-dir", "PATH"], "--session-dir"),
            (["replay", "s.json", "--screenshot-dir", "PATH"], "--screenshot-dir"),
            (["serve", "--session-dir", "PATH"], "--session-dir"),
-           (["serve", "--screenshot-dir", "PATH"], "--screenshot-dir")]
+           (["serve", "--screenshot-dir", "PATH"], "--screenshot-dir"),
+           (["web", "PATH"], "")]
 # The options that take a path frost reads (never writes): the rest are outputs above.
 INPUTS = {"--params", "--background", "--cert", "--key", "replay"}
 
@@ -53,7 +55,7 @@ def stubbed(monkeypatch, tmp_path):
     """main() with every command's work replaced by a recorder, run in tmp_path (where
     s.json is a session file to replay)."""
     calls = []
-    for module in (figure8, figure_fern, maps, render, replay_tool, window):
+    for module in (figure8, figure_fern, maps, render, replay_tool, window, web_site):
         monkeypatch.setattr(module, "run", lambda args, params=None: calls.append(args) or 0)
     monkeypatch.setattr(serve_command, "serve", lambda args, params=None: calls.append(args) or 0)
     monkeypatch.setattr(commands, "display_problem", lambda: None)
@@ -102,7 +104,7 @@ def test_a_reserved_name_as_a_folder_in_the_path_is_refused(stubbed, argv, optio
 @pytest.mark.parametrize("argv, option", OUTPUTS, ids=[" ".join(a) for a, _ in OUTPUTS])
 def test_names_that_only_look_reserved_are_accepted(stubbed, argv, option):
     for path in FINE:
-        if argv[0] in ("maps", "--session-dir", "--screenshot-dir", "serve") or \
+        if argv[0] in ("maps", "--session-dir", "--screenshot-dir", "serve", "web") or \
                 "--session-dir" in argv or "--screenshot-dir" in argv:
             path = path.removesuffix(".png")  # (a folder)
         status, err = run_main(line_with(argv, path))
