@@ -15,10 +15,9 @@ from support.cli import assert_refused_in_one_line, run_main
 from app.cli import commands
 from app.cli.parser import build_parser
 from app.serve import command as serve_command
-from app.tools import figure8, figure_fern, maps
+from app.tools import figure8, figure_fern, maps, web_site
 from app.tools import render_png as render
 from app.tools import replay as replay_tool
-from app.tools import web_site
 from app.window import frost_window as window
 from sim import Params
 from sim.io.session import SessionLog
