@@ -50,7 +50,7 @@ test('after a storm of taps the frost grows alike whatever the seed, and keeps i
   // Version 13's port stopped seeds 1 and 9 near 5 600 crystals (the one area's launch
   // circle beyond the screen: every draw missed and the pool was never topped up).
   const counts = {};
-  for (const seed of [1, 2, 9]) {
+  for (const seed of [1, 9]) {  // (sim/'s test and bench take more seeds)
     const frost = stormed(seed, 1600);
     counts[seed] = frost.alive;
     assert.ok(frost.supply.dropped < frost.supply.created / 2, `seed ${seed}`);
