@@ -408,7 +408,8 @@ CHECKED = {
      "taps-24---snapshot-work-7---scribble-60-run-9"): figures,
     ("phone-design.md", "results/bench-page.md#frost-bench-page---phone-app-again"): figures,
     ("phone-design.md", "results/bench-page.md#frost-bench-page---photo-4"): figures,
-    ("phone-design.md", "results/bench-page.md#python--m-bench-page---local---preset-window---cpu-slowdown-4"): figures,
+    ("phone-design.md",
+     "results/bench-page.md#python--m-bench-page---local---preset-window---cpu-slowdown-4"): figures,
 }
 # Tables not yet held to their newest entry (issue 56, item 17), each with the reason.
 UNCHECKED: dict[tuple[str, str], str] = {}
