@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 from PIL import Image
 from support.static_site import SUB, StaticServer
+from support.weather_api import StandIn
 from support.webkit import webkit_problem
 
 from app.backdrops import load_backdrop
@@ -135,39 +136,20 @@ def frosted(webkit) -> float:
 
 
 def test_the_static_site_grows_the_frosted_window_and_opens_offline(webkit, tmp_path):
-    """The site of `frost web` on a plain static server (support.static_site): ?preset=window
-    grows the frosted window at once (its crystals and frosted share rise over 100 ticks);
-    with the server stopped, the site reloaded (its service worker's) grows frost under a
+    """The site of `frost web` on a plain static server (support.static_site), the forecast
+    API a stand-in at -25 C: ?preset=window&weather=59.33,18.07 reads the weather on the page
+    and grows the frosted window at once (its crystals and frosted share rise over 100
+    ticks); with the server stopped, the site reloaded (its service worker's) grows frost under a
     click. The click is the fern's (the site's own preset), whose frost grows only where a
     touch puts it: the window's fronds grow everywhere by themselves."""
     root = tmp_path / "static"
-    nowhere = "http://127.0.0.1:9"  # (no weather is asked here)
-    build(root / SUB, nowhere, nowhere)
-    server = StaticServer(root)
-    try:
-        webkit.open(server.url + "?preset=window")
-        webkit.wait_for("window.frost && frost.local && frost.local.tick >= 25 && frost.frames > 0",
-                        timeout=120, what=f"window.frost && [{STATUS}, frost.error, frost.local]")
-        assert webkit.js("frost.error") is None and webkit.js("frost.site.static") is True
-        assert webkit.js("frost.hello.preset") == "window"
-        first = webkit.js("frost.local")
-        share = frosted(webkit)
-        webkit.wait_for(f"frost.local.tick >= {first['tick'] + 100}", timeout=120)
-        later = webkit.js("frost.local")
-        share_later = frosted(webkit)
-        Image.fromarray(webkit.screenshot()).save(tmp_path / "webkit-window.png")
-        print(f"WebKit, the frosted window on the static site: {first['crystals']} crystals, "
-              f"{share:.1%} frosted at tick {first['tick']}; {later['crystals']}, {share_later:.1%} "
-              f"at tick {later['tick']}; tick p99 {later['tickP99Ms']} ms")
-        assert first["crystals"] > 0 and later["crystals"] > first["crystals"] + 100, (first, later)
-        assert share_later > share + 0.01, (share, share_later)
-        # its service worker in control, the shell cached
-        webkit.wait_for("navigator.serviceWorker.controller !== null && caches.keys().then((k) => "
-                        "k.some((n) => n.startsWith('frost-shell-')))", timeout=60)
-        webkit.open(server.url)  # (the fern: its frost grows only where a click puts it)
-        webkit.wait_for("window.frost && frost.local && frost.frames > 0")
-    finally:
-        server.stop()
+    with StandIn(-25.0) as api:  # the forecast API, answering the page itself (with CORS)
+        build(root / SUB, api.url, api.url)
+        server = StaticServer(root)
+        try:
+            grows_the_window_by_the_weather(webkit, server, api, tmp_path)
+        finally:
+            server.stop()
     webkit.reload()  # no server: the site from its worker's cache
     webkit.wait_for("window.frost && frost.local && frost.local.tick >= 5 && frost.frames > 0",
                     timeout=120, what=f"window.frost && [{STATUS}, frost.error, frost.local]")
@@ -183,3 +165,36 @@ def test_the_static_site_grows_the_frosted_window_and_opens_offline(webkit, tmp_
     Image.fromarray(after).save(tmp_path / "webkit-offline-click.png")
     frost_under(before, after, at)
     print(f"WebKit offline: {crystals} crystals before the click, {webkit.js('frost.local')}")
+
+
+def grows_the_window_by_the_weather(webkit, server, api, tmp_path) -> None:
+    """?preset=window&weather=59.33,18.07 on the static site: the page reads the stand-in's
+    -25 C itself and the window grows by it (crystals and frosted share rising over 100
+    ticks); then the plain site (the fern) with its service worker in control."""
+    webkit.open(server.url + "?preset=window&weather=59.33,18.07")
+    webkit.wait_for("window.frost && frost.local && frost.local.tick >= 25 && frost.frames > 0 "
+                    "&& frost.local.weather && frost.local.weather.outside === -25",
+                    timeout=120, what=f"window.frost && [{STATUS}, frost.error, frost.local]")
+    assert webkit.js("frost.error") is None and webkit.js("frost.site.static") is True
+    assert webkit.js("frost.hello.preset") == "window"
+    weather = webkit.js("frost.local.weather")
+    assert weather["state"] == "grows" and weather["outside"] == -25.0, weather
+    asked = [(q["latitude"], q["longitude"]) for path, q in api.asked if path == "/v1/forecast"]
+    assert asked == [("59.3", "18.1")], api.asked  # (the place rounded to 0.1 degree)
+
+    first = webkit.js("frost.local")
+    share = frosted(webkit)
+    webkit.wait_for(f"frost.local.tick >= {first['tick'] + 100}", timeout=120)
+    later = webkit.js("frost.local")
+    share_later = frosted(webkit)
+    Image.fromarray(webkit.screenshot()).save(tmp_path / "webkit-window.png")
+    print(f"WebKit, the frosted window on the static site: {first['crystals']} crystals, "
+          f"{share:.1%} frosted at tick {first['tick']}; {later['crystals']}, {share_later:.1%} "
+          f"at tick {later['tick']}; tick p99 {later['tickP99Ms']} ms")
+    assert first["crystals"] > 0 and later["crystals"] > first["crystals"] + 100, (first, later)
+    assert share_later > share + 0.01, (share, share_later)
+    # its service worker in control, the shell cached
+    webkit.wait_for("navigator.serviceWorker.controller !== null && caches.keys().then((k) => "
+                    "k.some((n) => n.startsWith('frost-shell-')))", timeout=60)
+    webkit.open(server.url)  # (the fern: its frost grows only where a click puts it)
+    webkit.wait_for("window.frost && frost.local && frost.frames > 0")
