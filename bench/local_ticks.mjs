@@ -12,6 +12,7 @@ import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 
 import { Frost } from '../app/web/local/frost.js';
+import { quantile, timeTicks } from './ticks.mjs';
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
 const PYTHON = process.env.FROST_PYTHON || path.join(ROOT, '.venv/bin/python');
@@ -48,10 +49,6 @@ function simTicks(touches, runSeed) {
   return JSON.parse(out);
 }
 
-function quantile(sorted, q) {
-  return sorted[Math.min(sorted.length - 1, Math.ceil(q * sorted.length) - 1)];
-}
-
 const params = fernParams(), seed = Number(process.argv[2] || 0);
 console.log(`the page's simulation in Node ${process.version} and sim/: fern, ${TICKS} ticks a run, ms a tick`);
 // A worker grows frost for as long as the page is open: the first ticks of each code path,
@@ -63,13 +60,7 @@ for (const touches of cold ? [] : [3, 10]) grow(touches, seed + 1000);
 function grow(touches, runSeed, wall = [], cpu = []) {
   const frost = new Frost(params, { seed: runSeed });
   for (const [x, y] of TOUCHES.slice(0, touches)) frost.touch(x, y);
-  for (let t = 0; t < TICKS; t++) {
-    const t0 = performance.now(), c0 = process.cpuUsage();
-    frost.step();
-    const c = process.cpuUsage(c0);
-    wall.push(performance.now() - t0);
-    cpu.push((c.user + c.system) / 1000);
-  }
+  timeTicks(() => frost.step(), TICKS, wall, cpu);
   return frost;
 }
 

@@ -10,15 +10,12 @@ import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 
 import { LocalRun, warmUp } from '../app/web/local/run.js';
+import { quantile, timeTicks } from './ticks.mjs';
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
 const CONFIG = JSON.parse(readFileSync(path.join(ROOT, 'app/web/local/params.json'), 'utf-8'));
 const args = process.argv.slice(2).filter((a) => !a.startsWith('--'));
 const preset = args[0] || 'window', ticks = Number(args[1] || 2250), seed = Number(args[2] || 0);
-
-function quantile(sorted, q) {
-  return sorted[Math.min(sorted.length - 1, Math.ceil(q * sorted.length) - 1)];
-}
 
 if (!process.argv.includes('--cold')) warmUp(CONFIG);
 const run = new LocalRun(CONFIG, () => {}, { seed, preset });
@@ -26,14 +23,7 @@ run.hello();
 if (preset !== 'window') {
   for (const [x, y] of [[380, 640], [190, 320], [570, 960]]) run.input({ type: 'touch', phase: 'down', id: 0, x, y });
 }
-const wall = [], cpu = [];
-for (let t = 0; t < ticks; t++) {
-  const t0 = performance.now(), c0 = process.cpuUsage();
-  run.tick();
-  const c1 = process.cpuUsage(c0);
-  wall.push(performance.now() - t0);
-  cpu.push((c1.user + c1.system) / 1e3);
-}
+const { wall, cpu } = timeTicks(() => run.tick(), ticks);
 const grid = run.frost.index.grid, held = new Set();
 for (let i = 0; i < run.frost.count; i++) {
   if (run.frost.crystalAlive[i]) held.add(grid.key(run.frost.crystals[2 * i], run.frost.crystals[2 * i + 1]));
